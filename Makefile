@@ -1,0 +1,69 @@
+# robokin workbook — set-up, book, tests.
+#
+#   make book    build the book (creates .venv and installs everything on first use)
+#   make test    run the complete test suite (same set-up on first use)
+#   make lab     open the notebooks in JupyterLab with live 3D views
+#   make execute re-run every notebook in a fresh kernel and store its outputs
+#   make bench   print the benchmark tables
+#   make clean   remove the built book and caches (keeps .venv)
+
+PYTHON ?= python3
+VENV   := .venv
+BIN    := $(VENV)/bin
+STAMP  := $(VENV)/.installed
+HTML   := _build/html
+
+.PHONY: book test lab execute bench clean distclean check-python
+
+check-python:
+	@$(PYTHON) -c 'import sys; sys.exit(0 if sys.version_info >= (3, 11) else 1)' 2>/dev/null || { \
+	  echo "ERROR [set-up]: robokin needs Python >= 3.11, but '$(PYTHON)' is $$($(PYTHON) --version 2>&1 || echo 'not found')."; \
+	  echo "Fix: install Python 3.11 or newer and run e.g. 'make PYTHON=python3.11 $(MAKECMDGOALS)'."; exit 1; }
+
+# The virtual environment is (re)built when requirements or the package metadata change.
+$(STAMP): requirements.txt constraints.txt pyproject.toml | check-python
+	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV) || { \
+	  echo "ERROR [set-up]: could not create the virtual environment $(VENV)."; \
+	  echo "Fix: on Debian/Ubuntu install the venv module: 'apt-get install python3-venv'."; exit 1; }
+	@echo "== Installing the workbook's Python packages into $(VENV) (first time: a few minutes) =="
+	@$(BIN)/python -m pip install --quiet --upgrade pip && \
+	  $(BIN)/python -m pip install --quiet -r requirements.txt || { \
+	  echo "ERROR [set-up]: 'pip install -r requirements.txt' failed (see the messages above)."; \
+	  echo "Fix: check your network connection to PyPI, then run the command again."; exit 1; }
+	@touch $(STAMP)
+
+book: $(STAMP)
+	@echo "== Building the book (notebooks are executed only when their code changed) =="
+	@rm -f $(HTML)/.complete
+	@$(BIN)/jupyter-book build . -W -n --keep-going || { \
+	  rm -rf $(HTML); \
+	  echo "ERROR [book]: the build failed; $(HTML) was removed so that no half-built book is left."; \
+	  echo "Fix: read the first error above (a notebook cell that raised, a broken reference, a warning);"; \
+	  echo "     the log of a failed notebook is in _build/html/reports/ during the build."; exit 1; }
+	@touch $(HTML)/.complete
+	@echo ""
+	@echo "The book is ready. Open this file in your browser:"
+	@echo "    file://$(CURDIR)/$(HTML)/index.html"
+
+test: $(STAMP)
+	@$(BIN)/python -m pytest || { \
+	  echo "ERROR [test]: some tests failed (see the summary above)."; exit 1; }
+
+lab: $(STAMP)
+	ROBOKIN_VIEWER=live $(BIN)/jupyter lab notebooks/
+
+execute: $(STAMP)
+	@for nb in notebooks/[0-9]*.ipynb; do \
+	  echo "== executing $$nb"; \
+	  ROBOKIN_VIEWER=static $(BIN)/jupyter nbconvert --to notebook --execute --inplace \
+	    --ExecutePreprocessor.timeout=300 "$$nb" || exit 1; \
+	done
+
+bench: $(STAMP)
+	@for script in benchmarks/bench_*.py; do echo "== $$script"; $(BIN)/python "$$script" || exit 1; done
+
+clean:
+	rm -rf _build .pytest_cache .hypothesis
+
+distclean: clean
+	rm -rf $(VENV)

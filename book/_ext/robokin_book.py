@@ -1,0 +1,116 @@
+"""Sphinx extension with the workbook's own build settings.
+
+* **MathJax offline.**  Jupyter Book loads MathJax from a CDN by default, which
+  fails on machines without internet.  This extension serves MathJax 3 from the
+  ``django-static-mathjax`` wheel (pinned in ``requirements.txt``): it copies only
+  the components the book needs (core, TeX input with its extensions, CommonHTML
+  output and its fonts — about 0.7 MB instead of the 1.2 MB all-in-one bundle)
+  into ``_build/html/_static/mathjax/`` and points Sphinx at them.
+* **Collapsed solutions.**  Code cells tagged ``solution`` are rendered inside a
+  closed ``<details>`` block by ``_static/solutions.js`` (shipped from
+  ``book/_static``), so a student sees the task first and opens the worked
+  solution on purpose.
+"""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+from sphinx.application import Sphinx
+from sphinx.util import logging
+
+logger = logging.getLogger(__name__)
+
+#: MathJax components copied into the built book (paths relative to ``es5/``).
+MATHJAX_PARTS = (
+    "startup.js",
+    "core.js",
+    "input/tex.js",
+    "input/tex/extensions",
+    "output/chtml.js",
+    "output/chtml/fonts/tex.js",
+    "output/chtml/fonts/woff-v2",
+)
+
+STATIC_DIR = Path(__file__).resolve().parent.parent / "_static"
+
+
+def mathjax_source() -> Path:
+    """Directory ``es5/`` of the MathJax 3 distribution installed with pip."""
+    try:
+        import mathjax  # provided by the django-static-mathjax wheel
+    except ImportError as exc:  # pragma: no cover - install problem
+        raise RuntimeError(
+            "MathJax is missing: run `make book` (or `pip install -r requirements.txt`), "
+            "which installs django-static-mathjax, the offline MathJax the book uses."
+        ) from exc
+    root = Path(mathjax.__file__).resolve().parent / "static" / "mathjax" / "es5"
+    if not (root / "startup.js").is_file():  # pragma: no cover - broken install
+        raise RuntimeError(f"MathJax files not found under {root}")
+    return root
+
+
+def configure_mathjax(app: Sphinx, config) -> None:
+    """Use the local MathJax and load only the components the book needs."""
+    config.mathjax_path = "mathjax/startup.js"
+    mj = dict(config.mathjax3_config or {})
+    loader = dict(mj.get("loader", {}))
+    loader["load"] = ["input/tex", "output/chtml"]
+    mj["loader"] = loader
+    tex = dict(mj.get("tex", {}))
+    tex.setdefault("packages", {"[+]": ["ams", "boldsymbol"]})
+    mj["tex"] = tex
+    options = dict(mj.get("options", {}))
+    options["enableMenu"] = False
+    mj["options"] = options
+    config.mathjax3_config = mj
+    # pydata-sphinx-theme logs a console error on a first visit when no default
+    # colour mode is set; a clean console is part of the browser check.
+    config.html_context = {**(config.html_context or {}), "default_mode": "light"}
+    # Ship solutions.js and its stylesheet.
+    if str(STATIC_DIR) not in config.html_static_path:
+        config.html_static_path.append(str(STATIC_DIR))
+
+
+def copy_mathjax(app: Sphinx, exception: Exception | None) -> None:
+    """Copy the MathJax components into ``_static/mathjax`` of the HTML output."""
+    if exception is not None or app.builder.format != "html":
+        return
+    source = mathjax_source()
+    target = Path(app.outdir) / "_static" / "mathjax"
+    for part in MATHJAX_PARTS:
+        src, dst = source / part, target / part
+        if src.is_dir():
+            shutil.copytree(src, dst, dirs_exist_ok=True)
+        else:
+            dst.parent.mkdir(parents=True, exist_ok=True)
+            shutil.copy2(src, dst)
+    license_file = source.parent / "LICENSE"
+    if license_file.is_file():
+        shutil.copy2(license_file, target / "LICENSE")
+
+
+def deduplicate_scripts(app: Sphinx, pagename, templatename, context, doctree) -> None:
+    """Drop repeated ``<script>`` entries (sphinx-thebe adds its inline set-up twice,
+    which raises "Identifier 'THEBE_JS_URL' has already been declared" in the browser)."""
+    scripts = context.get("script_files")
+    if not scripts:
+        return
+    seen, unique = set(), []
+    for script in scripts:
+        key = (getattr(script, "filename", str(script)) or "", repr(sorted(getattr(script, "attributes", {}).items())))
+        if key not in seen:
+            seen.add(key)
+            unique.append(script)
+    scripts[:] = unique  # in place: the template reads this same list
+
+
+def setup(app: Sphinx) -> dict:
+    # Run after myst-parser has added its own MathJax options.
+    app.connect("config-inited", configure_mathjax, priority=900)
+    app.connect("build-finished", copy_mathjax)
+    app.connect("html-page-context", deduplicate_scripts, priority=900)
+    app.add_js_file("solutions.js")
+    app.add_css_file("solutions.css")
+    return {"version": "0.1", "parallel_read_safe": True, "parallel_write_safe": True}

@@ -1,0 +1,140 @@
+"""The book builds with warnings as errors, and every page works in a real browser.
+
+The browser check opens each built page from disk (file://) in headless
+Chromium: no JavaScript errors, maths typeset by MathJax, every image loaded,
+every 3D scene drawn (its WebGL canvas is not blank) with animation controls
+where the scene is animated, and the page weight budget of pages with a scene.
+"""
+
+from __future__ import annotations
+
+import io
+from pathlib import Path
+from urllib.parse import unquote, urlparse
+
+import pytest
+import yaml
+
+from conftest import HTML_DIR, ROOT
+
+pytestmark = pytest.mark.book
+
+#: Total bytes a page with one 3D scene may load (HTML, scripts, styles, fonts, scene data).
+PAGE_WEIGHT_BUDGET = 1_500_000
+
+
+def toc_pages() -> list[str]:
+    """Every document listed in ``_toc.yml`` (root first), as paths without suffix."""
+    toc = yaml.safe_load((ROOT / "_toc.yml").read_text())
+    pages = [toc["root"]]
+
+    def walk(entries):
+        for entry in entries or []:
+            if "file" in entry:
+                pages.append(entry["file"])
+            walk(entry.get("sections"))
+            walk(entry.get("chapters"))
+
+    for part in toc.get("parts", []):
+        walk(part.get("chapters"))
+    walk(toc.get("chapters"))
+    return pages
+
+
+PAGES = toc_pages()
+
+
+def test_book_builds_without_warnings(built_book):
+    log = (built_book.parent / "book-build.log").read_text()
+    assert "build succeeded" in log
+    assert "WARNING" not in log, "the build printed warnings (they are errors here)"
+    for page in PAGES:
+        assert (built_book / f"{page}.html").is_file(), f"{page} is in _toc.yml but was not built"
+
+
+def test_every_notebook_is_in_the_toc():
+    notebooks = sorted(p.relative_to(ROOT).with_suffix("").as_posix() for p in (ROOT / "notebooks").glob("*.ipynb"))
+    missing = [nb for nb in notebooks if nb not in PAGES]
+    assert not missing, f"notebooks missing from _toc.yml: {missing}"
+
+
+def _count_differing_pixels(png: bytes) -> tuple[int, int]:
+    """Number of pixels that differ clearly from the most common colour, and the total."""
+    import numpy as np
+    from PIL import Image
+
+    image = np.asarray(Image.open(io.BytesIO(png)).convert("RGB")).reshape(-1, 3).astype(int)
+    colours, counts = np.unique(image, axis=0, return_counts=True)
+    background = colours[np.argmax(counts)]
+    differing = np.abs(image - background).sum(axis=1) > 30
+    return int(differing.sum()), int(image.shape[0])
+
+
+def _local_size(url: str) -> int:
+    parsed = urlparse(url)
+    if parsed.scheme != "file":
+        return 0
+    path = Path(unquote(parsed.path))
+    return path.stat().st_size if path.is_file() else 0
+
+
+@pytest.mark.browser
+@pytest.mark.parametrize("page", PAGES)
+def test_page_in_browser(built_book, browser, page):
+    url = (built_book / f"{page}.html").as_uri()
+    context = browser.new_context(viewport={"width": 1280, "height": 900})
+    errors: list[str] = []
+    external: list[str] = []
+    loaded: dict[str, int] = {}
+    try:
+        tab = context.new_page()
+        tab.on("pageerror", lambda exc: errors.append(f"page error: {exc}"))
+        tab.on("console", lambda msg: errors.append(f"console {msg.type}: {msg.text}") if msg.type == "error" else None)
+        tab.on("requestfailed", lambda req: errors.append(f"failed to load {req.url}: {req.failure}"))
+
+        def on_request(req):
+            if req.url.startswith(("http://", "https://")):
+                external.append(req.url)
+            else:
+                loaded[req.url] = _local_size(req.url)
+
+        tab.on("request", on_request)
+        tab.goto(url, wait_until="load")
+
+        # Maths: every math element typeset by MathJax, no MathJax errors.
+        n_math = tab.evaluate("document.querySelectorAll('div.math, span.math').length")
+        if n_math:
+            tab.wait_for_function("window.MathJax && MathJax.startup && MathJax.startup.promise", timeout=20_000)
+            tab.evaluate("MathJax.startup.promise")
+            n_typeset = tab.evaluate("document.querySelectorAll('mjx-container').length")
+            assert n_typeset >= n_math, f"{page}: {n_math} math elements but only {n_typeset} typeset"
+            assert tab.evaluate("document.querySelectorAll('mjx-merror').length") == 0, f"{page}: MathJax errors"
+
+        # Images: every <img> loaded with a non-zero size.
+        broken = tab.evaluate(
+            "Array.from(document.images).filter(i => !(i.complete && i.naturalWidth > 0)).map(i => i.src)"
+        )
+        assert not broken, f"{page}: images that did not load: {broken}"
+
+        # 3D scenes: each canvas shows something, and animated scenes have controls.
+        scenes = tab.locator(".robokin-scene")
+        n_scenes = scenes.count()
+        for index in range(n_scenes):
+            scene = scenes.nth(index)
+            scene.scroll_into_view_if_needed()
+            canvas = scene.locator("canvas").first
+            canvas.wait_for(state="visible", timeout=20_000)
+            tab.wait_for_timeout(500)  # let the viewer draw a few frames
+            differing, total = _count_differing_pixels(canvas.screenshot())
+            assert differing > 0.002 * total, f"{page}: scene {index} looks blank ({differing}/{total} pixels drawn)"
+            if scene.get_attribute("data-animated") == "true":
+                assert scene.get_by_text("play", exact=False).count() > 0, f"{page}: scene {index} has no play control"
+
+        assert not external, f"{page}: the page tried to reach the network: {external[:5]}"
+        assert not errors, f"{page}: " + "\n".join(errors)
+
+        if n_scenes == 1:
+            weight = _local_size(url) + sum(size for u, size in loaded.items() if u != url)
+            assert weight <= PAGE_WEIGHT_BUDGET, f"{page}: page weight {weight / 1e6:.2f} MB > 1.5 MB"
+    finally:
+        context.close()
