@@ -99,7 +99,8 @@ def deduplicate_scripts(app: Sphinx, pagename, templatename, context, doctree) -
         return
     seen, unique = set(), []
     for script in scripts:
-        key = (getattr(script, "filename", str(script)) or "", repr(sorted(getattr(script, "attributes", {}).items())))
+        filename = getattr(script, "filename", str(script)) or ""
+        key = (filename, repr(sorted(getattr(script, "attributes", {}).items())))
         if key not in seen:
             seen.add(key)
             unique.append(script)

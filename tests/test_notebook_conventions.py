@@ -1,0 +1,87 @@
+"""Every notebook follows the book's notebook conventions (book/for-instructors.md).
+
+nbval checks that stored outputs match a fresh run; these tests check the shape
+of the notebooks: stored executed top to bottom, exercise structure, and the
+`nbval-ignore-output` tag used only where an output cannot be compared.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+NOTEBOOKS = sorted((ROOT / "notebooks").glob("*.ipynb"))
+EXERCISES = [nb for nb in NOTEBOOKS if not nb.name.startswith("00_")]
+
+#: Tags a cell may carry, and what they mean.
+ALLOWED_TAGS = {
+    "solution",            # a worked solution: rendered collapsed in the book
+    "nbval-ignore-output",  # output is a picture or a 3D scene: nbval does not compare it
+    "hide-input",          # show only the output (e.g. a figure made by plotting code)
+    "hide-output",
+    "remove-input",
+    "remove-cell",         # set-up cells that the book does not show
+    "check",               # asserts the computed values against independent references
+}
+
+#: Output types that may be left out of nbval's comparison.
+UNCOMPARABLE_MIME = {"image/png", "image/svg+xml", "text/html", "application/vnd.jupyter.widget-view+json"}
+
+
+def load(path: Path) -> dict:
+    return json.loads(path.read_text())
+
+
+def test_there_are_notebooks():
+    assert NOTEBOOKS, "notebooks/ holds no notebook"
+    assert NOTEBOOKS[0].name == "00_tour.ipynb"
+
+
+@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.name)
+def test_stored_executed_top_to_bottom(path):
+    cells = [c for c in load(path)["cells"] if c["cell_type"] == "code"]
+    counts = [c.get("execution_count") for c in cells]
+    assert None not in counts, f"{path.name}: cells that were never run (execute it: `make execute`)"
+    assert counts == list(range(1, len(cells) + 1)), f"{path.name}: not run top to bottom in a fresh kernel"
+    for cell in cells:
+        for output in cell.get("outputs", []):
+            assert output["output_type"] != "error", f"{path.name}: a stored output is an error"
+
+
+@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.name)
+def test_tags(path):
+    for index, cell in enumerate(load(path)["cells"]):
+        tags = set(cell.get("metadata", {}).get("tags", []))
+        unknown = tags - ALLOWED_TAGS
+        assert not unknown, f"{path.name} cell {index}: unknown tags {unknown}"
+        if "nbval-ignore-output" in tags:
+            mimes = {m for o in cell.get("outputs", []) for m in o.get("data", {})}
+            assert mimes & UNCOMPARABLE_MIME, (
+                f"{path.name} cell {index}: tagged nbval-ignore-output but has no picture or scene output"
+            )
+
+
+@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.name)
+def test_no_addresses_or_timestamps_in_outputs(path):
+    import re
+
+    pattern = re.compile(r"at 0x[0-9a-f]{6,}|\b20\d\d-\d\d-\d\d[ T]\d\d:\d\d")
+    for index, cell in enumerate(load(path)["cells"]):
+        for output in cell.get("outputs", []):
+            text = "".join(output.get("text", "")) + "".join(output.get("data", {}).get("text/plain", ""))
+            assert not pattern.search(text), f"{path.name} cell {index}: output holds an address or a timestamp"
+
+
+@pytest.mark.parametrize("path", EXERCISES, ids=lambda p: p.name)
+def test_exercise_structure(path):
+    cells = load(path)["cells"]
+    markdown = "\n".join("".join(c["source"]) for c in cells if c["cell_type"] == "markdown")
+    assert cells[0]["cell_type"] == "markdown" and "".join(cells[0]["source"]).lstrip().startswith("# ")
+    for heading in ("Learning goals", "Problem statement", "Going further"):
+        assert heading in markdown, f"{path.name}: no '{heading}' section"
+    assert any("solution" in c.get("metadata", {}).get("tags", []) for c in cells), f"{path.name}: no solution cells"
+    code = "\n".join("".join(c["source"]) for c in cells if c["cell_type"] == "code")
+    assert "assert" in code, f"{path.name}: nothing is checked"
