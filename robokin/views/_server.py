@@ -1,0 +1,92 @@
+"""MeshCat server process started by :mod:`robokin.views.live` (``python -m robokin.views._server``).
+
+Differences from ``meshcat-server``: the web server listens on 127.0.0.1 only
+(MeshCat's own ``app.listen(port)`` binds all interfaces), ``/static/`` serves a
+page whose websocket URL is relative to the page (so it also works behind
+jupyter-server-proxy at ``.../proxy/<port>/static/``), and the process exits by
+itself when its parent (the Jupyter kernel) is gone.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+
+HOST = "127.0.0.1"
+
+INDEX = """<!DOCTYPE html>
+<html><head><meta charset="utf-8"><title>MeshCat (robokin)</title>
+<style>body{margin:0}#meshcat-pane{width:100vw;height:100vh;overflow:hidden}</style></head>
+<body><div id="meshcat-pane"></div>
+<script src="main.min.js"></script>
+<script>
+var viewer = new MeshCat.Viewer(document.getElementById("meshcat-pane"));
+var base = location.pathname.replace(/static\\/(index\\.html)?$/, "");
+var url = (location.protocol === "https:" ? "wss://" : "ws://") + location.host + base;
+try { viewer.connect(url); } catch (e) { console.info("Not connected to MeshCat websocket server: ", e); }
+</script></body></html>
+"""
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--port", type=int, default=7000, help="first web port to try")
+    parser.add_argument("--zmq-port", type=int, default=6000, help="first zmq port to try")
+    parser.add_argument("--parent-pid", type=int, default=None)
+    args = parser.parse_args(argv)
+
+    import tornado.ioloop
+    import tornado.web
+    from meshcat.servers import zmqserver
+
+    class IndexHandler(tornado.web.RequestHandler):
+        def get(self):
+            self.set_header("Content-Type", "text/html; charset=utf-8")
+            self.set_header("Cache-Control", "no-store")
+            self.write(INDEX)
+
+    class Bridge(zmqserver.ZMQWebSocketBridge):
+        def make_app(self):
+            app = tornado.web.Application([
+                (r"/static/?", IndexHandler),
+                (r"/static/index\.html", IndexHandler),
+                (r"/static/(.*)", zmqserver.StaticFileHandlerNoCache,
+                 {"path": zmqserver.VIEWER_ROOT, "default_filename": zmqserver.VIEWER_HTML}),
+                (r"/", zmqserver.WebSocketHandler, {"bridge": self}),
+            ])
+            listen = app.listen
+
+            def listen_on_loopback(port, **kwargs):
+                return listen(port, address=HOST, **kwargs)
+
+            app.listen = listen_on_loopback
+            return app
+
+    zmqserver.DEFAULT_FILESERVER_PORT = args.port
+    zmqserver.DEFAULT_ZMQ_PORT = args.zmq_port
+    bridge = Bridge(host=HOST)
+    print(f"zmq_url={bridge.zmq_url}", flush=True)
+    print(f"web_url={bridge.web_url}", flush=True)
+    print(f"port={bridge.fileserver_port}", flush=True)
+    sys.stdout = open(os.devnull, "w")    # nobody reads our stdout any more
+
+    loop = tornado.ioloop.IOLoop.current()
+    if args.parent_pid:
+        def check_parent():
+            try:
+                os.kill(args.parent_pid, 0)
+            except OSError:
+                loop.stop()
+                return
+            if os.getppid() == 1 and args.parent_pid != 1:
+                loop.stop()
+        tornado.ioloop.PeriodicCallback(check_parent, 1000).start()
+    try:
+        bridge.run()
+    except KeyboardInterrupt:
+        pass
+
+
+if __name__ == "__main__":
+    main()

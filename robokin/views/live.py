@@ -1,0 +1,210 @@
+"""Live MeshCat servers started by robokin.
+
+:class:`LiveViewer` starts ``python -m robokin.views._server`` (a MeshCat
+server listening on 127.0.0.1 only, on the first free web port from 7000 and
+zmq port from 6000), talks to it over zmq, and gives the URL the notebook
+should show in an iframe:
+
+- ``http://127.0.0.1:<port>/static/`` normally;
+- ``{JUPYTERHUB_SERVICE_PREFIX or "/"}proxy/<port>/static/`` when
+  ``jupyter-server-proxy`` is importable (JupyterHub, Binder: the browser cannot
+  reach the kernel's loopback, the Jupyter server proxies it).
+
+Every server is stopped by :meth:`LiveViewer.close`, when the viewer is garbage
+collected, at interpreter exit (``weakref.finalize`` runs at exit), and -- if the
+kernel is killed -- by the server itself, which watches its parent process.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import os
+import subprocess
+import sys
+import tempfile
+import time
+import weakref
+
+__all__ = ["LiveViewer", "MeshcatUnavailable", "proxy_url", "get_viewer", "close_all"]
+
+_SERVERS: "weakref.WeakSet[LiveViewer]" = weakref.WeakSet()
+_SHARED: "LiveViewer | None" = None
+
+
+class MeshcatUnavailable(RuntimeError):
+    """The MeshCat server could not be started or reached."""
+
+
+def proxy_url(port):
+    """The URL of a local port through jupyter-server-proxy, or None if that is not installed."""
+    if importlib.util.find_spec("jupyter_server_proxy") is None:
+        return None
+    prefix = os.environ.get("JUPYTERHUB_SERVICE_PREFIX") or "/"
+    if not prefix.endswith("/"):
+        prefix += "/"
+    return f"{prefix}proxy/{int(port)}/static/"
+
+
+def _stop(proc, logfile):
+    try:
+        if proc.poll() is None:
+            proc.terminate()
+            try:
+                proc.wait(timeout=3)
+            except subprocess.TimeoutExpired:
+                proc.kill()
+                proc.wait(timeout=3)
+    finally:
+        try:
+            logfile.close()
+        except Exception:  # noqa: BLE001
+            pass
+
+
+class LiveViewer:
+    """A MeshCat server process plus a zmq client.
+
+    ``LiveViewer(port=7000)`` starts the server (``port`` is the first port tried);
+    raises :class:`MeshcatUnavailable` if it cannot.  ``send(cmd)`` sends a
+    command dict, ``send_transforms([(path, T)])`` only transforms.
+    """
+
+    def __init__(self, *, port=7000, zmq_port=6000, timeout=20.0):
+        try:
+            import umsgpack  # noqa: F401
+            import zmq
+        except ImportError as exc:
+            raise MeshcatUnavailable(f"meshcat is not installed ({exc}); pip install 'robokin[views]'") from exc
+        self._log = tempfile.TemporaryFile()
+        cmd = [sys.executable, "-u", "-m", "robokin.views._server", "--port", str(int(port)),
+               "--zmq-port", str(int(zmq_port)), "--parent-pid", str(os.getpid())]
+        try:
+            self.process = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=self._log,
+                                            stdin=subprocess.DEVNULL, start_new_session=True)
+        except OSError as exc:
+            raise MeshcatUnavailable(f"cannot start the MeshCat server: {exc}") from exc
+        self._finalizer = weakref.finalize(self, _stop, self.process, self._log)
+        info = {}
+        deadline = time.monotonic() + timeout
+        while len(info) < 3:
+            line = self.process.stdout.readline().decode("utf-8", "replace").strip()
+            if not line:
+                if self.process.poll() is not None or time.monotonic() > deadline:
+                    self._finalizer()
+                    raise MeshcatUnavailable(f"the MeshCat server did not start: {self._error_tail()}")
+                continue
+            key, _, value = line.partition("=")
+            info[key] = value
+        self.process.stdout.close()
+        self.zmq_url = info["zmq_url"]
+        self.web_url = info["web_url"]
+        self.port = int(info["port"])
+        self.pid = self.process.pid
+        self._zmq = zmq
+        self._context = zmq.Context.instance()
+        self._socket = None
+        self._last = {}           # path -> last matrix sent by send_transforms
+        self._connect()
+        _SERVERS.add(self)
+
+    def _error_tail(self):
+        try:
+            self._log.seek(0)
+            text = self._log.read().decode("utf-8", "replace").strip().splitlines()
+            return text[-1] if text else f"exit code {self.process.poll()}"
+        except Exception:  # noqa: BLE001
+            return f"exit code {self.process.poll()}"
+
+    def _connect(self):
+        if self._socket is not None:
+            self._socket.close(linger=0)
+        self._socket = self._context.socket(self._zmq.REQ)
+        self._socket.setsockopt(self._zmq.RCVTIMEO, 5000)
+        self._socket.setsockopt(self._zmq.SNDTIMEO, 5000)
+        self._socket.setsockopt(self._zmq.LINGER, 0)
+        self._socket.connect(self.zmq_url)
+
+    # ---- state
+    @property
+    def alive(self):
+        return self.process.poll() is None
+
+    @property
+    def url(self):
+        """The URL the browser should open (proxied on JupyterHub/Binder)."""
+        return proxy_url(self.port) or self.web_url
+
+    # ---- commands
+    def send(self, command):
+        """Send one MeshCat command dict (``type``, ``path``, ...)."""
+        import umsgpack
+
+        if not self.alive:
+            raise MeshcatUnavailable("the MeshCat server has stopped")
+        frames = [command["type"].encode(), command.get("path", "").encode(),
+                  umsgpack.packb(command, force_float_precision="single")]
+        try:
+            self._socket.send_multipart(frames)
+            self._socket.recv()
+        except self._zmq.ZMQError as exc:
+            self._connect()
+            raise MeshcatUnavailable(f"no answer from the MeshCat server: {exc}") from exc
+
+    def send_all(self, commands):
+        """Send a list of command dicts (e.g. ``scene.commands()``)."""
+        self._last.clear()
+        for c in commands:
+            self.send(c)
+
+    def send_transforms(self, transforms):
+        """Send ``set_transform`` for each ``(path, 4x4)`` that changed since the last call: no geometry."""
+        from robokin.views.meshcat_draw import _set_transform
+
+        for path, T in transforms:
+            command = _set_transform(path, T)
+            if self._last.get(path) != command["matrix"]:
+                self.send(command)
+                self._last[path] = command["matrix"]
+
+    def delete(self, path="/meshcat"):
+        self.send({"type": "delete", "path": path})
+        self._last.clear()
+
+    def iframe_html(self, height=420):
+        return (f'<div style="height:{int(height)}px;width:100%;overflow:hidden;resize:vertical">'
+                f'<iframe src="{self.url}" style="width:100%;height:100%;border:none"></iframe></div>')
+
+    # ---- life cycle
+    def close(self):
+        """Stop the server process (idempotent)."""
+        if self._socket is not None:
+            self._socket.close(linger=0)
+            self._socket = None
+        self._finalizer()
+        global _SHARED
+        if _SHARED is self:
+            _SHARED = None
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def __repr__(self):
+        state = "running" if self.alive else "stopped"
+        return f"<LiveViewer {self.web_url} pid={self.pid} {state}>"
+
+
+def get_viewer():
+    """The kernel's shared live viewer, started on first use."""
+    global _SHARED
+    if _SHARED is None or not _SHARED.alive:
+        _SHARED = LiveViewer()
+    return _SHARED
+
+
+def close_all():
+    """Stop every server robokin started in this process."""
+    for v in list(_SERVERS):
+        v.close()

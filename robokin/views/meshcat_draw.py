@@ -1,0 +1,460 @@
+"""Lowering a :class:`~robokin.views.scene.Scene` to MeshCat commands.
+
+A chain is drawn from its kinematic description alone (``frames(q)``,
+``joint_axes``, ``joint_types``):
+
+- one scene node per frame ``/meshcat/<item>/<i>_<frame name>`` whose transform is
+  the frame's pose in the base frame (only these transforms change with ``q``);
+- links: cylinders between consecutive frame origins.  A link that is rigid in the
+  frame before it (the next joint is revolute, or it is the tool) hangs below that
+  frame node; a link whose length changes (the next joint is prismatic) is its own
+  node ``/meshcat/<item>/link_<i>`` with a scaled unit cylinder.  Zero-length links
+  are skipped; a chain whose links are *all* zero-length raises ``DomainError``;
+- revolute joints: short cylinders along the joint axis; prismatic joints: boxes;
+- the end-effector: a sphere and a small triad; optional triads (with text
+  labels) at every frame.
+
+Sizes are proportional to the chain's reach (sum of link lengths).  Commands are
+plain dicts in MeshCat's wire format; ids are derived from paths, so the output is
+deterministic.  Only numpy is needed here (``umsgpack`` is used for packing).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import re
+
+import numpy as np
+
+from robokin.errors import DomainError
+
+__all__ = ["chain_layout", "chain_commands", "chain_transforms", "scene_commands", "scene_scale",
+           "animation_command", "quaternion_xyzw"]
+
+ROOT = "/meshcat"
+LINK_COLOR = 0xE69F00        # orange
+JOINT_COLOR = 0x3B3B3B       # dark grey
+PRISMATIC_COLOR = 0x8E44AD   # purple
+EE_COLOR = 0xD62728          # red
+TARGET_COLOR = 0xFF00FF
+AXIS_COLORS = (0xE41A1C, 0x2CA02C, 0x1F77B4)   # x red, y green, z blue
+_DIGITS = 6
+
+
+def _r(x):
+    return round(float(x), _DIGITS)
+
+
+def _uuid(*parts):
+    h = hashlib.md5("/".join(parts).encode()).hexdigest()
+    return f"{h[:8]}-{h[8:12]}-{h[12:16]}-{h[16:20]}-{h[20:32]}"
+
+
+def _safe(name):
+    return re.sub(r"[^A-Za-z0-9_.-]+", "_", str(name)) or "_"
+
+
+def _matrix_list(T):
+    """Column-major flat list, as three.js ``Matrix4.fromArray`` wants it."""
+    return [_r(v) for v in np.asarray(T, dtype=float).T.ravel()]
+
+
+def _rot_y_to(d):
+    """A rotation whose y column is the unit vector ``d`` (three.js cylinders run along y)."""
+    d = np.asarray(d, dtype=float)
+    d = d / np.linalg.norm(d)
+    helper = np.array([1.0, 0, 0]) if abs(d[0]) < 0.9 else np.array([0, 0, 1.0])
+    x = np.cross(d, helper)
+    x /= np.linalg.norm(x)
+    z = np.cross(x, d)
+    return np.column_stack([x, d, z])
+
+
+def _pose(R=None, p=None, scale=None):
+    T = np.eye(4)
+    if R is not None:
+        T[:3, :3] = R
+    if scale is not None:
+        T[:3, :3] = T[:3, :3] @ np.diag(scale)
+    if p is not None:
+        T[:3, 3] = p
+    return T
+
+
+# ----------------------------------------------------------------- geometry analysis
+def _frames(chain, q):
+    F = np.asarray(chain.frames(np.asarray(q, dtype=float)), dtype=float)
+    n = int(chain.n)
+    if F.shape != (n + 2, 4, 4):
+        raise DomainError(f"chain.frames(q) must return shape ({n + 2}, 4, 4); got {F.shape}")
+    return F
+
+
+def _frames_batch(chain, Q):
+    Q = np.asarray(Q, dtype=float)
+    n = int(chain.n)
+    try:
+        F = np.asarray(chain.frames(Q), dtype=float)
+        if F.shape == (Q.shape[0], n + 2, 4, 4):
+            return F
+    except Exception:  # noqa: BLE001 - fall back to one call per row
+        pass
+    return np.stack([_frames(chain, q) for q in Q])
+
+
+def _sample_configurations(chain, q):
+    n = int(chain.n)
+    lim = np.asarray(chain.limits, dtype=float).reshape(n, 2)
+    lo = np.where(np.isfinite(lim[:, 0]), lim[:, 0], -np.pi)
+    hi = np.where(np.isfinite(lim[:, 1]), lim[:, 1], np.pi)
+    rng = np.random.default_rng(12345)
+    return [q] + [lo + (hi - lo) * rng.random(n) for _ in range(2)]
+
+
+def chain_layout(chain, q):
+    """Analyse the chain's geometry at ``q``.
+
+    Returns a dict with ``reach`` (sum of link lengths), ``segments`` (list of
+    ``(i, rigid, length)`` for the link from frame i to frame i+1) and the frames.
+    """
+    F = _frames(chain, q)
+    n = int(chain.n)
+    origins = F[:, :3, 3]
+    lengths = np.linalg.norm(np.diff(origins, axis=0), axis=1)
+    samples = [_frames(chain, qs) for qs in _sample_configurations(chain, q)[1:]]
+    reach = float(max([lengths.sum()] + [np.linalg.norm(np.diff(Fs[:, :3, 3], axis=0), axis=1).sum()
+                                         for Fs in samples]))
+    if not reach > 1e-9:
+        raise DomainError(
+            f"chain: all {n + 1} links have zero length (every frame origin coincides with the base), "
+            "so there is nothing to draw")
+    tol = 1e-9 * max(reach, 1.0)
+    segments = []
+    for i in range(n + 1):
+        local = [np.linalg.solve(Fs[i], Fs[i + 1])[:3, 3] for Fs in [F] + samples]
+        rigid = all(np.allclose(v, local[0], atol=tol * 1e3) for v in local[1:])
+        varying_len = max(np.linalg.norm(v) for v in local)
+        if rigid and np.linalg.norm(local[0]) < 1e-6 * reach:
+            continue                      # zero-length link: nothing to draw
+        if not rigid and varying_len < 1e-6 * reach:
+            continue
+        segments.append((i, rigid, local[0]))
+    return {"frames": F, "reach": reach, "segments": segments, "n": n}
+
+
+def _sizes(reach):
+    r = 0.022 * reach
+    return {"link": r, "joint_r": 1.7 * r, "joint_h": 5.0 * r, "box": 3.0 * r, "box_h": 6.5 * r,
+            "ee": 1.5 * r, "triad": 0.14 * reach, "ee_triad": 0.1 * reach}
+
+
+# ----------------------------------------------------------------- object JSON
+def _material(kind, color, opacity=1.0, **extra):
+    m = {"type": kind, "color": int(color)}
+    if opacity < 1.0:
+        m.update(transparent=True, opacity=_r(opacity), depthWrite=False)
+    m.update(extra)
+    return m
+
+
+def _object(path, geometry, material, *, kind="Mesh", matrix=None):
+    gid, mid = _uuid(path, "geometry"), _uuid(path, "material")
+    obj = {"uuid": _uuid(path, "object"), "type": kind, "geometry": gid, "material": mid}
+    if matrix is not None:
+        obj["matrix"] = _matrix_list(matrix)
+    return {"metadata": {"version": 4.5, "type": "Object"},
+            "geometries": [dict(geometry, uuid=gid)], "materials": [dict(material, uuid=mid)],
+            "object": obj}
+
+
+def _cylinder(radius, height, segments=20):
+    return {"type": "CylinderGeometry", "radiusTop": _r(radius), "radiusBottom": _r(radius),
+            "height": _r(height), "radialSegments": segments}
+
+
+def _sphere(radius):
+    return {"type": "SphereGeometry", "radius": _r(radius), "widthSegments": 20, "heightSegments": 12}
+
+
+def _box(w, h, d):
+    return {"type": "BoxGeometry", "width": _r(w), "height": _r(h), "depth": _r(d)}
+
+
+def _float32(array):
+    import umsgpack
+    return umsgpack.Ext(0x17, np.ascontiguousarray(array, dtype="<f4").tobytes())
+
+
+def _line(path, points, color, opacity=1.0):
+    geometry = {"type": "BufferGeometry", "data": {"attributes": {"position": {
+        "itemSize": 3, "type": "Float32Array", "array": _float32(np.asarray(points).ravel()),
+        "normalized": False}}}}
+    return _object(path, geometry, _material("LineBasicMaterial", color, opacity), kind="Line")
+
+
+def _text_sprite(path, text, size):
+    tid, mid = _uuid(path, "texture"), _uuid(path, "material")
+    return {"metadata": {"version": 4.5, "type": "Object"}, "geometries": [],
+            "textures": [{"uuid": tid, "type": "_text", "text": str(text), "font_size": 40,
+                          "font_face": "sans-serif"}],
+            "materials": [{"uuid": mid, "type": "SpriteMaterial", "map": tid, "transparent": True,
+                           "depthTest": False}],
+            "object": {"uuid": _uuid(path, "object"), "type": "Sprite", "material": mid,
+                       "matrix": _matrix_list(_pose(scale=(size, size, size)))}}
+
+
+def _set_object(path, obj):
+    return {"type": "set_object", "path": path, "object": obj}
+
+
+def _set_transform(path, T):
+    return {"type": "set_transform", "path": path, "matrix": _matrix_list(T)}
+
+
+def _triad_commands(path, size, opacity=1.0, label=None):
+    cmds = []
+    for k, name in enumerate("xyz"):
+        axis = np.eye(3)[k]
+        sub = f"{path}/{name}"
+        cmds.append(_set_object(sub, _object(sub, _cylinder(size / 28, size, 10),
+                                             _material("MeshLambertMaterial", AXIS_COLORS[k], opacity))))
+        cmds.append(_set_transform(sub, _pose(_rot_y_to(axis), axis * size / 2)))
+    if label:
+        sub = f"{path}/label"
+        cmds.append(_set_object(sub, _text_sprite(sub, label, 0.9 * size)))
+        cmds.append(_set_transform(sub, _pose(p=(0.25 * size, 0.25 * size, 0.35 * size))))
+    return cmds
+
+
+# ----------------------------------------------------------------- chains
+def _frame_paths(name, chain):
+    n = int(chain.n)
+    names = list(getattr(chain, "frame_names", None) or [f"frame{i}" for i in range(n + 2)])
+    return [f"{ROOT}/{name}/{i}_{_safe(names[i])}" for i in range(n + 2)]
+
+
+def _segment_pose(a, b):
+    d = b - a
+    L = float(np.linalg.norm(d))
+    if L < 1e-12:
+        return _pose(p=a, scale=(1.0, 1e-6, 1.0))
+    return _pose(_rot_y_to(d / L), (a + b) / 2, scale=(1.0, L, 1.0))
+
+
+def chain_transforms(name, chain, q, layout=None):
+    """``[(path, 4x4)]`` for every moving node of chain item ``name`` at ``q``."""
+    F = _frames(chain, q)
+    layout = layout or chain_layout(chain, q)
+    paths = _frame_paths(name, chain)
+    out = [(paths[i], F[i]) for i in range(len(paths))]
+    for i, rigid, _ in layout["segments"]:
+        if not rigid:
+            out.append((f"{ROOT}/{name}/link_{i}", _segment_pose(F[i, :3, 3], F[i + 1, :3, 3])))
+    return out
+
+
+def chain_commands(item, scene_scale=None):
+    """MeshCat commands drawing a :class:`~robokin.views.scene.ChainItem`."""
+    chain, q, name = item.chain, item.q, item.name
+    layout = chain_layout(chain, q)
+    F, reach = layout["frames"], layout["reach"]
+    s = _sizes(reach)
+    n = layout["n"]
+    op = item.opacity
+    link_color = item.color if item.color is not None else LINK_COLOR
+    joint_color = item.color if item.color is not None else JOINT_COLOR
+    paths = _frame_paths(name, chain)
+    names = list(getattr(chain, "frame_names", None) or [f"frame{i}" for i in range(n + 2)])
+    cmds = []
+    for path, T in chain_transforms(name, chain, q, layout):
+        cmds.append(_set_transform(path, T))
+    # base plate
+    base = f"{paths[0]}/base"
+    cmds.append(_set_object(base, _object(base, _cylinder(3.2 * s["link"], 0.8 * s["link"], 28),
+                                          _material("MeshLambertMaterial", joint_color, op),
+                                          matrix=_pose(_rot_y_to([0, 0, 1.0]), (0, 0, -0.4 * s["link"])))))
+    # links
+    link_mat = _material("MeshPhongMaterial", link_color, op)
+    for i, rigid, v in layout["segments"]:
+        if rigid:
+            path = f"{paths[i]}/link"
+            cmds.append(_set_object(path, _object(path, _cylinder(s["link"], float(np.linalg.norm(v))),
+                                                  link_mat)))
+            cmds.append(_set_transform(path, _pose(_rot_y_to(v), v / 2)))
+        else:
+            path = f"{ROOT}/{name}/link_{i}"
+            cmds.append(_set_object(path, _object(path, _cylinder(s["link"], 1.0), link_mat)))
+    # joints
+    axes = np.asarray(chain.joint_axes, dtype=float).reshape(n, 3)
+    types = list(chain.joint_types)
+    for j in range(n):
+        path = f"{paths[j + 1]}/joint"
+        if types[j] == "prismatic":
+            geom = _box(s["box"], s["box_h"], s["box"])
+            mat = _material("MeshPhongMaterial", item.color if item.color is not None else PRISMATIC_COLOR, op)
+        else:
+            geom = _cylinder(s["joint_r"], s["joint_h"], 24)
+            mat = _material("MeshPhongMaterial", joint_color, op)
+        cmds.append(_set_object(path, _object(path, geom, mat)))
+        cmds.append(_set_transform(path, _pose(_rot_y_to(axes[j]))))
+    # end-effector
+    ee = f"{paths[n + 1]}/marker"
+    cmds.append(_set_object(ee, _object(ee, _sphere(s["ee"]),
+                                        _material("MeshPhongMaterial", item.color if item.color is not None
+                                                  else EE_COLOR, op))))
+    if op == 1.0:
+        cmds += _triad_commands(f"{paths[n + 1]}/triad", s["ee_triad"])
+    if item.frames:
+        for i in range(n + 1):
+            cmds += _triad_commands(f"{paths[i]}/triad", s["triad"], op,
+                                    label=names[i] if item.labels else None)
+    return cmds
+
+
+# ----------------------------------------------------------------- scene
+def scene_scale(scene):
+    from robokin.views.scene import ChainItem, PathItem, PointsItem, TargetItem
+    reaches = [chain_layout(it.chain, it.q)["reach"] for it in scene.items if isinstance(it, ChainItem)]
+    if reaches:
+        return max(reaches)
+    pts = [it.points for it in scene.items if isinstance(it, (PathItem, PointsItem))]
+    pts += [it.T[None, :3, 3] for it in scene.items if isinstance(it, TargetItem)]
+    if pts:
+        ext = float(np.abs(np.vstack(pts)).max())
+        if ext > 0:
+            return ext
+    return 1.0
+
+
+def scene_bounds(scene):
+    """Centre (3,) and radius of the box around everything drawn (chains over their animations too)."""
+    from robokin.views.scene import ChainItem, PathItem, PointsItem, TargetItem
+    pts = [np.zeros((1, 3))]
+    animated = {a.chain_name: a for a in scene.animations}
+    for it in scene.items:
+        if isinstance(it, ChainItem):
+            if it.name in animated:
+                F = _frames_batch(it.chain, animated[it.name].trajectory)
+                pts.append(F[:, :, :3, 3].reshape(-1, 3))
+            else:
+                pts.append(_frames(it.chain, it.q)[:, :3, 3])
+        elif isinstance(it, TargetItem):
+            pts.append(it.T[None, :3, 3])
+        elif isinstance(it, (PathItem, PointsItem)):
+            pts.append(it.points)
+    P = np.vstack(pts)
+    lo, hi = P.min(axis=0), P.max(axis=0)
+    return (lo + hi) / 2, float(np.linalg.norm(hi - lo) / 2)
+
+
+def quaternion_xyzw(R):
+    """Unit quaternions (x, y, z, w) of rotation matrices (..., 3, 3), sign-continuous along axis 0."""
+    R = np.asarray(R, dtype=float)
+    m00, m11, m22 = R[..., 0, 0], R[..., 1, 1], R[..., 2, 2]
+    w = np.sqrt(np.maximum(0.0, 1 + m00 + m11 + m22)) / 2
+    x = np.sqrt(np.maximum(0.0, 1 + m00 - m11 - m22)) / 2
+    y = np.sqrt(np.maximum(0.0, 1 - m00 + m11 - m22)) / 2
+    z = np.sqrt(np.maximum(0.0, 1 - m00 - m11 + m22)) / 2
+    x = np.copysign(x, R[..., 2, 1] - R[..., 1, 2])
+    y = np.copysign(y, R[..., 0, 2] - R[..., 2, 0])
+    z = np.copysign(z, R[..., 1, 0] - R[..., 0, 1])
+    quat = np.stack([x, y, z, w], axis=-1)
+    quat /= np.linalg.norm(quat, axis=-1, keepdims=True)
+    if quat.ndim == 2:
+        for k in range(1, len(quat)):
+            if quat[k] @ quat[k - 1] < 0:
+                quat[k] = -quat[k]
+    return quat
+
+
+def _decompose(Ts):
+    """positions (T,3), quaternions (T,4) xyzw, scales (T,3) of transforms with positive scales."""
+    M = Ts[:, :3, :3]
+    scale = np.linalg.norm(M, axis=1)
+    R = M / scale[:, None, :]
+    return Ts[:, :3, 3], quaternion_xyzw(R), scale
+
+
+def animation_command(scene):
+    """One ``set_animation`` command for all animations of the scene (or None)."""
+    if not scene.animations:
+        return None
+    entries = []
+    for anim in scene.animations:
+        item = scene.item(anim.chain_name)
+        F = _frames_batch(item.chain, anim.trajectory)
+        layout = chain_layout(item.chain, anim.trajectory[0])
+        paths = _frame_paths(item.name, item.chain)
+        tracks = [(paths[i], F[:, i]) for i in range(len(paths))]
+        for i, rigid, _ in layout["segments"]:
+            if not rigid:
+                tracks.append((f"{ROOT}/{item.name}/link_{i}",
+                               np.stack([_segment_pose(f[i, :3, 3], f[i + 1, :3, 3]) for f in F])))
+        times = _float32(anim.times)
+        for path, Ts in tracks:
+            if np.allclose(Ts, Ts[0], atol=1e-12):
+                continue                  # never moves: no track (the static transform is enough)
+            pos, quat, scale = _decompose(Ts)
+            clip_tracks = [
+                {"name": ".position", "type": "vector3", "times": times, "values": _float32(pos.ravel())},
+                {"name": ".quaternion", "type": "quaternion", "times": times, "values": _float32(quat.ravel())},
+            ]
+            if not np.allclose(scale, 1.0):
+                clip_tracks.append({"name": ".scale", "type": "vector3", "times": times,
+                                    "values": _float32(scale.ravel())})
+            entries.append({"path": path, "clip": {"fps": 1, "name": "default", "tracks": clip_tracks}})
+    options = {"play": bool(scene.options.play), "repetitions": 1_000_000 if scene.options.loop else 1,
+               "clampWhenFinished": True}
+    return {"type": "set_animation", "path": "", "animations": entries, "options": options}
+
+
+def _trace_commands(scene, anim):
+    item = scene.item(anim.chain_name)
+    F = _frames_batch(item.chain, anim.trajectory)
+    path = f"{ROOT}/{item.name}_trace"
+    return [_set_object(path, _line(path, F[:, -1, :3, 3], anim.trace_color))]
+
+
+def scene_commands(scene):
+    """All MeshCat commands of a scene, in order: camera, objects, then the animation."""
+    from robokin.views.scene import ChainItem, PathItem, PointsItem, TargetItem
+    L = scene_scale(scene)
+    center, radius = scene_bounds(scene)
+    shift = _pose(p=-center)
+    d = 1.5 * max(radius, 0.1 * L) / np.tan(np.deg2rad(37.5))
+    eye = np.array([0.95, 0.75, 0.6]) / np.linalg.norm([0.95, 0.75, 0.6]) * d   # three.js camera frame: y up
+    cmds = [
+        # the orbit target is the world origin: move the scene so that its centre is there
+        _set_transform(ROOT, shift), _set_transform("/Grid", shift), _set_transform("/Axes", shift),
+        {"type": "set_property", "path": "/Cameras/default/rotated/<object>", "property": "position",
+         "value": [_r(v) for v in eye]},
+    ]
+    if not scene.options.grid:
+        cmds.append({"type": "set_property", "path": "/Grid", "property": "visible", "value": False})
+    for it in scene.items:
+        if isinstance(it, ChainItem):
+            cmds += chain_commands(it, L)
+        elif isinstance(it, TargetItem):
+            size = it.size or 0.18 * L
+            path = f"{ROOT}/{it.name}"
+            cmds += _triad_commands(path, size, label=it.label)
+            cmds.append(_set_object(f"{path}/origin", _object(f"{path}/origin", _sphere(size / 12),
+                                                               _material("MeshPhongMaterial", TARGET_COLOR))))
+            cmds.append(_set_transform(path, it.T))
+        elif isinstance(it, PointsItem):
+            radius = it.radius or 0.02 * L
+            for k, p in enumerate(it.points):
+                path = f"{ROOT}/{it.name}/{k}"
+                cmds.append(_set_object(path, _object(path, _sphere(radius),
+                                                      _material("MeshPhongMaterial", it.color))))
+                cmds.append(_set_transform(path, _pose(p=p)))
+        elif isinstance(it, PathItem):
+            path = f"{ROOT}/{it.name}"
+            cmds.append(_set_object(path, _line(path, it.points, it.color)))
+    for anim in scene.animations:
+        if anim.trace:
+            cmds += _trace_commands(scene, anim)
+    anim_cmd = animation_command(scene)
+    if anim_cmd is not None:
+        cmds.append(anim_cmd)
+    return cmds

@@ -1,0 +1,253 @@
+"""matplotlib drawings: stick figures, planar mechanisms, time series.
+
+All helpers draw into ``ax`` when given, else into a new figure (made with
+pyplot, so a notebook shows it once at the end of the cell); none calls
+``plt.show()``.  Single-panel helpers return the Axes, :func:`plot_history` the
+Figure.  Output is deterministic (no random colours).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from robokin.errors import ShapeError
+
+__all__ = ["plot_chain", "plot_planar", "plot_history", "plot_scene"]
+
+LINK = "#E69F00"
+JOINT = "#3B3B3B"
+EE = "#D62728"
+AXES_RGB = ("#E41A1C", "#2CA02C", "#1F77B4")
+
+
+def _new_axes(projection=None, figsize=(5.5, 4.5)):
+    import matplotlib.pyplot as plt
+    fig = plt.figure(figsize=figsize)
+    return fig.add_subplot(projection=projection)
+
+
+def _set_equal_3d(ax, pts):
+    pts = np.asarray(pts).reshape(-1, 3)
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    c, r = (lo + hi) / 2, max(float((hi - lo).max()) / 2, 1e-3) * 1.1
+    ax.set_xlim(c[0] - r, c[0] + r)
+    ax.set_ylim(c[1] - r, c[1] + r)
+    ax.set_zlim(c[2] - r, c[2] + r)
+    ax.set_box_aspect((1, 1, 1))
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.set_zlabel("z [m]")
+
+
+def _draw_triad(ax, T, size, alpha=1.0):
+    for k in range(3):
+        a = T[:3, 3]
+        b = a + size * T[:3, k]
+        ax.plot(*np.c_[a, b], color=AXES_RGB[k], lw=1.5, alpha=alpha)
+
+
+def _draw_chain(ax, chain, q, alpha=1.0, color=None, frames=False, label=None, triad=True):
+    F = np.asarray(chain.frames(np.asarray(q, dtype=float)), dtype=float)
+    o = F[:, :3, 3]
+    ax.plot(o[:, 0], o[:, 1], o[:, 2], "-", color=color or LINK, lw=3, alpha=alpha, label=label)
+    ax.plot(o[1:-1, 0], o[1:-1, 1], o[1:-1, 2], "o", color=JOINT, ms=5, alpha=alpha)
+    ax.plot(*o[-1], "o", color=EE, ms=6, alpha=alpha)
+    reach = float(np.linalg.norm(np.diff(o, axis=0), axis=1).sum()) or 1.0
+    if triad:
+        _draw_triad(ax, F[-1], 0.1 * reach, alpha)
+    if frames:
+        for T in F[:-1]:
+            _draw_triad(ax, T, 0.12 * reach, alpha)
+    return o
+
+
+def plot_chain(chain, q, ax=None, *, frames=False, alpha=None, labels=None):
+    """3D stick figure of ``chain`` at ``q`` (n,) or at each row of ``Q`` (N, n).
+
+    Links orange, joints dark dots, end-effector red with a small RGB triad;
+    ``frames=True`` adds a triad per frame.  With several configurations the
+    first is opaque and the others fade.  Returns the 3D Axes.
+    """
+    Q = np.asarray(q, dtype=float)
+    n = int(chain.n)
+    if Q.ndim == 1:
+        Q = Q[None]
+    if Q.ndim != 2 or Q.shape[1] != n:
+        raise ShapeError(f"q must have shape ({n},) or (N, {n}); got shape {np.shape(q)}")
+    if ax is None:
+        ax = _new_axes("3d")
+    pts = []
+    for k, row in enumerate(Q):
+        a = alpha if alpha is not None else (1.0 if k == 0 else max(0.15, 0.6 - 0.4 * k / max(len(Q) - 1, 1)))
+        lab = labels[k] if labels is not None else None
+        pts.append(_draw_chain(ax, chain, row, alpha=a, frames=frames, label=lab, triad=(k == 0)))
+    _set_equal_3d(ax, np.vstack(pts + [np.zeros((1, 3))]))
+    if labels is not None:
+        ax.legend(loc="upper left", fontsize=8)
+    return ax
+
+
+def plot_planar(segments=(), points=None, ax=None, *, labels=None, color=LINK, point_color=JOINT,
+                title=None, annotate=None):
+    """Planar drawing of links and points (planar serial or parallel robots).
+
+    ``segments`` is a list of ((x0, y0), (x1, y1)) pairs (or an (M, 2, 2) array)
+    or of polylines (K, 2); ``points`` an (N, 2) array of joints/markers;
+    ``annotate`` an optional list of text labels for the points.  Returns the Axes
+    (equal aspect, metres).
+    """
+    if ax is None:
+        ax = _new_axes()
+    allpts = []
+    for k, seg in enumerate(segments):
+        s = np.asarray(seg, dtype=float)
+        if s.ndim != 2 or s.shape[1] != 2 or s.shape[0] < 2:
+            raise ShapeError(f"segments[{k}] must have shape (K, 2) with K >= 2; got shape {s.shape}")
+        ax.plot(s[:, 0], s[:, 1], "-", color=color, lw=3, solid_capstyle="round",
+                label=labels[k] if labels is not None else None)
+        allpts.append(s)
+    if points is not None:
+        p = np.asarray(points, dtype=float).reshape(-1, 2)
+        ax.plot(p[:, 0], p[:, 1], "o", color=point_color, ms=6, zorder=3)
+        allpts.append(p)
+        for txt, xy in zip(annotate or [], p):
+            ax.annotate(str(txt), xy, textcoords="offset points", xytext=(5, 5), fontsize=9)
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.grid(True, alpha=0.3)
+    if title:
+        ax.set_title(title)
+    if labels is not None:
+        ax.legend(fontsize=8)
+    return ax
+
+
+def _get(record, *names):
+    if record is None:
+        return None
+    for name in names:
+        value = record.get(name) if isinstance(record, dict) else getattr(record, name, None)
+        if value is not None:
+            return value
+    return None
+
+
+def _series(ax, t, y, names, ylabel, log=False):
+    y = np.asarray(y, dtype=float)
+    if y.ndim == 1:
+        y = y[:, None]
+    for k in range(y.shape[1]):
+        lab = names[k] if names is not None and k < len(names) else f"{k + 1}"
+        (ax.semilogy if log else ax.plot)(t, y[:, k], label=lab, lw=1.5)
+    ax.set_ylabel(ylabel)
+    ax.grid(True, which="both", alpha=0.3)
+    if y.shape[1] > 1:
+        ax.legend(fontsize=8, ncol=min(y.shape[1], 4), loc="best")
+
+
+def plot_history(record=None, *, t=None, q=None, dq=None, error=None, singular_values=None,
+                 dt=None, joint_names=None, joint_types=None, log_error=True, degrees=False,
+                 error_label="error", time_label=None):
+    """Time-series figure of a simulation / IK record: one panel per quantity given.
+
+    Quantities come from keyword arguments or from ``record`` (an object or dict
+    with ``t``/``time``, ``q``, ``dq``/``qd``, ``error``/``errors`` and
+    ``singular_values``).  ``q``/``dq`` are (T, n) [rad, m]; ``error`` is (T,)
+    norms or (T, k) vectors (plotted as their norm); ``singular_values`` (T, m).  The x axis is time [s] when ``t`` or ``dt`` is known,
+    else the iteration number.  Errors use a log scale unless ``log_error=False``.
+    Returns the Figure.
+    """
+    import matplotlib.pyplot as plt
+
+    q = q if q is not None else _get(record, "q", "qs", "joint_positions")
+    dq = dq if dq is not None else _get(record, "dq", "qd", "q_dot", "joint_velocities")
+    error = error if error is not None else _get(record, "error", "errors", "error_norm", "err")
+    singular_values = singular_values if singular_values is not None else _get(record, "singular_values", "sigma")
+    t = t if t is not None else _get(record, "t", "time", "times")
+    panels = [(k, v) for k, v in (("q", q), ("dq", dq), ("error", error), ("sv", singular_values)) if v is not None]
+    if not panels:
+        raise ValueError("plot_history needs at least one of q, dq, error, singular_values (none given or found in record)")
+    length = len(np.asarray(panels[0][1]))
+    if t is None and dt is not None:
+        t = np.arange(length) * float(dt)
+    if t is None:
+        x, xlabel = np.arange(length), time_label or "iteration"
+    else:
+        x, xlabel = np.asarray(t, dtype=float), time_label or "time t [s]"
+    kinds = set(joint_types or [])
+    if kinds == {"prismatic"}:
+        qunit, dqunit = "m", "m/s"
+    elif "prismatic" in kinds:
+        qunit, dqunit = ("deg | m" if degrees else "rad | m"), ("deg/s | m/s" if degrees else "rad/s | m/s")
+    else:
+        qunit, dqunit = ("deg", "deg/s") if degrees else ("rad", "rad/s")
+
+    def conv(v):
+        v = np.asarray(v, dtype=float)
+        if not degrees:
+            return v
+        v = v.copy()
+        rev = [i for i, jt in enumerate(joint_types or ["revolute"] * v.shape[-1]) if jt == "revolute"]
+        if v.ndim == 2:
+            v[:, rev] = np.rad2deg(v[:, rev])
+        return v
+
+    fig, axes = plt.subplots(len(panels), 1, sharex=True, figsize=(6.5, 2.2 * len(panels) + 0.6), squeeze=False)
+    axes = axes[:, 0]
+    for ax, (kind, values) in zip(axes, panels):
+        v = np.asarray(values, dtype=float)
+        if len(v) != length:
+            raise ShapeError(f"{kind} has {len(v)} samples but {panels[0][0]} has {length}")
+        if kind == "q":
+            _series(ax, x, conv(v), joint_names, f"joint position q [{qunit}]")
+        elif kind == "dq":
+            _series(ax, x, conv(v), joint_names, f"joint velocity q̇ [{dqunit}]")
+        elif kind == "error":
+            if v.ndim == 2 and v.shape[1] > 1:
+                v = np.linalg.norm(v, axis=1)
+            _series(ax, x, np.maximum(np.abs(v), 1e-300) if log_error else v, None,
+                    f"{error_label} (norm)", log=log_error)
+        else:
+            _series(ax, x, v, [f"σ{k + 1}" for k in range(v.shape[1] if v.ndim == 2 else 1)],
+                    "singular values σ of J", log=False)
+    axes[-1].set_xlabel(xlabel)
+    fig.tight_layout()
+    return fig
+
+
+def plot_scene(scene, ax=None, *, frames=None):
+    """matplotlib version of a :class:`~robokin.views.scene.Scene` (3D stick figures)."""
+    from robokin.views.scene import ChainItem, PathItem, PointsItem, TargetItem
+
+    if ax is None:
+        ax = _new_axes("3d")
+    pts = [np.zeros((1, 3))]
+    L = scene.scale()
+    for it in scene.items:
+        if isinstance(it, ChainItem):
+            a = 1.0 if it.opacity == 1.0 else max(it.opacity, 0.25)
+            color = None if it.color is None else f"#{it.color:06x}"
+            pts.append(_draw_chain(ax, it.chain, it.q, alpha=a, color=color,
+                                   frames=it.frames if frames is None else frames))
+        elif isinstance(it, TargetItem):
+            _draw_triad(ax, it.T, it.size or 0.18 * L)
+            ax.plot(*it.T[:3, 3], "o", color="#FF00FF", ms=5)
+            if it.label:
+                ax.text(*it.T[:3, 3], f" {it.label}", fontsize=8)
+            pts.append(it.T[None, :3, 3])
+        elif isinstance(it, PointsItem):
+            ax.plot(it.points[:, 0], it.points[:, 1], it.points[:, 2], "o", color=f"#{it.color:06x}",
+                    markeredgecolor="k", ms=5)
+            pts.append(it.points)
+        elif isinstance(it, PathItem):
+            ax.plot(it.points[:, 0], it.points[:, 1], it.points[:, 2], "-", color="0.3", lw=1.2)
+            pts.append(it.points)
+    for anim in scene.animations:
+        item = scene.item(anim.chain_name)
+        if anim.trace:
+            F = np.asarray([item.chain.frames(q)[-1] for q in anim.trajectory])
+            ax.plot(F[:, 0, 3], F[:, 1, 3], F[:, 2, 3], "--", color="0.4", lw=1)
+            pts.append(F[:, :3, 3])
+    _set_equal_3d(ax, np.vstack(pts))
+    return ax

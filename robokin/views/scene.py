@@ -1,0 +1,357 @@
+"""A recorded 3D scene: chains, ghosts, targets, points, paths and animations.
+
+A :class:`Scene` only *records* what should be drawn; it imports neither MeshCat
+nor matplotlib.  The backends turn the record into pictures:
+
+- :mod:`robokin.views.meshcat_draw` lowers it to MeshCat commands, which are
+  sent to a live MeshCat server (:mod:`robokin.views.live`) or packed into a
+  static HTML snippet (:mod:`robokin.views.static_html`);
+- :mod:`robokin.views.plots` draws it as a matplotlib stick figure.
+
+:meth:`Scene.show` picks the backend (see :mod:`robokin.views` for the rules).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from robokin.errors import DomainError, ShapeError
+
+__all__ = ["Scene", "show"]
+
+DEFAULT_HEIGHT = 420
+
+
+# --------------------------------------------------------------------------- items
+@dataclass
+class ChainItem:
+    name: str
+    chain: Any
+    q: np.ndarray
+    color: int | None = None
+    opacity: float = 1.0
+    frames: bool = False
+    labels: bool = True
+
+
+@dataclass
+class TargetItem:
+    name: str
+    T: np.ndarray
+    size: float | None = None
+    label: str | None = None
+
+
+@dataclass
+class PointsItem:
+    name: str
+    points: np.ndarray
+    radius: float | None = None
+    color: int = 0xFFD92F
+
+
+@dataclass
+class PathItem:
+    name: str
+    points: np.ndarray
+    color: int = 0xFFFFFF
+
+
+@dataclass
+class AnimationItem:
+    chain_name: str
+    trajectory: np.ndarray
+    times: np.ndarray
+    trace: bool = True
+    trace_color: int = 0xFFFF66
+
+
+@dataclass
+class _Options:
+    height: int = DEFAULT_HEIGHT
+    play: bool = True
+    loop: bool = False
+    grid: bool = True
+    extra: dict = field(default_factory=dict)
+
+
+# --------------------------------------------------------------------------- checks
+def _as_q(chain, q, argname="q"):
+    n = int(chain.n)
+    if q is None:
+        lim = np.asarray(chain.limits, dtype=float).reshape(n, 2)
+        return np.clip(np.zeros(n), lim[:, 0], lim[:, 1])  # zero, moved into the limits
+    arr = np.asarray(q, dtype=float)
+    if arr.shape != (n,):
+        raise ShapeError(f"{argname} must have shape ({n},) for a chain with {n} joints; got shape {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        raise DomainError(f"{argname} must be finite; got {arr}")
+    return arr
+
+
+def _as_trajectory(chain, trajectory, argname="trajectory"):
+    n = int(chain.n)
+    arr = np.asarray(trajectory, dtype=float)
+    if arr.ndim == 1 and n == 1:
+        arr = arr[:, None]
+    if arr.ndim != 2 or arr.shape[1] != n or arr.shape[0] < 1:
+        raise ShapeError(
+            f"{argname} must have shape (T, {n}) (one row per time step, one column per joint "
+            f"of the {n}-joint chain); got shape {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        raise DomainError(f"{argname} must be finite (found NaN or inf)")
+    return arr
+
+
+def _as_points(points, argname):
+    arr = np.asarray(points, dtype=float)
+    if arr.ndim == 1 and arr.shape[0] in (2, 3):
+        arr = arr[None, :]
+    if arr.ndim != 2 or arr.shape[1] not in (2, 3):
+        raise ShapeError(f"{argname} must have shape (N, 3) (or (N, 2) for planar points); got shape {arr.shape}")
+    if arr.shape[1] == 2:
+        arr = np.hstack([arr, np.zeros((arr.shape[0], 1))])
+    if not np.all(np.isfinite(arr)):
+        raise DomainError(f"{argname} must be finite (found NaN or inf)")
+    return arr
+
+
+def _as_transform(T, argname="T"):
+    arr = np.asarray(T, dtype=float)
+    if arr.shape == (3,):
+        out = np.eye(4)
+        out[:3, 3] = arr
+        return out
+    if arr.shape != (4, 4):
+        raise ShapeError(f"{argname} must be a (4, 4) homogeneous transform (or a (3,) position); got shape {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        raise DomainError(f"{argname} must be finite")
+    return arr
+
+
+# --------------------------------------------------------------------------- scene
+class Scene:
+    """A backend-independent record of a 3D scene.
+
+    Build it with the ``add_*`` methods and :meth:`animate`, then call
+    :meth:`show` (live MeshCat, static HTML or matplotlib, chosen automatically),
+    :meth:`to_html` (static HTML), :meth:`commands` (the MeshCat command list) or
+    :meth:`plot` (matplotlib).
+
+    >>> scene = Scene()
+    >>> scene.add_chain(chain, q)              # doctest: +SKIP
+    'robot'
+    >>> scene.add_target(T_goal)               # doctest: +SKIP
+    >>> scene.animate(chain, result.history, dt=0.05)   # doctest: +SKIP
+    >>> scene.show()                           # doctest: +SKIP
+    """
+
+    def __init__(self, *, height: int = DEFAULT_HEIGHT, grid: bool = True):
+        self.items: list = []
+        self.animations: list[AnimationItem] = []
+        self.options = _Options(height=int(height), grid=bool(grid))
+        self._live = None          # robokin.views.live.LiveViewer, once shown live
+
+    # ---- naming
+    def _name(self, name, stem):
+        taken = {it.name for it in self.items}
+        if name is None:
+            k = 1
+            name = stem
+            while name in taken:
+                k += 1
+                name = f"{stem}_{k}"
+            return name
+        name = str(name)
+        if not name or "/" in name:
+            raise DomainError(f"name must be a non-empty string without '/'; got {name!r}")
+        if name in taken:
+            raise DomainError(f"name {name!r} is already used in this scene")
+        return name
+
+    def item(self, name):
+        """The recorded item called ``name`` (KeyError if there is none)."""
+        for it in self.items:
+            if it.name == name:
+                return it
+        raise KeyError(f"no item named {name!r} in this scene; names: {[it.name for it in self.items]}")
+
+    # ---- adding things
+    def add_chain(self, chain, q=None, *, name=None, color=None, opacity=1.0, frames=False, labels=True):
+        """Draw ``chain`` at configuration ``q`` (default: mid-limits / zeros).
+
+        ``frames=True`` adds a triad at every joint frame (with text labels when
+        ``labels`` is true).  Returns the item name (default ``"robot"``).
+        Raises ValueError if all links of the chain have zero length.
+        """
+        from robokin.views.meshcat_draw import chain_layout  # numpy only
+
+        q = _as_q(chain, q)
+        chain_layout(chain, q)  # validates (zero-length chain -> DomainError)
+        if not 0.0 < float(opacity) <= 1.0:
+            raise DomainError(f"opacity must be in (0, 1]; got {opacity}")
+        item = ChainItem(self._name(name, "robot"), chain, q, color, float(opacity), bool(frames), bool(labels))
+        self.items.append(item)
+        return item.name
+
+    def add_ghost(self, chain, q, *, name=None, color=0xB0C4DE, opacity=0.3):
+        """A translucent copy of ``chain`` at ``q`` (e.g. another IK solution)."""
+        return self.add_chain(chain, q, name=self._name(name, "ghost"), color=color, opacity=opacity)
+
+    def add_target(self, T, *, name=None, size=None, label=None):
+        """A target frame: a triad at the pose ``T`` (4x4; a (3,) position is allowed)."""
+        item = TargetItem(self._name(name, "target"), _as_transform(T), size, label)
+        self.items.append(item)
+        return item.name
+
+    def add_points(self, points, *, name=None, radius=None, color=0xFFD92F):
+        """Spheres at the rows of ``points`` (N, 3)."""
+        item = PointsItem(self._name(name, "points"), _as_points(points, "points"), radius, int(color))
+        self.items.append(item)
+        return item.name
+
+    def add_path(self, points, *, name=None, color=0xFFFFFF):
+        """A polyline through the rows of ``points`` (N, 3), N >= 2."""
+        pts = _as_points(points, "points")
+        if pts.shape[0] < 2:
+            raise ShapeError(f"points of a path must have at least 2 rows; got shape {pts.shape}")
+        item = PathItem(self._name(name, "path"), pts, int(color))
+        self.items.append(item)
+        return item.name
+
+    def animate(self, chain, trajectory, dt=0.05, *, times=None, trace=True, name=None,
+                trace_color=0xFFFF66, play=True, loop=False):
+        """Animate a chain along ``trajectory`` (T, n), one row every ``dt`` seconds.
+
+        ``chain`` is either a chain (added to the scene at ``trajectory[0]`` unless
+        a chain item called ``name`` exists) or the name of a chain item already in
+        the scene.  ``times`` (T,) overrides ``dt`` for non-uniform samples.  With
+        ``trace=True`` the end-effector path is drawn as a line.  The viewer shows
+        play / pause / reset and a time slider under *Animations* in its controls.
+        """
+        if isinstance(chain, str):
+            item = self.item(chain)
+            if not isinstance(item, ChainItem):
+                raise DomainError(f"{chain!r} is not a chain item")
+        else:
+            existing = [it for it in self.items if isinstance(it, ChainItem) and
+                        (it.name == name or (name is None and it.chain is chain))]
+            Q = _as_trajectory(chain, trajectory)
+            if existing:
+                item = existing[0]
+            else:
+                self.add_chain(chain, Q[0], name=name)
+                item = self.items[-1]
+        Q = _as_trajectory(item.chain, trajectory)
+        if times is None:
+            dt = float(dt)
+            if not (np.isfinite(dt) and dt > 0):
+                raise DomainError(f"dt must be a positive number of seconds; got {dt}")
+            t = np.arange(Q.shape[0]) * dt
+        else:
+            t = np.asarray(times, dtype=float)
+            if t.shape != (Q.shape[0],):
+                raise ShapeError(f"times must have shape ({Q.shape[0]},) to match trajectory; got shape {t.shape}")
+            if np.any(np.diff(t) <= 0) or not np.all(np.isfinite(t)):
+                raise DomainError("times must be finite and strictly increasing")
+            t = t - t[0]
+        if any(a.chain_name == item.name for a in self.animations):
+            raise DomainError(f"chain item {item.name!r} is already animated")
+        item.q = Q[0].copy()
+        self.animations.append(AnimationItem(item.name, Q, t, bool(trace), int(trace_color)))
+        self.options.play = bool(play)
+        self.options.loop = bool(loop)
+        return item.name
+
+    # ---- updating (live)
+    def set_configuration(self, name, q):
+        """Move chain item ``name`` to ``q``; pushes only transforms to a live viewer."""
+        item = self.item(name)
+        item.q = _as_q(item.chain, q)
+        if self._live is not None:
+            from robokin.views.meshcat_draw import chain_transforms
+            self._live.send_transforms(chain_transforms(item.name, item.chain, item.q))
+
+    # ---- outputs
+    def scale(self) -> float:
+        """A characteristic length of the scene in metres (the largest reach)."""
+        from robokin.views.meshcat_draw import scene_scale
+        return scene_scale(self)
+
+    def commands(self) -> list[dict]:
+        """The MeshCat commands (dicts, as sent to the viewer) that draw the scene."""
+        from robokin.views.meshcat_draw import scene_commands
+        return scene_commands(self)
+
+    def to_html(self, *, height=None, viewer_src=None) -> str:
+        """Static HTML (no server, no network) that renders the scene interactively.
+
+        The MeshCat viewer script is *not* inlined: it is loaded from
+        ``<content root>_static/meshcat/main.min.js`` (put there by
+        :mod:`robokin.views.sphinx_extension`), or from ``viewer_src`` if given.
+        """
+        from robokin.views.static_html import scene_html
+        return scene_html(self.commands(), height=height or self.options.height,
+                          animated=bool(self.animations), viewer_src=viewer_src)
+
+    def _repr_html_(self):
+        return self.to_html()
+
+    def save(self, path, *, copy_viewer=True):
+        """Write a standalone HTML page (plus ``_static/meshcat/main.min.js`` next to it)."""
+        from robokin.views.static_html import save_page
+        return save_page(path, [self], copy_viewer=copy_viewer)
+
+    def plot(self, ax=None, **kwargs):
+        """Matplotlib stick figure of the scene (first configuration of animations)."""
+        from robokin.views.plots import plot_scene
+        return plot_scene(self, ax=ax, **kwargs)
+
+    def show(self, mode=None, *, height=None):
+        """Display the scene: ``mode`` is ``"live"``, ``"static"``, ``"matplotlib"`` or None (automatic).
+
+        See :mod:`robokin.views` for how the mode is chosen.  Returns None (so that
+        notebook outputs stay deterministic); in live mode the viewer is kept in
+        ``scene.viewer``.
+        """
+        from robokin.views.display import show_scene
+        show_scene(self, mode=mode, height=height)
+
+    @property
+    def viewer(self):
+        """The live viewer this scene was last shown in (None if never shown live)."""
+        return self._live
+
+    def __repr__(self):
+        kinds = ", ".join(f"{type(it).__name__[:-4].lower()} {it.name!r}" for it in self.items)
+        return f"<robokin.views.Scene: {kinds or 'empty'}; {len(self.animations)} animation(s)>"
+
+
+def show(chain=None, q=None, *, targets=(), points=None, path=None, ghosts=(), trajectory=None,
+         dt=0.05, frames=False, mode=None, height=None):
+    """Show a chain (and friends) in one call; returns None.
+
+    ``targets`` are 4x4 poses, ``ghosts`` configurations drawn translucent,
+    ``trajectory`` a (T, n) joint trajectory animated every ``dt`` seconds.
+    Equivalent to building a :class:`Scene` and calling :meth:`Scene.show`.
+    """
+    scene = Scene(height=height or DEFAULT_HEIGHT)
+    if chain is not None:
+        scene.add_chain(chain, q if q is not None or trajectory is None else np.asarray(trajectory)[0],
+                        frames=frames)
+        for g in ghosts:
+            scene.add_ghost(chain, g)
+    for T in (targets if not isinstance(targets, np.ndarray) or targets.ndim == 3 else [targets]):
+        scene.add_target(T)
+    if points is not None:
+        scene.add_points(points)
+    if path is not None:
+        scene.add_path(path)
+    if trajectory is not None:
+        if chain is None:
+            raise DomainError("trajectory needs a chain")
+        scene.animate("robot", trajectory, dt=dt)
+    scene.show(mode=mode, height=height)

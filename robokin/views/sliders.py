@@ -1,0 +1,158 @@
+"""Joint sliders (ipywidgets) driving a live MeshCat scene.
+
+One slider per joint, within the joint limits (degrees for revolute joints,
+metres for prismatic ones).  Each move recomputes the frames and sends only
+``set_transform`` commands (no geometry), and updates a readout of the
+end-effector pose (position in metres, roll-pitch-yaw in degrees, ZYX
+convention).  Needs a live viewer; elsewhere (book, nbval) the chain is shown
+statically with one line explaining that the sliders need a running kernel.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["JointSliders", "joint_sliders", "pose_readout"]
+
+
+def pose_readout(T):
+    """``'p = (x, y, z) m   rpy = (r, p, y) deg'`` for a 4x4 pose."""
+    from robokin.transforms import rpy_from_rotation
+
+    T = np.asarray(T, dtype=float)
+    rpy = np.rad2deg(np.asarray(rpy_from_rotation(T[:3, :3], check=False), dtype=float))
+    x, y, z = T[:3, 3]
+    return (f"end-effector: p = ({x:+.3f}, {y:+.3f}, {z:+.3f}) m, "
+            f"rpy = ({rpy[0]:+.1f}, {rpy[1]:+.1f}, {rpy[2]:+.1f}) deg")
+
+
+def _slider_range(chain):
+    lim = np.asarray(chain.limits, dtype=float).reshape(int(chain.n), 2)
+    out = []
+    for (lo, hi), kind in zip(lim, chain.joint_types):
+        if kind == "revolute":
+            lo = -np.pi if not np.isfinite(lo) else lo
+            hi = np.pi if not np.isfinite(hi) else hi
+            out.append((np.rad2deg(lo), np.rad2deg(hi), 0.5))
+        else:
+            lo = -1.0 if not np.isfinite(lo) else lo
+            hi = 1.0 if not np.isfinite(hi) else hi
+            out.append((lo, hi, max((hi - lo) / 200, 1e-4)))
+    return out
+
+
+class JointSliders:
+    """Sliders + scene + readout for ``chain``; ``.widget`` is the ipywidgets box.
+
+    ``update(q)`` moves the robot (radians/metres) -- this is what every slider
+    move calls.  ``q`` is the current configuration.
+    """
+
+    def __init__(self, chain, q=None, *, scene=None, name="robot", height=420, viewer=None):
+        from robokin.views.scene import Scene, _as_q
+
+        self.chain = chain
+        self.q = _as_q(chain, q)
+        if scene is None:
+            scene = Scene(height=height)
+            scene.add_chain(chain, self.q, name=name)
+        self.scene = scene
+        self.name = name
+        self._viewer = viewer
+        self._revolute = np.array([t == "revolute" for t in chain.joint_types])
+        self.widget = None
+        self.readout = None
+        self.sliders = []
+
+    def _to_slider(self, q):
+        return np.where(self._revolute, np.rad2deg(q), q)
+
+    def _from_slider(self, v):
+        return np.where(self._revolute, np.deg2rad(v), v)
+
+    def build(self):
+        """Start the live viewer (if needed) and create the widgets; returns the widget box."""
+        import ipywidgets as w
+        from IPython.display import HTML  # noqa: F401
+        from robokin.views.display import show_live
+
+        if self._viewer is None:
+            self._viewer = show_live(self.scene)
+        values = self._to_slider(self.q)
+        self.sliders = []
+        for k, ((lo, hi, step), jname, kind) in enumerate(zip(_slider_range(self.chain), self.chain.joint_names,
+                                                               self.chain.joint_types)):
+            unit = "deg" if kind == "revolute" else "m"
+            s = w.FloatSlider(value=float(np.clip(values[k], lo, hi)), min=float(lo), max=float(hi),
+                              step=float(step), description=f"{jname} [{unit}]", continuous_update=True,
+                              readout_format=".1f" if kind == "revolute" else ".3f",
+                              style={"description_width": "8em"}, layout=w.Layout(width="32em"))
+            s.observe(self._on_change, names="value")
+            self.sliders.append(s)
+        self.readout = w.HTML(value=f"<code>{pose_readout(self.chain.fk(self.q))}</code>")
+        frame = w.HTML(value=self._viewer.iframe_html(self.scene.options.height))
+        self.widget = w.VBox([frame, *self.sliders, self.readout])
+        return self.widget
+
+    def _on_change(self, _change):
+        self.update(self._from_slider(np.array([s.value for s in self.sliders])))
+
+    def update(self, q):
+        """Move the robot to ``q``: frames -> set_transform only -> readout."""
+        from robokin.views.meshcat_draw import chain_transforms
+
+        self.q = np.asarray(q, dtype=float)
+        item = self.scene.item(self.name)
+        item.q = self.q
+        transforms = chain_transforms(self.name, self.chain, self.q, self._layout())
+        if self._viewer is not None:
+            self._viewer.send_transforms(transforms)
+        text = pose_readout(transforms[int(self.chain.n) + 1][1])
+        if self.readout is not None:
+            self.readout.value = f"<code>{text}</code>"
+        return text
+
+    def _layout(self):
+        from robokin.views.meshcat_draw import chain_layout
+        if getattr(self, "_cached_layout", None) is None:
+            self._cached_layout = chain_layout(self.chain, self.q)
+        return self._cached_layout
+
+    def _ipython_display_(self):
+        # already displayed by joint_sliders(); showing it again re-displays the widgets only
+        if self.widget is not None:
+            from IPython.display import display
+            display(self.widget)
+
+    def __repr__(self):
+        return f"<JointSliders: {int(self.chain.n)} joints>"
+
+    def close(self):
+        """Stop the live viewer of these sliders."""
+        if self._viewer is not None:
+            self._viewer.close()
+
+
+def joint_sliders(chain, q=None, *, mode=None, height=420):
+    """Show ``chain`` with one slider per joint (live mode); returns the :class:`JointSliders`.
+
+    Outside live mode the chain is shown statically with a one-line note, and the
+    returned object has no widget.
+    """
+    from IPython.display import HTML, display
+    from robokin.views.display import _note, choose_mode
+
+    js = JointSliders(chain, q, height=height)
+    if choose_mode(mode) == "live":
+        try:
+            box = js.build()
+        except Exception as exc:  # noqa: BLE001 - keep the notebook running
+            display(_note(f"robokin: joint sliders need a live MeshCat viewer ({exc}); showing a static scene."))
+        else:
+            display(box)
+            return js
+    else:
+        display(_note("robokin: joint sliders need a running Jupyter kernel (live mode); "
+                      "showing the chain at its initial configuration."))
+    display(HTML(js.scene.to_html(height=height)))
+    return js

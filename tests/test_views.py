@@ -1,0 +1,289 @@
+"""Tests of robokin.views: scene recording, MeshCat lowering, static export, modes, plots."""
+
+from __future__ import annotations
+
+import base64
+import json
+import re
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from test_views_doubles import scara_like, two_link, zero_length
+
+umsgpack = pytest.importorskip("umsgpack")
+views = pytest.importorskip("robokin.views")
+from robokin.views import Scene  # noqa: E402
+from robokin.views.meshcat_draw import chain_layout  # noqa: E402
+
+
+def _decode(html):
+    payload = re.search(r'<script type="application/json" class="robokin-scene-data">(.*?)</script>', html, re.S)
+    return [umsgpack.unpackb(base64.b64decode(s)) for s in json.loads(payload.group(1))]
+
+
+def _demo_scene(chain=None):
+    chain = chain or two_link()
+    s = Scene()
+    s.add_chain(chain, [0.3, 0.5], frames=True)
+    s.add_ghost(chain, [0.8, -0.5])
+    T = np.eye(4)
+    T[:3, 3] = [1.2, 0.6, 0.2]
+    s.add_target(T, label="goal")
+    s.add_points([[0.5, 0.5, 0.0], [1.0, 1.0, 0.0]])
+    s.add_path([[0, -1, 0], [1, -1, 0.5], [1.5, 0, 0]])
+    s.animate("robot", np.linspace([0, 0], [1.5, 1.0], 30), dt=0.05)
+    return s
+
+
+# ------------------------------------------------------------------ import hygiene
+def test_import_robokin_does_not_import_viewers():
+    code = ("import sys, robokin, robokin.views; "
+            "bad = [m for m in ('matplotlib', 'meshcat', 'ipywidgets', 'zmq', 'IPython') if m in sys.modules]; "
+            "print(bad)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "[]"
+
+
+# ------------------------------------------------------------------ static export
+def test_static_export_contains_every_object_and_the_animation():
+    s = _demo_scene()
+    html = s.to_html()
+    cmds = _decode(html)
+    assert [c["type"] for c in cmds] == [c["type"] for c in s.commands()]
+    object_paths = {c["path"] for c in cmds if c["type"] == "set_object"}
+    # every item has geometry: robot links/joints/ee, ghost, target triad, both points, path, trace
+    for stem in ("/meshcat/robot/", "/meshcat/ghost/", "/meshcat/target/", "/meshcat/points/0",
+                 "/meshcat/points/1", "/meshcat/path", "/meshcat/robot_trace"):
+        assert any(p.startswith(stem) for p in object_paths), stem
+    assert "/meshcat/robot/1_link1/joint" in object_paths
+    assert "/meshcat/robot/3_tool/marker" in object_paths
+    assert "/meshcat/robot/0_base/triad/label" in object_paths  # frame labels
+    anim = [c for c in cmds if c["type"] == "set_animation"]
+    assert len(anim) == 1
+    tracks = {a["path"]: [t["name"] for t in a["clip"]["tracks"]] for a in anim[0]["animations"]}
+    assert tracks["/meshcat/robot/1_link1"] == [".position", ".quaternion"]
+    assert "/meshcat/robot/0_base" not in tracks          # never moves: no track
+    assert "/meshcat/ghost/1_link1" not in tracks
+    times = np.frombuffer(anim[0]["animations"][0]["clip"]["tracks"][0]["times"].data, dtype="<f4")
+    assert len(times) == 30 and times[-1] == pytest.approx(29 * 0.05)
+
+
+def test_static_html_references_shared_viewer_and_does_not_inline_it():
+    html = _demo_scene().to_html()
+    assert "_static/meshcat/main.min.js" in html
+    assert "data-content_root" in html
+    assert len(html) < 100_000                 # the 850 kB viewer is not in there
+    assert "MeshCat.Viewer" in html and "handle_command_bytearray" in html
+    assert "window.robokinMeshCat" in html     # loaded once per page
+    assert "MeshCat viewer" in html            # visible message until the viewer runs
+
+
+def test_static_export_is_deterministic():
+    a, b = _demo_scene().to_html(), _demo_scene().to_html()
+    assert a == b
+    s = _demo_scene()
+    assert s.to_html() == s.to_html() == s._repr_html_()
+    assert not re.search(r"\d{10}", a.split("robokin-scene-data")[0])   # no timestamps in the markup
+
+
+def test_prismatic_link_is_animated_with_scale():
+    s = Scene()
+    s.animate(scara_like(), np.linspace([0, 0, 0], [1.0, -1.0, 0.3], 10), dt=0.1)
+    anim = [c for c in s.commands() if c["type"] == "set_animation"][0]
+    scaled = [a for a in anim["animations"] if any(t["name"] == ".scale" for t in a["clip"]["tracks"])]
+    assert [a["path"] for a in scaled] == ["/meshcat/robot/link_2"]
+    assert any(c["type"] == "set_object" and c["path"] == "/meshcat/robot/3_link3/joint" and
+               c["object"]["geometries"][0]["type"] == "BoxGeometry" for c in s.commands())
+
+
+def test_layout_skips_zero_length_links_and_sizes_scale_with_reach():
+    small = chain_layout(two_link(0.1, 0.08), [0.0, 0.0])
+    big = chain_layout(two_link(1.0, 0.8), [0.0, 0.0])
+    assert big["reach"] == pytest.approx(10 * small["reach"])
+    assert [i for i, _, _ in big["segments"]] == [1, 2]     # base -> frame 1 has zero length
+    r_small = Scene()
+    r_small.add_chain(two_link(0.1, 0.08))
+    r_big = Scene()
+    r_big.add_chain(two_link(1.0, 0.8))
+
+    def link_radius(scene):
+        c = next(c for c in scene.commands() if c["path"].endswith("/link") and c["type"] == "set_object")
+        return c["object"]["geometries"][0]["radiusTop"]
+    assert link_radius(r_big) == pytest.approx(10 * link_radius(r_small), rel=1e-3)
+
+
+# ------------------------------------------------------------------ bad input
+def test_zero_length_chain_raises_value_error():
+    with pytest.raises(ValueError, match="zero length"):
+        Scene().add_chain(zero_length())
+
+
+def test_trajectory_of_wrong_width_names_argument_and_shapes():
+    s = Scene()
+    with pytest.raises(ValueError, match=r"trajectory must have shape \(T, 2\).*got shape \(5, 3\)"):
+        s.animate(two_link(), np.zeros((5, 3)), dt=0.1)
+    with pytest.raises(ValueError, match="dt"):
+        s.animate(two_link(), np.zeros((5, 2)), dt=0.0)
+    with pytest.raises(ValueError, match=r"q must have shape \(2,\)"):
+        s.add_chain(two_link(), [0.0, 0.0, 0.0])
+
+
+def test_duplicate_names_and_bad_points_raise():
+    s = Scene()
+    s.add_chain(two_link())
+    with pytest.raises(ValueError, match="already used"):
+        s.add_chain(two_link(), name="robot")
+    with pytest.raises(ValueError, match="points"):
+        s.add_points(np.zeros((4, 5)))
+    with pytest.raises(ValueError, match="T must be"):
+        s.add_target(np.eye(3))
+
+
+# ------------------------------------------------------------------ modes
+def test_mode_selection(monkeypatch):
+    from robokin.views.display import choose_mode
+
+    monkeypatch.delenv("ROBOKIN_VIEWER", raising=False)
+    monkeypatch.delenv("JPY_SESSION_NAME", raising=False)
+    assert choose_mode() == "static"                       # not in a browser kernel
+    monkeypatch.setenv("JPY_SESSION_NAME", "x.ipynb")
+    assert choose_mode() == "static"                       # ... and not in an IPython kernel either
+    monkeypatch.setenv("ROBOKIN_VIEWER", "matplotlib")
+    assert choose_mode() == "matplotlib"
+    assert choose_mode("live") == "live"                   # argument beats the environment
+    monkeypatch.setenv("ROBOKIN_VIEWER", "nonsense")
+    with pytest.raises(ValueError, match="ROBOKIN_VIEWER"):
+        choose_mode()
+
+
+def test_show_static_and_matplotlib_display(monkeypatch):
+    from robokin.views import display as disp
+
+    shown = []
+    monkeypatch.setattr(disp, "_display", shown.append)
+    s = _demo_scene()
+    s.show(mode="static")
+    assert shown[-1].data == s.to_html()
+    pytest.importorskip("matplotlib")
+    import matplotlib
+    matplotlib.use("Agg")
+    s.show(mode="matplotlib")
+    assert type(shown[-1]).__name__ == "Figure"
+
+
+def test_live_failure_falls_back_to_static(monkeypatch):
+    from robokin.views import display as disp
+    from robokin.views import live
+
+    def broken(*a, **k):
+        raise live.MeshcatUnavailable("no zmq today")
+    monkeypatch.setattr(live, "LiveViewer", broken)
+    shown = []
+    monkeypatch.setattr(disp, "_display", shown.append)
+    s = _demo_scene()
+    s.show(mode="live")
+    assert "no zmq today" in shown[0].data and "static" in shown[0].data
+    assert shown[1].data == s.to_html()
+
+
+# ------------------------------------------------------------------ matplotlib
+@pytest.fixture
+def mpl():
+    matplotlib = pytest.importorskip("matplotlib")
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    yield plt
+    plt.close("all")
+
+
+def test_plot_chain_single_and_batch(mpl):
+    ax = views.plot_chain(two_link(), [0.3, 0.4])
+    assert ax.name == "3d" and ax.get_xlabel() == "x [m]"
+    ax2 = views.plot_chain(two_link(), np.linspace([0, 0], [1, 1], 4))
+    assert len(ax2.lines) > len(ax.lines)
+    with pytest.raises(ValueError, match="q must have shape"):
+        views.plot_chain(two_link(), np.zeros((3, 5)))
+
+
+def test_plot_planar_and_history(mpl):
+    ax = views.plot_planar([[(0, 0), (1, 0)], [(1, 0), (1.5, 0.5)]], points=[(0, 0), (1, 0)], annotate=["A", "B"])
+    assert ax.get_ylabel() == "y [m]" and len(ax.texts) == 2
+    t = np.linspace(0, 1, 20)
+    fig = views.plot_history(t=t, q=np.c_[t, t ** 2], dq=np.c_[np.ones(20), 2 * t],
+                             error=np.exp(-5 * t), singular_values=np.c_[1 + t, 1 - t / 2],
+                             joint_names=["q1", "q2"])
+    labels = [a.get_ylabel() for a in fig.axes]
+    assert labels[0] == "joint position q [rad]" and "rad/s" in labels[1]
+    assert fig.axes[2].get_yscale() == "log" and fig.axes[-1].get_xlabel() == "time t [s]"
+    fig2 = views.plot_history({"q": np.zeros((5, 2)), "errors": np.ones((5, 6))})
+    assert fig2.axes[-1].get_xlabel() == "iteration"
+
+
+def test_scene_plot(mpl):
+    ax = _demo_scene().plot()
+    assert ax.name == "3d" and len(ax.lines) > 5
+
+
+# ------------------------------------------------------------------ sphinx extension
+def test_sphinx_extension_copies_viewer(tmp_path):
+    from types import SimpleNamespace
+
+    from robokin.views import sphinx_extension
+
+    connected = []
+    app = SimpleNamespace(connect=lambda ev, fn: connected.append((ev, fn)), outdir=str(tmp_path),
+                          builder=SimpleNamespace(format="html"))
+    meta = sphinx_extension.setup(app)
+    assert meta["parallel_read_safe"] and connected[0][0] == "build-finished"
+    connected[0][1](app, None)
+    assert (tmp_path / "_static" / "meshcat" / "main.min.js").stat().st_size > 500_000
+    assert (tmp_path / "_static" / "meshcat" / "LICENSE").exists()
+
+
+def test_slider_update_sends_only_transforms():
+    from robokin.views.sliders import JointSliders
+
+    sent = []
+
+    class FakeViewer:
+        def send_transforms(self, transforms):
+            sent.extend(transforms)
+
+    js = JointSliders(two_link(), [0.0, 0.0], viewer=FakeViewer())
+    text = js.update(np.array([np.pi / 2, 0.0]))
+    assert "p = (+0.000, +1.800, +0.000) m" in text and "+90.0" in text
+    assert {p for p, _ in sent} == {"/meshcat/robot/0_base", "/meshcat/robot/1_link1",
+                                    "/meshcat/robot/2_link2", "/meshcat/robot/3_tool"}
+
+
+@pytest.mark.parametrize("model", ["planar_two_link", "eth_leg", "ur10", "baxter_left"])
+def test_book_models_draw_and_animate(model):
+    models = pytest.importorskip("robokin.models")
+    chain = getattr(models, model)()
+    Q = np.linspace(np.zeros(chain.n), np.full(chain.n, 0.5), 20)
+    s = Scene()
+    s.add_chain(chain, Q[0], frames=True)
+    s.add_target(chain.fk(Q[-1]))
+    s.animate("robot", Q, dt=0.05)
+    html = s.to_html()
+    cmds = _decode(html)
+    joints = [c for c in cmds if c["type"] == "set_object" and c["path"].endswith("/joint")]
+    assert len(joints) == chain.n
+    assert len(html) < 150_000
+
+
+def test_module_show_one_call(monkeypatch):
+    from robokin.views import display as disp
+
+    shown = []
+    monkeypatch.setattr(disp, "_display", shown.append)
+    chain = two_link()
+    T = np.eye(4)
+    T[:3, 3] = [1, 1, 0]
+    assert views.show(chain, [0.1, 0.2], targets=T, ghosts=[[0.5, 0.5]], points=[[1, 0, 0]],
+                      path=[[0, 0, 0], [1, 1, 0]], trajectory=np.zeros((5, 2)), mode="static") is None
+    paths = {c["path"].split("/")[2] for c in _decode(shown[-1].data) if c.get("path", "").startswith("/meshcat/")}
+    assert {"robot", "ghost", "target", "points", "path", "robot_trace"} <= paths

@@ -1,0 +1,101 @@
+"""A static scene opened from file:// in headless Chromium renders the robot and its animation controls."""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+import pytest
+
+from test_views_doubles import two_link
+
+CHROMIUM = "/usr/bin/chromium"
+ARGS = ["--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
+        "--disable-background-networking", "--disable-component-update", "--no-first-run"]
+
+pytestmark = pytest.mark.browser
+
+
+@pytest.fixture
+def browser():
+    if not os.path.exists(CHROMIUM):
+        pytest.skip(f"{CHROMIUM} not found: apt-get install chromium")
+    sync_api = pytest.importorskip("playwright.sync_api")
+    pw = sync_api.sync_playwright().start()
+    b = None
+    try:
+        b = pw.chromium.launch(executable_path=CHROMIUM, args=ARGS)
+        yield b
+    finally:
+        if b is not None:
+            b.close()
+        pw.stop()
+
+
+def _robot():
+    try:
+        from robokin.models import ur10
+        chain = ur10()
+        q0 = np.array([0.3, -1.2, 1.4, -1.0, -1.57, 0.4])
+        return chain, q0, np.linspace(q0, q0 + [1.0, 0.5, -0.5, 0.3, 0.2, 0.1], 40)
+    except Exception:  # noqa: BLE001 - models not there yet: the test double does it too
+        chain = two_link()
+        return chain, np.array([0.3, 0.5]), np.linspace([0.3, 0.5], [1.5, 1.0], 40)
+
+
+def test_static_scene_renders_in_chromium(tmp_path, browser):
+    from robokin.views import Scene
+    from robokin.views.static_html import save_page
+
+    chain, q0, Q = _robot()
+    scene = Scene(height=400)
+    scene.add_chain(chain, q0, frames=True)
+    scene.animate("robot", Q, dt=0.05, play=False)
+    empty = Scene(height=400)
+    empty.add_points([[0.0, 0.0, 0.0]], radius=1e-4)     # nearly nothing: the background
+    page = save_page(tmp_path / "index.html", [scene, empty])
+    assert (tmp_path / "_static" / "meshcat" / "main.min.js").exists()
+    assert "main.min.js" in page.read_text() and len(page.read_text()) < 200_000
+
+    errors = []
+    pg = browser.new_page(viewport={"width": 800, "height": 900})
+    pg.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+    pg.on("pageerror", lambda e: errors.append(str(e)))
+    pg.goto(page.as_uri())
+    pg.wait_for_selector(".robokin-scene canvas", state="attached", timeout=20_000)
+    pg.wait_for_function("document.querySelectorAll('.robokin-scene canvas').length == 2", timeout=20_000)
+    pg.wait_for_timeout(1500)
+    # the viewer script was loaded once for both scenes
+    assert pg.evaluate("document.querySelectorAll('script[src$=\"main.min.js\"]').length") == 1
+    canvases = pg.query_selector_all(".robokin-scene canvas")
+    shot_robot = canvases[0].screenshot()
+    shot_empty = canvases[1].screenshot()
+    import io
+
+    from PIL import Image
+    a = np.asarray(Image.open(io.BytesIO(shot_robot)).convert("RGB"), dtype=int)
+    b = np.asarray(Image.open(io.BytesIO(shot_empty)).convert("RGB"), dtype=int)
+    orange = (a[..., 0] > 180) & (a[..., 1] > 100) & (a[..., 1] < 190) & (a[..., 2] < 80)   # links
+    assert orange.sum() > 200, "robot links not drawn"
+    assert (np.abs(a - b).sum(axis=-1) > 60).sum() > 1000, "scene looks like the empty background"
+    # animation controls (dat.gui): play / pause / reset and the time slider
+    names = pg.eval_on_selector_all(".robokin-scene:first-of-type .dg .property-name",
+                                    "els => els.map(e => e.textContent)")
+    for control in ("play", "pause", "reset", "time"):
+        assert control in names, names
+    assert not pg.query_selector_all(".robokin-scene-msg")            # loading messages are gone
+    assert not errors, errors
+
+
+def test_missing_viewer_script_shows_message(tmp_path, browser):
+    from robokin.views import Scene
+    from robokin.views.static_html import save_page
+
+    scene = Scene()
+    scene.add_chain(two_link())
+    page = save_page(tmp_path / "index.html", [scene], copy_viewer=False)
+    pg = browser.new_page()
+    pg.goto(page.as_uri())
+    pg.wait_for_function("document.querySelector('.robokin-scene-msg').textContent.indexOf('not shown') >= 0",
+                         timeout=10_000)
+    assert "cannot load" in pg.text_content(".robokin-scene-msg")

@@ -1,0 +1,118 @@
+"""Live MeshCat server management: loopback only, free port, no leftover process."""
+
+from __future__ import annotations
+
+import os
+import socket
+import time
+
+import numpy as np
+import pytest
+
+from test_views_doubles import two_link
+
+pytest.importorskip("meshcat")
+pytest.importorskip("zmq")
+from robokin.views.live import LiveViewer, proxy_url  # noqa: E402
+
+
+def _listening(pid):
+    """(address, port) pairs pid listens on, via psutil or /proc."""
+    try:
+        import psutil
+        return {(c.laddr.ip, c.laddr.port) for c in psutil.Process(pid).net_connections(kind="inet")
+                if c.status == psutil.CONN_LISTEN}
+    except ImportError:
+        pass
+    inodes = set()
+    for fd in os.listdir(f"/proc/{pid}/fd"):
+        try:
+            link = os.readlink(f"/proc/{pid}/fd/{fd}")
+        except OSError:
+            continue
+        if link.startswith("socket:["):
+            inodes.add(link[8:-1])
+    out = set()
+    for table in ("/proc/net/tcp", "/proc/net/tcp6"):
+        with open(table) as f:
+            for line in f.readlines()[1:]:
+                parts = line.split()
+                if parts[3] == "0A" and parts[9] in inodes:      # LISTEN
+                    host, port = parts[1].split(":")
+                    ip = ".".join(str(int(host[i:i + 2], 16)) for i in (6, 4, 2, 0)) if len(host) == 8 else host
+                    out.add((ip, int(port, 16)))
+    return out
+
+
+def _gone(pid, timeout=5.0):
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        try:
+            with open(f"/proc/{pid}/stat") as f:
+                if f.read().split()[2] == "Z":
+                    return True
+        except FileNotFoundError:
+            return True
+        time.sleep(0.05)
+    return False
+
+
+def test_server_on_loopback_free_port_and_cleaned_up():
+    blocker = socket.socket(socket.AF_INET, socket.SOCK_STREAM)
+    blocker.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+    try:
+        try:
+            blocker.bind(("127.0.0.1", 7000))
+            blocker.listen(1)
+        except OSError:
+            pass            # 7000 already taken by something else: just as good
+        viewer = LiveViewer(port=7000)
+        try:
+            assert viewer.alive
+            assert viewer.port != 7000
+            assert viewer.web_url == f"http://127.0.0.1:{viewer.port}/static/"
+            listening = _listening(viewer.pid)
+            assert listening, "server listens on nothing"
+            assert all(ip == "127.0.0.1" for ip, _ in listening), listening
+            assert ("127.0.0.1", viewer.port) in listening
+            # drawing and transform-only updates work
+            from robokin.views import Scene
+            from robokin.views.meshcat_draw import chain_transforms
+            s = Scene()
+            s.add_chain(two_link(), [0.1, 0.2])
+            viewer.send_all(s.commands())
+            viewer.send_transforms(chain_transforms("robot", two_link(), np.array([0.5, 0.5])))
+            # the page served at /static/ connects its websocket relative to its own URL (proxy-safe)
+            import urllib.request
+            page = urllib.request.urlopen(viewer.web_url, timeout=5).read().decode()
+            assert "location.pathname" in page and "main.min.js" in page
+        finally:
+            pid = viewer.pid
+            viewer.close()
+        assert not viewer.alive
+        assert _gone(pid), "server process still running after close()"
+    finally:
+        blocker.close()
+
+
+def test_server_exits_with_its_owner():
+    import subprocess
+    import sys
+
+    code = ("from robokin.views.live import LiveViewer; v = LiveViewer(); print(v.pid, flush=True)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60,
+                         cwd=os.path.dirname(os.path.dirname(__file__)))
+    pid = int(out.stdout.split()[-1])
+    assert _gone(pid), "server survived the interpreter that started it"
+
+
+def test_proxy_url(monkeypatch):
+    import importlib.util
+
+    real = importlib.util.find_spec
+    monkeypatch.setattr(importlib.util, "find_spec",
+                        lambda name, *a: object() if name == "jupyter_server_proxy" else real(name, *a))
+    monkeypatch.setenv("JUPYTERHUB_SERVICE_PREFIX", "/user/ada/")
+    assert proxy_url(7001) == "/user/ada/proxy/7001/static/"
+    monkeypatch.delenv("JUPYTERHUB_SERVICE_PREFIX")
+    assert proxy_url(7001) == "/proxy/7001/static/"
