@@ -31,6 +31,13 @@ _LAZY_NAMES = {
     "SerialChain": "robokin.chains",
     "solve_ik": "robokin.motion",
     "solve_ik_batch": "robokin.motion",
+    "IKResult": "robokin.motion",
+    "pose_error": "robokin.motion",
+    "CartesianController": "robokin.motion",
+    "simulate": "robokin.motion",
+    "circle_trajectory": "robokin.motion",
+    "line_trajectory": "robokin.motion",
+    "via_point_trajectory": "robokin.motion",
 }
 
 __all__ = [

@@ -1,0 +1,66 @@
+"""Motion: inverse kinematics, pose error, Cartesian control, simulation, trajectories.
+
+Layer 4 of robokin: uses :mod:`robokin.transforms` and the chain objects of
+:mod:`robokin.chains` / :mod:`robokin.models` (through their ``fk``/``jacobian``
+methods) and imports neither matplotlib nor MeshCat.
+"""
+
+from robokin.motion.ik import (
+    METHODS,
+    REASONS,
+    DampedLeastSquares,
+    GradientObjective,
+    IKBatchResult,
+    IKHistory,
+    IKMethod,
+    IKResult,
+    JacobianTranspose,
+    JointLimitDistance,
+    LevenbergMarquardt,
+    Manipulability,
+    NullSpace,
+    PseudoInverse,
+    WeightedPseudoInverse,
+    solve_ik,
+    solve_ik_batch,
+)
+from robokin.motion.control import CartesianController, ControlOutput
+from robokin.motion.pose_error import pose_error
+from robokin.motion.simulate import SimulationLog, simulate
+from robokin.motion.trajectories import (
+    Trajectory,
+    circle_trajectory,
+    line_trajectory,
+    time_law,
+    via_point_trajectory,
+)
+
+__all__ = [
+    "pose_error",
+    "CartesianController",
+    "ControlOutput",
+    "simulate",
+    "SimulationLog",
+    "Trajectory",
+    "circle_trajectory",
+    "line_trajectory",
+    "via_point_trajectory",
+    "time_law",
+    "solve_ik",
+    "solve_ik_batch",
+    "IKResult",
+    "IKHistory",
+    "IKBatchResult",
+    "REASONS",
+    "METHODS",
+    "IKMethod",
+    "PseudoInverse",
+    "JacobianTranspose",
+    "WeightedPseudoInverse",
+    "DampedLeastSquares",
+    "NullSpace",
+    "LevenbergMarquardt",
+    "JointLimitDistance",
+    "Manipulability",
+    "GradientObjective",
+]

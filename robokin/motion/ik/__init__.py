@@ -1,0 +1,43 @@
+"""Inverse kinematics: iterative solvers behind one interface.
+
+- :func:`solve_ik` — one target, with a per-iteration history;
+- :func:`solve_ik_batch` — many targets at once, vectorised over targets;
+- :mod:`~robokin.motion.ik.methods` — the step rules (``"lm"``, ``"pinv"``,
+  ``"transpose"``, ``"weighted"``, ``"dls"``, ``"nullspace"``);
+- :mod:`~robokin.motion.ik.objectives` — secondary objectives for ``"nullspace"``.
+"""
+
+from robokin.motion.ik.batch import solve_ik_batch
+from robokin.motion.ik.methods import (
+    METHODS,
+    DampedLeastSquares,
+    IKMethod,
+    JacobianTranspose,
+    LevenbergMarquardt,
+    NullSpace,
+    PseudoInverse,
+    WeightedPseudoInverse,
+)
+from robokin.motion.ik.objectives import GradientObjective, JointLimitDistance, Manipulability
+from robokin.motion.ik.result import REASONS, IKBatchResult, IKHistory, IKResult
+from robokin.motion.ik.solve import solve_ik
+
+__all__ = [
+    "solve_ik",
+    "solve_ik_batch",
+    "IKResult",
+    "IKHistory",
+    "IKBatchResult",
+    "REASONS",
+    "METHODS",
+    "IKMethod",
+    "PseudoInverse",
+    "JacobianTranspose",
+    "WeightedPseudoInverse",
+    "DampedLeastSquares",
+    "NullSpace",
+    "LevenbergMarquardt",
+    "JointLimitDistance",
+    "Manipulability",
+    "GradientObjective",
+]

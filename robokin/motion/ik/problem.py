@@ -1,0 +1,234 @@
+"""Argument checking and the per-solve context shared by the IK loops.
+
+Everything here runs once per call of :func:`~robokin.motion.solve_ik` /
+:func:`~robokin.motion.solve_ik_batch`; the iteration loops then call the
+chain with ``check=False``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from robokin.errors import DomainError, ShapeError
+from robokin.motion._kernels import tool_jacobian, wrap_angles
+from robokin.validation import as_float_array, check_limits, check_positive, check_transform
+
+__all__ = ["IKContext", "make_context", "parse_target", "parse_tolerance", "parse_q0"]
+
+
+@dataclass(eq=False)
+class IKContext:
+    """What the step rules and objectives may need about the problem.
+
+    Attributes
+    ----------
+    chain : object
+        The kinematic chain.
+    n : int
+        Number of joints.
+    lower, upper : ndarray, shape (n,)
+        Joint limits.
+    mask : ndarray of bool, shape (6,)
+        Task components ``[x, y, z, rx, ry, rz]`` that are controlled.
+    tool : ndarray, shape (4, 4) or None
+        Extra tool transform applied after the chain's end-effector.
+    wrap : ndarray of bool, shape (n,) or None
+        Joints whose angle is wrapped into (-pi, pi] after every step.
+    shift : ndarray of bool, shape (n,) or None
+        Revolute joints allowed to re-enter their range by ``±2 pi``.
+    """
+
+    chain: Any
+    n: int
+    lower: np.ndarray
+    upper: np.ndarray
+    mask: np.ndarray
+    tool: np.ndarray | None
+    wrap: np.ndarray | None
+    shift: np.ndarray | None = None
+
+    def __post_init__(self) -> None:
+        self.full_mask = bool(np.all(self.mask))
+        self.rows = np.flatnonzero(self.mask)
+        self.p_tool = None if self.tool is None else self.tool[:3, 3].copy()
+
+    def project(self, q: np.ndarray) -> np.ndarray:
+        """Bring a configuration (batch) back within the limits: wrap, shift by 2 pi, clamp."""
+        if self.wrap is not None:
+            q = wrap_angles(q, self.wrap)
+        if self.shift is not None:
+            two_pi = 2.0 * np.pi
+            q = np.where(self.shift & (q > self.upper) & (q - two_pi >= self.lower), q - two_pi, q)
+            q = np.where(self.shift & (q < self.lower) & (q + two_pi <= self.upper), q + two_pi, q)
+        return np.minimum(np.maximum(q, self.lower), self.upper)
+
+    def pose(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Flange pose and tool pose, each (4, 4) or (N, 4, 4)."""
+        T_flange = self.chain.fk(q, check=False)
+        if self.tool is None:
+            return T_flange, T_flange
+        return T_flange, T_flange @ self.tool
+
+    def jacobian(self, q: np.ndarray, T_flange: np.ndarray) -> np.ndarray:
+        """Geometric Jacobian of the tool frame, (6, n) or (N, 6, n)."""
+        J = self.chain.jacobian(q, check=False)
+        if self.p_tool is not None:
+            J = tool_jacobian(J, T_flange[..., :3, :3], self.p_tool)
+        return J
+
+    def task_jacobian(self, q: np.ndarray) -> np.ndarray:
+        """Rows of the tool Jacobian selected by the mask."""
+        T_flange, _ = self.pose(q)
+        J = self.jacobian(q, T_flange)
+        return J if self.full_mask else J[..., self.rows, :]
+
+
+def _chain_limits(chain: Any) -> tuple[np.ndarray, np.ndarray]:
+    n = int(chain.n)
+    limits = getattr(chain, "limits", None)
+    if limits is None:
+        return np.full(n, -np.inf), np.full(n, np.inf)
+    lim = limits if isinstance(limits, np.ndarray) and limits.dtype == float else None
+    if lim is None or lim.shape != (n, 2) or np.isnan(lim).any():
+        lim = check_limits(limits, n, "chain.limits")
+    return lim[:, 0].copy(), lim[:, 1].copy()
+
+
+def parse_target(target: Any, batched: bool) -> tuple[np.ndarray, bool]:
+    """Target as poses ``(4, 4)``/``(N, 4, 4)``; a position gets an identity rotation.
+
+    Returns ``(T_goal, is_position)``.
+    """
+    name = "targets" if batched else "target"
+    a = as_float_array(target, name)
+    if batched:
+        if a.ndim == 2 and a.shape[1] == 3:
+            T = np.broadcast_to(np.eye(4), (a.shape[0], 4, 4)).copy()
+            T[:, :3, 3] = a
+            return T, True
+        if a.ndim == 3 and a.shape[1:] == (4, 4):
+            return check_transform(a, name=name), False
+        raise ShapeError(f"{name} must have shape (N, 3) (positions) or (N, 4, 4) (poses); got shape {a.shape}")
+    if a.shape == (3,):
+        T = np.eye(4)
+        T[:3, 3] = a
+        return T, True
+    if a.shape == (4, 4):
+        return _check_pose(a, name), False
+    raise ShapeError(f"{name} must have shape (3,) (a position) or (4, 4) (a pose); got shape {a.shape}")
+
+
+def _check_pose(T: np.ndarray, name: str, tol: float = 1e-6) -> np.ndarray:
+    """Fast check of one finite (4, 4) transform; falls back to check_transform for the message."""
+    R = T[:3, :3]
+    ok = (
+        abs(T[3, 0]) <= tol and abs(T[3, 1]) <= tol and abs(T[3, 2]) <= tol and abs(T[3, 3] - 1.0) <= tol
+        and float(np.abs(R @ R.T - np.eye(3)).max()) <= tol
+        and float(np.cross(R[:, 0], R[:, 1]) @ R[:, 2]) > 0.0
+    )
+    return T if ok else check_transform(T, name=name)
+
+
+def parse_mask(mask: Any, is_position: bool) -> np.ndarray:
+    if mask is None:
+        return np.array([True] * 3 + [not is_position] * 3)
+    m = np.asarray(mask)
+    if m.shape != (6,):
+        raise ShapeError(f"mask must have shape (6,) (booleans for x, y, z, rx, ry, rz); got shape {m.shape}")
+    if m.dtype != bool:
+        if not np.all(np.isin(m, (0, 1))):
+            raise DomainError(f"mask must contain booleans; got {m!r}")
+        m = m.astype(bool)
+    if not m.any():
+        raise DomainError("mask must select at least one task component; got all False")
+    if is_position and m[3:].any():
+        raise DomainError("mask selects orientation components but the target is a position (3,); give a (4, 4) pose")
+    return m
+
+
+def parse_tolerance(tol: Any) -> tuple[float, float]:
+    """``tol`` as ``(position (m), orientation (rad))``; a scalar sets both."""
+    if np.ndim(tol) == 0:
+        t = check_positive(tol, "tol")
+        return t, t
+    t = as_float_array(tol, "tol", (2,))
+    check_positive(t, "tol")
+    return float(t[0]), float(t[1])
+
+
+def parse_q0(q0: Any, n: int, lower: np.ndarray, upper: np.ndarray, count: int | None) -> np.ndarray:
+    """Initial guess(es): ``None`` -> middle of the limits (0 for unlimited joints)."""
+    if q0 is None:
+        mid = np.where(np.isfinite(lower) & np.isfinite(upper), 0.5 * (lower + upper), 0.0)
+        mid = np.clip(mid, lower, upper)
+        return mid.copy() if count is None else np.tile(mid, (count, 1))
+    name = "q0"
+    a = as_float_array(q0, name)
+    if count is None:
+        if a.shape != (n,):
+            raise ShapeError(f"{name} must have shape ({n},); got shape {a.shape}")
+    elif a.shape == (n,):
+        a = np.tile(a, (count, 1))
+    elif a.shape != (count, n):
+        raise ShapeError(f"{name} must have shape ({n},) or ({count}, {n}); got shape {a.shape}")
+    return np.clip(a, lower, upper)
+
+
+def parse_wrap(wrap: Any, chain: Any, n: int) -> tuple[np.ndarray | None, np.ndarray | None]:
+    """``wrap`` -> (joints wrapped every step, revolute joints that may re-enter by 2 pi).
+
+    ``"limits"`` (default): no wrapping, but a revolute joint that would leave
+    its range re-enters it by ``±2 pi`` when that lands inside (same pose);
+    ``True``: every revolute joint wrapped into (-pi, pi] each step;
+    ``False``/``None``: plain clamping; booleans (n,): those joints wrapped.
+    """
+    types = getattr(chain, "joint_types", None) or ("revolute",) * n
+    revolute = np.array([t == "revolute" for t in types], dtype=bool)
+    if isinstance(wrap, str):
+        if wrap != "limits":
+            raise ValueError(f"wrap must be True, False, 'limits' or booleans of shape ({n},); got {wrap!r}")
+        return None, (revolute if revolute.any() else None)
+    if wrap is None or wrap is False:
+        return None, None
+    if wrap is True:
+        return (revolute if revolute.any() else None), None
+    m = np.asarray(wrap)
+    if m.shape != (n,):
+        raise ShapeError(f"wrap must be a bool, 'limits' or have shape ({n},); got shape {m.shape}")
+    m = m.astype(bool)
+    return (m if m.any() else None), None
+
+
+def make_context(chain: Any, mask: np.ndarray, tool: Any, wrap: Any) -> IKContext:
+    n = int(chain.n)
+    lower, upper = _chain_limits(chain)
+    T_tool = None
+    if tool is not None:
+        T_tool = check_transform(tool, name="tool")
+        if T_tool.ndim != 2:
+            raise ShapeError(f"tool must have shape (4, 4); got shape {T_tool.shape}")
+        if np.allclose(T_tool, np.eye(4), rtol=0, atol=0):
+            T_tool = None
+    wrap_mask, shift_mask = parse_wrap(wrap, chain, n)
+    return IKContext(chain, n, lower, upper, mask, T_tool, wrap_mask, shift_mask)
+
+
+def check_nonnegative_int(value: Any, name: str, minimum: int = 0) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise TypeError(f"{name} must be an integer; got {type(value).__name__} {value!r}")
+    if value < minimum:
+        raise DomainError(f"{name} must be >= {minimum}; got {value}")
+    return int(value)
+
+
+def parse_stall(method: Any, iterations: Any, tolerance: Any) -> tuple[int, float]:
+    """Stall-detection parameters, defaulting to the method's ``default_stall``."""
+    k, f = method.default_stall
+    k = k if iterations is None else check_nonnegative_int(iterations, "stall_iterations", 1)
+    f = f if tolerance is None else check_positive(tolerance, "stall_tolerance", allow_zero=True)
+    if f >= 1:
+        raise DomainError(f"stall_tolerance must be < 1 (a fraction of the error); got {f:g}")
+    return k, float(f)
