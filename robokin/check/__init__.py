@@ -1,0 +1,66 @@
+r"""Exercise checks: compare a student's answer with robokin's reference.
+
+Students write their own answer -- a sympy expression, a NumPy array or a Python
+function -- and call a check::
+
+    from robokin import check
+    check.leg.rotation_B1(my_R_B1)        # ✔ R_B1 is correct (checked at 20 random angles).
+
+A wrong answer prints a "✘ ..." line that names the likely mistake (transposed
+rotation, a column with the wrong sign, degrees for radians, rotation about the
+wrong axis, transforms composed in the wrong order, wrong shape, ...). Every
+check returns a :class:`CheckResult` (``.passed``, ``.message``, ``.diagnosis``);
+``raise_on_fail=True`` turns a wrong answer into an ``AssertionError`` and
+``quiet=True`` suppresses the printout (for autograders).
+
+Generic checks: :func:`matrix_function` (a function of some variables) and
+:func:`value` (a number or array). Chapter checks live in submodules listed in
+:data:`robokin.check._registry.CHAPTERS` and are imported on first access
+(``robokin.check.leg``).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from robokin.check._core import (
+    Check,
+    CheckResult,
+    Diagnosis,
+    Mistake,
+    Variable,
+    alternatives,
+    matrix_function,
+    mistake,
+    value,
+)
+from robokin.check._registry import CHAPTERS, checks_of
+
+__all__ = [
+    "Check",
+    "CheckResult",
+    "Diagnosis",
+    "Mistake",
+    "Variable",
+    "alternatives",
+    "matrix_function",
+    "mistake",
+    "value",
+    "checks_of",
+    "CHAPTERS",
+]
+
+
+def __getattr__(name: str) -> Any:
+    if name in CHAPTERS:
+        from robokin.check._registry import chapter
+
+        return chapter(name)
+    raise AttributeError(
+        f"module 'robokin.check' has no attribute {name!r}; chapters with checks: "
+        f"{', '.join(sorted(CHAPTERS))}"
+    )
+
+
+def __dir__() -> list[str]:
+    return sorted(set(__all__) | set(CHAPTERS))

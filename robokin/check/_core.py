@@ -1,0 +1,693 @@
+r"""The generic machinery of the exercise checks.
+
+A *check* compares a student's answer with a reference on seeded random inputs
+(or at one fixed input, for numeric answers) and, when they differ, tries a list
+of *diagnoses*. A diagnosis turns the reference into a typical mistake (the
+transpose, a column with its sign flipped, the formula evaluated in degrees,
+the factors of a product in another order, ...) together with a message written
+for the student. The first mistake that reproduces the student's answer at every
+sample explains it.
+
+Accepted answers
+----------------
+- a sympy ``Matrix`` or expression in the check's variables (lambdified, then
+  compared numerically -- never by symbolic equality; symbols are matched by
+  name, whatever their assumptions);
+- a NumPy array / list of numbers (for a check at a fixed input, or a check
+  without variables);
+- a Python function: called with one argument per variable
+  (``f(alpha, beta, gamma)``) or with one vector per argument group
+  (``f(q)``); the call style is detected.
+
+The result is a :class:`CheckResult`; its message is printed (``quiet=False``)
+and, with ``raise_on_fail=True``, a wrong answer raises :class:`AssertionError`.
+"""
+
+from __future__ import annotations
+
+import inspect
+import math
+import sys
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+__all__ = [
+    "CheckResult",
+    "Variable",
+    "Mistake",
+    "Diagnosis",
+    "Check",
+    "mistake",
+    "alternatives",
+    "matrix_function",
+    "value",
+    "PASS",
+    "FAIL",
+]
+
+PASS = "\u2714"  # ✔
+FAIL = "\u2718"  # ✘
+
+RefFn = Callable[[np.ndarray], np.ndarray]
+
+
+# ---------------------------------------------------------------- results
+@dataclass(frozen=True, eq=False)
+class CheckResult:
+    """Outcome of one check.
+
+    Attributes
+    ----------
+    name : str
+        What was checked (e.g. ``"R_B1"``).
+    passed : bool
+        True if the answer matches the reference at every sample.
+    message : str
+        The one-line (pass) or short (fail) explanation that was printed.
+    diagnosis : str or None
+        ``None`` when passed; otherwise a code such as ``"transpose"``,
+        ``"sign_column"``, ``"degrees_input"``, ``"wrong_axis"``,
+        ``"composition_order"``, ``"shape"``, ``"mismatch"`` (no known mistake
+        explains the answer), ``"error"`` (the answer could not be evaluated).
+    samples : int
+        Number of inputs at which the answer was compared.
+    """
+
+    name: str
+    passed: bool
+    message: str
+    diagnosis: str | None = None
+    samples: int = 0
+
+    def __bool__(self) -> bool:
+        return self.passed
+
+    def __repr__(self) -> str:
+        return (
+            f"CheckResult(name={self.name!r}, passed={self.passed}, "
+            f"diagnosis={self.diagnosis!r})"
+        )
+
+    def _ipython_display_(self) -> None:
+        """Show nothing in a notebook: the check has already printed its message.
+
+        So ``check.leg.rotation_B1(R)`` as the last line of a cell prints one line
+        and no ``CheckResult(...)`` echo (with or without a trailing ``;``).
+        """
+
+
+class _AnswerError(Exception):
+    """The answer cannot be evaluated; carries a diagnosis code and a message."""
+
+    def __init__(self, code: str, message: str):
+        super().__init__(message)
+        self.code = code
+        self.message = message
+
+
+# ---------------------------------------------------------------- variables
+_GREEK = {
+    "alpha": "\u03b1", "beta": "\u03b2", "gamma": "\u03b3", "theta": "\u03b8",
+    "phi": "\u03c6", "psi": "\u03c8",
+}
+
+
+@dataclass(frozen=True)
+class Variable:
+    """One scalar input of a check.
+
+    Parameters
+    ----------
+    name : str
+        Name used for matching sympy symbols and in messages (``"alpha"``).
+    kind : {'angle', 'length', 'other'}
+        Angles get the degree diagnoses and are printed in radians.
+    low, high : float
+        Sampling interval.
+    aliases : tuple of str
+        Other accepted symbol names (e.g. ``("q1", "α")``).
+    """
+
+    name: str
+    kind: str = "angle"
+    low: float = -math.pi
+    high: float = math.pi
+    aliases: tuple[str, ...] = ()
+
+    @property
+    def label(self) -> str:
+        """Pretty name for messages (Greek letter if there is one)."""
+        return _GREEK.get(self.name, self.name)
+
+    def names(self) -> set[str]:
+        out = {self.name, self.label, *self.aliases}
+        return out | {n.replace("_", "") for n in out}
+
+
+def _as_variables(variables: Any) -> list[Variable]:
+    if variables is None:
+        return []
+    if isinstance(variables, (str, Variable)) or not isinstance(variables, Iterable):
+        variables = [variables]
+    out = []
+    for v in variables:
+        if isinstance(v, Variable):
+            out.append(v)
+        elif isinstance(v, str):
+            out.append(Variable(v))
+        elif hasattr(v, "name"):  # sympy Symbol
+            out.append(Variable(str(v.name)))
+        else:
+            raise TypeError(f"variables must be names, sympy symbols or Variable; got {v!r}")
+    return out
+
+
+# ---------------------------------------------------------------- formatting
+def fmt(x: Any, precision: int = 3) -> str:
+    """Short, stable text of a number or array for messages (no ``-0``)."""
+    a = np.round(np.asarray(x, dtype=float), precision) + 0.0
+
+    def one(v: float) -> str:
+        return np.format_float_positional(v, precision=precision, trim="-")
+
+    if a.ndim == 0:
+        return one(float(a))
+    return np.array2string(a, separator=", ", formatter={"float_kind": one})
+
+
+def _entry(idx: tuple[int, ...]) -> str:
+    """1-based entry label: (2, 3) or [2]."""
+    if len(idx) == 1:
+        return f"[{idx[0] + 1}]"
+    return "(" + ", ".join(str(i + 1) for i in idx) + ")"
+
+
+def _shape_text(shape: tuple[int, ...]) -> str:
+    if len(shape) == 0:
+        return "a number"
+    if len(shape) == 1:
+        return f"a vector of length {shape[0]}"
+    return "a " + "\u00d7".join(str(s) for s in shape) + " matrix"
+
+
+# ---------------------------------------------------------------- answers
+def _sympy():
+    return sys.modules.get("sympy")
+
+
+def _is_sympy(x: Any) -> bool:
+    sp = _sympy()
+    if sp is None:
+        return False
+    if isinstance(x, (sp.Basic, sp.MatrixBase)):
+        return True
+    if isinstance(x, (list, tuple)):
+        return any(_is_sympy(e) for e in x)
+    if isinstance(x, np.ndarray) and x.dtype == object:
+        return any(_is_sympy(e) for e in x.ravel())
+    return False
+
+
+def _to_float_array(out: Any, what: str) -> np.ndarray:
+    sp = _sympy()
+    if sp is not None and _is_sympy(out):
+        try:
+            if isinstance(out, sp.Basic):
+                return np.array(float(out.evalf()))
+            return np.array(sp.Matrix(out).evalf().tolist(), dtype=float)
+        except (TypeError, ValueError):
+            raise _AnswerError(
+                "symbols", f"{what} still contains symbols after substituting numbers: {out}"
+            ) from None
+    try:
+        return np.array(out, dtype=float)
+    except (TypeError, ValueError):
+        raise _AnswerError("error", f"{what} is not numeric (got {type(out).__name__}).") from None
+
+
+def _match_symbols(free: set, variables: list[Variable], name: str) -> list:
+    """Return, per variable, the student's symbol standing for it (or None)."""
+    by_var: list = [None] * len(variables)
+    unmatched = []
+    for s in sorted(free, key=lambda s: s.name):
+        hit = [i for i, v in enumerate(variables) if s.name in v.names()]
+        if hit and by_var[hit[0]] is None:
+            by_var[hit[0]] = s
+        else:
+            unmatched.append(s)
+    if unmatched:
+        open_vars = [i for i, s in enumerate(by_var) if s is None]
+        if len(unmatched) == 1 and len(open_vars) == 1:
+            by_var[open_vars[0]] = unmatched[0]  # one unknown symbol, one free slot
+        else:
+            expected = ", ".join(v.name for v in variables) or "no symbols (a constant)"
+            got = ", ".join(sorted(s.name for s in unmatched))
+            raise _AnswerError(
+                "symbols",
+                f"{name} contains the symbol(s) {got}; expected an expression in {expected}.",
+            )
+    return by_var
+
+
+@dataclass
+class _Evaluator:
+    """Numeric view of an answer: ``values (nvars,) -> ndarray``."""
+
+    fn: Callable[[np.ndarray], np.ndarray]
+    form: str  # 'function', 'sympy', 'constant'
+
+
+def _sympy_evaluator(expr: Any, variables: list[Variable], name: str) -> _Evaluator:
+    sp = _sympy()
+    if isinstance(expr, (list, tuple, np.ndarray)):
+        expr = sp.Matrix(expr)
+    free = set(expr.free_symbols)
+    by_var = _match_symbols(free, variables, name)
+    used = [(i, s) for i, s in enumerate(by_var) if s is not None]
+    if not used:
+        const = _to_float_array(expr, name)
+        return _Evaluator(lambda x: const, "constant")
+    f = sp.lambdify([s for _, s in used], expr, modules="numpy")
+    idx = [i for i, _ in used]
+    shape = expr.shape if isinstance(expr, sp.MatrixBase) else ()
+
+    def fn(x: np.ndarray) -> np.ndarray:
+        out = np.array(f(*[float(x[i]) for i in idx]), dtype=float)
+        return out.reshape(shape) if shape else out
+
+    return _Evaluator(fn, "sympy")
+
+
+def _required_positional(f: Callable) -> int | None:
+    try:
+        sig = inspect.signature(f)
+    except (TypeError, ValueError):
+        return None
+    n = 0
+    for p in sig.parameters.values():
+        if p.kind in (p.POSITIONAL_ONLY, p.POSITIONAL_OR_KEYWORD) and p.default is p.empty:
+            n += 1
+        elif p.kind == p.VAR_POSITIONAL:
+            return None
+    return n
+
+
+def _function_evaluator(
+    f: Callable, variables: list[Variable], groups: list[tuple[str, list[int]]], name: str
+) -> _Evaluator:
+    nvar = len(variables)
+    grouped = lambda x: tuple(np.asarray(x[idx], dtype=float) for _, idx in groups)  # noqa: E731
+    scalars = lambda x: tuple(float(v) for v in x)  # noqa: E731
+    single = lambda x: (np.asarray(x, dtype=float),)  # noqa: E731
+    k = _required_positional(f)
+    if groups and len(groups) != nvar:
+        cand = [("groups", grouped), ("scalars", scalars)]
+    else:
+        cand = [("scalars", scalars), ("single", single)]
+    if k is not None:
+        ranked = [c for c in cand if len(c[1](np.zeros(nvar))) == k]
+        cand = ranked + [c for c in cand if c not in ranked]
+    styles = cand
+    chosen: list = []
+
+    def fn(x: np.ndarray) -> np.ndarray:
+        if chosen:
+            try:
+                out = f(*chosen[0](x))
+            except Exception as exc:  # noqa: BLE001 - report the student's error
+                raise _AnswerError(
+                    "error", f"calling {name} raised {type(exc).__name__}: {exc}"
+                ) from None
+            return _to_float_array(out, f"the value returned by {name}")
+        first_error = None
+        for _, style in styles:
+            try:
+                out = f(*style(x))
+            except Exception as exc:  # noqa: BLE001 - report the student's error
+                first_error = first_error or exc
+                continue
+            chosen.append(style)
+            return _to_float_array(out, f"the value returned by {name}")
+        raise _AnswerError(
+            "error",
+            f"calling {name} raised {type(first_error).__name__}: {first_error}",
+        )
+
+    return _Evaluator(fn, "function")
+
+
+def _evaluator(answer: Any, variables: list[Variable], groups, name: str) -> _Evaluator:
+    if answer is None:
+        raise _AnswerError("error", f"{name} is None: did you forget to return or assign it?")
+    if _is_sympy(answer):
+        return _sympy_evaluator(answer, variables, name)
+    if callable(answer) and not isinstance(answer, np.ndarray):
+        return _function_evaluator(answer, variables, groups, name)
+    const = _to_float_array(answer, name)
+    return _Evaluator(lambda x: const, "constant")
+
+
+# ---------------------------------------------------------------- diagnoses
+@dataclass(frozen=True)
+class Mistake:
+    """One typical mistake: the reference transformed into the mistaken answer.
+
+    ``transform(reference)`` returns the function ``values -> array`` a student
+    making this mistake would have written; ``message`` explains it (``{name}``
+    is replaced by the name of the check).
+    """
+
+    code: str
+    transform: Callable[[RefFn], RefFn]
+    message: str
+
+
+@dataclass
+class Context:
+    """What a diagnosis may look at."""
+
+    check: Check
+    reference: RefFn
+    X: np.ndarray  # samples (N, nvars)
+    R: np.ndarray  # reference values (N, ...)
+    S: np.ndarray  # student values (N, ...)
+    form: str  # form of the student's answer
+
+
+@dataclass(frozen=True)
+class Diagnosis:
+    """A family of mistakes: ``variants(ctx)`` yields :class:`Mistake` objects."""
+
+    code: str
+    variants: Callable[[Context], Iterable[Mistake]]
+
+
+def mistake(code: str, transform: Callable[[RefFn], RefFn], message: str) -> Diagnosis:
+    """A diagnosis with one variant: ``transform`` maps the reference to the mistake."""
+    m = Mistake(code, transform, message)
+    return Diagnosis(code, lambda ctx: [m])
+
+
+def alternatives(code: str, items: Sequence[tuple[RefFn, str]]) -> Diagnosis:
+    """A diagnosis from ready-made mistaken functions ``[(fn, message), ...]``.
+
+    Use it when the mistake is easier to write directly than as a transform of
+    the reference (a rotation about another axis, the factors of a product in
+    another order, a controller without its feed-forward term).
+    """
+    ms = [Mistake(code, (lambda f: (lambda ref: f))(fn), msg) for fn, msg in items]
+    return Diagnosis(code, lambda ctx: ms)
+
+
+def _values(fn: RefFn, X: np.ndarray) -> np.ndarray | None:
+    try:
+        with np.errstate(all="ignore"):
+            return np.stack([np.asarray(fn(x), dtype=float) for x in X])
+    except Exception:  # noqa: BLE001 - a mistake that cannot be evaluated does not apply
+        return None
+
+
+# ---------------------------------------------------------------- the check
+def _close(a: np.ndarray, b: np.ndarray, atol: float, rtol: float) -> bool:
+    return a.shape == b.shape and bool(np.all(np.isfinite(a))) and np.allclose(
+        a, b, atol=atol, rtol=rtol
+    )
+
+
+def _normalise_vector(S: np.ndarray, ref_shape: tuple[int, ...]) -> np.ndarray:
+    """Treat (n,), (n, 1) and (1, n) as the same vector (S has a leading sample axis)."""
+    if len(ref_shape) == 1 and S.ndim == 3 and 1 in S.shape[1:]:
+        return S.reshape(S.shape[0], -1)
+    if len(ref_shape) == 2 and 1 in ref_shape and S.ndim == 2 and S.shape[1] == max(ref_shape):
+        return S.reshape((S.shape[0],) + ref_shape)
+    return S
+
+
+@dataclass
+class Check:
+    """An exercise check: a reference, its inputs and the mistakes to look for.
+
+    Call it with the student's answer: ``check(answer) -> CheckResult``.
+
+    Parameters
+    ----------
+    name : str
+        Shown in messages, e.g. ``"R_B1"``.
+    reference : callable
+        ``reference(values) -> ndarray`` with ``values`` of shape ``(nvars,)``.
+    variables : list of Variable
+        Scalar inputs (empty for a constant).
+    groups : list of (name, indices)
+        How a Python function of vectors is called, e.g. ``[("q", [0, 1, 2])]``.
+    diagnoses : list of Diagnosis
+        Tried in order after the shape check.
+    at : array_like, optional
+        Fixed input: the check compares at this one point only (numeric answers).
+    samples, seed : int
+        Number of random inputs and the seed of their generator.
+    atol, rtol : float
+        Tolerances of the comparison.
+    noun : str
+        Completes "checked at 20 random ..." (``"angles"``, ``"configurations"``).
+    at_text : str
+        How the fixed input is described in messages (``"q = [0°, 60°, -120°]"``).
+    hint : str
+        Appended to the message when no diagnosis explains a wrong answer.
+    """
+
+    name: str
+    reference: RefFn
+    variables: list[Variable] = field(default_factory=list)
+    groups: list[tuple[str, list[int]]] = field(default_factory=list)
+    diagnoses: list[Diagnosis] = field(default_factory=list)
+    at: Any = None
+    samples: int = 20
+    seed: int = 0
+    atol: float = 1e-8
+    rtol: float = 1e-6
+    noun: str = "inputs"
+    at_text: str = ""
+    hint: str = ""
+    doc: str = ""
+
+    def __post_init__(self) -> None:
+        self.variables = _as_variables(self.variables)
+        if self.doc:
+            self.__doc__ = self.doc
+
+    # -- inputs
+    def sample_points(self) -> np.ndarray:
+        """The inputs used for the comparison, shape (N, nvars)."""
+        if self.at is not None:
+            return np.atleast_2d(np.asarray(self.at, dtype=float))
+        if not self.variables:
+            return np.zeros((1, 0))
+        rng = np.random.default_rng(self.seed)
+        lo = np.array([v.low for v in self.variables])
+        hi = np.array([v.high for v in self.variables])
+        return lo + (hi - lo) * rng.random((self.samples, len(self.variables)))
+
+    def _where(self, X: np.ndarray) -> str:
+        if self.at is not None or not self.variables:
+            return ""
+        noun = self.noun if len(X) > 1 else self.noun.rstrip("s")
+        return f" (checked at {len(X)} random {noun})"
+
+    def _point_text(self, x: np.ndarray) -> str:
+        if self.at is not None and self.at_text:
+            return self.at_text
+        return ", ".join(f"{v.label} = {fmt(xi)}" for v, xi in zip(self.variables, x))
+
+    # -- the call
+    def __call__(
+        self, answer: Any, *, raise_on_fail: bool = False, quiet: bool = False
+    ) -> CheckResult:
+        """Compare ``answer`` with the reference; print and return the result."""
+        result = self.evaluate(answer)
+        if not quiet:
+            print(result.message)
+        if raise_on_fail and not result.passed:
+            raise AssertionError(result.message)
+        return result
+
+    def evaluate(self, answer: Any) -> CheckResult:
+        """Like calling the check, but neither prints nor raises."""
+        X = self.sample_points()
+        reference = self.reference
+        R = np.stack([np.asarray(reference(x), dtype=float) for x in X])
+        if R.ndim == 3 and 1 in R.shape[1:]:  # a column or row vector: treat as (n,)
+            R = R.reshape(R.shape[0], -1)
+            reference = (lambda f: lambda x: np.asarray(f(x), dtype=float).ravel())(reference)
+        try:
+            ev = _evaluator(answer, self.variables, self.groups, self.name)
+            values = [ev.fn(x) for x in X]
+            if len({v.shape for v in values}) > 1:
+                raise _AnswerError(
+                    "shape", f"{self.name} returns arrays of different shapes for different inputs."
+                )
+            S = np.stack(values)
+        except _AnswerError as exc:
+            return self._fail(exc.code, exc.message, len(X))
+        S = _normalise_vector(S, R.shape[1:])
+        if _close(S, R, self.atol, self.rtol):
+            at = f" at {self.at_text}" if self.at is not None and self.at_text else ""
+            return CheckResult(
+                self.name, True, f"{PASS} {self.name}{at} is correct{self._where(X)}.",
+                None, len(X),
+            )
+        ref_varies = len(X) > 1 and not np.allclose(R, R[:1], atol=self.atol, rtol=self.rtol)
+        if ev.form == "constant" and self.at is None and ref_varies:
+            names = ", ".join(v.label for v in self.variables)
+            return self._fail(
+                "constant",
+                f"{self.name} should depend on {names}, but your answer is a constant "
+                f"array. Give a sympy expression or a Python function of {names}.",
+                len(X),
+            )
+        if not np.all(np.isfinite(S)):
+            return self._fail(
+                "error", f"{self.name} gives NaN or infinite values.", len(X)
+            )
+        ctx = Context(self, reference, X, R, S, ev.form)
+        for diag in self.diagnoses:
+            for m in diag.variants(ctx):
+                M = _values(m.transform(reference), X)
+                if M is None or M.shape != S.shape or _close(M, R, self.atol, self.rtol):
+                    continue
+                if _close(S, M, self.atol, self.rtol):
+                    return self._fail(m.code, m.message.format(name=self.name), len(X))
+        if S.shape[1:] != R.shape[1:]:
+            return self._fail("shape", self._shape_message(S, R), len(X))
+        return self._fail("mismatch", self._mismatch_message(X, S, R), len(X))
+
+    def _fail(self, code: str, text: str, n: int) -> CheckResult:
+        first = text[:1]
+        if first.isascii() and first.islower() and not text.startswith(self.name):
+            text = first.upper() + text[1:]
+        return CheckResult(self.name, False, f"{FAIL} {text}", code, n)
+
+    def _shape_message(self, S: np.ndarray, R: np.ndarray) -> str:
+        want, got = R.shape[1:], S.shape[1:]
+        msg = (
+            f"{self.name} should be {_shape_text(want)}; your answer is {_shape_text(got)} "
+            f"(shape {got})."
+        )
+        if len(got) == len(want) and all(g >= w for g, w in zip(got, want)):
+            block = S[(slice(None),) + tuple(slice(0, w) for w in want)]
+            if _close(block, R, self.atol, self.rtol) and len(want) == 1:
+                msg += (
+                    f" Its first {want[0]} entries are right: drop the rest (the trailing 1 "
+                    "of homogeneous coordinates?)."
+                )
+            elif _close(block, R, self.atol, self.rtol):
+                msg += (
+                    f" Its top-left {'×'.join(map(str, want))} block is right: "
+                    f"{self.name} is only that block."
+                )
+        elif want == (4, 4) and got == (3, 3):
+            msg += " A homogeneous transform is 4×4: [[R, p], [0, 0, 0, 1]]."
+        return msg
+
+    def _mismatch_message(self, X: np.ndarray, S: np.ndarray, R: np.ndarray) -> str:
+        bad = ~np.isclose(S, R, atol=max(self.atol, 1e-9), rtol=self.rtol)
+        wrong = [tuple(int(i) for i in idx) for idx in zip(*np.nonzero(bad.any(axis=0)))]
+        k = int(np.argmax(bad.reshape(len(X), -1).any(axis=1)))
+        where = self._point_text(X[k])
+        where = f" at {where}" if where else ""
+        if R.ndim == 1 or R[0].size == 1:
+            return (
+                f"{self.name} is not correct{where}: expected {fmt(R[k])}, got {fmt(S[k])}."
+                + (f" {self.hint}" if self.hint else "")
+            )
+        if len(wrong) == R[0].size:
+            head = f"{self.name} is not correct: every entry differs from the reference."
+        else:
+            ent = ", ".join(_entry(i) for i in wrong[:6]) + (" ..." if len(wrong) > 6 else "")
+            head = (
+                f"{self.name} is not correct: entr{'y' if len(wrong) == 1 else 'ies'} {ent} "
+                f"differ{'s' if len(wrong) == 1 else ''} from the reference."
+            )
+        i0 = wrong[0]
+        ex = f" For example{where}: entry {_entry(i0)} should be {fmt(R[k][i0])}, yours is {fmt(S[k][i0])}."
+        return head + ex + (f" {self.hint}" if self.hint else "")
+
+
+# ---------------------------------------------------------------- generic entry points
+def _reference_fn(reference: Any, variables: list[Variable], groups, name: str) -> RefFn:
+    ev = _evaluator(reference, variables, groups, f"the reference of {name}")
+    return ev.fn
+
+
+def matrix_function(
+    student: Any,
+    reference: Any,
+    variables: Any = None,
+    name: str = "answer",
+    *,
+    kind: str = "matrix",
+    diagnoses: Sequence[Diagnosis] | None = None,
+    samples: int = 20,
+    seed: int = 0,
+    atol: float = 1e-8,
+    rtol: float = 1e-6,
+    raise_on_fail: bool = False,
+    quiet: bool = False,
+) -> CheckResult:
+    """Check a matrix/vector/scalar function of ``variables`` against a reference.
+
+    Parameters
+    ----------
+    student : sympy Matrix or expression, Python function, or array
+        The answer.
+    reference : sympy Matrix or expression, Python function (same call style
+        as the student's), or array
+        The correct answer.
+    variables : sequence of sympy symbols, names or :class:`Variable`
+        The inputs (angles by default, sampled in [-π, π]).
+    name : str
+        Shown in the messages.
+    kind : {'matrix', 'rotation', 'transform', 'vector', 'jacobian', 'angles'}
+        Selects the standard diagnoses (see :func:`robokin.check.diagnoses.standard`).
+    diagnoses : list of Diagnosis, optional
+        Replaces the standard list.
+
+    Returns
+    -------
+    CheckResult
+    """
+    from robokin.check.diagnoses import standard
+
+    vars_ = _as_variables(variables)
+    ref = _reference_fn(reference, vars_, [], name)
+    check = Check(
+        name, ref, vars_, [],
+        list(diagnoses) if diagnoses is not None else standard(kind),
+        samples=samples, seed=seed, atol=atol, rtol=rtol,
+        noun="angles" if all(v.kind == "angle" for v in vars_) else "inputs",
+    )
+    return check(student, raise_on_fail=raise_on_fail, quiet=quiet)
+
+
+def value(
+    student: Any,
+    reference: Any,
+    name: str = "answer",
+    *,
+    kind: str = "matrix",
+    atol: float = 1e-3,
+    rtol: float = 1e-3,
+    raise_on_fail: bool = False,
+    quiet: bool = False,
+) -> CheckResult:
+    """Check a numeric answer (array or number) against a reference value.
+
+    The default tolerances accept answers typed with three or four decimals.
+    """
+    from robokin.check.diagnoses import standard
+
+    ref = _to_float_array(reference, "reference")
+    check = Check(name, lambda x: ref, [], [], standard(kind), atol=atol, rtol=rtol)
+    return check(student, raise_on_fail=raise_on_fail, quiet=quiet)

@@ -1,0 +1,45 @@
+"""Registry of exercise checks, one module per chapter.
+
+A chapter module (``robokin/check/<chapter>.py``) defines its checks with
+:func:`exercise` and lists its chapter in :data:`CHAPTERS`; students reach them
+as ``robokin.check.<chapter>.<check>``. Adding a chapter is: a module with a few
+``exercise(...)`` lines, and one entry here.
+"""
+
+from __future__ import annotations
+
+import importlib
+from typing import Any
+
+from robokin.check._core import Check
+
+__all__ = ["CHAPTERS", "exercise", "checks_of", "chapter"]
+
+#: chapter name -> module holding its checks (imported on first use).
+CHAPTERS: dict[str, str] = {
+    "leg": "robokin.check.leg",
+    "ur10": "robokin.check.ur10",
+}
+
+_REGISTRY: dict[str, dict[str, Check]] = {}
+
+
+def exercise(chapter: str, attr: str, check: Check) -> Check:
+    """Register ``check`` as ``robokin.check.<chapter>.<attr>`` and return it."""
+    _REGISTRY.setdefault(chapter, {})[attr] = check
+    return check
+
+
+def chapter(name: str) -> Any:
+    """Import and return the check module of a chapter."""
+    if name not in CHAPTERS:
+        raise AttributeError(
+            f"robokin.check has no chapter {name!r}; available: {', '.join(sorted(CHAPTERS))}"
+        )
+    return importlib.import_module(CHAPTERS[name])
+
+
+def checks_of(name: str) -> dict[str, Check]:
+    """All checks of a chapter, by attribute name."""
+    chapter(name)
+    return dict(_REGISTRY.get(name, {}))

@@ -1,0 +1,273 @@
+"""Tests of the chapter-1 exercise checks (robokin.check.leg).
+
+The correct answers below are written out independently of robokin (sympy and
+NumPy formulas re-derived by hand), so they also test the model's references.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import sympy as sp
+
+from robokin import check
+from robokin.check import leg as L
+
+a, b, g = sp.symbols("alpha beta gamma", real=True)
+S = sp.sin
+C = sp.cos
+
+
+def Rx(t):
+    return sp.Matrix([[1, 0, 0], [0, C(t), -S(t)], [0, S(t), C(t)]])
+
+
+def Ry(t):
+    return sp.Matrix([[C(t), 0, S(t)], [0, 1, 0], [-S(t), 0, C(t)]])
+
+
+def Rz(t):
+    return sp.Matrix([[C(t), -S(t), 0], [S(t), C(t), 0], [0, 0, 1]])
+
+
+def H(R, p):
+    M = sp.eye(4)
+    M[:3, :3] = R
+    M[:3, 3] = sp.Matrix(p)
+    return M
+
+
+H_B1 = H(Rx(a), [0, 1, 0])
+H_12 = H(Ry(b), [0, 0, -1])
+H_23 = H(Ry(g), [0, 0, -1])
+H_3F = H(sp.eye(3), [0, 0, -1])
+H_BF = H_B1 * H_12 * H_23 * H_3F
+LEN = 1 + C(b) + C(b + g)
+R_BF = sp.Matrix([-S(b) - S(b + g), S(a) * LEN + 1, -C(a) * LEN])  # re-derived by hand
+J = R_BF.jacobian([a, b, g])
+
+
+def r_np(q):
+    al, be, ga = q
+    ln = 1 + np.cos(be) + np.cos(be + ga)
+    return np.array([-np.sin(be) - np.sin(be + ga), np.sin(al) * ln + 1, -np.cos(al) * ln])
+
+
+def J_np(q):
+    return np.array(J.subs(dict(zip((a, b, g), q))).evalf(), dtype=float)
+
+
+Q_LIFT = np.deg2rad([0, 60, -120])
+
+
+# ---------------------------------------------------------------- registry
+def test_registry_lists_every_check_of_the_chapter():
+    names = set(check.checks_of("leg"))
+    assert names == {
+        "rotation_B1", "rotation_12", "rotation_23", "transform_B1", "transform_12",
+        "transform_23", "transform_3F", "transform_BF", "foot_position", "foot_jacobian",
+        "foot_jacobian_at", "lift_velocity", "newton_step", "tracking_controller",
+    }
+    assert check.leg is L and "leg" in dir(check)
+
+
+def test_hand_derived_position_matches_the_model():
+    from robokin.models import eth_leg
+
+    leg = eth_leg()
+    for q in np.random.default_rng(1).uniform(-3, 3, (5, 3)):
+        assert np.allclose(leg.fk(q)[:3, 3], r_np(q))
+    assert sp.simplify(H_BF[:3, 3] - R_BF) == sp.zeros(3, 1)
+
+
+# ---------------------------------------------------------------- correct answers, every form
+@pytest.mark.parametrize(
+    "chk, answers",
+    [
+        (L.rotation_B1, [Rx(a), Rx(sp.Symbol("q1")), lambda alpha: np.array(Rx(alpha).evalf(), float)]),
+        (L.rotation_12, [Ry(b), Ry(sp.Symbol("beta"))]),
+        (L.rotation_23, [Ry(g), lambda gamma: np.array(Ry(gamma).evalf(), float)]),
+        (L.transform_B1, [H_B1]),
+        (L.transform_12, [H_12]),
+        (L.transform_23, [H_23]),
+        (L.transform_3F, [H_3F, np.array(H_3F, dtype=float), lambda: np.array(H_3F, float)]),
+        (L.transform_BF, [H_BF, sp.simplify(H_BF)]),
+        (L.foot_position, [R_BF, R_BF.T, r_np, lambda al, be, ga: r_np([al, be, ga]),
+                           (H_BF * sp.Matrix([0, 0, 0, 1]))[:3, :]]),
+        (L.foot_jacobian, [J, J_np]),
+        (L.foot_jacobian_at, [J_np(Q_LIFT), np.round(J_np(Q_LIFT), 4), J]),
+        (L.lift_velocity, [[0, -0.5774, 1.1547], np.linalg.solve(J_np(Q_LIFT), [0, 0, -1])]),
+    ],
+)
+def test_correct_answers_pass(chk, answers):
+    for ans in answers:
+        r = chk(ans, quiet=True)
+        assert r.passed, r.message
+        assert r.message.startswith("✔ ") and r.message.count("\n") == 0
+
+
+def test_pass_message_wording(capsys):
+    L.rotation_B1(Rx(a))
+    assert capsys.readouterr().out == "✔ R_B1 is correct (checked at 20 random angles).\n"
+    L.foot_jacobian_at(J_np(Q_LIFT))
+    assert capsys.readouterr().out == "✔ J_BF at q = [0°, 60°, −120°] is correct.\n"
+
+
+# ---------------------------------------------------------------- diagnoses specific to the leg
+@pytest.mark.parametrize(
+    "chk, answer, code, text",
+    [
+        (L.rotation_B1, Ry(a), "wrong_axis", "rotates about the y axis, but α turns about the x axis"),
+        (L.rotation_B1, Rz(-a), "wrong_axis", "z axis (and in the opposite direction)"),
+        (L.rotation_12, Rx(b), "wrong_axis", "β turns about the y axis"),
+        (L.rotation_12, Ry(b).T, "transpose", "R_12 is transposed"),
+        (L.rotation_23, Ry(g * sp.pi / 180), "degrees_input", "treats its angles as degrees"),
+        (L.transform_B1, H(Rx(a), Rx(a) * sp.Matrix([0, 1, 0])), "translation_rotated", "R·p"),
+        (L.transform_B1, H(Ry(a), [0, 1, 0]), "wrong_axis", "about the y axis"),
+        (L.transform_12, H_12.inv(), "inverse", "H_12 is inverted"),
+        (L.transform_23, H(Ry(g), [0, 0, 1]), "translation_sign", "wrong sign"),
+        (L.transform_3F, H(sp.eye(3), [0, 0, 1]), "inverse", "H_3F is inverted"),
+        (L.transform_3F, sp.Matrix([0, 0, -1]), "shape", "should be a 4×4 matrix"),
+        (L.transform_BF, H_3F * H_23 * H_12 * H_B1, "composition_order", "H_3F·H_23·H_12·H_B1"),
+        (L.transform_BF, H_12 * H_B1 * H_23 * H_3F, "composition_order", "H_12·H_B1·H_23·H_3F"),
+        (L.transform_BF, H_B1 * H_12 * H_23, "missing_factor", "leaves out the factor H_3F"),
+        (L.foot_position, R_BF - sp.Matrix([0, 1, 0]), "missing_offset", "B r_B1 = [0, 1, 0]"),
+        (L.foot_position, (H_B1 * H_12 * H_23)[:3, 3], "wrong_frame", "position of the knee"),
+        (L.foot_position, H_BF * sp.Matrix([0, 0, 0, 1]), "shape", "first 3 entries are right"),
+        (L.foot_position, R_BF.subs(g, -g), "negated_variable", "sign of γ is flipped"),
+        (L.foot_jacobian, J.T, "transpose", "one column per joint"),
+        (L.foot_jacobian, J.subs({b: g, g: b}, simultaneous=True), "swapped_variables", "β and γ"),
+    ],
+)
+def test_wrong_answers_are_diagnosed(chk, answer, code, text):
+    r = chk(answer, quiet=True)
+    assert not r.passed
+    assert r.diagnosis == code, r.message
+    assert text in r.message, r.message
+    assert r.message.startswith("✘ ")
+
+
+def test_jacobian_column_sign_slip_of_the_symbolic_code():
+    # d r_x / d beta written as -cos(beta + gamma) + cos(beta): a single sign slip
+    Jw = J.copy()
+    Jw[0, 1] = -C(b + g) + C(b)
+    r = L.foot_jacobian(Jw, quiet=True)
+    assert r.diagnosis == "mismatch" and "entry (1, 2)" in r.message
+    Jc = J.copy()
+    Jc[:, 1] = -Jc[:, 1]
+    r = L.foot_jacobian(Jc, quiet=True)
+    assert r.message == "✘ Column 2 (∂/∂β) of J_BF(q) has the wrong sign."
+
+
+def test_printed_jacobian_with_a_sign_slip_in_entry_3_3():
+    Jp = np.array([[0, -1, -0.5], [2, 0, 0], [0, 0, 0.866]])
+    r = L.foot_jacobian_at(Jp, quiet=True)
+    assert r.diagnosis == "sign_entry"
+    assert r.message == "✘ Entry (3, 3) of J_BF has the wrong sign."
+
+
+def test_jacobian_evaluated_at_degrees():
+    r = L.foot_jacobian_at(J_np([0.0, 60.0, -120.0]), quiet=True)
+    assert r.diagnosis == "degrees_evaluated" and "sin(60) instead of sin(60°)" in r.message
+
+
+@pytest.mark.parametrize(
+    "answer, code, text",
+    [
+        ([0, 0.5774, -1.1547], "velocity_sign", "v = [0, 0, +1] m/s"),
+        (np.rad2deg([0, -0.57735, 1.1547]), "degrees_output", "in degrees"),
+        (J_np(Q_LIFT).T @ [0, 0, -1], "transpose", "Jᵀ v"),
+        ([0, -0.5774], "shape", "vector of length 3"),
+    ],
+)
+def test_lift_velocity_mistakes(answer, code, text):
+    r = L.lift_velocity(answer, quiet=True)
+    assert r.diagnosis == code and text in r.message, r.message
+
+
+# ---------------------------------------------------------------- IK
+def good_step(q, r_goal):
+    return q + np.linalg.solve(J_np(q), r_goal - r_np(q))
+
+
+@pytest.mark.parametrize(
+    "step, code",
+    [
+        (good_step, None),
+        (lambda q, r_goal: q - np.linalg.solve(J_np(q), r_goal - r_np(q)), "error_sign"),
+        (lambda q, r_goal: np.linalg.solve(J_np(q), r_goal - r_np(q)), "delta_only"),
+        (lambda q, r_goal: q + J_np(q).T @ (r_goal - r_np(q)), "jacobian_transpose"),
+        (lambda q, r_goal: np.deg2rad(good_step(np.rad2deg(q), r_goal)), "mismatch"),
+    ],
+)
+def test_newton_step(step, code):
+    r = L.newton_step(step, quiet=True)
+    assert r.diagnosis == code, r.message
+
+
+def _ik_solutions():
+    """Both solutions of r_BF(q) = [0.2, 0.5, -2], by the geometry of the leg."""
+    goal = np.array([0.2, 0.5, -2.0])
+    d = goal - [0, 1, 0]
+    out = []
+    rho = np.hypot(d[1], d[2])
+    alpha = np.arctan2(d[1], -d[2])  # leg plane through the goal, foot below the hip axis
+    u, w = d[0], -rho + 1.0  # foot relative to the beta joint, in the leg plane
+    for sign in (1, -1):
+        gamma = sign * np.arccos((u * u + w * w - 2) / 2)
+        beta = np.arctan2(-u, -w) - np.arctan2(np.sin(gamma), 1 + np.cos(gamma))
+        out.append(np.array([alpha, beta, gamma]))
+    return out
+
+
+def test_ik_solution_accepts_every_solution():
+    sols = _ik_solutions()
+    assert not np.allclose(sols[0], sols[1])
+    for q in sols:
+        assert np.allclose(r_np(q), [0.2, 0.5, -2.0])
+        r = L.ik_solution(q, quiet=True)
+        assert r.passed, r.message
+        assert L.ik_solution(list(q + 2 * np.pi), quiet=True).passed  # angles modulo 2π
+
+
+def test_ik_solution_mistakes():
+    q = _ik_solutions()[0]
+    assert L.ik_solution(np.rad2deg(q), quiet=True).diagnosis == "degrees_output"
+    r = L.ik_solution([0.0, 0.0, 0.0], quiet=True)
+    assert r.diagnosis == "mismatch" and "r_BF(q) = [0, 1, -3]" in r.message
+    assert L.ik_solution([0.0, 0.0], quiet=True).diagnosis == "shape"
+    assert L.ik_solution("abc", quiet=True).diagnosis == "error"
+    assert L.ik_solution([np.nan, 0, 0], quiet=True).diagnosis == "error"
+    with pytest.raises(AssertionError):
+        L.ik_solution([0.0, 0.0, 0.0], quiet=True, raise_on_fail=True)
+    far = [-1.5, 1.0, -2.5]
+    assert not L.ik_solution(q, goal=far, quiet=True).passed
+
+
+# ---------------------------------------------------------------- tracking controller
+def ctrl(q, r_des, v_des, kp=10.0):
+    return np.linalg.solve(J_np(q), v_des + kp * (r_des - r_np(q)))
+
+
+@pytest.mark.parametrize(
+    "controller, code, text",
+    [
+        (ctrl, None, "✔ controller is correct"),
+        (lambda q, r_des, v_des: ctrl(q, r_des, 0 * v_des), "no_feedforward", "Add the feed-forward"),
+        (lambda q, r, v: np.linalg.solve(J_np(q), v - 10 * (r - r_np(q))), "error_sign", "r_des − r"),
+        (lambda q, r, v: 10 * np.linalg.solve(J_np(q), v + r - r_np(q)), "gain_on_feedforward", "too"),
+        (lambda q, r, v: J_np(q).T @ (v + 10 * (r - r_np(q))), "jacobian_transpose", "J⁺"),
+        (lambda q, r, v: ctrl(q, r, v, kp=5.0), "mismatch", "not correct"),
+    ],
+)
+def test_tracking_controller(controller, code, text):
+    r = L.tracking_controller(controller, quiet=True)
+    assert r.diagnosis == code, r.message
+    assert text in r.message
+
+
+def test_tracking_controller_accepts_one_vector_per_argument_or_scalars():
+    def scalars(a1, b1, g1, x, y, z, vx, vy, vz):
+        return ctrl(np.array([a1, b1, g1]), np.array([x, y, z]), np.array([vx, vy, vz]))
+
+    assert L.tracking_controller(scalars, quiet=True).passed
