@@ -14,7 +14,7 @@ import numpy as np
 import sympy as sp
 from sympy.simplify.fu import TR10i
 
-from robokin.chains.elements import Element
+from robokin.chains.elements import Element, elementary_transform
 
 __all__ = ["exact_length", "exact_angle", "element_matrix", "simplify_matrix", "simplify_expr"]
 
@@ -42,23 +42,6 @@ def exact_angle(x: Any) -> sp.Expr:
     return sp.Float(f)
 
 
-def rot(axis: int, angle: Any) -> sp.Matrix:
-    c, s = sp.cos(angle), sp.sin(angle)
-    M = sp.eye(4)
-    a, b = {0: (1, 2), 1: (2, 0), 2: (0, 1)}[axis]
-    M[a, a] = c
-    M[b, b] = c
-    M[b, a] = s
-    M[a, b] = -s
-    return M
-
-
-def trans(axis: int, d: Any) -> sp.Matrix:
-    M = sp.eye(4)
-    M[axis, 3] = d
-    return M
-
-
 def element_matrix(el: Element, q: Any = None) -> sp.Matrix:
     """4×4 sympy matrix of an element; ``q`` is the joint symbol for joints."""
     if el.kind == "F":
@@ -76,7 +59,7 @@ def element_matrix(el: Element, q: Any = None) -> sp.Matrix:
         value = el.sign * q + conv(el.offset)
     else:
         value = exact_angle(el.value) if el.kind == "R" else exact_length(el.value)
-    return rot(el.axis, value) if el.kind == "R" else trans(el.axis, value)
+    return elementary_transform(el.kind, el.axis, value)
 
 
 def _exact_unit(x: float) -> sp.Expr:

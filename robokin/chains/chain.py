@@ -36,7 +36,7 @@ import numpy as np
 
 from robokin._dispatch import is_symbolic
 from robokin.chains._engine import Engine
-from robokin.chains.elements import Element, Fixed
+from robokin.chains.elements import Element, Fixed, elementary_transform
 from robokin.errors import DomainError, ShapeError
 from robokin.validation import as_float_array, as_vector, check_limits, check_transform
 
@@ -55,19 +55,9 @@ def _numeric_element(el: Element) -> np.ndarray:
             return np.array(M.evalf() if hasattr(M, "evalf") else M, dtype=float)
         except TypeError:
             raise TypeError("Fixed element has free symbols; substitute them first") from None
-    v = float(el.value)
-    T = np.eye(4)
-    if el.kind == "T":
-        T[el.axis, 3] = v
-    else:
-        c, s = math.cos(v), math.sin(v)
-        # exact zeros for multiples of π/2 (cos(π/2) = 6e-17 in floating point)
-        c = 0.0 if abs(c) < 1e-15 else c
-        s = 0.0 if abs(s) < 1e-15 else s
-        a, b = {0: (1, 2), 1: (2, 0), 2: (0, 1)}[el.axis]
-        T[a, a] = T[b, b] = c
-        T[b, a] = s
-        T[a, b] = -s
+    T = np.array(elementary_transform(el.kind, el.axis, float(el.value)), dtype=float)
+    # exact zeros for multiples of π/2 (cos(π/2) = 6e-17 in floating point)
+    T[np.abs(T) < 1e-15] = 0.0
     return T
 
 

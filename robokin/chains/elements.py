@@ -36,6 +36,7 @@ from typing import Any
 import numpy as np
 
 from robokin.errors import DomainError, ShapeError
+from robokin.transforms import rotx, roty, rotz, transform, translation
 
 __all__ = ["Element", "Tx", "Ty", "Tz", "Rx", "Ry", "Rz", "Fixed", "AXES"]
 
@@ -72,6 +73,9 @@ def _check_value(value: Any, name: str) -> Any:
     if not math.isfinite(f):
         raise DomainError(f"{name} must be finite; got {f}")
     return value
+
+
+_ROTATIONS = (rotx, roty, rotz)
 
 
 @dataclass(frozen=True, eq=False)
@@ -130,6 +134,22 @@ class Element:
         if self.limits is not None:
             extra += f", limits={self.limits!r}"
         return f"{name}('{s}{self.joint}'{extra})"
+
+
+def elementary_transform(kind: str, axis: int, value: Any) -> Any:
+    r"""The 4×4 homogeneous transform of a rotation ``'R'`` or translation ``'T'``
+    by ``value`` about / along axis ``axis`` (0, 1, 2 = x, y, z).
+
+    Built from :func:`robokin.transforms.rotx` (``roty``, ``rotz``) and
+    :func:`robokin.transforms.translation`, so a float gives a (4, 4) array and a
+    sympy expression a ``sympy.Matrix``: the same code serves the numeric engine's
+    constants and the symbolic derivation.
+    """
+    if kind == "T":
+        p: list[Any] = [0, 0, 0]
+        p[axis] = value
+        return translation(p)
+    return transform(_ROTATIONS[axis](value), [0, 0, 0])
 
 
 def _make(kind: str, axis: str, value: Any, offset: Any, limits: Any) -> Element:

@@ -257,7 +257,7 @@ def chain_commands(item, scene_scale=None):
     """MeshCat commands drawing a :class:`~robokin.views.scene.ChainItem`."""
     chain, q, name = item.chain, item.q, item.name
     layout = chain_layout(chain, q)
-    F, reach = layout["frames"], layout["reach"]
+    reach = layout["reach"]
     s = _sizes(reach)
     n = layout["n"]
     op = item.opacity
