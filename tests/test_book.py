@@ -15,7 +15,7 @@ from urllib.parse import unquote, urlparse
 import pytest
 import yaml
 
-from conftest import HTML_DIR, ROOT
+from conftest import ROOT
 
 pytestmark = pytest.mark.book
 

@@ -2,45 +2,24 @@
 
 from __future__ import annotations
 
-import os
 
 import numpy as np
 import pytest
 
 from test_views_doubles import two_link
 
-CHROMIUM = "/usr/bin/chromium"
-ARGS = ["--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
-        "--disable-background-networking", "--disable-component-update", "--no-first-run"]
-
 pytestmark = pytest.mark.browser
 
-
-@pytest.fixture
-def browser():
-    if not os.path.exists(CHROMIUM):
-        pytest.skip(f"{CHROMIUM} not found: apt-get install chromium")
-    sync_api = pytest.importorskip("playwright.sync_api")
-    pw = sync_api.sync_playwright().start()
-    b = None
-    try:
-        b = pw.chromium.launch(executable_path=CHROMIUM, args=ARGS)
-        yield b
-    finally:
-        if b is not None:
-            b.close()
-        pw.stop()
+# The `browser` fixture (one headless Chromium for the whole session, skipped with a
+# message when Chromium is missing, never skipped in CI) comes from conftest.py.
 
 
 def _robot():
-    try:
-        from robokin.models import ur10
-        chain = ur10()
-        q0 = np.array([0.3, -1.2, 1.4, -1.0, -1.57, 0.4])
-        return chain, q0, np.linspace(q0, q0 + [1.0, 0.5, -0.5, 0.3, 0.2, 0.1], 40)
-    except Exception:  # noqa: BLE001 - models not there yet: the test double does it too
-        chain = two_link()
-        return chain, np.array([0.3, 0.5]), np.linspace([0.3, 0.5], [1.5, 1.0], 40)
+    from robokin.models import ur10
+
+    chain = ur10()
+    q0 = np.array([0.3, -1.2, 1.4, -1.0, -1.57, 0.4])
+    return chain, q0, np.linspace(q0, q0 + [1.0, 0.5, -0.5, 0.3, 0.2, 0.1], 40)
 
 
 def test_static_scene_renders_in_chromium(tmp_path, browser):
