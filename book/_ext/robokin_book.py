@@ -68,7 +68,7 @@ def configure_mathjax(app: Sphinx, config) -> None:
     # pydata-sphinx-theme logs a console error on a first visit when no default
     # colour mode is set; a clean console is part of the browser check.
     config.html_context = {**(config.html_context or {}), "default_mode": "light"}
-    # Ship solutions.js and its stylesheet.
+    # Ship solutions.js and the book stylesheet.
     if str(STATIC_DIR) not in config.html_static_path:
         config.html_static_path.append(str(STATIC_DIR))
 
@@ -113,5 +113,5 @@ def setup(app: Sphinx) -> dict:
     app.connect("build-finished", copy_mathjax)
     app.connect("html-page-context", deduplicate_scripts, priority=900)
     app.add_js_file("solutions.js")
-    app.add_css_file("solutions.css")
+    app.add_css_file("robokin-book.css")
     return {"version": "0.1", "parallel_read_safe": True, "parallel_write_safe": True}
