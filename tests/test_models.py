@@ -163,6 +163,65 @@ def test_leg_lengths_are_parameters():
     np.testing.assert_allclose(leg.fk([0.0, 0.0, 0.0])[:3, 3], [0.0, 0.5, -0.9], atol=1e-15)
 
 
+def test_leg_default_limits_and_override():
+    np.testing.assert_allclose(
+        model("eth_leg").limits,
+        [[-math.pi / 2, math.pi / 2], [-3 * math.pi / 4, 3 * math.pi / 4], [-math.pi, math.pi]],
+    )
+    tight = [[-math.pi / 2, math.pi / 2], [-math.pi / 2, math.pi / 2], [-math.pi, math.pi]]
+    leg = eth_leg(limits=tight)
+    np.testing.assert_allclose(leg.limits, tight)
+    q = np.deg2rad([10.0, -100.0, 120.0])
+    assert model("eth_leg").within_limits(q) and not leg.within_limits(q)
+    np.testing.assert_allclose(leg.fk(q), model("eth_leg").fk(q), atol=1e-15)   # same kinematics
+    with pytest.raises(ValueError, match="limits"):
+        eth_leg(limits=tight[:2])
+
+
+def leg_ik_closed_form(p) -> np.ndarray:
+    """All solutions of r_BF(q) = p of the unit leg, from its geometry (rows, wrapped to (−π, π]).
+
+    α turns the leg plane through p (foot below or above the hip axis); in that plane β and γ
+    form a planar two-link arm whose shoulder (the β joint) sits 1 m from the hip axis.
+    """
+    d = np.asarray(p, dtype=float) - [0.0, 1.0, 0.0]
+    rho = math.hypot(d[1], d[2])
+    sols = []
+    for a, L in [(math.atan2(d[1], -d[2]), rho), (math.atan2(-d[1], d[2]), -rho)]:
+        u, w = d[0], 1.0 - L
+        c = (u * u + w * w - 2.0) / 2.0
+        if abs(c) <= 1:
+            for g in (math.acos(c), -math.acos(c)):
+                sols.append(np.angle(np.exp(1j * np.array([a, math.atan2(-u, -w) - g / 2, g]))))
+    return np.array(sols)
+
+
+def test_leg_limits_contain_the_exercise_with_margin():
+    """The exercise sets no joint limits: the model's must not forbid what it asks for.
+
+    Configurations of AMR exercise 1 (chapter 1): the lift pose of task 3, the start and both
+    knee solutions of the IK goal of task 4 and the closest point to its unreachable goal, and
+    the start and the whole circle of task 5 (which needs β ≈ −97°). Each must lie at least 25°
+    inside every limit.
+    """
+    leg = model("eth_leg")
+    margin = np.deg2rad(25.0)
+    lower, upper = leg.limits[:, 0] + margin, leg.limits[:, 1] - margin
+    poses = np.deg2rad([[0, 60, -120], [0, -30, 60], [0, 45, 0], [0, -60, 120]])
+    goal = leg_ik_closed_form([0.2, 0.5, -2.0])
+    assert len(goal) == 2                                            # the two knees
+    q0 = np.deg2rad([0.0, -60.0, 120.0])
+    c = leg.fk(q0)[:3, 3]
+    wt = np.linspace(0.0, 2 * math.pi, 721)
+    ring = c + 0.5 * np.column_stack([np.sin(wt), 0 * wt, np.cos(wt)])
+    circle = np.array([next(s for s in leg_ik_closed_form(p) if s[2] > 0) for p in ring])  # knee as q0
+    np.testing.assert_allclose(leg.fk(goal)[:, :3, 3], [[0.2, 0.5, -2.0]] * 2, atol=1e-12)
+    np.testing.assert_allclose(leg.fk(circle)[:, :3, 3], ring, atol=1e-12)
+    assert np.deg2rad(-98) < circle[:, 1].min() < np.deg2rad(-96)     # thigh above horizontal
+    for Q in (poses, goal, circle):
+        assert np.all((Q >= lower) & (Q <= upper)), np.rad2deg(Q[~np.all((Q >= lower) & (Q <= upper), 1)])
+
+
 # Reference cases derived by hand (exercise 1, task 3) at q = [0°, 60°, −120°]:
 # with β = 60°, β + γ = −60°:
 #   ∂x/∂β = −cos β − cos(β+γ) = −1,   ∂x/∂γ = −cos(β+γ) = −1/2,

@@ -7,17 +7,23 @@ from typing import Any
 
 from robokin.chains import Rx, Ry, SerialChain, Ty, Tz
 
-__all__ = ["eth_leg"]
+__all__ = ["ETH_LEG_LIMITS", "eth_leg"]
 
-#: Default joint limits (rad): hip abduction α, hip flexion β, knee γ.
+#: Default joint limits (rad) of hip abduction α, hip flexion β and knee γ.
+#: A documented teaching range, not hardware data: the exercise sets no limits,
+#: so the range only has to contain every configuration the exercise itself
+#: asks for, with a margin. The configurations of the exercise (chapter 1)
+#: span |α| ≤ 15°, β ∈ [−97.2°, 46.7°] (the circle of task 5 needs β ≈ −97°,
+#: the thigh raised above horizontal) and |γ| ≤ 151.2°; the limits below
+#: leave at least 25° to spare (tests/test_models.py checks this).
 ETH_LEG_LIMITS = [
     [-math.pi / 2, math.pi / 2],  # alpha: leg swings sideways at most to horizontal
-    [-math.pi / 2, math.pi / 2],  # beta: thigh forward/backward at most to horizontal
-    [-math.pi, math.pi],  # gamma: knee, full turn minus the folded-back pose
+    [-3 * math.pi / 4, 3 * math.pi / 4],  # beta: thigh up to 45° above horizontal
+    [-math.pi, math.pi],  # gamma: knee, full turn (±π: shank folded onto the thigh)
 ]
 
 
-def eth_leg(l_b: Any = 1, l_1: Any = 1, l_2: Any = 1, l_3: Any = 1) -> SerialChain:
+def eth_leg(l_b: Any = 1, l_1: Any = 1, l_2: Any = 1, l_3: Any = 1, *, limits: Any = None) -> SerialChain:
     r"""The 3-DOF leg of ETH Zürich's *Autonomous Mobile Robots*, exercise 1.
 
     Source: ETH AMR exercise 1 ("Kinematics of a single robot leg"), checked
@@ -51,16 +57,30 @@ def eth_leg(l_b: Any = 1, l_1: Any = 1, l_2: Any = 1, l_3: Any = 1) -> SerialCha
     l_b, l_1, l_2, l_3 : float or sympy.Expr, optional
         Lengths in metres (default 1): base-to-hip offset along y, then the
         three segment lengths along −z.
+    limits : array_like, shape (3, 2), optional
+        Joint limits ``[lower, upper]`` (rad) of α, β, γ. Default
+        ``ETH_LEG_LIMITS``: α ∈ [−π/2, π/2], β ∈ [−3π/4, 3π/4], γ ∈ [−π, π].
+        The exercise sets no joint limits; this default is a teaching range
+        (not hardware data) that contains every configuration of the
+        exercise -- the inverse-kinematics goals of task 4 (both knee
+        solutions) and the whole circle of task 5, which needs β ≈ −97° --
+        with at least 25° to spare. Pass tighter limits to model a real leg,
+        e.g. ``limits=[[-pi/2, pi/2], [-pi/2, pi/2], [-pi, pi]]`` for a hip
+        that cannot raise the thigh above horizontal.
 
     Returns
     -------
     SerialChain
-        Joints ``alpha, beta, gamma``; limits (rad) α, β ∈ [−π/2, π/2],
-        γ ∈ [−π, π] (a teaching choice, not from hardware).
+        Joints ``alpha, beta, gamma`` with the given limits.
+
+    Raises
+    ------
+    ShapeError, DomainError
+        ``limits`` not of shape (3, 2), NaN, or a lower limit above its upper one.
     """
     return SerialChain(
         [Ty(l_b), Rx("alpha"), Tz(-l_1), Ry("beta"), Tz(-l_2), Ry("gamma"), Tz(-l_3)],
-        limits=ETH_LEG_LIMITS,
+        limits=ETH_LEG_LIMITS if limits is None else limits,
         frame_names=["B", "1", "2", "3", "F"],
         name="eth_leg",
     )
