@@ -15,10 +15,13 @@ HTML   := _build/html
 
 .PHONY: book test lab execute bench clean distclean check-python
 
+# The Python that builds the venv (or, once it exists, the venv's own) must be >= 3.11.
 check-python:
-	@$(PYTHON) -c 'import sys; sys.exit(0 if sys.version_info >= (3, 11) else 1)' 2>/dev/null || { \
-	  echo "ERROR [set-up]: robokin needs Python >= 3.11, but '$(PYTHON)' is $$($(PYTHON) --version 2>&1 || echo 'not found')."; \
-	  echo "Fix: install Python 3.11 or newer and run e.g. 'make PYTHON=python3.11 $(MAKECMDGOALS)'."; exit 1; }
+	@PY=$(PYTHON); test -x $(BIN)/python && PY=$(BIN)/python; \
+	$$PY -c 'import sys; sys.exit(0 if sys.version_info >= (3, 11) else 1)' 2>/dev/null || { \
+	  echo "ERROR [set-up]: robokin needs Python >= 3.11, but '$$PY' is $$($$PY --version 2>&1 || echo 'not found')."; \
+	  echo "Fix: install Python 3.11 or newer and run e.g. 'make PYTHON=python3.11 $(MAKECMDGOALS)'"; \
+	  echo "     (remove .venv first if it was made with an older Python)."; exit 1; }
 
 # The virtual environment is (re)built when requirements or the package metadata change.
 $(STAMP): requirements.txt constraints.txt pyproject.toml | check-python
