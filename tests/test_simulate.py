@@ -122,3 +122,19 @@ def test_simulate_bad_input(kwargs, exc, word):
     ctrl = CartesianController(chain, [1.5, 0.5, 0.0])
     with pytest.raises(exc, match=word):
         simulate(chain, ctrl, args.pop("q0"), args.pop("ts"), args.pop("t_end"), **args)
+
+
+def test_logged_pose_is_the_controlled_tool_frame():
+    """With a tool, the logged pose is the tool's, the frame the error refers to."""
+    from robokin.models import ur10
+    from robokin.motion import CartesianController, simulate
+    from robokin.transforms import translation
+
+    arm = ur10()
+    q0 = np.deg2rad([0.0, -90.0, 90.0, -90.0, -90.0, 0.0])
+    tool = translation([0.0, 0.0, 0.1])
+    goal = arm.fk(q0) @ tool @ translation([0.05, 0.0, 0.0])
+    log = simulate(arm, CartesianController(arm, goal, tool=tool), q0, 0.01, 1.0)
+    for pose, error in zip(log.pose[::10], log.error[::10]):
+        np.testing.assert_allclose(goal[:3, 3] - pose[:3, 3], error[:3], atol=1e-12)
+    np.testing.assert_allclose(log.pose[0], arm.fk(q0) @ tool, atol=1e-12)

@@ -19,6 +19,7 @@ __all__ = ["CHAPTERS", "exercise", "checks_of", "chapter"]
 CHAPTERS: dict[str, str] = {
     "leg": "robokin.check.leg",
     "ur10": "robokin.check.ur10",
+    "cartesian": "robokin.check.cartesian",
 }
 
 _REGISTRY: dict[str, dict[str, Check]] = {}

@@ -27,6 +27,7 @@ from robokin.motion.ik import (
 from robokin.motion.control import CartesianController, ControlOutput
 from robokin.motion.pose_error import pose_error
 from robokin.motion.simulate import SimulationLog, simulate
+from robokin.motion.tool import chain_with_tool, rigid_body_jacobian, tool_jacobian, transform_from_rpy
 from robokin.motion.trajectories import (
     Trajectory,
     circle_trajectory,
@@ -36,6 +37,10 @@ from robokin.motion.trajectories import (
 )
 
 __all__ = [
+    "chain_with_tool",
+    "rigid_body_jacobian",
+    "tool_jacobian",
+    "transform_from_rpy",
     "pose_error",
     "CartesianController",
     "ControlOutput",

@@ -48,7 +48,9 @@ class SimulationLog:
     error : ndarray, shape (K, 6)
         Pose error ``[e_P; e_O]`` (NaN if the controller gives none).
     pose : ndarray, shape (K, 4, 4)
-        End-effector pose ``T_base_ee`` (chain's ``fk``).
+        Pose of the controlled frame: the controller's ``pose(q)`` when it has
+        one (the tool frame of a :class:`CartesianController` with ``tool=``),
+        else the chain's end-effector ``fk(q)``; the same frame as ``error``.
     at_limit : ndarray of bool, shape (K, n)
         Joints resting on a limit.
     reason : str
@@ -174,13 +176,14 @@ def simulate(
     E = np.full((K, 6), np.nan)
     P = np.empty((K, 4, 4))
     L = np.zeros((K, n), dtype=bool)
+    controlled_pose = getattr(controller, "pose", None) or (lambda q_: chain.fk(q_, check=False))
     reason = "end_time"
     k = 0
     for k in range(K):
         t = k * ts
         T_log[k] = t
         Q[k] = q
-        P[k] = chain.fk(q, check=False)
+        P[k] = controlled_pose(q)
         L[k] = (q <= lower) | (q >= upper)
         out = controller(t, q)
         if isinstance(out, ControlOutput) or hasattr(out, "qdot"):

@@ -1,0 +1,448 @@
+r"""Exercise checks of chapter 4: Cartesian control of a tool frame.
+
+The robot is the Panda of :func:`robokin.models.panda.panda` (link-table
+description) with the exercise's tool: :math:`{}^{E}\boldsymbol\eta_{T} =
+(\text{roll}, \text{pitch}, \text{yaw}) = (0, 0, \pi/10)` rad and
+:math:`{}_E\mathbf{r}_{ET} = (0.2, 0, 0)` m. Twists and errors stack the linear
+part first, ``[v; ω]``, in the base frame.
+
+=======================  ==========================================================  ==========================================
+check                    the student's answer                                        reference
+=======================  ==========================================================  ==========================================
+``tool_frame``           the 4×4 array :math:`{}^{E}\mathbf{T}_{T}`                     :math:`\mathbf{R}_z(\pi/10)`, offset 0.2 m
+``tool_pose``            ``f(q)`` -> :math:`{}^{B}\mathbf{T}_{T}` (4×4)                  :math:`{}^{B}\mathbf{T}_{E}(\mathbf{q})\,{}^{E}\mathbf{T}_{T}`
+``orientation_error``    ``f(R, R_goal)`` -> :math:`\theta\mathbf{h}` (3,), base frame    :math:`\log(\mathbf{R}_{goal}\mathbf{R}^\top)`
+``tool_jacobian``        ``f(J_e, R_be, p_et)`` -> :math:`\mathbf{J}_T` (6×n)              :math:`\mathbf{S}(\mathbf{R}_{BE}\,{}_E\mathbf{r}_{ET})\,\mathbf{J}_E`
+``control_law``          ``f(J, e, gain_linear, gain_angular)`` -> :math:`\dot{\mathbf{q}}`    :math:`\mathbf{J}^+[K_l\mathbf{e}_p;\ K_a\mathbf{e}_o]`
+=======================  ==========================================================  ==========================================
+
+Inputs: configurations of the Panda drawn within its limits; rotations from
+random roll–pitch–yaw angles; orientation errors of up to 2.7 rad (below π,
+where the axis of the angle–axis error is unique); gains in [0.2, 2] /s. A
+wrong answer is explained in the terms of the exercise: the error with the
+wrong sign or in the tool frame, θ in degrees, the RPY difference, the offset
+not rotated into the base frame, the angular-first transport matrix used with
+a linear-first Jacobian, swapped gains, and so on.
+
+Usage::
+
+    from robokin.check import cartesian
+    cartesian.orientation_error(my_orientation_error)
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+from functools import lru_cache
+from typing import Any
+
+import numpy as np
+
+from robokin.check._core import FAIL, Check, CheckResult, Variable, alternatives
+from robokin.check._registry import exercise
+from robokin.check.diagnoses import inverse_transform, transform_mistakes
+
+__all__ = [
+    "N_JOINTS",
+    "TOOL_OFFSET",
+    "TOOL_RPY",
+    "control_law",
+    "orientation_error",
+    "tool_frame",
+    "tool_jacobian",
+    "tool_pose",
+]
+
+_CH = "cartesian"
+#: Number of joints of the Panda.
+N_JOINTS = 7
+#: The exercise's tool orientation (roll, pitch, yaw) in rad, and offset in metres (frame E).
+TOOL_RPY = (0.0, 0.0, math.pi / 10)
+TOOL_OFFSET = (0.2, 0.0, 0.0)
+
+
+@lru_cache(maxsize=1)
+def _robot():
+    from robokin.models.panda import panda
+
+    return panda()
+
+
+def _tf(R: np.ndarray, p: Any) -> np.ndarray:
+    T = np.eye(4)
+    T[:3, :3] = R
+    T[:3, 3] = p
+    return T
+
+
+def _rotz(a: float) -> np.ndarray:
+    c, s = math.cos(a), math.sin(a)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def _rotx(a: float) -> np.ndarray:
+    c, s = math.cos(a), math.sin(a)
+    return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
+
+
+def _rpy(r: float, p: float, y: float) -> np.ndarray:
+    from robokin.transforms import rotation_from_rpy
+
+    return np.asarray(rotation_from_rpy(r, p, y), dtype=float)
+
+
+def _exp(w: np.ndarray) -> np.ndarray:
+    from robokin.transforms import rotation_exp
+
+    return np.asarray(rotation_exp(w), dtype=float)
+
+
+def _log(R: np.ndarray) -> np.ndarray:
+    from robokin.transforms import rotation_log
+
+    return np.asarray(rotation_log(R, check=False), dtype=float)
+
+
+def _skew(r: np.ndarray) -> np.ndarray:
+    return np.array([[0.0, -r[2], r[1]], [r[2], 0.0, -r[0]], [-r[1], r[0], 0.0]])
+
+
+def _T_ET() -> np.ndarray:
+    return _tf(_rpy(*TOOL_RPY), TOOL_OFFSET)
+
+
+@dataclass
+class MatrixArgumentsCheck(Check):
+    """A :class:`~robokin.check.Check` whose answer is a function of arrays.
+
+    ``arguments(x)`` turns the sampled scalars ``x`` into the arguments of the
+    student's function; the answer is called as ``answer(*arguments(x))``.
+    """
+
+    arguments: Callable[[np.ndarray], tuple] | None = None
+    signature: str = ""
+
+    def evaluate(self, answer: Any) -> CheckResult:
+        if callable(answer) and not isinstance(answer, np.ndarray) and self.arguments is not None:
+            build, student = self.arguments, answer
+            return super().evaluate(lambda x: student(*build(np.asarray(x, dtype=float))))
+        if answer is not None and not callable(answer):
+            return CheckResult(self.name, False,
+                               f"{FAIL} {self.name} should be a Python function {self.signature}; "
+                               f"got {type(answer).__name__}.", "constant", 0)
+        return super().evaluate(answer)
+
+
+_Q = [Variable(f"q{i + 1}", "angle", float(lo) + 0.05, float(hi) - 0.05)
+      for i, (lo, hi) in enumerate([[-2.8973, 2.8973], [-1.7628, 1.7628], [-2.8973, 2.8973],
+                                    [-3.0718, -0.0698], [-2.8973, 2.8973], [-0.0175, 3.7525],
+                                    [-2.8973, 2.8973]])]
+
+
+# ------------------------------------------------------------------ tool frame (a constant)
+def _tool_frame_mistakes():
+    R, p = _rpy(*TOOL_RPY), np.array(TOOL_OFFSET)
+    return [
+        alternatives("offset_in_cm", [(lambda x: _tf(R, p / 100.0), (
+            "the offset of {name} is 0.002 m: 0.2 was read as centimetres. The exercise's robot "
+            "and goal are in metres (the goal is about 1 m from the base), and a 2 mm tool would barely leave "
+            "the flange: the offset is 0.2 m = 20 cm."
+        ))]),
+        alternatives("rpy_order", [(lambda x: _tf(_rotx(math.pi / 10), p), (
+            "{name} turns about x_E: you read η = [0, 0, π/10] as (yaw, pitch, roll). In the "
+            "convention the exercise itself uses for the goal, R = Rz(η₃) Ry(η₂) Rx(η₁), the "
+            "third angle is the yaw: a turn of π/10 about z_E."
+        ))]),
+        alternatives("degrees_input", [(lambda x: _tf(_rotz(math.radians(math.pi / 10)), p), (
+            "the rotation of {name} is π/10 DEGREES: pass radians (π/10 rad = 18°)."
+        ))]),
+        inverse_transform(),
+        *transform_mistakes(),
+    ]
+
+
+tool_frame = exercise(_CH, "tool_frame", Check(
+    name="T_ET",
+    reference=lambda x: _T_ET(),
+    diagnoses=_tool_frame_mistakes(),
+    atol=1e-4, rtol=1e-4,
+    hint="T_ET = [[R, p], [0, 1]] with R = rotation_from_rpy(0, 0, π/10) and p = [0.2, 0, 0] m.",
+    doc="Check the tool frame T_ET (4×4): orientation (roll, pitch, yaw) = (0, 0, π/10), offset 0.2 m along x_E.",
+))
+
+
+# ------------------------------------------------------------------ tool pose f(q)
+def _tool_pose_mistakes():
+    T_et = _T_ET()
+
+    def fk(x):
+        return _robot().fk(np.asarray(x, dtype=float))
+
+    return [
+        alternatives("composition_order", [(lambda x: T_et @ fk(x), (
+            "{name} multiplies in the wrong order: ᴱT_T ᴮT_E. Match the inner letters: "
+            "ᴮT_T = ᴮT_E ᴱT_T (the tool is attached after the end-effector)."
+        ))]),
+        alternatives("no_tool", [(fk, "{name} is the end-effector pose ᴮT_E: the tool transform ᴱT_T is missing.")]),
+        alternatives("inverse_tool", [(lambda x: fk(x) @ np.linalg.inv(T_et), (
+            "{name} uses the inverse tool transform ᵀT_E = (ᴱT_T)⁻¹: ᴮT_T = ᴮT_E ᴱT_T."
+        ))]),
+        alternatives("offset_not_rotated", [(lambda x: _tf(fk(x)[:3, :3] @ T_et[:3, :3],
+                                                          fk(x)[:3, 3] + T_et[:3, 3]), (
+            "the tool origin in {name} adds the offset ₑr_ET as if it were written in the base "
+            "frame. Rotate it first: ᴮr_T = ᴮr_E + ᴮR_E ₑr_ET (that is what ᴮT_E ᴱT_T does)."
+        ))]),
+    ]
+
+
+tool_pose = exercise(_CH, "tool_pose", Check(
+    name="tool_pose(q)",
+    reference=lambda x: _robot().fk(np.asarray(x, dtype=float)) @ _T_ET(),
+    variables=_Q,
+    groups=[("q", list(range(N_JOINTS)))],
+    diagnoses=_tool_pose_mistakes(),
+    noun="configurations",
+    hint="ᴮT_T(q) = ᴮT_E(q) ᴱT_T with the Panda's ᴮT_E(q) = panda().fk(q).",
+    doc="Check a function tool_pose(q) -> ᴮT_T(q) = ᴮT_E(q) ᴱT_T (4×4) for the Panda with the exercise's tool.",
+))
+
+
+# ------------------------------------------------------------------ orientation error f(R, R_goal)
+_ROT = [Variable(n, "angle", -math.pi, math.pi) for n in ("roll", "pitch", "yaw")]
+_W = [Variable(f"w_{c}", "other", -1.55, 1.55) for c in "xyz"]   # |w| <= 2.69 rad < pi
+
+
+def _oe_args(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    R = _rpy(*x[:3])
+    return R, _exp(x[3:6]) @ R
+
+
+def _oe_ref(x: np.ndarray) -> np.ndarray:
+    R, Rg = _oe_args(x)
+    return _log(Rg @ R.T)
+
+
+def _oe_mistakes():
+    def tool_frame_err(x):
+        R, Rg = _oe_args(x)
+        return _log(R.T @ Rg)
+
+    def tool_frame_other(x):
+        R, Rg = _oe_args(x)
+        return _log(Rg.T @ R)
+
+    def rpy_diff(x):
+        from robokin.transforms import rpy_from_rotation
+
+        R, Rg = _oe_args(x)
+        d = np.asarray(rpy_from_rotation(Rg)) - np.asarray(rpy_from_rotation(R))
+        return np.pi - np.mod(np.pi - d, 2 * np.pi)
+
+    def quat_vec(x):
+        from robokin.transforms import quaternion_from_rotation
+
+        R, Rg = _oe_args(x)
+        qe = np.asarray(quaternion_from_rotation(Rg @ R.T))
+        return qe[1:] * (1.0 if qe[0] >= 0 else -1.0)
+
+    return [
+        alternatives("sign", [(lambda x: -_oe_ref(x), (
+            "{name} has the wrong sign: it is the rotation from the goal back to the current "
+            "frame. The error is the rotation still to do, θh = log(R_goal Rᵀ), so that "
+            "ω = K θh turns the tool TOWARDS the goal (with the opposite sign the loop diverges)."
+        ))]),
+        alternatives("wrong_frame", [
+            (tool_frame_err, (
+                "{name} is the right rotation vector but expressed in the TOOL frame: "
+                "log(Rᵀ R_goal) = Rᵀ·(θh). The controller commands ω in the base frame, so "
+                "rotate it back: ᴮR_T·log(Rᵀ R_goal) = log(R_goal Rᵀ)."
+            )),
+            (tool_frame_other, (
+                "{name} = log(R_goalᵀ R) is expressed in the tool frame AND has the wrong sign. "
+                "Use θh = log(R_goal Rᵀ) (base frame)."
+            )),
+        ]),
+        alternatives("degrees_output", [(lambda x: np.degrees(_oe_ref(x)), (
+            "{name} gives θ in degrees: keep radians, so that ω = K θh is in rad/s."
+        ))]),
+        alternatives("rpy_difference", [(rpy_diff, (
+            "{name} is the difference of roll–pitch–yaw angles. That is not a rotation vector: "
+            "its components are angles about three different, moving axes, it is not zero-only-"
+            "when-equal near pitch = ±π/2, and it cannot be used as an angular velocity."
+        ))]),
+        alternatives("quaternion", [
+            (quat_vec, (
+                "{name} is the vector part ε = sin(θ/2)h of the error quaternion: the direction is "
+                "right but the size is not θ. Use θh (angle–axis), or 2ε if you choose the "
+                "quaternion error (then the gain acts on 2 sin(θ/2), not on θ)."
+            )),
+            (lambda x: 2 * quat_vec(x), (
+                "{name} is 2ε = 2 sin(θ/2)h, the quaternion error: a valid alternative error, but "
+                "the exercise asks for the angle–axis error θh (they agree only for small θ)."
+            )),
+        ]),
+    ]
+
+
+orientation_error = exercise(_CH, "orientation_error", MatrixArgumentsCheck(
+    name="orientation_error(R, R_goal)",
+    reference=_oe_ref,
+    variables=[*_ROT, *_W],
+    groups=[("x", list(range(6)))],
+    diagnoses=_oe_mistakes(),
+    noun="pairs of rotations",
+    arguments=_oe_args,
+    signature="orientation_error(R, R_goal) -> (3,) array",
+    atol=1e-7,
+    hint="θh = log(R_goal Rᵀ), with θ in [0, π] and h the unit axis, both in the base frame.",
+    doc="Check a function orientation_error(R, R_goal) -> θh = log(R_goal Rᵀ) (3,), base frame, radians.",
+))
+
+
+# ------------------------------------------------------------------ tool Jacobian f(J_e, R_be, p_et)
+_P = [Variable(f"p_{c}", "length", -0.3, 0.3) for c in "xyz"]
+
+
+def _tj_args(x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    q = np.asarray(x[:N_JOINTS], dtype=float)
+    return _robot().jacobian(q), _robot().fk(q)[:3, :3], np.array(x[N_JOINTS:N_JOINTS + 3])
+
+
+def _S(r: np.ndarray) -> np.ndarray:
+    S = np.eye(6)
+    S[:3, 3:] = -_skew(r)
+    return S
+
+
+def _tj_ref(x: np.ndarray) -> np.ndarray:
+    J, R, p = _tj_args(x)
+    return _S(R @ p) @ J
+
+
+def _tj_mistakes():
+    def not_rotated(x):
+        J, _R, p = _tj_args(x)
+        return _S(p) @ J
+
+    def plus_skew(x):
+        J, R, p = _tj_args(x)
+        return _S(-(R @ p)) @ J
+
+    def angular_first_block(x):
+        J, R, p = _tj_args(x)
+        M = np.eye(6)
+        M[3:, :3] = _skew(R @ p).T
+        return M @ J
+
+    def transposed(x):
+        J, R, p = _tj_args(x)
+        return _S(R @ p).T @ J
+
+    def untouched(x):
+        return _tj_args(x)[0]
+
+    return [
+        alternatives("offset_not_rotated", [(not_rotated, (
+            "{name} uses the offset ₑr_ET as if it were written in the base frame. The transport "
+            "needs ᴮr_ET = ᴮR_E ₑr_ET (the two agree only while ᴮR_E = I)."
+        ))]),
+        alternatives("cross_sign", [(plus_skew, (
+            "{name} has the sign of the cross-product block reversed. v_T = v_E + ω × r = "
+            "v_E − [r×] ω, so the top-right block is −[r×] (r from E to T)."
+        ))]),
+        alternatives("twist_order", [(angular_first_block, (
+            "{name} uses [[I, 0], [[r×]ᵀ, I]], the transport for twists ordered [ω; v] (angular "
+            "first), on a Jacobian ordered [v; ω]. With linear rows first it is [[I, −[r×]], [0, I]]."
+        ))]),
+        alternatives("transposed_transport", [(transposed, (
+            "{name} uses the transposed transport matrix Sᵀ (the map of wrenches, not twists): "
+            "J_T = [[I, −[r×]], [0, I]] J_E."
+        ))]),
+        alternatives("no_transport", [(untouched, "{name} is the end-effector Jacobian J_E: the tool offset is ignored.")]),
+    ]
+
+
+tool_jacobian = exercise(_CH, "tool_jacobian", MatrixArgumentsCheck(
+    name="tool_jacobian(J_e, R_be, p_et)",
+    reference=_tj_ref,
+    variables=[*_Q, *_P],
+    groups=[("x", list(range(N_JOINTS + 3)))],
+    diagnoses=_tj_mistakes(),
+    noun="configurations and offsets",
+    arguments=_tj_args,
+    signature="tool_jacobian(J_e, R_be, p_et) -> (6, n) array",
+    hint="J_T = [[I, −[r×]], [0, I]] J_E with r = R_be p_et (rows [v; ω]).",
+    doc="Check a function tool_jacobian(J_e, R_be, p_et) -> [[I, −[(R_be p_et)×]], [0, I]] J_e (6×n).",
+))
+
+
+# ------------------------------------------------------------------ control law f(J, e, k_l, k_a)
+_E = [Variable(f"e_{c}", "length", -0.3, 0.3) for c in ("px", "py", "pz")] + \
+     [Variable(f"e_{c}", "other", -1.0, 1.0) for c in ("ox", "oy", "oz")]
+_GAINS = [Variable("gain_linear", "other", 0.2, 2.0, aliases=("k_l", "kl")),
+          Variable("gain_angular", "other", 0.2, 2.0, aliases=("k_a", "ka"))]
+
+
+def _cl_args(x: np.ndarray) -> tuple[np.ndarray, np.ndarray, float, float]:
+    q = np.asarray(x[:N_JOINTS], dtype=float)
+    J = _robot().jacobian(q)
+    return J, np.array(x[N_JOINTS:N_JOINTS + 6]), float(x[N_JOINTS + 6]), float(x[N_JOINTS + 7])
+
+
+def _law(J: np.ndarray, nu: np.ndarray) -> np.ndarray:
+    return np.linalg.pinv(J) @ nu
+
+
+def _cl_ref(x: np.ndarray) -> np.ndarray:
+    J, e, kl, ka = _cl_args(x)
+    return _law(J, np.r_[kl * e[:3], ka * e[3:]])
+
+
+def _cl_mistakes():
+    def swapped_gains(x):
+        J, e, kl, ka = _cl_args(x)
+        return _law(J, np.r_[ka * e[:3], kl * e[3:]])
+
+    def swapped_blocks(x):
+        J, e, kl, ka = _cl_args(x)
+        return _law(J, np.r_[ka * e[3:], kl * e[:3]])
+
+    def transpose_law(x):
+        J, e, kl, ka = _cl_args(x)
+        return J.T @ np.r_[kl * e[:3], ka * e[3:]]
+
+    return [
+        alternatives("error_sign", [(lambda x: -_cl_ref(x), (
+            "{name} moves away from the goal: the error is e = goal − current and q̇ = +J⁺ K e."
+        ))]),
+        alternatives("twist_order", [(swapped_blocks, (
+            "{name} stacks the desired twist angular part first, [K_a e_o; K_l e_p], but the "
+            "Jacobian's rows are [v; ω] (linear first): the linear error then drives the "
+            "rotation. Keep one order everywhere: ν = [K_l e_p; K_a e_o] with J = [J_v; J_ω]."
+        ))]),
+        alternatives("swapped_gains", [(swapped_gains, (
+            "{name} applies the angular gain to the position error and the linear gain to the "
+            "orientation error."
+        ))]),
+        alternatives("jacobian_transpose", [(transpose_law, (
+            "{name} uses the Jacobian transpose Jᵀ where the pseudoinverse J⁺ belongs: "
+            "J Jᵀ ν ≠ ν, so the tool does not move with the desired twist."
+        ))]),
+    ]
+
+
+control_law = exercise(_CH, "control_law", MatrixArgumentsCheck(
+    name="control_law(J, e, gain_linear, gain_angular)",
+    reference=_cl_ref,
+    variables=[*_Q, *_E, *_GAINS],
+    groups=[("x", list(range(N_JOINTS + 8)))],
+    diagnoses=_cl_mistakes(),
+    noun="configurations, errors and gains",
+    arguments=_cl_args,
+    signature="control_law(J, e, gain_linear, gain_angular) -> (n,) array",
+    atol=1e-7,
+    hint="q̇ = J⁺ [K_l e_p; K_a e_o] with e = [e_p; e_o] and J (6×n) rows [v; ω].",
+    doc="Check a function control_law(J, e, gain_linear, gain_angular) -> J⁺ [K_l e_p; K_a e_o] (n,).",
+))

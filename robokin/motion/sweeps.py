@@ -1,0 +1,285 @@
+r"""Initial-condition sweeps and batched resolved-rate tracking.
+
+Two small pieces for studying how a redundant arm's motion depends on where
+it starts:
+
+- :func:`initial_condition_sweep` builds the start configurations of a
+  one-joint-at-a-time sweep: every joint at a nominal fraction of its range,
+  one joint at a time moved through a list of fractions;
+- :func:`track_position_batch` runs the resolved-rate (closed-loop inverse
+  kinematics) law for the position of the end-effector from many start
+  configurations at once, vectorised over the runs:
+
+.. math::
+    \dot{\mathbf q}_k = \mathbf J_v^{+}(\mathbf q_k)\,
+        \big(\dot{\mathbf r}_{des}(t_k) + K\,(\mathbf r_{des}(t_k) - \mathbf r(\mathbf q_k))\big),
+    \qquad
+    \mathbf q_{k+1} = \operatorname{sat}(\mathbf q_k + t_s\,\dot{\mathbf q}_k)
+
+(Siciliano et al. 2009, §3.7.1, eq. 3.70, with the position Jacobian; ``K = 0``
+is the open-loop integration of :math:`\mathbf J_v^+\dot{\mathbf r}_{des}`, which
+drifts). For one run it reproduces :func:`robokin.motion.simulate` with a
+position-only :class:`~robokin.motion.CartesianController`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from robokin.errors import DomainError, ShapeError
+from robokin.validation import as_float_array, check_limits, check_positive
+
+__all__ = ["initial_condition_sweep", "track_position_batch", "BatchTrackingLog"]
+
+
+def initial_condition_sweep(limits: Any, fractions: Any, nominal: Any = 0.5) -> np.ndarray:
+    r"""Start configurations that move one joint at a time through its range.
+
+    Row ``j * N + i`` (joint ``j``, value ``i``) is the nominal configuration
+    with joint ``j`` replaced by
+
+    .. math::  q_j = q_{j,\min} + f_i\,(q_{j,\max} - q_{j,\min}),
+
+    so the result is the "AnglesInit" matrix of a sweep, one configuration per
+    row.
+
+    Parameters
+    ----------
+    limits : array_like, shape (n, 2)
+        Finite joint limits ``(lower, upper)`` (rad or m).
+    fractions : array_like, shape (N,)
+        Fractions :math:`f_i` of each joint's range, in [0, 1] (a fraction
+        outside [0, 1] would start the joint outside its limits).
+    nominal : float or array_like (n,), optional
+        Fraction(s) of the range for the joints that are not swept (default
+        0.5: the middle of every range), in [0, 1].
+
+    Returns
+    -------
+    ndarray, shape (n * N, n)
+        Start configurations.
+
+    Raises
+    ------
+    ShapeError
+        ``limits`` not (n, 2), ``fractions`` not 1-D and non-empty, ``nominal``
+        neither a scalar nor (n,).
+    DomainError
+        Infinite limits, fractions or nominal outside [0, 1].
+
+    Examples
+    --------
+    >>> initial_condition_sweep([[-1, 1], [0, 2]], [0.25, 0.75])
+    array([[-0.5,  1. ],
+           [ 0.5,  1. ],
+           [ 0. ,  0.5],
+           [ 0. ,  1.5]])
+    """
+    lim = check_limits(limits, None, "limits")
+    if not np.all(np.isfinite(lim)):
+        raise DomainError("limits must be finite to sweep a fraction of each range; got an infinite limit")
+    n = lim.shape[0]
+    f = as_float_array(fractions, "fractions")
+    if f.ndim != 1 or f.size == 0:
+        raise ShapeError(f"fractions must have shape (N,) with N >= 1; got shape {f.shape}")
+    if np.any(f < 0) or np.any(f > 1):
+        i = int(np.argmax((f < 0) | (f > 1)))
+        raise DomainError(f"fractions must lie in [0, 1] (else the start is outside the joint limits); "
+                          f"got fractions[{i}] = {f[i]:g}")
+    nom = as_float_array(nominal, "nominal")
+    if nom.ndim == 0:
+        nom = np.full(n, float(nom))
+    elif nom.shape != (n,):
+        raise ShapeError(f"nominal must be a scalar or have shape ({n},); got shape {nom.shape}")
+    if np.any(nom < 0) or np.any(nom > 1):
+        raise DomainError(f"nominal must lie in [0, 1]; got {nom}")
+    lower, span = lim[:, 0], lim[:, 1] - lim[:, 0]
+    base = lower + nom * span
+    out = np.tile(base, (n * f.size, 1))
+    for j in range(n):
+        out[j * f.size:(j + 1) * f.size, j] = lower[j] + f * span[j]
+    return out
+
+
+@dataclass(frozen=True, eq=False)
+class BatchTrackingLog:
+    """Arrays logged by :func:`track_position_batch` (N runs, K samples each).
+
+    Attributes
+    ----------
+    t : ndarray, shape (K,)
+        Times (s), ``t[k] = k * ts``.
+    q : ndarray, shape (N, K, n)
+        Configurations.
+    qdot : ndarray, shape (N, K, n)
+        Commanded joint velocities :math:`\\dot q_k` (before clamping to the limits).
+    position : ndarray, shape (N, K, 3)
+        End-effector positions :math:`\\mathbf r(\\mathbf q_k)` (m).
+    error : ndarray, shape (N, K, 3)
+        :math:`\\mathbf r_{des}(t_k) - \\mathbf r(\\mathbf q_k)` (m).
+    singular_values : ndarray, shape (N, K, min(3, n))
+        Singular values of the position Jacobian, largest first (m/rad);
+        ``min(3, n)`` of them.
+    at_limit : ndarray of bool, shape (N, K, n)
+        Joints resting on a limit.
+    """
+
+    t: np.ndarray
+    q: np.ndarray
+    qdot: np.ndarray
+    position: np.ndarray
+    error: np.ndarray
+    singular_values: np.ndarray
+    at_limit: np.ndarray
+
+    @property
+    def position_error(self) -> np.ndarray:
+        """Norm of the position error (m), shape (N, K)."""
+        return np.linalg.norm(self.error, axis=-1)
+
+    @property
+    def sigma_min(self) -> np.ndarray:
+        """Smallest singular value of the position Jacobian (m/rad), shape (N, K)."""
+        return self.singular_values[..., -1]
+
+    @property
+    def manipulability(self) -> np.ndarray:
+        r"""Yoshikawa manipulability :math:`\sqrt{\det J_v J_v^T} = \sigma_1\sigma_2\sigma_3`, shape (N, K)."""
+        return np.prod(self.singular_values, axis=-1)
+
+
+def _per_run(a: np.ndarray, N: int, K: int, name: str) -> np.ndarray:
+    if a.shape == (K, 3):
+        return np.broadcast_to(a, (N, K, 3))
+    if a.shape == (N, K, 3):
+        return a
+    raise ShapeError(f"{name} must have shape ({K}, 3) or ({N}, {K}, 3); got shape {a.shape}")
+
+
+def track_position_batch(
+    chain: Any,
+    q0: Any,
+    ts: float,
+    positions: Any,
+    velocities: Any,
+    *,
+    gain: float = 0.0,
+    inverse: str = "pinv",
+    damping: float = 0.01,
+    rcond: float = 1e-8,
+    clamp: bool = True,
+) -> BatchTrackingLog:
+    r"""Resolved-rate position tracking from N start configurations at once.
+
+    For every run and every sample ``k = 0 … K−1``
+
+    .. math::
+        \dot{\mathbf q}_k = \mathbf J_v^{\#}(\mathbf q_k)\big(\dot{\mathbf r}_{des,k}
+            + K(\mathbf r_{des,k} - \mathbf r(\mathbf q_k))\big),\qquad
+        \mathbf q_{k+1} = \operatorname{sat}(\mathbf q_k + t_s\dot{\mathbf q}_k),
+
+    where :math:`\mathbf J_v^{\#}` is the pseudoinverse
+    :math:`\mathbf V\boldsymbol\Sigma^{+}\mathbf U^T` (singular values below
+    ``rcond`` times the largest set to zero) or the damped least-squares
+    inverse :math:`\mathbf J_v^T(\mathbf J_v\mathbf J_v^T + \lambda^2\mathbf I)^{-1}`
+    (Siciliano et al. 2009, eq. 3.59 and 3.70), both from one SVD per step
+    (which also gives the singular values that are logged).
+
+    Parameters
+    ----------
+    chain : SerialChain
+        Offers ``n``, ``limits``, batched ``fk(Q, check=False)`` and
+        ``position_jacobian(Q, check=False)``.
+    q0 : array_like, shape (n,) or (N, n)
+        Start configuration(s), within the joint limits when ``clamp``.
+    ts : float
+        Time step (s), > 0.
+    positions, velocities : array_like, shape (K, 3) or (N, K, 3)
+        Reference :math:`\mathbf r_{des}(t_k)` (m) and :math:`\dot{\mathbf r}_{des}(t_k)`
+        (m/s), shared by all runs or one per run (e.g. a circle that starts
+        where each run's hand is). K >= 1 samples.
+    gain : float, optional
+        Position gain :math:`K` (1/s), >= 0. 0 (default) integrates
+        :math:`\mathbf J_v^+\dot{\mathbf r}_{des}` open loop.
+    inverse : {"pinv", "dls"}, optional
+        Pseudoinverse (default) or damped least squares.
+    damping : float, optional
+        :math:`\lambda` (m) for ``"dls"``, >= 0.
+    rcond : float, optional
+        Relative cut-off of small singular values for ``"pinv"``, > 0.
+    clamp : bool, optional
+        Clamp each step to the joint limits (as :func:`robokin.motion.simulate`).
+
+    Returns
+    -------
+    BatchTrackingLog
+        ``q``, ``qdot``, ``position``, ``error``, ``singular_values``,
+        ``at_limit`` with a leading run axis N (1 for a single ``q0``).
+
+    Raises
+    ------
+    ShapeError
+        ``q0``, ``positions`` or ``velocities`` of the wrong shape.
+    DomainError
+        ``ts`` not positive, negative ``gain`` or ``damping``, ``q0`` outside the
+        limits (with ``clamp``), non-finite inputs.
+    """
+    n = int(chain.n)
+    Q = as_float_array(q0, "q0")
+    if Q.shape == (n,):
+        Q = Q[None, :]
+    elif Q.ndim != 2 or Q.shape[1] != n:
+        raise ShapeError(f"q0 must have shape ({n},) or (N, {n}); got shape {Q.shape}")
+    Q = Q.copy()
+    N = Q.shape[0]
+    ts = check_positive(ts, "ts")
+    gain = check_positive(gain, "gain", allow_zero=True)
+    if inverse not in ("pinv", "dls"):
+        raise ValueError(f"inverse must be 'pinv' or 'dls'; got {inverse!r}")
+    lam = check_positive(damping, "damping", allow_zero=True)
+    rcond = check_positive(rcond, "rcond")
+    P = as_float_array(positions, "positions")
+    V = as_float_array(velocities, "velocities")
+    if P.ndim not in (2, 3) or P.shape[-1] != 3 or P.shape[-2] < 1:
+        raise ShapeError(f"positions must have shape (K, 3) or (N, K, 3) with K >= 1; got shape {P.shape}")
+    K = P.shape[-2]
+    P = _per_run(P, N, K, "positions")
+    V = _per_run(V, N, K, "velocities")
+    lim = np.asarray(chain.limits, dtype=float)
+    lower, upper = lim[:, 0], lim[:, 1]
+    if clamp:
+        bad = (Q < lower - 1e-12) | (Q > upper + 1e-12)
+        if bad.any():
+            r, j = (int(i) for i in np.argwhere(bad)[0])
+            raise DomainError(f"q0 must lie within the joint limits; q0[{r}, {j}] = {Q[r, j]:g} is outside "
+                              f"[{lower[j]:g}, {upper[j]:g}]")
+
+    q_log = np.empty((N, K, n))
+    qd_log = np.empty((N, K, n))
+    r_log = np.empty((N, K, 3))
+    s_log = np.empty((N, K, min(3, n)))
+    for k in range(K):
+        r = chain.fk(Q, check=False)[:, :3, 3]
+        J = chain.position_jacobian(Q, check=False)
+        U, s, Vt = np.linalg.svd(J, full_matrices=False)  # (N,3,3), (N,3), (N,3,n)
+        if inverse == "pinv":
+            inv_s = np.where(s > rcond * s[:, :1], 1.0 / np.where(s > 0, s, 1.0), 0.0)
+        else:
+            inv_s = s / (s**2 + lam**2) if lam > 0 else np.where(
+                s > rcond * s[:, :1], 1.0 / np.where(s > 0, s, 1.0), 0.0)
+        v_cmd = V[:, k] + gain * (P[:, k] - r)
+        y = np.einsum("nji,nj->ni", U, v_cmd) * inv_s  # Σ^# Uᵀ v
+        qdot = np.einsum("nij,ni->nj", Vt, y)           # V y
+        q_log[:, k], qd_log[:, k], r_log[:, k], s_log[:, k] = Q, qdot, r, s
+        if k < K - 1:
+            Q = Q + ts * qdot
+            if clamp:
+                Q = np.minimum(np.maximum(Q, lower), upper)
+    at_limit = (q_log <= lower) | (q_log >= upper)
+    return BatchTrackingLog(
+        t=np.arange(K) * ts, q=q_log, qdot=qd_log, position=r_log, error=P - r_log,
+        singular_values=s_log, at_limit=at_limit,
+    )

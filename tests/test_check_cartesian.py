@@ -1,0 +1,138 @@
+"""Tests of the chapter-4 exercise checks (robokin.check.cartesian).
+
+Correct answers are written independently of the reference: the tool frame
+from explicit matrices, the tool pose from the modified-DH product, the
+orientation error from the quaternion (θ = 2 atan2(|ε|, η)), the tool Jacobian
+from the chain's Jacobian of a point fixed in E, the control law from a
+least-norm solve (lstsq) of J q̇ = ν.
+"""
+
+from __future__ import annotations
+
+import importlib
+
+import numpy as np
+import pytest
+
+from robokin.models.panda import panda
+from robokin.transforms import quaternion_from_rotation, rotation_log, rpy_from_rotation
+
+cart = importlib.import_module("robokin.check.cartesian")
+ROBOT = panda("mdh")
+C, S = np.cos(np.pi / 10), np.sin(np.pi / 10)
+T_ET = np.array([[C, -S, 0, 0.2], [S, C, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1.0]])
+
+
+def tool_pose(q):
+    return ROBOT.fk(q) @ T_ET
+
+
+def orientation_error_quat(R, R_goal):
+    w, *v = quaternion_from_rotation(R_goal @ R.T)
+    v = np.array(v)
+    s = np.linalg.norm(v)
+    return np.zeros(3) if s < 1e-15 else 2 * np.arctan2(s, w) * v / s
+
+
+def tool_jacobian_point(J_e, R_be, p_et):
+    # v_T = v_E + w x (R p): column by column
+    r = R_be @ p_et
+    return np.vstack([J_e[:3] + np.cross(J_e[3:].T, r).T, J_e[3:]])
+
+
+def control_lstsq(J, e, gain_linear, gain_angular):
+    return np.linalg.lstsq(J, np.r_[gain_linear * e[:3], gain_angular * e[3:]], rcond=None)[0]
+
+
+CORRECT = {
+    "tool_frame": T_ET,
+    "tool_pose": tool_pose,
+    "orientation_error": orientation_error_quat,
+    "tool_jacobian": tool_jacobian_point,
+    "control_law": control_lstsq,
+}
+
+
+@pytest.mark.parametrize("name", sorted(CORRECT))
+def test_correct_answers_pass(name):
+    r = getattr(cart, name)(CORRECT[name], quiet=True)
+    assert r.passed and r.diagnosis is None, r.message
+
+
+def test_pass_prints_one_line(capsys):
+    cart.orientation_error(orientation_error_quat)
+    out = capsys.readouterr().out
+    assert out == "✔ orientation_error(R, R_goal) is correct (checked at 20 random pairs of rotations).\n"
+
+
+def _tf(R, p):
+    T = np.eye(4)
+    T[:3, :3], T[:3, 3] = R, p
+    return T
+
+
+def rotx(a):
+    return np.array([[1, 0, 0], [0, np.cos(a), -np.sin(a)], [0, np.sin(a), np.cos(a)]])
+
+
+def wrap(d):
+    return np.pi - np.mod(np.pi - d, 2 * np.pi)
+
+
+WRONG = [
+    ("tool_frame", _tf(T_ET[:3, :3], [0.002, 0, 0]), "offset_in_cm"),
+    ("tool_frame", _tf(rotx(np.pi / 10), [0.2, 0, 0]), "rpy_order"),
+    ("tool_frame", np.linalg.inv(T_ET), "inverse"),
+    ("tool_frame", _tf(T_ET[:3, :3].T, [0.2, 0, 0]), "rotation_block_transposed"),
+    ("tool_frame", _tf(np.eye(3), [0.3, 0, 0]), "mismatch"),
+    ("tool_pose", lambda q: T_ET @ ROBOT.fk(q), "composition_order"),
+    ("tool_pose", lambda q: ROBOT.fk(q), "no_tool"),
+    ("tool_pose", lambda q: _tf(ROBOT.fk(q)[:3, :3] @ T_ET[:3, :3], ROBOT.fk(q)[:3, 3] + [0.2, 0, 0]),
+     "offset_not_rotated"),
+    ("tool_pose", lambda q: tool_pose(q)[:3, :3], "shape"),
+    ("orientation_error", lambda R, Rg: rotation_log(R @ Rg.T), "sign"),
+    ("orientation_error", lambda R, Rg: rotation_log(R.T @ Rg), "wrong_frame"),
+    ("orientation_error", lambda R, Rg: np.degrees(rotation_log(Rg @ R.T)), "degrees_output"),
+    ("orientation_error", lambda R, Rg: wrap(rpy_from_rotation(Rg) - rpy_from_rotation(R)), "rpy_difference"),
+    ("orientation_error", lambda R, Rg: quaternion_from_rotation(Rg @ R.T)[1:], "quaternion"),
+    ("tool_jacobian", lambda J, R, p: tool_jacobian_point(J, np.eye(3), p), "offset_not_rotated"),
+    ("tool_jacobian", lambda J, R, p: tool_jacobian_point(J, -R, p), "cross_sign"),
+    ("tool_jacobian", lambda J, R, p: J, "no_transport"),
+    ("tool_jacobian", lambda J, R, p: np.vstack([J[:3], J[3:] - np.cross(R @ p, J[:3].T).T]), "twist_order"),
+    ("tool_jacobian", lambda J, R, p: np.vstack([J[:3], J[3:] + np.cross(R @ p, J[:3].T).T]),
+     "transposed_transport"),
+    ("control_law", lambda J, e, kl, ka: -control_lstsq(J, e, kl, ka), "error_sign"),
+    ("control_law", lambda J, e, kl, ka: control_lstsq(J, e, ka, kl), "swapped_gains"),
+    ("control_law", lambda J, e, kl, ka: np.linalg.pinv(J) @ np.r_[ka * e[3:], kl * e[:3]], "twist_order"),
+    ("control_law", lambda J, e, kl, ka: J.T @ np.r_[kl * e[:3], ka * e[3:]], "jacobian_transpose"),
+    ("control_law", lambda J, e, kl, ka: control_lstsq(J, e, kl, ka)[:6], "shape"),
+]
+
+
+@pytest.mark.parametrize("name, answer, code", WRONG, ids=[f"{n}-{c}" for n, _, c in WRONG])
+def test_mistakes_are_diagnosed(name, answer, code):
+    r = getattr(cart, name)(answer, quiet=True)
+    assert not r.passed
+    assert r.diagnosis == code, r.message
+    assert r.message.startswith("✘")
+
+
+def test_non_function_answer_is_explained():
+    r = cart.orientation_error(np.zeros(3), quiet=True)
+    assert not r.passed and r.diagnosis == "constant" and "Python function" in r.message
+
+
+def test_student_exception_is_reported():
+    r = cart.control_law(lambda J, e, kl, ka: np.linalg.inv(J) @ e, quiet=True)
+    assert not r.passed and r.diagnosis == "error" and "LinAlgError" in r.message
+
+
+def test_raise_on_fail():
+    with pytest.raises(AssertionError, match="wrong sign"):
+        cart.orientation_error(lambda R, Rg: -orientation_error_quat(R, Rg), raise_on_fail=True, quiet=True)
+
+
+def test_registered():
+    from robokin.check._registry import _REGISTRY
+
+    assert set(_REGISTRY["cartesian"]) == set(CORRECT)
