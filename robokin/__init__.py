@@ -26,12 +26,13 @@ from robokin.transforms import *  # noqa: F403  (the transform functions, listed
 
 __version__ = "0.1.0"
 
-_LAZY_MODULES = ("chains", "models", "motion", "views", "check")
+_LAZY_MODULES = ("chains", "models", "parallel", "motion", "views", "check")
 _LAZY_NAMES = {
     "SerialChain": "robokin.chains",
     "from_dh": "robokin.chains",
     "from_modified_dh": "robokin.chains",
     "from_link_table": "robokin.chains",
+    "Planar3RPR": "robokin.parallel",
     "solve_ik": "robokin.motion",
     "solve_ik_batch": "robokin.motion",
     "IKResult": "robokin.motion",

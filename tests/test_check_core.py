@@ -282,7 +282,7 @@ def test_result_is_truthy_and_has_fields():
 
 
 def test_unknown_chapter_and_kind():
-    with pytest.raises(AttributeError, match="chapters with checks: leg"):
+    with pytest.raises(AttributeError, match="chapters with checks: .*leg"):
         check.chapter_that_does_not_exist  # noqa: B018
     with pytest.raises(ValueError, match="kind must be one of"):
         standard("tensor")

@@ -287,3 +287,23 @@ def test_module_show_one_call(monkeypatch):
                       path=[[0, 0, 0], [1, 1, 0]], trajectory=np.zeros((5, 2)), mode="static") is None
     paths = {c["path"].split("/")[2] for c in _decode(shown[-1].data) if c.get("path", "").startswith("/meshcat/")}
     assert {"robot", "ghost", "target", "points", "path", "robot_trace"} <= paths
+
+
+def test_grid_is_only_shifted_not_turned():
+    # the viewer's own Rx(π/2) sits on "/Grid/<object>"; a turn on "/Grid" would stand the grid up
+    cmds = {c["path"]: c for c in _demo_scene().commands() if c["type"] == "set_transform"}
+    grid = np.array(cmds["/Grid"]["matrix"]).reshape(4, 4).T        # MeshCat matrices are column-major
+    shift = np.array(cmds["/meshcat"]["matrix"]).reshape(4, 4).T
+    np.testing.assert_allclose(grid[:3, :3], np.eye(3))
+    np.testing.assert_allclose(grid, shift)
+
+
+def test_animate_without_name_moves_the_robot_not_its_ghost():
+    from robokin.models import planar_two_link
+    from robokin.views import Scene
+
+    arm = planar_two_link()
+    scene = Scene()
+    scene.add_ghost(arm, [1.0, 0.5])
+    scene.add_chain(arm, [0.0, 0.0])
+    assert scene.animate(arm, np.linspace([0.0, 0.0], [0.5, 0.5], 5)) == "robot"

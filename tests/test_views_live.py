@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 import socket
+import sys
 import time
 
 import numpy as np
@@ -106,6 +107,54 @@ def test_server_exits_with_its_owner():
     assert _gone(pid), "server survived the interpreter that started it"
 
 
+
+_KILLED_OWNER = """
+import ctypes, os, signal, subprocess, sys, time
+ctypes.CDLL(None, use_errno=True).prctl(36, 1, 0, 0, 0)      # PR_SET_CHILD_SUBREAPER, like systemd --user / tini -s
+code = ("from robokin.views.live import LiveViewer; v = LiveViewer(); print(v.pid, flush=True); "
+        "import time; time.sleep(60)")
+owner = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
+pid = int(owner.stdout.readline())
+owner.kill()                      # the kernel dies hard and is not reaped yet: a zombie
+deadline, gone = time.monotonic() + 5.0, False
+while not gone and time.monotonic() < deadline:
+    try:
+        with open(f"/proc/{pid}/stat") as f:
+            gone = f.read().split()[2] == "Z"
+    except FileNotFoundError:
+        gone = True
+    time.sleep(0.05)
+if not gone:
+    try:
+        with open(f"/proc/{pid}/stat") as f:
+            print("server", f.read().split()[:4], "owner", owner.pid, "me", os.getpid(), flush=True)
+        with open(f"/proc/{pid}/status") as f:
+            print([l for l in f.read().splitlines() if l.startswith(("State", "Threads", "SigBlk", "SigIgn"))])
+        print(open(f"/proc/{pid}/wchan").read(), flush=True)
+    except OSError as exc:
+        print(exc)
+print("gone" if gone else "alive", flush=True)
+owner.wait()
+if not gone:
+    os.kill(pid, signal.SIGKILL)
+try:
+    os.waitpid(pid, 0)            # we are its subreaper now: reap it either way
+except ChildProcessError:
+    pass
+"""
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="PR_SET_CHILD_SUBREAPER is Linux only")
+def test_server_exits_when_its_kernel_is_killed_under_a_subreaper():
+    # re-parented to a subreaper (not pid 1) while the killed kernel is an unreaped zombie:
+    # the server must notice that its parent changed, not wait for the zombie to be reaped
+    import subprocess
+
+    out = subprocess.run([sys.executable, "-c", _KILLED_OWNER], capture_output=True, text=True, timeout=60, check=False,
+                         cwd=os.path.dirname(os.path.dirname(__file__)))
+    assert out.stdout.strip().splitlines()[-1:] == ["gone"], out.stdout + out.stderr
+
+
 def test_proxy_url(monkeypatch):
     import importlib.util
 
@@ -116,3 +165,17 @@ def test_proxy_url(monkeypatch):
     assert proxy_url(7001) == "/user/ada/proxy/7001/static/"
     monkeypatch.delenv("JUPYTERHUB_SERVICE_PREFIX")
     assert proxy_url(7001) == "/proxy/7001/static/"
+
+
+def test_proxy_url_on_a_hub_even_if_the_kernel_lacks_the_proxy(monkeypatch):
+    # JupyterHub/Binder: the browser is never on the kernel's machine, and the proxy is often
+    # installed in the server's environment only
+    import importlib.util
+
+    real = importlib.util.find_spec
+    monkeypatch.setattr(importlib.util, "find_spec",
+                        lambda name, *a: None if name == "jupyter_server_proxy" else real(name, *a))
+    monkeypatch.setenv("JUPYTERHUB_SERVICE_PREFIX", "/user/ada")
+    assert proxy_url(7002) == "/user/ada/proxy/7002/static/"
+    monkeypatch.delenv("JUPYTERHUB_SERVICE_PREFIX")
+    assert proxy_url(7002) is None

@@ -19,7 +19,10 @@ __all__ = ["CHAPTERS", "exercise", "checks_of", "chapter"]
 CHAPTERS: dict[str, str] = {
     "leg": "robokin.check.leg",
     "ur10": "robokin.check.ur10",
+    "three_rpr": "robokin.check.three_rpr",
     "cartesian": "robokin.check.cartesian",
+    "baxter": "robokin.check.baxter",
+    "ar601": "robokin.check.ar601",
 }
 
 _REGISTRY: dict[str, dict[str, Check]] = {}

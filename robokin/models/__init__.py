@@ -1,25 +1,29 @@
-"""Named robot models built from :class:`robokin.chains.SerialChain`.
+"""Named robot models.
 
-=====================  ======  ============================================================
-constructor            joints  description
-=====================  ======  ============================================================
-``planar_two_link()``  2       planar RR arm in the x–y plane (tour / first examples)
-``eth_leg()``          3       ETH Autonomous Mobile Robots exercise-1 leg (unit lengths)
-``ur10()``             6       Universal Robots UR10 (CB3), manufacturer DH parameters
-``baxter_left()``      7       Rethink Robotics Baxter, left arm (URDF-verified)
-``ar601_leg()``        6       AR-601 humanoid leg (hip 3, knee 1, ankle 2)
-``panda()``            7       Franka Emika Panda, from its link table (MDH/URDF equivalents)
-=====================  ======  ============================================================
+- ``planar_two_link()`` (2 joints): planar RR arm in the x–y plane (tour, first examples).
+- ``eth_leg()`` (3): ETH Autonomous Mobile Robots exercise-1 leg (unit lengths).
+- ``ur10()`` (6): Universal Robots UR10 (CB3), manufacturer DH parameters.
+- ``baxter_left()`` (7): Rethink Robotics Baxter, left arm (URDF-verified).
+- ``ar601_leg()`` (6): AR-601 humanoid leg (hip 3, knee 1, ankle 2); its closed-form
+  inverse kinematics (all 8 solutions) is ``ar601_leg_ik(T)``.
+- ``panda()`` (7): Franka Emika Panda, from its link table (MDH/URDF equivalents).
+- ``three_rpr()`` (3 legs): the planar 3-RPR parallel robot of chapter 3, a
+  :class:`robokin.parallel.Planar3RPR`; ``three_rpr_classic()`` has six real
+  assembly modes (Gosselin, Sefrioui and Richard 1992).
 
-Every constructor returns a fresh chain with ``.n``, ``.limits``, ``.fk(q)``,
-``.jacobian(q)`` and the rest of the :class:`~robokin.chains.SerialChain` API.
+The serial ones are :class:`robokin.chains.SerialChain` objects with ``.n``,
+``.limits``, ``.fk(q)``, ``.jacobian(q)`` and the rest of its API.
 """
 
 from robokin.models.ar601 import ar601_leg
+from robokin.models.ar601_ik import AR601IKResult, ar601_leg_ik, ar601_leg_ik_batch
 from robokin.models.baxter import baxter_left
 from robokin.models.eth_leg import eth_leg
 from robokin.models.panda import panda
 from robokin.models.planar import planar_two_link
+from robokin.models.three_rpr import three_rpr, three_rpr_classic
 from robokin.models.ur10 import ur10
 
-__all__ = ["planar_two_link", "eth_leg", "ur10", "baxter_left", "ar601_leg", "panda"]
+__all__ = ["planar_two_link", "eth_leg", "ur10", "baxter_left", "ar601_leg", "ar601_leg_ik",
+           "ar601_leg_ik_batch", "AR601IKResult", "panda", "three_rpr",
+           "three_rpr_classic"]

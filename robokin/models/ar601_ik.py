@@ -46,7 +46,7 @@ from robokin.models.ar601 import ar601_leg
 from robokin.transforms import rotx, roty, rotz
 from robokin.validation import check_positive, check_transform
 
-__all__ = ["AR601IKResult", "ar601_leg_ik", "ar601_leg_ik_batch", "REASONS", "SINGULARITIES"]
+__all__ = ["REASONS", "SINGULARITIES", "AR601IKResult", "ar601_leg_ik", "ar601_leg_ik_batch"]
 
 #: Reasons of :class:`AR601IKResult` (``success`` is True only for ``"solved"``).
 REASONS = (

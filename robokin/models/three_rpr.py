@@ -23,7 +23,7 @@ import numpy as np
 from robokin.parallel import Planar3RPR
 from robokin.validation import check_positive
 
-__all__ = ["three_rpr", "three_rpr_classic", "EXERCISE_BASE", "CLASSIC_RHO"]
+__all__ = ["CLASSIC_RHO", "EXERCISE_BASE", "three_rpr", "three_rpr_classic"]
 
 #: Base anchors A1, A2, A3 of the exercise (m): an equilateral triangle with unit sides.
 EXERCISE_BASE = np.array([[0.0, 0.0], [1.0, 0.0], [0.5, math.sqrt(3.0) / 2.0]])

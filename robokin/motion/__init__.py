@@ -27,6 +27,7 @@ from robokin.motion.ik import (
 from robokin.motion.control import CartesianController, ControlOutput
 from robokin.motion.pose_error import pose_error
 from robokin.motion.simulate import SimulationLog, simulate
+from robokin.motion.sweeps import BatchTrackingLog, initial_condition_sweep, track_position_batch
 from robokin.motion.tool import chain_with_tool, rigid_body_jacobian, tool_jacobian, transform_from_rpy
 from robokin.motion.trajectories import (
     Trajectory,
@@ -41,6 +42,9 @@ __all__ = [
     "rigid_body_jacobian",
     "tool_jacobian",
     "transform_from_rpy",
+    "initial_condition_sweep",
+    "track_position_batch",
+    "BatchTrackingLog",
     "pose_error",
     "CartesianController",
     "ControlOutput",

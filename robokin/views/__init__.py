@@ -27,7 +27,7 @@ How ``show()`` chooses the display mode (first match wins):
 
 - **live**: a MeshCat server on 127.0.0.1 (first free port from 7000) shown in an
   iframe -- through ``jupyter-server-proxy`` (``<prefix>proxy/<port>/static/``)
-  when that is installed, e.g. on JupyterHub/Binder.  Servers stop with
+  when that is installed or the kernel runs on JupyterHub/Binder.  Servers stop with
   ``viewer.close()``, on garbage collection and at kernel exit.  If MeshCat cannot
   start, the static scene is shown with one line saying why.
 - **static**: the recorded MeshCat commands embedded in HTML; the viewer script is

@@ -30,6 +30,7 @@ try { viewer.connect(url); } catch (e) { console.info("Not connected to MeshCat 
 
 
 def main(argv=None):
+    first_ppid = os.getppid()     # before anything slow: the kernel may be killed right after starting us
     parser = argparse.ArgumentParser()
     parser.add_argument("--port", type=int, default=7000, help="first web port to try")
     parser.add_argument("--zmq-port", type=int, default=6000, help="first zmq port to try")
@@ -73,13 +74,18 @@ def main(argv=None):
 
     loop = tornado.ioloop.IOLoop.current()
     if args.parent_pid:
+        started_by_parent = first_ppid == args.parent_pid
+
         def check_parent():
+            # The kernel is our parent: when it dies we are re-parented at once (to pid 1
+            # or to a "child subreaper" such as systemd --user or tini -s), even while it
+            # is still an unreaped zombie that os.kill(pid, 0) reports as alive.
+            if started_by_parent and os.getppid() != args.parent_pid:
+                loop.stop()
+                return
             try:
                 os.kill(args.parent_pid, 0)
             except OSError:
-                loop.stop()
-                return
-            if os.getppid() == 1 and args.parent_pid != 1:
                 loop.stop()
         tornado.ioloop.PeriodicCallback(check_parent, 1000).start()
     try:

@@ -7,8 +7,9 @@ should show in an iframe:
 
 - ``http://127.0.0.1:<port>/static/`` normally;
 - ``{JUPYTERHUB_SERVICE_PREFIX or "/"}proxy/<port>/static/`` when
-  ``jupyter-server-proxy`` is importable (JupyterHub, Binder: the browser cannot
-  reach the kernel's loopback, the Jupyter server proxies it).
+  ``jupyter-server-proxy`` is importable or the kernel runs under JupyterHub/Binder
+  (the browser cannot reach the kernel's loopback, the Jupyter server proxies it;
+  the proxy may be installed in the server's environment only).
 
 Every server is stopped by :meth:`LiveViewer.close`, when the viewer is garbage
 collected, at interpreter exit (``weakref.finalize`` runs at exit), and -- if the
@@ -36,10 +37,17 @@ class MeshcatUnavailable(RuntimeError):
 
 
 def proxy_url(port):
-    """The URL of a local port through jupyter-server-proxy, or None if that is not installed."""
-    if importlib.util.find_spec("jupyter_server_proxy") is None:
+    """The URL of a local port through jupyter-server-proxy, or None where the browser should use loopback.
+
+    The proxied form is used when ``jupyter-server-proxy`` is importable, and always
+    on JupyterHub/Binder (``JUPYTERHUB_SERVICE_PREFIX`` set): there the browser never
+    runs on the kernel's machine, so ``127.0.0.1`` cannot work, and the proxy is often
+    installed in the server's environment only, not in the kernel's.
+    """
+    hub_prefix = os.environ.get("JUPYTERHUB_SERVICE_PREFIX")
+    if not hub_prefix and importlib.util.find_spec("jupyter_server_proxy") is None:
         return None
-    prefix = os.environ.get("JUPYTERHUB_SERVICE_PREFIX") or "/"
+    prefix = hub_prefix or "/"
     if not prefix.endswith("/"):
         prefix += "/"
     return f"{prefix}proxy/{int(port)}/static/"

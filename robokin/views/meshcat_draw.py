@@ -415,9 +415,6 @@ def _trace_commands(scene, anim):
     return [_set_object(path, _line(path, F[:, -1, :3, 3], anim.trace_color))]
 
 
-_GRID_TURN = np.array([[1.0, 0.0, 0.0, 0.0], [0.0, 0.0, -1.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 0.0, 1.0]])
-
-
 def scene_commands(scene):
     """All MeshCat commands of a scene, in order: camera, objects, then the animation."""
     from robokin.views.scene import ChainItem, PathItem, PointsItem, TargetItem
@@ -428,9 +425,12 @@ def scene_commands(scene):
     eye = np.array([0.95, 0.75, 0.6]) / np.linalg.norm([0.95, 0.75, 0.6]) * d   # three.js camera frame: y up
     cmds = [
         # the orbit target is the world origin: move the scene so that its centre is there
-        # (the viewer builds its grid in three.js's x-z plane and turns it into the x-y
-        # plane with Rx(π/2); a transform set on "/Grid" replaces that turn, so keep it)
-        _set_transform(ROOT, shift), _set_transform("/Grid", shift @ _GRID_TURN), _set_transform("/Axes", shift),
+        # (only a translation for "/Grid": the viewer turns its grid into the x-y plane with
+        # Rx(π/2) on the object "/Grid/<object>", which a transform of the node "/Grid"
+        # composes with -- adding that turn here again would stand the grid up vertically.
+        # Headless Chromium with SwiftShader drops grid lines that cross the camera plane,
+        # so there only the far part of the grid is drawn; that is the renderer, not the grid.)
+        _set_transform(ROOT, shift), _set_transform("/Grid", shift), _set_transform("/Axes", shift),
         {"type": "set_property", "path": "/Cameras/default/rotated/<object>", "property": "position",
          "value": [_r(v) for v in eye]},
     ]

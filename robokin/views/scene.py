@@ -35,6 +35,7 @@ class ChainItem:
     opacity: float = 1.0
     frames: bool = False
     labels: bool = True
+    ghost: bool = False
 
 
 @dataclass
@@ -199,7 +200,9 @@ class Scene:
 
     def add_ghost(self, chain, q, *, name=None, color=0xB0C4DE, opacity=0.3):
         """A translucent copy of ``chain`` at ``q`` (e.g. another IK solution)."""
-        return self.add_chain(chain, q, name=self._name(name, "ghost"), color=color, opacity=opacity)
+        name = self.add_chain(chain, q, name=self._name(name, "ghost"), color=color, opacity=opacity)
+        self.items[-1].ghost = True
+        return name
 
     def add_target(self, T, *, name=None, size=None, label=None):
         """A target frame: a triad at the pose ``T`` (4x4; a (3,) position is allowed)."""
@@ -238,7 +241,7 @@ class Scene:
                 raise DomainError(f"{chain!r} is not a chain item")
         else:
             existing = [it for it in self.items if isinstance(it, ChainItem) and
-                        (it.name == name or (name is None and it.chain is chain))]
+                        (it.name == name or (name is None and it.chain is chain and not it.ghost))]
             Q = _as_trajectory(chain, trajectory)
             if existing:
                 item = existing[0]

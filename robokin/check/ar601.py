@@ -1,0 +1,373 @@
+r"""Exercise checks of chapter 6: closed-form inverse kinematics of the AR-601 leg.
+
+Every reference comes from :func:`robokin.models.ar601_leg` (lengths
+``L1 = L2 = 0.3 m``, ``L3 = 0.1 m``) and
+:func:`robokin.models.ar601_ik.ar601_leg_ik`.
+
+===================  ==========================================================  ======================
+check                the student's answer                                         inputs
+===================  ==========================================================  ======================
+``foot_transform``   B T_F(q): sympy Matrix in q1..q6 (L1, L2, L3 allowed) or      q = (q1, ..., q6)
+                     a function f(q) -> 4×4
+``knee_angle``       function f(d, l1, l2) -> q4 ≥ 0 (rad) from the hip–ankle      d, l1, l2
+                     distance d
+``ik_solution``      q (6,) or several solutions (k, 6) for :data:`T_GOAL`          --
+``ik_solver``        function f(T) -> q (6,) or (k, 6): every returned row must     20 random foot poses
+                     reproduce T (any solution is accepted)
+===================  ==========================================================  ======================
+
+A solution that puts the foot at the right *place* but with the wrong
+*orientation* is recognised and explained (a 6-DOF leg has to match all six
+numbers of the pose).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import lru_cache
+from typing import Any
+
+import numpy as np
+
+from robokin.check import diagnoses as dg
+from robokin.check._core import (
+    FAIL,
+    PASS,
+    Check,
+    CheckResult,
+    Variable,
+    alternatives,
+    fmt,
+)
+from robokin.check._registry import exercise
+
+__all__ = [
+    "LENGTHS",
+    "P_GOAL",
+    "RPY_GOAL",
+    "T_GOAL",
+    "foot_transform",
+    "ik_solution",
+    "ik_solver",
+    "knee_angle",
+]
+
+_CH = "ar601"
+#: Link lengths L1, L2, L3 (m) used by the checks (the model's defaults).
+LENGTHS = (0.3, 0.3, 0.1)
+#: Foot position (m) of the chapter's IK target, in the hip frame B.
+P_GOAL = np.array([0.05, 0.10, -0.58])
+#: Foot orientation of the target as roll–pitch–yaw (rad): R = Rz(yaw) Ry(pitch) Rx(roll).
+RPY_GOAL = np.array([0.1, 0.0, 0.2])
+
+
+def _goal() -> np.ndarray:
+    from robokin.transforms import rotation_from_rpy, transform
+
+    return transform(rotation_from_rpy(RPY_GOAL), P_GOAL)
+
+
+#: The chapter's target foot pose B T_F (4×4).
+T_GOAL = _goal()
+
+_LENGTH_NAMES = {
+    0: ("L1", "l1", "L_1", "l_1"),
+    1: ("L2", "l2", "L_2", "l_2"),
+    2: ("L3", "l3", "L_3", "l_3"),
+}
+
+
+@lru_cache(maxsize=1)
+def _leg():
+    from robokin.models.ar601 import ar601_leg
+
+    return ar601_leg(*LENGTHS)
+
+
+def _fk(q) -> np.ndarray:
+    return _leg().fk(np.asarray(q, dtype=float), check=False)
+
+
+# ------------------------------------------------------------------ foot transform
+def _elem(kind: str, v: float) -> np.ndarray:
+    from robokin.transforms import rotx, roty, rotz
+
+    T = np.eye(4)
+    if kind == "z":
+        T[2, 3] = v
+    else:
+        T[:3, :3] = {"Rx": rotx, "Ry": roty, "Rz": rotz}[kind](float(v))
+    return T
+
+
+def _product(seq: list[tuple[str, Any]], q: np.ndarray, sign: float = -1.0) -> np.ndarray:
+    """Product of elementary transforms; ("Rz", i) uses q[i], ("z", k) is Tz(sign·L_k)."""
+    out = np.eye(4)
+    for kind, arg in seq:
+        out = out @ (_elem("z", sign * LENGTHS[arg]) if kind == "z" else _elem(kind, q[arg]))
+    return out
+
+
+_SEQ = [("Rz", 0), ("Ry", 1), ("Rx", 2), ("z", 0), ("Rx", 3), ("z", 1), ("Ry", 4), ("Rx", 5), ("z", 2)]
+
+
+def _fk_mistakes():
+    def seq_fn(seq, sign=-1.0):
+        return lambda x: _product(seq, np.asarray(x, dtype=float), sign)
+
+    hip_xyz = [("Rx", 2), ("Ry", 1), ("Rz", 0)] + _SEQ[3:]
+    ankle_swapped = _SEQ[:6] + [("Rx", 5), ("Ry", 4), ("z", 2)]
+    knee_late = [_SEQ[0], _SEQ[1], _SEQ[2], ("z", 0), ("z", 1), ("Rx", 3)] + _SEQ[6:]
+    return [
+        alternatives("positive_lengths", [(seq_fn(_SEQ, +1.0), (
+            "{name} translates by +L_i: the leg then points up (at q = 0 the foot is at "
+            "z = +(L1 + L2 + L3)). With z up, each link is T_z(−L_i).")),
+        ]),
+        alternatives("missing_sole", [(seq_fn(_SEQ[:-1]), (
+            "{name} stops at the ankle: the factor T_z(−L3) from the ankle axes to the sole is "
+            "missing.")),
+        ]),
+        alternatives("hip_order", [(seq_fn(hip_xyz), (
+            "{name} composes the hip as R_x(q3) R_y(q2) R_z(q1); the joints follow each other "
+            "from the body outwards: R_z(q1) R_y(q2) R_x(q3).")),
+        ]),
+        alternatives("ankle_order", [(seq_fn(ankle_swapped), (
+            "{name} composes the ankle as R_x(q6) R_y(q5); q5 comes first (nearer the body): "
+            "R_y(q5) R_x(q6).")),
+        ]),
+        alternatives("knee_position", [(seq_fn(knee_late), (
+            "{name} puts the knee rotation R_x(q4) after T_z(−L2), i.e. at the ankle. The knee "
+            "sits L1 below the hip: ... T_z(−L1) R_x(q4) T_z(−L2) ...")),
+        ]),
+        *dg.standard("transform"),
+    ]
+
+
+@dataclass
+class _FixedLengthsCheck(Check):
+    """A check whose sympy answers may keep the symbols L1, L2, L3 (set to :data:`LENGTHS`)."""
+
+    def evaluate(self, answer: Any) -> CheckResult:
+        import sys
+
+        sp = sys.modules.get("sympy")
+        if sp is not None and isinstance(answer, (sp.Basic, sp.MatrixBase)):
+            values = {}
+            for s in answer.free_symbols:
+                for k, names in _LENGTH_NAMES.items():
+                    if s.name in names:
+                        values[s] = LENGTHS[k]
+            answer = answer.subs(values)
+        return super().evaluate(answer)
+
+
+_Q = [Variable(f"q{i}", "angle", -math.pi / 2, math.pi / 2, aliases=(f"q_{i}", f"theta{i}"))
+      for i in range(1, 7)]
+
+foot_transform = exercise(_CH, "foot_transform", _FixedLengthsCheck(
+    name="T_BF",
+    reference=_fk,
+    variables=_Q,
+    groups=[("q", list(range(6)))],
+    diagnoses=_fk_mistakes(),
+    noun="configurations",
+    hint="Build it as R_z(q1) R_y(q2) R_x(q3) T_z(−L1) R_x(q4) T_z(−L2) R_y(q5) R_x(q6) T_z(−L3).",
+    doc=(
+        "Check the foot pose B T_F(q1..q6) (4×4) of the AR-601 leg with L1 = L2 = 0.3 m, "
+        "L3 = 0.1 m (a sympy Matrix may keep the symbols L1, L2, L3)."
+    ),
+))
+
+
+# ------------------------------------------------------------------ knee angle
+def _knee(x) -> np.ndarray:
+    d, l1, l2 = x
+    return np.array(math.acos((d * d - l1 * l1 - l2 * l2) / (2.0 * l1 * l2)))
+
+
+def _knee_mistakes():
+    def interior(x):
+        d, l1, l2 = x
+        return np.array(math.acos((l1 * l1 + l2 * l2 - d * d) / (2.0 * l1 * l2)))
+
+    def no_two(x):
+        d, l1, l2 = x
+        c = (d * d - l1 * l1 - l2 * l2) / (l1 * l2)
+        return np.array(math.acos(c)) if abs(c) <= 1 else np.array(np.nan)
+
+    def sole_included(x):
+        d, l1, l2 = x
+        c = (d * d - l1 * l1 - (l2 + LENGTHS[2]) ** 2) / (2.0 * l1 * (l2 + LENGTHS[2]))
+        return np.array(math.acos(c)) if abs(c) <= 1 else np.array(np.nan)
+
+    return [
+        alternatives("interior_angle", [(interior, (
+            "{name} is the interior angle between thigh and shank, π − q4 (the law of cosines "
+            "with −2 L1 L2 cos). q4 is measured from the STRETCHED leg (q4 = 0 when d = L1 + L2): "
+            "d² = L1² + L2² + 2 L1 L2 cos q4, so cos q4 = (d² − L1² − L2²) / (2 L1 L2).")),
+        ]),
+        alternatives("negative_branch", [(lambda x: -_knee(x), (
+            "{name} returns −q4: that is the other knee solution (both are valid); this check "
+            "asks for the non-negative one, arccos(...) ≥ 0.")),
+        ]),
+        alternatives("missing_factor_two", [(no_two, (
+            "{name} forgets the factor 2: cos q4 = (d² − L1² − L2²) / (2 L1 L2).")),
+        ]),
+        alternatives("sole_in_shank", [(sole_included, (
+            "{name} uses the distance to the sole with L2 + L3 as the shank. The knee "
+            "triangle is hip–knee–ankle: take d to the ANKLE point (p + L3 z_F) and the sides L1, L2.")),
+        ]),
+        dg.degrees_output(),
+    ]
+
+
+knee_angle = exercise(_CH, "knee_angle", Check(
+    name="knee_angle(d, l1, l2)",
+    reference=_knee,
+    variables=[Variable("d", "length", 0.12, 0.48), Variable("l1", "length", 0.25, 0.35),
+               Variable("l2", "length", 0.25, 0.35)],
+    diagnoses=_knee_mistakes(),
+    noun="distances and lengths",
+    hint="At d = L1 + L2 (stretched) the answer must be 0, at d = √(L1² + L2²) it is π/2.",
+    doc="Check a function knee_angle(d, l1, l2) -> q4 ≥ 0 (rad) from the hip–ankle distance d.",
+))
+
+
+# ------------------------------------------------------------------ inverse kinematics
+_TOL_P = 1e-6   # m
+_TOL_R = 1e-6   # rad
+
+
+def _pose_errors(q: np.ndarray, T: np.ndarray) -> tuple[float, float]:
+    F = _fk(q)
+    dp = float(np.linalg.norm(F[:3, 3] - T[:3, 3]))
+    Rrel = F[:3, :3].T @ T[:3, :3]
+    c = float(np.clip((np.trace(Rrel) - 1.0) / 2.0, -1.0, 1.0))
+    s = float(np.linalg.norm([Rrel[2, 1] - Rrel[1, 2], Rrel[0, 2] - Rrel[2, 0], Rrel[1, 0] - Rrel[0, 1]])) / 2
+    return dp, math.atan2(s, c)
+
+
+def _as_rows(answer: Any, name: str) -> tuple[np.ndarray | None, str, str]:
+    """(rows (k, 6), code, message); rows None on failure."""
+    try:
+        a = np.array(answer, dtype=float)
+    except (TypeError, ValueError):
+        return None, "error", f"{name} must be 6 joint angles in radians (or k×6); got {type(answer).__name__}."
+    if a.ndim == 1 and a.size == 6:
+        a = a[None, :]
+    if a.ndim == 2 and a.shape == (0, 6):
+        return None, "no_solution", (
+            f"{name} holds no solution, but the pose is reachable (it is the forward kinematics of "
+            "a configuration within the joint limits)."
+        )
+    if a.ndim != 2 or a.shape[1] != 6 or a.shape[0] == 0:
+        return None, "shape", f"{name} must have shape (6,) or (k, 6); got shape {a.shape}."
+    if not np.all(np.isfinite(a)):
+        return None, "error", f"{name} contains NaN or infinite values."
+    return a, "", ""
+
+
+def _verdict(rows: np.ndarray, T: np.ndarray, name: str) -> tuple[bool, str, str]:
+    """(passed, code, message) for solutions ``rows`` of target ``T``."""
+    errs = np.array([_pose_errors(q, T) for q in rows])
+    ok = (errs[:, 0] <= _TOL_P) & (errs[:, 1] <= _TOL_R)
+    if ok.all():
+        return True, "", ""
+    bad = int(np.argmin(ok))
+    which = f" (row {bad + 1} of {len(rows)})" if len(rows) > 1 else ""
+    if all(max(_pose_errors(np.deg2rad(q), T)) <= 1e-4 for q in rows):
+        return False, "degrees_output", (
+            f"{name} is in degrees: np.deg2rad({name}) reproduces the target. robokin works in radians."
+        )
+    dp, dr = errs[bad]
+    if dp <= 1e-4 and dr > 1e-4:
+        return False, "position_only", (
+            f"{name}{which} puts the foot at the right place but turned by {fmt(math.degrees(dr), 1)}° "
+            "from the target orientation. A 6-joint leg has to match the whole pose: the hip "
+            "angles come from R_hip = R_target (R_x(q4) R_y(q5) R_x(q6))ᵀ, and the ankle angles "
+            "from the hip seen in FOOT coordinates, Rᵀ a."
+        )
+    if dr <= 1e-4 < dp:
+        return False, "orientation_only", (
+            f"{name}{which} turns the foot correctly but puts it {fmt(dp, 4)} m away from the target. "
+            "The angles are consistent with the orientation, so look at the position steps: the "
+            "ankle point is a = p + L3 R e_z, backed off along the FOOT's z axis (the third column "
+            "of R), and the knee comes from |a|."
+        )
+    return False, "mismatch", (
+        f"{name}{which} does not reach the target: the foot is {fmt(dp, 4)} m away and turned by "
+        f"{fmt(math.degrees(dr), 1)}°. Check it with forward kinematics."
+    )
+
+
+def _report(result: CheckResult, quiet: bool, raise_on_fail: bool) -> CheckResult:
+    if not quiet:
+        print(result.message)
+    if raise_on_fail and not result.passed:
+        raise AssertionError(result.message)
+    return result
+
+
+def ik_solution(
+    q: Any, T_target: Any = None, *, raise_on_fail: bool = False, quiet: bool = False
+) -> CheckResult:
+    """Check joint angles that should put the foot at ``T_target`` (default :data:`T_GOAL`).
+
+    ``q`` is one solution (6,) or several (k, 6); every row must reproduce the
+    pose within 1e-6 m and 1e-6 rad. Any of the (up to 8) solutions is accepted.
+    """
+    name = "q"
+    T = T_GOAL if T_target is None else np.asarray(T_target, dtype=float)
+    rows, code, msg = _as_rows(q, name)
+    if rows is not None:
+        passed, code, msg = _verdict(rows, T, name)
+        if passed:
+            what = "reproduces" if len(rows) == 1 else f"({len(rows)} solutions) all reproduce"
+            distinct = len({tuple(np.round(np.mod(r + np.pi, 2 * np.pi), 6)) for r in rows})
+            text = f"{PASS} {name} is correct: {what} the target foot pose"
+            text += "." if distinct == len(rows) else f" ({distinct} of them distinct)."
+            return _report(CheckResult(name, True, text, None, 1), quiet, raise_on_fail)
+    return _report(CheckResult(name, False, f"{FAIL} {msg}", code, 1), quiet, raise_on_fail)
+
+
+def _random_targets(n: int, seed: int) -> np.ndarray:
+    Q = _leg().random_configurations(n, seed=seed)
+    return _leg().fk(Q)
+
+
+def ik_solver(
+    f: Any, *, samples: int = 20, seed: int = 0, raise_on_fail: bool = False, quiet: bool = False
+) -> CheckResult:
+    """Check an IK function ``f(T) -> q (6,) or (k, 6)`` on random reachable foot poses.
+
+    The poses are the forward kinematics of seeded random configurations within
+    the joint limits; every row returned must reproduce its pose. The message
+    says how many solutions per pose the function returns (the leg has up to 8).
+    """
+    name = "ik(T)"
+    if not callable(f):
+        return _report(CheckResult(name, False, f"{FAIL} {name} should be a Python function f(T) "
+                                   f"-> q; got {type(f).__name__}.", "constant", 0), quiet, raise_on_fail)
+    counts = []
+    for k, T in enumerate(_random_targets(samples, seed)):
+        try:
+            out = f(T.copy())
+        except Exception as exc:  # noqa: BLE001 - report the student's error
+            return _report(CheckResult(name, False, f"{FAIL} calling {name} raised "
+                                       f"{type(exc).__name__}: {exc}", "error", k + 1),
+                           quiet, raise_on_fail)
+        rows, code, msg = _as_rows(out, "the value returned by ik(T)")
+        if rows is None:
+            return _report(CheckResult(name, False, f"{FAIL} {msg}", code, k + 1), quiet, raise_on_fail)
+        passed, code, msg = _verdict(rows, T, f"{name} at pose {k + 1}")
+        if not passed:
+            return _report(CheckResult(name, False, f"{FAIL} {msg}", code, k + 1), quiet, raise_on_fail)
+        counts.append(len(rows))
+    lo, hi = min(counts), max(counts)
+    per = f"{lo}" if lo == hi else f"{lo} to {hi}"
+    more = "" if lo >= 8 else "; the leg has up to 8"
+    text = (f"{PASS} {name} is correct: every returned solution reproduces its pose "
+            f"(checked at {samples} random poses; {per} solution{'s' if hi > 1 else ''} per pose{more}).")
+    return _report(CheckResult(name, True, text, None, samples), quiet, raise_on_fail)
+

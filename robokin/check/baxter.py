@@ -1,0 +1,381 @@
+r"""Exercise checks of chapter 5: the Baxter left arm tracking a circle.
+
+Every reference comes from :func:`robokin.models.baxter_left` with
+``base="shoulder"`` (base frame = the s0 joint frame, z up along the s0 axis,
+as in the Imperial College tutorial) and the ``left_hand`` flange as the
+end-effector. The circle starts where the hand is at the mid-range
+configuration :data:`Q_START` and turns counter-clockwise (seen from above)
+in the horizontal plane:
+
+.. math::
+    \mathbf r_{des}(t) = \mathbf c + r\,[\cos\omega t,\ \sin\omega t,\ 0]^\top,\qquad
+    \dot{\mathbf r}_{des}(t) = r\omega\,[-\sin\omega t,\ \cos\omega t,\ 0]^\top,
+
+with :math:`\mathbf c = \mathbf r(\mathbf q_{start}) - [r, 0, 0]^\top`, :math:`r` =
+:data:`RADIUS`, :math:`\omega` = :data:`OMEGA` (one turn in :data:`PERIOD`).
+
+=======================  ==================================================  ====================
+check                    the student's answer                                 inputs
+=======================  ==================================================  ====================
+``circle_position``      function ``r_des(t)`` -> (3,) (m)                     t in [0, 4] s
+``circle_velocity``      function ``v_des(t)`` -> (3,) (m/s)                   t in [0, 4] s
+``resolved_rate``        function ``(q, r_des, v_des)`` -> q̇ (7,) (rad/s)     q, r_des, v_des
+                         :math:`\mathbf J_v^+(\mathbf q)(\dot{\mathbf r}_{des} + K_p(\mathbf r_{des}-\mathbf r(\mathbf q)))`, :data:`KP`
+``forward_kinematics``   function ``T(q)`` -> 4×4, shoulder frame -> hand      q within the limits
+``hand_position_at``     numbers: the hand position at :data:`Q_START` (m)     --
+=======================  ==================================================  ====================
+
+The forward-kinematics checks accept answers within 1 mm (so a table with the
+lengths rounded to 0.1 mm passes) and recognise the typical mistakes: the
+missing :math:`+\pi/2` offset of joint 2 (a copy of the tutorial's table),
+the table read as standard instead of modified DH, the torso frame instead of
+the shoulder frame, the gripper tip instead of the hand flange, degrees.
+
+Usage::
+
+    from robokin.check import baxter as check_baxter
+    check_baxter.circle_velocity(my_velocity)
+"""
+
+from __future__ import annotations
+
+import math
+from functools import cache
+
+import numpy as np
+
+from robokin.check import diagnoses as dg
+from robokin.check._core import Check, Variable, alternatives
+from robokin.check._registry import exercise
+
+__all__ = [
+    "circle_position", "circle_velocity", "resolved_rate", "forward_kinematics", "hand_position_at",
+    "Q_START", "P_START", "CENTRE", "RADIUS", "OMEGA", "PERIOD", "TS", "KP", "JOINT2_OFFSET",
+]
+
+_CH = "baxter"
+_PI = math.pi
+
+#: Joint limits of the left arm (rad), s0 … w2 (URDF).
+_LIMITS = np.array([
+    [-1.70167993878, 1.70167993878], [-2.147, 1.047], [-3.05417993878, 3.05417993878],
+    [-0.05, 2.618], [-3.059, 3.059], [-1.57079632679, 2.094], [-3.059, 3.059],
+])
+#: Start configuration (rad): the middle of every joint range, lower + 0.5·range.
+Q_START = _LIMITS.mean(axis=1)
+#: Radius of the circle (m).
+RADIUS = 0.05
+#: Angular speed on the circle (rad/s): one turn in 4 s.
+OMEGA = 0.5 * _PI
+#: Duration of one turn (s).
+PERIOD = 2 * _PI / OMEGA
+#: Time step of the tutorial (s).
+TS = 0.002
+#: Position gain of the closed-loop resolved-rate law (1/s).
+KP = 10.0
+#: The offset the tutorial's table lacks: θ2 = q2 + π/2 (the URDF zero pose is the stretched arm).
+JOINT2_OFFSET = np.array([0.0, _PI / 2, 0.0, 0.0, 0.0, 0.0, 0.0])
+
+
+@cache
+def _arm(base: str = "shoulder", end: str = "hand"):
+    from robokin.models.baxter import baxter_left
+
+    return baxter_left(base=base, end=end)
+
+
+@cache
+def _standard_dh_reading(with_offset: bool):
+    """The modified-DH numbers of the table read as a standard-DH table (a mistake)."""
+    from robokin.chains import from_dh
+
+    rows = [(0.27035, 0.0, 0.0), (0.0, 0.069, -_PI / 2), (0.36442, 0.0, _PI / 2), (0.0, 0.069, -_PI / 2),
+            (0.37429, 0.0, _PI / 2), (0.0, 0.010, -_PI / 2), (0.229525, 0.0, _PI / 2)]
+    table = [[d, (_PI / 2 if (with_offset and i == 1) else 0.0), a, al] for i, (d, a, al) in enumerate(rows)]
+    return from_dh(table)
+
+
+def _pose(q, base: str = "shoulder", end: str = "hand") -> np.ndarray:
+    return _arm(base, end).fk(np.asarray(q, dtype=float))
+
+
+def _position(q) -> np.ndarray:
+    return _pose(q)[:3, 3]
+
+
+#: Hand position at Q_START (m), shoulder frame.
+P_START = _position(Q_START)
+#: Centre of the circle (m): the circle starts at P_START.
+CENTRE = P_START - np.array([RADIUS, 0.0, 0.0])
+
+
+# ------------------------------------------------------------------ the circle
+_T = [Variable("t", "other", 0.0, PERIOD, aliases=("time",))]
+
+
+def _circle(t, centre=CENTRE, radius=RADIUS, omega=OMEGA, phase=0.0, sense=1.0):
+    a = omega * float(np.ravel(t)[0]) + phase
+    return centre + radius * np.array([math.cos(a), sense * math.sin(a), 0.0])
+
+
+def _circle_dot(t, radius=RADIUS, omega=OMEGA, factor=None, phase=0.0, sense=1.0):
+    a = omega * float(np.ravel(t)[0]) + phase
+    k = radius * (omega if factor is None else factor)
+    return k * np.array([-math.sin(a), sense * math.cos(a), 0.0])
+
+
+circle_position = exercise(_CH, "circle_position", Check(
+    name="r_des(t)",
+    reference=lambda x: _circle(x),
+    variables=_T,
+    groups=[("t", [0])],
+    diagnoses=[
+        alternatives("centre_at_start", [(
+            lambda x: _circle(x, centre=P_START),
+            ("{name} is centred at the hand's start position: then the reference starts r = 5 cm away "
+             "from the hand and the first steps jump. The circle starts at the hand, so its centre is "
+             "c = r(q_start) − [r, 0, 0]."),
+        )]),
+        alternatives("phase", [
+            (lambda x: _circle(x, phase=_PI / 2),
+             ("{name} starts a quarter turn late (phase error of π/2): at t = 0 it must be at "
+              "c + [r, 0, 0], the hand's start position; use [cos ωt, sin ωt, 0].")),
+            (lambda x: _circle(x, phase=-_PI / 2),
+             ("{name} starts a quarter turn early (phase error of −π/2): at t = 0 it must be at "
+              "c + [r, 0, 0]; use [cos ωt, sin ωt, 0].")),
+        ]),
+        alternatives("swapped_sin_cos", [(
+            lambda x: CENTRE + RADIUS * np.array([math.sin(OMEGA * x[0]), math.cos(OMEGA * x[0]), 0.0]),
+            ("{name} swaps sin and cos: it starts at c + [0, r, 0], a quarter circle away from the hand, "
+             "and turns clockwise. Use c + r [cos ωt, sin ωt, 0]."),
+        )]),
+        alternatives("direction", [(
+            lambda x: _circle(x, sense=-1.0),
+            ("{name} turns clockwise (seen from above): the tutorial's circle turns counter-clockwise, "
+             "y = c_y + r sin ωt."),
+        )]),
+        alternatives("degrees", [(
+            lambda x: _circle(x, omega=90.0),
+            ("{name} uses ω = 90 (degrees per second) inside cos and sin, which expect radians: "
+             "ω = π/2 rad/s."),
+        )]),
+        dg.offset(),
+        dg.scale(),
+    ],
+    noun="times",
+    atol=1e-6,
+    doc="Check a function r_des(t) -> c + r [cos ωt, sin ωt, 0] (m), r = 0.05 m, ω = π/2 rad/s.",
+))
+
+circle_velocity = exercise(_CH, "circle_velocity", Check(
+    name="v_des(t)",
+    reference=lambda x: _circle_dot(x),
+    variables=_T,
+    groups=[("t", [0])],
+    diagnoses=[
+        alternatives("missing_chain_rule", [(
+            lambda x: _circle_dot(x, factor=1.0),
+            ("{name} misses the factor ω of the chain rule: d/dt cos(ωt) = −ω sin(ωt), so "
+             "v_des = r ω [−sin ωt, cos ωt, 0] (here r ω = 0.0785 m/s)."),
+        )]),
+        alternatives("phase", [
+            (lambda x: _circle_dot(x, phase=_PI / 2),
+             ("{name} is a quarter turn out of phase: it is parallel to r_des − c, not tangent to "
+              "the circle. The velocity is the derivative of the position: r ω [−sin ωt, cos ωt, 0].")),
+            (lambda x: _circle_dot(x, phase=-_PI / 2),
+             ("{name} is a quarter turn out of phase: it points towards the centre, not along the "
+              "circle. The velocity is r ω [−sin ωt, cos ωt, 0].")),
+            (lambda x: _circle_dot(x, phase=_PI),
+             ("{name} has the wrong sign: the hand goes round the wrong way. "
+              "d/dt cos(ωt) = −ω sin(ωt).")),
+        ]),
+        alternatives("swapped_sin_cos", [(
+            lambda x: RADIUS * OMEGA * np.array([math.cos(OMEGA * x[0]), -math.sin(OMEGA * x[0]), 0.0]),
+            ("{name} is the derivative of a circle with sin and cos swapped (starting at c + [0, r, 0], "
+             "clockwise). Differentiate c + r [cos ωt, sin ωt, 0]: r ω [−sin ωt, cos ωt, 0]."),
+        )]),
+        alternatives("direction", [(
+            lambda x: _circle_dot(x, sense=-1.0),
+            "{name} has the wrong sign in y: the circle turns counter-clockwise, v_y = r ω cos ωt.",
+        )]),
+        alternatives("degrees", [
+            (lambda x: _circle_dot(x, omega=90.0),
+             ("{name} uses ω = 90 (degrees per second) where radians per second are needed: "
+              "ω = π/2 rad/s.")),
+            (lambda x: _circle_dot(x, omega=90.0, factor=OMEGA),
+             ("{name} evaluates sin and cos at 90·t (degrees) while the factor is π/2: "
+              "use ω = π/2 rad/s in both.")),
+            (lambda x: _circle_dot(x, factor=90.0),
+             "{name} has the factor ω in degrees per second (90): r ω with ω = π/2 rad/s."),
+        ]),
+        dg.scale(),
+    ],
+    noun="times",
+    atol=1e-6,
+    doc="Check a function v_des(t) -> r ω [−sin ωt, cos ωt, 0] (m/s), r = 0.05 m, ω = π/2 rad/s.",
+))
+
+
+# ------------------------------------------------------------------ the resolved-rate law
+def _angles(lo_frac: float = 0.2, hi_frac: float = 0.8) -> list[Variable]:
+    names = ("s0", "s1", "e0", "e1", "w0", "w1", "w2")
+    out = []
+    for k, (name, (lo, hi)) in enumerate(zip(names, _LIMITS), start=1):
+        span = hi - lo
+        out.append(Variable(f"q{k}", "angle", lo + lo_frac * span, lo + hi_frac * span,
+                            aliases=(name, f"theta{k}", f"q_{k}")))
+    return out
+
+
+_Q_REGULAR = _angles(0.35, 0.65)   # around the mid-range pose, well away from singularities
+_Q_ANY = _angles(0.0, 1.0)         # anywhere within the limits
+_RDES = [Variable(f"{c}_des", "length", p - 0.1, p + 0.1) for c, p in zip("xyz", P_START)]
+_VDES = [Variable(f"{c}_dot_des", "other", -0.1, 0.1) for c in "xyz"]
+
+
+def _rate(x, kp=KP, feedforward=True, error_sign=1.0, gain_on_ff=False, inverse="pinv", q_shift=None):
+    q, r_des, v_des = np.asarray(x[:7], dtype=float), x[7:10], x[10:13]
+    qm = q if q_shift is None else q + q_shift
+    arm = _arm()
+    e = error_sign * (r_des - arm.fk(qm)[:3, 3])
+    v = kp * (v_des + e) if gain_on_ff else (v_des if feedforward else 0.0) + kp * e
+    if inverse == "full":
+        return np.linalg.pinv(arm.jacobian(qm)) @ np.r_[v, 0.0, 0.0, 0.0]
+    J = arm.position_jacobian(qm)
+    return (J.T if inverse == "transpose" else np.linalg.pinv(J)) @ v
+
+
+resolved_rate = exercise(_CH, "resolved_rate", Check(
+    name="qdot(q, r_des, v_des)",
+    reference=_rate,
+    variables=[*_Q_REGULAR, *_RDES, *_VDES],
+    groups=[("q", list(range(7))), ("r_des", [7, 8, 9]), ("v_des", [10, 11, 12])],
+    diagnoses=[
+        alternatives("open_loop", [(
+            lambda x: _rate(x, feedforward=True, kp=0.0),
+            ("{name} is the open-loop law q̇ = J⁺ ṙ_des: nothing corrects the position error, so "
+             "the integration error and any model error accumulate (drift). Add the feedback "
+             "term: q̇ = J⁺(ṙ_des + Kp (r_des − r(q))) with Kp = 10 /s."),
+        )]),
+        alternatives("no_feedforward", [(
+            lambda x: _rate(x, feedforward=False),
+            ("{name} is the pure proportional law q̇ = J⁺ Kp (r_des − r): it lags behind the moving "
+             "reference. Add the feed-forward velocity ṙ_des."),
+        )]),
+        alternatives("error_sign", [(
+            lambda x: _rate(x, error_sign=-1.0),
+            ("{name} feeds back r − r_des: the error is r_des − r(q), otherwise the loop pushes "
+             "the hand away from the circle."),
+        )]),
+        alternatives("gain_on_feedforward", [(
+            lambda x: _rate(x, gain_on_ff=True),
+            "{name} multiplies the feed-forward velocity by Kp too: q̇ = J⁺(ṙ_des + Kp (r_des − r)).",
+        )]),
+        alternatives("jacobian_transpose", [(
+            lambda x: _rate(x, inverse="transpose"),
+            "{name} uses Jᵀ; resolved-rate control inverts the Jacobian with the pseudoinverse J⁺.",
+        )]),
+        alternatives("full_jacobian", [(
+            lambda x: _rate(x, inverse="full"),
+            ("{name} inverts the full 6×7 Jacobian with a zero angular velocity: that also holds the "
+             "hand's orientation fixed. The task is the position only: use the 3×7 position "
+             "Jacobian J_v (the top three rows)."),
+        )]),
+        alternatives("missing_joint2_offset", [(
+            lambda x: _rate(x, q_shift=-JOINT2_OFFSET),
+            ("{name} uses a model without the +π/2 offset of joint 2 (the tutorial's table as "
+             "printed): its r(q) and J(q) belong to another pose of the arm. Use θ2 = q2 + π/2 "
+             "(robokin.models.baxter_left)."),
+        )]),
+        dg.degrees(),
+        dg.scale(),
+    ],
+    noun="configurations",
+    atol=1e-6,
+    doc=("Check a function qdot(q, r_des, v_des) -> J_v⁺(q)(v_des + Kp (r_des − r(q))), Kp = 10 /s, "
+          "Baxter left arm, shoulder frame, hand flange."),
+))
+
+
+# ------------------------------------------------------------------ forward kinematics
+def _fk_mistakes() -> list:
+    return [
+        alternatives("missing_joint2_offset", [
+            (lambda x: _pose(np.asarray(x) - JOINT2_OFFSET),
+             ("{name} has no +π/2 offset on joint 2: it uses θ2 = q2 (the tutorial's table as "
+              "printed), so q = 0 is not the URDF zero pose (the stretched arm). Use θ2 = q2 + π/2.")),
+            (lambda x: _pose(np.asarray(x) - 2 * JOINT2_OFFSET),
+             "{name} uses θ2 = q2 − π/2: the offset of joint 2 is +π/2."),
+        ]),
+        alternatives("standard_dh", [
+            (lambda x: _standard_dh_reading(True).fk(np.asarray(x)),
+             ("{name} reads the modified-DH (Craig) table as a standard DH table: "
+              "Rz(θ)Tz(d)Tx(a)Rx(α) instead of Rx(α_(i−1)) Tx(a_(i−1)) Rz(θ_i) Tz(d_i). "
+              "The tutorial's table is in the modified convention.")),
+            (lambda x: _standard_dh_reading(False).fk(np.asarray(x)),
+             ("{name} reads the modified-DH table as a standard DH table and also misses the "
+              "+π/2 offset of joint 2.")),
+        ]),
+        alternatives("torso_frame", [(
+            lambda x: _pose(x, base="torso"),
+            ("{name} is expressed in Baxter's torso frame; this chapter uses the shoulder (s0) "
+             "frame of the tutorial: baxter_left(base='shoulder')."),
+        )]),
+        alternatives("gripper_frame", [(
+            lambda x: _pose(x, end="gripper"),
+            ("{name} ends at the gripper tip (5 cm beyond the hand flange); the tutorial's last "
+             "link ends at the flange, d7 = 0.2295 m."),
+        )]),
+        *dg.standard("transform"),
+    ]
+
+
+forward_kinematics = exercise(_CH, "forward_kinematics", Check(
+    name="T_0E(q)",
+    reference=lambda x: _pose(x),
+    variables=_Q_ANY,
+    groups=[("q", list(range(7)))],
+    diagnoses=_fk_mistakes(),
+    noun="configurations",
+    atol=1e-3,
+    rtol=0.0,
+    hint="Compare with robokin.models.baxter_left(base='shoulder').fk(q).",
+    doc=("Check a function T_0E(q) -> 4×4 pose of the hand flange in the shoulder (s0) frame, "
+          "within 1 mm (Baxter left arm, modified DH, θ2 = q2 + π/2)."),
+))
+
+
+def _position_mistakes() -> list:
+    return [
+        alternatives("missing_joint2_offset", [(
+            lambda x: _position(np.asarray(x) - JOINT2_OFFSET),
+            ("{name} is computed without the +π/2 offset of joint 2 (the tutorial's table as "
+             "printed): that is another pose of the arm. Use θ2 = q2 + π/2."),
+        )]),
+        alternatives("standard_dh", [(
+            lambda x: _standard_dh_reading(True).fk(np.asarray(x))[:3, 3],
+             "{name} reads the modified-DH table as a standard DH table.",
+        )]),
+        alternatives("torso_frame", [(
+            lambda x: _pose(x, base="torso")[:3, 3],
+             "{name} is in Baxter's torso frame; use the shoulder (s0) frame.",
+        )]),
+        alternatives("gripper_frame", [(
+            lambda x: _pose(x, end="gripper")[:3, 3],
+             "{name} is the gripper tip, 5 cm beyond the hand flange.",
+        )]),
+        *dg.standard("vector"),
+    ]
+
+
+hand_position_at = exercise(_CH, "hand_position_at", Check(
+    name="r_hand(q_start)",
+    reference=lambda x: _position(x),
+    variables=_Q_ANY,
+    diagnoses=_position_mistakes(),
+    at=Q_START,
+    at_text="q_start = lower + 0.5·range",
+    atol=1e-3,
+    rtol=0.0,
+    doc="Check the hand position (m, shoulder frame) at the mid-range configuration Q_START, within 1 mm.",
+))

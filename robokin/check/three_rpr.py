@@ -1,0 +1,324 @@
+r"""Exercise checks of chapter 3: kinematics of the planar 3-RPR parallel robot.
+
+References come from :func:`robokin.models.three_rpr.three_rpr` (the exercise's robot:
+unit equilateral base and platform, pose ``(x, y, φ)`` of the platform vertex
+:math:`B_1` and of the side :math:`B_1B_2`), or from the robot passed as ``robot=``.
+
+=======================  ===============================================  ============================
+check                    the student's answer                             compared with
+=======================  ===============================================  ============================
+``inverse_kinematics``   function ``ik(pose)`` or ``ik(x, y, phi)`` ->      ``robot.inverse_kinematics``
+                         leg lengths ρ (3,)                               at 20 random poses
+``forward_kinematics``   function ``fk(rho)`` -> one pose (3,) or           the assembly modes of
+                         several (k, 3)                                   ``robot.forward_kinematics``
+``inverse_jacobian``     function ``A(pose)`` -> 3×3 with ρ̇ = A ẋ          ``robot.jacobian``
+=======================  ===============================================  ============================
+
+A forward-kinematics answer is accepted when every pose it returns is one of the
+assembly modes (a pose whose leg lengths are ρ); any one mode is enough.
+
+Usage::
+
+    from robokin.check import three_rpr as check_3rpr
+    check_3rpr.inverse_kinematics(my_ik)
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from functools import lru_cache
+from typing import Any
+
+import numpy as np
+
+from robokin.check import diagnoses as dg
+from robokin.check._core import (
+    FAIL,
+    PASS,
+    Check,
+    CheckResult,
+    Variable,
+    alternatives,
+    fmt,
+)
+from robokin.check._registry import exercise
+
+__all__ = ["check_poses", "forward_kinematics", "inverse_jacobian", "inverse_kinematics"]
+
+_CH = "three_rpr"
+
+
+@lru_cache(maxsize=1)
+def _robot():
+    from robokin.models.three_rpr import three_rpr
+
+    return three_rpr()
+
+
+# Poses of the exercise robot away from its singularities (φ = 0 is singular for the
+# congruent platform: all legs parallel) and from zero-length legs.
+_POSE = [
+    Variable("x", "length", 0.15, 0.6),
+    Variable("y", "length", 0.1, 0.55),
+    Variable("phi", "angle", 0.3, 1.2, aliases=("φ", "theta")),
+]
+_GROUP = [("pose", [0, 1, 2])]
+
+
+def _rot(phi: float) -> np.ndarray:
+    c, s = math.cos(phi), math.sin(phi)
+    return np.array([[c, -s], [s, c]])
+
+
+def _legs(x: np.ndarray, *, rotate: Callable[[float], np.ndarray] = _rot, centroid: bool = False):
+    """Leg vectors B_i − A_i of the exercise robot with optional mistakes."""
+    r = _robot()
+    b = r.platform_anchors
+    if centroid:                       # the pose is taken as that of the platform centroid
+        b = b - b.mean(axis=0)
+    B = x[:2] + (rotate(float(x[2])) @ b.T).T
+    return B - r.base_anchors, B
+
+
+# ------------------------------------------------------------------ inverse kinematics
+def _ik_ref(x: np.ndarray) -> np.ndarray:
+    return _robot().inverse_kinematics(x)
+
+
+def _ik_mistakes():
+    def squared(x):
+        return _ik_ref(x) ** 2
+
+    def unrotated(x):
+        return np.linalg.norm(_legs(x, rotate=lambda p: np.eye(2))[0], axis=1)
+
+    def transposed(x):
+        return np.linalg.norm(_legs(x, rotate=lambda p: _rot(-p))[0], axis=1)
+
+    def centroid(x):
+        return np.linalg.norm(_legs(x, centroid=True)[0], axis=1)
+
+    return [
+        alternatives("squared", [(squared, (
+            "{name} returns the squared leg lengths ρ_i²: take the square root, "
+            "ρ_i = ‖B_i − A_i‖."
+        ))]),
+        alternatives("platform_not_rotated", [(unrotated, (
+            "{name} ignores the platform's orientation: the anchors must be rotated, "
+            "B_i = p + R(φ) b_i, before the base anchor is subtracted."
+        ))]),
+        alternatives("rotation_transposed", [(transposed, (
+            "{name} rotates the platform by −φ: R(φ) = [[cos φ, −sin φ], [sin φ, cos φ]] "
+            "(R(φ)ᵀ turns the other way)."
+        ))]),
+        alternatives("reference_point", [(centroid, (
+            "{name} treats (x, y) as the centre of the platform; in this exercise (x, y) is the "
+            "vertex B1 (ρ1 = √(x² + y²))."
+        ))]),
+        dg.degrees(),
+    ]
+
+
+inverse_kinematics = exercise(_CH, "inverse_kinematics", Check(
+    name="ik(pose)",
+    reference=_ik_ref,
+    variables=_POSE,
+    groups=_GROUP,
+    diagnoses=_ik_mistakes(),
+    noun="poses",
+    hint="ρ_i = ‖p + R(φ) b_i − A_i‖ with p = B1 and b = [(0, 0), (1, 0), (1/2, √3/2)].",
+    doc="Check a function ik(pose) (or ik(x, y, phi)) -> leg lengths (ρ1, ρ2, ρ3) of the exercise robot.",
+))
+
+
+# ------------------------------------------------------------------ inverse Jacobian
+def _jac_ref(x: np.ndarray) -> np.ndarray:
+    return _robot().jacobian(x)
+
+
+def _jac_mistakes():
+    def unnormalised(x):
+        d, B = _legs(x)
+        arm = B - x[:2]
+        return np.column_stack([d, arm[:, 0] * d[:, 1] - arm[:, 1] * d[:, 0]])
+
+    def arm_from_origin(x):
+        d, B = _legs(x)
+        n = d / np.linalg.norm(d, axis=1)[:, None]
+        return np.column_stack([n, B[:, 0] * n[:, 1] - B[:, 1] * n[:, 0]])
+
+    def arm_from_base_anchor(x):
+        A = _jac_ref(x).copy()
+        A[:, 2] = 0.0      # (B_i − A_i) × n_i = 0: the moment arm taken from the base anchor
+        return A
+
+    def direct(x):
+        return np.linalg.inv(_jac_ref(x))
+
+    def flipped(x):
+        A = _jac_ref(x).copy()
+        A[:, 2] = -A[:, 2]
+        return A
+
+    return [
+        alternatives("unnormalised", [(unnormalised, (
+            "{name} uses the leg vectors B_i − A_i instead of the unit vectors n_i: that matrix "
+            "gives ρ_i ρ̇_i, not ρ̇_i. Divide row i by ρ_i."
+        ))]),
+        alternatives("moment_arm", [
+            (arm_from_origin, (
+                "the last column of {name} uses the moment arm from the base origin, "
+                "(O B_i × n_i)_z; the platform turns about its reference point P = B1: "
+                "((B_i − P) × n_i)_z."
+            )),
+            (arm_from_base_anchor, (
+                "the last column of {name} is zero: the moment arm is B_i − P (from the platform's "
+                "reference point), not B_i − A_i (which is parallel to n_i)."
+            )),
+        ]),
+        alternatives("cross_order", [(flipped, (
+            "the last column of {name} has the wrong sign: it is ((B_i − P) × n_i)_z, "
+            "not (n_i × (B_i − P))_z."
+        ))]),
+        alternatives("direct_jacobian", [(direct, (
+            "{name} is the direct Jacobian A⁻¹ (ẋ = A⁻¹ ρ̇); the question asks for the inverse "
+            "Jacobian A with ρ̇ = A ẋ, rows [n_iᵀ, ((B_i − P) × n_i)_z]."
+        ))]),
+        alternatives("transpose", [(lambda x: _jac_ref(x).T, (
+            "{name} is transposed: row i belongs to leg i, [n_iᵀ, ((B_i − P) × n_i)_z], "
+            "so that ρ̇_i = row_i · [ẋ, ẏ, φ̇]."
+        ))]),
+        dg.degrees(),
+    ]
+
+
+inverse_jacobian = exercise(_CH, "inverse_jacobian", Check(
+    name="A(pose)",
+    reference=_jac_ref,
+    variables=_POSE,
+    groups=_GROUP,
+    diagnoses=_jac_mistakes(),
+    noun="poses",
+    hint="Row i is [n_iᵀ, ((B_i − P) × n_i)_z] with n_i = (B_i − A_i)/ρ_i.",
+    doc="Check a function A(pose) -> 3×3 inverse Jacobian of the exercise robot (ρ̇ = A ẋ).",
+))
+
+
+# ------------------------------------------------------------------ forward kinematics
+def _modes_text(modes: np.ndarray) -> str:
+    return "; ".join(fmt(m) for m in modes)
+
+
+def check_poses(poses: Any, rho: Any, robot: Any = None, *, name: str = "pose", tol: float = 1e-6,
+                quiet: bool = False, raise_on_fail: bool = False) -> CheckResult:
+    """Check that each row of ``poses`` (3,) or (k, 3) is an assembly mode for the leg lengths ``rho``.
+
+    A pose is accepted when its leg lengths match ``rho`` within ``tol`` metres.
+    """
+    robot = robot or _robot()
+    rho = np.asarray(rho, dtype=float)
+    result = _judge(poses, rho, robot, name, tol)
+    if not quiet:
+        print(result.message)
+    if raise_on_fail and not result.passed:
+        raise AssertionError(result.message)
+    return result
+
+
+def _judge(poses: Any, rho: np.ndarray, robot, name: str, tol: float, n: int = 1) -> CheckResult:
+    fail = lambda code, msg: CheckResult(name, False, f"{FAIL} {msg}", code, n)
+    if poses is None:
+        return fail("error", f"{name} is None: did you forget to return it?")
+    try:
+        P = np.array(poses, dtype=float)
+    except (TypeError, ValueError):
+        return fail("error", f"{name} must be numbers (x, y, φ); got {type(poses).__name__}.")
+    if P.ndim == 1:
+        P = P[None]
+    if P.ndim != 2 or P.shape[1] != 3:
+        return fail("shape", f"{name} must be a pose (x, y, φ) of shape (3,) or several, (k, 3); "
+                             f"got shape {np.shape(poses)}.")
+    if P.shape[0] == 0:
+        modes = robot.forward_kinematics(rho).poses
+        if modes.shape[0] == 0:
+            return CheckResult(name, True, f"{PASS} {name}: correct, ρ = {fmt(rho)} has no assembly mode.",
+                               None, n)
+        return fail("missing", f"{name} is empty, but ρ = {fmt(rho)} has {len(modes)} assembly modes.")
+    if not np.all(np.isfinite(P)):
+        return fail("error", f"{name} contains NaN or infinite values.")
+    got = robot.inverse_kinematics(P)
+    bad = np.abs(got - rho).max(axis=1) > tol
+    if not bad.any():
+        what = "it is an assembly mode" if P.shape[0] == 1 else f"all {P.shape[0]} poses are assembly modes"
+        return CheckResult(name, True, f"{PASS} {name} is correct: {what} for ρ = {fmt(rho)}.",
+                           None, n)
+    k = int(np.argmax(bad))
+    modes = robot.forward_kinematics(rho).poses
+    pose = P[k]
+    deg = np.array([pose[0], pose[1], math.radians(pose[2])])
+    if np.abs(robot.inverse_kinematics(deg) - rho).max() <= tol:
+        return fail("degrees_output", f"{name} has φ in degrees: φ = {fmt(pose[2])}° = "
+                                      f"{fmt(deg[2])} rad is an assembly mode. robokin works in radians.")
+    b = robot.platform_anchors
+    ref_pt = pose.copy()
+    ref_pt[:2] = pose[:2] - _rot(pose[2]) @ b.mean(axis=0) + _rot(pose[2]) @ b[0]
+    if np.abs(robot.inverse_kinematics(ref_pt) - rho).max() <= tol:
+        return fail("reference_point", f"{name} gives the position of the platform centre; the pose "
+                                       "of this exercise is that of the vertex B1 (ρ1 = ‖B1 − A1‖).")
+    where = f" (row {k + 1})" if P.shape[0] > 1 else ""
+    return fail("mismatch", f"{name}{where} = {fmt(pose)} is not an assembly mode: its leg lengths are "
+                            f"{fmt(got[k])}, not ρ = {fmt(rho)}. The assembly modes are: "
+                            f"{_modes_text(modes) or 'none'}.")
+
+
+class _ForwardKinematicsCheck:
+    """Check a function ``fk(rho)`` -> one assembly mode (3,) or several (k, 3)."""
+
+    name = "fk(rho)"
+
+    def __init__(self, samples: int = 10, seed: int = 0) -> None:
+        self.samples, self.seed = samples, seed
+        self.__doc__ = ("Check a function fk(rho) -> pose (3,) or poses (k, 3) of the exercise robot: "
+                        "every pose must reproduce the leg lengths (any assembly mode is accepted).")
+
+    def leg_lengths(self) -> np.ndarray:
+        """The leg lengths (N, 3) at which the answer is tested (from seeded random poses)."""
+        rng = np.random.default_rng(self.seed)
+        lo = np.array([v.low for v in _POSE])
+        hi = np.array([v.high for v in _POSE])
+        return _robot().inverse_kinematics(lo + (hi - lo) * rng.random((self.samples, 3)))
+
+    def __call__(self, answer: Any, *, raise_on_fail: bool = False, quiet: bool = False) -> CheckResult:
+        result = self.evaluate(answer)
+        if not quiet:
+            print(result.message)
+        if raise_on_fail and not result.passed:
+            raise AssertionError(result.message)
+        return result
+
+    def evaluate(self, answer: Any) -> CheckResult:
+        robot = _robot()
+        R = self.leg_lengths()
+        n = len(R)
+        if not callable(answer):
+            return CheckResult(self.name, False, f"{FAIL} {self.name} should be a Python function "
+                               f"fk(rho) -> pose; got {type(answer).__name__}.", "constant", n)
+        found = 0
+        for rho in R:
+            try:
+                out = answer(rho.copy())
+            except Exception as exc:  # noqa: BLE001 - report the student's error
+                return CheckResult(self.name, False, f"{FAIL} calling {self.name} raised "
+                                   f"{type(exc).__name__}: {exc}", "error", n)
+            res = _judge(out, rho, robot, self.name, 1e-6, n)
+            if not res.passed:
+                return CheckResult(self.name, False, res.message + f" (at ρ = {fmt(rho)})",
+                                   res.diagnosis, n)
+            found += np.atleast_2d(np.asarray(out, dtype=float)).shape[0]
+        total = sum(robot.forward_kinematics(rho).count for rho in R)
+        return CheckResult(self.name, True, f"{PASS} {self.name} is correct (checked at {n} random leg "
+                           f"lengths; you returned {found} of the {total} assembly modes).", None, n)
+
+
+forward_kinematics = exercise(_CH, "forward_kinematics", _ForwardKinematicsCheck())  # type: ignore[arg-type]

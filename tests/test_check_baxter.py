@@ -1,0 +1,180 @@
+"""Tests of the chapter-5 exercise checks (robokin.check.baxter).
+
+The correct answers are written independently of the references: the circle from
+its complex form c + r·exp(iωt), the resolved-rate law by solving the minimum-norm
+problem with a KKT system, the forward kinematics by multiplying the modified-DH
+link matrices by hand (Craig 2005, eq. 3.6) with the tutorial's rounded numbers and
+the +π/2 offset of joint 2.
+"""
+
+from __future__ import annotations
+
+import importlib
+
+import numpy as np
+import pytest
+
+from robokin.models import baxter_left
+
+cb = importlib.import_module("robokin.check.baxter")
+
+ARM = baxter_left(base="shoulder")
+C, R, W = cb.CENTRE, cb.RADIUS, cb.OMEGA
+
+#: The tutorial's modified-DH table, rows (a_{i-1}, alpha_{i-1}, d_i), as printed (no joint-2 offset).
+TUTORIAL = [(0, 0, 0.2703), (0.069, -1.571, 0), (0, 1.571, 0.3644), (0.069, -1.571, 0),
+            (0, 1.571, 0.3743), (0.01, -1.571, 0), (0, 1.571, 0.2295)]
+
+
+def mdh_link(a, alpha, d, theta):
+    ct, st, ca, sa = np.cos(theta), np.sin(theta), np.cos(alpha), np.sin(alpha)
+    return np.array([[ct, -st, 0, a], [st * ca, ct * ca, -sa, -sa * d], [st * sa, ct * sa, ca, ca * d],
+                     [0, 0, 0, 1.0]])
+
+
+def fk_by_hand(q, offset2=np.pi / 2):
+    T = np.eye(4)
+    for i, ((a, alpha, d), qi) in enumerate(zip(TUTORIAL, q)):
+        T = T @ mdh_link(a, alpha, d, qi + (offset2 if i == 1 else 0.0))
+    return T
+
+
+def circle_complex(t):
+    z = (C[0] + 1j * C[1]) + R * np.exp(1j * W * t)
+    return np.array([z.real, z.imag, C[2]])
+
+
+def velocity_complex(t):
+    z = 1j * W * R * np.exp(1j * W * t)
+    return np.array([z.real, z.imag, 0.0])
+
+
+def rate_kkt(q, r_des, v_des):
+    J = ARM.position_jacobian(q)
+    v = v_des + cb.KP * (r_des - ARM.fk(q)[:3, 3])
+    K = np.block([[np.eye(7), J.T], [J, np.zeros((3, 3))]])
+    return np.linalg.solve(K, np.r_[np.zeros(7), v])[:7]
+
+
+# ---------------------------------------------------------------- reference values of the chapter
+def test_constants():
+    assert np.allclose(cb.Q_START, [0.0, -0.55, 0.0, 1.284, 0.0, 0.26160184, 0.0], atol=1e-8)
+    assert cb.PERIOD == pytest.approx(4.0) and R * W == pytest.approx(0.0785398, rel=1e-6)
+    assert np.allclose(cb.CENTRE + [R, 0, 0], ARM.fk(cb.Q_START)[:3, 3])
+
+
+@pytest.mark.parametrize("q", [np.zeros(7), cb.Q_START, np.array([0.3, -1.0, 0.5, 1.5, -0.7, 1.0, 2.0])])
+def test_tutorial_table_with_offset_matches_model_to_half_a_millimetre(q):
+    assert np.linalg.norm(fk_by_hand(q)[:3, 3] - ARM.fk(q)[:3, 3]) < 5e-4
+
+
+def test_zero_pose_is_the_stretched_arm():
+    # URDF zero pose: upper arm horizontal along x; the tutorial's table as printed points it up
+    p = ARM.fk(np.zeros(7))[:3, 3]
+    assert p[0] > 1.0 and p[2] == pytest.approx(0.27035 - 0.069 - 0.010)   # two 'a' offsets step it down
+    assert fk_by_hand(np.zeros(7), offset2=0.0)[2, 3] > 1.0
+
+
+# ---------------------------------------------------------------- correct answers pass
+@pytest.mark.parametrize("check, answer", [
+    (cb.circle_position, circle_complex),
+    (cb.circle_velocity, velocity_complex),
+    (cb.resolved_rate, rate_kkt),
+    (cb.forward_kinematics, fk_by_hand),
+    (cb.forward_kinematics, ARM.fk),
+])
+def test_correct_answers_pass(check, answer):
+    r = check(answer, quiet=True)
+    assert r.passed and r.diagnosis is None, r.message
+
+
+def test_hand_position_at_accepts_four_decimals(capsys):
+    cb.hand_position_at(ARM.fk(cb.Q_START)[:3, 3].round(4))
+    assert capsys.readouterr().out == "✔ r_hand(q_start) at q_start = lower + 0.5·range is correct.\n"
+
+
+# ---------------------------------------------------------------- diagnosed mistakes
+WRONG_POSITION = {
+    "centre_at_start": lambda t: circle_complex(t) + [R, 0, 0],
+    "phase": lambda t: C + R * np.array([-np.sin(W * t), np.cos(W * t), 0]),
+    "swapped_sin_cos": lambda t: C + R * np.array([np.sin(W * t), np.cos(W * t), 0]),
+    "direction": lambda t: C + R * np.array([np.cos(W * t), -np.sin(W * t), 0]),
+    "degrees": lambda t: C + R * np.array([np.cos(90 * t), np.sin(90 * t), 0]),
+    "shape": lambda t: circle_complex(t)[:2],
+}
+
+WRONG_VELOCITY = {
+    "missing_chain_rule": lambda t: velocity_complex(t) / W,
+    "phase": lambda t: R * W * np.array([np.cos(W * t), np.sin(W * t), 0]),
+    "direction": lambda t: R * W * np.array([-np.sin(W * t), -np.cos(W * t), 0]),
+    "degrees": lambda t: R * W * np.array([-np.sin(90 * t), np.cos(90 * t), 0]),
+    "swapped_sin_cos": lambda t: R * W * np.array([np.cos(W * t), -np.sin(W * t), 0]),
+}
+
+
+def _q_mistake(q, r_des, v_des, **kw):
+    J = kw.get("J", ARM.position_jacobian)(q)
+    return np.linalg.pinv(J) @ (v_des + kw.get("kp", cb.KP) * kw.get("sign", 1) * (r_des - ARM.fk(q)[:3, 3]))
+
+
+WRONG_RATE = {
+    "open_loop": lambda q, r, v: _q_mistake(q, r, v, kp=0.0),
+    "error_sign": lambda q, r, v: _q_mistake(q, r, v, sign=-1),
+    "jacobian_transpose": lambda q, r, v: ARM.position_jacobian(q).T @ (v + cb.KP * (r - ARM.fk(q)[:3, 3])),
+    "full_jacobian": lambda q, r, v: np.linalg.pinv(ARM.jacobian(q)) @ np.r_[v + cb.KP * (r - ARM.fk(q)[:3, 3]),
+                                                                              0, 0, 0],
+    "missing_joint2_offset": lambda q, r, v: rate_kkt(q - cb.JOINT2_OFFSET, r, v),
+    "no_feedforward": lambda q, r, v: np.linalg.pinv(ARM.position_jacobian(q)) @ (cb.KP * (r - ARM.fk(q)[:3, 3])),
+}
+
+WRONG_FK = {
+    "missing_joint2_offset": lambda q: fk_by_hand(q, offset2=0.0),
+    "torso_frame": baxter_left(base="torso").fk,
+    "gripper_frame": baxter_left(base="shoulder", end="gripper").fk,
+    "degrees_input": lambda q: fk_by_hand(np.deg2rad(q)),
+    "inverse": lambda q: np.linalg.inv(fk_by_hand(q)),
+}
+
+
+@pytest.mark.parametrize("code", WRONG_POSITION)
+def test_circle_position_mistakes(code):
+    r = cb.circle_position(WRONG_POSITION[code], quiet=True)
+    assert not r.passed and r.diagnosis == code, r.message
+
+
+@pytest.mark.parametrize("code", WRONG_VELOCITY)
+def test_circle_velocity_mistakes(code):
+    r = cb.circle_velocity(WRONG_VELOCITY[code], quiet=True)
+    assert not r.passed and r.diagnosis == code, r.message
+
+
+@pytest.mark.parametrize("code", WRONG_RATE)
+def test_resolved_rate_mistakes(code):
+    r = cb.resolved_rate(WRONG_RATE[code], quiet=True)
+    assert not r.passed and r.diagnosis == code, r.message
+
+
+@pytest.mark.parametrize("code", WRONG_FK)
+def test_forward_kinematics_mistakes(code):
+    r = cb.forward_kinematics(WRONG_FK[code], quiet=True)
+    assert not r.passed and r.diagnosis == code, r.message
+
+
+def test_standard_dh_reading_is_diagnosed():
+    from robokin.chains import from_dh
+
+    table = [[d, (np.pi / 2 if i == 1 else 0.0), a, al] for i, (a, al, d) in enumerate(TUTORIAL)]
+    r = cb.forward_kinematics(from_dh(table).fk, quiet=True)
+    assert r.diagnosis == "standard_dh", r.message
+
+
+def test_hand_position_mistakes():
+    assert cb.hand_position_at(fk_by_hand(cb.Q_START, 0.0)[:3, 3], quiet=True).diagnosis == "missing_joint2_offset"
+    assert cb.hand_position_at(baxter_left().fk(cb.Q_START)[:3, 3], quiet=True).diagnosis == "torso_frame"
+    assert cb.hand_position_at([1.0, 2.0], quiet=True).diagnosis == "shape"
+
+
+def test_not_a_function_and_raise_on_fail():
+    assert cb.circle_velocity(np.zeros(3), quiet=True).diagnosis == "constant"
+    with pytest.raises(AssertionError, match="chain rule"):
+        cb.circle_velocity(WRONG_VELOCITY["missing_chain_rule"], quiet=True, raise_on_fail=True)

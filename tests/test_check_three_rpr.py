@@ -1,0 +1,160 @@
+"""Tests of the chapter-3 exercise checks (robokin.check.three_rpr).
+
+The correct answers are written independently of the package: the exercise's loop
+equations written out, the inverse Jacobian by central differences of them, the
+forward kinematics by a Newton iteration on the loop equations from a nearby pose.
+"""
+
+from __future__ import annotations
+
+import importlib
+import math
+
+import numpy as np
+import pytest
+
+chk = importlib.import_module("robokin.check.three_rpr")
+S3 = math.sqrt(3.0) / 2.0
+
+
+def ik_by_hand(x, y, phi):
+    return np.array([
+        math.hypot(x, y),
+        math.hypot(x + math.cos(phi) - 1.0, y + math.sin(phi)),
+        math.hypot(x + math.cos(phi + math.pi / 3) - 0.5, y + math.sin(phi + math.pi / 3) - S3),
+    ])
+
+
+def jacobian_fd(pose):
+    pose = np.asarray(pose, dtype=float)
+    h = 1e-7
+    return np.column_stack([(ik_by_hand(*(pose + h * e)) - ik_by_hand(*(pose - h * e))) / (2 * h)
+                            for e in np.eye(3)])
+
+
+def fk_newton(rho, start=(0.35, 0.3, 0.7)):
+    x = np.array(start, dtype=float)
+    for _ in range(50):
+        g = ik_by_hand(*x) - rho
+        x = x - np.linalg.solve(jacobian_fd(x), g)
+    return x
+
+
+# ---------------------------------------------------------------- correct answers
+def test_correct_answers_pass():
+    for check, answer in ((chk.inverse_kinematics, ik_by_hand), (chk.inverse_jacobian, jacobian_fd)):
+        r = check(answer, quiet=True)
+        assert r.passed and r.diagnosis is None, r.message
+        assert r.samples == 20
+    r = chk.forward_kinematics(fk_newton, quiet=True)
+    assert r.passed, r.message
+
+
+def test_ik_accepts_vector_call_style(capsys):
+    chk.inverse_kinematics(lambda pose: ik_by_hand(*pose))
+    assert capsys.readouterr().out == "✔ ik(pose) is correct (checked at 20 random poses).\n"
+
+
+def test_fk_all_modes_are_counted(capsys):
+    from robokin.models.three_rpr import three_rpr
+
+    robot = three_rpr()
+    chk.forward_kinematics(lambda rho: robot.forward_kinematics(rho).poses)
+    out = capsys.readouterr().out
+    assert out.startswith("✔ fk(rho) is correct") and "you returned 40 of the 40" in out
+
+
+# ---------------------------------------------------------------- diagnosed mistakes
+def _centre_ik(x, y, phi):
+    c = np.array([0.5, S3 / 3])                     # pose taken as that of the centroid
+    R = np.array([[math.cos(phi), -math.sin(phi)], [math.sin(phi), math.cos(phi)]])
+    b = np.array([[0, 0], [1, 0], [0.5, S3]]) - c
+    A = np.array([[0, 0], [1, 0], [0.5, S3]])
+    return np.linalg.norm(np.array([x, y]) + b @ R.T - A, axis=1)
+
+
+WRONG_IK = {
+    "squared": lambda x, y, phi: ik_by_hand(x, y, phi) ** 2,
+    "rotation_transposed": lambda x, y, phi: ik_by_hand(x, y, -phi),
+    "reference_point": _centre_ik,
+    "degrees_input": lambda x, y, phi: ik_by_hand(x, y, math.radians(phi)),
+    "platform_not_rotated": lambda x, y, phi: ik_by_hand(x, y, 0.0),
+}
+
+
+@pytest.mark.parametrize("code", list(WRONG_IK))
+def test_ik_mistakes_are_diagnosed(code):
+    r = chk.inverse_kinematics(WRONG_IK[code], quiet=True)
+    assert not r.passed
+    assert r.diagnosis == code, r.message
+
+
+def test_ik_unknown_mistake_is_a_mismatch():
+    r = chk.inverse_kinematics(lambda x, y, phi: ik_by_hand(x, y, phi) + [0.0, 0.01, 0.0], quiet=True)
+    assert not r.passed and r.diagnosis == "mismatch" and "entry [2]" in r.message
+
+
+def _unnormalised(pose):
+    return jacobian_fd(pose) * ik_by_hand(*pose)[:, None]
+
+
+def _arm_origin(pose):
+    x, y, _ = pose
+    A = jacobian_fd(pose)
+    A[:, 2] += x * A[:, 1] - y * A[:, 0]       # (B − P) × n + P × n = B × n
+    return A
+
+
+WRONG_JAC = {
+    "unnormalised": _unnormalised,
+    "moment_arm": _arm_origin,
+    "cross_order": lambda p: jacobian_fd(p) * [1, 1, -1],
+    "direct_jacobian": lambda p: np.linalg.inv(jacobian_fd(p)),
+    "transpose": lambda p: jacobian_fd(p).T,
+}
+
+
+@pytest.mark.parametrize("code", list(WRONG_JAC))
+def test_jacobian_mistakes_are_diagnosed(code):
+    r = chk.inverse_jacobian(WRONG_JAC[code], quiet=True)
+    assert not r.passed
+    assert r.diagnosis == code, r.message
+
+
+def test_fk_mistakes_are_diagnosed():
+    r = chk.forward_kinematics(lambda rho: fk_newton(rho) * [1, 1, 180 / math.pi], quiet=True)
+    assert not r.passed and r.diagnosis == "degrees_output"
+    r = chk.forward_kinematics(lambda rho: fk_newton(rho) + [0.0, 0.0, 0.05], quiet=True)
+    assert not r.passed and r.diagnosis == "mismatch" and "assembly modes are" in r.message
+
+    def centre(rho):
+        x, y, phi = fk_newton(rho)
+        R = np.array([[math.cos(phi), -math.sin(phi)], [math.sin(phi), math.cos(phi)]])
+        return np.r_[np.array([x, y]) + R @ [0.5, S3 / 3], phi]
+
+    r = chk.forward_kinematics(centre, quiet=True)
+    assert not r.passed and r.diagnosis == "reference_point"
+
+
+def test_fk_bad_answers():
+    assert chk.forward_kinematics(np.zeros(3), quiet=True).diagnosis == "constant"
+    assert chk.forward_kinematics(lambda rho: None, quiet=True).diagnosis == "error"
+    assert chk.forward_kinematics(lambda rho: [1.0, 2.0], quiet=True).diagnosis == "shape"
+    assert chk.forward_kinematics(lambda rho: 1 / 0, quiet=True).diagnosis == "error"
+    assert chk.forward_kinematics(lambda rho: np.zeros((0, 3)), quiet=True).diagnosis == "missing"
+    with pytest.raises(AssertionError):
+        chk.forward_kinematics(lambda rho: [np.nan, 0, 0], quiet=True, raise_on_fail=True)
+
+
+def test_check_poses(capsys):
+    from robokin.models.three_rpr import three_rpr
+
+    robot = three_rpr()
+    rho = np.array([0.5, 0.6, 0.4])
+    modes = robot.forward_kinematics(rho).poses
+    assert chk.check_poses(modes, rho).passed
+    assert chk.check_poses(modes[0], rho).passed
+    assert not chk.check_poses(modes[0] + 0.01, rho, quiet=True).passed
+    assert chk.check_poses(np.zeros((0, 3)), [0.1, 0.1, 3.0], quiet=True).passed    # no mode exists
+    out = capsys.readouterr().out
+    assert out.count("✔") == 2
