@@ -59,7 +59,7 @@ execute: $(STAMP)
 	@for nb in notebooks/[0-9]*.ipynb; do \
 	  echo "== executing $$nb"; \
 	  ROBOKIN_VIEWER=static $(BIN)/jupyter nbconvert --to notebook --execute --inplace \
-	    --ExecutePreprocessor.timeout=300 "$$nb" || exit 1; \
+	    --ExecutePreprocessor.timeout=300 --ExecutePreprocessor.record_timing=False "$$nb" || exit 1; \
 	done
 
 bench: $(STAMP)

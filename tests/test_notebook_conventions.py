@@ -52,6 +52,13 @@ def test_stored_executed_top_to_bottom(path):
 
 
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.name)
+def test_no_execution_timestamps_in_metadata(path):
+    """Stored notebooks carry no run times (`make execute` turns nbclient's record_timing off)."""
+    for index, cell in enumerate(load(path)["cells"]):
+        assert "execution" not in cell.get("metadata", {}), f"{path.name} cell {index}: execution timestamps stored"
+
+
+@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.name)
 def test_tags(path):
     for index, cell in enumerate(load(path)["cells"]):
         tags = set(cell.get("metadata", {}).get("tags", []))
