@@ -6,6 +6,10 @@
   the components the book needs (core, TeX input with its extensions, CommonHTML
   output and its fonts — about 0.7 MB instead of the 1.2 MB all-in-one bundle)
   into ``_build/html/_static/mathjax/`` and points Sphinx at them.
+* **Fresh outputs after a package change.**  The execution cache re-runs a
+  notebook only when its code cells change, not when ``robokin`` does; the
+  extension therefore empties the cache when the package's source changed since
+  the last successful build, so the book never shows outputs of an older robokin.
 * **Collapsed solutions.**  Code cells tagged ``solution`` are rendered inside a
   closed ``<details>`` block by ``_static/solutions.js`` (shipped from
   ``book/_static``), so a student sees the task first and opens the worked
@@ -14,6 +18,7 @@
 
 from __future__ import annotations
 
+import hashlib
 import shutil
 from pathlib import Path
 
@@ -49,6 +54,53 @@ def mathjax_source() -> Path:
     if not (root / "startup.js").is_file():  # pragma: no cover - broken install
         raise RuntimeError(f"MathJax files not found under {root}")
     return root
+
+
+CACHE_STAMP = "robokin-source.sha256"
+
+
+def package_digest() -> str:
+    """SHA-256 of every ``.py`` file of the installed robokin package (path and text)."""
+    import robokin
+
+    root = Path(robokin.__file__).resolve().parent
+    digest = hashlib.sha256()
+    for path in sorted(root.rglob("*.py")):
+        digest.update(path.relative_to(root).as_posix().encode())
+        digest.update(path.read_bytes())
+    return digest.hexdigest()
+
+
+def _cache_dir(app: Sphinx, config) -> Path | None:
+    path = getattr(config, "nb_execution_cache_path", "") or ""
+    return (Path(app.confdir) / path) if path else None
+
+
+def invalidate_stale_cache(app: Sphinx, config) -> None:
+    """Re-execute every notebook when robokin's source changed since the last build.
+
+    Empties the execution cache and drops Sphinx's saved environment (otherwise an
+    incremental build would not even re-read the notebooks).
+    """
+    cache = _cache_dir(app, config)
+    if cache is None:
+        return
+    stamp = cache / CACHE_STAMP
+    if stamp.is_file() and stamp.read_text().strip() == package_digest():
+        return
+    environment = Path(app.doctreedir) / "environment.pickle"
+    if cache.is_dir() or environment.is_file():
+        logger.info("[robokin] robokin changed since the last build: re-executing every notebook")
+    if cache.is_dir():
+        shutil.rmtree(cache)
+    environment.unlink(missing_ok=True)
+
+
+def stamp_cache(app: Sphinx, exception: Exception | None) -> None:
+    """Record which robokin source the cached notebook outputs were computed with."""
+    cache = _cache_dir(app, app.config)
+    if exception is None and cache is not None and cache.is_dir():
+        (cache / CACHE_STAMP).write_text(package_digest() + "\n")
 
 
 def configure_mathjax(app: Sphinx, config) -> None:
@@ -111,6 +163,8 @@ def setup(app: Sphinx) -> dict:
     # Run after myst-parser has added its own MathJax options.
     app.connect("config-inited", configure_mathjax, priority=900)
     app.connect("build-finished", copy_mathjax)
+    app.connect("config-inited", invalidate_stale_cache, priority=100)
+    app.connect("build-finished", stamp_cache)
     app.connect("html-page-context", deduplicate_scripts, priority=900)
     app.add_js_file("solutions.js")
     app.add_css_file("robokin-book.css")
