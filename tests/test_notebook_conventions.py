@@ -59,6 +59,17 @@ def test_no_execution_timestamps_in_metadata(path):
 
 
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.name)
+def test_no_warnings_in_outputs(path):
+    """Nothing written to stderr: a warning in a stored output (a NaN, a matplotlib
+    complaint) is shown to every reader of the book."""
+    for index, cell in enumerate(load(path)["cells"]):
+        for output in cell.get("outputs", []):
+            assert output.get("name") != "stderr", (
+                f"{path.name} cell {index}: stderr output: {''.join(output.get('text', ''))[:200]}"
+            )
+
+
+@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.name)
 def test_tags(path):
     for index, cell in enumerate(load(path)["cells"]):
         tags = set(cell.get("metadata", {}).get("tags", []))
