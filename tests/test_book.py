@@ -28,6 +28,13 @@ SHARED_ASSETS = "/_static/"
 VIEWER_SCRIPT = "/_static/meshcat/"
 
 
+#: Every typeset formula whose MathML holds an error or an undefined macro (red text).
+MATH_ERRORS_JS = """() => Array.from(MathJax.startup.document.math)
+  .map(m => MathJax.startup.toMML(m.root))
+  .filter(t => t.includes('mathcolor="red"') || t.includes('<merror'))
+  .map(t => t.replace(/\\s+/g, ' ').slice(0, 200))"""
+
+
 def toc_pages() -> list[str]:
     """Every document listed in ``_toc.yml`` (root first), as paths without suffix."""
     toc = yaml.safe_load((ROOT / "_toc.yml").read_text())
@@ -115,6 +122,10 @@ def test_page_in_browser(built_book, browser, page):
             n_typeset = tab.evaluate("document.querySelectorAll('mjx-container').length")
             assert n_typeset >= n_math, f"{page}: {n_math} math elements but only {n_typeset} typeset"
             assert tab.evaluate("document.querySelectorAll('mjx-merror').length") == 0, f"{page}: MathJax errors"
+            # An undefined macro (e.g. a TeX package that was not loaded) is no merror
+            # element: MathJax prints its name in red. Look for both in the MathML.
+            undefined = tab.evaluate(MATH_ERRORS_JS)
+            assert not undefined, f"{page}: TeX errors or undefined macros: {undefined[:3]}"
 
         # Images: every <img> loaded with a non-zero size.
         broken = tab.evaluate(

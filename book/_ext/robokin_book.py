@@ -108,14 +108,11 @@ def configure_mathjax(app: Sphinx, config) -> None:
     config.mathjax_path = "mathjax/startup.js"
     mj = dict(config.mathjax3_config or {})
     loader = dict(mj.get("loader", {}))
-    loader["load"] = ["input/tex", "output/chtml"]
+    loader["load"] = ["input/tex", "output/chtml", "[tex]/boldsymbol"]
     mj["loader"] = loader
     tex = dict(mj.get("tex", {}))
     tex.setdefault("packages", {"[+]": ["ams", "boldsymbol"]})
     mj["tex"] = tex
-    options = dict(mj.get("options", {}))
-    options["enableMenu"] = False
-    mj["options"] = options
     config.mathjax3_config = mj
     # pydata-sphinx-theme logs a console error on a first visit when no default
     # colour mode is set; a clean console is part of the browser check.
