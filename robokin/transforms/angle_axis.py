@@ -25,7 +25,7 @@ import numpy as np
 from robokin._dispatch import is_symbolic, scalar_input, to_sympy
 from robokin.errors import DomainError, ShapeError
 from robokin.transforms.rotations import skew
-from robokin.validation import as_float_array, check_rotation_matrix
+from robokin.validation import as_batch, as_float_array, check_rotation_matrix
 
 __all__ = [
     "rotation_exp",
@@ -40,10 +40,7 @@ DEFAULT_AXIS = np.array([1.0, 0.0, 0.0])
 
 
 def _vectors(v: Any, name: str) -> np.ndarray:
-    a = as_float_array(v, name)
-    if a.ndim not in (1, 2) or a.shape[-1] != 3:
-        raise ShapeError(f"{name} must have shape (3,) or (N, 3); got shape {a.shape}")
-    return a
+    return as_batch(v, 3, name)[0]
 
 
 def _sym_vector(v: Any, name: str) -> Any:

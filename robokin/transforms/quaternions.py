@@ -18,7 +18,7 @@ import numpy as np
 
 from robokin._dispatch import is_symbolic, stack_matrix, stack_vector, to_sympy
 from robokin.errors import DomainError, ShapeError
-from robokin.validation import as_float_array, check_rotation_matrix
+from robokin.validation import as_batch, as_float_array, check_rotation_matrix
 
 __all__ = [
     "quaternion_from_rotation",
@@ -29,10 +29,7 @@ __all__ = [
 
 
 def _quats(q: Any, name: str) -> np.ndarray:
-    a = as_float_array(q, name)
-    if a.ndim not in (1, 2) or a.shape[-1] != 4:
-        raise ShapeError(f"{name} must have shape (4,) or (N, 4); got shape {a.shape}")
-    return a
+    return as_batch(q, 4, name)[0]
 
 
 def _sym_quat(q: Any, name: str) -> Any:
