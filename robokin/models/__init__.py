@@ -6,6 +6,8 @@
 - ``baxter_left()`` (7): Rethink Robotics Baxter, left arm (URDF-verified).
 - ``ar601_leg()`` (6): AR-601 humanoid leg (hip 3, knee 1, ankle 2); its closed-form
   inverse kinematics (all 8 solutions) is ``ar601_leg_ik(T)``.
+- ``genova_arm()`` (7, joint 6 prismatic): the arm of the Genova *Modelling and
+  Control of Manipulators* course (chapter 4), from the course's link table.
 - ``panda()`` (7): Franka Emika Panda, from its link table (MDH/URDF equivalents).
 - ``three_rpr()`` (3 legs): the planar 3-RPR parallel robot of chapter 3, a
   :class:`robokin.parallel.Planar3RPR`; ``three_rpr_classic()`` has six real
@@ -19,11 +21,12 @@ from robokin.models.ar601 import ar601_leg
 from robokin.models.ar601_ik import AR601IKResult, ar601_leg_ik, ar601_leg_ik_batch
 from robokin.models.baxter import baxter_left
 from robokin.models.eth_leg import eth_leg
+from robokin.models.genova_arm import genova_arm
 from robokin.models.panda import panda
 from robokin.models.planar import planar_two_link
 from robokin.models.three_rpr import three_rpr, three_rpr_classic
 from robokin.models.ur10 import ur10
 
 __all__ = ["planar_two_link", "eth_leg", "ur10", "baxter_left", "ar601_leg", "ar601_leg_ik",
-           "ar601_leg_ik_batch", "AR601IKResult", "panda", "three_rpr",
+           "ar601_leg_ik_batch", "AR601IKResult", "genova_arm", "panda", "three_rpr",
            "three_rpr_classic"]
