@@ -1,10 +1,12 @@
 """Tests of the chapter-4 exercise checks (robokin.check.cartesian).
 
-Correct answers are written independently of the reference: the tool frame
-from explicit matrices, the tool pose from the modified-DH product, the
-orientation error from the quaternion (θ = 2 atan2(|ε|, η)), the tool Jacobian
-from the chain's Jacobian of a point fixed in E, the control law from a
-least-norm solve (lstsq) of J q̇ = ν.
+Correct answers are written independently of the reference: the tool and goal
+frames from explicit matrices in the course's YPR convention
+(R = Rz(yaw) Ry(pitch) Rx(roll), the triple listed yaw first), the tool pose
+from the course's link table multiplied out with plain numpy, the orientation
+error from the quaternion (θ = 2 atan2(|ε|, η)), the tool Jacobian from the
+cross-product formula v_T = v_E + ω × r, the control law from a least-norm
+solve (lstsq) of J q̇ = ν.
 """
 
 from __future__ import annotations
@@ -14,17 +16,61 @@ import importlib
 import numpy as np
 import pytest
 
-from robokin.models.panda import panda
+from robokin.models import genova_arm
 from robokin.transforms import quaternion_from_rotation, rotation_log, rpy_from_rotation
 
 cart = importlib.import_module("robokin.check.cartesian")
-ROBOT = panda("mdh")
+ROBOT = genova_arm()
+
+
+def _tf(R, p):
+    T = np.eye(4)
+    T[:3, :3], T[:3, 3] = R, p
+    return T
+
+
+def rotx(a):
+    return np.array([[1, 0, 0], [0, np.cos(a), -np.sin(a)], [0, np.sin(a), np.cos(a)]])
+
+
+def roty(a):
+    return np.array([[np.cos(a), 0, np.sin(a)], [0, 1, 0], [-np.sin(a), 0, np.cos(a)]])
+
+
+def rotz(a):
+    return np.array([[np.cos(a), -np.sin(a), 0], [np.sin(a), np.cos(a), 0], [0, 0, 1]])
+
+
 C, S = np.cos(np.pi / 10), np.sin(np.pi / 10)
-T_ET = np.array([[C, -S, 0, 0.2], [S, C, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1.0]])
+# YPR (0, 0, pi/10): a roll of pi/10 about x_E, written out
+T_ET = np.array([[1, 0, 0, 0.2], [0, C, -S, 0], [0, S, C, 0], [0, 0, 0, 1.0]])
+# YPR (-3.02, -0.40, -1.33): Rz(yaw) Ry(pitch) Rx(roll)
+R_BG = rotz(-3.02) @ roty(-0.40) @ rotx(-1.33)
+P_BG = [-0.14, -0.85, 0.6]
+
+# the course's link table (R_i rows, p_i in m), joint 6 prismatic
+TABLE = [
+    (np.eye(3), [0, 0, 0.105]),
+    ([[0, 1, 0], [0, 0, 1], [1, 0, 0]], [0, 0, 0.110]),
+    ([[0, 0, 1], [0, -1, 0], [1, 0, 0]], [0.1, 0, 0]),
+    ([[0, 0, 1], [0, -1, 0], [1, 0, 0]], [0, 0, 0.325]),
+    ([[0, 0, 1], [-1, 0, 0], [0, -1, 0]], [0.095, 0, 0]),
+    (np.diag([-1, -1, 1]), [0, 0, 0.095]),
+    (np.eye(3), [0, 0, 0.355]),
+]
+
+
+def fk_table(q):
+    T = np.eye(4)
+    for i, (R, p) in enumerate(TABLE):
+        M = _tf(R, p)
+        J = _tf(np.eye(3), [0, 0, q[i]]) if i == 5 else _tf(rotz(q[i]), [0, 0, 0])
+        T = T @ M @ J
+    return T
 
 
 def tool_pose(q):
-    return ROBOT.fk(q) @ T_ET
+    return fk_table(q) @ T_ET
 
 
 def orientation_error_quat(R, R_goal):
@@ -46,6 +92,7 @@ def control_lstsq(J, e, gain_linear, gain_angular):
 
 CORRECT = {
     "tool_frame": T_ET,
+    "goal_frame": _tf(R_BG, P_BG),
     "tool_pose": tool_pose,
     "orientation_error": orientation_error_quat,
     "tool_jacobian": tool_jacobian_point,
@@ -65,26 +112,24 @@ def test_pass_prints_one_line(capsys):
     assert out == "✔ orientation_error(R, R_goal) is correct (checked at 20 random pairs of rotations).\n"
 
 
-def _tf(R, p):
-    T = np.eye(4)
-    T[:3, :3], T[:3, 3] = R, p
-    return T
-
-
-def rotx(a):
-    return np.array([[1, 0, 0], [0, np.cos(a), -np.sin(a)], [0, np.sin(a), np.cos(a)]])
-
-
 def wrap(d):
     return np.pi - np.mod(np.pi - d, 2 * np.pi)
 
 
 WRONG = [
     ("tool_frame", _tf(T_ET[:3, :3], [0.002, 0, 0]), "offset_in_cm"),
-    ("tool_frame", _tf(rotx(np.pi / 10), [0.2, 0, 0]), "rpy_order"),
+    ("tool_frame", _tf(rotz(np.pi / 10), [0.2, 0, 0]), "rpy_order"),            # roll read as yaw
+    ("tool_frame", _tf(rotz(np.pi / 10), [0.002, 0, 0]), "rpy_order"),
+    ("tool_frame", _tf(rotx(np.radians(np.pi / 10)), [0.2, 0, 0]), "degrees_input"),
     ("tool_frame", np.linalg.inv(T_ET), "inverse"),
     ("tool_frame", _tf(T_ET[:3, :3].T, [0.2, 0, 0]), "rotation_block_transposed"),
     ("tool_frame", _tf(np.eye(3), [0.3, 0, 0]), "mismatch"),
+    ("goal_frame", _tf(rotz(-1.33) @ roty(-0.40) @ rotx(-3.02), P_BG), "rpy_order"),   # roll read as yaw
+    ("goal_frame", _tf(rotx(-1.33) @ roty(-0.40) @ rotz(-3.02), P_BG), "composition_order"),
+    ("goal_frame", _tf(rotz(np.radians(-3.02)) @ roty(np.radians(-0.4)) @ rotx(np.radians(-1.33)), P_BG),
+     "degrees_input"),
+    ("goal_frame", np.linalg.inv(_tf(R_BG, P_BG)), "inverse"),
+    ("goal_frame", _tf(R_BG.T, P_BG), "rotation_block_transposed"),
     ("tool_pose", lambda q: T_ET @ ROBOT.fk(q), "composition_order"),
     ("tool_pose", lambda q: ROBOT.fk(q), "no_tool"),
     ("tool_pose", lambda q: _tf(ROBOT.fk(q)[:3, :3] @ T_ET[:3, :3], ROBOT.fk(q)[:3, 3] + [0.2, 0, 0]),
@@ -136,3 +181,25 @@ def test_registered():
     from robokin.check._registry import _REGISTRY
 
     assert set(_REGISTRY["cartesian"]) == set(CORRECT)
+
+
+def test_course_convention_is_the_reference():
+    """The course's YPR reading passes; the same numbers read as (roll, pitch, yaw) do not."""
+    from robokin.transforms import rotation_from_rpy
+
+    yaw, pitch, roll = cart.TOOL_YPR
+    assert cart.tool_frame(_tf(rotation_from_rpy(roll, pitch, yaw), cart.TOOL_OFFSET), quiet=True).passed
+    assert np.allclose(rotation_from_rpy(*cart.TOOL_RPY), rotx(np.pi / 10))
+    yaw, pitch, roll = cart.GOAL_YPR
+    assert cart.goal_frame(_tf(rotation_from_rpy(roll, pitch, yaw), cart.GOAL_POSITION), quiet=True).passed
+    swapped = cart.goal_frame(_tf(rotation_from_rpy(*cart.GOAL_YPR), cart.GOAL_POSITION), quiet=True)
+    assert not swapped.passed and swapped.diagnosis == "rpy_order"
+    assert "(yaw, pitch, roll)" in swapped.message
+
+
+def test_checks_use_the_course_arm():
+    """tool_pose samples the course's arm within its limits, the slide q6 in metres."""
+    X = cart.tool_pose.sample_points()
+    assert X.shape == (20, 7)
+    assert ((X[:, 5] > 0.0) & (X[:, 5] < 1.0)).all()
+    assert ROBOT.within_limits(X).all()

@@ -1,32 +1,43 @@
 r"""Exercise checks of chapter 4: Cartesian control of a tool frame.
 
-The robot is the Panda of :func:`robokin.models.panda.panda` (link-table
-description) with the exercise's tool: :math:`{}^{E}\boldsymbol\eta_{T} =
-(\text{roll}, \text{pitch}, \text{yaw}) = (0, 0, \pi/10)` rad and
-:math:`{}_E\mathbf{r}_{ET} = (0.2, 0, 0)` m. Twists and errors stack the linear
-part first, ``[v; ω]``, in the base frame.
+The robot is the course's arm, :func:`robokin.models.genova_arm` (7 joints,
+joint 6 prismatic), with the exercise's tool and goal. The course gives
+orientations as **YPR triples** :math:`\boldsymbol\eta = (\psi, \vartheta, \varphi)`
+= (yaw, pitch, roll) and builds
+:math:`\mathbf{R} = \mathbf{R}_z(\psi)\,\mathbf{R}_y(\vartheta)\,\mathbf{R}_x(\varphi)`
+(robokin's roll–pitch–yaw rotation, with the angles listed in the opposite
+order). So the tool :math:`{}^{E}\boldsymbol\eta_{T} = (0, 0, \pi/10)` is a roll of
+π/10 about :math:`x_E`, and the goal :math:`{}^{B}\boldsymbol\eta_{G} = (-3.02, -0.40, -1.33)`
+is :math:`\mathbf{R}_z(-3.02)\,\mathbf{R}_y(-0.40)\,\mathbf{R}_x(-1.33)`. Reading a
+triple as (roll, pitch, yaw) -- the roll taken for the yaw -- is diagnosed as
+``rpy_order``. Twists and errors stack the linear part first, ``[v; ω]``, in the
+base frame (the course writes ``[ω; v]``).
 
 =======================  ==========================================================  ==========================================
 check                    the student's answer                                        reference
 =======================  ==========================================================  ==========================================
-``tool_frame``           the 4×4 array :math:`{}^{E}\mathbf{T}_{T}`                     :math:`\mathbf{R}_z(\pi/10)`, offset 0.2 m
+``tool_frame``           the 4×4 array :math:`{}^{E}\mathbf{T}_{T}`                     :math:`\mathbf{R}_x(\pi/10)`, offset 0.2 m along :math:`x_E`
+``goal_frame``           the 4×4 array :math:`{}^{B}\mathbf{T}_{G}`                     :math:`\mathbf{R}_z(-3.02)\mathbf{R}_y(-0.40)\mathbf{R}_x(-1.33)`, origin (−0.14, −0.85, 0.6) m
 ``tool_pose``            ``f(q)`` -> :math:`{}^{B}\mathbf{T}_{T}` (4×4)                  :math:`{}^{B}\mathbf{T}_{E}(\mathbf{q})\,{}^{E}\mathbf{T}_{T}`
 ``orientation_error``    ``f(R, R_goal)`` -> :math:`\theta\mathbf{h}` (3,), base frame    :math:`\log(\mathbf{R}_{goal}\mathbf{R}^\top)`
 ``tool_jacobian``        ``f(J_e, R_be, p_et)`` -> :math:`\mathbf{J}_T` (6×n)              :math:`\mathbf{S}(\mathbf{R}_{BE}\,{}_E\mathbf{r}_{ET})\,\mathbf{J}_E`
 ``control_law``          ``f(J, e, gain_linear, gain_angular)`` -> :math:`\dot{\mathbf{q}}`    :math:`\mathbf{J}^+[K_l\mathbf{e}_p;\ K_a\mathbf{e}_o]`
 =======================  ==========================================================  ==========================================
 
-Inputs: configurations of the Panda drawn within its limits; rotations from
-random roll–pitch–yaw angles; orientation errors of up to 2.7 rad (below π,
-where the axis of the angle–axis error is unique); gains in [0.2, 2] /s. A
-wrong answer is explained in the terms of the exercise: the error with the
-wrong sign or in the tool frame, θ in degrees, the RPY difference, the offset
-not rotated into the base frame, the angular-first transport matrix used with
-a linear-first Jacobian, swapped gains, and so on.
+Inputs: configurations of the course's arm drawn within its limits (the
+slide ``q6`` in metres); rotations from random roll–pitch–yaw angles;
+orientation errors of up to 2.7 rad (below π, where the axis of the
+angle–axis error is unique); gains in [0.2, 2] /s. A wrong answer is
+explained in the terms of the exercise: the YPR triple read in the other
+order, the offset read as centimetres, the error with the wrong sign or in
+the tool frame, θ in degrees, the RPY difference, the offset not rotated into
+the base frame, the angular-first transport matrix used with a linear-first
+Jacobian, swapped gains, and so on.
 
 Usage::
 
     from robokin.check import cartesian
+    cartesian.tool_frame(T_ET)
     cartesian.orientation_error(my_orientation_error)
 """
 
@@ -45,10 +56,15 @@ from robokin.check._registry import exercise
 from robokin.check.diagnoses import inverse_transform, transform_mistakes
 
 __all__ = [
+    "GOAL_POSITION",
+    "GOAL_RPY",
+    "GOAL_YPR",
     "N_JOINTS",
     "TOOL_OFFSET",
     "TOOL_RPY",
+    "TOOL_YPR",
     "control_law",
+    "goal_frame",
     "orientation_error",
     "tool_frame",
     "tool_jacobian",
@@ -56,18 +72,24 @@ __all__ = [
 ]
 
 _CH = "cartesian"
-#: Number of joints of the Panda.
+#: Number of joints of the course's arm.
 N_JOINTS = 7
-#: The exercise's tool orientation (roll, pitch, yaw) in rad, and offset in metres (frame E).
-TOOL_RPY = (0.0, 0.0, math.pi / 10)
+#: The tool's orientation as the course writes it, (yaw, pitch, roll) in rad, and its offset in metres (frame E).
+TOOL_YPR = (0.0, 0.0, math.pi / 10)
 TOOL_OFFSET = (0.2, 0.0, 0.0)
+#: The goal's orientation as the course writes it, (yaw, pitch, roll) in rad, and its origin in metres (frame B).
+GOAL_YPR = (-3.02, -0.40, -1.33)
+GOAL_POSITION = (-0.14, -0.85, 0.6)
+#: The same two orientations in robokin's argument order (roll, pitch, yaw).
+TOOL_RPY = TOOL_YPR[::-1]
+GOAL_RPY = GOAL_YPR[::-1]
 
 
 @lru_cache(maxsize=1)
 def _robot():
-    from robokin.models.panda import panda
+    from robokin.models.genova_arm import genova_arm
 
-    return panda()
+    return genova_arm()
 
 
 def _tf(R: np.ndarray, p: Any) -> np.ndarray:
@@ -77,14 +99,24 @@ def _tf(R: np.ndarray, p: Any) -> np.ndarray:
     return T
 
 
+def _rotx(a: float) -> np.ndarray:
+    c, s = math.cos(a), math.sin(a)
+    return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
+
+
+def _roty(a: float) -> np.ndarray:
+    c, s = math.cos(a), math.sin(a)
+    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
+
+
 def _rotz(a: float) -> np.ndarray:
     c, s = math.cos(a), math.sin(a)
     return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
 
 
-def _rotx(a: float) -> np.ndarray:
-    c, s = math.cos(a), math.sin(a)
-    return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
+def _ypr(yaw: float, pitch: float, roll: float) -> np.ndarray:
+    """The course's YPR rotation Rz(yaw) Ry(pitch) Rx(roll)."""
+    return _rotz(yaw) @ _roty(pitch) @ _rotx(roll)
 
 
 def _rpy(r: float, p: float, y: float) -> np.ndarray:
@@ -110,7 +142,11 @@ def _skew(r: np.ndarray) -> np.ndarray:
 
 
 def _T_ET() -> np.ndarray:
-    return _tf(_rpy(*TOOL_RPY), TOOL_OFFSET)
+    return _tf(_ypr(*TOOL_YPR), TOOL_OFFSET)
+
+
+def _T_BG() -> np.ndarray:
+    return _tf(_ypr(*GOAL_YPR), GOAL_POSITION)
 
 
 @dataclass
@@ -135,27 +171,42 @@ class MatrixArgumentsCheck(Check):
         return super().evaluate(answer)
 
 
-_Q = [Variable(f"q{i + 1}", "angle", float(lo) + 0.05, float(hi) - 0.05)
-      for i, (lo, hi) in enumerate([[-2.8973, 2.8973], [-1.7628, 1.7628], [-2.8973, 2.8973],
-                                    [-3.0718, -0.0698], [-2.8973, 2.8973], [-0.0175, 3.7525],
-                                    [-2.8973, 2.8973]])]
+def _joint_variables() -> list[Variable]:
+    from robokin.models.genova_arm import GENOVA_ARM_JOINT_TYPES, GENOVA_ARM_LIMITS
+
+    out = []
+    for i, ((lo, hi), kind) in enumerate(zip(GENOVA_ARM_LIMITS, GENOVA_ARM_JOINT_TYPES)):
+        margin = 0.05 * (hi - lo) if kind == "P" else 0.05
+        out.append(Variable(f"q{i + 1}", "length" if kind == "P" else "angle", lo + margin, hi - margin))
+    return out
+
+
+_Q = _joint_variables()
 
 
 # ------------------------------------------------------------------ tool frame (a constant)
+_SWAPPED_TOOL = (
+    "{name} turns about z_E: you read η = [0, 0, π/10] as (roll, pitch, yaw), so the roll "
+    "became a yaw. The course's triple is YPR, (yaw, pitch, roll), with R = Rz(yaw) Ry(pitch) "
+    "Rx(roll): [0, 0, π/10] is a roll of π/10 about x_E, R = Rx(π/10). In robokin's argument "
+    "order that is rotation_from_rpy(π/10, 0, 0)."
+)
+
+
 def _tool_frame_mistakes():
-    R, p = _rpy(*TOOL_RPY), np.array(TOOL_OFFSET)
+    R, p = _ypr(*TOOL_YPR), np.array(TOOL_OFFSET)
+    R_swapped = _ypr(*TOOL_YPR[::-1])
     return [
         alternatives("offset_in_cm", [(lambda x: _tf(R, p / 100.0), (
-            "the offset of {name} is 0.002 m: 0.2 was read as centimetres. The exercise's robot "
-            "and goal are in metres (the goal is about 1 m from the base), and a 2 mm tool would barely leave "
-            "the flange: the offset is 0.2 m = 20 cm."
+            "the offset of {name} is 0.002 m: 0.2 was read as centimetres. The robot's link "
+            "table and the goal are in metres (the goal is about 1 m from the base), and a 2 mm "
+            "tool would barely leave the end-effector: the offset is 0.2 m = 20 cm."
         ))]),
-        alternatives("rpy_order", [(lambda x: _tf(_rotx(math.pi / 10), p), (
-            "{name} turns about x_E: you read η = [0, 0, π/10] as (yaw, pitch, roll). In the "
-            "convention the exercise itself uses for the goal, R = Rz(η₃) Ry(η₂) Rx(η₁), the "
-            "third angle is the yaw: a turn of π/10 about z_E."
-        ))]),
-        alternatives("degrees_input", [(lambda x: _tf(_rotz(math.radians(math.pi / 10)), p), (
+        alternatives("rpy_order", [
+            (lambda x: _tf(R_swapped, p), _SWAPPED_TOOL),
+            (lambda x: _tf(R_swapped, p / 100.0), _SWAPPED_TOOL + " Also, its offset is 0.2 m, not 0.2 cm."),
+        ]),
+        alternatives("degrees_input", [(lambda x: _tf(_rotx(math.radians(math.pi / 10)), p), (
             "the rotation of {name} is π/10 DEGREES: pass radians (π/10 rad = 18°)."
         ))]),
         inverse_transform(),
@@ -168,8 +219,53 @@ tool_frame = exercise(_CH, "tool_frame", Check(
     reference=lambda x: _T_ET(),
     diagnoses=_tool_frame_mistakes(),
     atol=1e-4, rtol=1e-4,
-    hint="T_ET = [[R, p], [0, 1]] with R = rotation_from_rpy(0, 0, π/10) and p = [0.2, 0, 0] m.",
-    doc="Check the tool frame T_ET (4×4): orientation (roll, pitch, yaw) = (0, 0, π/10), offset 0.2 m along x_E.",
+    hint=("T_ET = [[R, p], [0, 1]] with R = Rz(yaw) Ry(pitch) Rx(roll) for (yaw, pitch, roll) = "
+          "(0, 0, π/10), i.e. R = Rx(π/10), and p = [0.2, 0, 0] m."),
+    doc=("Check the tool frame T_ET (4×4): YPR (yaw, pitch, roll) = (0, 0, π/10), i.e. Rx(π/10), "
+         "offset 0.2 m along x_E."),
+))
+
+
+# ------------------------------------------------------------------ goal frame (a constant)
+def _goal_frame_mistakes():
+    p = np.array(GOAL_POSITION)
+    y, pi_, r = GOAL_YPR
+    return [
+        alternatives("rpy_order", [(lambda x: _tf(_ypr(r, pi_, y), p), (
+            "{name} reads η_G = (−3.02, −0.40, −1.33) as (roll, pitch, yaw): your rotation is "
+            "Rz(−1.33) Ry(−0.40) Rx(−3.02), the roll taken for the yaw. The course's triple is "
+            "YPR, (yaw, pitch, roll): R_BG = Rz(−3.02) Ry(−0.40) Rx(−1.33), in robokin's "
+            "argument order rotation_from_rpy(−1.33, −0.40, −3.02)."
+        ))]),
+        alternatives("composition_order", [
+            (lambda x: _tf(_rotx(r) @ _roty(pi_) @ _rotz(y), p), (
+                "{name} multiplies the three rotations in the reverse order, Rx(roll) Ry(pitch) "
+                "Rz(yaw). The angles are right, but the product is R = Rz(yaw) Ry(pitch) Rx(roll): "
+                "turn about the fixed x axis first, then y, then z (or z, new y, newest x)."
+            )),
+            (lambda x: _tf(_rotx(y) @ _roty(pi_) @ _rotz(r), p), (
+                "{name} is Rx(−3.02) Ry(−0.40) Rz(−1.33): both the order of the angles and the order "
+                "of the product are reversed. The course builds R_BG = Rz(yaw) Ry(pitch) Rx(roll) "
+                "= Rz(−3.02) Ry(−0.40) Rx(−1.33)."
+            )),
+        ]),
+        alternatives("degrees_input", [(lambda x: _tf(_ypr(*np.radians(GOAL_YPR)), p), (
+            "the angles of {name} were taken as DEGREES: −3.02, −0.40, −1.33 are radians."
+        ))]),
+        inverse_transform(),
+        *transform_mistakes(),
+    ]
+
+
+goal_frame = exercise(_CH, "goal_frame", Check(
+    name="T_BG",
+    reference=lambda x: _T_BG(),
+    diagnoses=_goal_frame_mistakes(),
+    atol=1e-4, rtol=1e-4,
+    hint=("T_BG = [[R, p], [0, 1]] with R = Rz(−3.02) Ry(−0.40) Rx(−1.33) (YPR: yaw first) and "
+          "p = [−0.14, −0.85, 0.6] m."),
+    doc=("Check the goal frame T_BG (4×4): YPR (yaw, pitch, roll) = (−3.02, −0.40, −1.33), i.e. "
+         "Rz(−3.02) Ry(−0.40) Rx(−1.33), origin (−0.14, −0.85, 0.6) m."),
 ))
 
 
@@ -204,8 +300,8 @@ tool_pose = exercise(_CH, "tool_pose", Check(
     groups=[("q", list(range(N_JOINTS)))],
     diagnoses=_tool_pose_mistakes(),
     noun="configurations",
-    hint="ᴮT_T(q) = ᴮT_E(q) ᴱT_T with the Panda's ᴮT_E(q) = panda().fk(q).",
-    doc="Check a function tool_pose(q) -> ᴮT_T(q) = ᴮT_E(q) ᴱT_T (4×4) for the Panda with the exercise's tool.",
+    hint="ᴮT_T(q) = ᴮT_E(q) ᴱT_T with the arm's ᴮT_E(q) = genova_arm().fk(q).",
+    doc="Check a function tool_pose(q) -> ᴮT_T(q) = ᴮT_E(q) ᴱT_T (4×4) for the course's arm with the exercise's tool.",
 ))
 
 
@@ -353,8 +449,9 @@ def _tj_mistakes():
             "v_E − [r×] ω, so the top-right block is −[r×] (r from E to T)."
         ))]),
         alternatives("twist_order", [(angular_first_block, (
-            "{name} uses [[I, 0], [[r×]ᵀ, I]], the transport for twists ordered [ω; v] (angular "
-            "first), on a Jacobian ordered [v; ω]. With linear rows first it is [[I, −[r×]], [0, I]]."
+            "{name} uses [[I, 0], [[r×]ᵀ, I]], the course's transport for twists ordered [ω; v] "
+            "(angular first), on robokin's Jacobian ordered [v; ω]. With linear rows first the same "
+            "map is [[I, −[r×]], [0, I]]."
         ))]),
         alternatives("transposed_transport", [(transposed, (
             "{name} uses the transposed transport matrix Sᵀ (the map of wrenches, not twists): "
@@ -418,9 +515,9 @@ def _cl_mistakes():
             "{name} moves away from the goal: the error is e = goal − current and q̇ = +J⁺ K e."
         ))]),
         alternatives("twist_order", [(swapped_blocks, (
-            "{name} stacks the desired twist angular part first, [K_a e_o; K_l e_p], but the "
-            "Jacobian's rows are [v; ω] (linear first): the linear error then drives the "
-            "rotation. Keep one order everywhere: ν = [K_l e_p; K_a e_o] with J = [J_v; J_ω]."
+            "{name} stacks the desired twist angular part first, [K_a e_o; K_l e_p], as the course "
+            "writes it, but robokin's Jacobian rows are [v; ω] (linear first): the linear error then "
+            "drives the rotation. Keep one order everywhere: ν = [K_l e_p; K_a e_o] with J = [J_v; J_ω]."
         ))]),
         alternatives("swapped_gains", [(swapped_gains, (
             "{name} applies the angular gain to the position error and the linear gain to the "
