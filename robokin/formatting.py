@@ -12,7 +12,7 @@ between machines although the computation is right on all of them:
 * **Digits the conditioning does not support.** A quantity amplified by an
   ill-conditioned step (a pseudoinverse near a singularity, a chaotic sweep)
   differs between machines in its leading digits. No formatting fixes that:
-  print an order of magnitude (:func:`order_of_magnitude`), a bound or a verdict.
+  print a bound that every run satisfies, or a verdict (Chapter 5 shows how).
 
 Use :func:`rounded` wherever an array is printed with NumPy's own printing,
 and :func:`format_array` for one-line text such as ``[0.1000, -0.2500, 0.0000]``.
@@ -20,12 +20,11 @@ and :func:`format_array` for one-line text such as ``[0.1000, -0.2500, 0.0000]``
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
 import numpy as np
 
-__all__ = ["rounded", "format_array", "order_of_magnitude"]
+__all__ = ["rounded", "format_array"]
 
 
 def rounded(values: Any, decimals: int = 4) -> Any:
@@ -90,25 +89,3 @@ def format_array(values: Any, decimals: int = 4, separator: str = ", ") -> str:
         threshold=10_000,
     )
 
-
-def order_of_magnitude(value: float) -> str:
-    """The power of ten of ``|value|`` as text, e.g. ``"10^3"`` for 2,825.9.
-
-    For quantities whose leading digits are not reproducible (an
-    ill-conditioned computation); the exponent is, unless the value sits near
-    a power of ten, which the caller should check.
-
-    Parameters
-    ----------
-    value : float
-        A finite, non-zero number.
-
-    Returns
-    -------
-    str
-        ``"10^k"`` with ``k = floor(log10(|value|))``.
-    """
-    value = float(value)
-    if not math.isfinite(value) or value == 0.0:
-        raise ValueError(f"value must be finite and non-zero, got {value!r}")
-    return f"10^{math.floor(math.log10(abs(value)))}"

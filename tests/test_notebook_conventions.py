@@ -103,3 +103,28 @@ def test_exercise_structure(path):
     assert any("solution" in c.get("metadata", {}).get("tags", []) for c in cells), f"{path.name}: no solution cells"
     code = "\n".join("".join(c["source"]) for c in cells if c["cell_type"] == "code")
     assert "assert" in code, f"{path.name}: nothing is checked"
+
+
+@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.name)
+def test_printed_numbers_are_machine_independent(path):
+    """Printed arrays go through robokin.formatting, which prints no ``-0.`` on any CPU.
+
+    ``x.round(4)`` and ``np.round(x, 4)`` keep the sign of a tiny negative value
+    (``-1e-17`` on one machine, ``+1e-17`` on another) and print ``-0.``.
+    """
+    import re
+
+    rounding = re.compile(r"\.round\(|np\.round\(")
+    for index, cell in enumerate(load(path)["cells"]):
+        if cell["cell_type"] != "code":
+            continue
+        for line in "".join(cell["source"]).splitlines():
+            assert not ("print(" in line and rounding.search(line)), (
+                f"{path.name} cell {index}: prints a rounded array; use robokin.formatting.rounded "
+                f"or format_array (no negative zeros): {line.strip()}"
+            )
+        for output in cell.get("outputs", []):
+            text = "".join(output.get("text", "")) + "".join(output.get("data", {}).get("text/plain", ""))
+            assert not re.search(r"(?<![\w.])-0\.0*(?![\d])", text), (
+                f"{path.name} cell {index}: a printed negative zero (its sign depends on the machine)"
+            )

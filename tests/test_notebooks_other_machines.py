@@ -1,0 +1,130 @@
+"""The stored notebook outputs do not depend on the machine that computed them.
+
+nbval (in the main run) compares every stored output with a fresh run on *this*
+machine. A student's laptop rounds differently: OpenBLAS picks a kernel for its
+CPU (``OPENBLAS_CORETYPE``) and splits work over its cores
+(``OPENBLAS_NUM_THREADS``), and a last-bit difference grows wherever a
+computation is ill-conditioned. This test re-runs the whole notebook suite under
+nbval, in parallel, as three other machines:
+
+1. another OpenBLAS kernel, one thread;
+2. a third OpenBLAS kernel, two threads;
+3. the default kernel with every ``numpy.linalg`` result perturbed by a relative
+   1e-14 (``tests/numerical_noise.py``), about a hundred times what real machines
+   differ by.
+
+A notebook passes only if every printed digit survives all three. When one does
+not, print less (fewer digits, a bound, a verdict): see ``robokin.formatting``.
+Skip it locally with ``pytest -m "not other_machines"``.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import glob
+import os
+import platform
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from conftest import ROOT
+
+pytestmark = pytest.mark.other_machines
+
+#: OpenBLAS kernels that run on any CPU of the architecture, most common first,
+#: each with the CPU feature it needs (None: baseline).
+KERNELS = {
+    "x86_64": [("Haswell", "avx2"), ("Sandybridge", "avx"), ("Prescott", None)],
+    "aarch64": [("NEOVERSEN1", "asimd"), ("ARMV8", None), ("CORTEXA53", None)],
+}
+TIMEOUT = 900  # seconds for one configuration
+
+
+def default_kernel() -> str | None:
+    """Name of the OpenBLAS kernel NumPy's bundled OpenBLAS chose for this CPU, if it says."""
+    libs = glob.glob(os.path.join(os.path.dirname(np.__file__) + ".libs", "*openblas*"))
+    for path in libs:
+        library = ctypes.CDLL(path)
+        for symbol in ("scipy_openblas_get_corename64_", "scipy_openblas_get_corename", "openblas_get_corename"):
+            function = getattr(library, symbol, None)
+            if function is not None:
+                function.restype = ctypes.c_char_p
+                return function().decode()
+    return None
+
+
+def cpu_flags() -> set[str]:
+    try:
+        text = Path("/proc/cpuinfo").read_text()
+    except OSError:
+        return set()
+    flags = set()
+    for line in text.splitlines():
+        if line.startswith(("flags", "Features")):
+            flags.update(line.split(":", 1)[1].split())
+    return flags
+
+
+def other_kernels(count: int = 2) -> list[str]:
+    """``count`` OpenBLAS kernels this CPU can run that differ from the default one."""
+    candidates = KERNELS.get(platform.machine())
+    if candidates is None:
+        pytest.skip(f"no OpenBLAS kernel list for the architecture {platform.machine()!r}")
+    default = (default_kernel() or "").lower()
+    flags = cpu_flags()
+    usable = [name for name, needs in candidates if name.lower() != default and (needs is None or needs in flags)]
+    if len(usable) < count:
+        pytest.skip(f"fewer than {count} other OpenBLAS kernels usable here (default {default!r})")
+    return usable[:count]
+
+
+def startup_dir(tmp_path: Path) -> Path:
+    """An IPYTHONDIR whose start-up file installs the linear-algebra noise in every kernel."""
+    startup = tmp_path / "ipython" / "profile_default" / "startup"
+    startup.mkdir(parents=True)
+    (startup / "00-numerical-noise.py").write_text(
+        f"import sys\nsys.path.insert(0, {str(ROOT / 'tests')!r})\nimport numerical_noise\nnumerical_noise.install()\n"
+    )
+    return startup.parent.parent
+
+
+def test_notebook_outputs_hold_on_other_machines(tmp_path):
+    first, second = other_kernels()
+    configurations = {
+        f"OPENBLAS_CORETYPE={first}, 1 thread": {"OPENBLAS_CORETYPE": first, "OPENBLAS_NUM_THREADS": "1"},
+        f"OPENBLAS_CORETYPE={second}, 2 threads": {"OPENBLAS_CORETYPE": second, "OPENBLAS_NUM_THREADS": "2"},
+        "numpy.linalg results perturbed by 1e-14": {"IPYTHONDIR": str(startup_dir(tmp_path))},
+    }
+    command = [sys.executable, "-m", "pytest", "notebooks", "-q", "-p", "no:cacheprovider", "--color=no"]
+    started = time.perf_counter()
+    runs = {}
+    for name, extra in configurations.items():
+        env = {**os.environ, **extra, "PYDEVD_DISABLE_FILE_VALIDATION": "1"}
+        log = open(tmp_path / f"run{len(runs)}.log", "w+")
+        runs[name] = (subprocess.Popen(command, cwd=ROOT, env=env, stdout=log, stderr=subprocess.STDOUT), log)
+    failures = []
+    for name, (process, log) in runs.items():
+        try:
+            code = process.wait(timeout=TIMEOUT)
+        except subprocess.TimeoutExpired:
+            process.kill()
+            process.wait()
+            code = "timeout"
+        log.seek(0)
+        output = log.read()
+        log.close()
+        if code != 0:
+            summary = [line for line in output.splitlines() if line.startswith(("FAILED", "ERROR"))]
+            failures.append(f"--- {name}: exit {code}\n" + "\n".join(summary) + "\n" + output[-4000:])
+        else:
+            print(f"[other machines] {name}: {output.strip().splitlines()[-1]}")
+    print(f"[other machines] three configurations in {time.perf_counter() - started:.0f} s")
+    assert not failures, (
+        "stored notebook outputs change on another machine; print only the digits the computation "
+        "supports (robokin.formatting) or a bound:\n" + "\n".join(failures)
+    )
