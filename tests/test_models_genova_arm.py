@@ -161,3 +161,13 @@ def test_random_configurations_respect_the_slide(arm):
     Q = arm.random_configurations(200, seed=3)
     assert (Q[:, PRISMATIC] >= 0.0).all() and (Q[:, PRISMATIC] <= 1.0).all()
     assert arm.within_limits(Q).all()
+
+
+def test_joints_5_and_7_turn_about_one_line(arm):
+    """Only q5 + q7 matters: e5 - e7 is in the null space of J everywhere, and the rank is 6."""
+    shift = np.array([0, 0, 0, 0, 1.0, 0, -1.0])
+    for q in arm.random_configurations(20, seed=6):
+        assert np.allclose(fk_by_hand(q + 0.7 * shift), fk_by_hand(q), atol=1e-12)
+        J = arm.jacobian(q)
+        assert np.allclose(J @ shift, 0.0, atol=1e-12)
+        assert np.linalg.svd(J, compute_uv=False)[-1] > 1e-3          # rank 6 at these samples

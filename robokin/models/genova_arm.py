@@ -35,6 +35,13 @@ The end-effector frame E is frame 7 (there is no extra flange transform):
 stands straight up, E at height 0.105 + 0.110 + 0.1 + 0.325 + 0.095 + 0.095 +
 0.355 = 1.185 m. Joint limits of the course: ±3.14 rad for the revolute joints,
 [0, 1] m for the prismatic one.
+
+Joints 5, 6 and 7 share one line: everything between the rotation of joint 5
+and that of joint 7 (the half turn of :math:`\mathbf{R}_6` about z, the slide
+:math:`\mathbf{T}_z(q_6)`, offsets along z) commutes with a rotation about z,
+so the pose depends on :math:`q_5 + q_7` only. The arm has seven joints but
+six independent motions; :math:`\mathbf{e}_5 - \mathbf{e}_7` spans the null
+space of its Jacobian at every configuration.
 """
 
 from __future__ import annotations
