@@ -3,7 +3,8 @@
 #   make book    build the book (creates .venv and installs everything on first use)
 #   make test    run the complete test suite (same set-up on first use)
 #   make lab     open the notebooks in JupyterLab with live 3D views
-#   make execute re-run every notebook in a fresh kernel and store its outputs
+#   make execute re-run every notebook in a fresh kernel and store its outputs (stream
+#                outputs merged, so that an unchanged notebook stores unchanged bytes)
 #   make bench   print the benchmark tables
 #   make clean   remove the built book and caches (keeps .venv)
 
@@ -60,6 +61,8 @@ execute: $(STAMP)
 	  echo "== executing $$nb"; \
 	  ROBOKIN_VIEWER=static $(BIN)/jupyter nbconvert --to notebook --execute --inplace \
 	    --ExecutePreprocessor.timeout=300 --ExecutePreprocessor.record_timing=False "$$nb" || exit 1; \
+	  $(BIN)/jupyter nbconvert --to notebook --inplace --log-level=WARN \
+	    --CoalesceStreamsPreprocessor.enabled=True "$$nb" || exit 1; \
 	done
 
 bench: $(STAMP)

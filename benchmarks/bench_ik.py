@@ -15,7 +15,9 @@ Usage::
 Prints a Markdown table: success rate, median wall and CPU time per solve
 (CPU time of this process: less sensitive to other load on the machine),
 mean wall time, mean iterations (summed over attempts), and the batched
-success rate and wall time per target.
+success rate and wall time per target. A last table times the AR-601 leg's
+closed-form inverse kinematics (all eight solutions) against ``solve_ik`` on the
+same poses (Chapter 6 compares their work; the seconds are measured here).
 """
 
 from __future__ import annotations
@@ -79,6 +81,32 @@ def bench(robot: str, n_lm: int, n_other: int, methods: list[str]) -> list[dict]
     return rows
 
 
+def bench_ar601(n: int) -> None:
+    """Closed form vs numerical IK of the AR-601 leg on n random reachable foot poses."""
+    from robokin.models.ar601_ik import ar601_leg_ik
+
+    leg = models.ar601_leg()
+    T = leg.fk(leg.random_configurations(n, seed=5))
+    q_home = np.array([0.0, 0.0, 0.3, -0.6, 0.0, 0.3])
+    ar601_leg_ik(T[0])
+    solve_ik(leg, T[0], q0=q_home)  # warm-up
+    rows = {"closed form (8 solutions)": lambda pose: ar601_leg_ik(pose),
+            "solve_ik from Q_HOME (1 solution)": lambda pose: solve_ik(leg, pose, q0=q_home, tol=1e-10,
+                                                                        record_history=False)}
+    print()
+    print(f"AR-601 leg: {n} random reachable foot poses, wall time per pose")
+    print("| solver | median ms | 90th percentile ms | max ms |")
+    print("|---|---|---|---|")
+    for name, solve in rows.items():
+        times = np.empty(n)
+        for i in range(n):
+            t0 = time.perf_counter()
+            solve(T[i])
+            times[i] = time.perf_counter() - t0
+        print(f"| {name} | {1e3 * np.median(times):.3f} | {1e3 * np.percentile(times, 90):.3f} "
+              f"| {1e3 * times.max():.3f} |", flush=True)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--n", type=int, default=1000, help="targets for the default method 'lm'")
@@ -86,6 +114,7 @@ def main() -> None:
     ap.add_argument("--robots", nargs="+", default=["ur10", "baxter_left"])
     ap.add_argument("--methods", nargs="+", default=list(METHODS), choices=list(METHODS))
     ap.add_argument("--batch", type=int, default=1000, help="targets of the extra 'lm' batch timing")
+    ap.add_argument("--ar601", type=int, default=100, help="poses of the AR-601 closed-form table (0: skip)")
     args = ap.parse_args()
     print("| robot | method | N | success | median ms/solve | median CPU ms/solve | mean ms/solve "
           "| mean iterations | batch success | batch µs/target |")
@@ -105,6 +134,9 @@ def main() -> None:
             best_cpu = min(best_cpu, time.process_time() - c0)
         print(f"  {robot}: {1e6 * best / args.batch:.1f} µs/target wall, {1e6 * best_cpu / args.batch:.1f} µs/target "
               f"CPU, success {100 * rb.success.mean():.2f} %, mean iterations {rb.iterations.mean():.1f}")
+
+    if args.ar601:
+        bench_ar601(args.ar601)
 
 
 if __name__ == "__main__":

@@ -128,3 +128,16 @@ def test_printed_numbers_are_machine_independent(path):
             assert not re.search(r"(?<![\w.])-0\.0*(?![\d])", text), (
                 f"{path.name} cell {index}: a printed negative zero (its sign depends on the machine)"
             )
+
+
+@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.name)
+def test_stream_outputs_are_merged(path):
+    """One stream output per cell and stream: how a kernel's flushes split the text depends
+    on timing, so unmerged streams make every re-execution a diff (`make execute` merges them)."""
+    for index, cell in enumerate(load(path)["cells"]):
+        outputs = cell.get("outputs", [])
+        for first, second in zip(outputs, outputs[1:]):
+            assert not (first["output_type"] == second["output_type"] == "stream"
+                        and first["name"] == second["name"]), (
+                f"{path.name} cell {index}: consecutive {first['name']} outputs; store it with `make execute`"
+            )
