@@ -23,7 +23,8 @@ from robokin.motion.tool import (
 )
 from robokin.transforms import rotx, roty, rotz
 
-# The exercise's tool: eta = (roll, pitch, yaw) = (0, 0, pi/10), offset 0.2 m along x_E.
+# A tool turned by pi/10 about z_E (rpy = (0, 0, pi/10)) and offset 0.2 m along x_E. (The course reads
+# its own triple as (yaw, pitch, roll), i.e. a roll about x_E: see Chapter 4 and genova_arm.)
 ETA_TOOL = np.array([0.0, 0.0, np.pi / 10])
 OFFSET = np.array([0.2, 0.0, 0.0])
 

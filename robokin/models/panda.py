@@ -4,9 +4,9 @@ The Genova *Modelling and Control of Manipulators* course gives its industrial
 arm as a *geometric model*: the constant link transforms
 :math:`{}^{i-1}\mathbf{T}_i(0)` at :math:`\mathbf{q} = \mathbf{0}` plus the joint
 types, every joint moving about (or along) the child frame's :math:`z` axis.
-That description is what :func:`robokin.chains.from_link_table` builds. The
-course's own robot data are not public, so robokin uses a well-documented
-7-DOF arm of the same kind, the Panda, in that format.
+That description is what :func:`robokin.chains.from_link_table` builds: the
+course's own arm is :func:`robokin.models.genova_arm`; the Panda, an industrial
+7-DOF arm of the same kind in the same format, is Chapter 4's *Going further*.
 
 Source: Franka Emika, *Robot and interface specifications* (FCI
 documentation), modified (Craig) DH parameters, metres/radians:
