@@ -1,6 +1,8 @@
 # robokin workbook — set-up, book, tests.
 #
 #   make book    build the book (creates .venv and installs everything on first use)
+#   make book EDITION=student   the student edition of the book (no solutions) in _build/student/
+#   make student the student edition of every chapter and the nbgrader course (_build/nbgrader/)
 #   make test    run the complete test suite (same set-up on first use)
 #   make lab     open the notebooks in JupyterLab with live 3D views
 #   make execute re-run every notebook in a fresh kernel and store its outputs (stream
@@ -14,7 +16,21 @@ BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 HTML   := _build/html
 
-.PHONY: book test lab execute bench clean distclean check-python
+# EDITION=instructor (default): the book with collapsed solutions, in _build/html.
+# EDITION=student: the same pages without solutions (stored outputs, nothing executed),
+# in _build/student/_build/html.
+EDITION ?= instructor
+ifeq ($(EDITION),student)
+BOOK_HTML := _build/student/_build/html
+BOOK_OPTS := --path-output _build/student
+else ifeq ($(EDITION),instructor)
+BOOK_HTML := $(HTML)
+BOOK_OPTS :=
+else
+$(error EDITION must be 'instructor' or 'student', not '$(EDITION)')
+endif
+
+.PHONY: book student test lab execute bench clean distclean check-python
 
 # The Python that builds the venv (or, once it exists, the venv's own) must be >= 3.11.
 check-python:
@@ -37,17 +53,24 @@ $(STAMP): requirements.txt constraints.txt pyproject.toml | check-python
 	@touch $(STAMP)
 
 book: $(STAMP)
-	@echo "== Building the book (notebooks are executed only when their code changed) =="
-	@rm -f $(HTML)/.complete
-	@$(BIN)/jupyter-book build . -W -n --keep-going || { \
-	  rm -rf $(HTML); \
-	  echo "ERROR [book]: the build failed; $(HTML) was removed so that no half-built book is left."; \
+	@echo "== Building the $(EDITION) edition of the book (notebooks are executed only when their code changed) =="
+	@rm -f $(BOOK_HTML)/.complete
+	@ROBOKIN_EDITION=$(EDITION) $(BIN)/jupyter-book build . -W -n --keep-going $(BOOK_OPTS) || { \
+	  rm -rf $(BOOK_HTML); \
+	  echo "ERROR [book]: the build failed; $(BOOK_HTML) was removed so that no half-built book is left."; \
 	  echo "Fix: read the first error above (a notebook cell that raised, a broken reference, a warning);"; \
-	  echo "     the log of a failed notebook is in _build/html/reports/ during the build."; exit 1; }
-	@touch $(HTML)/.complete
+	  echo "     the log of a failed notebook is in $(BOOK_HTML)/reports/ during the build."; exit 1; }
+	@touch $(BOOK_HTML)/.complete
 	@echo ""
-	@echo "The book is ready. Open this file in your browser:"
-	@echo "    file://$(CURDIR)/$(HTML)/index.html"
+	@echo "The book ($(EDITION) edition) is ready. Open this file in your browser:"
+	@echo "    file://$(CURDIR)/$(BOOK_HTML)/index.html"
+
+# The student edition of every chapter, made by nbgrader from the chapter notebooks
+# and their nbgrader metadata (tools/nbgrader_metadata.py); see book/for-instructors.md.
+student: $(STAMP)
+	@echo "== Making the nbgrader course and the student edition of every chapter =="
+	@$(BIN)/python tools/student_edition.py || { \
+	  echo "ERROR [student]: see the messages above."; exit 1; }
 
 test: $(STAMP)
 	@$(BIN)/python -m pytest || { \

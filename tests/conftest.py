@@ -45,26 +45,45 @@ def _skip_or_fail(message: str) -> None:
     pytest.skip(message)
 
 
-@pytest.fixture(scope="session")
-def built_book() -> Path:
-    """Build the book exactly as ``make book`` does, once per test session.
+#: Where each edition of the book is built (``make book EDITION=...``).
+EDITION_HTML = {"instructor": HTML_DIR, "student": BUILD_DIR / "student" / "_build" / "html"}
 
-    Returns the HTML output directory. The build log is attached to the failure
-    message so that a broken notebook or a warning is easy to find.
+
+def build_book(edition: str = "instructor") -> Path:
+    """Build one edition of the book exactly as ``make book EDITION=...`` does.
+
+    Returns the HTML output directory. The build log (``book-build.log`` next to
+    it) is attached to the failure message so that a broken notebook or a
+    warning is easy to find.
     """
     command = [str(Path(sys.executable).with_name("jupyter-book")), "build", str(ROOT), "-W", "-n", "--keep-going"]
-    env = dict(os.environ, ROBOKIN_VIEWER="static", PYDEVD_DISABLE_FILE_VALIDATION="1")
+    if edition != "instructor":
+        command += ["--path-output", str(EDITION_HTML[edition].parent.parent)]
+    env = dict(os.environ, ROBOKIN_VIEWER="static", PYDEVD_DISABLE_FILE_VALIDATION="1", ROBOKIN_EDITION=edition)
     started = time.perf_counter()
     proc = subprocess.run(command, cwd=ROOT, env=env, capture_output=True, text=True, timeout=1200)
     elapsed = time.perf_counter() - started
     log = proc.stdout + proc.stderr
-    (BUILD_DIR / "book-build.log").parent.mkdir(parents=True, exist_ok=True)
-    (BUILD_DIR / "book-build.log").write_text(log)
+    log_file = EDITION_HTML[edition].parent / "book-build.log"
+    log_file.parent.mkdir(parents=True, exist_ok=True)
+    log_file.write_text(log)
     if proc.returncode != 0 or "build succeeded" not in log:
         tail = "\n".join(log.splitlines()[-60:])
-        pytest.fail(f"jupyter-book build failed (exit {proc.returncode}) after {elapsed:.0f} s:\n{tail}")
-    print(f"\n[book] built in {elapsed:.1f} s")
-    return HTML_DIR
+        pytest.fail(f"jupyter-book build ({edition} edition) failed (exit {proc.returncode}) after {elapsed:.0f} s:\n{tail}")
+    print(f"\n[book] {edition} edition built in {elapsed:.1f} s")
+    return EDITION_HTML[edition]
+
+
+@pytest.fixture(scope="session")
+def built_book() -> Path:
+    """The instructor edition (the default ``make book``), built once per test session."""
+    return build_book("instructor")
+
+
+@pytest.fixture(scope="session")
+def built_student_book() -> Path:
+    """The student edition (``make book EDITION=student``): no solutions in the HTML."""
+    return build_book("student")
 
 
 @pytest.fixture(scope="session")

@@ -56,7 +56,18 @@ def toc_pages() -> list[str]:
 PAGES = toc_pages()
 
 
-def test_book_builds_without_warnings(built_book):
+#: The editions of the book and the fixtures that build them (``make book EDITION=...``).
+EDITIONS = {"instructor": "built_book", "student": "built_student_book"}
+
+
+@pytest.fixture(params=list(EDITIONS))
+def edition_book(request) -> Path:
+    """The HTML folder of one edition of the book (built once per session)."""
+    return request.getfixturevalue(EDITIONS[request.param])
+
+
+def test_book_builds_without_warnings(edition_book):
+    built_book = edition_book
     log = (built_book.parent / "book-build.log").read_text()
     assert "build succeeded" in log
     sphinx_warnings = [line for line in log.splitlines() if "WARNING" in line and "[IPKernelApp]" not in line]
@@ -91,9 +102,31 @@ def _local_size(url: str) -> int:
     return path.stat().st_size if path.is_file() else 0
 
 
+def test_student_edition_has_no_solutions(built_student_book):
+    """Solutions are absent from the student edition's HTML, not just collapsed."""
+    import html
+    import json
+    import re
+
+    for path in sorted((ROOT / "notebooks").glob("*.ipynb")):
+        page = (built_student_book / "notebooks" / f"{path.stem}.html").read_text()
+        assert "tag_solution" not in page and 'class="solution' not in page, f"{path.stem}: a solution block"
+        text = html.unescape(re.sub(r"<[^>]+>", "", page))
+        cells = json.loads(path.read_text())["cells"]
+        shown = {line.strip() for c in cells if "solution" not in c.get("metadata", {}).get("tags", [])
+                 for line in "".join(c["source"]).splitlines()}
+        for cell in cells:
+            if "solution" in cell.get("metadata", {}).get("tags", []):
+                lines = [line.strip() for line in "".join(cell["source"]).splitlines()
+                         if len(line.strip()) > 30 and line.strip() not in shown]
+                leaked = [line for line in lines if line in text]
+                assert not leaked, f"{path.stem}: solution code in the page: {leaked[:2]}"
+
+
 @pytest.mark.browser
 @pytest.mark.parametrize("page", PAGES)
-def test_page_in_browser(built_book, browser, page):
+def test_page_in_browser(edition_book, browser, page):
+    built_book = edition_book
     url = (built_book / f"{page}.html").as_uri()
     context = browser.new_context(viewport={"width": 1280, "height": 900})
     errors: list[str] = []

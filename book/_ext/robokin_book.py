@@ -14,11 +14,19 @@
   closed ``<details>`` block by ``_static/solutions.js`` (shipped from
   ``book/_static``), so a student sees the task first and opens the worked
   solution on purpose.
+* **Student edition.**  With ``ROBOKIN_EDITION=student`` (``make book
+  EDITION=student``) the solutions are not in the HTML at all: before a chapter
+  notebook is parsed, its ``solution`` cells, the text between
+  ``{solution-start}`` and ``{solution-end}`` and the printouts of its ``check``
+  cells are taken out. Notebooks are not executed (their stored outputs are
+  used), so the edition is built from exactly the pages of the instructor edition.
 """
 
 from __future__ import annotations
 
 import hashlib
+import json
+import os
 import shutil
 from pathlib import Path
 
@@ -82,6 +90,8 @@ def invalidate_stale_cache(app: Sphinx, config) -> None:
     Empties the execution cache and drops Sphinx's saved environment (otherwise an
     incremental build would not even re-read the notebooks).
     """
+    if config.robokin_edition == "student":  # executes nothing, shares the cache with the other edition
+        return
     cache = _cache_dir(app, config)
     if cache is None:
         return
@@ -99,6 +109,8 @@ def invalidate_stale_cache(app: Sphinx, config) -> None:
 def stamp_cache(app: Sphinx, exception: Exception | None) -> None:
     """Record which robokin source the cached notebook outputs were computed with."""
     cache = _cache_dir(app, app.config)
+    if app.config.robokin_edition == "student":
+        return
     if exception is None and cache is not None and cache.is_dir():
         (cache / CACHE_STAMP).write_text(package_digest() + "\n")
 
@@ -156,7 +168,69 @@ def deduplicate_scripts(app: Sphinx, pagename, templatename, context, doctree) -
     scripts[:] = unique  # in place: the template reads this same list
 
 
+EDITIONS = ("instructor", "student")
+
+
+def configure_edition(app: Sphinx, config) -> None:
+    """The student edition uses the notebooks' stored outputs and says what it is."""
+    if config.robokin_edition not in EDITIONS:
+        raise ValueError(f"robokin_edition (ROBOKIN_EDITION) must be one of {EDITIONS}, "
+                         f"not {config.robokin_edition!r}")
+    if config.robokin_edition == "student":
+        config.nb_execution_mode = "off"
+        options = dict(config.html_theme_options or {})
+        options["announcement"] = "Student edition: the worked solutions are not included."
+        config.html_theme_options = options
+
+
+def student_notebook(text: str) -> str | None:
+    """The notebook ``text`` without its solutions (None if it is not a notebook).
+
+    Removed: code cells tagged ``solution``; every cell from a ``{solution-start}``
+    directive to its ``{solution-end}``; the outputs of ``check`` cells (they print
+    the computed answers). Kept: the problem, hints, figures, the check cells'
+    code, the *Try it yourself* cells.
+    """
+    try:
+        nb = json.loads(text)
+    except ValueError:
+        return None
+    if not isinstance(nb, dict) or "cells" not in nb:
+        return None
+    cells, in_solution = [], False
+    for cell in nb["cells"]:
+        source = cell.get("source", "")
+        source = "".join(source) if isinstance(source, list) else source
+        tags = cell.get("metadata", {}).get("tags", [])
+        starts = cell["cell_type"] == "markdown" and "{solution-start}" in source
+        ends = cell["cell_type"] == "markdown" and "{solution-end}" in source
+        if starts:
+            in_solution = True
+        drop = in_solution or "solution" in tags
+        if ends:
+            in_solution = False
+        if drop:
+            continue
+        if "check" in tags and cell.get("outputs"):
+            cell = dict(cell, outputs=[])
+        cells.append(cell)
+    nb["cells"] = cells
+    return json.dumps(nb, ensure_ascii=False)
+
+
+def remove_solutions(app: Sphinx, docname: str, source: list[str]) -> None:
+    if app.config.robokin_edition != "student" or not str(app.env.doc2path(docname)).endswith(".ipynb"):
+        return
+    text = student_notebook(source[0])
+    if text is not None:
+        source[0] = text
+
+
 def setup(app: Sphinx) -> dict:
+    app.add_config_value("robokin_edition", os.environ.get("ROBOKIN_EDITION", "instructor") or "instructor",
+                         "env", [str])
+    app.connect("config-inited", configure_edition, priority=50)
+    app.connect("source-read", remove_solutions)
     # Run after myst-parser has added its own MathJax options.
     app.connect("config-inited", configure_mathjax, priority=900)
     app.connect("build-finished", copy_mathjax)

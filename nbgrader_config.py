@@ -1,0 +1,95 @@
+# nbgrader configuration of the robokin course.
+#
+# `make student` (tools/student_edition.py) writes a course directory, by default
+# _build/nbgrader/course/, whose own nbgrader_config.py loads this file and sets
+# the course root and the exchange. Run nbgrader's commands in that directory,
+# or here (the root below then points at it). The walk-through is in
+# book/for-instructors.md, "Assigning chapters with nbgrader".
+import os
+import sys
+from pathlib import Path
+
+from nbconvert.preprocessors import ClearMetadataPreprocessor
+from nbgrader.preprocessors import (
+    AssignLatePenalties,
+    CheckCellMetadata,
+    ClearHiddenTests,
+    ClearMarkScheme,
+    ClearOutput,
+    ClearSolutions,
+    ComputeChecksums,
+    DeduplicateIds,
+    IgnorePattern,
+    IncludeHeaderFooter,
+    InstantiateTests,
+    LimitOutput,
+    LockCells,
+    OverwriteKernelspec,
+    SaveAutoGrades,
+    SaveCells,
+)
+
+ROBOKIN = Path(__file__).resolve().parent
+sys.path.insert(0, str(ROBOKIN / "tools"))
+
+from robokin_nbgrader import (  # noqa: E402
+    AutograderReport,
+    MarkSolutionRegions,
+    PointsHeader,
+    RequireGradingMetadata,
+    RestoreMissingCells,
+    RobokinExecute,
+)
+
+c = get_config()  # noqa: F821 - provided by nbgrader's config loader
+
+c.CourseDirectory.course_id = "robokin"
+# Overridden by the course directory's own nbgrader_config.py.
+c.CourseDirectory.root = str(ROBOKIN / "_build" / "nbgrader" / "course")
+c.Exchange.root = str(ROBOKIN / "_build" / "nbgrader" / "exchange")
+
+# -- generate_assignment: the student edition, from the chapter's nbgrader metadata
+c.GenerateAssignment.preprocessors = [
+    RequireGradingMetadata,   # a chapter without metadata is an error naming it
+    IncludeHeaderFooter,
+    InstantiateTests,
+    PointsHeader,             # points per task, under the title
+    MarkSolutionRegions,      # keep signatures and interface names; mark the prose
+    LockCells,
+    ClearSolutions,
+    ClearOutput,
+    CheckCellMetadata,
+    ComputeChecksums,
+    SaveCells,
+    ClearHiddenTests,
+    ClearMarkScheme,
+    ComputeChecksums,
+    CheckCellMetadata,
+]
+# Solution prose is read-only text that is not a graded answer: nbgrader allows
+# solution regions there only with enforce_metadata off; they become empty.
+c.ClearSolutions.enforce_metadata = False
+c.ClearSolutions.text_stub = ""
+
+# -- autograde: restore deleted tests, explain failures, report on top
+c.Autograde.sanitize_preprocessors = [
+    ClearOutput,
+    DeduplicateIds,
+    OverwriteKernelspec,
+    RestoreMissingCells,
+    CheckCellMetadata,
+]
+c.Autograde.autograde_preprocessors = [
+    RobokinExecute,
+    IgnorePattern,
+    ClearMetadataPreprocessor,
+    LimitOutput,
+    SaveAutoGrades,
+    AssignLatePenalties,
+    CheckCellMetadata,
+    AutograderReport,
+]
+c.OverwriteCells.add_missing_cells = True
+c.Execute.timeout = int(os.environ.get("ROBOKIN_CELL_TIMEOUT", "120"))   # seconds per cell
+# 3D scenes of the graded notebook as pictures: the feedback page is read offline.
+c.RobokinExecute.viewer = "matplotlib"
