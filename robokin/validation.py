@@ -17,6 +17,7 @@ they are printed with ``N`` in that place, e.g. ``(N, 3)``.
 from __future__ import annotations
 
 import math
+import sys
 from collections.abc import Sequence
 from typing import Any
 
@@ -29,10 +30,17 @@ __all__ = [
     "check_finite",
     "as_vector",
     "as_batch",
+    "as_scalar",
     "check_rotation_matrix",
     "check_transform",
     "check_limits",
     "check_positive",
+    "check_length",
+    "check_int",
+    "check_choice",
+    "check_callable",
+    "check_chain",
+    "check_result_finite",
     "format_shape",
 ]
 
@@ -393,7 +401,7 @@ def check_limits(limits: Any, n: int | None, name: str = "limits") -> np.ndarray
     return a
 
 
-def check_positive(value: Any, name: str, allow_zero: bool = False) -> Any:
+def check_positive(value: Any, name: str, allow_zero: bool = False, *, scalar: bool = False) -> Any:
     """Check that a number (or every entry of an array) is positive.
 
     Parameters
@@ -404,6 +412,9 @@ def check_positive(value: Any, name: str, allow_zero: bool = False) -> Any:
         Argument name for messages.
     allow_zero : bool, optional
         Accept 0 (i.e. check ``>= 0`` instead of ``> 0``).
+    scalar : bool, optional
+        Require a single number (a tolerance, a gain, a time step): an array
+        raises :class:`ShapeError`.
 
     Returns
     -------
@@ -414,9 +425,13 @@ def check_positive(value: Any, name: str, allow_zero: bool = False) -> Any:
     ------
     DomainError
         ``value`` not finite or not positive (non-negative).
+    ShapeError
+        ``scalar`` and ``value`` is an array of several numbers.
     TypeError
-        Non-numeric ``value``.
+        Non-numeric ``value`` (or a bool).
     """
+    if scalar:
+        value = as_scalar(value, name)
     if isinstance(value, (int, float)) and not isinstance(value, bool):
         v = float(value)
         if not math.isfinite(v):
@@ -435,3 +450,225 @@ def check_positive(value: Any, name: str, allow_zero: bool = False) -> Any:
         idx = tuple(int(i) for i in np.argwhere(~ok)[0])
         raise DomainError(f"{name} must be {what}; got {a[idx]:g} at index {idx}")
     return float(a) if a.ndim == 0 else a
+
+
+def as_scalar(x: Any, name: str) -> float:
+    """Convert one real number to a finite Python ``float``.
+
+    Parameters
+    ----------
+    x : float, int, numpy scalar or 0-d / single-element array
+        The number (e.g. a time ``t`` or a tolerance).
+    name : str
+        Argument name for messages.
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    TypeError
+        Not a real number (None, a string, a complex number, a bool, ...).
+    ShapeError
+        An array with more than one entry, e.g. ``t must be a single number; got shape (2,)``.
+    DomainError
+        NaN or infinite.
+    """
+    if type(x) is float or (type(x) is int):
+        v = float(x)
+    elif isinstance(x, (bool, np.bool_)):
+        raise TypeError(f"{name} must be a real number; got {_describe(x)}")
+    elif isinstance(x, (int, float, np.integer, np.floating)):
+        v = float(x)
+    else:
+        a = as_float_array(x, name)
+        if a.size != 1:
+            raise ShapeError(f"{name} must be a single number; got shape {a.shape}")
+        return float(a.reshape(()))
+    if not math.isfinite(v):
+        raise DomainError(f"{name} must be finite; got {v}")
+    return v
+
+
+def check_length(value: Any, name: str, *, positive: bool = True) -> Any:
+    """Check a length parameter of a model: a finite real number or a sympy expression.
+
+    Parameters
+    ----------
+    value : float or sympy.Expr
+        The length (metres). Sympy symbols and expressions are returned
+        unchanged (they are the model's parameters); numeric sympy constants are
+        checked like numbers.
+    name : str
+        Argument name for messages.
+    positive : bool, optional
+        Require ``value > 0`` (a link length); ``False`` accepts any finite
+        number (an offset).
+
+    Returns
+    -------
+    float or sympy.Expr
+        The value as given (a Python number stays a number).
+
+    Raises
+    ------
+    TypeError
+        Not a number or a sympy expression.
+    DomainError
+        NaN, infinite, or not positive (with ``positive``).
+    """
+    sp = sys.modules.get("sympy")
+    if sp is not None and isinstance(value, sp.Basic):
+        if not getattr(value, "is_number", False):
+            return value
+        try:
+            v = float(value)
+        except TypeError:
+            raise TypeError(f"{name} must be a real length; got {value!r}") from None
+    else:
+        if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer, np.floating)):
+            raise TypeError(f"{name} must be a number (metres) or a sympy expression; got {_describe(value)}")
+        v = float(value)
+    if not math.isfinite(v):
+        raise DomainError(f"{name} must be finite; got {v}")
+    if positive and not v > 0.0:
+        raise DomainError(f"{name} must be a positive length (> 0, metres); got {v:g}")
+    return value
+
+
+def check_int(value: Any, name: str, minimum: int | None = None, maximum: int | None = None) -> int:
+    """Check that ``value`` is an integer (not a bool, not a float) within bounds.
+
+    Parameters
+    ----------
+    value : int or numpy integer
+    name : str
+        Argument name for messages.
+    minimum, maximum : int, optional
+        Inclusive bounds. ``maximum`` guards counts that size arrays (a typo
+        such as ``N=10**12`` raises here instead of exhausting the memory).
+
+    Returns
+    -------
+    int
+
+    Raises
+    ------
+    TypeError
+        Not an integer, e.g. ``restarts must be an integer; got float 1.5``.
+    DomainError
+        Outside ``[minimum, maximum]``.
+    """
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
+        raise TypeError(f"{name} must be an integer; got {_describe(value)}")
+    v = int(value)
+    if minimum is not None and v < minimum:
+        raise DomainError(f"{name} must be >= {minimum}; got {v}")
+    if maximum is not None and v > maximum:
+        raise DomainError(f"{name} must be <= {maximum:,}; got {v:,}")
+    return v
+
+
+def check_choice(value: Any, choices: Sequence[Any], name: str) -> Any:
+    """Check that ``value`` is one of ``choices`` (strings such as ``"pinv"``/``"dls"``).
+
+    Raises
+    ------
+    ValueError
+        E.g. ``inverse must be one of 'pinv', 'dls'; got 'pseudo'``.
+    """
+    ok = any(value is c or (isinstance(value, str) and isinstance(c, str) and value == c) for c in choices)
+    if not ok:
+        listed = ", ".join(repr(c) for c in choices)
+        raise ValueError(f"{name} must be one of {listed}; got {_describe(value)}")
+    return value
+
+
+def check_callable(value: Any, name: str, signature: str = "") -> Any:
+    """Check that ``value`` is callable; ``signature`` describes the expected call in the message.
+
+    Raises
+    ------
+    TypeError
+        E.g. ``feedforward must be a function t -> twist (6,); got NoneType None``.
+    """
+    if not callable(value):
+        what = f"a function {signature}" if signature else "callable"
+        raise TypeError(f"{name} must be {what}; got {_describe(value)}")
+    return value
+
+
+def check_chain(chain: Any, name: str = "chain", methods: Sequence[str] = ("fk", "jacobian")) -> Any:
+    """Check that ``chain`` is a kinematic chain: an integer ``n >= 1`` and the given methods.
+
+    Parameters
+    ----------
+    chain : object
+        Usually a :class:`robokin.chains.SerialChain` (e.g. ``robokin.models.ur10()``);
+        any object with ``n`` and the ``methods`` is accepted (duck typing).
+    name : str, optional
+        Argument name for messages.
+    methods : sequence of str, optional
+        Methods the caller needs (default ``fk`` and ``jacobian``).
+
+    Returns
+    -------
+    object
+        ``chain`` itself.
+
+    Raises
+    ------
+    TypeError
+        E.g. ``chain must be a kinematic chain such as robokin.models.ur10() (an object
+        with n, fk(q), jacobian(q)); got NoneType None``.
+    """
+    n = getattr(chain, "n", None)
+    ok = (isinstance(n, (int, np.integer)) and not isinstance(n, (bool, np.bool_)) and n >= 1
+          and all(callable(getattr(chain, m, None)) for m in methods))
+    if not ok:
+        needs = ", ".join(["n", *(f"{m}(q)" for m in methods)])
+        raise TypeError(f"{name} must be a kinematic chain such as robokin.models.ur10() (an object with "
+                        f"{needs}); got {_describe(chain)}")
+    return chain
+
+
+def check_result_finite(result: Any, what: str, **inputs: Any) -> Any:
+    """Raise a :class:`DomainError` if a result computed from finite inputs is not finite.
+
+    Huge but finite inputs (``1e300``) can overflow inside a computation; this
+    turns the ``inf``/``NaN`` that would come out into an error that names the
+    inputs and their largest magnitude.
+
+    Parameters
+    ----------
+    result : array_like
+        The computed value.
+    what : str
+        What was computed, for the message (``"the transformed point"``).
+    **inputs : array_like
+        The arguments it was computed from, by name.
+
+    Returns
+    -------
+    The ``result`` unchanged when it is finite.
+
+    Raises
+    ------
+    DomainError
+        E.g. ``p is too large: computing the transformed point overflows float64 (largest |p| = 1.7e+308)``.
+    """
+    a = np.asarray(result)
+    if a.dtype.kind in "fc" and not np.isfinite(a).all():
+        parts = []
+        for key, value in inputs.items():
+            try:
+                big = float(np.max(np.abs(np.asarray(value, dtype=float)), initial=0.0))
+            except (TypeError, ValueError):
+                continue
+            parts.append(f"largest |{key}| = {big:.3g}")
+        names = ", ".join(inputs)
+        verb = "is" if len(inputs) == 1 else "are"
+        head = f"{names} {verb} too large: " if inputs else ""
+        raise DomainError(f"{head}computing {what} overflows float64" + (f" ({'; '.join(parts)})" if parts else ""))
+    return result

@@ -34,8 +34,11 @@ from typing import Any
 import numpy as np
 
 from robokin.chains.chain import SerialChain
-from robokin.chains.elements import Element, Fixed, Rx, Rz, Tx, Tz
+from robokin.chains.elements import Element, Fixed, Rx, Rz, Tx, Tz, _check_value
 from robokin.errors import DomainError, ShapeError
+from robokin.validation import check_transform
+
+_COLUMNS = ("d", "theta_offset", "a", "alpha")
 
 __all__ = ["from_dh", "from_modified_dh", "from_link_table"]
 
@@ -44,6 +47,8 @@ _PRI = {"p", "prismatic", "1"}
 
 
 def _joint_type(x: Any, where: str) -> str:
+    if isinstance(x, (float, np.floating)) and not float(x).is_integer():
+        raise DomainError(f"{where} must be 'R'/'revolute'/0 or 'P'/'prismatic'/1; got {x!r}")
     key = str(int(x)) if isinstance(x, (int, float, np.integer, np.floating)) else str(x).strip().lower()
     if key in _REV:
         return "revolute"
@@ -75,12 +80,21 @@ def _rows(table: Any, name: str = "table") -> list[list[Any]]:
             f"{name} must have shape (n, 4) or (n, 5) with columns (d, theta_offset, a, alpha"
             f"[, type]); got {len(rows)} rows of length(s) {widths}"
         )
+    for i, row in enumerate(rows):  # numbers or sympy expressions, finite
+        for j, x in enumerate(row[:4]):
+            _check_value(x, f"{name}[{i}][{j}] ({_COLUMNS[j]})")
     return rows
 
 
 def _names(joint_names: Sequence[str] | None, n: int) -> list[str]:
     if joint_names is None:
         return [f"q{i + 1}" for i in range(n)]
+    if isinstance(joint_names, str) or not hasattr(joint_names, "__iter__"):
+        raise TypeError(f"joint_names must be a sequence of {n} strings; got {type(joint_names).__name__} "
+                        f"{joint_names!r}")
+    bad = [x for x in joint_names if not isinstance(x, (str, int, np.integer))]
+    if bad:
+        raise TypeError(f"joint_names must contain strings; got {type(bad[0]).__name__} {bad[0]!r}")
     names = [str(x) for x in joint_names]
     if len(names) != n:
         raise ShapeError(f"joint_names must have {n} entries; got {len(names)}")
@@ -209,6 +223,9 @@ def from_link_table(
     DomainError
         A numeric transform that is not homogeneous, or an unknown joint type.
     """
+    for arg, what in ((joint_types, "joint_types"), (transforms, "transforms")):
+        if isinstance(arg, str) or not hasattr(arg, "__iter__"):
+            raise TypeError(f"{what} must be a sequence; got {type(arg).__name__} {arg!r}"[:200])
     types = [_joint_type(t, f"joint_types[{i}]") for i, t in enumerate(joint_types)]
     n = len(types)
     mats = list(transforms)
@@ -220,7 +237,7 @@ def from_link_table(
     names = _names(joint_names, n)
     els: list[Element] = []
     for i, T in enumerate(mats):
-        arr = None if hasattr(T, "free_symbols") else np.asarray(T, dtype=float)
+        arr = None if hasattr(T, "free_symbols") else check_transform(T, name=f"transforms[{i}]")
         if arr is not None and arr.shape != (4, 4):
             raise ShapeError(f"transforms[{i}] must have shape (4, 4); got shape {arr.shape}")
         if arr is None or not np.array_equal(arr, np.eye(4)):

@@ -38,11 +38,23 @@ from robokin._dispatch import is_symbolic
 from robokin.chains._engine import Engine
 from robokin.chains.elements import Element, Fixed, elementary_transform
 from robokin.errors import DomainError, ShapeError
-from robokin.validation import as_float_array, as_vector, check_limits, check_transform
+from robokin.validation import (
+    as_float_array,
+    as_vector,
+    check_int,
+    check_limits,
+    check_positive,
+    check_result_finite,
+    check_transform,
+)
 
 __all__ = ["SerialChain"]
 
 _F64 = np.dtype(np.float64)
+#: Joint values (m) or link dimensions beyond which results are checked for float64 overflow.
+_BIG = 1e100
+#: Largest number of entries random_configurations may allocate (N * n floats, 800 MB).
+_MAX_SAMPLES = 10**8
 _DEFAULT_REVOLUTE_LIMITS = (-math.pi, math.pi)
 _DEFAULT_PRISMATIC_LIMITS = (-1.0, 1.0)
 
@@ -128,6 +140,9 @@ class SerialChain:
         frame_names: Sequence[str] | None = None,
         name: str = "chain",
     ) -> None:
+        if isinstance(elements, (str, Element)) or not hasattr(elements, "__iter__"):
+            raise TypeError(f"elements must be a sequence of Element (Tx, Ty, Tz, Rx, Ry, Rz, Fixed); got "
+                            f"{type(elements).__name__} {elements!r}"[:200])
         elements = list(elements)
         for i, el in enumerate(elements):
             if not isinstance(el, Element):
@@ -185,6 +200,13 @@ class SerialChain:
         # frame names
         if frame_names is None:
             frame_names = ["base", *names, "ee"]
+        if isinstance(frame_names, str) or not hasattr(frame_names, "__iter__"):
+            raise TypeError(f"frame_names must be a sequence of {n + 2} strings; got {type(frame_names).__name__} "
+                            f"{frame_names!r}")
+        frame_names = list(frame_names)
+        bad = [f for f in frame_names if not isinstance(f, (str, int, np.integer))]
+        if bad:
+            raise TypeError(f"frame_names must contain strings; got {type(bad[0]).__name__} {bad[0]!r}")
         frame_names = [str(f) for f in frame_names]
         if len(frame_names) != n + 2:
             raise ShapeError(
@@ -295,10 +317,30 @@ class SerialChain:
         SerialChain
             Same joints, limits and frame names; numeric once every parameter
             has a number.
+
+        Raises
+        ------
+        TypeError
+            ``values`` is not a dict, or a value is neither a number nor a sympy
+            expression.
+        DomainError
+            A NaN or infinite value.
         """
         import sympy as sp
 
-        byname = {str(k): v for k, v in values.items()}
+        if not isinstance(values, dict):
+            raise TypeError(f"values must be a dict {{symbol or name: number}}, e.g. {{l1: 0.5}}; got "
+                            f"{type(values).__name__} {values!r}"[:200])
+        byname = {}
+        for k, v in values.items():
+            if isinstance(v, (sp.Basic, sp.MatrixBase)):
+                pass
+            elif isinstance(v, (bool, np.bool_)) or not isinstance(v, (int, float, np.integer, np.floating)):
+                raise TypeError(f"values[{k!r}] must be a number or a sympy expression; got "
+                                f"{type(v).__name__} {v!r}")
+            elif not math.isfinite(float(v)):
+                raise DomainError(f"values[{k!r}] must be finite; got {v}")
+            byname[str(k)] = v
 
         def sub(x: Any) -> Any:
             if not isinstance(x, (sp.Basic, sp.MatrixBase)):
@@ -343,6 +385,10 @@ class SerialChain:
                     consts[-1] = consts[-1] @ _numeric_element(el)
             consts[-1] = consts[-1] @ np.asarray(self._tool, dtype=float)
             self._engine_cache = Engine(consts, axes, rev, signs, offs)
+            # results can overflow only with prismatic joints or huge link dimensions
+            self._max_constant = max(float(np.abs(C).max()) for C in consts)
+            self._huge_links = self._max_constant > _BIG
+            self._prismatic = not all(rev)
         return self._engine_cache
 
     # ------------------------------------------------------------ argument parsing
@@ -371,14 +417,39 @@ class SerialChain:
         else:
             a = as_float_array(q, "q")
         if a.ndim == 1 and a.shape[0] == n:
-            if check and a @ self._zeros != 0.0:  # NaN unless every entry is finite
-                as_float_array(a, "q")  # raises DomainError naming q and the entry
+            if check:
+                total = sum(a.tolist())  # Python floats: inf/NaN propagate without numpy warnings
+                if total - total != 0.0:  # NaN unless every entry is finite (or the sum overflowed)
+                    as_float_array(a, "q")  # raises DomainError naming q and the entry
             return "single", a
         if a.ndim == 2 and a.shape[1] == n:
             if check and not np.isfinite(a).all():
                 as_float_array(a, "q")
             return "batch", a
         raise ShapeError(f"q must have shape ({n},) or (N, {n}); got shape {a.shape}")
+
+    def _overflow_risk(self, a: np.ndarray, point: Any = None) -> bool:
+        """True if a result computed from ``a`` (and ``point``) could overflow float64.
+
+        Only chains with prismatic joints and huge joint values, huge link
+        dimensions, or a huge ``point`` can; for revolute chains of ordinary
+        size this costs one attribute lookup.
+        """
+        self._engine  # noqa: B018  (compiles the chain; sets _huge_links and _prismatic)
+        if self._huge_links:
+            return True
+        if point is not None and float(np.abs(point).max()) > _BIG:
+            return True
+        return self._prismatic and a.size > 0 and float(np.abs(a).max()) > _BIG
+
+    def _checked(self, out: np.ndarray, what: str, **inputs: Any) -> np.ndarray:
+        """``out`` if finite; else a DomainError naming the inputs (or the chain's huge dimensions)."""
+        if np.isfinite(out).all():
+            return out
+        if self._huge_links:
+            raise DomainError(f"chain {self.name!r} has dimensions too large for float64: computing {what} "
+                              f"overflows (largest constant transform entry {self._max_constant:.3g} m)")
+        return check_result_finite(out, what, **inputs)
 
     def _frame_index(self, frame: Any) -> int:
         n = self._n
@@ -432,6 +503,15 @@ class SerialChain:
         """
         kind, a = self._parse_q(q, check)
         k = self._n + 1 if frame is None else self._frame_index(frame)
+        if kind == "sym":
+            return self._symbolic_subs(self._sym_frames()[k], a)
+        if check and self._overflow_risk(a):
+            with np.errstate(over="ignore", invalid="ignore"):
+                out = self._fk_numeric(kind, a, k)
+            return self._checked(out, "the forward kinematics", q=a)
+        return self._fk_numeric(kind, a, k)
+
+    def _fk_numeric(self, kind: str, a: np.ndarray, k: int) -> np.ndarray:
         if kind == "single":
             eng = self._engine
             if k == self._n + 1:
@@ -439,9 +519,7 @@ class SerialChain:
             if k == 0:
                 return np.eye(4)
             return eng.joint_frames_single(a)[k - 1]
-        if kind == "batch":
-            return self._engine.fk_batch(a, upto=k)
-        return self._symbolic_subs(self._sym_frames()[k], a)
+        return self._engine.fk_batch(a, upto=k)
 
     def frame_pose(self, q: Any, frame: Any, *, check: bool = True) -> Any:
         """Pose of frame ``frame`` (index or name) in the base: ``fk(q, frame=frame)``."""
@@ -464,11 +542,14 @@ class SerialChain:
             n+1 the end-effector (tool included). Names: :attr:`frame_names`.
         """
         kind, a = self._parse_q(q, check)
-        if kind == "single":
-            return self._engine.frames_single(a)
-        if kind == "batch":
-            return self._engine.frames_batch(a)
-        return [self._symbolic_subs(F, a) for F in self._sym_frames()]
+        if kind == "sym":
+            return [self._symbolic_subs(F, a) for F in self._sym_frames()]
+        frames = self._engine.frames_single if kind == "single" else self._engine.frames_batch
+        if check and self._overflow_risk(a):
+            with np.errstate(over="ignore", invalid="ignore"):
+                out = frames(a)
+            return self._checked(out, "the frames", q=a)
+        return frames(a)
 
     def jacobian(self, q: Any, frame: Any = None, point: Any = None, *, check: bool = True) -> Any:
         r"""Geometric Jacobian in the base frame, rows ``[v; ω]``.
@@ -507,9 +588,13 @@ class SerialChain:
         if kind == "sym":
             return self._symbolic_subs(self._sym_jacobian(k, point), a)
         pt = None if point is None else as_vector(point, 3, "point")
-        if kind == "single":
-            return self._engine.jacobian_single(a, upto=k, point=pt)
-        return self._engine.jacobian_batch(a, upto=k, point=pt)
+        jac = self._engine.jacobian_single if kind == "single" else self._engine.jacobian_batch
+        if check and self._overflow_risk(a, pt):
+            with np.errstate(over="ignore", invalid="ignore"):
+                out = jac(a, upto=k, point=pt)
+            inputs = {"q": a} if pt is None else {"q": a, "point": pt}
+            return self._checked(out, "the Jacobian", **inputs)
+        return jac(a, upto=k, point=pt)
 
     def position_jacobian(self, q: Any, frame: Any = None, point: Any = None, *, check: bool = True) -> Any:
         r"""Linear-velocity rows of :meth:`jacobian`: :math:`\partial\mathbf{p}/\partial\mathbf{q}`, (3, n) or (N, 3, n)."""
@@ -572,21 +657,30 @@ class SerialChain:
 
         Raises
         ------
+        TypeError
+            ``N`` not an integer, or ``seed`` of the wrong type.
         DomainError
-            ``N`` negative or some limit infinite.
+            ``N`` negative or too large (``N * n`` above 1e8 samples), or some
+            limit infinite.
         """
-        if isinstance(N, bool) or not isinstance(N, (int, np.integer)):
-            raise TypeError(f"N must be an int; got {type(N).__name__}")
-        if N < 0:
-            raise DomainError(f"N must be >= 0; got {N}")
+        N = check_int(N, "N", 0, _MAX_SAMPLES // self._n)
         if not np.isfinite(self._limits).all():
             raise DomainError("random_configurations needs finite limits; got infinite limits")
-        rng = np.random.default_rng(seed)
+        if isinstance(seed, (bool, np.bool_, float, str, bytes)):
+            raise TypeError(f"seed must be an int, a numpy Generator or None; got {type(seed).__name__} {seed!r}")
+        try:
+            rng = np.random.default_rng(seed)
+        except (TypeError, ValueError) as exc:
+            raise TypeError(f"seed must be an int >= 0, a numpy Generator or None; got {type(seed).__name__} "
+                            f"({exc})") from None
         lo, hi = self._limits[:, 0], self._limits[:, 1]
-        return lo + (hi - lo) * rng.random((int(N), self._n))
+        with np.errstate(over="ignore", invalid="ignore"):
+            out = lo + (hi - lo) * rng.random((N, self._n))
+        return check_result_finite(out, "the samples", limits=self._limits)
 
     def within_limits(self, q: Any, tol: float = 0.0) -> Any:
-        """True where ``q`` lies within the limits (± ``tol``); bool or (N,) bool array."""
+        """True where ``q`` lies within the limits (± ``tol``, >= 0); bool or (N,) bool array."""
+        tol = check_positive(tol, "tol", allow_zero=True, scalar=True)
         kind, a = self._parse_q(q, True)
         if kind == "sym":
             raise TypeError("within_limits needs a numeric q")
@@ -674,7 +768,7 @@ class SerialChain:
         r, c = shape
 
         def fn(q: Any) -> np.ndarray:
-            a = np.asarray(q, dtype=float)
+            a = as_float_array(q, "q")
             if a.shape[-1:] != (n,) or a.ndim > 2:
                 raise ShapeError(f"q must have shape ({n},) or (N, {n}); got shape {a.shape}")
             vals = raw(*a.T)

@@ -37,6 +37,7 @@ import numpy as np
 
 from robokin.errors import DomainError, ShapeError
 from robokin.transforms import rotx, roty, rotz, transform, translation
+from robokin.validation import check_limits
 
 __all__ = ["Element", "Tx", "Ty", "Tz", "Rx", "Ry", "Rz", "Fixed", "AXES"]
 
@@ -167,20 +168,20 @@ def _make(kind: str, axis: str, value: Any, offset: Any, limits: Any) -> Element
         offset = _check_value(offset, f"{label}('{value}') offset")
         lim = None
         if limits is not None:
-            arr = np.asarray(limits, dtype=float)
-            if arr.shape != (2,):
-                raise ShapeError(
-                    f"limits of joint {text!r} must have shape (2,); got shape {arr.shape}"
-                )
-            if np.isnan(arr).any() or arr[0] > arr[1]:
-                raise DomainError(
-                    f"limits of joint {text!r} must satisfy lower <= upper; got {tuple(arr)}"
-                )
+            name = f"limits of joint {text!r}"
+            try:
+                shape = np.shape(limits)
+            except ValueError:  # ragged
+                shape = None
+            if shape != (2,):
+                raise ShapeError(f"{name} must be a pair (lower, upper) of shape (2,); got "
+                                 + (f"shape {shape}" if shape is not None else f"{limits!r}"))
+            arr = check_limits([limits], 1, name)[0]  # numbers, no NaN, lower <= upper
             lim = (float(arr[0]), float(arr[1]))
         return Element(kind, ax, None, text, sign, offset, lim)
     if limits is not None or (offset is not None and offset != 0):
         raise ValueError(f"{label}: offset/limits only apply to joints (give a joint name)")
-    return Element(kind, ax, _check_value(value, label))
+    return Element(kind, ax, _check_value(value, f"{label} value"))
 
 
 def Tx(value: Any, *, offset: Any = 0.0, limits: Any = None) -> Element:

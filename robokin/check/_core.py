@@ -167,10 +167,19 @@ def _as_variables(variables: Any) -> list[Variable]:
 
 # ---------------------------------------------------------------- formatting
 def fmt(x: Any, precision: int = 3) -> str:
-    """Short, stable text of a number or array for messages (no ``-0``)."""
-    a = np.round(np.asarray(x, dtype=float), precision) + 0.0
+    """Short, stable text of a number or array for messages (no ``-0``).
+
+    Numbers of magnitude 1e16 and above (a wildly wrong answer) are written in
+    scientific notation instead of with hundreds of digits.
+    """
+    raw = np.asarray(x, dtype=float)
+    with np.errstate(over="ignore", invalid="ignore"):
+        a = np.round(raw, precision) + 0.0
+    a = np.where(np.isfinite(a) | ~np.isfinite(raw), a, raw)
 
     def one(v: float) -> str:
+        if abs(v) >= 1e16 and np.isfinite(v):
+            return np.format_float_scientific(v, precision=precision, trim="-")
         return np.format_float_positional(v, precision=precision, trim="-")
 
     if a.ndim == 0:
@@ -223,7 +232,10 @@ def _to_float_array(out: Any, what: str) -> np.ndarray:
                 "symbols", f"{what} still contains symbols after substituting numbers: {out}"
             ) from None
     try:
-        return np.array(out, dtype=float)
+        a = np.asarray(out)
+        if a.dtype.kind == "c":
+            raise _AnswerError("error", f"{what} has complex entries; expected real numbers.")
+        return np.array(a, dtype=float)
     except (TypeError, ValueError):
         raise _AnswerError("error", f"{what} is not numeric (got {type(out).__name__}).") from None
 
@@ -412,9 +424,10 @@ def _values(fn: RefFn, X: np.ndarray) -> np.ndarray | None:
 
 # ---------------------------------------------------------------- the check
 def _close(a: np.ndarray, b: np.ndarray, atol: float, rtol: float) -> bool:
-    return a.shape == b.shape and bool(np.all(np.isfinite(a))) and np.allclose(
-        a, b, atol=atol, rtol=rtol
-    )
+    if a.shape != b.shape or not bool(np.all(np.isfinite(a))):
+        return False
+    with np.errstate(over="ignore", invalid="ignore"):  # answers near 1e308 must not warn
+        return bool(np.allclose(a, b, atol=atol, rtol=rtol))
 
 
 def _normalise_vector(S: np.ndarray, ref_shape: tuple[int, ...]) -> np.ndarray:
@@ -538,7 +551,8 @@ class Check:
                 self.name, True, f"{PASS} {self.name}{at} is correct{self._where(X)}.",
                 None, len(X),
             )
-        ref_varies = len(X) > 1 and not np.allclose(R, R[:1], atol=self.atol, rtol=self.rtol)
+        with np.errstate(over="ignore", invalid="ignore"):
+            ref_varies = len(X) > 1 and not np.allclose(R, R[:1], atol=self.atol, rtol=self.rtol)
         if ev.form == "constant" and self.at is None and ref_varies:
             names = ", ".join(v.label for v in self.variables)
             return self._fail(
@@ -552,16 +566,17 @@ class Check:
                 "error", f"{self.name} gives NaN or infinite values.", len(X)
             )
         ctx = Context(self, reference, X, R, S, ev.form)
-        for diag in self.diagnoses:
-            for m in diag.variants(ctx):
-                M = _values(m.transform(reference), X)
-                if M is None or M.shape != S.shape or _close(M, R, self.atol, self.rtol):
-                    continue
-                if _close(S, M, self.atol, self.rtol):
-                    return self._fail(m.code, m.message.format(name=self.name), len(X))
-        if S.shape[1:] != R.shape[1:]:
-            return self._fail("shape", self._shape_message(S, R), len(X))
-        return self._fail("mismatch", self._mismatch_message(X, S, R), len(X))
+        with np.errstate(all="ignore"):  # a wildly wrong answer (1e308) must not make numpy warn
+            for diag in self.diagnoses:
+                for m in diag.variants(ctx):
+                    M = _values(m.transform(reference), X)
+                    if M is None or M.shape != S.shape or _close(M, R, self.atol, self.rtol):
+                        continue
+                    if _close(S, M, self.atol, self.rtol):
+                        return self._fail(m.code, m.message.format(name=self.name), len(X))
+            if S.shape[1:] != R.shape[1:]:
+                return self._fail("shape", self._shape_message(S, R), len(X))
+            return self._fail("mismatch", self._mismatch_message(X, S, R), len(X))
 
     def _fail(self, code: str, text: str, n: int) -> CheckResult:
         first = text[:1]
@@ -592,7 +607,8 @@ class Check:
         return msg
 
     def _mismatch_message(self, X: np.ndarray, S: np.ndarray, R: np.ndarray) -> str:
-        bad = ~np.isclose(S, R, atol=max(self.atol, 1e-9), rtol=self.rtol)
+        with np.errstate(over="ignore", invalid="ignore"):
+            bad = ~np.isclose(S, R, atol=max(self.atol, 1e-9), rtol=self.rtol)
         wrong = [tuple(int(i) for i in idx) for idx in zip(*np.nonzero(bad.any(axis=0)))]
         k = int(np.argmax(bad.reshape(len(X), -1).any(axis=1)))
         where = self._point_text(X[k])
@@ -617,8 +633,19 @@ class Check:
 
 # ---------------------------------------------------------------- generic entry points
 def _reference_fn(reference: Any, variables: list[Variable], groups, name: str) -> RefFn:
-    ev = _evaluator(reference, variables, groups, f"the reference of {name}")
+    try:
+        ev = _evaluator(reference, variables, groups, f"the reference of {name}")
+    except _AnswerError as exc:  # an instructor's mistake: a normal exception naming the argument
+        raise TypeError(f"reference must be a sympy expression, a function or numbers: {exc.message}") from None
     return ev.fn
+
+
+def _check_tolerances(atol: Any, rtol: Any) -> None:
+    """Validate the comparison tolerances of the generic checks (the messages name them)."""
+    from robokin.validation import check_positive  # noqa: PLC0415
+
+    check_positive(atol, "atol", allow_zero=True, scalar=True)
+    check_positive(rtol, "rtol", allow_zero=True, scalar=True)
 
 
 def matrix_function(
@@ -660,6 +687,11 @@ def matrix_function(
     """
     from robokin.check.diagnoses import standard
 
+    from robokin.validation import check_int  # noqa: PLC0415
+
+    check_int(samples, "samples", 1, 100_000)
+    check_int(seed, "seed", 0)
+    _check_tolerances(atol, rtol)
     vars_ = _as_variables(variables)
     ref = _reference_fn(reference, vars_, [], name)
     check = Check(
@@ -687,7 +719,16 @@ def value(
     The default tolerances accept answers typed with three or four decimals.
     """
     from robokin.check.diagnoses import standard
+    from robokin.errors import DomainError
 
-    ref = _to_float_array(reference, "reference")
+    _check_tolerances(atol, rtol)
+    if reference is None or callable(reference):
+        raise TypeError(f"reference must be a number or an array of numbers; got {type(reference).__name__}")
+    try:
+        ref = _to_float_array(reference, "reference")
+    except _AnswerError as exc:
+        raise TypeError(f"reference must be a number or an array of numbers: {exc.message}") from None
+    if not np.all(np.isfinite(ref)):
+        raise DomainError("reference must be finite; got NaN or infinite entries")
     check = Check(name, lambda x: ref, [], [], standard(kind), atol=atol, rtol=rtol)
     return check(student, raise_on_fail=raise_on_fail, quiet=quiet)

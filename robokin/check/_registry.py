@@ -36,7 +36,7 @@ def exercise(chapter: str, attr: str, check: Check) -> Check:
 
 def chapter(name: str) -> Any:
     """Import and return the check module of a chapter."""
-    if name not in CHAPTERS:
+    if not isinstance(name, str) or name not in CHAPTERS:
         raise AttributeError(
             f"robokin.check has no chapter {name!r}; available: {', '.join(sorted(CHAPTERS))}"
         )
@@ -44,6 +44,14 @@ def chapter(name: str) -> Any:
 
 
 def checks_of(name: str) -> dict[str, Check]:
-    """All checks of a chapter, by attribute name."""
+    """All checks of a chapter, by attribute name.
+
+    Raises
+    ------
+    ValueError
+        ``name`` is not a chapter with checks (see :data:`CHAPTERS`).
+    """
+    if not isinstance(name, str) or name not in CHAPTERS:
+        raise ValueError(f"name must be one of {', '.join(repr(c) for c in sorted(CHAPTERS))}; got {name!r}")
     chapter(name)
     return dict(_REGISTRY.get(name, {}))

@@ -41,6 +41,7 @@ from robokin.check._core import (
     fmt,
 )
 from robokin.check._registry import exercise
+from robokin.validation import check_int, check_transform
 
 __all__ = [
     "LENGTHS",
@@ -251,7 +252,10 @@ def _pose_errors(q: np.ndarray, T: np.ndarray) -> tuple[float, float]:
 def _as_rows(answer: Any, name: str) -> tuple[np.ndarray | None, str, str]:
     """(rows (k, 6), code, message); rows None on failure."""
     try:
-        a = np.array(answer, dtype=float)
+        a = np.asarray(answer)
+        if a.dtype.kind == "c":
+            return None, "error", f"{name} has complex entries; expected 6 real joint angles in radians."
+        a = np.array(a, dtype=float)
     except (TypeError, ValueError):
         return None, "error", f"{name} must be 6 joint angles in radians (or k×6); got {type(answer).__name__}."
     if a.ndim == 1 and a.size == 6:
@@ -318,7 +322,11 @@ def ik_solution(
     pose within 1e-6 m and 1e-6 rad. Any of the (up to 8) solutions is accepted.
     """
     name = "q"
-    T = T_GOAL if T_target is None else np.asarray(T_target, dtype=float)
+    T = T_GOAL if T_target is None else check_transform(T_target, name="T_target")
+    if T.shape != (4, 4):
+        from robokin.errors import ShapeError  # noqa: PLC0415
+
+        raise ShapeError(f"T_target must have shape (4, 4); got shape {T.shape}")
     rows, code, msg = _as_rows(q, name)
     if rows is not None:
         passed, code, msg = _verdict(rows, T, name)
@@ -346,6 +354,8 @@ def ik_solver(
     says how many solutions per pose the function returns (the leg has up to 8).
     """
     name = "ik(T)"
+    samples = check_int(samples, "samples", 1, 10_000)
+    seed = seed if seed is None else check_int(seed, "seed", 0)
     if not callable(f):
         return _report(CheckResult(name, False, f"{FAIL} {name} should be a Python function f(T) "
                                    f"-> q; got {type(f).__name__}.", "constant", 0), quiet, raise_on_fail)

@@ -35,6 +35,7 @@ import numpy as np
 from robokin.check import diagnoses as dg
 from robokin.check._core import PASS, FAIL, Check, CheckResult, Variable, alternatives, fmt
 from robokin.check._registry import exercise
+from robokin.validation import as_vector, check_positive
 
 __all__ = [
     "rotation_B1", "rotation_12", "rotation_23",
@@ -328,9 +329,12 @@ def ik_solution(
     :data:`R_GOAL`; ``tol`` is the allowed foot-position error in metres.
     """
     name = "q_goal"
-    goal = R_GOAL if goal is None else np.asarray(goal, dtype=float)
+    goal = R_GOAL if goal is None else as_vector(goal, 3, "goal")
+    tol = check_positive(tol, "tol", scalar=True)
     code, msg = None, ""
     try:
+        if np.asarray(q).dtype.kind == "c":
+            raise TypeError
         qa = np.array(q, dtype=float).ravel()
     except (TypeError, ValueError):
         qa, code = None, "error"

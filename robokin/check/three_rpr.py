@@ -43,6 +43,8 @@ from robokin.check._core import (
     fmt,
 )
 from robokin.check._registry import exercise
+from robokin.errors import DomainError
+from robokin.validation import as_vector, check_positive
 
 __all__ = ["check_poses", "forward_kinematics", "inverse_jacobian", "inverse_kinematics"]
 
@@ -216,8 +218,17 @@ def check_poses(poses: Any, rho: Any, robot: Any = None, *, name: str = "pose", 
 
     A pose is accepted when its leg lengths match ``rho`` within ``tol`` metres.
     """
-    robot = robot or _robot()
-    rho = np.asarray(rho, dtype=float)
+    from robokin.parallel import Planar3RPR  # noqa: PLC0415
+
+    if robot is None:
+        robot = _robot()
+    elif not isinstance(robot, Planar3RPR):
+        raise TypeError(f"robot must be a robokin.parallel.Planar3RPR (e.g. robokin.models.three_rpr()); "
+                        f"got {type(robot).__name__}")
+    rho = as_vector(rho, 3, "rho")
+    if (rho < 0).any():
+        raise DomainError(f"rho must be non-negative leg lengths; got {rho.tolist()}")
+    tol = check_positive(tol, "tol", scalar=True)
     result = _judge(poses, rho, robot, name, tol)
     if not quiet:
         print(result.message)
@@ -231,7 +242,10 @@ def _judge(poses: Any, rho: np.ndarray, robot, name: str, tol: float, n: int = 1
     if poses is None:
         return fail("error", f"{name} is None: did you forget to return it?")
     try:
-        P = np.array(poses, dtype=float)
+        P = np.asarray(poses)
+        if P.dtype.kind == "c":
+            return fail("error", f"{name} has complex entries; expected real numbers (x, y, φ).")
+        P = np.array(P, dtype=float)
     except (TypeError, ValueError):
         return fail("error", f"{name} must be numbers (x, y, φ); got {type(poses).__name__}.")
     if P.ndim == 1:
@@ -247,7 +261,10 @@ def _judge(poses: Any, rho: np.ndarray, robot, name: str, tol: float, n: int = 1
         return fail("missing", f"{name} is empty, but ρ = {fmt(rho)} has {len(modes)} assembly modes.")
     if not np.all(np.isfinite(P)):
         return fail("error", f"{name} contains NaN or infinite values.")
-    got = robot.inverse_kinematics(P)
+    try:
+        got = robot.inverse_kinematics(P)
+    except DomainError as exc:  # a pose near 1e308 m
+        return fail("error", f"{name} cannot be evaluated: {exc}.")
     bad = np.abs(got - rho).max(axis=1) > tol
     if not bad.any():
         what = "it is an assembly mode" if P.shape[0] == 1 else f"all {P.shape[0]} poses are assembly modes"

@@ -6,6 +6,7 @@ import math
 from typing import Any
 
 from robokin.chains import Rx, Ry, Rz, SerialChain, Tz
+from robokin.validation import check_length
 
 __all__ = ["ar601_leg"]
 
@@ -50,7 +51,7 @@ def ar601_leg(l1: Any = 0.3, l2: Any = 0.3, l3: Any = 0.1) -> SerialChain:
     Parameters
     ----------
     l1, l2, l3 : float or sympy.Expr, optional
-        Thigh (hip–knee), shank (knee–ankle) and ankle–sole lengths in metres.
+        Thigh (hip–knee), shank (knee–ankle) and ankle–sole lengths in metres (> 0).
         Defaults 0.3, 0.3, 0.1 m are round teaching values of the order of the
         AR-601's dimensions (the report itself uses 10 units each).
 
@@ -59,6 +60,7 @@ def ar601_leg(l1: Any = 0.3, l2: Any = 0.3, l3: Any = 0.1) -> SerialChain:
     SerialChain
         Joints ``q1..q6``; limits ±π/2 each (a teaching choice, not hardware data).
     """
+    l1, l2, l3 = (check_length(v, k) for v, k in ((l1, "l1"), (l2, "l2"), (l3, "l3")))
     return SerialChain(
         [Rz("q1"), Ry("q2"), Rx("q3"), Tz(-l1), Rx("q4"), Tz(-l2), Ry("q5"), Rx("q6"), Tz(-l3)],
         limits=AR601_LEG_LIMITS,

@@ -41,7 +41,7 @@ from typing import Any
 
 import numpy as np
 
-from robokin.errors import DomainError
+from robokin.errors import DomainError, ShapeError
 from robokin.models.ar601 import ar601_leg
 from robokin.transforms import rotx, roty, rotz
 from robokin.validation import check_positive, check_transform
@@ -159,6 +159,11 @@ def _solve_one(
     R, p = T[:3, :3], T[:3, 3]
     a = p + l3 * R[:, 2]                      # step 1: ankle point
     d = float(np.linalg.norm(a))
+    if not math.isfinite(d):                  # a huge target: |a|² overflows, |a| does not
+        d = math.hypot(*a.tolist())
+        if not math.isfinite(d):
+            raise DomainError(f"T_target is too large: the hip–ankle distance overflows float64 "
+                              f"(|p| up to {float(np.abs(p).max()):.3g} m)")
     singular: set[str] = set()
     scale = l1 + l2
     # step 2: knee from the law of cosines (q4 measured from the stretched leg)
@@ -298,22 +303,17 @@ def ar601_leg_ik(
     if check:
         T = check_transform(T_target, name="T_target")
         if T.ndim != 2:
-            from robokin.errors import ShapeError
-
             raise ShapeError(
                 f"T_target must have shape (4, 4) (use ar601_leg_ik_batch for (N, 4, 4)); got shape {T.shape}"
             )
-        for name, val in (("l1", l1), ("l2", l2), ("l3", l3)):
-            check_positive(val, name)
-            if not math.isfinite(float(val)):
-                raise DomainError(f"{name} must be finite; got {val!r}")
-        if not (tol > 0 and math.isfinite(tol)):
-            raise DomainError(f"tol must be a positive finite number; got {tol!r}")
+        l1, l2, l3 = _lengths(l1, l2, l3)
+        tol = check_positive(tol, "tol", scalar=True)
     else:
         T = np.asarray(T_target, dtype=float)
     l1, l2, l3 = float(l1), float(l2), float(l3)
     chain = _chain(l1, l2, l3)
-    sols, branches, reason, singular, d = _solve_one(T, l1, l2, l3, tol)
+    with np.errstate(over="ignore", invalid="ignore"):
+        sols, branches, reason, singular, d = _solve_one(T, l1, l2, l3, tol)
     empty = np.zeros((0, 6))
     if not sols:
         return AR601IKResult(empty, False, reason, np.zeros(0), np.zeros(0),
@@ -341,6 +341,18 @@ def ar601_leg_ik(
                          tuple(s for s in SINGULARITIES if s in singular), d)
 
 
+def _lengths(l1: Any, l2: Any, l3: Any) -> tuple[float, float, float]:
+    """The three leg lengths as positive finite floats (the messages name them)."""
+    out = tuple(check_positive(v, k, scalar=True) for v, k in ((l1, "l1"), (l2, "l2"), (l3, "l3")))
+    for v, k in zip(out, ("l1", "l2", "l3")):
+        if isinstance(v, np.ndarray):
+            raise ShapeError(f"{k} must be a single number (metres); got shape {v.shape}")
+    total = out[0] + out[1] + out[2]
+    if not math.isfinite(total * total):  # the law of cosines squares the lengths
+        raise DomainError(f"l1, l2, l3 are too large: their squares overflow float64 (got {out})")
+    return out  # type: ignore[return-value]
+
+
 def ar601_leg_ik_batch(
     T_targets: Any,
     l1: float = 0.3,
@@ -365,8 +377,15 @@ def ar601_leg_ik_batch(
         One result per pose (the number of solutions differs between poses).
     """
     Ts = check_transform(T_targets, name="T_targets").reshape(-1, 4, 4)
-    ar601_leg_ik(Ts[0], l1, l2, l3, tol=tol)  # validates the lengths once
-    return [ar601_leg_ik(T, l1, l2, l3, within_limits=within_limits, tol=tol, check=False) for T in Ts]
+    l1, l2, l3 = _lengths(l1, l2, l3)  # validated once for all poses
+    tol = check_positive(tol, "tol", scalar=True)
+    out = []
+    for i, T in enumerate(Ts):
+        try:
+            out.append(ar601_leg_ik(T, l1, l2, l3, within_limits=within_limits, tol=tol, check=False))
+        except DomainError as exc:  # a pose near 1e308 m: name it in the batch
+            raise DomainError(f"T_targets[{i}]: {exc}") from None
+    return out
 
 
 _CHAINS: dict[tuple[float, float, float], Any] = {}

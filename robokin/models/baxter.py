@@ -142,6 +142,8 @@ def baxter_left_urdf(end: str = "hand") -> SerialChain:
     A link-table chain: each joint's fixed ``<origin>`` transform followed by a
     rotation about the child's z axis; base frame = torso.
     """
+    if end not in ("hand", "gripper"):
+        raise ValueError(f"end must be 'hand' or 'gripper'; got {end!r}")
     origins = [urdf_origin(xyz, rpy) for _, xyz, rpy in BAXTER_LEFT_URDF]
     mount = origins[0]
     transforms = origins[1:8]

@@ -6,6 +6,7 @@ import math
 from typing import Any
 
 from robokin.chains import Rx, Ry, SerialChain, Ty, Tz
+from robokin.validation import check_length
 
 __all__ = ["ETH_LEG_LIMITS", "eth_leg"]
 
@@ -55,8 +56,8 @@ def eth_leg(l_b: Any = 1, l_1: Any = 1, l_2: Any = 1, l_3: Any = 1, *, limits: A
     Parameters
     ----------
     l_b, l_1, l_2, l_3 : float or sympy.Expr, optional
-        Lengths in metres (default 1): base-to-hip offset along y, then the
-        three segment lengths along −z.
+        Lengths in metres (default 1): base-to-hip offset along y (any finite
+        number), then the three segment lengths along −z (> 0).
     limits : array_like, shape (3, 2), optional
         Joint limits ``[lower, upper]`` (rad) of α, β, γ. Default
         ``ETH_LEG_LIMITS``: α ∈ [−π/2, π/2], β ∈ [−3π/4, 3π/4], γ ∈ [−π, π].
@@ -76,8 +77,13 @@ def eth_leg(l_b: Any = 1, l_1: Any = 1, l_2: Any = 1, l_3: Any = 1, *, limits: A
     Raises
     ------
     ShapeError, DomainError
-        ``limits`` not of shape (3, 2), NaN, or a lower limit above its upper one.
+        ``limits`` not of shape (3, 2), NaN, or a lower limit above its upper one;
+        a length that is not finite (or a segment length not positive).
+    TypeError
+        A length that is neither a number nor a sympy expression.
     """
+    l_b = check_length(l_b, "l_b", positive=False)
+    l_1, l_2, l_3 = (check_length(v, k) for v, k in ((l_1, "l_1"), (l_2, "l_2"), (l_3, "l_3")))
     return SerialChain(
         [Ty(l_b), Rx("alpha"), Tz(-l_1), Ry("beta"), Tz(-l_2), Ry("gamma"), Tz(-l_3)],
         limits=ETH_LEG_LIMITS if limits is None else limits,

@@ -6,6 +6,7 @@ import math
 from typing import Any
 
 from robokin.chains import Rz, SerialChain, Tx
+from robokin.validation import check_length
 
 __all__ = ["planar_two_link"]
 
@@ -25,7 +26,7 @@ def planar_two_link(l1: Any = 1.0, l2: Any = 1.0) -> SerialChain:
     Parameters
     ----------
     l1, l2 : float or sympy.Expr, optional
-        Link lengths in metres (default 1.0). Sympy symbols give a chain whose
+        Link lengths in metres (default 1.0), > 0. Sympy symbols give a chain whose
         symbolic kinematics keep the lengths as parameters (use ``.subs`` before
         numeric evaluation).
 
@@ -34,7 +35,13 @@ def planar_two_link(l1: Any = 1.0, l2: Any = 1.0) -> SerialChain:
     SerialChain
         Joints ``q1, q2`` with limits ±π; frames ``base, 1, 2, ee``: frame 1 at
         the base origin (shoulder), frame 2 at the elbow, ``ee`` at the tip.
+
+    Raises
+    ------
+    TypeError, DomainError
+        A length that is not a number (or sympy expression), not finite or not positive.
     """
+    l1, l2 = check_length(l1, "l1"), check_length(l2, "l2")
     return SerialChain(
         [Rz("q1"), Tx(l1), Rz("q2"), Tx(l2)],
         limits=[[-math.pi, math.pi]] * 2,

@@ -20,6 +20,7 @@ from typing import Any
 
 import numpy as np
 
+from robokin.errors import DomainError
 from robokin.parallel import Planar3RPR
 from robokin.validation import check_positive
 
@@ -60,9 +61,13 @@ def three_rpr(platform_side: Any = 1.0, stroke: Any = (0.0, 2.0)) -> Planar3RPR:
     -------
     Planar3RPR
     """
-    side = check_positive(platform_side, "platform_side")
-    return Planar3RPR(EXERCISE_BASE, _platform(side, side, math.pi / 3), stroke=stroke,
-                      name="3-RPR (exercise)")
+    side = check_positive(platform_side, "platform_side", scalar=True)
+    try:
+        platform = _platform(side, side, math.pi / 3)
+        Planar3RPR(EXERCISE_BASE, platform)  # the platform triangle's checks, before the stroke's
+    except DomainError as exc:
+        raise DomainError(f"platform_side = {side:g} m gives an invalid platform: {exc}") from None
+    return Planar3RPR(EXERCISE_BASE, platform, stroke=stroke, name="3-RPR (exercise)")
 
 
 def three_rpr_classic(stroke: Any = (0.0, 3.0)) -> Planar3RPR:

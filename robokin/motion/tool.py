@@ -24,7 +24,13 @@ import numpy as np
 
 from robokin.errors import ShapeError
 from robokin.transforms import rotation_from_rpy, skew, transform
-from robokin.validation import as_float_array, check_rotation_matrix, check_transform
+from robokin.validation import (
+    as_float_array,
+    check_chain,
+    check_result_finite,
+    check_rotation_matrix,
+    check_transform,
+)
 
 __all__ = ["chain_with_tool", "rigid_body_jacobian", "tool_jacobian", "transform_from_rpy"]
 
@@ -152,8 +158,10 @@ def tool_jacobian(J_ee: Any, R_be: Any, p_et: Any) -> np.ndarray:
         raise ShapeError(f"R_be must have shape {J.shape[:-2] + (3, 3)} to match J_ee of shape "
                          f"{J.shape}; got shape {R.shape}")
     p = as_float_array(p_et, "p_et", (3,))
-    S = rigid_body_jacobian(R @ p)
-    return S @ J
+    with np.errstate(over="ignore", invalid="ignore"):
+        r = check_result_finite(R @ p, "the tool offset in the base frame", p_et=p)
+        out = rigid_body_jacobian(r) @ J
+    return check_result_finite(out, "the tool Jacobian", J_ee=J, p_et=p)
 
 
 def chain_with_tool(chain: Any, T_et: Any, *, name: str | None = None) -> Any:
@@ -180,9 +188,15 @@ def chain_with_tool(chain: Any, T_et: Any, *, name: str | None = None) -> Any:
     ------
     ShapeError, DomainError
         ``T_et`` not a (4, 4) homogeneous transform.
+    TypeError
+        ``chain`` is not a :class:`~robokin.chains.SerialChain`.
     """
     from robokin.chains import SerialChain
 
+    check_chain(chain, "chain", ("fk",))
+    if not isinstance(chain, SerialChain):
+        raise TypeError(f"chain must be a robokin SerialChain (e.g. robokin.models.panda()); got "
+                        f"{type(chain).__name__}")
     T = check_transform(T_et, name="T_et")
     if T.shape != (4, 4):
         raise ShapeError(f"T_et must have shape (4, 4); got shape {T.shape}")

@@ -20,7 +20,16 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from robokin.errors import DomainError, ShapeError
-from robokin.validation import as_float_array, as_vector, check_positive
+from robokin.validation import (
+    as_float_array,
+    as_scalar,
+    as_vector,
+    check_choice,
+    check_positive,
+    check_result_finite,
+)
+
+_LAWS = ("quintic", "cubic", "linear")
 
 __all__ = ["Trajectory", "circle_trajectory", "line_trajectory", "via_point_trajectory", "time_law"]
 
@@ -40,10 +49,23 @@ def _times(t: Any) -> tuple[np.ndarray, bool]:
     return np.atleast_1d(a), a.ndim == 0
 
 
-def _out(p: np.ndarray, v: np.ndarray, a: np.ndarray, scalar: bool) -> Trajectory:
+def _out(p: np.ndarray, v: np.ndarray, a: np.ndarray, scalar: bool, **inputs: Any) -> Trajectory:
+    for arr, what in ((p, "the positions"), (v, "the velocities"), (a, "the accelerations")):
+        check_result_finite(arr, what, **inputs)
     if scalar:
         return Trajectory(p[0], v[0], a[0])
     return Trajectory(p, v, a)
+
+
+def _unit(v: np.ndarray) -> tuple[np.ndarray, float]:
+    """``v / |v|`` and ``|v|`` without overflow for huge entries (|v| may be inf: then (nan, inf))."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        n = float(np.linalg.norm(v))
+        if not np.isfinite(n):
+            m = float(np.abs(v).max())
+            u = v / m
+            return u / np.linalg.norm(u), n
+    return (v / n if n > 0 else v), n
 
 
 def _plane_axes(normal: Any, axes: Any) -> tuple[np.ndarray, np.ndarray]:
@@ -52,7 +74,10 @@ def _plane_axes(normal: Any, axes: Any) -> tuple[np.ndarray, np.ndarray]:
         raise ValueError("give exactly one of normal= (plane normal) and axes= (two in-plane axes)")
     if axes is not None:
         A = as_float_array(axes, "axes", (2, 3))
-        nu = np.linalg.norm(A[0])
+        nu = np.linalg.norm(A[0]) if np.abs(A).max() < 1e150 else None
+        if nu is None:  # huge entries: only the directions matter
+            A = np.array([_unit(A[0])[0], _unit(A[1])[0]]) if np.abs(A[0]).max() > 0 else A
+            nu = np.linalg.norm(A[0])
         if nu < 1e-12:
             raise DomainError("axes[0] must be a nonzero vector; got length 0")
         u = A[0] / nu
@@ -62,7 +87,9 @@ def _plane_axes(normal: Any, axes: Any) -> tuple[np.ndarray, np.ndarray]:
             raise DomainError("axes must span a plane; got parallel (or zero) vectors")
         return u, w / nw
     n = as_vector(normal, 3, "normal")
-    nn = np.linalg.norm(n)
+    nn = np.linalg.norm(n) if np.abs(n).max() < 1e150 else None
+    if nn is None:
+        n, nn = _unit(n)[0], 1.0
     if nn < 1e-12:
         raise DomainError("normal must be a nonzero vector; got length 0")
     n = n / nn
@@ -118,17 +145,18 @@ def circle_trajectory(
     """
     tt, scalar = _times(t)
     c = as_vector(centre, 3, "centre")
-    r = check_positive(radius, "radius")
+    r = check_positive(radius, "radius", scalar=True)
     u, v = _plane_axes(normal, axes)
-    om = float(as_float_array(angular_speed, "angular_speed", ()))
-    ph = float(as_float_array(phase, "phase", ()))
-    phi = om * tt + ph
-    cs, sn = np.cos(phi)[:, None], np.sin(phi)[:, None]
-    rel = r * (cs * u + sn * v)
-    p = c + rel
-    vel = r * om * (-sn * u + cs * v)
-    acc = -(om**2) * rel
-    return _out(p, vel, acc, scalar)
+    om = as_scalar(angular_speed, "angular_speed")
+    ph = as_scalar(phase, "phase")
+    with np.errstate(over="ignore", invalid="ignore"):
+        phi = om * tt + ph
+        cs, sn = np.cos(phi)[:, None], np.sin(phi)[:, None]
+        rel = r * (cs * u + sn * v)
+        p = c + rel
+        vel = r * om * (-sn * u + cs * v)
+        acc = -(om * om) * rel
+    return _out(p, vel, acc, scalar, t=tt, centre=c, radius=r, angular_speed=om, phase=ph)
 
 
 def time_law(tau: Any, kind: str = "quintic") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -138,9 +166,29 @@ def time_law(tau: Any, kind: str = "quintic") -> tuple[np.ndarray, np.ndarray, n
     acceleration at both ends); ``"cubic"``: :math:`s = 3\tau^2 - 2\tau^3` (zero
     velocity); ``"linear"``: :math:`s = \tau` (Siciliano et al. 2009, §4.2.1).
     ``tau`` outside [0, 1] is clamped (rest before and after).
+
+    Parameters
+    ----------
+    tau : float or array_like
+        Normalised time(s), finite.
+    kind : {"quintic", "cubic", "linear"}, optional
+
+    Returns
+    -------
+    s, ds, dds : numpy.ndarray, each of the shape of ``tau``
+
+    Raises
+    ------
+    TypeError, DomainError
+        ``tau`` not numeric or not finite.
+    ValueError
+        Unknown ``kind``.
     """
-    x = np.clip(np.asarray(tau, dtype=float), 0.0, 1.0)
-    inside = (np.asarray(tau) >= 0.0) & (np.asarray(tau) <= 1.0)
+    tau = as_float_array(tau, "tau")
+    if not isinstance(kind, str) or kind not in _LAWS:
+        raise ValueError(f"time_law: kind must be 'quintic', 'cubic' or 'linear'; got {kind!r}")
+    x = np.clip(tau, 0.0, 1.0)
+    inside = (tau >= 0.0) & (tau <= 1.0)
     if kind == "quintic":
         s = x**3 * (10 - 15 * x + 6 * x**2)
         ds = 30 * x**2 * (1 - x) ** 2
@@ -149,12 +197,10 @@ def time_law(tau: Any, kind: str = "quintic") -> tuple[np.ndarray, np.ndarray, n
         s = x**2 * (3 - 2 * x)
         ds = 6 * x * (1 - x)
         dds = 6 - 12 * x
-    elif kind == "linear":
+    else:  # "linear"
         s = x
         ds = np.ones_like(x)
         dds = np.zeros_like(x)
-    else:
-        raise ValueError(f"time_law must be 'quintic', 'cubic' or 'linear'; got {kind!r}")
     return s, np.where(inside, ds, 0.0), np.where(inside, dds, 0.0)
 
 
@@ -184,11 +230,18 @@ def line_trajectory(
     tt, scalar = _times(t)
     a = as_vector(start, 3, "start")
     b = as_vector(end, 3, "end")
-    T = check_positive(duration, "duration")
-    t0 = float(as_float_array(t_start, "t_start", ()))
-    s, ds, dds = time_law((tt - t0) / T, law)
-    d = b - a
-    return _out(a + s[:, None] * d, (ds / T)[:, None] * d, (dds / T**2)[:, None] * d, scalar)
+    T = check_positive(duration, "duration", scalar=True)
+    t0 = as_scalar(t_start, "t_start")
+    if not isinstance(law, str) or law not in _LAWS:
+        raise ValueError(f"law must be 'quintic', 'cubic' or 'linear'; got {law!r}")
+    with np.errstate(over="ignore", invalid="ignore"):
+        tau = (tt - t0) / T
+    tau = check_result_finite(tau, "the normalised time (t - t_start) / duration", t=tt, t_start=t0)
+    s, ds, dds = time_law(tau, law)
+    with np.errstate(over="ignore", invalid="ignore"):
+        d = b - a
+        p, v, acc = a + s[:, None] * d, (ds / T)[:, None] * d, (dds / (T * T))[:, None] * d
+    return _out(p, v, acc, scalar, start=a, end=b)
 
 
 def via_point_trajectory(
@@ -228,32 +281,38 @@ def via_point_trajectory(
         raise ShapeError(f"points must have shape (M, 3) with M >= 2; got shape {P.shape}")
     M = P.shape[0]
     tk = as_float_array(times, "times", (M,))
-    h = np.diff(tk)
-    if np.any(h <= 0):
-        i = int(np.argmax(h <= 0))
-        raise DomainError(f"times must be strictly increasing; got times[{i + 1}] = {tk[i + 1]:g} "
-                          f"<= times[{i}] = {tk[i]:g}")
-    if velocities is None:
-        slope = np.diff(P, axis=0) / h[:, None]
-        V = np.zeros_like(P)
-        same = np.sign(slope[:-1]) == np.sign(slope[1:])
-        V[1:-1] = np.where(same, 0.5 * (slope[:-1] + slope[1:]), 0.0)
-    else:
-        V = as_float_array(velocities, "velocities", (M, 3))
-    k = np.clip(np.searchsorted(tk, tt, side="right") - 1, 0, M - 2)
-    T = h[k][:, None]
-    x = np.clip((tt - tk[k]) / h[k], 0.0, 1.0)[:, None]
-    inside = ((tt >= tk[0]) & (tt <= tk[-1]))[:, None]
-    p0, p1, v0, v1 = P[k], P[k + 1], V[k] * T, V[k + 1] * T
-    h00 = 2 * x**3 - 3 * x**2 + 1
-    h10 = x**3 - 2 * x**2 + x
-    h01 = -2 * x**3 + 3 * x**2
-    h11 = x**3 - x**2
-    pos = h00 * p0 + h10 * v0 + h01 * p1 + h11 * v1
-    d00, d10, d01, d11 = 6 * x**2 - 6 * x, 3 * x**2 - 4 * x + 1, -6 * x**2 + 6 * x, 3 * x**2 - 2 * x
-    vel = (d00 * p0 + d10 * v0 + d01 * p1 + d11 * v1) / T
-    a00, a10, a01, a11 = 12 * x - 6, 6 * x - 4, -12 * x + 6, 6 * x - 2
-    acc = (a00 * p0 + a10 * v0 + a01 * p1 + a11 * v1) / T**2
-    vel = np.where(inside, vel, 0.0)
-    acc = np.where(inside, acc, 0.0)
-    return _out(pos, vel, acc, scalar)
+    if velocities is not None:
+        velocities = as_float_array(velocities, "velocities", (M, 3))
+    with np.errstate(over="ignore", invalid="ignore"):
+        h = np.diff(tk)
+        if np.any(h <= 0):
+            i = int(np.argmax(h <= 0))
+            raise DomainError(f"times must be strictly increasing; got times[{i + 1}] = {tk[i + 1]:g} "
+                              f"<= times[{i}] = {tk[i]:g}")
+        if velocities is None:
+            slope = np.diff(P, axis=0) / h[:, None]
+            V = np.zeros_like(P)
+            same = np.sign(slope[:-1]) == np.sign(slope[1:])
+            V[1:-1] = np.where(same, 0.5 * (slope[:-1] + slope[1:]), 0.0)
+        else:
+            V = velocities
+        k = np.clip(np.searchsorted(tk, tt, side="right") - 1, 0, M - 2)
+        T = h[k][:, None]
+        x = np.clip((tt - tk[k]) / h[k], 0.0, 1.0)[:, None]
+        inside = ((tt >= tk[0]) & (tt <= tk[-1]))[:, None]
+        p0, p1, v0, v1 = P[k], P[k + 1], V[k] * T, V[k + 1] * T
+        h00 = 2 * x**3 - 3 * x**2 + 1
+        h10 = x**3 - 2 * x**2 + x
+        h01 = -2 * x**3 + 3 * x**2
+        h11 = x**3 - x**2
+        pos = h00 * p0 + h10 * v0 + h01 * p1 + h11 * v1
+        d00, d10, d01, d11 = 6 * x**2 - 6 * x, 3 * x**2 - 4 * x + 1, -6 * x**2 + 6 * x, 3 * x**2 - 2 * x
+        vel = (d00 * p0 + d10 * v0 + d01 * p1 + d11 * v1) / T
+        a00, a10, a01, a11 = 12 * x - 6, 6 * x - 4, -12 * x + 6, 6 * x - 2
+        acc = (a00 * p0 + a10 * v0 + a01 * p1 + a11 * v1) / T**2
+        vel = np.where(inside, vel, 0.0)
+        acc = np.where(inside, acc, 0.0)
+    inputs = {"t": tt, "points": P, "times": tk}
+    if velocities is not None:
+        inputs["velocities"] = velocities
+    return _out(pos, vel, acc, scalar, **inputs)

@@ -70,11 +70,20 @@ from typing import Any
 import numpy as np
 
 from robokin.errors import DomainError, ShapeError
-from robokin.validation import as_batch, as_float_array, as_vector
+from robokin.validation import (
+    as_batch,
+    as_float_array,
+    as_vector,
+    check_limits,
+    check_positive,
+    check_result_finite,
+)
 
 __all__ = ["ForwardKinematicsResult", "Planar3RPR"]
 
 _E = np.array([[0.0, -1.0], [1.0, 0.0]])  # rotation by +90°: E v = z × v
+#: Largest anchor spread (m): the direct kinematics works with fourth powers of lengths.
+_MAX_SIZE = 1e60
 
 
 def _rot(phi: np.ndarray) -> np.ndarray:
@@ -163,19 +172,28 @@ class Planar3RPR:
         A = as_float_array(base_anchors, "base_anchors", (3, 2)).copy()
         b = as_float_array(platform_anchors, "platform_anchors", (3, 2)).copy()
         for arr, what in ((A, "base_anchors"), (b, "platform_anchors")):
-            area2 = _cross2(arr[1] - arr[0], arr[2] - arr[0])
-            size = max(np.ptp(arr, axis=0).max(), 1e-300)
-            if abs(area2) <= 1e-9 * size**2:
+            with np.errstate(over="ignore", invalid="ignore"):
+                size = float(np.ptp(arr, axis=0).max())
+                area2 = _cross2((arr[1] - arr[0]) / size, (arr[2] - arr[0]) / size) if size > 0 else 0.0
+            if not (np.isfinite(size) and size < _MAX_SIZE):
+                raise DomainError(f"{what} are too large: coordinates span {size:.3g} m (at most "
+                                  f"{_MAX_SIZE:.0e} m)")
+            if not abs(area2) > 1e-9:
                 raise DomainError(
                     f"{what} must be the corners of a proper triangle; got collinear or "
                     f"coincident points {np.round(arr, 6).tolist()}"
                 )
-        s = np.asarray(stroke, dtype=float)
-        if s.shape == (2,):
-            s = np.tile(s, (3, 1))
-        if s.shape != (3, 2):
-            raise ShapeError(f"stroke must have shape (2,) or (3, 2); got shape {np.shape(stroke)}")
-        if np.isnan(s).any() or (s[:, 0] < 0).any() or (s[:, 0] > s[:, 1]).any() or np.isinf(s[:, 0]).any():
+        try:
+            shape = np.shape(stroke)
+        except ValueError:  # ragged
+            shape = None
+        if shape == (2,):
+            stroke = [stroke] * 3
+        elif shape != (3, 2):
+            raise ShapeError(f"stroke must have shape (2,) or (3, 2); got "
+                             + (f"shape {shape}" if shape is not None else repr(stroke)))
+        s = check_limits(stroke, 3, "stroke")  # numbers, no NaN, rho_min <= rho_max
+        if (s[:, 0] < 0).any() or np.isinf(s[:, 0]).any():
             raise DomainError(
                 f"stroke rows must be 0 <= rho_min <= rho_max (rho_max may be inf); got {s.tolist()}"
             )
@@ -203,10 +221,23 @@ class Planar3RPR:
         numpy.ndarray, shape (3, 2) or (N, 3, 2)
         """
         X, batched = as_batch(pose, 3, "pose")
-        X2 = X.reshape(-1, 3)
-        R = _rot(X2[:, 2])                                    # (N, 2, 2)
-        B = X2[:, None, :2] + np.einsum("nij,kj->nki", R, self.platform_anchors)
+        B = self._points(X.reshape(-1, 3))
         return B if batched else B[0]
+
+    def _points(self, X2: np.ndarray) -> np.ndarray:
+        """Platform anchors in the base frame for poses (N, 3) -> (N, 3, 2); checks for overflow."""
+        R = _rot(X2[:, 2])                                    # (N, 2, 2)
+        with np.errstate(over="ignore", invalid="ignore"):
+            B = X2[:, None, :2] + np.einsum("nij,kj->nki", R, self.platform_anchors)
+        return check_result_finite(B, "the platform points", pose=X2)
+
+    def _lengths(self, d: np.ndarray, X2: Any) -> np.ndarray:
+        """Norms of leg vectors d (..., 2), checked for overflow (a pose near 1e154 m)."""
+        with np.errstate(over="ignore"):
+            rho = np.linalg.norm(d, axis=-1)
+            if not np.isfinite(rho).all():  # |d|² overflowed: hypot scales instead
+                rho = np.where(np.isfinite(rho), rho, np.hypot(d[..., 0], d[..., 1]))
+        return check_result_finite(rho, "the leg lengths", pose=X2)
 
     def leg_vectors(self, pose: Any) -> np.ndarray:
         r"""Leg vectors :math:`\mathbf{B}_i - \mathbf{A}_i`, shape (3, 2) or (N, 3, 2)."""
@@ -232,8 +263,14 @@ class Planar3RPR:
         numpy.ndarray, shape (3,) or (N, 3)
             Leg lengths in metres (stroke limits are not applied; see
             :meth:`within_stroke`).
+
+        Raises
+        ------
+        ShapeError, DomainError
+            ``pose`` not of shape (3,) / (N, 3), non-finite, or so large that
+            the leg lengths overflow float64.
         """
-        return np.linalg.norm(self.leg_vectors(pose), axis=-1)
+        return self._lengths(self.leg_vectors(pose), pose)
 
     def within_stroke(self, rho: Any) -> np.ndarray | bool:
         """True where all leg lengths ``rho`` (3,) or (N, 3) lie within the stroke limits."""
@@ -263,9 +300,9 @@ class Planar3RPR:
         """
         X, batched = as_batch(pose, 3, "pose")
         X2 = X.reshape(-1, 3)
-        B = self.platform_points(X2)
+        B = self._points(X2)
         d = B - self.base_anchors
-        rho = np.linalg.norm(d, axis=-1)
+        rho = self._lengths(d, X2)
         if (rho <= 1e-12 * self._scale).any():
             raise DomainError("pose puts a platform anchor on its base anchor (a leg of length 0): "
                               "the leg direction and the Jacobian are undefined")
@@ -294,7 +331,7 @@ class Planar3RPR:
         p = as_vector(pose, 3, "pose")
         A = self.jacobian(p)
         if self.condition_number(p) > 1e12:
-            raise DomainError(f"pose {np.round(p, 6).tolist()} is a parallel singularity: "
+            raise DomainError(f"pose {[float(f'{x:.6g}') for x in p]} is a parallel singularity: "
                               "the inverse Jacobian A is singular and has no inverse")
         return np.linalg.inv(A)
 
@@ -320,6 +357,7 @@ class Planar3RPR:
 
     def is_singular(self, pose: Any, tol: float = 1e-9) -> np.ndarray | bool:
         r"""True where :math:`|\det\mathbf{A}| \le` ``tol`` · (characteristic length): a parallel singularity."""
+        tol = check_positive(tol, "tol", scalar=True)
         d = np.abs(np.linalg.det(self.jacobian(pose))) <= tol * self.characteristic_length
         return bool(d) if np.ndim(d) == 0 else d
 
@@ -353,7 +391,9 @@ class Planar3RPR:
         """
         rho = self._check_rho(rho)
         phi = 2 * np.pi * np.arange(16) / 16
-        c = np.fft.fft(self._orientation_function(phi, rho)) / 16
+        with np.errstate(over="ignore", invalid="ignore"):
+            c = np.fft.fft(self._orientation_function(phi, rho)) / 16
+        check_result_finite(c, "the orientation equation (fourth powers of the lengths)", rho=rho)
         return np.concatenate([c[-3:], c[:4]])
 
     def orientation_polynomial(self, rho: Any) -> np.ndarray:
@@ -453,12 +493,14 @@ class Planar3RPR:
         Raises
         ------
         ShapeError, DomainError
-            ``rho`` not three finite non-negative numbers.
+            ``rho`` not three finite non-negative numbers (or so large that the
+            orientation equation overflows float64), ``tol`` not positive.
         """
         rho = self._check_rho(rho)
+        tol = check_positive(tol, "tol", scalar=True)
         scale = self._scale + float(rho.max())
         c = self.orientation_harmonics(rho)
-        if np.abs(c).max() <= 1e-12 * scale**4:
+        if np.abs(c).max() <= 1e-12 * scale**4:  # finite: the harmonics (with rho**4) are
             return self._fail(rho, "degenerate: the orientation equation vanishes for every "
                                    "angle (the platform can move with locked legs)")
         coeffs = c[::-1]                           # z^6 ... z^0 of z^3 F

@@ -25,7 +25,7 @@ import numpy as np
 from robokin._dispatch import is_symbolic, scalar_input, to_sympy
 from robokin.errors import DomainError, ShapeError
 from robokin.transforms.rotations import skew
-from robokin.validation import as_batch, as_float_array, check_rotation_matrix
+from robokin.validation import as_batch, as_float_array, check_rotation_matrix, check_result_finite
 
 __all__ = [
     "rotation_exp",
@@ -74,6 +74,15 @@ def rotation_exp(w: Any) -> Any:
     numpy.ndarray, shape (3, 3) or (N, 3, 3), or sympy.Matrix (3x3)
         For symbolic input the closed form with :math:`\theta = \sqrt{w^\mathsf{T} w}`;
         prefer :func:`rotation_from_angle_axis` for readable symbolic results.
+        Huge rotation vectors (:math:`\theta^2` beyond float64) are computed
+        from the unit axis, :math:`R = \cos\theta I + \sin\theta [h]_\times +
+        (1 - \cos\theta) h h^\mathsf{T}`, so the result is always a rotation.
+
+    Raises
+    ------
+    ShapeError, DomainError
+        ``w`` not of shape (3,) / (N, 3), non-finite entries, or a norm that
+        overflows float64 (entries near 1e308).
     """
     if is_symbolic(w):
         import sympy as sp
@@ -85,20 +94,47 @@ def rotation_exp(w: Any) -> Any:
     a = _vectors(w, "w")
     if a.ndim == 1:
         return _exp_single(*a.tolist())
-    th2 = np.einsum("...i,...i->...", a, a)
-    th = np.sqrt(th2)
-    small = th < _TAYLOR_TOL
-    th_safe = np.where(small, 1.0, th)
-    A = np.where(small, 1.0 - th2 / 6.0 + th2 * th2 / 120.0, np.sin(th_safe) / th_safe)
-    B = np.where(small, 0.5 - th2 / 24.0 + th2 * th2 / 720.0,
-                 2.0 * np.sin(0.5 * th_safe) ** 2 / th_safe**2)
-    K = skew(a)
-    return np.eye(3) + A[..., None, None] * K + B[..., None, None] * (K @ K)
+    with np.errstate(over="ignore", invalid="ignore"):
+        th2 = np.einsum("...i,...i->...", a, a)
+        th = np.sqrt(th2)
+        small = th < _TAYLOR_TOL
+        th_safe = np.where(small, 1.0, th)
+        A = np.where(small, 1.0 - th2 / 6.0 + th2 * th2 / 120.0, np.sin(th_safe) / th_safe)
+        B = np.where(small, 0.5 - th2 / 24.0 + th2 * th2 / 720.0,
+                     2.0 * np.sin(0.5 * th_safe) ** 2 / th_safe**2)
+        K = skew(a)
+        R = np.eye(3) + A[..., None, None] * K + B[..., None, None] * (K @ K)
+    huge = ~np.isfinite(th2)  # |w| > 1.3e154: θ² overflows; use the unit axis instead
+    if huge.any():
+        R[huge] = [_exp_single(*row) for row in a[huge].tolist()]
+    return R
+
+
+def _exp_huge(x: float, y: float, z: float) -> np.ndarray:
+    """rotation_exp for |w| so large that θ² overflows: R = cos θ I + sin θ [h]x + (1 − cos θ) h hᵀ."""
+    m = max(abs(x), abs(y), abs(z))
+    u, v, t = x / m, y / m, z / m
+    r = math.sqrt(u * u + v * v + t * t)
+    th = m * r
+    if not math.isfinite(th):
+        raise DomainError(f"w is too large: its norm overflows float64 (largest |w| = {m:.3g})")
+    hx, hy, hz = u / r, v / r, t / r
+    c, s = math.cos(th), math.sin(th)
+    k = 1.0 - c
+    return np.array(
+        [
+            [c + k * hx * hx, k * hx * hy - s * hz, k * hx * hz + s * hy],
+            [k * hx * hy + s * hz, c + k * hy * hy, k * hy * hz - s * hx],
+            [k * hx * hz - s * hy, k * hy * hz + s * hx, c + k * hz * hz],
+        ]
+    )
 
 
 def _exp_single(x: float, y: float, z: float) -> np.ndarray:
     """Scalar fast path of rotation_exp: R = I + A [w]x + B (w wᵀ − θ² I)."""
     th2 = x * x + y * y + z * z
+    if not th2 < math.inf:
+        return _exp_huge(x, y, z)
     if th2 < _TAYLOR_TOL * _TAYLOR_TOL:
         A = 1.0 - th2 / 6.0 + th2 * th2 / 120.0
         B = 0.5 - th2 / 24.0 + th2 * th2 / 720.0
@@ -288,7 +324,11 @@ def rotation_from_angle_axis(axis: Any, angle: Any) -> Any:
         c, s = sp.cos(t), sp.sin(t)
         return c * sp.eye(3) + s * skew(h) + (1 - c) * h * h.T
     a = _vectors(axis, "axis")
-    n = np.linalg.norm(a, axis=-1)
+    try:
+        n = _norms(a)
+    except DomainError:
+        raise DomainError(f"axis is too large: its norm overflows float64 (largest |axis| = "
+                          f"{float(np.abs(a).max()):.3g})") from None
     if np.any(n < 1e-12):
         raise DomainError(
             f"axis must be non-zero; got norm {float(np.min(n)):.3g}"
@@ -307,6 +347,26 @@ def rotation_from_angle_axis(axis: Any, angle: Any) -> Any:
             f"axis and angle have incompatible batch sizes: axis has shape {a.shape}, "
             f"angle has shape {t.shape}"
         ) from None
+
+
+def _norms(a: np.ndarray) -> np.ndarray:
+    """Euclidean norms of the rows of ``a`` (..., k), without overflow for huge entries.
+
+    The plain ``np.linalg.norm`` everywhere it is finite (so ordinary input gives
+    the same bits as before); rows whose squares overflow are scaled first.
+    """
+    with np.errstate(over="ignore"):
+        n = np.linalg.norm(a, axis=-1)
+    huge = ~np.isfinite(n)
+    if huge.any():
+        rows = a[huge]
+        m = np.abs(rows).max(axis=-1)
+        n = np.array(n, dtype=float, copy=True)
+        with np.errstate(over="ignore"):
+            n[huge] = m * np.linalg.norm(rows / m[:, None], axis=-1)
+        if not np.isfinite(n).all():
+            raise DomainError(f"the norm of a vector overflows float64 (largest entry {float(m.max()):.3g})")
+    return n
 
 
 def angle_axis_from_rotation(R: Any, check: bool = True) -> tuple[np.ndarray, Any]:

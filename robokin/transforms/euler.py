@@ -47,7 +47,7 @@ def _three_angles(a: Any, b: Any, c: Any, names: tuple[str, str, str], packed: s
                 raise ShapeError(f"{packed} must have 3 entries; got {len(m)}")
             return tuple(m)
         arr = as_float_array(a, packed)
-        if arr.ndim == 0 or arr.shape[-1] != 3:
+        if arr.ndim not in (1, 2) or arr.shape[-1] != 3:
             raise ShapeError(
                 f"{packed} must have shape (3,) or (N, 3) (or pass {', '.join(names)} "
                 f"separately); got shape {arr.shape}"

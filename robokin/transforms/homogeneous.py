@@ -22,7 +22,7 @@ import numpy as np
 
 from robokin._dispatch import is_symbolic, to_sympy
 from robokin.errors import ShapeError
-from robokin.validation import as_float_array, check_rotation_matrix, check_transform
+from robokin.validation import as_float_array, check_result_finite, check_rotation_matrix, check_transform
 
 __all__ = [
     "transform",
@@ -163,7 +163,11 @@ def transform_inverse(T: Any, check: bool = True) -> Any:
     a = _transforms(T, check)
     Rt = np.swapaxes(a[..., :3, :3], -1, -2)
     p = a[..., :3, 3]
-    return _assemble(Rt, -(Rt @ p[..., None])[..., 0])
+    if not check:
+        return _assemble(Rt, -(Rt @ p[..., None])[..., 0])
+    with np.errstate(over="ignore", invalid="ignore"):
+        out = _assemble(Rt, -(Rt @ p[..., None])[..., 0])
+    return check_result_finite(out, "the inverse transform", T=a)
 
 
 def compose(*Ts: Any, check: bool = True) -> Any:
@@ -177,11 +181,18 @@ def compose(*Ts: Any, check: bool = True) -> Any:
         Transforms; batched ones broadcast against single ones. No argument
         gives the identity.
     check : bool, optional
-        Validate every factor (numeric input).
+        Validate every factor (numeric input) and that the product does not
+        overflow (translations near the float64 limit).
 
     Returns
     -------
     numpy.ndarray, shape (4, 4) or (N, 4, 4), or sympy.Matrix (4x4)
+
+    Raises
+    ------
+    ShapeError, DomainError
+        A factor of the wrong shape or not a transform (the message names
+        ``Ts[i]``), batch sizes that do not match, or a product that overflows.
     """
     if not Ts:
         return np.eye(4)
@@ -190,44 +201,68 @@ def compose(*Ts: Any, check: bool = True) -> Any:
                       [_sym_matrix(T, (4, 4), f"Ts[{i}]") for i, T in enumerate(Ts)])
     arrs = [_transforms(T, check, f"Ts[{i}]") for i, T in enumerate(Ts)]
     try:
-        return reduce(np.matmul, arrs) if len(arrs) > 1 else arrs[0].copy()
+        with np.errstate(over="ignore", invalid="ignore"):
+            out = reduce(np.matmul, arrs) if len(arrs) > 1 else arrs[0].copy()
     except ValueError:
         raise ShapeError(
             "transforms have incompatible batch sizes: shapes "
             + ", ".join(str(a.shape) for a in arrs)
         ) from None
+    if check:
+        check_result_finite(out, "the product", **{f"Ts[{i}]": a for i, a in enumerate(arrs)})
+    return out
 
 
-def rotation_of(T: Any) -> Any:
+def rotation_of(T: Any, check: bool = True) -> Any:
     """Rotation part ``T[:3, :3]``.
 
     Parameters
     ----------
     T : array_like, shape (4, 4) or (N, 4, 4), or sympy.Matrix
+    check : bool, optional
+        Validate that ``T`` is a homogeneous transform (numeric input): a
+        matrix whose upper-left block is not a rotation, or whose bottom row is
+        not ``[0, 0, 0, 1]``, raises instead of returning a block that is no
+        rotation. ``False`` just copies the block.
 
     Returns
     -------
     numpy.ndarray, shape (3, 3) or (N, 3, 3) (a copy), or sympy.Matrix (3x3)
+
+    Raises
+    ------
+    ShapeError, DomainError
+        ``T`` of the wrong shape, non-finite, or (with ``check``) not a
+        homogeneous transform.
     """
     if is_symbolic(T):
         return _sym_matrix(T, (4, 4), "T")[:3, :3]
-    return _transforms(T, False)[..., :3, :3].copy()
+    return _transforms(T, check)[..., :3, :3].copy()
 
 
-def translation_of(T: Any) -> Any:
+def translation_of(T: Any, check: bool = True) -> Any:
     """Translation part ``T[:3, 3]``.
 
     Parameters
     ----------
     T : array_like, shape (4, 4) or (N, 4, 4), or sympy.Matrix
+    check : bool, optional
+        Validate that ``T`` is a homogeneous transform (numeric input), as in
+        :func:`rotation_of`.
 
     Returns
     -------
     numpy.ndarray, shape (3,) or (N, 3) (a copy), or sympy.Matrix (3x1)
+
+    Raises
+    ------
+    ShapeError, DomainError
+        ``T`` of the wrong shape, non-finite, or (with ``check``) not a
+        homogeneous transform.
     """
     if is_symbolic(T):
         return _sym_matrix(T, (4, 4), "T")[:3, 3]
-    return _transforms(T, False)[..., :3, 3].copy()
+    return _transforms(T, check)[..., :3, 3].copy()
 
 
 def transform_point(T: Any, p: Any, check: bool = True) -> Any:
@@ -247,11 +282,17 @@ def transform_point(T: Any, p: Any, check: bool = True) -> Any:
     p : array_like, shape (3,) or (M, 3), or sympy vector
         Point(s) in B-coordinates.
     check : bool, optional
-        Validate ``T`` (numeric input).
+        Validate ``T`` (numeric input) and that the result does not overflow.
 
     Returns
     -------
     numpy.ndarray, shape (3,), (M, 3) or (N, 3), or sympy.Matrix (3x1)
+
+    Raises
+    ------
+    ShapeError, DomainError
+        Wrong shapes, ``T`` not a transform, non-finite entries, or a result
+        that overflows float64 (coordinates near 1e308).
     """
     if is_symbolic(T, p):
         M = _sym_matrix(T, (4, 4), "T")
@@ -259,8 +300,10 @@ def transform_point(T: Any, p: Any, check: bool = True) -> Any:
     a = _transforms(T, check)
     pa = _points(p)
     try:
-        return (a[..., :3, :3] @ pa[..., None])[..., 0] + a[..., :3, 3]
+        with np.errstate(over="ignore", invalid="ignore"):
+            out = (a[..., :3, :3] @ pa[..., None])[..., 0] + a[..., :3, 3]
     except ValueError:
         raise ShapeError(
             f"T and p have incompatible batch sizes: T has shape {a.shape}, p has shape {pa.shape}"
         ) from None
+    return check_result_finite(out, "the transformed point", T=a, p=pa) if check else out

@@ -18,7 +18,8 @@ import numpy as np
 
 from robokin._dispatch import is_symbolic, stack_matrix, stack_vector, to_sympy
 from robokin.errors import DomainError, ShapeError
-from robokin.validation import as_batch, as_float_array, check_rotation_matrix
+from robokin.transforms.angle_axis import _norms
+from robokin.validation import as_batch, as_float_array, check_result_finite, check_rotation_matrix
 
 __all__ = [
     "quaternion_from_rotation",
@@ -157,7 +158,11 @@ def rotation_from_quaternion(q: Any) -> Any:
         w, x, y, z = _sym_quat(q, "q")
     else:
         a = _quats(q, "q")
-        n = np.linalg.norm(a, axis=-1)
+        try:
+            n = _norms(a)
+        except DomainError:
+            raise DomainError(f"q is too large: its norm overflows float64 (largest |q| = "
+                              f"{float(np.abs(a).max()):.3g})") from None
         if np.any(n < 1e-12):
             raise DomainError(
                 f"q must be a non-zero quaternion; got norm {float(np.min(n)):.3g}"
@@ -206,6 +211,16 @@ def quaternion_multiply(p: Any, q: Any) -> Any:
             ) from None
         pw, px, py, pz = np.moveaxis(pa, -1, 0)
         qw, qx, qy, qz = np.moveaxis(qa, -1, 0)
+        with np.errstate(over="ignore", invalid="ignore"):
+            out = stack_vector(
+                [
+                    pw * qw - px * qx - py * qy - pz * qz,
+                    pw * qx + px * qw + py * qz - pz * qy,
+                    pw * qy - px * qz + py * qw + pz * qx,
+                    pw * qz + px * qy - py * qx + pz * qw,
+                ]
+            )
+        return check_result_finite(out, "the product", p=pa, q=qa)
     return stack_vector(
         [
             pw * qw - px * qx - py * qy - pz * qz,

@@ -180,12 +180,14 @@ def unskew(S: Any, check: bool = True, tol: float = 1e-6) -> Any:
     if a.ndim not in (2, 3) or a.shape[-2:] != (3, 3):
         raise ShapeError(f"S must have shape (3, 3) or (N, 3, 3); got shape {a.shape}")
     if check:
-        err = np.abs(a + np.swapaxes(a, -1, -2)).max()
+        with np.errstate(over="ignore"):  # huge entries: |S + Sᵀ| may overflow to inf (then not skew)
+            err = float(np.abs(a + np.swapaxes(a, -1, -2)).max(initial=0.0))
         if err > tol:
             raise DomainError(
                 f"S is not skew-symmetric: max |S + Sᵀ| = {err:.3g} (tolerance {tol:g})"
             )
-    return 0.5 * np.stack(
-        [a[..., 2, 1] - a[..., 1, 2], a[..., 0, 2] - a[..., 2, 0], a[..., 1, 0] - a[..., 0, 1]],
+    h = 0.5 * a  # halve first: (S32 - S23) / 2 of two huge entries would overflow
+    return np.stack(
+        [h[..., 2, 1] - h[..., 1, 2], h[..., 0, 2] - h[..., 2, 0], h[..., 1, 0] - h[..., 0, 1]],
         axis=-1,
     )

@@ -27,7 +27,7 @@ from robokin.motion.ik.problem import (
 from robokin.motion.ik.result import IKBatchResult
 from robokin.motion.ik.polish import polish as polish_rows
 from robokin.motion.ik.solve import DEFAULTS, REFINE_STALL_TOLERANCE, classify_stall
-from robokin.validation import check_positive
+from robokin.validation import check_chain, check_positive
 
 __all__ = ["solve_ik_batch"]
 
@@ -77,6 +77,12 @@ def solve_ik_batch(
         ``iterations`` (N,), ``reason`` (N,) str, ``position_error`` (N,),
         ``orientation_error`` (N,), ``errors`` (N, 6), ``attempts`` (N,).
 
+    Raises
+    ------
+    ShapeError, DomainError, TypeError
+        As for :func:`~robokin.motion.solve_ik`; an empty batch ``(0, 3)`` /
+        ``(0, 4, 4)`` is fine and gives empty results.
+
     Notes
     -----
     Each row of the working arrays is one attempt.  A target whose attempts
@@ -91,6 +97,7 @@ def solve_ik_batch(
     failures occur, so results are reproducible for a given ``seed`` and
     batch but may differ from solving each target alone.
     """
+    check_chain(chain)
     T_goal, is_position = parse_target(targets, batched=True)
     N = T_goal.shape[0]
     m = parse_mask(mask, is_position)
@@ -102,9 +109,9 @@ def solve_ik_batch(
         max_iterations, "max_iterations", 1)
     restarts = check_nonnegative_int(restarts, "restarts")
     stall_iterations, stall_tolerance = parse_stall(meth, stall_iterations, stall_tolerance)
-    gtol = check_positive(gradient_tolerance, "gradient_tolerance")
+    gtol = check_positive(gradient_tolerance, "gradient_tolerance", scalar=True)
     if max_step is not None:
-        max_step = check_positive(max_step, "max_step")
+        max_step = check_positive(max_step, "max_step", scalar=True)
     q_init = parse_q0(q0, n, ctx.lower, ctx.upper, N).copy()
     rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
     lower, upper, rows, full = ctx.lower, ctx.upper, ctx.rows, ctx.full_mask

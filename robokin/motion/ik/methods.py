@@ -120,8 +120,8 @@ class PseudoInverse(IKMethod):
     name = "pinv"
 
     def __init__(self, gain: float = 1.0, rcond: float = 1e-8) -> None:
-        self.gain = check_positive(gain, "gain")
-        self.rcond = check_positive(rcond, "rcond")
+        self.gain = check_positive(gain, "gain", scalar=True)
+        self.rcond = check_positive(rcond, "rcond", scalar=True)
 
     def step(self, J, e, q, ctx):
         dq, _, _ = _svd_pinv_apply(J, e, self.rcond)
@@ -148,7 +148,7 @@ class JacobianTranspose(IKMethod):
     default_stall = (50, 0.2)
 
     def __init__(self, gain: float | None = None) -> None:
-        self.gain = None if gain is None else check_positive(gain, "gain")
+        self.gain = None if gain is None else check_positive(gain, "gain", scalar=True)
 
     def step(self, J, e, q, ctx):
         g = _matvec(_T(J), e)
@@ -208,8 +208,8 @@ class WeightedPseudoInverse(IKMethod):
                 f"weights must be positive definite; got a matrix with smallest eigenvalue {eig:.3g}"
             ) from None
         self.weights = W
-        self.gain = check_positive(gain, "gain")
-        self.rcond = check_positive(rcond, "rcond")
+        self.gain = check_positive(gain, "gain", scalar=True)
+        self.rcond = check_positive(rcond, "rcond", scalar=True)
         self._M = np.linalg.cholesky(np.linalg.inv(W))
 
     def step(self, J, e, q, ctx):
@@ -274,15 +274,15 @@ class DampedLeastSquares(IKMethod):
         bias: float = 1e-7,
         gain: float = 1.0,
     ) -> None:
-        self.damping = check_positive(damping, "damping", allow_zero=True)
+        self.damping = check_positive(damping, "damping", allow_zero=True, scalar=True)
         if adaptive not in _ADAPTIVE:
             raise ValueError(f"adaptive must be one of {_ADAPTIVE}; got {adaptive!r}")
         self.adaptive = adaptive
         if threshold is None:
             threshold = {"manipulability": 1e-3, "singular_value": 0.02}.get(adaptive or "", 1.0)
-        self.threshold = check_positive(threshold, "threshold")
-        self.bias = check_positive(bias, "bias", allow_zero=adaptive != "error")
-        self.gain = check_positive(gain, "gain")
+        self.threshold = check_positive(threshold, "threshold", scalar=True)
+        self.bias = check_positive(bias, "bias", allow_zero=adaptive != "error", scalar=True)
+        self.gain = check_positive(gain, "gain", scalar=True)
 
     def step(self, J, e, q, ctx):
         undamped = self.adaptive is None and self.damping == 0
@@ -346,8 +346,8 @@ class NullSpace(IKMethod):
 
     def __init__(self, objective: Any = "joint_limits", gain: float | None = None, rcond: float = 1e-8) -> None:
         self.objective = as_objective(objective)
-        self.gain = None if gain is None else check_positive(gain, "gain")
-        self.rcond = check_positive(rcond, "rcond")
+        self.gain = None if gain is None else check_positive(gain, "gain", scalar=True)
+        self.rcond = check_positive(rcond, "rcond", scalar=True)
 
     def resolved_gain(self, ctx: Any) -> float:
         """The gain :math:`k` used for a chain (see ``gain``)."""
@@ -407,8 +407,8 @@ class LevenbergMarquardt(IKMethod):
     default_max_iterations = 100
 
     def __init__(self, bias: float = 1e-7, error_weights: Any = None, error_damping: float = 0.1) -> None:
-        self.bias = check_positive(bias, "bias")
-        self.error_damping = check_positive(error_damping, "error_damping", allow_zero=True)
+        self.bias = check_positive(bias, "bias", scalar=True)
+        self.error_damping = check_positive(error_damping, "error_damping", allow_zero=True, scalar=True)
         if error_weights is None:
             self.error_weights = None
         else:

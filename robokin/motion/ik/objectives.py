@@ -20,6 +20,8 @@ from typing import Any, Protocol
 
 import numpy as np
 
+from robokin.validation import check_positive
+
 __all__ = [
     "Objective",
     "JointLimitDistance",
@@ -78,7 +80,7 @@ class Manipulability:
     """
 
     def __init__(self, h: float = 1e-6) -> None:
-        self.h = float(h)
+        self.h = check_positive(h, "h", scalar=True)
 
     def value(self, q: np.ndarray, ctx: Any) -> np.ndarray:
         J = ctx.task_jacobian(q)
@@ -110,6 +112,8 @@ class GradientObjective:
     ) -> None:
         if not callable(gradient):
             raise TypeError(f"objective gradient must be callable; got {type(gradient).__name__}")
+        if value is not None and not callable(value):
+            raise TypeError(f"objective value must be callable or None; got {type(value).__name__}")
         self._gradient = gradient
         self._value = value
 

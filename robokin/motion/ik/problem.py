@@ -14,7 +14,14 @@ import numpy as np
 
 from robokin.errors import DomainError, ShapeError
 from robokin.motion._kernels import tool_jacobian, wrap_angles
-from robokin.validation import as_float_array, check_limits, check_positive, check_transform
+from robokin.validation import (
+    as_float_array,
+    check_chain,
+    check_int,
+    check_limits,
+    check_positive,
+    check_transform,
+)
 
 __all__ = ["IKContext", "make_context", "parse_target", "parse_tolerance", "parse_q0"]
 
@@ -97,6 +104,17 @@ def _chain_limits(chain: Any) -> tuple[np.ndarray, np.ndarray]:
     return lim[:, 0].copy(), lim[:, 1].copy()
 
 
+#: Largest target or tool distance (m) the solvers accept: errors are squared in the
+#: iteration, so much larger values would overflow float64 (and reach nothing anyway).
+MAX_DISTANCE = 1e100
+
+
+def _check_distance(p: np.ndarray, name: str) -> None:
+    if p.size and float(np.abs(p).max()) > MAX_DISTANCE:
+        raise DomainError(f"{name} is too far away: translations must be at most {MAX_DISTANCE:.0e} m; "
+                          f"got {float(np.abs(p).max()):.3g} m")
+
+
 def parse_target(target: Any, batched: bool) -> tuple[np.ndarray, bool]:
     """Target as poses ``(4, 4)``/``(N, 4, 4)``; a position gets an identity rotation.
 
@@ -104,6 +122,7 @@ def parse_target(target: Any, batched: bool) -> tuple[np.ndarray, bool]:
     """
     name = "targets" if batched else "target"
     a = as_float_array(target, name)
+    _check_distance(a[..., :3, 3] if a.ndim >= 2 and a.shape[-2:] == (4, 4) else a, name)
     if batched:
         if a.ndim == 2 and a.shape[1] == 3:
             T = np.broadcast_to(np.eye(4), (a.shape[0], 4, 4)).copy()
@@ -152,7 +171,7 @@ def parse_mask(mask: Any, is_position: bool) -> np.ndarray:
 def parse_tolerance(tol: Any) -> tuple[float, float]:
     """``tol`` as ``(position (m), orientation (rad))``; a scalar sets both."""
     if np.ndim(tol) == 0:
-        t = check_positive(tol, "tol")
+        t = check_positive(tol, "tol", scalar=True)
         return t, t
     t = as_float_array(tol, "tol", (2,))
     check_positive(t, "tol")
@@ -203,6 +222,7 @@ def parse_wrap(wrap: Any, chain: Any, n: int) -> tuple[np.ndarray | None, np.nda
 
 
 def make_context(chain: Any, mask: np.ndarray, tool: Any, wrap: Any) -> IKContext:
+    check_chain(chain)
     n = int(chain.n)
     lower, upper = _chain_limits(chain)
     T_tool = None
@@ -210,6 +230,7 @@ def make_context(chain: Any, mask: np.ndarray, tool: Any, wrap: Any) -> IKContex
         T_tool = check_transform(tool, name="tool")
         if T_tool.ndim != 2:
             raise ShapeError(f"tool must have shape (4, 4); got shape {T_tool.shape}")
+        _check_distance(T_tool[:3, 3], "tool")
         if np.allclose(T_tool, np.eye(4), rtol=0, atol=0):
             T_tool = None
     wrap_mask, shift_mask = parse_wrap(wrap, chain, n)
@@ -217,18 +238,15 @@ def make_context(chain: Any, mask: np.ndarray, tool: Any, wrap: Any) -> IKContex
 
 
 def check_nonnegative_int(value: Any, name: str, minimum: int = 0) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise TypeError(f"{name} must be an integer; got {type(value).__name__} {value!r}")
-    if value < minimum:
-        raise DomainError(f"{name} must be >= {minimum}; got {value}")
-    return int(value)
+    """An integer >= ``minimum`` (iteration and restart counts; at most 10**7)."""
+    return check_int(value, name, minimum, 10**7)
 
 
 def parse_stall(method: Any, iterations: Any, tolerance: Any) -> tuple[int, float]:
     """Stall-detection parameters, defaulting to the method's ``default_stall``."""
     k, f = method.default_stall
     k = k if iterations is None else check_nonnegative_int(iterations, "stall_iterations", 1)
-    f = f if tolerance is None else check_positive(tolerance, "stall_tolerance", allow_zero=True)
+    f = f if tolerance is None else check_positive(tolerance, "stall_tolerance", allow_zero=True, scalar=True)
     if f >= 1:
         raise DomainError(f"stall_tolerance must be < 1 (a fraction of the error); got {f:g}")
     return k, float(f)

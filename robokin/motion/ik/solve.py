@@ -28,7 +28,7 @@ from robokin.motion.ik.problem import (
     parse_tolerance,
 )
 from robokin.motion.ik.result import IKHistory, IKResult
-from robokin.validation import check_positive
+from robokin.validation import check_chain, check_positive
 
 __all__ = ["solve_ik", "classify_stall", "DEFAULTS"]
 
@@ -191,7 +191,12 @@ def solve_ik(
     ------
     ShapeError, DomainError
         Bad target, ``q0``, ``mask``, ``tool``, tolerances or method options
-        (both are ``ValueError``); the message names the argument.
+        (both are ``ValueError``); the message names the argument. A target or
+        tool translation beyond 1e100 m is rejected (its squared error would
+        overflow float64).
+    TypeError
+        ``chain`` is not a kinematic chain (e.g. ``None``), or an argument of
+        the wrong type.
 
     Notes
     -----
@@ -227,6 +232,7 @@ def solve_ik(
     >>> res.success, res.reason                               # doctest: +SKIP
     (True, 'converged')
     """
+    check_chain(chain)
     T_goal, is_position = parse_target(target, batched=False)
     m = parse_mask(mask, is_position)
     ctx = make_context(chain, m, tool, wrap)
@@ -236,9 +242,9 @@ def solve_ik(
         max_iterations, "max_iterations", 1)
     restarts = check_nonnegative_int(restarts, "restarts")
     stall_iterations, stall_tolerance = parse_stall(meth, stall_iterations, stall_tolerance)
-    gtol = check_positive(gradient_tolerance, "gradient_tolerance")
+    gtol = check_positive(gradient_tolerance, "gradient_tolerance", scalar=True)
     if max_step is not None:
-        max_step = check_positive(max_step, "max_step")
+        max_step = check_positive(max_step, "max_step", scalar=True)
     q_start = parse_q0(q0, ctx.n, ctx.lower, ctx.upper, None)
     if seed is not None and not isinstance(seed, (np.random.Generator, int, np.integer)):
         raise TypeError(f"seed must be an int, a numpy Generator or None; got {type(seed).__name__}")
