@@ -11,11 +11,21 @@ already catches ``ValueError`` keeps working.
 
 A wrong *type* (e.g. a string where numbers are expected) raises the built-in
 :class:`TypeError`.
+
+Warnings (issued with :func:`warnings.warn`, never raised):
+
+- :class:`RobokinWarning` -- base class of robokin's warnings (a ``UserWarning``).
+- :class:`SingularityWarning` -- a controlled motion came close to a singular
+  configuration (smallest singular value of the Jacobian below a threshold), where
+  the pseudoinverse asks for huge joint rates. Issued once per
+  :func:`robokin.motion.simulate` run or :func:`robokin.motion.track_position_batch`
+  sweep; silence it with ``warn_singular=False`` or the standard filter
+  ``warnings.simplefilter("ignore", robokin.errors.SingularityWarning)``.
 """
 
 from __future__ import annotations
 
-__all__ = ["RobokinError", "ShapeError", "DomainError"]
+__all__ = ["RobokinError", "ShapeError", "DomainError", "RobokinWarning", "SingularityWarning"]
 
 
 class RobokinError(Exception):
@@ -35,4 +45,21 @@ class DomainError(RobokinError, ValueError):
     Raised for NaN or infinite entries, values out of range, matrices that are not
     rotations or transforms, joint limits with lower > upper, zero-length axes or
     quaternions, ...
+    """
+
+
+class RobokinWarning(UserWarning):
+    """Base class of all robokin warnings."""
+
+
+class SingularityWarning(RobokinWarning, RuntimeWarning):
+    r"""A controlled motion passed close to a singular configuration.
+
+    The smallest singular value :math:`\sigma_{min}` of the Jacobian used by the
+    controller fell below a threshold: there the pseudoinverse
+    :math:`\dot q = J^+ \nu` commands joint rates up to
+    :math:`\|\nu\| / \sigma_{min}` (Siciliano et al. 2009, §3.3 and §3.5.2).
+    The message gives the time of the closest approach, the smallest
+    :math:`\sigma_{min}` and the peak commanded joint speed; the log's ``sigma_min``
+    and ``singular`` fields hold the per-step values.
     """

@@ -25,6 +25,7 @@ __all__ = [
     "wrap_angles",
     "rotation_log_single",
     "pose_error_single",
+    "generic_rank",
 ]
 
 # Below this angle the series expansion of theta / (2 sin theta) is used.
@@ -153,3 +154,20 @@ def pose_error_single(T: np.ndarray, T_goal: np.ndarray) -> np.ndarray:
     wx, wy, wz = rotation_log_single(T_goal[:3, :3] @ T[:3, :3].T)
     p, g = T[:3, 3].tolist(), T_goal[:3, 3].tolist()
     return np.array((g[0] - p[0], g[1] - p[1], g[2] - p[2], wx, wy, wz))
+
+
+def generic_rank(jacobian, lower: np.ndarray, upper: np.ndarray, samples: int = 4) -> int:
+    """Rank of a task Jacobian at a generic configuration (its largest rank over a few samples).
+
+    ``jacobian(Q)`` maps configurations (samples, n) to Jacobians (samples, m, n).
+    The configurations are drawn from a fixed seed, so the answer is reproducible;
+    a singular value counts when it exceeds 1e-9 times the largest one. This is the
+    number of directions the task can move in at all: 2 for the position of a
+    planar arm (its z row is always zero), 3 for the position of a spatial arm.
+    A singularity is a configuration where the rank drops below it.
+    """
+    rng = np.random.default_rng(0)
+    Q = random_within_limits(rng, lower, upper, samples)
+    s = np.linalg.svd(jacobian(Q), compute_uv=False)
+    top = np.maximum(s[:, :1], 1e-300)
+    return max(1, int((s > 1e-9 * top).sum(axis=1).max()))

@@ -16,16 +16,28 @@ closed-loop inverse kinematics).
 
 from __future__ import annotations
 
+import math
+import warnings
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
-from robokin.errors import DomainError, ShapeError
+from robokin.errors import DomainError, ShapeError, SingularityWarning
 from robokin.motion.control import ControlOutput
-from robokin.validation import as_float_array, check_positive
+from robokin.validation import (
+    as_float_array,
+    check_callable,
+    check_chain,
+    check_limits,
+    check_positive,
+)
 
-__all__ = ["simulate", "SimulationLog"]
+__all__ = ["simulate", "SimulationLog", "MAX_STEPS"]
+
+#: Largest number of steps ``floor(t_end / ts)`` of one run (a typo such as ts=1e-9
+#: raises instead of allocating gigabytes).
+MAX_STEPS = 10_000_000
 
 
 @dataclass(frozen=True, eq=False)
@@ -55,6 +67,17 @@ class SimulationLog:
         Joints resting on a limit.
     reason : str
         ``"converged"`` (error below ``tol``) or ``"end_time"``.
+    sigma_min : ndarray, shape (K,)
+        Smallest singular value of the Jacobian the controller inverted at each
+        step (its :attr:`ControlOutput.sigma_min`; m/rad for the position rows),
+        NaN where the controller does not report it (a plain function).
+    singular : ndarray of bool, shape (K,)
+        Steps flagged as (close to) singular: ``sigma_min`` below
+        ``singular_threshold``. Where it is True the pseudoinverse commands joint
+        rates up to ``|twist| / sigma_min`` (compare ``qdot_command``).
+    singular_threshold : float
+        The threshold used for ``singular`` (the controller's, or the value
+        passed to :func:`simulate`; NaN if neither is known).
     """
 
     t: np.ndarray
@@ -66,6 +89,16 @@ class SimulationLog:
     pose: np.ndarray
     at_limit: np.ndarray
     reason: str
+    sigma_min: np.ndarray | None = None
+    singular: np.ndarray | None = None
+    singular_threshold: float = float("nan")
+
+    def __post_init__(self) -> None:
+        K = self.t.shape[0]
+        if self.sigma_min is None:
+            object.__setattr__(self, "sigma_min", np.full(K, np.nan))
+        if self.singular is None:
+            object.__setattr__(self, "singular", np.zeros(K, dtype=bool))
 
     def __len__(self) -> int:
         return self.t.shape[0]
@@ -90,6 +123,8 @@ def simulate(
     *,
     qdot_limits: Any = None,
     tol: float | tuple[float, float] | None = 1e-6,
+    singular_threshold: float | None = None,
+    warn_singular: bool = True,
 ) -> SimulationLog:
     r"""Simulate ``q' = controller(t, q)`` with explicit Euler steps of ``ts``.
 
@@ -114,21 +149,43 @@ def simulate(
         (rad) are both within ``tol`` — only for controllers with a constant
         goal (``controller.static`` True) that report an error.  None never
         stops early.  Default 1e-6.
+    singular_threshold : float or None, optional
+        Flag the steps whose ``sigma_min`` (reported by the controller, e.g.
+        :class:`~robokin.motion.CartesianController`) is below this value.
+        None (default) uses the controller's own ``singular`` flag and
+        ``singular_threshold`` (1e-3 by default); 0 flags nothing.
+    warn_singular : bool, optional
+        Issue one :class:`~robokin.errors.SingularityWarning` per run when any
+        step is flagged (default True). The warning is a normal Python warning:
+        ``warnings.simplefilter("ignore", robokin.errors.SingularityWarning)``
+        silences it too.
 
     Returns
     -------
     SimulationLog
         ``t``, ``q``, ``qdot``, ``qdot_command``, ``twist``, ``error``, ``pose``,
-        ``at_limit`` and the stopping ``reason``.
+        ``at_limit``, the stopping ``reason``, and per step ``sigma_min`` (the
+        smallest singular value of the controller's Jacobian) and ``singular``
+        (the flag), with the ``singular_threshold`` used.
 
     Raises
     ------
     DomainError
-        ``ts`` or ``t_end`` not positive, negative ``qdot_limits``, ``q0``
-        outside the limits (all ``ValueError``; the message names the argument).
+        ``ts`` or ``t_end`` not positive, more than :data:`MAX_STEPS` steps,
+        negative ``qdot_limits``, ``q0`` outside the limits, a controller
+        returning NaN or inf (all ``ValueError``; the message names the argument).
     ShapeError
         ``q0`` or ``qdot_limits`` of the wrong shape, or a controller returning
         the wrong shape.
+    TypeError
+        ``chain`` is not a kinematic chain, ``controller`` is not callable.
+
+    Warns
+    -----
+    SingularityWarning
+        Once per run, when some step is flagged ``singular``: the message gives
+        the time and value of the smallest ``sigma_min`` and the peak commanded
+        joint speed, and points to ``log.singular`` and ``inverse="dls"``.
 
     Notes
     -----
@@ -136,12 +193,21 @@ def simulate(
     reaches a limit stops there (its applied velocity is reduced accordingly)
     and never crosses it, while the others keep following the controller.
     """
+    check_chain(chain, "chain", ("fk",))
+    check_callable(controller, "controller", "(t, q) -> ControlOutput or joint velocity (n,)")
     n = int(chain.n)
     q = as_float_array(q0, "q0", (n,)).copy()
-    ts = check_positive(ts, "ts")
-    t_end = check_positive(t_end, "t_end")
-    lim = np.asarray(getattr(chain, "limits", np.column_stack((np.full(n, -np.inf), np.full(n, np.inf)))),
-                     dtype=float)
+    ts = check_positive(ts, "ts", scalar=True)
+    t_end = check_positive(t_end, "t_end", scalar=True)
+    ratio = t_end / ts
+    if not ratio <= MAX_STEPS:
+        raise DomainError(f"t_end / ts must be at most {MAX_STEPS:,} steps; got t_end = {t_end:g} s, "
+                          f"ts = {ts:g} s ({ratio:.3g} steps)")
+    if singular_threshold is not None:
+        singular_threshold = check_positive(singular_threshold, "singular_threshold", allow_zero=True, scalar=True)
+    lim = getattr(chain, "limits", None)
+    lim = np.column_stack((np.full(n, -np.inf), np.full(n, np.inf))) if lim is None else \
+        check_limits(lim, n, "chain.limits")
     lower, upper = lim[:, 0], lim[:, 1]
     if np.any(q < lower - 1e-12) or np.any(q > upper + 1e-12):
         i = int(np.argmax((q < lower - 1e-12) | (q > upper + 1e-12)))
@@ -159,7 +225,7 @@ def simulate(
     if tol is None:
         tol_p = tol_o = None
     elif np.ndim(tol) == 0:
-        tol_p = tol_o = check_positive(tol, "tol")
+        tol_p = tol_o = check_positive(tol, "tol", scalar=True)
     else:
         tp = as_float_array(tol, "tol", (2,))
         check_positive(tp, "tol")
@@ -176,6 +242,8 @@ def simulate(
     E = np.full((K, 6), np.nan)
     P = np.empty((K, 4, 4))
     L = np.zeros((K, n), dtype=bool)
+    S = np.full(K, np.nan)
+    F = np.zeros(K, dtype=bool)
     controlled_pose = getattr(controller, "pose", None) or (lambda q_: chain.fk(q_, check=False))
     reason = "end_time"
     k = 0
@@ -187,13 +255,15 @@ def simulate(
         L[k] = (q <= lower) | (q >= upper)
         out = controller(t, q)
         if isinstance(out, ControlOutput) or hasattr(out, "qdot"):
-            qdot = np.asarray(out.qdot, dtype=float)
+            qdot = as_float_array(out.qdot, "controller(t, q).qdot")
             if getattr(out, "twist", None) is not None:
                 TW[k] = out.twist
             if getattr(out, "error", None) is not None:
                 E[k] = out.error
+            S[k] = getattr(out, "sigma_min", math.nan)
+            F[k] = bool(getattr(out, "singular", False))
         else:
-            qdot = np.asarray(out, dtype=float)
+            qdot = as_float_array(out, "controller(t, q)")
         if qdot.shape != (n,):
             raise ShapeError(f"controller must return a joint velocity of shape ({n},); got shape {qdot.shape}")
         QDc[k] = qdot
@@ -207,11 +277,54 @@ def simulate(
             ratio = np.max(np.abs(qdot) / vmax)
             if ratio > 1.0:
                 qdot = qdot / ratio
-        q_new = np.minimum(np.maximum(q + ts * qdot, lower), upper)
+        with np.errstate(over="ignore", invalid="ignore"):
+            q_new = np.minimum(np.maximum(q + ts * qdot, lower), upper)
+        total = sum(q_new.tolist())
+        if total - total != 0.0:  # ts * qdot overflowed (a command near 1e308)
+            raise DomainError(f"controller commanded a joint velocity too large to integrate at t = {t:g} s "
+                              f"(largest |qdot| = {float(np.abs(qdot).max()):.3g}, ts = {ts:g} s)")
         QD[k] = (q_new - q) / ts
         q = q_new
     K = k + 1
-    return SimulationLog(
+    if singular_threshold is not None:
+        F = S < singular_threshold  # NaN (not reported) compares False
+        threshold = singular_threshold
+    else:
+        threshold = getattr(controller, "singular_threshold", math.nan)
+        threshold = float(threshold) if isinstance(threshold, (int, float, np.number)) else math.nan
+    log = SimulationLog(
         t=T_log[:K], q=Q[:K], qdot=QD[:K], qdot_command=QDc[:K], twist=TW[:K], error=E[:K],
-        pose=P[:K], at_limit=L[:K], reason=reason,
+        pose=P[:K], at_limit=L[:K], reason=reason, sigma_min=S[:K], singular=F[:K],
+        singular_threshold=threshold,
     )
+    if warn_singular and log.singular.any():
+        damped = getattr(controller, "inverse", None) == "dls" and getattr(controller, "damping", 0) > 0
+        warnings.warn(SingularityWarning(singularity_message("simulate", log.t, log.sigma_min, log.singular,
+                                                             log.qdot_command, threshold, damped=damped)),
+                      stacklevel=2)
+    return log
+
+
+def singularity_message(where: str, t: np.ndarray, sigma_min: np.ndarray, singular: np.ndarray,
+                        qdot_command: np.ndarray, threshold: float, *, damped: bool = False,
+                        runs: str = "") -> str:
+    """Text of the :class:`~robokin.errors.SingularityWarning` of a run (or of a sweep's runs).
+
+    ``sigma_min``, ``singular`` have shape (K,) or (N, K), ``qdot_command`` one more
+    axis (n); ``runs`` is an optional prefix such as ``"3 of 63 runs: "``.
+    """
+    s = np.where(singular, sigma_min, np.inf)
+    k = np.unravel_index(int(np.argmin(s)), s.shape)
+    speed = np.linalg.norm(qdot_command, axis=-1)
+    peak = float(np.max(np.where(singular, speed, 0.0)))
+    count = int(singular.sum())
+    run = f"run {int(k[0])}, " if len(k) > 1 else ""
+    advice = ("The damped least-squares inverse keeps the joint rates bounded there (by |twist| / (2 lambda)) "
+              "at the price of a tracking error." if damped else
+              "Near a singularity the pseudoinverse asks for joint rates up to |twist| / sigma_min; damped "
+              "least squares (inverse='dls') keeps them bounded.")
+    return (f"{where}: {runs}{count} of {singular.size} steps came within sigma_min < {threshold:g} of a "
+            f"singular configuration (smallest sigma_min = {float(sigma_min[k]):.3g} at {run}"
+            f"t = {float(t[k[-1]]):.4g} s; peak commanded joint speed on those steps {peak:.3g} rad/s). "
+            f"{advice} Per-step values: the log's sigma_min and singular fields. Silence with "
+            f"warn_singular=False.")

@@ -24,13 +24,24 @@ position-only :class:`~robokin.motion.CartesianController`.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import warnings
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
-from robokin.errors import DomainError, ShapeError
-from robokin.validation import as_float_array, check_limits, check_positive
+from robokin.errors import DomainError, ShapeError, SingularityWarning
+from robokin.motion._kernels import generic_rank
+from robokin.motion.control import SINGULAR_THRESHOLD
+from robokin.motion.simulate import singularity_message
+from robokin.validation import (
+    as_float_array,
+    check_chain,
+    check_choice,
+    check_limits,
+    check_positive,
+    check_result_finite,
+)
 
 __all__ = ["initial_condition_sweep", "track_position_batch", "BatchTrackingLog"]
 
@@ -96,12 +107,13 @@ def initial_condition_sweep(limits: Any, fractions: Any, nominal: Any = 0.5) -> 
         raise ShapeError(f"nominal must be a scalar or have shape ({n},); got shape {nom.shape}")
     if np.any(nom < 0) or np.any(nom > 1):
         raise DomainError(f"nominal must lie in [0, 1]; got {nom}")
-    lower, span = lim[:, 0], lim[:, 1] - lim[:, 0]
-    base = lower + nom * span
-    out = np.tile(base, (n * f.size, 1))
-    for j in range(n):
-        out[j * f.size:(j + 1) * f.size, j] = lower[j] + f * span[j]
-    return out
+    with np.errstate(over="ignore", invalid="ignore"):
+        lower, span = lim[:, 0], lim[:, 1] - lim[:, 0]
+        base = lower + nom * span
+        out = np.tile(base, (n * f.size, 1))
+        for j in range(n):
+            out[j * f.size:(j + 1) * f.size, j] = lower[j] + f * span[j]
+    return check_result_finite(out, "the joint ranges", limits=lim)
 
 
 @dataclass(frozen=True, eq=False)
@@ -125,6 +137,17 @@ class BatchTrackingLog:
         ``min(3, n)`` of them.
     at_limit : ndarray of bool, shape (N, K, n)
         Joints resting on a limit.
+    singular : ndarray of bool, shape (N, K)
+        Samples flagged as (close to) singular: the smallest singular value of
+        :math:`J_v` that is non-zero at a generic configuration,
+        ``singular_values[..., task_rank - 1]`` (:attr:`sigma_min` for a spatial
+        arm), below ``singular_threshold``. There the pseudoinverse commands
+        joint rates up to ``|v| / sigma_min``.
+    singular_threshold : float
+        The threshold used for ``singular`` (m/rad).
+    task_rank : int
+        Rank of :math:`J_v` at a generic configuration (3 for a spatial arm, 2
+        for a planar one, whose z row is always zero).
     """
 
     t: np.ndarray
@@ -134,6 +157,16 @@ class BatchTrackingLog:
     error: np.ndarray
     singular_values: np.ndarray
     at_limit: np.ndarray
+    singular: np.ndarray | None = field(default=None)
+    singular_threshold: float = SINGULAR_THRESHOLD
+    task_rank: int | None = None
+
+    def __post_init__(self) -> None:
+        if self.task_rank is None:
+            object.__setattr__(self, "task_rank", self.singular_values.shape[-1])
+        if self.singular is None:
+            s = self.singular_values[..., self.task_rank - 1]
+            object.__setattr__(self, "singular", s < self.singular_threshold)
 
     @property
     def position_error(self) -> np.ndarray:
@@ -171,6 +204,8 @@ def track_position_batch(
     damping: float = 0.01,
     rcond: float = 1e-8,
     clamp: bool = True,
+    singular_threshold: float = SINGULAR_THRESHOLD,
+    warn_singular: bool = True,
 ) -> BatchTrackingLog:
     r"""Resolved-rate position tracking from N start configurations at once.
 
@@ -212,21 +247,40 @@ def track_position_batch(
         Relative cut-off of small singular values for ``"pinv"``, > 0.
     clamp : bool, optional
         Clamp each step to the joint limits (as :func:`robokin.motion.simulate`).
+    singular_threshold : float, optional
+        Flag the samples whose smallest singular value of :math:`\mathbf J_v` is
+        below this value (m/rad, default 1e-3, as
+        :class:`~robokin.motion.CartesianController`), >= 0; 0 flags nothing.
+    warn_singular : bool, optional
+        Issue one :class:`~robokin.errors.SingularityWarning` for the whole
+        sweep when any sample of any run is flagged (default True); the
+        standard ``warnings`` filters silence it too.
 
     Returns
     -------
     BatchTrackingLog
         ``q``, ``qdot``, ``position``, ``error``, ``singular_values``,
-        ``at_limit`` with a leading run axis N (1 for a single ``q0``).
+        ``at_limit`` and the flags ``singular`` (N, K) with a leading run axis N
+        (1 for a single ``q0``); ``sigma_min`` is the smallest singular value.
 
     Raises
     ------
     ShapeError
         ``q0``, ``positions`` or ``velocities`` of the wrong shape.
     DomainError
-        ``ts`` not positive, negative ``gain`` or ``damping``, ``q0`` outside the
-        limits (with ``clamp``), non-finite inputs.
+        ``ts`` not positive, negative ``gain``, ``damping`` or
+        ``singular_threshold``, ``q0`` outside the limits (with ``clamp``),
+        non-finite inputs.
+    TypeError
+        ``chain`` is not a kinematic chain.
+
+    Warns
+    -----
+    SingularityWarning
+        Once per call, when some run passes within ``singular_threshold`` of a
+        singular configuration (how many runs, where, the peak joint speed).
     """
+    check_chain(chain, "chain", ("fk", "position_jacobian"))
     n = int(chain.n)
     Q = as_float_array(q0, "q0")
     if Q.shape == (n,):
@@ -235,12 +289,12 @@ def track_position_batch(
         raise ShapeError(f"q0 must have shape ({n},) or (N, {n}); got shape {Q.shape}")
     Q = Q.copy()
     N = Q.shape[0]
-    ts = check_positive(ts, "ts")
-    gain = check_positive(gain, "gain", allow_zero=True)
-    if inverse not in ("pinv", "dls"):
-        raise ValueError(f"inverse must be 'pinv' or 'dls'; got {inverse!r}")
-    lam = check_positive(damping, "damping", allow_zero=True)
-    rcond = check_positive(rcond, "rcond")
+    ts = check_positive(ts, "ts", scalar=True)
+    gain = check_positive(gain, "gain", allow_zero=True, scalar=True)
+    check_choice(inverse, ("pinv", "dls"), "inverse")
+    lam = check_positive(damping, "damping", allow_zero=True, scalar=True)
+    rcond = check_positive(rcond, "rcond", scalar=True)
+    threshold = check_positive(singular_threshold, "singular_threshold", allow_zero=True, scalar=True)
     P = as_float_array(positions, "positions")
     V = as_float_array(velocities, "velocities")
     if P.ndim not in (2, 3) or P.shape[-1] != 3 or P.shape[-2] < 1:
@@ -248,7 +302,7 @@ def track_position_batch(
     K = P.shape[-2]
     P = _per_run(P, N, K, "positions")
     V = _per_run(V, N, K, "velocities")
-    lim = np.asarray(chain.limits, dtype=float)
+    lim = check_limits(chain.limits, n, "chain.limits")
     lower, upper = lim[:, 0], lim[:, 1]
     if clamp:
         bad = (Q < lower - 1e-12) | (Q > upper + 1e-12)
@@ -270,16 +324,29 @@ def track_position_batch(
         else:
             inv_s = s / (s**2 + lam**2) if lam > 0 else np.where(
                 s > rcond * s[:, :1], 1.0 / np.where(s > 0, s, 1.0), 0.0)
-        v_cmd = V[:, k] + gain * (P[:, k] - r)
-        y = np.einsum("nji,nj->ni", U, v_cmd) * inv_s  # Σ^# Uᵀ v
-        qdot = np.einsum("nij,ni->nj", Vt, y)           # V y
+        with np.errstate(over="ignore", invalid="ignore"):
+            v_cmd = V[:, k] + gain * (P[:, k] - r)
+        with np.errstate(over="ignore", invalid="ignore"):
+            y = np.einsum("nji,nj->ni", U, v_cmd) * inv_s  # Σ^# Uᵀ v
+            qdot = np.einsum("nij,ni->nj", Vt, y)           # V y
         q_log[:, k], qd_log[:, k], r_log[:, k], s_log[:, k] = Q, qdot, r, s
         if k < K - 1:
-            Q = Q + ts * qdot
+            with np.errstate(over="ignore", invalid="ignore"):
+                Q = Q + ts * qdot
+            if not np.isfinite(Q).all():  # references near 1e308: the step overflowed
+                check_result_finite(Q, "the joint step ts * qdot", positions=P, velocities=V, gain=gain)
             if clamp:
                 Q = np.minimum(np.maximum(Q, lower), upper)
     at_limit = (q_log <= lower) | (q_log >= upper)
-    return BatchTrackingLog(
+    rank = generic_rank(lambda Q_: chain.position_jacobian(Q_, check=False), lower, upper)
+    log = BatchTrackingLog(
         t=np.arange(K) * ts, q=q_log, qdot=qd_log, position=r_log, error=P - r_log,
-        singular_values=s_log, at_limit=at_limit,
+        singular_values=s_log, at_limit=at_limit, singular_threshold=threshold, task_rank=rank,
     )
+    if warn_singular and log.singular.any():
+        hit = int(log.singular.any(axis=1).sum())
+        warnings.warn(SingularityWarning(singularity_message(
+            "track_position_batch", log.t, log.singular_values[..., rank - 1], log.singular, log.qdot, threshold,
+            damped=inverse == "dls" and lam > 0, runs=f"{hit} of {N} run{'s' if N > 1 else ''}, ")),
+            stacklevel=2)
+    return log

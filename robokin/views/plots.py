@@ -146,9 +146,26 @@ def _series(ax, t, y, names, ylabel, log=False):
         ax.legend(fontsize=8, ncol=min(y.shape[1], 4), loc="best")
 
 
+#: Colour of the bands that mark near-singular steps.
+SINGULAR_COLOR = "#D62728"
+
+
+def _singular_spans(x, flags):
+    """(start, end) x-intervals covering the runs of True in ``flags`` (each step spans to the next)."""
+    flags = np.asarray(flags, dtype=bool)
+    x = np.asarray(x, dtype=float)
+    if not flags.any():
+        return []
+    step = float(np.median(np.diff(x))) if len(x) > 1 else 1.0
+    edges = np.diff(np.r_[0, flags.astype(int), 0])
+    starts, ends = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1
+    return [(x[a], x[b] + step) for a, b in zip(starts, ends)]
+
+
 def plot_history(record=None, *, t=None, q=None, dq=None, error=None, singular_values=None,
                  dt=None, joint_names=None, joint_types=None, log_error=True, degrees=False,
-                 error_label="error", time_label=None):
+                 error_label="error", time_label=None, sigma_min=None, singular=None,
+                 singular_threshold=None):
     """Time-series figure of a simulation / IK record: one panel per quantity given.
 
     Quantities come from keyword arguments or from ``record`` (an object or dict
@@ -156,6 +173,15 @@ def plot_history(record=None, *, t=None, q=None, dq=None, error=None, singular_v
     ``singular_values``).  ``q``/``dq`` are (T, n) [rad, m]; ``error`` is (T,)
     norms or (T, k) vectors (plotted as their norm); ``singular_values`` (T, m).  The x axis is time [s] when ``t`` or ``dt`` is known,
     else the iteration number.  Errors use a log scale unless ``log_error=False``.
+
+    Singularities: ``sigma_min`` (T,), the smallest singular value of the
+    controller's Jacobian, adds a log-scale panel with ``singular_threshold``
+    drawn as a dashed line; ``singular`` (T,) bool marks the flagged steps with a
+    red band on every panel. A :class:`~robokin.motion.SimulationLog` passed as
+    ``record`` supplies all three (its ``sigma_min``, ``singular`` and
+    ``singular_threshold`` fields), so ``plot_history(log)`` shows where a run
+    came close to a singular configuration.
+
     Returns the Figure.
     """
     import matplotlib.pyplot as plt
@@ -165,7 +191,14 @@ def plot_history(record=None, *, t=None, q=None, dq=None, error=None, singular_v
     error = error if error is not None else _get(record, "error", "errors", "error_norm", "err")
     singular_values = singular_values if singular_values is not None else _get(record, "singular_values", "sigma")
     t = t if t is not None else _get(record, "t", "time", "times")
-    panels = [(k, v) for k, v in (("q", q), ("dq", dq), ("error", error), ("sv", singular_values)) if v is not None]
+    sigma_min = sigma_min if sigma_min is not None else _get(record, "sigma_min")
+    if sigma_min is not None and not np.isfinite(np.asarray(sigma_min, dtype=float)).any():
+        sigma_min = None                       # a controller that reports no sigma_min: no panel
+    singular = singular if singular is not None else _get(record, "singular")
+    if singular_threshold is None:
+        singular_threshold = _get(record, "singular_threshold")
+    panels = [(k, v) for k, v in (("q", q), ("dq", dq), ("error", error), ("sv", singular_values),
+                                  ("sigma_min", sigma_min)) if v is not None]
     if not panels:
         raise ValueError("plot_history needs at least one of q, dq, error, singular_values (none given or found in record)")
     length = len(np.asarray(panels[0][1]))
@@ -208,9 +241,26 @@ def plot_history(record=None, *, t=None, q=None, dq=None, error=None, singular_v
                 v = np.linalg.norm(v, axis=1)
             _series(ax, x, np.maximum(np.abs(v), 1e-300) if log_error else v, None,
                     f"{error_label} (norm)", log=log_error)
+        elif kind == "sigma_min":
+            _series(ax, x, np.maximum(v, 1e-300), ["σ_min"], "smallest singular value σ_min of J", log=True)
+            if singular_threshold is not None and np.isfinite(singular_threshold) and singular_threshold > 0:
+                ax.axhline(singular_threshold, color=SINGULAR_COLOR, ls="--", lw=1,
+                           label=f"threshold {singular_threshold:g}")
+                ax.legend(fontsize=8, loc="best")
         else:
             _series(ax, x, v, [f"σ{k + 1}" for k in range(v.shape[1] if v.ndim == 2 else 1)],
                     "singular values σ of J", log=False)
+    if singular is not None:
+        flags = np.asarray(singular, dtype=bool)
+        if flags.shape != (length,):
+            raise ShapeError(f"singular must have shape ({length},) (one flag per sample); got shape {flags.shape}")
+        spans = _singular_spans(x, flags)
+        for ax in axes:
+            for i, (a, b) in enumerate(spans):
+                ax.axvspan(a, b, color=SINGULAR_COLOR, alpha=0.15, lw=0,
+                           label="near a singularity" if (i == 0 and ax is axes[0]) else None)
+        if spans:
+            axes[0].legend(fontsize=8, loc="best")
     axes[-1].set_xlabel(xlabel)
     fig.tight_layout()
     return fig
