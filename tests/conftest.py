@@ -127,3 +127,11 @@ def pytest_sessionfinish(session, exitstatus):
         for child in children:
             child.kill()
         session.exitstatus = 1
+
+
+# Hypothesis profiles. The default one (100 examples per property) is the CI budget;
+# `pytest --hypothesis-profile=long` runs ten times as many, with fresh random examples
+# (used for the robustness suite, tests/test_robustness_fuzz.py, before a release).
+from hypothesis import settings as _hypothesis_settings  # noqa: E402
+
+_hypothesis_settings.register_profile("long", max_examples=1000, deadline=None)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from robokin.errors import DomainError, ShapeError
+from robokin.errors import DomainError, ShapeError, SingularityWarning
 from robokin.models import baxter_left, planar_two_link
 from robokin.motion import CartesianController, circle_trajectory, simulate
 from robokin.motion.sweeps import initial_condition_sweep, track_position_batch
@@ -126,10 +126,13 @@ def test_dls_bounds_joint_speed_near_a_singularity():
     p0 = arm.fk(q0)[:3, 3]
     v = np.tile([0.1, 0.0, 0.0], (3, 1))          # outward, along the stretched arm
     P = np.tile(p0, (3, 1))
-    pinv = track_position_batch(arm, q0, 0.01, P, v, clamp=False)
-    dls = track_position_batch(arm, q0, 0.01, P, v, inverse="dls", damping=0.05, clamp=False)
+    with pytest.warns(SingularityWarning, match="track_position_batch"):
+        pinv = track_position_batch(arm, q0, 0.01, P, v, clamp=False)
+    with pytest.warns(SingularityWarning, match="damped"):
+        dls = track_position_batch(arm, q0, 0.01, P, v, inverse="dls", damping=0.05, clamp=False)
     assert np.abs(pinv.qdot[0, 0]).max() > 10
     assert np.linalg.norm(dls.qdot[0, 0]) <= 0.1 / (2 * 0.05) + 1e-9
+    assert pinv.singular[0, 0] and pinv.task_rank == 2   # the planar arm's z row is no singularity
 
 
 def test_clamping_at_the_limits():

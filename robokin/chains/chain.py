@@ -506,7 +506,7 @@ class SerialChain:
         if kind == "sym":
             return self._symbolic_subs(self._sym_frames()[k], a)
         if check and self._overflow_risk(a):
-            with np.errstate(over="ignore", invalid="ignore"):
+            with np.errstate(all="ignore"):
                 out = self._fk_numeric(kind, a, k)
             return self._checked(out, "the forward kinematics", q=a)
         return self._fk_numeric(kind, a, k)
@@ -546,7 +546,7 @@ class SerialChain:
             return [self._symbolic_subs(F, a) for F in self._sym_frames()]
         frames = self._engine.frames_single if kind == "single" else self._engine.frames_batch
         if check and self._overflow_risk(a):
-            with np.errstate(over="ignore", invalid="ignore"):
+            with np.errstate(all="ignore"):
                 out = frames(a)
             return self._checked(out, "the frames", q=a)
         return frames(a)
@@ -590,7 +590,7 @@ class SerialChain:
         pt = None if point is None else as_vector(point, 3, "point")
         jac = self._engine.jacobian_single if kind == "single" else self._engine.jacobian_batch
         if check and self._overflow_risk(a, pt):
-            with np.errstate(over="ignore", invalid="ignore"):
+            with np.errstate(all="ignore"):
                 out = jac(a, upto=k, point=pt)
             inputs = {"q": a} if pt is None else {"q": a, "point": pt}
             return self._checked(out, "the Jacobian", **inputs)
@@ -674,7 +674,7 @@ class SerialChain:
             raise TypeError(f"seed must be an int >= 0, a numpy Generator or None; got {type(seed).__name__} "
                             f"({exc})") from None
         lo, hi = self._limits[:, 0], self._limits[:, 1]
-        with np.errstate(over="ignore", invalid="ignore"):
+        with np.errstate(all="ignore"):
             out = lo + (hi - lo) * rng.random((N, self._n))
         return check_result_finite(out, "the samples", limits=self._limits)
 
@@ -771,11 +771,12 @@ class SerialChain:
             a = as_float_array(q, "q")
             if a.shape[-1:] != (n,) or a.ndim > 2:
                 raise ShapeError(f"q must have shape ({n},) or (N, {n}); got shape {a.shape}")
-            vals = raw(*a.T)
-            out = np.empty(a.shape[:-1] + (r, c))
-            for idx, v in enumerate(vals):
-                out[..., idx // c, idx % c] = v
-            return out
+            with np.errstate(all="ignore"):  # joint values near 1e308 may overflow in the formulas
+                vals = raw(*a.T)
+                out = np.empty(a.shape[:-1] + (r, c))
+                for idx, v in enumerate(vals):
+                    out[..., idx // c, idx % c] = v
+            return check_result_finite(out, "the generated formula", q=a)
 
         fn.__doc__ = f"Generated from the symbolic result: q (n,) or (N, n) -> {shape} or (N, {r}, {c})."
         return fn

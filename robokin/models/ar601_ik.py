@@ -312,7 +312,7 @@ def ar601_leg_ik(
         T = np.asarray(T_target, dtype=float)
     l1, l2, l3 = float(l1), float(l2), float(l3)
     chain = _chain(l1, l2, l3)
-    with np.errstate(over="ignore", invalid="ignore"):
+    with np.errstate(all="ignore"):
         sols, branches, reason, singular, d = _solve_one(T, l1, l2, l3, tol)
     empty = np.zeros((0, 6))
     if not sols:

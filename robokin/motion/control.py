@@ -317,7 +317,7 @@ class CartesianController:
         q = as_vector(q, self.n, "q")
         e = self._error(q, t)
         twist = np.zeros(6)
-        with np.errstate(over="ignore", invalid="ignore"):
+        with np.errstate(all="ignore"):
             twist[:3] = self.Kp @ e[:3]
             if not self.position_only:
                 twist[3:] = self.Ko @ e[3:]

@@ -277,7 +277,7 @@ def simulate(
             ratio = np.max(np.abs(qdot) / vmax)
             if ratio > 1.0:
                 qdot = qdot / ratio
-        with np.errstate(over="ignore", invalid="ignore"):
+        with np.errstate(all="ignore"):
             q_new = np.minimum(np.maximum(q + ts * qdot, lower), upper)
         total = sum(q_new.tolist())
         if total - total != 0.0:  # ts * qdot overflowed (a command near 1e308)

@@ -107,7 +107,7 @@ def initial_condition_sweep(limits: Any, fractions: Any, nominal: Any = 0.5) -> 
         raise ShapeError(f"nominal must be a scalar or have shape ({n},); got shape {nom.shape}")
     if np.any(nom < 0) or np.any(nom > 1):
         raise DomainError(f"nominal must lie in [0, 1]; got {nom}")
-    with np.errstate(over="ignore", invalid="ignore"):
+    with np.errstate(all="ignore"):
         lower, span = lim[:, 0], lim[:, 1] - lim[:, 0]
         base = lower + nom * span
         out = np.tile(base, (n * f.size, 1))
@@ -311,6 +311,8 @@ def track_position_batch(
             raise DomainError(f"q0 must lie within the joint limits; q0[{r}, {j}] = {Q[r, j]:g} is outside "
                               f"[{lower[j]:g}, {upper[j]:g}]")
 
+    with np.errstate(all="ignore"):
+        t = check_result_finite(np.arange(K) * ts, "the sample times k * ts", ts=ts)
     q_log = np.empty((N, K, n))
     qd_log = np.empty((N, K, n))
     r_log = np.empty((N, K, 3))
@@ -322,25 +324,26 @@ def track_position_batch(
         if inverse == "pinv":
             inv_s = np.where(s > rcond * s[:, :1], 1.0 / np.where(s > 0, s, 1.0), 0.0)
         else:
-            inv_s = s / (s**2 + lam**2) if lam > 0 else np.where(
+            inv_s = s / (s**2 + lam * lam) if lam > 0 else np.where(
                 s > rcond * s[:, :1], 1.0 / np.where(s > 0, s, 1.0), 0.0)
-        with np.errstate(over="ignore", invalid="ignore"):
+        with np.errstate(all="ignore"):
             v_cmd = V[:, k] + gain * (P[:, k] - r)
-        with np.errstate(over="ignore", invalid="ignore"):
+        with np.errstate(all="ignore"):
             y = np.einsum("nji,nj->ni", U, v_cmd) * inv_s  # Σ^# Uᵀ v
             qdot = np.einsum("nij,ni->nj", Vt, y)           # V y
         q_log[:, k], qd_log[:, k], r_log[:, k], s_log[:, k] = Q, qdot, r, s
         if k < K - 1:
-            with np.errstate(over="ignore", invalid="ignore"):
+            with np.errstate(all="ignore"):
                 Q = Q + ts * qdot
             if not np.isfinite(Q).all():  # references near 1e308: the step overflowed
                 check_result_finite(Q, "the joint step ts * qdot", positions=P, velocities=V, gain=gain)
             if clamp:
                 Q = np.minimum(np.maximum(Q, lower), upper)
+    check_result_finite(qd_log, "the joint velocities", positions=P, velocities=V, gain=gain)
     at_limit = (q_log <= lower) | (q_log >= upper)
     rank = generic_rank(lambda Q_: chain.position_jacobian(Q_, check=False), lower, upper)
     log = BatchTrackingLog(
-        t=np.arange(K) * ts, q=q_log, qdot=qd_log, position=r_log, error=P - r_log,
+        t=t, q=q_log, qdot=qd_log, position=r_log, error=P - r_log,
         singular_values=s_log, at_limit=at_limit, singular_threshold=threshold, task_rank=rank,
     )
     if warn_singular and log.singular.any():

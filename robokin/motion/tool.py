@@ -158,7 +158,7 @@ def tool_jacobian(J_ee: Any, R_be: Any, p_et: Any) -> np.ndarray:
         raise ShapeError(f"R_be must have shape {J.shape[:-2] + (3, 3)} to match J_ee of shape "
                          f"{J.shape}; got shape {R.shape}")
     p = as_float_array(p_et, "p_et", (3,))
-    with np.errstate(over="ignore", invalid="ignore"):
+    with np.errstate(all="ignore"):
         r = check_result_finite(R @ p, "the tool offset in the base frame", p_et=p)
         out = rigid_body_jacobian(r) @ J
     return check_result_finite(out, "the tool Jacobian", J_ee=J, p_et=p)

@@ -59,7 +59,7 @@ def _out(p: np.ndarray, v: np.ndarray, a: np.ndarray, scalar: bool, **inputs: An
 
 def _unit(v: np.ndarray) -> tuple[np.ndarray, float]:
     """``v / |v|`` and ``|v|`` without overflow for huge entries (|v| may be inf: then (nan, inf))."""
-    with np.errstate(over="ignore", invalid="ignore"):
+    with np.errstate(all="ignore"):
         n = float(np.linalg.norm(v))
         if not np.isfinite(n):
             m = float(np.abs(v).max())
@@ -149,7 +149,7 @@ def circle_trajectory(
     u, v = _plane_axes(normal, axes)
     om = as_scalar(angular_speed, "angular_speed")
     ph = as_scalar(phase, "phase")
-    with np.errstate(over="ignore", invalid="ignore"):
+    with np.errstate(all="ignore"):
         phi = om * tt + ph
         cs, sn = np.cos(phi)[:, None], np.sin(phi)[:, None]
         rel = r * (cs * u + sn * v)
@@ -234,11 +234,11 @@ def line_trajectory(
     t0 = as_scalar(t_start, "t_start")
     if not isinstance(law, str) or law not in _LAWS:
         raise ValueError(f"law must be 'quintic', 'cubic' or 'linear'; got {law!r}")
-    with np.errstate(over="ignore", invalid="ignore"):
+    with np.errstate(all="ignore"):
         tau = (tt - t0) / T
     tau = check_result_finite(tau, "the normalised time (t - t_start) / duration", t=tt, t_start=t0)
     s, ds, dds = time_law(tau, law)
-    with np.errstate(over="ignore", invalid="ignore"):
+    with np.errstate(all="ignore"):
         d = b - a
         p, v, acc = a + s[:, None] * d, (ds / T)[:, None] * d, (dds / (T * T))[:, None] * d
     return _out(p, v, acc, scalar, start=a, end=b)
@@ -283,7 +283,7 @@ def via_point_trajectory(
     tk = as_float_array(times, "times", (M,))
     if velocities is not None:
         velocities = as_float_array(velocities, "velocities", (M, 3))
-    with np.errstate(over="ignore", invalid="ignore"):
+    with np.errstate(all="ignore"):
         h = np.diff(tk)
         if np.any(h <= 0):
             i = int(np.argmax(h <= 0))

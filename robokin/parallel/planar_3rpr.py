@@ -172,7 +172,7 @@ class Planar3RPR:
         A = as_float_array(base_anchors, "base_anchors", (3, 2)).copy()
         b = as_float_array(platform_anchors, "platform_anchors", (3, 2)).copy()
         for arr, what in ((A, "base_anchors"), (b, "platform_anchors")):
-            with np.errstate(over="ignore", invalid="ignore"):
+            with np.errstate(all="ignore"):
                 size = float(np.ptp(arr, axis=0).max())
                 area2 = _cross2((arr[1] - arr[0]) / size, (arr[2] - arr[0]) / size) if size > 0 else 0.0
             if not (np.isfinite(size) and size < _MAX_SIZE):
@@ -181,7 +181,7 @@ class Planar3RPR:
             if not abs(area2) > 1e-9:
                 raise DomainError(
                     f"{what} must be the corners of a proper triangle; got collinear or "
-                    f"coincident points {np.round(arr, 6).tolist()}"
+                    f"coincident points {np.array2string(arr, precision=6, separator=', ')}"
                 )
         try:
             shape = np.shape(stroke)
@@ -227,7 +227,7 @@ class Planar3RPR:
     def _points(self, X2: np.ndarray) -> np.ndarray:
         """Platform anchors in the base frame for poses (N, 3) -> (N, 3, 2); checks for overflow."""
         R = _rot(X2[:, 2])                                    # (N, 2, 2)
-        with np.errstate(over="ignore", invalid="ignore"):
+        with np.errstate(all="ignore"):
             B = X2[:, None, :2] + np.einsum("nij,kj->nki", R, self.platform_anchors)
         return check_result_finite(B, "the platform points", pose=X2)
 
@@ -358,7 +358,9 @@ class Planar3RPR:
     def is_singular(self, pose: Any, tol: float = 1e-9) -> np.ndarray | bool:
         r"""True where :math:`|\det\mathbf{A}| \le` ``tol`` · (characteristic length): a parallel singularity."""
         tol = check_positive(tol, "tol", scalar=True)
-        d = np.abs(np.linalg.det(self.jacobian(pose))) <= tol * self.characteristic_length
+        A = self.jacobian(pose)
+        with np.errstate(all="ignore"):  # an exactly singular A: LAPACK's LU divides by zero, det = 0
+            d = np.abs(np.linalg.det(A)) <= tol * self.characteristic_length
         return bool(d) if np.ndim(d) == 0 else d
 
     # ------------------------------------------------------------------ forward kinematics
@@ -391,7 +393,7 @@ class Planar3RPR:
         """
         rho = self._check_rho(rho)
         phi = 2 * np.pi * np.arange(16) / 16
-        with np.errstate(over="ignore", invalid="ignore"):
+        with np.errstate(all="ignore"):
             c = np.fft.fft(self._orientation_function(phi, rho)) / 16
         check_result_finite(c, "the orientation equation (fourth powers of the lengths)", rho=rho)
         return np.concatenate([c[-3:], c[:4]])

@@ -94,7 +94,7 @@ def rotation_exp(w: Any) -> Any:
     a = _vectors(w, "w")
     if a.ndim == 1:
         return _exp_single(*a.tolist())
-    with np.errstate(over="ignore", invalid="ignore"):
+    with np.errstate(all="ignore"):
         th2 = np.einsum("...i,...i->...", a, a)
         th = np.sqrt(th2)
         small = th < _TAYLOR_TOL

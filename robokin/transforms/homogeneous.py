@@ -165,7 +165,7 @@ def transform_inverse(T: Any, check: bool = True) -> Any:
     p = a[..., :3, 3]
     if not check:
         return _assemble(Rt, -(Rt @ p[..., None])[..., 0])
-    with np.errstate(over="ignore", invalid="ignore"):
+    with np.errstate(all="ignore"):
         out = _assemble(Rt, -(Rt @ p[..., None])[..., 0])
     return check_result_finite(out, "the inverse transform", T=a)
 
@@ -201,7 +201,7 @@ def compose(*Ts: Any, check: bool = True) -> Any:
                       [_sym_matrix(T, (4, 4), f"Ts[{i}]") for i, T in enumerate(Ts)])
     arrs = [_transforms(T, check, f"Ts[{i}]") for i, T in enumerate(Ts)]
     try:
-        with np.errstate(over="ignore", invalid="ignore"):
+        with np.errstate(all="ignore"):
             out = reduce(np.matmul, arrs) if len(arrs) > 1 else arrs[0].copy()
     except ValueError:
         raise ShapeError(
@@ -300,7 +300,7 @@ def transform_point(T: Any, p: Any, check: bool = True) -> Any:
     a = _transforms(T, check)
     pa = _points(p)
     try:
-        with np.errstate(over="ignore", invalid="ignore"):
+        with np.errstate(all="ignore"):
             out = (a[..., :3, :3] @ pa[..., None])[..., 0] + a[..., :3, 3]
     except ValueError:
         raise ShapeError(

@@ -211,7 +211,7 @@ def quaternion_multiply(p: Any, q: Any) -> Any:
             ) from None
         pw, px, py, pz = np.moveaxis(pa, -1, 0)
         qw, qx, qy, qz = np.moveaxis(qa, -1, 0)
-        with np.errstate(over="ignore", invalid="ignore"):
+        with np.errstate(all="ignore"):
             out = stack_vector(
                 [
                     pw * qw - px * qx - py * qy - pz * qz,
