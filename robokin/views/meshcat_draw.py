@@ -42,7 +42,7 @@ _DIGITS = 6
 
 
 def _r(x):
-    return round(float(x), _DIGITS)
+    return round(float(x), _DIGITS) + 0.0  # + 0.0: no negative zeros, the same bytes on every machine
 
 
 def _uuid(*parts):
@@ -182,7 +182,7 @@ def _box(w, h, d):
 
 def _float32(array):
     import umsgpack
-    return umsgpack.Ext(0x17, np.ascontiguousarray(array, dtype="<f4").tobytes())
+    return umsgpack.Ext(0x17, (np.ascontiguousarray(array, dtype="<f4") + np.float32(0.0)).tobytes())
 
 
 def _line(path, points, color, opacity=1.0):
