@@ -168,7 +168,15 @@ class RobokinExecute(Execute):
     viewer = Unicode("matplotlib", help="ROBOKIN_VIEWER of the grading kernel (how 3D scenes are shown)"
                      ).tag(config=True)
 
+    async def _async_handle_timeout(self, timeout, cell=None):
+        # nbgrader interrupts a cell that runs too long; the kernel then reports a
+        # KeyboardInterrupt. Remember the cell, so that its error is named for what it is.
+        if cell is not None:
+            self._timed_out.add(id(cell))
+        return await super()._async_handle_timeout(timeout, cell)
+
     def preprocess(self, nb, resources=None, km=None):
+        self._timed_out: set[int] = set()
         self._report = {"explained": {}, "verdicts": None, "pairs": []}
         pairs = []
         for cell in nb.cells:
@@ -218,6 +226,11 @@ class RobokinExecute(Execute):
 
     def preprocess_cell(self, cell, resources, index):
         cell, resources = super().preprocess_cell(cell, resources, index)
+        if id(cell) in self._timed_out or id(self.nb.cells[index]) in self._timed_out:
+            for output in cell.get("outputs", []):
+                if output.get("output_type") == "error" and output.get("ename") == "KeyboardInterrupt":
+                    output["ename"] = "CellTimeoutError"
+                    output["evalue"] = f"the cell ran longer than the time limit ({self.timeout} s) and was stopped"
         if cell.cell_type == "code" and utils.is_grade(cell):
             errors = [o for o in cell.outputs if o.output_type == "error"]
             if errors:

@@ -1,0 +1,585 @@
+"""Student edition and autograding with nbgrader (book/for-instructors.md, "Assigning chapters").
+
+Everything goes through nbgrader's real command-line tools and its sqlite
+gradebook, in temporary course directories (one per chapter, so that chapters
+are graded two at a time without sharing a database):
+
+1. ``generate_assignment`` makes the student edition: no line of the instructor's
+   solution code is left, the stubs compile, outputs are cleared;
+2. the student edition handed in unchanged scores 0 on every test;
+3. the instructor's solutions pasted into the student cells score full marks, and
+   robokin.check finds every answer it can check correct;
+4. a submission with a typical mistake made from the solutions (a transposed
+   matrix, a flipped sign, degrees for radians) scores partial marks, and its
+   feedback names the mistake;
+5. the instructors' walk-through (release, fetch, submit, collect, autograde,
+   feedback) runs as written, through nbgrader's local exchange, on a submission
+   that raises in an ungraded cell, runs forever in another and lost a test cell.
+
+The tests read the committed chapter notebooks, which must carry the metadata
+written by ``tools/nbgrader_metadata.py`` (``test_metadata_is_up_to_date`` says
+when they do not). ``ROBOKIN_NBGRADER_NOTEBOOKS=<folder>`` grades the notebooks
+of another folder instead (e.g. a copy the script was run on).
+"""
+
+from __future__ import annotations
+
+import copy
+import json
+import os
+import re
+import shlex
+import shutil
+import subprocess
+import sys
+import time
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import pytest
+
+from conftest import ROOT
+
+sys.path.insert(0, str(ROOT / "tools"))
+
+import nbgrader_metadata  # noqa: E402
+import student_edition  # noqa: E402
+from notebook_analysis import free_names, stub_plan  # noqa: E402
+
+pytest.importorskip("nbgrader", reason="nbgrader is not installed: run `make test` (installs requirements.txt)")
+
+NOTEBOOKS = Path(os.environ.get("ROBOKIN_NBGRADER_NOTEBOOKS", ROOT / "notebooks")).resolve()
+CHAPTERS = [p.stem for p in nbgrader_metadata.chapter_notebooks(NOTEBOOKS.parent, NOTEBOOKS.name)]
+WALKTHROUGH_CHAPTER = "03_three_rpr"
+WORKERS = 2
+TIMEOUT_FOR_BAD_SUBMISSION = 10  # seconds per cell, for the submission that runs forever
+
+#: Typical mistakes made from a correct answer: (kind, diagnoses of a check that
+#: recognise it, diagnosis codes the feedback may then name). Tried in this order.
+MISTAKES = [
+    ("transpose", {"transpose", "transform_transposed"}, {"transpose", "transform_transposed"}),
+    ("negate", {"sign", "error_sign", "velocity_sign", "negative_branch", "direction"},
+     {"sign", "error_sign", "velocity_sign", "negative_branch", "direction"}),
+    ("degrees_input", {"degrees"}, {"degrees_input"}),
+    ("degrees_output", {"degrees_output"}, {"degrees_output"}),
+]
+
+#: The code appended to a correct answer to make it mistaken.
+MISTAKE_CODE = '''
+def _robokin_mistake(value, kind, angle_args=()):
+    import numpy as np
+
+    def change(out):
+        if kind == "transpose":
+            return out.T
+        if kind == "negate":
+            return -out
+        if kind == "degrees_output":
+            return np.rad2deg(out)
+        return out
+
+    if callable(value) and not hasattr(value, "shape"):
+        def mistaken(*args, **kwargs):
+            if kind == "degrees_input":
+                args = [np.deg2rad(np.asarray(a, dtype=float)) if i in angle_args else a
+                        for i, a in enumerate(args)]
+                return value(*args, **kwargs)
+            return change(value(*args, **kwargs))
+        return mistaken
+    return change(value)
+
+
+{name} = _robokin_mistake({name}, {kind!r}, {angles!r})  # a typical mistake, made by the test
+'''
+
+
+def _env(**extra: str) -> dict[str, str]:
+    env = student_edition.environment()
+    env.update(PYDEVD_DISABLE_FILE_VALIDATION="1", **extra)
+    return env
+
+
+def nbgrader(args: list[str], cwd: Path, log: list[str], check: bool = True, **env: str) -> subprocess.CompletedProcess:
+    """Run one nbgrader command line; its output goes to ``log``."""
+    command = [*student_edition.nbgrader_command(), *args]
+    started = time.perf_counter()
+    proc = subprocess.run(command, cwd=cwd, capture_output=True, text=True, env=_env(**env), timeout=900)
+    log.append(f"$ nbgrader {' '.join(args)}   [{time.perf_counter() - started:.1f} s, exit {proc.returncode}]")
+    log.append((proc.stdout + proc.stderr)[-4000:])
+    if check and proc.returncode != 0:
+        raise RuntimeError("\n".join(log[-2:]))
+    return proc
+
+
+def load(path: Path) -> dict:
+    return json.loads(Path(path).read_text(encoding="utf-8"))
+
+
+def save(nb: dict, path: Path) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(json.dumps(nb, indent=1, ensure_ascii=False), encoding="utf-8")
+
+
+def src(cell: dict) -> str:
+    s = cell.get("source", "")
+    return "".join(s) if isinstance(s, list) else s
+
+
+def nbg(cell: dict) -> dict:
+    return cell.get("metadata", {}).get("nbgrader", {})
+
+
+def rk(cell: dict) -> dict:
+    return cell.get("metadata", {}).get("robokin", {})
+
+
+# ---------------------------------------------------------------- submissions
+def correct_submission(release: dict, source: dict) -> dict:
+    """The student edition with the instructor's solution code in every answer cell."""
+    answers = {nbg(c)["grade_id"]: src(c) for c in source["cells"] if nbg(c).get("solution")}
+    nb = copy.deepcopy(release)
+    for cell in nb["cells"]:
+        if nbg(cell).get("grade_id") in answers:
+            cell["source"] = answers[nbg(cell)["grade_id"]]
+    return nb
+
+
+def mistake_candidates(source: dict) -> list[dict]:
+    """Typical mistakes robokin.check can recognise, made from the chapter's answers.
+
+    For a test cell, a quantity it explains with a check (``metadata.robokin.explain``)
+    whose variable is defined by an answer of the same task and read by the test,
+    and a kind of mistake among that check's diagnoses.
+    """
+    from robokin.check.grading import _resolve
+
+    defined: dict[str, tuple[str, int]] = {}  # name -> (grade_id of the answer, task)
+    out = []
+    for cell in source["cells"]:
+        meta = rk(cell)
+        if meta.get("role") == "answer":
+            from notebook_analysis import defined_names
+            for name in defined_names(src(cell)):
+                defined[name] = (nbg(cell)["grade_id"], meta.get("task"))
+        if meta.get("role") != "test":
+            continue
+        for check, expr in meta.get("explain", []):
+            try:
+                checker = _resolve(check)
+            except Exception:  # noqa: BLE001
+                continue
+            codes = {d.code for d in getattr(checker, "diagnoses", [])}
+            for name in sorted(free_names(expr)):
+                answer = defined.get(name)
+                if answer is None or answer[1] != meta.get("task") or name not in meta.get("reads", []):
+                    continue
+                for kind, needs, names in MISTAKES:
+                    if not codes & needs or not recognised(checker, kind, names):
+                        continue
+                    out.append({"answer": answer[0], "name": name, "kind": kind, "check": check,
+                                "expr": expr, "codes": names, "angles": _angle_args(checker),
+                                "task": meta.get("task"), "test": nbg(cell)["grade_id"]})
+    return out
+
+
+def _reference_as_answer(checker):
+    """The check's reference shaped like a student's answer: a function of the check's
+    argument groups (or of its variables one by one), or a value when it has none."""
+    import numpy as np
+
+    variables = getattr(checker, "variables", [])
+    if not variables:
+        return np.asarray(checker.reference(np.zeros(0)), dtype=float)
+    groups = getattr(checker, "groups", None) or [(v.label, [i]) for i, v in enumerate(variables)]
+
+    def answer(*args):
+        x = np.zeros(len(variables))
+        for (_, index), value in zip(groups, args):
+            x[index] = np.asarray(value, dtype=float).ravel() if len(index) > 1 else float(value)
+        return checker.reference(x)
+    return answer
+
+
+def recognised(checker, kind: str, names: set[str]) -> bool:
+    """Whether robokin.check names the mistake ``kind`` made from the correct answer.
+
+    A mistake made by the same code as in a submission (MISTAKE_CODE), applied to the
+    check's own reference: a sign diagnosis of a feedback term, for example, is not the
+    same as a negated result, and a pose given as one array has no angle argument to
+    put in degrees. Unknown (the check cannot be evaluated this way): kept.
+    """
+    scope: dict = {}
+    exec(MISTAKE_CODE.split("\n\n\n{name}")[0], scope)  # noqa: S102 - our own code
+    angles = _angle_args(checker)
+    if kind == "degrees_input" and not angles:
+        return False
+    try:
+        answer = _reference_as_answer(checker)
+        if not checker.evaluate(answer).passed:   # the reference cannot be called like an answer
+            return True
+        result = checker.evaluate(scope["_robokin_mistake"](answer, kind, angles))
+    except Exception:  # noqa: BLE001
+        return True
+    return not result.passed and result.diagnosis in names
+
+
+def _angle_args(checker) -> tuple[int, ...]:
+    """Positions of the arguments that are angles when the check calls the answer."""
+    variables = getattr(checker, "variables", [])
+    groups = getattr(checker, "groups", [])
+    if groups and len(groups) != len(variables):
+        return tuple(i for i, (_, idx) in enumerate(groups) if all(variables[j].kind == "angle" for j in idx))
+    return tuple(i for i, v in enumerate(variables) if v.kind == "angle")
+
+
+def mistaken_submission(correct: dict, mistake: dict) -> dict:
+    nb = copy.deepcopy(correct)
+    for cell in nb["cells"]:
+        if nbg(cell).get("grade_id") == mistake["answer"]:
+            cell["source"] = src(cell).rstrip() + "\n" + MISTAKE_CODE.format(
+                name=mistake["name"], kind=mistake["kind"], angles=mistake["angles"])
+    return nb
+
+
+def bad_submission(correct: dict) -> tuple[dict, dict]:
+    """Raises in an ungraded cell, runs forever in an answer, and lost its first test cell."""
+    nb = copy.deepcopy(correct)
+    cells = nb["cells"]
+    tried = [c for c in cells if c["cell_type"] == "code" and "nbgrader" not in c.get("metadata", {})]
+    answers = [c for c in cells if nbg(c).get("solution")]
+    tests = [c for c in cells if nbg(c).get("grade")]
+    what = {"raises": None, "loops": answers[-1], "deleted": nbg(tests[0])["grade_id"]}
+    if tried:
+        tried[0]["source"] = 'raise ValueError("my own experiment went wrong")\n' + src(tried[0])
+        what["raises"] = tried[0]
+    answers[-1]["source"] = src(answers[-1]) + "\nwhile True:  # never ends\n    pass\n"
+    cells.remove(tests[0])
+    return nb, what
+
+
+# ---------------------------------------------------------------- running a chapter
+@dataclass
+class Run:
+    chapter: str
+    course: Path
+    source: dict = field(default_factory=dict)
+    release: dict = field(default_factory=dict)
+    mistake: dict | None = None
+    scores: dict[str, dict[str, float]] = field(default_factory=dict)   # student -> grade_id -> score
+    maximum: dict[str, float] = field(default_factory=dict)              # grade_id -> points
+    feedback: dict[str, str] = field(default_factory=dict)               # student -> HTML
+    log: list[str] = field(default_factory=list)
+    error: str | None = None
+    seconds: float = 0.0
+
+    def total(self, student: str) -> float:
+        return sum(self.scores.get(student, {}).values())
+
+    def fail_message(self) -> str:
+        return f"{self.chapter}: {self.error}\n" + "\n".join(self.log[-6:])
+
+
+def read_gradebook(course: Path, chapter: str, run: Run) -> None:
+    from nbgrader.api import Gradebook
+
+    with Gradebook(f"sqlite:///{course / 'gradebook.db'}") as gb:
+        for cell in gb.find_notebook(chapter, chapter).grade_cells:
+            run.maximum[cell.name] = cell.max_score
+        for submission in gb.assignment_submissions(chapter):
+            for notebook in submission.notebooks:
+                run.scores[submission.student.id] = {g.name: g.score for g in notebook.grades}
+
+
+def run_chapter(chapter: str, base: Path) -> Run:
+    """generate_assignment, three submissions, autograde, generate_feedback."""
+    started = time.perf_counter()
+    course = base / chapter / "course"
+    run = Run(chapter, course)
+    try:
+        student_edition.write_course(course, base / chapter / "exchange")
+        student_edition.add_source(course, NOTEBOOKS / f"{chapter}.ipynb")
+        nbgrader(["generate_assignment", chapter], course, run.log)
+        run.source = load(course / "source" / chapter / f"{chapter}.ipynb")
+        run.release = load(course / "release" / chapter / f"{chapter}.ipynb")
+        correct = correct_submission(run.release, run.source)
+        submissions = {"unanswered": run.release, "correct": correct}
+        candidates = mistake_candidates(run.source)
+        if candidates:
+            run.mistake = candidates[0]
+            submissions["mistake"] = mistaken_submission(correct, run.mistake)
+        for student, nb in submissions.items():
+            save(nb, course / "submitted" / student / chapter / f"{chapter}.ipynb")
+        nbgrader(["autograde", chapter], course, run.log)
+        nbgrader(["generate_feedback", chapter], course, run.log)
+        read_gradebook(course, chapter, run)
+        for student in submissions:
+            page = course / "feedback" / student / chapter / f"{chapter}.html"
+            run.feedback[student] = page.read_text(encoding="utf-8") if page.exists() else ""
+    except Exception as exc:  # noqa: BLE001 - reported by the tests that need it
+        run.error = str(exc)
+    run.seconds = time.perf_counter() - started
+    return run
+
+
+# ---------------------------------------------------------------- the walk-through
+def walkthrough_commands() -> list[tuple[str, str]]:
+    """``[(who, command), ...]`` from the walk-through block of book/for-instructors.md."""
+    text = (ROOT / "book" / "for-instructors.md").read_text(encoding="utf-8")
+    m = re.search(r"<!-- walkthrough:start -->\s*```bash\n(.*?)```\s*<!-- walkthrough:end -->", text, re.S)
+    assert m, "book/for-instructors.md has no walk-through block (<!-- walkthrough:start --> ... end)"
+    who, out = "instructor", []
+    for line in m.group(1).splitlines():
+        line = line.strip()
+        if line.startswith("#"):
+            who = "student" if line.lower().startswith("# student") else "instructor"
+        elif line.startswith("nbgrader "):
+            out.append((who, line.split("  #")[0].strip()))
+    return out
+
+
+def run_walkthrough(base: Path) -> Run:
+    chapter = WALKTHROUGH_CHAPTER
+    started = time.perf_counter()
+    course, exchange, home = base / "walk" / "course", base / "walk" / "exchange", base / "walk" / "student"
+    run = Run(chapter, course)
+    try:
+        home.mkdir(parents=True)
+        student_edition.write_course(course, exchange)
+        student_edition.add_source(course, NOTEBOOKS / f"{chapter}.ipynb")
+        nbgrader(["generate_assignment", chapter], course, run.log)   # what `make student` runs
+        run.source = load(course / "source" / chapter / f"{chapter}.ipynb")
+        env = {"EXCHANGE": str(exchange), "ROBOKIN_CELL_TIMEOUT": str(TIMEOUT_FOR_BAD_SUBMISSION)}
+        for who, line in walkthrough_commands():
+            args = shlex.split(os.path.expandvars(line.replace("$EXCHANGE", str(exchange))))[1:]
+            if args[0] == "submit":   # the student works on the fetched notebook, badly
+                fetched = home / chapter / f"{chapter}.ipynb"
+                nb, what = bad_submission(correct_submission(load(fetched), run.source))
+                run.mistake = {"deleted": what["deleted"]}
+                save(nb, fetched)
+            nbgrader(args, home if who == "student" else course, run.log, **env)
+        read_gradebook(course, chapter, run)
+        for page in (home / chapter / "feedback").rglob("*.html"):
+            run.feedback["student"] = page.read_text(encoding="utf-8")
+    except Exception as exc:  # noqa: BLE001
+        run.error = str(exc)
+    run.seconds = time.perf_counter() - started
+    return run
+
+
+def run_unmarked(base: Path) -> Run:
+    """A chapter without nbgrader metadata, given to make student and to nbgrader."""
+    chapter = CHAPTERS[-1]
+    run = Run("no-metadata", base / "bare" / "course")
+    folder = base / "bare" / "notebooks"
+    folder.mkdir(parents=True)
+    nb = load(NOTEBOOKS / f"{chapter}.ipynb")
+    for cell in nb["cells"]:
+        cell.get("metadata", {}).pop("nbgrader", None)
+    save(nb, folder / f"{chapter}.ipynb")
+    proc = subprocess.run([sys.executable, str(ROOT / "tools" / "student_edition.py"), "--notebooks", str(folder),
+                           "--course", str(run.course), chapter], capture_output=True, text=True, env=_env())
+    run.log.append(f"make student: exit {proc.returncode}\n{proc.stdout}{proc.stderr}")
+    student_edition.add_source(run.course, folder / f"{chapter}.ipynb")
+    proc = nbgrader(["generate_assignment", chapter], run.course, run.log, check=False)
+    run.log.append(f"nbgrader generate_assignment: exit {proc.returncode}")
+    return run
+
+
+@pytest.fixture(scope="module")
+def graded(tmp_path_factory) -> dict[str, Run]:
+    """Every chapter generated, submitted three times, autograded and given feedback."""
+    base = tmp_path_factory.mktemp("nbgrader")
+    started = time.perf_counter()
+    jobs = {chapter: (run_chapter, chapter) for chapter in CHAPTERS}
+    jobs["walkthrough"] = (run_walkthrough,)
+    jobs["unmarked"] = (run_unmarked,)
+    # the slow chapters first, so that the two workers finish together
+    order = sorted(jobs, key=lambda k: {"01_leg_kinematics": 0, "05_baxter_circle": 1, "walkthrough": 2}.get(k, 5))
+    with ThreadPoolExecutor(max_workers=WORKERS) as pool:
+        futures = {k: pool.submit(jobs[k][0], *(jobs[k][1:] + (base,))) for k in order}
+        runs = {k: f.result() for k, f in futures.items()}
+    summary = ", ".join(f"{k} {r.seconds:.0f} s" for k, r in runs.items())
+    print(f"\n[nbgrader] {len(runs)} jobs in {time.perf_counter() - started:.0f} s on {WORKERS} workers: {summary}")
+    return runs
+
+
+def _run(graded, chapter) -> Run:
+    run = graded[chapter]
+    if run.error:
+        pytest.fail(run.fail_message())
+    return run
+
+
+# ---------------------------------------------------------------- metadata
+def test_metadata_is_up_to_date():
+    """The committed notebooks carry the metadata tools/nbgrader_metadata.py writes."""
+    proc = subprocess.run([sys.executable, str(ROOT / "tools" / "nbgrader_metadata.py"), "--check"],
+                          capture_output=True, text=True, cwd=ROOT)
+    assert proc.returncode == 0, (
+        "nbgrader metadata of the chapter notebooks is missing or stale; run "
+        "`.venv/bin/python tools/nbgrader_metadata.py` and commit:\n" + (proc.stdout + proc.stderr)[-3000:]
+    )
+
+
+def test_metadata_script_writes_metadata_only_and_is_idempotent(tmp_path):
+    folder = tmp_path / "notebooks"
+    folder.mkdir()
+    originals = {}
+    for chapter in CHAPTERS:
+        shutil.copy2(NOTEBOOKS / f"{chapter}.ipynb", folder)
+        originals[chapter] = load(folder / f"{chapter}.ipynb")
+    paths = [str(p) for p in sorted(folder.glob("*.ipynb"))]
+    script = [sys.executable, str(ROOT / "tools" / "nbgrader_metadata.py")]
+    first = subprocess.run(script + paths, capture_output=True, text=True)
+    assert first.returncode == 0, first.stdout + first.stderr
+    texts = {p: Path(p).read_text() for p in paths}
+    second = subprocess.run(script + paths, capture_output=True, text=True)
+    assert second.returncode == 0 and "wrote" not in second.stdout, second.stdout
+    assert texts == {p: Path(p).read_text() for p in paths}, "a second run changed a notebook"
+    check = subprocess.run(script + ["--check"] + paths, capture_output=True, text=True)
+    assert check.returncode == 0, check.stdout
+    keep = ("cell_type", "source", "outputs", "execution_count", "id")
+    for chapter, original in originals.items():
+        new = load(folder / f"{chapter}.ipynb")
+        assert [{k: c.get(k) for k in keep} for c in new["cells"]] == \
+            [{k: c.get(k) for k in keep} for c in original["cells"]], f"{chapter}: a source or output changed"
+        grading = new["metadata"]["robokin"]["grading"]
+        tests = [c for c in new["cells"] if nbg(c).get("grade")]
+        assert grading["points"] == sum(nbg(c)["points"] for c in tests) > 0
+        assert {t["task"] for t in grading["tasks"]} == {rk(c)["task"] for c in tests}, (
+            f"{chapter}: a task without an autograder test")
+
+
+def test_check_mode_names_the_stale_cell(tmp_path):
+    chapter = CHAPTERS[0]
+    nb = load(NOTEBOOKS / f"{chapter}.ipynb")
+    path = tmp_path / f"{chapter}.ipynb"
+    save(nb, path)
+    subprocess.run([sys.executable, str(ROOT / "tools" / "nbgrader_metadata.py"), str(path)], check=True,
+                   capture_output=True)
+    nb = load(path)
+    tests = [(i, rk(c).get("task")) for i, c in enumerate(nb["cells"])
+             if "check" in c["metadata"].get("tags", []) and nbg(c).get("grade")]
+    # a test of a task that has another one (a task left without a test is an error, exit 2)
+    index = next(i for i, task in tests if sum(t == task for _, t in tests) > 1)
+    nb["cells"][index]["metadata"]["tags"].remove("check")   # an author untags a check cell
+    save(nb, path)
+    proc = subprocess.run([sys.executable, str(ROOT / "tools" / "nbgrader_metadata.py"), "--check", str(path)],
+                          capture_output=True, text=True)
+    assert proc.returncode == 1
+    assert f"{path}: cell {index} " in proc.stdout and "nbgrader metadata stale" in proc.stdout
+
+
+# ---------------------------------------------------------------- 1. the student edition
+def solution_lines(source: dict) -> list[str]:
+    """Lines of the instructor's solution code that the student edition must not contain:
+    every line of an answer cell except the ones a stub keeps (imports, signatures, docstrings)
+    and the ones that also stand in a cell the student is given (a check cell may repeat a
+    loop header such as ``for lam in LAMBDAS:`` of the answer it tests)."""
+    given = {line.strip() for cell in source["cells"] if not nbg(cell).get("solution")
+             and rk(cell).get("role") != "prose" for line in src(cell).splitlines()}
+    out = []
+    for cell in source["cells"]:
+        if not nbg(cell).get("solution"):
+            continue
+        code = src(cell)
+        plan = stub_plan(code, set(rk(cell).get("declare", [])))
+        kept = set(plan.kept) if plan else set()
+        for number, line in enumerate(code.splitlines(), 1):
+            text = line.strip()
+            if number in kept or text in given or len(text) < 4 or text.startswith(("#", ")", "]", "}")):
+                continue
+            out.append(text)
+    return out
+
+
+@pytest.mark.parametrize("chapter", CHAPTERS)
+def test_student_edition_has_no_solutions(graded, chapter):
+    run = _run(graded, chapter)
+    release = run.release
+    student_code = {line.strip() for c in release["cells"] for line in src(c).splitlines()}
+    leaked = [line for line in solution_lines(run.source) if line in student_code]
+    assert not leaked, f"{chapter}: solution lines in the student edition: {leaked[:5]}"
+    prose = [src(c).strip() for c in run.source["cells"] if rk(c).get("role") == "prose"]
+    left = [p[:60] for p in prose if p and any(p in src(c) for c in release["cells"])]
+    assert not left, f"{chapter}: solution prose in the student edition: {left[:3]}"
+    for index, cell in enumerate(release["cells"]):
+        if cell["cell_type"] == "code":
+            assert not cell.get("outputs"), f"{chapter} cell {index}: outputs not cleared"
+            compile(src(cell), f"{chapter} cell {index}", "exec")          # the stubs are valid Python
+    stubs = [c for c in release["cells"] if nbg(c).get("solution")]
+    assert stubs and all("# YOUR CODE HERE" in src(c) for c in stubs)
+    # the problem, the tests and the Try-it-yourself cells are all there
+    kept = [src(c) for c in run.source["cells"] if not nbg(c).get("solution") and rk(c).get("role") != "prose"]
+    assert kept == [src(c) for c in release["cells"] if not nbg(c).get("solution")
+                    and rk(c).get("role") != "prose" and nbg(c).get("grade_id") != "robokin-points"]
+    points = run.source["metadata"]["robokin"]["grading"]["points"]
+    header = next(src(c) for c in release["cells"] if nbg(c).get("grade_id") == "robokin-points")
+    assert f"**{points} points**" in header
+
+
+def test_functions_keep_their_signatures(graded):
+    run = _run(graded, "02_ur10_ik") if "02_ur10_ik" in graded else pytest.skip("chapter 2 is not there")
+    stub = next(src(c) for c in run.release["cells"] if "def weighted_pinv" in src(c))
+    assert stub.splitlines()[:3] == ["def weighted_pinv(J, W):", "    # YOUR CODE HERE",
+                                     "    raise NotImplementedError()"]
+
+
+# ---------------------------------------------------------------- 2.-4. grading
+@pytest.mark.parametrize("chapter", CHAPTERS)
+def test_unanswered_scores_zero(graded, chapter):
+    run = _run(graded, chapter)
+    scores = run.scores.get("unanswered")
+    assert scores is not None and set(scores) == set(run.maximum), f"{chapter}: not graded"
+    earned = {k: v for k, v in scores.items() if v}
+    assert not earned, f"{chapter}: the unanswered notebook earns points in {earned}"
+    assert "Autograder report" in run.feedback["unanswered"]
+
+
+@pytest.mark.parametrize("chapter", CHAPTERS)
+def test_correct_answers_score_full_marks(graded, chapter):
+    run = _run(graded, chapter)
+    scores = run.scores["correct"]
+    missing = {k: v for k, v in scores.items() if v != run.maximum[k]}
+    assert not missing, f"{chapter}: the instructor's solutions lose points in {missing}"
+    page = run.feedback["correct"]
+    assert "robokin.check</code> finds all" in page or "robokin.check` finds all" in page or "finds all" in page, (
+        f"{chapter}: robokin.check does not accept every answer of the instructor's solution")
+    assert "Notes on running your notebook" not in page, f"{chapter}: the correct notebook has errors"
+
+
+@pytest.mark.parametrize("chapter", CHAPTERS)
+def test_typical_mistake_scores_partial_marks_and_is_named(graded, chapter):
+    run = _run(graded, chapter)
+    mistake = run.mistake
+    assert mistake, f"{chapter}: no answer that robokin.check explains can be turned into a typical mistake"
+    total, top = run.total("mistake"), sum(run.maximum.values())
+    assert 0 < total < top, f"{chapter}: {mistake['kind']} of {mistake['name']} scores {total} of {top}"
+    assert run.scores["mistake"][mistake["test"]] == 0, f"{chapter}: the test of {mistake['name']} still passes"
+    page = run.feedback["mistake"]
+    named = re.findall(r"typical mistake: (\w+)", page)
+    assert set(named) & mistake["codes"], (
+        f"{chapter}: the feedback on {mistake['kind']} of {mistake['name']} names {set(named) or 'no mistake'}")
+
+
+# ---------------------------------------------------------------- 5. the walk-through and bad input
+def test_walkthrough_with_a_bad_submission(graded):
+    run = _run(graded, "walkthrough")
+    scores = run.scores.get(next(iter(run.scores), ""), {})
+    assert scores and set(scores) == set(run.maximum), "the submission was not graded"
+    page = run.feedback.get("student", "")
+    assert "Autograder report" in page, "the student did not get the feedback"
+    assert "ran longer than the time limit" in page, "the endless loop is not reported"
+    assert "my own experiment went wrong" in page and "(not graded) raised" in page
+    assert f"id:{run.mistake['deleted']}" in page and "was missing from your submission" in page
+    assert scores[run.mistake["deleted"]] == run.maximum[run.mistake["deleted"]], "the restored test did not run"
+
+
+def test_chapter_without_metadata_is_reported_by_name(graded):
+    run = graded["unmarked"]
+    log = "\n".join(run.log)
+    chapter = CHAPTERS[-1]
+    assert f"chapter {chapter} was not assigned: no nbgrader metadata" in log
+    assert "nbgrader generate_assignment: exit 0" not in log
+    assert f"notebook '{chapter}' has no nbgrader metadata" in log
