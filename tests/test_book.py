@@ -9,13 +9,14 @@ where the scene is animated, and the page weight budget of pages with a scene.
 from __future__ import annotations
 
 import io
+import re
 from pathlib import Path
 from urllib.parse import unquote, urlparse
 
 import pytest
 import yaml
 
-from conftest import ROOT
+from conftest import EDITION_HTML, ROOT
 
 pytestmark = pytest.mark.book
 
@@ -123,6 +124,41 @@ def test_student_edition_has_no_solutions(built_student_book):
                 assert not leaked, f"{path.stem}: solution code in the page: {leaked[:2]}"
 
 
+READING_LAYOUT_JS = """() => {
+  const text = el => el.textContent.replace(/\\s+/g, ' ').trim();
+  const all = sel => Array.from(document.querySelectorAll(sel));
+  return {
+    exercises: all('div.exercise > p.admonition-title').map(text),
+    solutionTitles: all('details.robokin-solution > summary').map(text),
+    looseSolutions: all('div.solution, div.cell.tag_solution')
+      .filter(el => !el.closest('details.robokin-solution')).length,
+    openSolutions: all('details.robokin-solution[open]').length,
+    looseChecks: all('div.cell.tag_check').filter(el => !el.closest('details.robokin-checks')).length,
+    checkBlocks: all('details.robokin-checks').length,
+    toggleButtons: all('div.solution button.toggle-button').length,
+  };
+}"""
+
+
+def _check_reading_layout(tab, page: str, chapter: int, student: bool) -> None:
+    """Exercises numbered per chapter (5.1, 5.2, ...); every solution in one closed
+    'Solution ... (click to show)' block; every check cell folded under 'Checks'."""
+    found = tab.evaluate(READING_LAYOUT_JS)
+    numbers = [re.fullmatch(r"Exercise (\d+)\.(\d+)", t) for t in found["exercises"]]
+    assert found["exercises"] and all(numbers), f"{page}: exercise labels {found['exercises'][:4]}"
+    assert [(int(m.group(1)), int(m.group(2))) for m in numbers] == [
+        (chapter, k) for k in range(1, len(numbers) + 1)], f"{page}: exercise labels {found['exercises']}"
+    titles = found["solutionTitles"]
+    assert (not titles) if student else titles, f"{page}: solution blocks {titles[:3]}"
+    assert all(re.fullmatch(r"Solution( to Exercise \d+\.\d+)?( \(\d+ cells\))? \(click to show\)", t)
+                          for t in titles), f"{page}: solution titles {sorted(set(titles))[:4]}"
+    referenced = [t for t in titles if "Exercise" in t]
+    assert all(f"Exercise {chapter}." in t for t in referenced), f"{page}: {referenced[:3]}"
+    assert found["looseSolutions"] == 0 and found["openSolutions"] == 0 and found["toggleButtons"] == 0, (
+        f"{page}: solutions not folded in the book's one style: {found}")
+    assert found["looseChecks"] == 0, f"{page}: {found['looseChecks']} check cells interrupt the text"
+
+
 @pytest.mark.browser
 @pytest.mark.parametrize("page", PAGES)
 def test_page_in_browser(edition_book, browser, page):
@@ -179,6 +215,10 @@ def test_page_in_browser(edition_book, browser, page):
             assert differing > 0.002 * total, f"{page}: scene {index} looks blank ({differing}/{total} pixels drawn)"
             if scene.get_attribute("data-animated") == "true":
                 assert scene.get_by_text("play", exact=False).count() > 0, f"{page}: scene {index} has no play control"
+
+        chapter = re.match(r"notebooks/0*(\d+)_", page)
+        if chapter and int(chapter.group(1)) > 0:
+            _check_reading_layout(tab, page, int(chapter.group(1)), student=built_book == EDITION_HTML["student"])
 
         assert not external, f"{page}: the page tried to reach the network: {external[:5]}"
         assert not errors, f"{page}: " + "\n".join(errors)

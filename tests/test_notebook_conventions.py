@@ -141,3 +141,36 @@ def test_stream_outputs_are_merged(path):
                         and first["name"] == second["name"]), (
                 f"{path.name} cell {index}: consecutive {first['name']} outputs; store it with `make execute`"
             )
+
+
+# ---------------------------------------------------------------- Colab: the install cell
+def _install_cell(path: Path) -> dict:
+    code = [c for c in load(path)["cells"] if c["cell_type"] == "code"]
+    assert code, f"{path.name}: no code cell"
+    return code[0]
+
+
+@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
+def test_first_code_cell_installs_robokin_where_it_is_missing(path, monkeypatch):
+    """Colab opens a notebook without the repository: the first code cell installs robokin
+    (with its views) from the repository named in _config.yml; here it does nothing."""
+    import importlib.util
+    import subprocess
+
+    import yaml
+
+    cell = _install_cell(path)
+    code = "".join(cell["source"])
+    url = yaml.safe_load((ROOT / "_config.yml").read_text())["repository"]["url"]
+    assert f"robokin[views] @ git+{url}" in code, f"{path.name}: the install cell does not name {url}"
+    assert "remove-cell" in cell["metadata"].get("tags", []) and not cell.get("outputs")
+
+    calls = []
+    monkeypatch.setattr(subprocess, "run", lambda *a, **k: calls.append(a[0]))
+    exec(compile(code, f"{path.name} install cell", "exec"), {})       # robokin is importable here
+    assert calls == [], "the install cell ran pip in the repository's environment"
+
+    real = importlib.util.find_spec
+    monkeypatch.setattr(importlib.util, "find_spec", lambda name, *a: None if name == "robokin" else real(name, *a))
+    exec(compile(code, f"{path.name} install cell", "exec"), {})       # as on Colab
+    assert len(calls) == 1 and calls[0][1:4] == ["-m", "pip", "install"] and calls[0][-1].endswith(url)

@@ -307,3 +307,25 @@ def test_animate_without_name_moves_the_robot_not_its_ghost():
     scene.add_ghost(arm, [1.0, 0.5])
     scene.add_chain(arm, [0.0, 0.0])
     assert scene.animate(arm, np.linspace([0.0, 0.0], [0.5, 0.5], 5)) == "robot"
+
+
+def test_grid_is_a_floor_under_a_hanging_arm():
+    # Baxter's arm hangs below its shoulder frame: the grid goes to the lowest point drawn,
+    # not through the shoulder (where it reads as a ceiling); a standing robot keeps z = 0.
+    from robokin.models import baxter_left
+    from robokin.views import Scene
+
+    arm = baxter_left(base="shoulder")
+    q = arm.limits.mean(axis=1)
+    scene = Scene()
+    scene.add_chain(arm, q)
+    cmds = {c["path"]: c for c in scene.commands() if c["type"] == "set_transform"}
+    grid = np.array(cmds["/Grid"]["matrix"]).reshape(4, 4).T
+    shift = np.array(cmds["/meshcat"]["matrix"]).reshape(4, 4).T
+    floor = grid[2, 3] - shift[2, 3]                                     # grid height in the robot's frame
+    lowest = arm.frames(q)[:, 2, 3].min()
+    assert lowest < -0.04 and floor == pytest.approx(lowest, abs=1e-6)
+    np.testing.assert_allclose(grid[:3, :3], np.eye(3))
+    standing = {c["path"]: c for c in _demo_scene().commands() if c["type"] == "set_transform"}
+    assert np.array(standing["/Grid"]["matrix"]).reshape(4, 4).T[2, 3] == pytest.approx(
+        np.array(standing["/meshcat"]["matrix"]).reshape(4, 4).T[2, 3])

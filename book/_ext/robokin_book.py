@@ -20,6 +20,11 @@
   ``{solution-start}`` and ``{solution-end}`` and the printouts of its ``check``
   cells are taken out. Notebooks are not executed (their stored outputs are
   used), so the edition is built from exactly the pages of the instructor edition.
+* **Exercises numbered per chapter.**  sphinx-exercise numbers exercises through
+  the whole book (Exercise 25 in Chapter 5); the numbers are rewritten as
+  *chapter.k* (Exercise 5.2), the chapter taken from the notebook's name
+  (``notebooks/05_…``). Titles of solutions and cross-references use the same
+  numbers.
 """
 
 from __future__ import annotations
@@ -226,6 +231,35 @@ def remove_solutions(app: Sphinx, docname: str, source: list[str]) -> None:
         source[0] = text
 
 
+def chapter_of(docname: str) -> int | None:
+    """The chapter number of a chapter notebook (``notebooks/05_baxter_circle`` -> 5)."""
+    name = docname.rsplit("/", 1)[-1]
+    head = name.split("_", 1)[0]
+    return int(head) if docname.startswith("notebooks/") and head.isdigit() and int(head) > 0 else None
+
+
+def number_exercises_per_chapter(app: Sphinx, env) -> list[str]:
+    """Exercise k of chapter c is numbered (c, k), in reading order within the page."""
+    for docname, numbers in env.toc_fignumbers.items():
+        chapter = chapter_of(docname)
+        exercises = numbers.get("exercise")
+        if chapter is None or not exercises:
+            continue
+        ordered = sorted(exercises, key=lambda ident: exercises[ident])
+        numbers["exercise"] = {ident: (chapter, k) for k, ident in enumerate(ordered, 1)}
+    return []
+
+
+def one_solution_style(app: Sphinx, doctree, docname: str) -> None:
+    """sphinx-exercise solutions lose the ``dropdown`` class (sphinx-togglebutton's
+    "Click to show" button); ``solutions.js`` folds them, like the solution code cells,
+    into one closed ``<details class="robokin-solution">`` each."""
+    from sphinx_exercise.nodes import solution_node
+
+    for node in doctree.findall(solution_node):
+        node["classes"] = [c for c in node["classes"] if c not in ("dropdown", "toggle")]
+
+
 def setup(app: Sphinx) -> dict:
     app.add_config_value("robokin_edition", os.environ.get("ROBOKIN_EDITION", "instructor") or "instructor",
                          "env", [str])
@@ -237,6 +271,9 @@ def setup(app: Sphinx) -> dict:
     app.connect("config-inited", invalidate_stale_cache, priority=100)
     app.connect("build-finished", stamp_cache)
     app.connect("html-page-context", deduplicate_scripts, priority=900)
+    # After Sphinx has assigned the book-wide figure numbers (priority 500).
+    app.connect("env-get-updated", number_exercises_per_chapter, priority=900)
+    app.connect("doctree-resolved", one_solution_style)
     app.add_js_file("solutions.js")
     app.add_css_file("robokin-book.css")
     return {"version": "0.1", "parallel_read_safe": True, "parallel_write_safe": True}

@@ -328,6 +328,19 @@ def scene_scale(scene):
 
 def scene_bounds(scene):
     """Centre (3,) and radius of the box around everything drawn (chains over their animations too)."""
+    P = _scene_points(scene)
+    lo, hi = P.min(axis=0), P.max(axis=0)
+    return (lo + hi) / 2, float(np.linalg.norm(hi - lo) / 2)
+
+
+def scene_floor(scene):
+    """Height (m) of the grid: the base plane z = 0, or the lowest point drawn when the robot
+    reaches below it (a hanging arm, a leg), so that the grid is a floor, never a ceiling."""
+    return min(0.0, float(_scene_points(scene)[:, 2].min()))
+
+
+def _scene_points(scene):
+    """Every point drawn (N, 3): the world origin, the chains' frames (over their animations), targets, paths."""
     from robokin.views.scene import ChainItem, PathItem, PointsItem, TargetItem
     pts = [np.zeros((1, 3))]
     animated = {a.chain_name: a for a in scene.animations}
@@ -342,9 +355,7 @@ def scene_bounds(scene):
             pts.append(it.T[None, :3, 3])
         elif isinstance(it, (PathItem, PointsItem)):
             pts.append(it.points)
-    P = np.vstack(pts)
-    lo, hi = P.min(axis=0), P.max(axis=0)
-    return (lo + hi) / 2, float(np.linalg.norm(hi - lo) / 2)
+    return np.vstack(pts)
 
 
 def quaternion_xyzw(R):
@@ -430,7 +441,8 @@ def scene_commands(scene):
         # composes with -- adding that turn here again would stand the grid up vertically.
         # Headless Chromium with SwiftShader drops grid lines that cross the camera plane,
         # so there only the far part of the grid is drawn; that is the renderer, not the grid.)
-        _set_transform(ROOT, shift), _set_transform("/Grid", shift), _set_transform("/Axes", shift),
+        _set_transform(ROOT, shift), _set_transform("/Grid", _pose(p=[0.0, 0.0, scene_floor(scene)] - center)),
+        _set_transform("/Axes", shift),
         {"type": "set_property", "path": "/Cameras/default/rotated/<object>", "property": "position",
          "value": [_r(v) for v in eye]},
     ]
