@@ -174,3 +174,18 @@ def test_first_code_cell_installs_robokin_where_it_is_missing(path, monkeypatch)
     monkeypatch.setattr(importlib.util, "find_spec", lambda name, *a: None if name == "robokin" else real(name, *a))
     exec(compile(code, f"{path.name} install cell", "exec"), {})       # as on Colab
     assert len(calls) == 1 and calls[0][1:4] == ["-m", "pip", "install"] and calls[0][-1].endswith(url)
+
+
+# ---------------------------------------------------------------- the book's width
+CODE_LINE_LIMIT = 88
+
+
+@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
+def test_code_fits_the_book_width(path):
+    """Code lines are at most 88 characters, so that a code cell needs no sideways
+    scrolling in the book (format with `.venv/bin/python tools/format_notebooks.py`)."""
+    long = [(index, len(line), line.strip()[:50])
+            for index, cell in enumerate(load(path)["cells"]) if cell["cell_type"] == "code"
+            for line in "".join(cell["source"]).splitlines() if len(line) > CODE_LINE_LIMIT]
+    assert not long, (f"{path.name}: {len(long)} code lines longer than {CODE_LINE_LIMIT} characters "
+                      f"(run tools/format_notebooks.py): {long[:3]}")

@@ -362,8 +362,8 @@ def check_calls(code: str, aliases: dict[str, str]) -> list[tuple[str, str]]:
             name = target(node.func)
             if name is None:
                 continue
-            line = lines[node.lineno - 1]
-            if "wrong" in line.lower() or negative:
+            call_text = "\n".join(lines[node.lineno - 1: node.end_lineno])  # a formatter may move the comment
+            if "wrong" in call_text.lower() or negative:
                 continue
             arg = node.args[0]
             if isinstance(arg, ast.Lambda) and not _plain_wrapper(arg):
