@@ -8,6 +8,9 @@ already catches ``ValueError`` keeps working.
 - :class:`DomainError` -- an argument has the right shape but a value that is not
   allowed: NaN/inf, out of range, not a rotation matrix, lower limit above upper
   limit, zero-length axis, ...
+- :class:`URDFError` -- a URDF file cannot be read or turned into a serial chain
+  (:func:`robokin.models.from_urdf`); :class:`URDFNotFoundError`, its subclass for a
+  missing file, is also a :class:`FileNotFoundError`.
 
 A wrong *type* (e.g. a string where numbers are expected) raises the built-in
 :class:`TypeError`.
@@ -25,7 +28,8 @@ Warnings (issued with :func:`warnings.warn`, never raised):
 
 from __future__ import annotations
 
-__all__ = ["RobokinError", "ShapeError", "DomainError", "RobokinWarning", "SingularityWarning"]
+__all__ = ["RobokinError", "ShapeError", "DomainError", "URDFError", "URDFNotFoundError", "RobokinWarning",
+           "SingularityWarning"]
 
 
 class RobokinError(Exception):
@@ -46,6 +50,20 @@ class DomainError(RobokinError, ValueError):
     rotations or transforms, joint limits with lower > upper, zero-length axes or
     quaternions, ...
     """
+
+
+class URDFError(RobokinError, ValueError):
+    """A URDF file cannot be read, or does not hold the requested serial chain.
+
+    Raised by :func:`robokin.models.from_urdf` for malformed XML or URDF, a base
+    or tip link that is not in the file, no chain between the two links, a
+    closed loop, or a joint type robokin does not model (floating, planar,
+    mimic). The message names the file and the link or joint.
+    """
+
+
+class URDFNotFoundError(URDFError, FileNotFoundError):
+    """The URDF file does not exist (also a :class:`FileNotFoundError`)."""
 
 
 class RobokinWarning(UserWarning):

@@ -7,8 +7,14 @@ documented shapes (an empty batch gives an empty result).
 
 from __future__ import annotations
 
+import atexit
+import importlib.metadata
+import importlib.util
 import math
+import shutil
+import tempfile
 from functools import lru_cache
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -349,6 +355,75 @@ def _tf(ctx: Ctx) -> np.ndarray:
     T[:3, :3] = _rodrigues(ctx.rng.uniform(-2, 2, 3))
     T[:3, 3] = ctx.rng.uniform(-1, 1, 3)
     return T
+
+
+# ------------------------------------------------------------------ URDF
+_TOY_URDF = """<robot name="toy">
+  <link name="world"/><link name="base"/><link name="l1"/><link name="l2"/><link name="tool"/>
+  <joint name="mount" type="fixed"><parent link="world"/><child link="base"/>
+    <origin xyz="0.1 0 0.2" rpy="0 0 0.5"/></joint>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="l1"/><origin xyz="0 0 0.3"/>
+    <axis xyz="0 0 1"/><limit lower="-2" upper="2"/></joint>
+  <joint name="j2" type="prismatic"><parent link="l1"/><child link="l2"/><origin xyz="0.4 0 0" rpy="0 1.2 0"/>
+    <axis xyz="0 1 1"/><limit lower="0" upper="0.5"/></joint>
+  <joint name="flange" type="fixed"><parent link="l2"/><child link="tool"/><origin xyz="0 0 0.05"/></joint>
+</robot>
+"""
+
+
+@lru_cache(maxsize=None)
+def toy_urdf() -> str:
+    """A small URDF file (fixed, revolute, prismatic joints), written once per session."""
+    folder = tempfile.mkdtemp(prefix="robokin-fuzz-urdf-")
+    atexit.register(shutil.rmtree, folder, True)
+    path = Path(folder) / "toy.urdf"
+    path.write_text(_TOY_URDF)
+    return str(path)
+
+
+class _UrdfFile(Arg):
+    """The path of :func:`toy_urdf`; corrupted: a missing file, None, an int, an object."""
+
+    def __init__(self, name: str) -> None:
+        super().__init__(name, extreme=False)
+
+    def valid(self, ctx: Ctx) -> Any:
+        return toy_urdf() if ctx.rng.random() < 0.5 else Path(toy_urdf())
+
+    def default_bad(self, ctx: Ctx) -> tuple[str, ...]:
+        return ("missing", "none", "int", "object")
+
+    def corrupt(self, kind: str, ctx: Ctx) -> Any:
+        return {"missing": toy_urdf() + ".gone", "none": None, "int": 3, "object": object()}[kind]
+
+
+def _optional(fn: Any, module: str | None = None, distribution: str | None = None) -> Any:
+    """``fn``, skipping the test when its optional dependency is not installed (CI installs it)."""
+    import pytest
+
+    def call(*args: Any, **kwargs: Any) -> Any:
+        if module is not None and importlib.util.find_spec(module) is None:
+            pytest.skip(f"{module} is not installed: pip install 'robokin[robots]'")
+        if distribution is not None:
+            try:
+                importlib.metadata.distribution(distribution)
+            except importlib.metadata.PackageNotFoundError:
+                pytest.skip(f"{distribution} is not installed: pip install 'robokin[robots]'")
+        return fn(*args, **kwargs)
+
+    return call
+
+
+def urdf_specs() -> list[Spec]:
+    is_chain = lambda r, c, v: isinstance(r, SerialChain) and r.n == 2 or _fail(r)  # noqa: E731
+    is_file = lambda r, c, v: Path(r).is_file() or _fail(r)  # noqa: E731
+    return [
+        Spec("models.from_urdf", _optional(models.from_urdf, module="yourdfpy"),
+             [_UrdfFile("path"), Choice("base_link", ["world", "base"]), Choice("tip_link", ["l2", "tool"])],
+             {"name": Choice("name", ["arm", None], bad=("int", "object"))}, check=is_chain, weight=0.3),
+        Spec("models.robot_description", _optional(models.robot_description, distribution="example-robot-data"),
+             [Choice("name", ["ur10", "baxter", "panda"])], check=is_file, weight=0.2),
+    ]
 
 
 # ------------------------------------------------------------------ models
@@ -720,5 +795,5 @@ def check_specs() -> list[Spec]:
 
 
 def all_specs() -> list[Spec]:
-    return (transform_specs() + chain_method_specs() + construction_specs() + model_specs() + motion_specs()
-            + parallel_specs() + check_specs())
+    return (transform_specs() + chain_method_specs() + construction_specs() + model_specs() + urdf_specs()
+            + motion_specs() + parallel_specs() + check_specs())

@@ -89,6 +89,20 @@ def baxter_left(base: str = "torso", end: str = "hand") -> SerialChain:
     (±1.571) and omits the θ₂ offset π/2, so its q = 0 is a different pose;
     with q2 → q2 + π/2 it agrees with this model to 0.3 mm.
 
+    Cross-checked (``tests/test_urdf.py``, 1,000 configurations, 1e-9 m / 1e-9 rad)
+    against example-robot-data's ``baxter.urdf``
+    (``from_urdf(robot_description("baxter"), "torso", "left_hand_link")``), same
+    q (thanks to the θ₂ offset) and limits; tool transform the identity
+    (``end='hand'`` is ``left_hand_link``). Base transform: that URDF writes the
+    mount yaw as 0.7854 where this model has π/4, so
+    :math:`{}^{torso}\mathbf{T}_{hand}^{URDF}(q) = \mathbf{T}(\mathbf{p}_m)\,
+    \mathbf{R}_z(0.7854 - \pi/4)\,\mathbf{T}(-\mathbf{p}_m)\;{}^{B}\mathbf{T}_E(q)` with
+    :math:`\mathbf{p}_m = (0.024645, 0.219645, 0.118588)` m, a 1.8e-6 rad
+    rounding (up to 2e-6 m at the hand). With ``base='shoulder'`` the base
+    transform from the URDF link ``left_arm_mount`` is :math:`\mathbf{T}(0.055695, 0, 0.011038)`.
+    (Its ``left_gripper`` is an electric gripper 0.1577 m beyond the hand, not
+    the 0.05 m of ``end='gripper'``.)
+
     Parameters
     ----------
     base : {'torso', 'shoulder'}, optional

@@ -28,6 +28,12 @@ Row F is the flange: the end-effector frame E of this package sits on the
 flange face, :math:`z_E` pointing out of it. Joint limits (rad) are those of
 the same document. The base frame is the robot's ``panda_link0`` frame (z up
 along joint 1).
+
+Cross-checked (``tests/test_urdf.py``, 1,000 configurations, 1e-9 m / 1e-9 rad)
+against example-robot-data's ``panda.urdf``
+(``from_urdf(robot_description("panda"), "panda_link0", "panda_link8")``), same
+q and limits: base and tool transforms are the identity (the flange is
+``panda_link8``).
 """
 
 from __future__ import annotations

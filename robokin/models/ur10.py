@@ -47,6 +47,15 @@ def ur10(description: str = "dh") -> SerialChain:
     the robot's ``base`` frame (z up along joint 1), the end-effector the tool
     flange (``tool0``: z out of the flange).
 
+    Cross-checked (``tests/test_urdf.py``, 1,000 configurations, 1e-9 m / 1e-9 rad)
+    against example-robot-data's ``ur10_robot.urdf``
+    (``from_urdf(robot_description("ur10"), base_link, tip_link)``), same q:
+    from the URDF links ``base`` to ``tool0`` the base and tool transforms are the
+    identity; from the URDF's root ``base_link`` to ``ee_link``,
+    :math:`{}^{base\_link}\mathbf{T}_{ee\_link}(q) = \mathbf{R}_z(\pi)\,
+    {}^{B}\mathbf{T}_E(q)\,\mathbf{R}_x(\pi/2)\,\mathbf{R}_z(\pi/2)`. That URDF limits
+    the elbow to ±π; this model keeps ±2π on purpose.
+
     Parameters
     ----------
     description : {'dh', 'mdh', 'ets'}, optional
