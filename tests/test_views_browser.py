@@ -78,3 +78,36 @@ def test_missing_viewer_script_shows_message(tmp_path, browser):
     pg.wait_for_function("document.querySelector('.robokin-scene-msg').textContent.indexOf('not shown') >= 0",
                          timeout=10_000)
     assert "cannot load" in pg.text_content(".robokin-scene-msg")
+
+
+def test_scene_data_moved_beside_the_page_still_renders(tmp_path, browser):
+    """The book moves each scene's data to _static/scenes/<key>.js (small pages; a scene
+    shown twice stored once); the page, opened from file://, still draws it."""
+    from robokin.views import Scene
+    from robokin.views.sphinx_extension import externalize_scene_data
+    from robokin.views.static_html import save_page
+
+    chain, q0, _ = _robot()
+    scene = Scene(height=300)
+    scene.add_chain(chain, q0)
+    page = save_page(tmp_path / "chapter" / "page.html", [scene, scene], copy_viewer=False)
+    save_page(tmp_path / "index.html", [], copy_viewer=True)          # the viewer at the book's root
+    html = page.read_text().replace('<html data-content_root="./">', '<html data-content_root="../">')
+    page.write_text(html)
+    inline = len(html)
+    assert externalize_scene_data(tmp_path) == 2
+    assert externalize_scene_data(tmp_path) == 0                      # idempotent
+    files = list((tmp_path / "_static" / "scenes").glob("*.js"))
+    assert len(files) == 1 and len(page.read_text()) < inline - 2000  # stored once, out of the page
+    assert 'data-src="../_static/scenes/' in page.read_text()
+
+    errors = []
+    pg = browser.new_page(viewport={"width": 800, "height": 800})
+    pg.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+    pg.on("pageerror", lambda e: errors.append(str(e)))
+    pg.goto(page.as_uri())
+    pg.wait_for_function("document.querySelectorAll('.robokin-scene canvas').length >= 1", timeout=20_000)
+    pg.evaluate("document.querySelectorAll('.robokin-scene')[1].scrollIntoView()")   # the lazy second scene
+    pg.wait_for_function("document.querySelectorAll('.robokin-scene canvas').length == 2", timeout=20_000)
+    assert not errors, errors
+    assert pg.evaluate("document.querySelectorAll('script[src$=\".js\"][src*=\"scenes\"]').length") == 1

@@ -1,20 +1,33 @@
-"""Sphinx extension shipping the MeshCat viewer with the book, once.
+"""Sphinx extension shipping the MeshCat viewer with the book, once, and the scenes' data beside the pages.
 
 Add to the Jupyter Book ``_config.yml``::
 
     sphinx:
       extra_extensions: [robokin.views.sphinx_extension]
 
-After an HTML build it copies MeshCat's ``main.min.js`` (and its licence files)
-into ``<outdir>/_static/meshcat/``, where the static scenes written by
-:mod:`robokin.views.static_html` load it from (``<content root>_static/meshcat/``).
+After an HTML build it
+
+* copies MeshCat's ``main.min.js`` (and its licence files) into
+  ``<outdir>/_static/meshcat/``, where the static scenes written by
+  :mod:`robokin.views.static_html` load it from (``<content root>_static/meshcat/``);
+* moves the data of every static scene out of its page into
+  ``<outdir>/_static/scenes/<key>.js`` (``key`` = hash of the data, so a scene shown on
+  two pages is stored once) and leaves ``data-src``/``data-key`` attributes in the page:
+  a page's own HTML stays small, and a scene's data is loaded only when the scene
+  comes near the viewport. A ``<script>`` file rather than JSON, because browsers
+  refuse ``fetch()`` on pages opened from ``file://``.
 """
 
 from __future__ import annotations
 
+import hashlib
 import os
+import re
+from pathlib import Path
 
-__all__ = ["setup", "copy_viewer"]
+__all__ = ["setup", "copy_viewer", "externalize_scene_data"]
+
+_DATA = re.compile(r'<script type="application/json" class="robokin-scene-data">(\[.*?\])</script>', re.S)
 
 
 def copy_viewer(app, exception):
@@ -23,6 +36,42 @@ def copy_viewer(app, exception):
     from robokin.views.static_html import copy_viewer_files
 
     copy_viewer_files(os.path.join(app.outdir, "_static", "meshcat"))
+    externalize_scene_data(Path(app.outdir))
+
+
+def externalize_scene_data(outdir: Path) -> int:
+    """Move inline scene data of every page under ``outdir`` to ``_static/scenes/``.
+
+    Returns the number of scenes moved. Idempotent: a page already rewritten has no
+    inline data left.
+    """
+    scenes = outdir / "_static" / "scenes"
+    moved = 0
+    for page in outdir.rglob("*.html"):
+        if "_static" in page.relative_to(outdir).parts:
+            continue
+        text = page.read_text(encoding="utf-8")
+        if "robokin-scene-data" not in text:
+            continue
+        prefix = os.path.relpath(scenes, page.parent).replace(os.sep, "/")
+
+        def move(match: re.Match) -> str:
+            nonlocal moved
+            data = match.group(1)
+            key = hashlib.sha1(data.encode()).hexdigest()[:16]
+            target = scenes / f"{key}.js"
+            if not target.exists():
+                scenes.mkdir(parents=True, exist_ok=True)
+                target.write_text(f'(window.robokinSceneData = window.robokinSceneData || {{}})["{key}"] = '
+                                  f"{data};\n", encoding="utf-8")
+            moved += 1
+            return (f'<script type="application/json" class="robokin-scene-data" data-key="{key}" '
+                    f'data-src="{prefix}/{key}.js">[]</script>')
+
+        new = _DATA.sub(move, text)
+        if new != text:
+            page.write_text(new, encoding="utf-8")
+    return moved
 
 
 def setup(app):

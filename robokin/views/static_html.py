@@ -54,7 +54,37 @@ def pack_commands(commands):
 _SCRIPT = r"""(function () {
   var me = document.currentScript, box = me ? me.parentElement : document.getElementById("%(id)s");
   var pane = box.querySelector(".robokin-scene-pane"), msg = box.querySelector(".robokin-scene-msg");
-  var data = JSON.parse(box.querySelector(".robokin-scene-data").textContent);
+  var holder = box.querySelector(".robokin-scene-data");
+  function loadScript(src, check) {  /* a <script> works on file:// pages too, unlike fetch() */
+    return new Promise(function (resolve, reject) {
+      var s = document.createElement("script"), amd = window.define;
+      s.src = src;
+      window.define = undefined;  /* UMD bundles must set globals, not register with require.js */
+      s.onload = function () {
+        window.define = amd;
+        var value = check();
+        if (value) resolve(value); else reject(new Error(src + " did not define what it should"));
+      };
+      s.onerror = function () { window.define = amd; reject(new Error("cannot load " + src)); };
+      document.head.appendChild(s);
+    });
+  }
+  function sceneData() {  /* inline, or (in the book) a file next to the page: _static/scenes/<key>.js */
+    var src = holder.getAttribute("data-src");
+    if (!src) return Promise.resolve(JSON.parse(holder.textContent));
+    var key = holder.getAttribute("data-key"), store = window.robokinSceneData || {};
+    if (store[key]) return Promise.resolve(store[key]);
+    var loads = window.robokinSceneLoads = window.robokinSceneLoads || {};  /* one request per file */
+    if (!loads[key]) loads[key] = loadScript(src, function () { return (window.robokinSceneData || {})[key]; });
+    return loads[key];
+  }
+  function whenNear(run) {  /* start a scene when it comes near the viewport: pages with many load fast */
+    if (!("IntersectionObserver" in window)) return run();
+    var seen = new IntersectionObserver(function (entries) {
+      if (entries.some(function (e) { return e.isIntersecting; })) { seen.disconnect(); run(); }
+    }, {rootMargin: "300px"});
+    seen.observe(box);
+  }
   function viewerSrc() {
     var src = %(src)s;
     if (src) return src;
@@ -68,22 +98,14 @@ _SCRIPT = r"""(function () {
   function loadMeshCat() {
     if (window.MeshCat && window.MeshCat.Viewer) return Promise.resolve(window.MeshCat);
     if (!window.robokinMeshCat) {
-      window.robokinMeshCat = new Promise(function (resolve, reject) {
-        var s = document.createElement("script"), amd = window.define;
-        s.src = viewerSrc();
-        window.define = undefined;  /* the UMD bundle must set window.MeshCat, not register with require.js */
-        s.onload = function () {
-          window.define = amd;
-          if (window.MeshCat && window.MeshCat.Viewer) resolve(window.MeshCat);
-          else reject(new Error(s.src + " did not define MeshCat"));
-        };
-        s.onerror = function () { window.define = amd; reject(new Error("cannot load " + s.src)); };
-        document.head.appendChild(s);
+      window.robokinMeshCat = loadScript(viewerSrc(), function () {
+        return window.MeshCat && window.MeshCat.Viewer ? window.MeshCat : null;
       });
     }
     return window.robokinMeshCat;
   }
-  loadMeshCat().then(function (MeshCat) {
+  whenNear(function () { Promise.all([loadMeshCat(), sceneData()]).then(function (loaded) {
+    var MeshCat = loaded[0], data = loaded[1];
     msg.remove();
     var viewer = new MeshCat.Viewer(pane), resize = viewer.set_3d_pane_size;
     viewer.set_3d_pane_size = function (w, h) {  /* size to the div, not to the window */
@@ -103,7 +125,7 @@ _SCRIPT = r"""(function () {
   }).catch(function (err) {
     msg.textContent = "3D scene not shown: " + err.message +
       " (the MeshCat viewer ships with the built book; in Jupyter use ROBOKIN_VIEWER=live).";
-  });
+  }); });
 })();"""
 
 _MESSAGE = ("3D scene: loading the MeshCat viewer&hellip; (if this line stays, JavaScript is off or "
