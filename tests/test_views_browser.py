@@ -111,3 +111,35 @@ def test_scene_data_moved_beside_the_page_still_renders(tmp_path, browser):
     pg.wait_for_function("document.querySelectorAll('.robokin-scene canvas').length == 2", timeout=20_000)
     assert not errors, errors
     assert pg.evaluate("document.querySelectorAll('script[src$=\".js\"][src*=\"scenes\"]').length") == 1
+
+
+def test_large_command_shared_by_two_scenes_is_stored_once(tmp_path, browser):
+    """A large command (a robot's mesh, here a big point cloud) in two different scenes
+    goes to one file of its own; both scenes still draw."""
+    from robokin.views import Scene
+    from robokin.views.sphinx_extension import SHARED_COMMAND_SIZE, externalize_scene_data
+    from robokin.views.static_html import pack_commands, save_page
+
+    chain, q0, Q = _robot()
+    cloud = np.random.default_rng(0).uniform(-0.5, 0.5, (3000, 3))
+    scenes = []
+    for q in (q0, Q[-1]):
+        scene = Scene(height=300)
+        scene.add_chain(chain, q)
+        scene.add_path(cloud)
+        scenes.append(scene)
+    assert max(len(c) for c in pack_commands(scenes[0].commands())) >= SHARED_COMMAND_SIZE
+    page = save_page(tmp_path / "index.html", scenes)
+    assert externalize_scene_data(tmp_path) == 2
+    files = sorted((tmp_path / "_static" / "scenes").glob("*.js"))
+    shared = [f for f in files if f.stat().st_size >= SHARED_COMMAND_SIZE]
+    assert len(files) == 3 and len(shared) == 1, [f.stat().st_size for f in files]
+
+    errors = []
+    pg = browser.new_page(viewport={"width": 800, "height": 700})
+    pg.on("pageerror", lambda e: errors.append(str(e)))
+    pg.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+    pg.goto(page.as_uri())
+    pg.evaluate("document.querySelectorAll('.robokin-scene')[1].scrollIntoView()")
+    pg.wait_for_function("document.querySelectorAll('.robokin-scene canvas').length == 2", timeout=20_000)
+    assert not errors, errors

@@ -14,18 +14,24 @@ After an HTML build it
   ``<outdir>/_static/scenes/<key>.js`` (``key`` = hash of the data, so a scene shown on
   two pages is stored once) and leaves ``data-src``/``data-key`` attributes in the page:
   a page's own HTML stays small, and a scene's data is loaded only when the scene
-  comes near the viewport. A ``<script>`` file rather than JSON, because browsers
-  refuse ``fetch()`` on pages opened from ``file://``.
+  comes near the viewport. A command of ``SHARED_COMMAND_SIZE`` characters or more
+  (a robot's mesh) is stored in a file of its own, keyed by its hash, so every scene
+  and page that shows the robot shares it. ``<script>`` files rather than JSON, because
+  browsers refuse ``fetch()`` on pages opened from ``file://``.
 """
 
 from __future__ import annotations
 
 import hashlib
+import json
 import os
 import re
 from pathlib import Path
 
 __all__ = ["setup", "copy_viewer", "externalize_scene_data"]
+
+#: Commands at least this long (base64 characters) are stored in a file of their own.
+SHARED_COMMAND_SIZE = 20_000
 
 _DATA = re.compile(r'<script type="application/json" class="robokin-scene-data">(\[.*?\])</script>', re.S)
 
@@ -57,13 +63,10 @@ def externalize_scene_data(outdir: Path) -> int:
 
         def move(match: re.Match) -> str:
             nonlocal moved
-            data = match.group(1)
-            key = hashlib.sha1(data.encode()).hexdigest()[:16]
-            target = scenes / f"{key}.js"
-            if not target.exists():
-                scenes.mkdir(parents=True, exist_ok=True)
-                target.write_text(f'(window.robokinSceneData = window.robokinSceneData || {{}})["{key}"] = '
-                                  f"{data};\n", encoding="utf-8")
+            commands = json.loads(match.group(1))
+            # a large command (a robot's mesh) gets a file of its own, shared by every scene that has it
+            listed = [f"@{_store(scenes, c)}" if len(c) >= SHARED_COMMAND_SIZE else c for c in commands]
+            key = _store(scenes, listed)
             moved += 1
             return (f'<script type="application/json" class="robokin-scene-data" data-key="{key}" '
                     f'data-src="{prefix}/{key}.js">[]</script>')
@@ -72,6 +75,18 @@ def externalize_scene_data(outdir: Path) -> int:
         if new != text:
             page.write_text(new, encoding="utf-8")
     return moved
+
+
+def _store(folder: Path, value) -> str:
+    """Write ``value`` (JSON) as ``folder/<key>.js`` registering it under ``key``; return the key."""
+    data = json.dumps(value, separators=(",", ":"))
+    key = hashlib.sha1(data.encode()).hexdigest()[:16]
+    target = folder / f"{key}.js"
+    if not target.exists():
+        folder.mkdir(parents=True, exist_ok=True)
+        target.write_text(f'(window.robokinSceneData = window.robokinSceneData || {{}})["{key}"] = {data};\n',
+                          encoding="utf-8")
+    return key
 
 
 def setup(app):

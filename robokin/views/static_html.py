@@ -69,14 +69,23 @@ _SCRIPT = r"""(function () {
       document.head.appendChild(s);
     });
   }
-  function sceneData() {  /* inline, or (in the book) a file next to the page: _static/scenes/<key>.js */
-    var src = holder.getAttribute("data-src");
-    if (!src) return Promise.resolve(JSON.parse(holder.textContent));
-    var key = holder.getAttribute("data-key"), store = window.robokinSceneData || {};
+  function stored(src, key) {  /* window.robokinSceneData[key], set by the script src; one request per file */
+    var store = window.robokinSceneData || {}, loads = window.robokinSceneLoads = window.robokinSceneLoads || {};
     if (store[key]) return Promise.resolve(store[key]);
-    var loads = window.robokinSceneLoads = window.robokinSceneLoads || {};  /* one request per file */
     if (!loads[key]) loads[key] = loadScript(src, function () { return (window.robokinSceneData || {})[key]; });
     return loads[key];
+  }
+  function sceneData() {
+    /* inline, or (in the book) in _static/scenes/<key>.js next to the page; there a large
+       command shared by several scenes (a robot's mesh) is "@<key>", stored once in its own file */
+    var src = holder.getAttribute("data-src");
+    if (!src) return Promise.resolve(JSON.parse(holder.textContent));
+    var folder = src.slice(0, src.lastIndexOf("/") + 1);
+    return stored(src, holder.getAttribute("data-key")).then(function (list) {
+      return Promise.all(list.map(function (item) {
+        return item.charAt(0) === "@" ? stored(folder + item.slice(1) + ".js", item.slice(1)) : item;
+      }));
+    });
   }
   function whenNear(run) {  /* start a scene when it comes near the viewport: pages with many load fast */
     if (!("IntersectionObserver" in window)) return run();
