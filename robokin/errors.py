@@ -24,12 +24,15 @@ Warnings (issued with :func:`warnings.warn`, never raised):
   :func:`robokin.motion.simulate` run or :func:`robokin.motion.track_position_batch`
   sweep; silence it with ``warn_singular=False`` or the standard filter
   ``warnings.simplefilter("ignore", robokin.errors.SingularityWarning)``.
+- :class:`MeshWarning` -- a visual mesh file of a URDF could not be read
+  (:func:`robokin.models.visual_meshes`); the robot is still drawn, those links
+  as a stick figure.
 """
 
 from __future__ import annotations
 
 __all__ = ["RobokinError", "ShapeError", "DomainError", "URDFError", "URDFNotFoundError", "RobokinWarning",
-           "SingularityWarning"]
+           "SingularityWarning", "MeshWarning"]
 
 
 class RobokinError(Exception):
@@ -80,4 +83,12 @@ class SingularityWarning(RobokinWarning, RuntimeWarning):
     The message gives the time of the closest approach, the smallest
     :math:`\sigma_{min}` and the peak commanded joint speed; the log's ``sigma_min``
     and ``singular`` fields hold the per-step values.
+    """
+
+
+class MeshWarning(RobokinWarning):
+    """A visual mesh file named by a URDF could not be read (missing, or not a mesh).
+
+    Issued once per URDF file by :func:`robokin.models.visual_meshes`; the frames
+    those meshes belong to are drawn as a stick figure. The message names the files.
     """

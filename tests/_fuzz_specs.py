@@ -417,12 +417,17 @@ def _optional(fn: Any, module: str | None = None, distribution: str | None = Non
 def urdf_specs() -> list[Spec]:
     is_chain = lambda r, c, v: isinstance(r, SerialChain) and r.n == 2 or _fail(r)  # noqa: E731
     is_file = lambda r, c, v: Path(r).is_file() or _fail(r)  # noqa: E731
+    is_meshes = lambda r, c, v: len(r.frames) == 4 and r.triangles == 0 or _fail(r)  # noqa: E731 (no visuals)
     return [
         Spec("models.from_urdf", _optional(models.from_urdf, module="yourdfpy"),
              [_UrdfFile("path"), Choice("base_link", ["world", "base"]), Choice("tip_link", ["l2", "tool"])],
              {"name": Choice("name", ["arm", None], bad=("int", "object"))}, check=is_chain, weight=0.3),
         Spec("models.robot_description", _optional(models.robot_description, distribution="example-robot-data"),
              [Choice("name", ["ur10", "baxter", "panda"])], check=is_file, weight=0.2),
+        Spec("models.visual_meshes", _optional(_optional(models.visual_meshes, module="trimesh"),
+                                               module="fast_simplification"),
+             [_UrdfFile("path"), Choice("base_link", ["world", "base"]), Choice("tip_link", ["l2", "tool"])],
+             {"max_bytes": Int("max_bytes", 1_000, 200_000, minimum=1)}, check=is_meshes, weight=0.2),
     ]
 
 

@@ -15,7 +15,9 @@
 
 - ``from_urdf(path, base_link, tip_link)``: any serial chain of a URDF file (needs
   yourdfpy); ``robot_description("ur10" | "baxter" | "panda")`` is the path of the
-  URDF of those robots in the example-robot-data package (``pip install 'robokin[robots]'``).
+  URDF of those robots in the example-robot-data package (``pip install 'robokin[robots]'``);
+  ``visual_meshes(path, base_link, tip_link)`` their visual meshes, frame by frame and
+  decimated (for ``robokin.views``: ``views.show(chain, q, meshes="ur10")``).
 
 The serial ones are :class:`robokin.chains.SerialChain` objects with ``.n``,
 ``.limits``, ``.fk(q)``, ``.jacobian(q)`` and the rest of its API.
@@ -31,7 +33,9 @@ from robokin.models.planar import planar_two_link
 from robokin.models.three_rpr import three_rpr, three_rpr_classic
 from robokin.models.ur10 import ur10
 from robokin.models.urdf import ROBOT_DESCRIPTIONS, from_urdf, robot_description
+from robokin.models.urdf_meshes import visual_meshes
 
 __all__ = ["planar_two_link", "eth_leg", "ur10", "baxter_left", "ar601_leg", "ar601_leg_ik",
            "ar601_leg_ik_batch", "AR601IKResult", "genova_arm", "panda", "three_rpr",
-           "three_rpr_classic", "from_urdf", "robot_description", "ROBOT_DESCRIPTIONS"]
+           "three_rpr_classic", "from_urdf", "robot_description", "ROBOT_DESCRIPTIONS",
+           "visual_meshes"]

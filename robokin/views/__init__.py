@@ -5,9 +5,11 @@ Quick use::
     from robokin import models, views
     chain = models.ur10()
     views.show(chain, q)                      # one call, works everywhere
+    views.show(chain, q, meshes="ur10")       # with the robot's real (URDF) meshes
 
     scene = views.Scene()                     # or build a scene
     scene.add_chain(chain, q, frames=True)
+    scene.add_chain(chain, q, meshes="ur10", name="real")   # its URDF meshes (robokin[robots])
     scene.add_target(T_goal, label="goal")
     scene.add_ghost(chain, q_other)           # translucent copy (other IK solution)
     scene.animate("robot", Q, dt=0.05)        # (T, n) joint trajectory, play/pause in the viewer
@@ -45,7 +47,7 @@ from __future__ import annotations
 from robokin.views.scene import Scene, show
 
 __all__ = ["Scene", "show", "choose_mode", "joint_sliders", "JointSliders", "LiveViewer",
-           "plot_chain", "plot_planar", "plot_history", "plot_scene", "save_page"]
+           "plot_chain", "plot_planar", "plot_history", "plot_scene", "save_page", "robot_meshes"]
 
 _LAZY = {
     "choose_mode": "robokin.views.display",
@@ -57,6 +59,7 @@ _LAZY = {
     "plot_history": "robokin.views.plots",
     "plot_scene": "robokin.views.plots",
     "save_page": "robokin.views.static_html",
+    "robot_meshes": "robokin.views.meshes",
 }
 
 

@@ -14,6 +14,17 @@ A chain is drawn from its kinematic description alone (``frames(q)``,
 - the end-effector: a sphere and a small triad; optional triads (with text
   labels) at every frame.
 
+A chain item with visual meshes (``Scene.add_chain(chain, q, meshes=...)``, see
+:mod:`robokin.views.meshes`) is drawn with them instead of the stick figure: mesh
+``k`` of frame ``i`` is the object ``/meshcat/<item>/<i>_<frame name>/mesh_<k>``, a
+child of the frame node, so the frame transforms (and the animation tracks) move
+it. Each mesh is one ``set_object`` command whose object depends on the mesh alone
+(``BufferGeometry`` with float32 positions and uint32 indices, a flat-shaded Phong
+material, uuids hashed from the data): two scenes of the same robot, at any ``q``,
+hold byte-identical mesh commands (their path is the same for the same item name),
+which the book stores once.  A frame whose mesh files could not be read keeps its
+stick-figure parts.
+
 Sizes are proportional to the chain's reach (sum of link lengths).  Commands are
 plain dicts in MeshCat's wire format; ids are derived from paths, so the output is
 deterministic.  Only numpy is needed here (``umsgpack`` is used for packing).
@@ -185,6 +196,36 @@ def _float32(array):
     return umsgpack.Ext(0x17, (np.ascontiguousarray(array, dtype="<f4") + np.float32(0.0)).tobytes())
 
 
+def _uint32(array):
+    import umsgpack
+    return umsgpack.Ext(0x16, np.ascontiguousarray(array, dtype="<u4").tobytes())
+
+
+def _data_uuid(*chunks):
+    h = hashlib.md5()
+    for c in chunks:
+        h.update(c if isinstance(c, bytes) else repr(c).encode())
+        h.update(b"|")
+    h = h.hexdigest()
+    return f"{h[:8]}-{h[8:12]}-{h[12:16]}-{h[16:20]}-{h[20:32]}"
+
+
+def _mesh_object(mesh, color, opacity=1.0):
+    """Object JSON of a :class:`~robokin.models.urdf_meshes.VisualMesh`; depends on the mesh (and colour) only."""
+    V = (np.ascontiguousarray(mesh.vertices, dtype="<f4") + np.float32(0.0)).tobytes()
+    F = np.ascontiguousarray(mesh.faces, dtype="<u4").tobytes()
+    material = _material("MeshPhongMaterial", color, opacity, flatShading=True, side=2, shininess=20)
+    gid = _data_uuid(b"geometry", V, F)
+    mid = _data_uuid(b"material", sorted(material.items()))
+    geometry = {"uuid": gid, "type": "BufferGeometry", "data": {
+        "attributes": {"position": {"itemSize": 3, "type": "Float32Array", "array": _float32(mesh.vertices.ravel()),
+                                    "normalized": False}},
+        "index": {"itemSize": 1, "type": "Uint32Array", "array": _uint32(mesh.faces.ravel())}}}
+    return {"metadata": {"version": 4.5, "type": "Object"},
+            "geometries": [geometry], "materials": [dict(material, uuid=mid)],
+            "object": {"uuid": _data_uuid(b"object", gid, mid), "type": "Mesh", "geometry": gid, "material": mid}}
+
+
 def _line(path, points, color, opacity=1.0):
     geometry = {"type": "BufferGeometry", "data": {"attributes": {"position": {
         "itemSize": 3, "type": "Float32Array", "array": _float32(np.asarray(points).ravel()),
@@ -265,17 +306,31 @@ def chain_commands(item, scene_scale=None):
     joint_color = item.color if item.color is not None else JOINT_COLOR
     paths = _frame_paths(name, chain)
     names = list(getattr(chain, "frame_names", None) or [f"frame{i}" for i in range(n + 2)])
+    meshes = getattr(item, "meshes", None)
+    if meshes is None:
+        stick = set(range(n + 2))                      # frames whose stick-figure parts are drawn
+    else:
+        stick = {i for i, files in enumerate(meshes.unreadable) if files}
     cmds = []
     for path, T in chain_transforms(name, chain, q, layout):
         cmds.append(_set_transform(path, T))
+    if meshes is not None:
+        for i, ms in enumerate(meshes.frames):
+            for k, m in enumerate(ms):
+                path = f"{paths[i]}/mesh_{k}"
+                cmds.append(_set_object(path, _mesh_object(m, item.color if item.color is not None else m.color,
+                                                           op * m.opacity)))
     # base plate
-    base = f"{paths[0]}/base"
-    cmds.append(_set_object(base, _object(base, _cylinder(3.2 * s["link"], 0.8 * s["link"], 28),
-                                          _material("MeshLambertMaterial", joint_color, op),
-                                          matrix=_pose(_rot_y_to([0, 0, 1.0]), (0, 0, -0.4 * s["link"])))))
+    if 0 in stick:
+        base = f"{paths[0]}/base"
+        cmds.append(_set_object(base, _object(base, _cylinder(3.2 * s["link"], 0.8 * s["link"], 28),
+                                              _material("MeshLambertMaterial", joint_color, op),
+                                              matrix=_pose(_rot_y_to([0, 0, 1.0]), (0, 0, -0.4 * s["link"])))))
     # links
     link_mat = _material("MeshPhongMaterial", link_color, op)
     for i, rigid, v in layout["segments"]:
+        if i not in stick:
+            continue
         if rigid:
             path = f"{paths[i]}/link"
             cmds.append(_set_object(path, _object(path, _cylinder(s["link"], float(np.linalg.norm(v))),
@@ -288,6 +343,8 @@ def chain_commands(item, scene_scale=None):
     axes = np.asarray(chain.joint_axes, dtype=float).reshape(n, 3)
     types = list(chain.joint_types)
     for j in range(n):
+        if j + 1 not in stick:
+            continue
         path = f"{paths[j + 1]}/joint"
         if types[j] == "prismatic":
             geom = _box(s["box"], s["box_h"], s["box"])
@@ -299,9 +356,10 @@ def chain_commands(item, scene_scale=None):
         cmds.append(_set_transform(path, _pose(_rot_y_to(axes[j]))))
     # end-effector
     ee = f"{paths[n + 1]}/marker"
-    cmds.append(_set_object(ee, _object(ee, _sphere(s["ee"]),
-                                        _material("MeshPhongMaterial", item.color if item.color is not None
-                                                  else EE_COLOR, op))))
+    if meshes is None or n in stick or n + 1 in stick:
+        cmds.append(_set_object(ee, _object(ee, _sphere(s["ee"]),
+                                            _material("MeshPhongMaterial", item.color if item.color is not None
+                                                      else EE_COLOR, op))))
     if op == 1.0:
         cmds += _triad_commands(f"{paths[n + 1]}/triad", s["ee_triad"])
     if item.frames:
@@ -348,14 +406,30 @@ def _scene_points(scene):
         if isinstance(it, ChainItem):
             if it.name in animated:
                 F = _frames_batch(it.chain, animated[it.name].trajectory)
-                pts.append(F[:, :, :3, 3].reshape(-1, 3))
             else:
-                pts.append(_frames(it.chain, it.q)[:, :3, 3])
+                F = _frames(it.chain, it.q)[None]
+            pts.append(F[:, :, :3, 3].reshape(-1, 3))
+            if getattr(it, "meshes", None) is not None:
+                pts += _mesh_box_points(it.meshes, F)
         elif isinstance(it, TargetItem):
             pts.append(it.T[None, :3, 3])
         elif isinstance(it, (PathItem, PointsItem)):
             pts.append(it.points)
     return np.vstack(pts)
+
+
+def _mesh_box_points(meshes, F):
+    """Corners of each frame's mesh bounding box, placed by the frames F (T, n+2, 4, 4)."""
+    out = []
+    for i, ms in enumerate(meshes.frames):
+        if not ms:
+            continue
+        V = np.vstack([np.asarray(m.vertices, dtype=float) for m in ms])
+        lo, hi = V.min(axis=0), V.max(axis=0)
+        corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
+        out.append((F[:, i, None, :3, :3] @ corners[None, :, :, None])[..., 0].reshape(-1, 3)
+                   + np.repeat(F[:, i, :3, 3], 8, axis=0))
+    return out
 
 
 def quaternion_xyzw(R):

@@ -36,6 +36,7 @@ class ChainItem:
     frames: bool = False
     labels: bool = True
     ghost: bool = False
+    meshes: Any = None          # robokin.models.urdf_meshes.RobotMeshes when drawn with meshes
 
 
 @dataclass
@@ -133,6 +134,42 @@ def _as_transform(T, argname="T"):
     return arr
 
 
+STYLES = ("stick", "mesh")
+
+
+def _resolve_meshes(chain, style, meshes):
+    """The RobotMeshes to draw ``chain`` with (None: stick figure)."""
+    if style is None:
+        style = "stick" if meshes is None else "mesh"
+    if style not in STYLES:
+        raise DomainError(f"style must be one of {STYLES}; got {style!r}")
+    if style == "stick":
+        if meshes is not None:
+            raise DomainError("meshes were given with style='stick'; use style='mesh' (or leave style out)")
+        return None
+    if meshes is None:
+        from robokin.models.urdf import ROBOT_DESCRIPTIONS
+
+        label = str(getattr(chain, "name", "")).lower()
+        meshes = next((k for k in ROBOT_DESCRIPTIONS if label == k or label.startswith(k + "_")), None)
+        if meshes is None:
+            raise DomainError(
+                f"style='mesh' needs meshes= for the chain {getattr(chain, 'name', '')!r}: a robot name "
+                f"({', '.join(sorted(ROBOT_DESCRIPTIONS))}), the path of its URDF file, or "
+                f"robokin.views.robot_meshes(urdf, chain)")
+    if isinstance(meshes, str) or hasattr(meshes, "__fspath__"):
+        from robokin.views.meshes import robot_meshes
+        return robot_meshes(meshes, chain)
+    frames = getattr(meshes, "frames", None)
+    if frames is None or not hasattr(meshes, "unreadable"):
+        raise TypeError(f"meshes must be a robot name, a URDF path or the result of robokin.views.robot_meshes; "
+                        f"got {type(meshes).__name__}")
+    if len(frames) != int(chain.n) + 2:
+        raise ShapeError(f"meshes must have one entry per frame of the chain ({int(chain.n) + 2}); got "
+                         f"{len(frames)}")
+    return meshes
+
+
 # --------------------------------------------------------------------------- scene
 class Scene:
     """A backend-independent record of a 3D scene.
@@ -181,12 +218,23 @@ class Scene:
         raise KeyError(f"no item named {name!r} in this scene; names: {[it.name for it in self.items]}")
 
     # ---- adding things
-    def add_chain(self, chain, q=None, *, name=None, color=None, opacity=1.0, frames=False, labels=True):
+    def add_chain(self, chain, q=None, *, name=None, color=None, opacity=1.0, frames=False, labels=True,
+                  style=None, meshes=None):
         """Draw ``chain`` at configuration ``q`` (default: mid-limits / zeros).
 
         ``frames=True`` adds a triad at every joint frame (with text labels when
         ``labels`` is true).  Returns the item name (default ``"robot"``).
         Raises ValueError if all links of the chain have zero length.
+
+        ``style`` is ``"stick"`` (the default: cylinders between the frame
+        origins) or ``"mesh"``: the robot's visual meshes from its URDF, moved by
+        the chain's frames. ``meshes`` says which: a robot name (``"ur10"``,
+        ``"baxter"``, ``"panda"``), the path of a URDF file, or the result of
+        :func:`robokin.views.robot_meshes`; given alone it implies
+        ``style="mesh"``; left out with ``style="mesh"``, the chain's name
+        picks the robot (``models.ur10()``, ``models.panda()``,
+        ``models.baxter_left()``). Needs ``pip install 'robokin[robots]'``.
+        ``views.show(models.ur10(), q, meshes="ur10")`` is the short form.
         """
         from robokin.views.meshcat_draw import chain_layout  # numpy only
 
@@ -194,13 +242,17 @@ class Scene:
         chain_layout(chain, q)  # validates (zero-length chain -> DomainError)
         if not 0.0 < float(opacity) <= 1.0:
             raise DomainError(f"opacity must be in (0, 1]; got {opacity}")
-        item = ChainItem(self._name(name, "robot"), chain, q, color, float(opacity), bool(frames), bool(labels))
+        item_name = self._name(name, "robot")
+        resolved = _resolve_meshes(chain, style, meshes)
+        item = ChainItem(item_name, chain, q, color, float(opacity), bool(frames), bool(labels), meshes=resolved)
         self.items.append(item)
         return item.name
 
-    def add_ghost(self, chain, q, *, name=None, color=0xB0C4DE, opacity=0.3):
-        """A translucent copy of ``chain`` at ``q`` (e.g. another IK solution)."""
-        name = self.add_chain(chain, q, name=self._name(name, "ghost"), color=color, opacity=opacity)
+    def add_ghost(self, chain, q, *, name=None, color=0xB0C4DE, opacity=0.3, style=None, meshes=None):
+        """A translucent copy of ``chain`` at ``q`` (e.g. another IK solution); ``style``/``meshes``
+        as in :meth:`add_chain`."""
+        name = self.add_chain(chain, q, name=self._name(name, "ghost"), color=color, opacity=opacity,
+                              style=style, meshes=meshes)
         self.items[-1].ghost = True
         return name
 
@@ -334,17 +386,20 @@ class Scene:
 
 
 def show(chain=None, q=None, *, targets=(), points=None, path=None, ghosts=(), trajectory=None,
-         dt=0.05, frames=False, mode=None, height=None):
+         dt=0.05, frames=False, mode=None, height=None, style=None, meshes=None):
     """Show a chain (and friends) in one call; returns None.
 
     ``targets`` are 4x4 poses, ``ghosts`` configurations drawn translucent,
     ``trajectory`` a (T, n) joint trajectory animated every ``dt`` seconds.
+    ``style``/``meshes`` draw the chain with its real meshes, e.g.
+    ``show(models.ur10(), q, meshes="ur10")`` (see :meth:`Scene.add_chain`;
+    ghosts stay stick figures).
     Equivalent to building a :class:`Scene` and calling :meth:`Scene.show`.
     """
     scene = Scene(height=height or DEFAULT_HEIGHT)
     if chain is not None:
         scene.add_chain(chain, q if q is not None or trajectory is None else np.asarray(trajectory)[0],
-                        frames=frames)
+                        frames=frames, style=style, meshes=meshes)
         for g in ghosts:
             scene.add_ghost(chain, g)
     for T in (targets if not isinstance(targets, np.ndarray) or targets.ndim == 3 else [targets]):

@@ -31,7 +31,7 @@ from pathlib import Path
 __all__ = ["setup", "copy_viewer", "externalize_scene_data"]
 
 #: Commands at least this long (base64 characters) are stored in a file of their own.
-SHARED_COMMAND_SIZE = 20_000
+SHARED_COMMAND_SIZE = 4_000
 
 _DATA = re.compile(r'<script type="application/json" class="robokin-scene-data">(\[.*?\])</script>', re.S)
 

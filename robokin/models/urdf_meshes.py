@@ -1,0 +1,489 @@
+r"""Visual meshes of a URDF chain, for drawing the real robot.
+
+A URDF link may carry ``<visual>`` elements: a geometry (a mesh file --
+``.stl``, ``.dae``, ``.obj`` -- or a box, cylinder, sphere) placed by an
+``<origin>`` in the link's frame, with an optional ``<material>`` colour.
+:func:`visual_meshes` reads them for the chain ``from_urdf(path, base_link,
+tip_link)`` and gives, for each frame of that chain (in the order of
+``chain.frames(q)``), the triangle meshes rigidly attached to it, with their
+vertices in that frame: the visuals of the frame's link and of every link
+hanging from it by ``fixed`` joints only (links that move with joints off the
+chain -- Baxter's other arm, a gripper's fingers -- are left out).
+
+The meshes are read with `trimesh <https://trimesh.org>`_, merged per frame and
+colour, and decimated with quadric edge collapse (`fast-simplification
+<https://github.com/pyvista/fast-simplification>`_) to a total of about
+``max_bytes`` of float32 vertices and uint32 triangle indices, so that a static
+page that shows the robot stays small. Results are cached: a robot's meshes are
+read once per process. A mesh file that cannot be read is skipped with one
+:class:`~robokin.errors.MeshWarning` naming it; the frames it belongs to are
+listed in :attr:`RobotMeshes.unreadable` (the views draw them as a stick figure).
+
+All three libraries are optional (``pip install 'robokin[robots]'``) and imported
+only when :func:`visual_meshes` is called.
+"""
+
+from __future__ import annotations
+
+import os
+import warnings
+from dataclasses import dataclass
+from functools import lru_cache
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from robokin.errors import DomainError, MeshWarning, URDFNotFoundError
+
+__all__ = ["visual_meshes", "VisualMesh", "RobotMeshes", "DEFAULT_MESH_BYTES", "DEFAULT_MESH_COLOR"]
+
+#: Default budget (bytes of float32 vertices + uint32 indices) of all meshes of one robot.
+DEFAULT_MESH_BYTES = 150_000
+
+#: Colour (0xRRGGBB) of visuals with no colour of their own and no URDF ``<material>``.
+DEFAULT_MESH_COLOR = 0xA0A0A0
+
+_INSTALL = "pip install 'robokin[robots]'"
+_MIN_FACES = 16  # a colour group keeps at least this many triangles (when it has them)
+
+
+# ------------------------------------------------------------------ results
+@dataclass(frozen=True, eq=False)
+class VisualMesh:
+    """One triangle mesh rigidly attached to a chain frame.
+
+    Attributes
+    ----------
+    vertices : numpy.ndarray
+        (V, 3) float32, in metres, in the frame the mesh is attached to.
+    faces : numpy.ndarray
+        (F, 3) uint32, vertex indices of each triangle (counter-clockwise seen from outside).
+    color : int
+        0xRRGGBB.
+    opacity : float
+        In (0, 1].
+    links : tuple of str
+        The URDF links whose visuals make up this mesh.
+    """
+
+    vertices: np.ndarray
+    faces: np.ndarray
+    color: int
+    opacity: float = 1.0
+    links: tuple[str, ...] = ()
+
+    @property
+    def triangles(self) -> int:
+        return int(self.faces.shape[0])
+
+    @property
+    def nbytes(self) -> int:
+        """Bytes of float32 vertices plus uint32 indices."""
+        return int(self.vertices.nbytes + self.faces.nbytes)
+
+
+@dataclass(frozen=True, eq=False)
+class RobotMeshes:
+    """The visual meshes of a chain, frame by frame (what :func:`visual_meshes` returns).
+
+    Attributes
+    ----------
+    frame_names : tuple of str
+        The chain's frame names (``n + 2`` of them).
+    frames : tuple of tuple of VisualMesh
+        ``frames[i]``: the meshes attached to frame ``i``, vertices in frame ``i``.
+    unreadable : tuple of tuple of str
+        ``unreadable[i]``: mesh files of frame ``i`` that could not be read (empty
+        when all were); such a frame is drawn as a stick figure.
+    source : str
+        The URDF file.
+    original_triangles : int
+        Triangles before decimation.
+    """
+
+    frame_names: tuple[str, ...]
+    frames: tuple[tuple[VisualMesh, ...], ...]
+    unreadable: tuple[tuple[str, ...], ...]
+    source: str = ""
+    original_triangles: int = 0
+
+    @property
+    def triangles(self) -> int:
+        """Triangles of all meshes."""
+        return sum(m.triangles for ms in self.frames for m in ms)
+
+    @property
+    def nbytes(self) -> int:
+        """Bytes of float32 vertices plus uint32 indices of all meshes."""
+        return sum(m.nbytes for ms in self.frames for m in ms)
+
+    def __len__(self) -> int:
+        return len(self.frames)
+
+    def __repr__(self) -> str:
+        bad = sum(1 for u in self.unreadable if u)
+        return (f"<RobotMeshes {Path(self.source).name or '?'}: {len(self.frames)} frames, "
+                f"{sum(len(ms) for ms in self.frames)} meshes, {self.triangles} triangles, {self.nbytes} bytes"
+                f"{f', {bad} frame(s) unreadable' if bad else ''}>")
+
+
+# ------------------------------------------------------------------ optional imports
+def _import_mesh_libraries() -> tuple[Any, Any]:
+    try:
+        import fast_simplification
+        import trimesh
+    except ImportError as exc:
+        raise ImportError(f"visual meshes need trimesh and fast-simplification, which are not installed ({exc}): "
+                          f"{_INSTALL}") from exc
+    return trimesh, fast_simplification
+
+
+# ------------------------------------------------------------------ which links belong to which frame
+def _chain_links(urdf: Any, base_link: str, tip_link: str, where: str) -> list[str]:
+    """The link of each chain frame: base_link, the child of each movable joint, tip_link."""
+    from robokin.models.urdf import _path, _tree
+
+    links, parent_joint = _tree(urdf.robot, where)
+    _, down = _path(base_link, tip_link, links, parent_joint, where)
+    return [base_link] + [j.child for j in down if j.type != "fixed"] + [tip_link]
+
+
+def _root_poses(urdf: Any) -> dict[str, np.ndarray]:
+    """Pose of every link in its tree's root, all joints at zero."""
+    from robokin.models.urdf import _origin
+
+    parent_joint = {j.child: j for j in urdf.robot.joints}
+    poses: dict[str, np.ndarray] = {}
+
+    def pose(link: str) -> np.ndarray:
+        if link not in poses:
+            j = parent_joint.get(link)
+            poses[link] = np.eye(4) if j is None else pose(j.parent) @ _origin(j, "URDF")
+        return poses[link]
+
+    for link in urdf.robot.links:
+        pose(link.name)
+    return poses
+
+
+def _rigid_groups(urdf: Any, frame_links: list[str]) -> list[list[str]]:
+    """Links rigidly attached (through fixed joints only) to each frame's link; each link once."""
+    neighbours: dict[str, list[str]] = {link.name: [] for link in urdf.robot.links}
+    for j in urdf.robot.joints:
+        if j.type == "fixed":
+            neighbours[j.parent].append(j.child)
+            neighbours[j.child].append(j.parent)
+    seen: set[str] = set()
+    groups = []
+    for start in frame_links:
+        group, todo = [], [start]
+        while todo:
+            link = todo.pop(0)
+            if link in seen:
+                continue
+            seen.add(link)
+            group.append(link)
+            todo += neighbours[link]
+        groups.append(group)
+    return groups
+
+
+# ------------------------------------------------------------------ reading one visual
+def _rgba(color: Any) -> tuple[int, int, int, int] | None:
+    if color is None:
+        return None
+    c = np.asarray(getattr(color, "rgba", color), dtype=float).ravel()
+    if c.size < 3 or not np.isfinite(c).all():
+        return None
+    c = np.concatenate([c[:4], [1.0] * (4 - c[:4].size)])
+    return tuple(int(round(255 * min(max(v, 0.0), 1.0))) for v in c)  # type: ignore[return-value]
+
+
+def _visual_color(visual: Any, materials: dict[str, Any]) -> tuple[int, int, int, int] | None:
+    mat = visual.material
+    if mat is None:
+        return None
+    rgba = _rgba(mat.color)
+    if rgba is None and mat.name in materials:
+        rgba = _rgba(materials[mat.name].color)
+    return rgba
+
+
+def _primitive(trimesh: Any, geometry: Any) -> Any:
+    if geometry.box is not None:
+        return trimesh.creation.box(extents=np.asarray(geometry.box.size, dtype=float))
+    if geometry.cylinder is not None:
+        return trimesh.creation.cylinder(radius=float(geometry.cylinder.radius),
+                                         height=float(geometry.cylinder.length), sections=24)
+    if geometry.sphere is not None:
+        return trimesh.creation.icosphere(subdivisions=2, radius=float(geometry.sphere.radius))
+    return None
+
+
+def _submeshes(trimesh: Any, urdf: Any, visual: Any, default: tuple[int, int, int, int] | None
+               ) -> tuple[list[tuple[np.ndarray, np.ndarray, tuple[int, int, int, int]]], str | None]:
+    """``([(vertices, faces, rgba)], None)`` of one ``<visual>`` in its link's frame, or ``([], file)``
+    when its mesh file cannot be read."""
+    g = visual.geometry
+    T = np.eye(4) if visual.origin is None else np.asarray(visual.origin, dtype=float)
+    color = default or _rgba_int(DEFAULT_MESH_COLOR)
+    parts = []
+    if g is None:
+        return [], None
+    if g.mesh is None:
+        mesh = _primitive(trimesh, g)
+        if mesh is None:
+            return [], None
+        parts.append((np.asarray(mesh.vertices, dtype=float), np.asarray(mesh.faces), color))
+    else:
+        name = g.mesh.filename
+        try:
+            file = urdf._filename_handler(name)
+            loaded = trimesh.load(file, force="scene")
+            meshes = [m for m in loaded.dump() if isinstance(m, trimesh.Trimesh) and len(m.faces)]
+        except Exception:  # noqa: BLE001 - any failure to read a mesh file: fall back, with a warning
+            return [], name
+        if not meshes:
+            return [], name
+        scale = np.ones(3) if g.mesh.scale is None else np.broadcast_to(np.asarray(g.mesh.scale, float), (3,))
+        for m in meshes:
+            own = None
+            if getattr(m.visual, "kind", None) is not None:  # the file has colours: use them
+                own = getattr(m.visual, "main_color", None)
+                if own is None and getattr(m.visual, "material", None) is not None:
+                    own = m.visual.material.main_color
+            rgba = tuple(int(v) for v in np.asarray(own).ravel()[:4]) if own is not None else color
+            parts.append((np.asarray(m.vertices, dtype=float) * scale, np.asarray(m.faces), rgba))
+    out = []
+    for V, F, rgba in parts:
+        out.append((V @ T[:3, :3].T + T[:3, 3], np.asarray(F, dtype=np.int64), rgba))
+    return out, None
+
+
+def _rgba_int(color: int) -> tuple[int, int, int, int]:
+    return ((color >> 16) & 255, (color >> 8) & 255, color & 255, 255)
+
+
+# ------------------------------------------------------------------ decimation
+def _merge(trimesh: Any, parts: list[tuple[np.ndarray, np.ndarray]]) -> tuple[np.ndarray, np.ndarray]:
+    Vs, Fs, offset = [], [], 0
+    for V, F in parts:
+        Vs.append(V)
+        Fs.append(F + offset)
+        offset += len(V)
+    mesh = trimesh.Trimesh(np.vstack(Vs), np.vstack(Fs), process=True, validate=False)  # merges equal vertices
+    return np.asarray(mesh.vertices, dtype=float), np.asarray(mesh.faces, dtype=np.int64)
+
+
+def _area(V: np.ndarray, F: np.ndarray) -> float:
+    return float(np.linalg.norm(np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]]), axis=1).sum() / 2)
+
+
+def _allocate(faces: list[int], weights: list[float], total: int) -> list[int]:
+    """Triangles per group: proportional to ``weights``, at most the group's own count, at least _MIN_FACES."""
+    alloc = [0] * len(faces)
+    free = list(range(len(faces)))
+    left = total
+    for _ in range(4):
+        w = sum(weights[g] for g in free) or 1.0
+        capped = []
+        for g in free:
+            alloc[g] = max(min(_MIN_FACES, faces[g]), int(left * weights[g] / w))
+            if alloc[g] >= faces[g]:
+                alloc[g] = faces[g]
+                capped.append(g)
+        if not capped:
+            break
+        free = [g for g in free if g not in capped]
+        left = max(0, total - sum(alloc[g] for g in range(len(faces)) if g not in free))
+    return alloc
+
+
+def _clean(V: np.ndarray, F: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Drop degenerate and repeated triangles and unused vertices."""
+    if len(F):
+        F = F[(F[:, 0] != F[:, 1]) & (F[:, 1] != F[:, 2]) & (F[:, 0] != F[:, 2])]
+    if len(F):
+        _, first = np.unique(np.sort(F, axis=1), axis=0, return_index=True)
+        F = F[np.sort(first)]
+    used = np.unique(F)
+    remap = np.full(len(V), -1, dtype=np.int64)
+    remap[used] = np.arange(len(used))
+    return V[used], remap[F]
+
+
+def _cluster(V: np.ndarray, F: np.ndarray, cell: float) -> tuple[np.ndarray, np.ndarray]:
+    """Vertex clustering: the vertices in each cube of side ``cell`` merged into their mean."""
+    key = np.floor((V - V.min(axis=0)) / cell).astype(np.int64)
+    _, inverse = np.unique(key, axis=0, return_inverse=True)
+    inverse = inverse.ravel()
+    count = np.bincount(inverse)
+    W = np.stack([np.bincount(inverse, weights=V[:, k]) for k in range(3)], axis=1) / count[:, None]
+    return _clean(W, inverse[F])
+
+
+def _decimate(fast_simplification: Any, V: np.ndarray, F: np.ndarray, target: int) -> tuple[np.ndarray, np.ndarray]:
+    """About ``target`` triangles: quadric edge collapse, then vertex clustering where that stalls
+    (meshes of many small open pieces)."""
+    if target < len(F):
+        V, F = fast_simplification.simplify(V.astype(np.float64), F.astype(np.int64),
+                                            target_reduction=1.0 - target / len(F))
+        V, F = np.asarray(V, dtype=float), np.asarray(F, dtype=np.int64)
+    V, F = _clean(V, F)
+    if len(F) > 1.1 * target:
+        size = float(np.ptp(V, axis=0).max())
+        lo, hi = size * 1e-4, size           # cell sizes: too fine, coarse enough
+        best = _cluster(V, F, hi)
+        for _ in range(14):                  # bisection (geometric) on the cell size
+            mid = float(np.sqrt(lo * hi))
+            trial = _cluster(V, F, mid)
+            if len(trial[1]) <= target:
+                hi, best = mid, trial
+            else:
+                lo = mid
+        V, F = best
+    return V, F
+
+
+# ------------------------------------------------------------------ public
+@lru_cache(maxsize=32)
+def _cached(file: str, stamp: tuple[int, int], base_link: str, tip_link: str, max_bytes: int) -> RobotMeshes:
+    from robokin.models.urdf import _load, _quiet_yourdfpy, from_urdf
+
+    trimesh, fast_simplification = _import_mesh_libraries()
+    chain = from_urdf(file, base_link, tip_link)  # validates the file and the links
+    where = f"URDF file {file!r}"
+    urdf = _load(Path(file), where)
+    frame_links = _chain_links(urdf, base_link, tip_link, where)
+    poses = _root_poses(urdf)
+    G0 = np.asarray(chain.frames(np.zeros(chain.n)), dtype=float)  # chain frames at q = 0, in base_link
+    T_root_base = poses[base_link]
+    materials = {m.name: m for m in (urdf.robot.materials or []) if m.name}
+    link_by_name = {link.name: link for link in urdf.robot.links}
+
+    groups = []        # (frame, rgba, [(V, F)], [links])
+    unreadable: list[list[str]] = [[] for _ in frame_links]
+    original = 0
+    with _quiet_yourdfpy():
+        for i, links in enumerate(_rigid_groups(urdf, frame_links)):
+            # pose of each link in frame i (constant: the link is rigid with the frame)
+            T_frame_root = np.linalg.inv(T_root_base @ G0[i])
+            by_color: dict[tuple[int, int, int, int], tuple[list, list]] = {}
+            for link in links:
+                T = T_frame_root @ poses[link]
+                for visual in link_by_name[link].visuals:
+                    parts, bad = _submeshes(trimesh, urdf, visual, _visual_color(visual, materials))
+                    if bad is not None and bad not in unreadable[i]:
+                        unreadable[i].append(bad)
+                    for V, F, rgba in parts:
+                        original += len(F)
+                        entry = by_color.setdefault(rgba, ([], []))
+                        entry[0].append((V @ T[:3, :3].T + T[:3, 3], F))
+                        if link not in entry[1]:
+                            entry[1].append(link)
+            for rgba, (parts, owners) in by_color.items():
+                V, F = _merge(trimesh, parts)
+                if len(F):
+                    groups.append((i, rgba, V, F, owners))
+    bad_files = [f for u in unreadable for f in u]
+    if bad_files:
+        warnings.warn(MeshWarning(
+            f"{where}: cannot read the visual mesh file(s) {', '.join(sorted(set(bad_files)))}; the chain "
+            f"frames {[frame_links[i] for i, u in enumerate(unreadable) if u]} are drawn as a stick figure"),
+            stacklevel=3)
+
+    faces = [len(F) for _, _, _, F, _ in groups]
+    weights = [_area(V, F) ** 0.75 for _, _, V, F, _ in groups]
+    target = int(max_bytes / 19.5)      # ~V = 0.6 F after decimation: 12 V + 12 F bytes per triangle
+    for _ in range(6):
+        alloc = _allocate(faces, weights, target)
+        out = [(i, rgba, *_decimate(fast_simplification, V, F, k), owners)
+               for (i, rgba, V, F, owners), k in zip(groups, alloc)]
+        nbytes = sum(12 * len(V) + 12 * len(F) for _, _, V, F, _ in out)
+        if nbytes <= max_bytes or target <= _MIN_FACES * max(1, len(groups)):
+            break
+        target = int(target * max_bytes / nbytes * 0.97)
+    frames: list[list[VisualMesh]] = [[] for _ in frame_links]
+    for i, rgba, V, F, owners in out:
+        if len(F):
+            frames[i].append(VisualMesh(np.ascontiguousarray(V, dtype=np.float32),
+                                        np.ascontiguousarray(F, dtype=np.uint32),
+                                        (rgba[0] << 16) | (rgba[1] << 8) | rgba[2], rgba[3] / 255 or 1.0,
+                                        tuple(owners)))
+    for ms in frames:
+        for m in ms:
+            m.vertices.setflags(write=False)
+            m.faces.setflags(write=False)
+    return RobotMeshes(tuple(chain.frame_names), tuple(tuple(ms) for ms in frames),
+                       tuple(tuple(u) for u in unreadable), file, original)
+
+
+def visual_meshes(path: str | os.PathLike, base_link: str, tip_link: str, *,
+                  max_bytes: int = DEFAULT_MESH_BYTES) -> RobotMeshes:
+    """The visual meshes of the chain ``from_urdf(path, base_link, tip_link)``, frame by frame.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The URDF file (:func:`robokin.models.robot_description` gives a few).
+        Mesh file names (``package://...``, relative or absolute) are resolved as
+        yourdfpy does: relative to the file and the directories above it.
+    base_link, tip_link : str
+        As for :func:`robokin.models.from_urdf`.
+    max_bytes : int, optional
+        Budget of all meshes together, in bytes of float32 vertex coordinates and
+        uint32 triangle indices (default 150 000, about 8 000 triangles).
+        Meshes are decimated to it; triangles are shared out between the
+        (frame, colour) groups in proportion to their area to the power 0.75.
+
+    Returns
+    -------
+    RobotMeshes
+        ``result.frames[i]`` holds the meshes (:class:`VisualMesh`: vertices in
+        chain frame ``i``, triangles, colour) rigidly attached to frame ``i`` of
+        the chain -- the frames of ``chain.frames(q)``: visuals of the frame's
+        link and of the links fixed to it, one mesh per colour. Colours: the
+        mesh file's own (a ``.dae`` material), else the URDF ``<material>``,
+        else grey. Cached per file, links and budget.
+
+    Raises
+    ------
+    TypeError, URDFError
+        As :func:`robokin.models.from_urdf` (bad path or links).
+    TypeError, DomainError
+        ``max_bytes`` is not a positive integer.
+    ImportError
+        yourdfpy, trimesh or fast-simplification is missing (``pip install 'robokin[robots]'``).
+
+    Warns
+    -----
+    MeshWarning
+        Once per file, when mesh files cannot be read (missing, not a mesh): they
+        are skipped and their frames listed in ``result.unreadable``.
+
+    Examples
+    --------
+    >>> from robokin.models import robot_description, visual_meshes
+    >>> meshes = visual_meshes(robot_description("ur10"), "base", "tool0")  # doctest: +SKIP
+    >>> meshes.triangles <= 8_000  # doctest: +SKIP
+    True
+    """
+    from robokin.models.urdf import from_urdf
+
+    if isinstance(max_bytes, bool) or not isinstance(max_bytes, (int, np.integer)):
+        raise TypeError(f"max_bytes must be an int (bytes); got {type(max_bytes).__name__} {max_bytes!r}"[:200])
+    if max_bytes <= 0:
+        raise DomainError(f"max_bytes must be positive; got {max_bytes}")
+    if isinstance(path, bytes) or not isinstance(path, (str, os.PathLike)):
+        raise TypeError(f"path must be a str or os.PathLike naming a URDF file; got {type(path).__name__} "
+                        f"{path!r}"[:200])
+    file = Path(os.fsdecode(os.fspath(path))).resolve()
+    if not file.is_file():
+        from_urdf(file, base_link, tip_link)  # raises the usual type errors / URDFNotFoundError
+        raise URDFNotFoundError(f"path: URDF file {str(file)!r} is not a file")
+    for arg, value in (("base_link", base_link), ("tip_link", tip_link)):
+        if not isinstance(value, str):
+            raise TypeError(f"{arg} must be a link name (str); got {type(value).__name__} {value!r}"[:200])
+    st = file.stat()
+    return _cached(str(file), (st.st_mtime_ns, st.st_size), base_link, tip_link, int(max_bytes))
