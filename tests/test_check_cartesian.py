@@ -109,7 +109,8 @@ def test_correct_answers_pass(name):
 def test_pass_prints_one_line(capsys):
     cart.orientation_error(orientation_error_quat)
     out = capsys.readouterr().out
-    assert out == "✔ orientation_error(R, R_goal) is correct (checked at 20 random pairs of rotations).\n"
+    assert out == ("✔ orientation_error(R, R_goal) is correct (checked at 20 random pairs of\n"
+                   "  rotations).\n")                               # wrapped at 80 columns
 
 
 def wrap(d):

@@ -189,3 +189,92 @@ def test_code_fits_the_book_width(path):
             for line in "".join(cell["source"]).splitlines() if len(line) > CODE_LINE_LIMIT]
     assert not long, (f"{path.name}: {len(long)} code lines longer than {CODE_LINE_LIMIT} characters "
                       f"(run tools/format_notebooks.py): {long[:3]}")
+
+
+#: The book's content column is about 690 px wide at a 1280 px window: 80 characters
+#: of monospace output (about 8.4 px each), or a 6.9 in figure at 100 dpi.
+OUTPUT_LINE_LIMIT = 80
+BOOK_COLUMN_PX = 690
+#: Lines printed by robokin.check itself (one verdict per line, ``✔ ...`` / ``✘ ...``):
+#: their width is robokin.check's to keep, not the notebook's.
+#: An output shown in the book as one of these is not shown as its text/plain.
+RICH_MIME = UNCOMPARABLE_MIME | {"text/latex", "text/markdown", "image/jpeg"}
+
+
+def _printed_text(cell: dict):
+    """The text a reader sees as printed output: stream text, and text/plain results
+    that have no richer representation (a picture, HTML, LaTeX)."""
+    if "nbval-ignore-output" in cell.get("metadata", {}).get("tags", []):
+        return
+    for output in cell.get("outputs", []):
+        if output["output_type"] == "stream":
+            yield "".join(output["text"])
+        elif output["output_type"] in ("execute_result", "display_data"):
+            data = output.get("data", {})
+            if "text/plain" in data and not set(data) & RICH_MIME:
+                yield "".join(data["text/plain"])
+
+
+@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
+def test_printed_output_fits_the_book_width(path):
+    """Printed lines are at most 80 characters: a longer line is cut off in the book.
+    Print fewer fields per line, break between fields, or set NumPy's linewidth."""
+    long = [(index, len(line), line[:60])
+            for index, cell in enumerate(load(path)["cells"]) if cell["cell_type"] == "code"
+            for text in _printed_text(cell) for line in text.splitlines()
+            if len(line) > OUTPUT_LINE_LIMIT]
+    assert not long, (f"{path.name}: {len(long)} printed lines longer than {OUTPUT_LINE_LIMIT} "
+                      f"characters: {long[:3]}")
+
+
+def _png_size_and_dpi(data: str) -> tuple[int, int, float | None]:
+    import base64
+    import struct
+
+    png = base64.b64decode(data)
+    width, height = struct.unpack(">II", png[16:24])
+    chunk = png.find(b"pHYs")
+    dpi = None
+    if chunk > 0:
+        per_x, _, unit = struct.unpack(">IIB", png[chunk + 4:chunk + 13])
+        dpi = per_x * 0.0254 if unit == 1 else None
+    return width, height, dpi
+
+
+@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
+def test_figures_are_shown_at_full_size(path):
+    """A figure wider than the column (690 px) is scaled down and its labels shrink
+    with it: a 10 pt tick label of a 1,000 px figure is shown at 7 pt. Stored
+    figures are at most 690 px wide and rendered at 100 dpi (matplotlib's inline
+    default, so that a font's size in pt is what the reader sees)."""
+    for index, cell in enumerate(load(path)["cells"]):
+        for output in cell.get("outputs", []):
+            if "image/png" not in output.get("data", {}):
+                continue
+            width, _, dpi = _png_size_and_dpi(output["data"]["image/png"])
+            assert width <= BOOK_COLUMN_PX, (
+                f"{path.name} cell {index}: a figure {width} px wide is shown at "
+                f"{BOOK_COLUMN_PX / width:.0%}; make it at most {BOOK_COLUMN_PX / 100:.1f} in wide "
+                "(fewer panels per row) so that its labels keep their size")
+            assert dpi is None or dpi >= 99, f"{path.name} cell {index}: a figure at {dpi:.0f} dpi"
+
+
+@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
+def test_figure_fonts_are_at_least_9pt(path):
+    """No text in a figure is set below 9 pt (with figures shown at full size, see
+    above, that is the size the reader sees). Matplotlib's defaults are 10 pt
+    (labels, ticks, legends) and 12 pt (titles). A scan of the code: sizes given as
+    numbers or 'small' in fontsize=, labelsize=, title_fontsize= and font rcParams."""
+    import re
+
+    size = r"""\s*=\s*(?:(\d+(?:\.\d+)?)\b|["'](xx-small|x-small|small)["'])"""
+    small = re.compile(r"""\b(?:fontsize|labelsize|title_fontsize)""" + size
+                       + r"""|rcParams\[["'](?:font\.size|[\w.]*(?:labelsize|fontsize|titlesize))["']\]""" + size)
+    for index, cell in enumerate(load(path)["cells"]):
+        if cell["cell_type"] != "code":
+            continue
+        for line in "".join(cell["source"]).splitlines():
+            for match in small.finditer(line):
+                points = match.group(1) or match.group(3)
+                assert points is not None and float(points) >= 9, (
+                    f"{path.name} cell {index}: a font below 9 pt: {line.strip()}")

@@ -28,11 +28,30 @@ from __future__ import annotations
 import inspect
 import math
 import sys
+import textwrap
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+
+
+#: Width of a printed check message: the book's output column (and a terminal).
+MESSAGE_WIDTH = 80
+
+
+def show(message: str, width: int = MESSAGE_WIDTH) -> None:
+    """Print a check's message with its lines wrapped at ``width`` characters
+    (continuation lines indented by two spaces); ``CheckResult.message`` is unchanged."""
+    lines = []
+    for line in message.splitlines() or [""]:
+        if len(line) <= width:
+            lines.append(line)
+            continue
+        indent = line[: len(line) - len(line.lstrip())]
+        lines.extend(textwrap.wrap(line, width, subsequent_indent=indent + "  ", break_long_words=False,
+                                   break_on_hyphens=False) or [line])
+    print("\n".join(lines))
 
 __all__ = [
     "CheckResult",
@@ -521,7 +540,7 @@ class Check:
         """Compare ``answer`` with the reference; print and return the result."""
         result = self.evaluate(answer)
         if not quiet:
-            print(result.message)
+            show(result.message)
         if raise_on_fail and not result.passed:
             raise AssertionError(result.message)
         return result

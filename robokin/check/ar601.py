@@ -38,6 +38,7 @@ from robokin.check._core import (
     CheckResult,
     Variable,
     alternatives,
+    show,
     fmt,
 )
 from robokin.check._registry import exercise
@@ -307,7 +308,7 @@ def _verdict(rows: np.ndarray, T: np.ndarray, name: str) -> tuple[bool, str, str
 
 def _report(result: CheckResult, quiet: bool, raise_on_fail: bool) -> CheckResult:
     if not quiet:
-        print(result.message)
+        show(result.message)
     if raise_on_fail and not result.passed:
         raise AssertionError(result.message)
     return result

@@ -33,7 +33,7 @@ from functools import lru_cache
 import numpy as np
 
 from robokin.check import diagnoses as dg
-from robokin.check._core import PASS, FAIL, Check, CheckResult, Variable, alternatives, fmt
+from robokin.check._core import PASS, FAIL, Check, CheckResult, Variable, alternatives, fmt, show
 from robokin.check._registry import exercise
 from robokin.validation import as_vector, check_positive
 
@@ -349,7 +349,7 @@ def ik_solution(
             text = f"{PASS} {name} is correct: r_BF(q) reaches {fmt(goal)} (within {fmt(tol, 6)} m)."
             result = CheckResult(name, True, text, None, 1)
             if not quiet:
-                print(text)
+                show(text)
             return result
         if np.linalg.norm(_position(np.deg2rad(qa)) - goal) <= tol:
             code, msg = "degrees_output", (
@@ -363,7 +363,7 @@ def ik_solution(
             )
     result = CheckResult(name, False, f"{FAIL} {msg}", code, 1)
     if not quiet:
-        print(result.message)
+        show(result.message)
     if raise_on_fail:
         raise AssertionError(result.message)
     return result

@@ -41,6 +41,7 @@ from robokin.check._core import (
     Variable,
     alternatives,
     fmt,
+    show,
 )
 from robokin.check._registry import exercise
 from robokin.errors import DomainError
@@ -231,7 +232,7 @@ def check_poses(poses: Any, rho: Any, robot: Any = None, *, name: str = "pose", 
     tol = check_positive(tol, "tol", scalar=True)
     result = _judge(poses, rho, robot, name, tol)
     if not quiet:
-        print(result.message)
+        show(result.message)
     if raise_on_fail and not result.passed:
         raise AssertionError(result.message)
     return result
@@ -309,7 +310,7 @@ class _ForwardKinematicsCheck:
     def __call__(self, answer: Any, *, raise_on_fail: bool = False, quiet: bool = False) -> CheckResult:
         result = self.evaluate(answer)
         if not quiet:
-            print(result.message)
+            show(result.message)
         if raise_on_fail and not result.passed:
             raise AssertionError(result.message)
         return result
