@@ -135,3 +135,12 @@ def pytest_sessionfinish(session, exitstatus):
 from hypothesis import settings as _hypothesis_settings  # noqa: E402
 
 _hypothesis_settings.register_profile("long", max_examples=1000, deadline=None)
+
+
+def watched_page(browser, width: int = 800, height: int = 900):
+    """A new tab of the session's Chromium and the list its console errors and page errors go to."""
+    errors: list[str] = []
+    tab = browser.new_page(viewport={"width": width, "height": height})
+    tab.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+    tab.on("pageerror", lambda e: errors.append(str(e)))
+    return tab, errors

@@ -22,6 +22,7 @@ from robokin.motion.tool import (
     transform_from_rpy,
 )
 from robokin.transforms import rotx, roty, rotz
+from finite_differences import pose_jacobian
 
 # A tool turned by pi/10 about z_E (rpy = (0, 0, pi/10)) and offset 0.2 m along x_E. (The course reads
 # its own triple as (yaw, pitch, roll), i.e. a roll about x_E: see Chapter 4 and genova_arm.)
@@ -29,17 +30,6 @@ ETA_TOOL = np.array([0.0, 0.0, np.pi / 10])
 OFFSET = np.array([0.2, 0.0, 0.0])
 
 
-def fd_pose_jacobian(chain, q, h=1e-6):
-    n = len(q)
-    J = np.empty((6, n))
-    for i in range(n):
-        dq = np.zeros(n)
-        dq[i] = h
-        Tp, Tm = chain.fk(q + dq), chain.fk(q - dq)
-        J[:3, i] = (Tp[:3, 3] - Tm[:3, 3]) / (2 * h)
-        A = Tp[:3, :3] @ Tm[:3, :3].T
-        J[3:, i] = 0.5 * np.array([A[2, 1] - A[1, 2], A[0, 2] - A[2, 0], A[1, 0] - A[0, 1]]) / (2 * h)
-    return J
 
 
 @pytest.mark.parametrize("rpy, R_expected", [
@@ -99,7 +89,7 @@ def test_tool_jacobian_matches_finite_differences(make):
     for q in robot.random_configurations(10, seed=2):
         T_be = robot.fk(q)
         J_t = tool_jacobian(robot.jacobian(q), T_be[:3, :3], OFFSET)
-        assert np.allclose(J_t, fd_pose_jacobian(tooled, q), atol=1e-7)
+        assert np.allclose(J_t, pose_jacobian(tooled, q), atol=1e-7)
         assert np.allclose(J_t, tooled.jacobian(q), atol=1e-12)
         assert np.allclose(J_t, robot.jacobian(q, point=OFFSET), atol=1e-12)
         assert np.allclose(tooled.fk(q), T_be @ T_et)

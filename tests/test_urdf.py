@@ -28,6 +28,7 @@ from robokin.errors import DomainError, URDFError, URDFNotFoundError
 from robokin.models import baxter_left, from_urdf, panda, robot_description, ur10
 from robokin.models.baxter import BAXTER_LEFT_LIMITS
 from robokin.models.panda import PANDA_LIMITS
+from finite_differences import pose_jacobian
 
 HAVE_YOURDFPY = importlib.util.find_spec("yourdfpy") is not None
 try:
@@ -87,17 +88,6 @@ def rotation_error(Ra, Rb):
     return np.linalg.norm(w, axis=-1)
 
 
-def fd_jacobian(chain, q, h=1e-6):
-    n = len(q)
-    J = np.zeros((6, n))
-    for i in range(n):
-        dq = np.zeros(n)
-        dq[i] = h
-        Tp, Tm = chain.fk(q + dq), chain.fk(q - dq)
-        J[:3, i] = (Tp[:3, 3] - Tm[:3, 3]) / (2 * h)
-        D = Tp[:3, :3] @ Tm[:3, :3].T
-        J[3:, i] = 0.5 * np.array([D[2, 1] - D[1, 2], D[0, 2] - D[2, 0], D[1, 0] - D[0, 1]]) / (2 * h)
-    return J
 
 
 # --------------------------------------------------------------------------- a hand-written URDF
@@ -231,7 +221,7 @@ def test_toy_fk_matches_the_urdf_formula(toy):
 @needs_yourdfpy
 def test_toy_jacobian_vs_finite_differences(toy):
     for q in toy.random_configurations(20, seed=2):
-        np.testing.assert_allclose(toy.jacobian(q), fd_jacobian(toy, q), atol=1e-8)
+        np.testing.assert_allclose(toy.jacobian(q), pose_jacobian(toy, q), atol=1e-8)
 
 
 @needs_yourdfpy

@@ -6,6 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from conftest import watched_page
+
 from test_views_doubles import two_link
 
 pytestmark = pytest.mark.browser
@@ -36,10 +38,7 @@ def test_static_scene_renders_in_chromium(tmp_path, browser):
     assert (tmp_path / "_static" / "meshcat" / "main.min.js").exists()
     assert "main.min.js" in page.read_text() and len(page.read_text()) < 200_000
 
-    errors = []
-    pg = browser.new_page(viewport={"width": 800, "height": 900})
-    pg.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
-    pg.on("pageerror", lambda e: errors.append(str(e)))
+    pg, errors = watched_page(browser, 800, 900)
     pg.goto(page.as_uri())
     pg.wait_for_selector(".robokin-scene canvas", state="attached", timeout=20_000)
     pg.wait_for_function("document.querySelectorAll('.robokin-scene canvas').length == 2", timeout=20_000)
@@ -101,10 +100,7 @@ def test_scene_data_moved_beside_the_page_still_renders(tmp_path, browser):
     assert len(files) == 1 and len(page.read_text()) < inline - 2000  # stored once, out of the page
     assert 'data-src="../_static/scenes/' in page.read_text()
 
-    errors = []
-    pg = browser.new_page(viewport={"width": 800, "height": 800})
-    pg.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
-    pg.on("pageerror", lambda e: errors.append(str(e)))
+    pg, errors = watched_page(browser, 800, 800)
     pg.goto(page.as_uri())
     pg.wait_for_function("document.querySelectorAll('.robokin-scene canvas').length >= 1", timeout=20_000)
     pg.evaluate("document.querySelectorAll('.robokin-scene')[1].scrollIntoView()")   # the lazy second scene
@@ -135,10 +131,7 @@ def test_large_command_shared_by_two_scenes_is_stored_once(tmp_path, browser):
     shared = [f for f in files if '"] = "' in f.read_text()]               # one command, not a scene's list
     assert len(files) == 3 and len(shared) == 1, [f.stat().st_size for f in files]
 
-    errors = []
-    pg = browser.new_page(viewport={"width": 800, "height": 700})
-    pg.on("pageerror", lambda e: errors.append(str(e)))
-    pg.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+    pg, errors = watched_page(browser, 800, 700)
     pg.goto(page.as_uri())
     pg.evaluate("document.querySelectorAll('.robokin-scene')[1].scrollIntoView()")
     pg.wait_for_function("document.querySelectorAll('.robokin-scene canvas').length == 2", timeout=20_000)

@@ -11,6 +11,8 @@ import warnings
 import numpy as np
 import pytest
 
+from conftest import watched_page
+
 from robokin import models
 from robokin.errors import DomainError, MeshWarning, ShapeError
 from robokin.models import ROBOT_DESCRIPTIONS, from_urdf, robot_description, visual_meshes
@@ -258,10 +260,7 @@ def test_static_mesh_scene_renders_in_chromium(tmp_path, browser):
     empty.add_points([[0.0, 0.0, 0.0]], radius=1e-4)
     page = save_page(tmp_path / "index.html", [scene, empty])
 
-    errors = []
-    pg = browser.new_page(viewport={"width": 800, "height": 900})
-    pg.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
-    pg.on("pageerror", lambda e: errors.append(str(e)))
+    pg, errors = watched_page(browser, 800, 900)
     pg.goto(page.as_uri())
     pg.wait_for_function("document.querySelectorAll('.robokin-scene canvas').length == 2", timeout=20_000)
     pg.wait_for_timeout(1000)

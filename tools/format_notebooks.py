@@ -40,58 +40,48 @@ def _wrap_comment(line: str) -> list[str]:
                          subsequent_indent=f"{indent}# ", break_on_hyphens=False)
 
 
-def _comment_lines(code: str) -> set[int]:
-    """Line numbers (1-based) holding a comment that is the whole line."""
-    out = set()
+def _line_kinds(code: str) -> tuple[set[int], set[int]]:
+    """Line numbers (1-based) of whole-line comments, and of lines inside a triple-quoted string."""
+    comments, inside = set(), set()
     try:
         for tok in tokenize.generate_tokens(io.StringIO(code).readline):
             if tok.type == tokenize.COMMENT and not tok.line[: tok.start[1]].strip():
-                out.add(tok.start[0])
+                comments.add(tok.start[0])
+            elif tok.type == tokenize.STRING and tok.string.startswith('"""'):
+                inside.update(range(tok.start[0] + 1, tok.end[0]))
     except (tokenize.TokenError, IndentationError, SyntaxError):
         pass
-    return out
+    return comments, inside
 
 
 _DOCSTRING = re.compile(r'^(\s*)"""(.*)"""$')
 _DOCSTRING_OPEN = re.compile(r'^(\s*)"""(.*\S)$')
 
 
+def _wrap_text(indent: str, text: str, first: str = "") -> list[str]:
+    width = LIMIT - len(indent)
+    return [indent + line for line in textwrap.wrap(text, width, initial_indent=first, break_on_hyphens=False)]
+
+
 def wrap_long_text(code: str) -> str:
-    comments = _comment_lines(code)
+    """Wrap the whole-line comments and docstring lines longer than LIMIT (code is black's)."""
+    comments, inside = _line_kinds(code)
     out: list[str] = []
     for number, line in enumerate(code.splitlines(), 1):
+        indent = line[: len(line) - len(line.lstrip())]
         if len(line) <= LIMIT:
             out.append(line)
         elif number in comments:
             out.extend(_wrap_comment(line))
         elif m := _DOCSTRING.match(line):             # """One line."""  ->  wrapped, closed on its own line
-            indent, text = m.groups()
-            body = textwrap.wrap(text, LIMIT - len(indent), initial_indent='"""', break_on_hyphens=False)
-            out.extend(indent + b for b in body)
-            out.append(f'{indent}"""')
+            out.extend(_wrap_text(m.group(1), m.group(2), '"""') + [f'{m.group(1)}"""'])
         elif m := _DOCSTRING_OPEN.match(line):        # """First line of a longer docstring
-            indent, text = m.groups()
-            body = textwrap.wrap(text, LIMIT - len(indent), initial_indent='"""', break_on_hyphens=False)
-            out.extend(indent + b for b in body)
-        elif line.startswith(" ") and not line.strip().startswith(("'", '"', "f'", 'f"')) and line.strip()[:1].isalpha() \
-                and _in_docstring(code, number):
-            indent = line[: len(line) - len(line.lstrip())]
-            out.extend(textwrap.wrap(line.strip(), LIMIT - len(indent), initial_indent=indent,
-                                     subsequent_indent=indent, break_on_hyphens=False))
+            out.extend(_wrap_text(m.group(1), m.group(2), '"""'))
+        elif number in inside and line.strip()[:1].isalpha():   # prose in a docstring's body
+            out.extend(_wrap_text(indent, line.strip()))
         else:
             out.append(line)
     return "\n".join(out) + ("\n" if code.endswith("\n") else "")
-
-
-def _in_docstring(code: str, number: int) -> bool:
-    """Whether line ``number`` lies inside a triple-quoted string."""
-    try:
-        for tok in tokenize.generate_tokens(io.StringIO(code).readline):
-            if tok.type == tokenize.STRING and tok.string.startswith('"""') and tok.start[0] < number < tok.end[0]:
-                return True
-    except (tokenize.TokenError, IndentationError, SyntaxError):
-        pass
-    return False
 
 
 def format_code(code: str) -> str:

@@ -384,17 +384,19 @@ def scene_scale(scene):
     return 1.0
 
 
-def scene_bounds(scene):
-    """Centre (3,) and radius of the box around everything drawn (chains over their animations too)."""
-    P = _scene_points(scene)
+def scene_bounds(scene, points=None):
+    """Centre (3,) and radius of the box around everything drawn (chains over their animations too);
+    ``points``: :func:`_scene_points` of the scene when already computed."""
+    P = _scene_points(scene) if points is None else points
     lo, hi = P.min(axis=0), P.max(axis=0)
     return (lo + hi) / 2, float(np.linalg.norm(hi - lo) / 2)
 
 
-def scene_floor(scene):
+def scene_floor(scene, points=None):
     """Height (m) of the grid: the base plane z = 0, or the lowest point drawn when the robot
     reaches below it (a hanging arm, a leg), so that the grid is a floor, never a ceiling."""
-    return min(0.0, float(_scene_points(scene)[:, 2].min()))
+    P = _scene_points(scene) if points is None else points
+    return min(0.0, float(P[:, 2].min()))
 
 
 def _scene_points(scene):
@@ -504,7 +506,9 @@ def scene_commands(scene):
     """All MeshCat commands of a scene, in order: camera, objects, then the animation."""
     from robokin.views.scene import ChainItem, PathItem, PointsItem, TargetItem
     L = scene_scale(scene)
-    center, radius = scene_bounds(scene)
+    points = _scene_points(scene)                   # forward kinematics over every animation, once
+    center, radius = scene_bounds(scene, points)
+    floor = scene_floor(scene, points)
     shift = _pose(p=-center)
     d = 1.5 * max(radius, 0.1 * L) / np.tan(np.deg2rad(37.5))
     eye = np.array([0.95, 0.75, 0.6]) / np.linalg.norm([0.95, 0.75, 0.6]) * d   # three.js camera frame: y up
@@ -515,7 +519,7 @@ def scene_commands(scene):
         # composes with -- adding that turn here again would stand the grid up vertically.
         # Headless Chromium with SwiftShader drops grid lines that cross the camera plane,
         # so there only the far part of the grid is drawn; that is the renderer, not the grid.)
-        _set_transform(ROOT, shift), _set_transform("/Grid", _pose(p=[0.0, 0.0, scene_floor(scene)] - center)),
+        _set_transform(ROOT, shift), _set_transform("/Grid", _pose(p=[0.0, 0.0, floor] - center)),
         _set_transform("/Axes", shift),
         {"type": "set_property", "path": "/Cameras/default/rotated/<object>", "property": "position",
          "value": [_r(v) for v in eye]},
