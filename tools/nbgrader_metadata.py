@@ -15,13 +15,15 @@ cell                           nbgrader metadata                                
 ``solution`` code              autograded answer ``taskK_answerJ``                  stub: signature kept,
                                                                                     body ``# YOUR CODE HERE``
 markdown in a solution block   read-only ``cell-<id>``, ``robokin.role = prose``     removed (empty)
-``check`` code in a task that  autograder test ``taskK_testJ``, **1 point**,        kept, restored before
-reads the student's answer     ``robokin.explain`` = checks that explain a failure  grading
+``check`` code in a task that  autograder test ``taskK_testJ``, **1 point** (or N  kept, restored before
+reads the student's answer     with the tag ``points-N``), ``robokin.explain`` =    grading
+                               checks that explain a failure
 *Try it yourself* code         none (editable, not graded)                          kept
 everything else                read-only ``cell-<id>``                               kept, restored before grading
 =============================  ==================================================  ===================
 
-A task is worth as many points as it has autograder tests; the notebook's
+A task is worth the sum of its tests' points (1 each, or N for a test cell tagged
+``points-N``, so that points reflect the work a task asks); the notebook's
 metadata (``metadata.robokin.grading``) and the table between the
 ``nbgrader-points`` markers in ``book/for-instructors.md`` state the points per
 task and per chapter. The script only writes metadata: it verifies that no cell's
@@ -99,7 +101,7 @@ def expected(chapter: Chapter) -> tuple[list[tuple[dict | None, dict | None]], d
         elif cell.role == "test":
             tests[cell.task] = tests.get(cell.task, 0) + 1
             out.append((
-                _nbgrader(f"{prefix}test{tests[cell.task]}", grade=True, locked=True, points=POINTS_PER_TEST),
+                _nbgrader(f"{prefix}test{tests[cell.task]}", grade=True, locked=True, points=cell.points),
                 {"explain": [list(p) for p in cell.explain], "reads": sorted(cell.depends_on),
                  "role": "test", "task": cell.task},
             ))
@@ -110,7 +112,7 @@ def expected(chapter: Chapter) -> tuple[list[tuple[dict | None, dict | None]], d
         else:  # text, given, check
             out.append((_nbgrader(locked_id, locked=True), None))
     task_points = [
-        {"points": POINTS_PER_TEST * len(chapter.tests(k)), "task": k, "tests": len(chapter.tests(k)),
+        {"points": sum(c.points for c in chapter.tests(k)), "task": k, "tests": len(chapter.tests(k)),
          "title": title}
         for k, title in sorted(chapter.tasks.items())
     ]

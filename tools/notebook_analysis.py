@@ -42,6 +42,7 @@ __all__ = [
 TASK_RE = re.compile(r"^##\s+Task\s+(\d+)\s*[:.\u2014-]?\s*(.*?)\s*$")
 H2_RE = re.compile(r"^##\s+(.+?)\s*$")
 FENCE_RE = re.compile(r"^\s*(```+|~~~+)")
+POINTS_TAG_RE = re.compile(r"^points-([1-9][0-9]?)$")  # a test cell's weight, e.g. ``points-3``
 TRY_RE = re.compile(r"try it yourself", re.IGNORECASE)
 SOLUTION_START = "{solution-start}"
 SOLUTION_END = "{solution-end}"
@@ -503,6 +504,7 @@ class Cell:
     depends_on: set[str] = field(default_factory=set)  # names from the student's work it reads
     explain: list[tuple[str, str]] = field(default_factory=list)
     interface: set[str] = field(default_factory=set)  # for answers: names later cells read
+    points: int = 1  # for tests: the tag ``points-N`` on the check cell (default 1)
 
 
 @dataclass
@@ -575,7 +577,12 @@ def analyse(path: Path, nb: dict | None = None, check_names: dict[str, str] | No
                 role = "given"
         else:  # raw cells
             role = "text"
-        cells.append(Cell(index, kind, role, section, task, text, raw.get("id")))
+        cell = Cell(index, kind, role, section, task, text, raw.get("id"))
+        for tag in tags(raw) if kind == "code" else ():
+            m = POINTS_TAG_RE.match(tag)
+            if m:
+                cell.points = int(m.group(1))
+        cells.append(cell)
     if in_span:
         problems.append("a solution-start block is never closed (no solution-end)")
 

@@ -114,7 +114,7 @@ class PointsHeader(NbGraderPreprocessor):
             return nb, resources
         lines = [
             f"**Grading.** This notebook is graded automatically (nbgrader): "
-            f"**{grading['points']} points**, {grading['points_per_test']} for each test cell of a task. "
+            f"**{grading['points']} points** (a task's points are the sum of its test cells'). "
             "Write your code where it says `# YOUR CODE HERE` (keep the names that are given); "
             "the read-only cells, the test cells among them, are restored before grading.",
             "",
