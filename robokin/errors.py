@@ -32,7 +32,7 @@ Warnings (issued with :func:`warnings.warn`, never raised):
 from __future__ import annotations
 
 __all__ = ["RobokinError", "ShapeError", "DomainError", "URDFError", "URDFNotFoundError", "RobokinWarning",
-           "SingularityWarning", "MeshWarning"]
+           "SingularityWarning", "MeshWarning", "ViewWarning"]
 
 
 class RobokinError(Exception):
@@ -91,4 +91,12 @@ class MeshWarning(RobokinWarning):
 
     Issued once per URDF file by :func:`robokin.models.visual_meshes`; the frames
     those meshes belong to are drawn as a stick figure. The message names the files.
+    """
+
+
+class ViewWarning(RobokinWarning):
+    """A view drew less than it was given: more points, path points or animation steps than a scene keeps.
+
+    Issued by :mod:`robokin.views` (caps in :mod:`robokin.views.arguments`); the
+    message gives the number given and the number drawn.
     """

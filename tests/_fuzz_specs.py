@@ -799,6 +799,96 @@ def check_specs() -> list[Spec]:
     return S
 
 
+# ------------------------------------------------------------------ views
+class _Points(Arr):
+    """Points (N, 3) with N >= 1 (a batch of at least one point)."""
+
+    def valid(self, ctx: Ctx) -> Any:
+        return ctx.rng.uniform(-1.0, 1.0, (int(ctx.rng.integers(1, 5)) + (1 if self.name == "path" else 0), 3))
+
+    def default_bad(self, ctx: Ctx) -> tuple[str, ...]:
+        return NONNUMERIC + NONFINITE + ("complex", "shape", "ragged", "empty", "huge")
+
+    def corrupt(self, kind: str, ctx: Ctx) -> Any:
+        if kind == "empty":
+            return np.zeros((0, 3))
+        if kind == "huge":
+            return np.array([[0.0, 0.0, 0.0], [1e39, 0.0, 0.0]])
+        if kind == "shape":
+            return ctx.rng.uniform(-1.0, 1.0, (3, 4))
+        return super().corrupt(kind, ctx)
+
+
+class _Pose(Tf):
+    """One rigid transform; also corrupted into a scaled one (2 I)."""
+
+    def __init__(self, name: str) -> None:
+        super().__init__(name, batch=False)
+
+    def default_bad(self, ctx: Ctx) -> tuple[str, ...]:
+        return super().default_bad(ctx) + ("scaled",)
+
+    def corrupt(self, kind: str, ctx: Ctx) -> Any:
+        if kind == "scaled":
+            return 2.0 * np.eye(4)
+        return super().corrupt(kind, ctx)
+
+
+def _view_chain(ctx: Ctx) -> Any:
+    return models.planar_two_link()
+
+
+class _Steps(Arr):
+    def valid(self, ctx: Ctx) -> Any:
+        return ctx.rng.uniform(-1.0, 1.0, (4, 2))
+
+
+def _close_figures(result: Any, ctx: Ctx, values: dict) -> None:
+    import matplotlib.pyplot as plt
+
+    plt.close("all")
+
+
+def view_specs() -> list[Spec]:
+    """Every public function of robokin.views that draws what it is given (static and matplotlib)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from robokin import views
+
+    def scene_call(method: str) -> Any:
+        def call(*args: Any, **kwargs: Any) -> Any:
+            scene = views.Scene()
+            getattr(scene, method)(*args, **kwargs)
+            return scene.to_html() and None  # the page is made: nothing reached the packer unchecked
+
+        call.__name__ = method
+        return call
+
+    chain = Obj("chain", _view_chain)
+    q = Arr("q", (2,), batch=False, optional=True)
+    steps = _Steps("trajectory", (4, 2), batch=False, extra_bad={"empty": lambda c: np.zeros((0, 2))})
+    return [
+        Spec("views.Scene.add_chain", scene_call("add_chain"), [chain, q], finite=False, weight=0.3),
+        Spec("views.Scene.add_ghost", scene_call("add_ghost"), [chain, q], finite=False, weight=0.2),
+        Spec("views.Scene.add_target", scene_call("add_target"), [_Pose("T")], finite=False, weight=0.3),
+        Spec("views.Scene.add_points", scene_call("add_points"), [_Points("points", (3,))],
+             {"radius": Num("radius", positive=True, optional=True)}, finite=False, weight=0.3),
+        Spec("views.Scene.add_path", scene_call("add_path"), [_Points("path", (3,), labels=("points",))],
+             finite=False, weight=0.3),
+        Spec("views.Scene.animate", scene_call("animate"), [chain, steps],
+             {"dt": Num("dt", 0.01, 0.5, positive=True)}, finite=False, weight=0.3),
+        Spec("views.show", views.show, [chain, q],
+             {"trajectory": _Steps("trajectory", (4, 2), batch=False, optional=True,
+                                   extra_bad={"empty": lambda c: np.zeros((0, 2))}),
+              "mode": Const("mode", "static")}, finite=False, weight=0.3),
+        Spec("views.plot_chain", views.plot_chain, [chain, q], check=_close_figures, finite=False, weight=0.2),
+        Spec("views.plot_history", lambda q: views.plot_history(q=q), [_Steps("q", (4, 2), batch=False,
+             extra_bad={"empty": lambda c: np.zeros((0, 2))}, bad=("none", "str", "strlist", "object"))],
+             check=_close_figures, finite=False, weight=0.2),
+    ]
+
+
 def all_specs() -> list[Spec]:
     return (transform_specs() + chain_method_specs() + construction_specs() + model_specs() + urdf_specs()
-            + motion_specs() + parallel_specs() + check_specs())
+            + motion_specs() + parallel_specs() + check_specs() + view_specs())
