@@ -87,10 +87,12 @@ class SingularityWarning(RobokinWarning, RuntimeWarning):
 
 
 class MeshWarning(RobokinWarning):
-    """A visual mesh file named by a URDF could not be read (missing, or not a mesh).
+    """Visual mesh files named by a URDF were not read: outside the robot's package, missing,
+    not a mesh, or over a size cap.
 
     Issued once per URDF file by :func:`robokin.models.visual_meshes`; the frames
-    those meshes belong to are drawn as a stick figure. The message names the files.
+    those meshes belong to are drawn as a stick figure. The message names each
+    file and why it was not read.
     """
 
 
