@@ -50,6 +50,13 @@ BAD_CALLS = {
     "NaN history": (lambda: views.plot_history(error=np.full(5, np.nan)), DomainError, ["error", "no finite"]),
     "string color": (lambda: Scene().add_points(np.zeros((2, 3)), color="red"), TypeError, ["color"]),
     "unknown chain item": (lambda: Scene().animate("robot", np.zeros((3, 2))), DomainError, ["chain", "robot"]),
+    "string height": (lambda: Scene(height="abc"), TypeError, ["height"]),
+    "negative height": (lambda: Scene(height=-5), DomainError, ["height"]),
+    "html height": (lambda: Scene().to_html(height="x"), TypeError, ["height"]),
+    "plot_scene str": (lambda: views.plot_scene("abc"), TypeError, ["scene"]),
+    "save_page str": (lambda: views.save_page("x.html", "abc"), TypeError, ["scenes"]),
+    "plot_planar str": (lambda: views.plot_planar(segments="abc"), TypeError, ["segments"]),
+    "int name": (lambda: Scene().add_points([[0, 0, 0]], name=5), TypeError, ["name"]),
     "endless animation": (lambda: Scene().animate(ARM, np.zeros((3, 2)), dt=1e300), DomainError, ["dt"]),
 }
 

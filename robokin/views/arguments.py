@@ -36,6 +36,7 @@ __all__ = [
     "as_chain",
     "as_color",
     "as_configuration",
+    "as_height",
     "as_length",
     "as_numbers",
     "as_opacity",
@@ -184,6 +185,15 @@ def as_time_step(value: Any, name: str = "dt") -> float:
     if dt > MAX_DURATION:
         raise DomainError(f"{name} must be at most {MAX_DURATION:g} s; got {dt:.3g}")
     return dt
+
+
+def as_height(height: Any, name: str = "height") -> int:
+    """A scene's height in CSS pixels: an int in [100, 4000]."""
+    if isinstance(height, bool) or not isinstance(height, (int, np.integer)):
+        raise TypeError(f"{name} must be an int (pixels); got {_describe(height)}")
+    if not 100 <= int(height) <= 4000:
+        raise DomainError(f"{name} must be between 100 and 4000 pixels; got {int(height)}")
+    return int(height)
 
 
 def as_color(color: Any, name: str = "color") -> int:

@@ -99,6 +99,8 @@ def plot_planar(segments=(), points=None, ax=None, *, labels=None, color=LINK, p
     ``annotate`` an optional list of text labels for the points.  Returns the Axes
     (equal aspect, metres).
     """
+    if isinstance(segments, (str, bytes)):
+        raise TypeError(f"segments must be a list of polylines (K, 2); got {type(segments).__name__}")
     if ax is None:
         ax = _new_axes()
     allpts = []
@@ -298,8 +300,10 @@ def plot_history(record=None, *, t=None, q=None, dq=None, error=None, singular_v
 
 def plot_scene(scene, ax=None, *, frames=None):
     """matplotlib version of a :class:`~robokin.views.scene.Scene` (3D stick figures)."""
-    from robokin.views.scene import ChainItem, PathItem, PointsItem, TargetItem
+    from robokin.views.scene import ChainItem, PathItem, PointsItem, Scene, TargetItem
 
+    if not isinstance(scene, Scene):
+        raise TypeError(f"scene must be a robokin.views.Scene; got {type(scene).__name__}")
     if ax is None:
         ax = _new_axes("3d")
     pts = [np.zeros((1, 3))]

@@ -24,6 +24,7 @@ from robokin.views.arguments import (
     MAX_PATH_POINTS,
     as_color,
     as_configuration,
+    as_height,
     as_length,
     as_opacity,
     as_points,
@@ -150,7 +151,7 @@ class Scene:
     def __init__(self, *, height: int = DEFAULT_HEIGHT, grid: bool = True):
         self.items: list = []
         self.animations: list[AnimationItem] = []
-        self.options = _Options(height=int(height), grid=bool(grid))
+        self.options = _Options(height=as_height(height), grid=bool(grid))
         self._live = None          # robokin.views.live.LiveViewer, once shown live
 
     # ---- naming
@@ -163,7 +164,8 @@ class Scene:
                 k += 1
                 name = f"{stem}_{k}"
             return name
-        name = str(name)
+        if not isinstance(name, str):
+            raise TypeError(f"name must be a str (or None for a default); got {type(name).__name__} {name!r}")
         if not name or "/" in name:
             raise DomainError(f"name must be a non-empty string without '/'; got {name!r}")
         if name in taken:
@@ -337,7 +339,7 @@ class Scene:
         :mod:`robokin.views.sphinx_extension`), or from ``viewer_src`` if given.
         """
         from robokin.views.static_html import scene_html
-        return scene_html(self.commands(), height=height or self.options.height,
+        return scene_html(self.commands(), height=self.options.height if height is None else as_height(height),
                           animated=bool(self.animations), viewer_src=viewer_src)
 
     def _repr_html_(self):
@@ -388,7 +390,7 @@ def show(chain=None, q=None, *, targets=(), points=None, path=None, ghosts=(), t
         if chain is None:
             raise DomainError("trajectory needs a chain: show(chain, trajectory=...)")
         trajectory = as_trajectory(chain, trajectory)
-    scene = Scene(height=height or DEFAULT_HEIGHT)
+    scene = Scene(height=DEFAULT_HEIGHT if height is None else height)
     if chain is not None:
         scene.add_chain(chain, q if q is not None or trajectory is None else trajectory[0],
                         frames=frames, style=style, meshes=meshes)
