@@ -44,7 +44,8 @@ import numpy as np
 
 from robokin.chains import Element, Fixed, Rx, Ry, Rz, SerialChain, Tx, Ty, Tz
 from robokin.errors import DomainError, URDFError, URDFNotFoundError
-from robokin.models.urdf_tree import chain_path, joint_origin, link_tree
+from robokin.models.robot_library import available_robots
+from robokin.models.urdf_tree import chain_path, joint_origin, link_tree, name_list
 from robokin.transforms import rotation_exp
 
 __all__ = ["from_urdf", "robot_description", "ROBOT_DESCRIPTIONS", "CONTINUOUS_LIMITS"]
@@ -73,8 +74,12 @@ def robot_description(name: str) -> Path:
 
     Parameters
     ----------
-    name : {'ur10', 'baxter', 'panda'}
-        The robot. The files, and the links to pass to :func:`from_urdf`:
+    name : str
+        The robot: one of the three the chapters use (their files and the links
+        to pass to :func:`from_urdf` below), or the name of any URDF file of
+        example-robot-data (:func:`available_robots` lists them, about seventy,
+        with their base and tip links: ``"kinova"``, ``"xarm7"``, ``"ur5_robot"``,
+        ``"solo12"``, ...):
 
         ==========  ==========================================  ===============  ==================
         name        file (under ``example-robot-data/robots``)  base link        tip link
@@ -99,7 +104,8 @@ def robot_description(name: str) -> Path:
     TypeError
         ``name`` is not a string.
     DomainError
-        Unknown ``name``.
+        Unknown ``name`` (the message lists some names and points to
+        :func:`available_robots`).
     ImportError
         ``example-robot-data`` is not installed (``pip install 'robokin[robots]'``).
 
@@ -109,9 +115,15 @@ def robot_description(name: str) -> Path:
     >>> arm = from_urdf(robot_description("panda"), "panda_link0", "panda_link8")  # doctest: +SKIP
     """
     if not isinstance(name, str):
-        raise TypeError(f"name must be one of {sorted(ROBOT_DESCRIPTIONS)}; got {type(name).__name__} {name!r}"[:200])
+        raise TypeError(f"name must be a robot name such as {sorted(ROBOT_DESCRIPTIONS)} (str); got "
+                        f"{type(name).__name__} {name!r}"[:200])
     if name not in ROBOT_DESCRIPTIONS:
-        raise DomainError(f"name must be one of {sorted(ROBOT_DESCRIPTIONS)}; got {name!r}")
+        robots = {r.name: r for r in available_robots()}
+        if name in robots:
+            return robots[name].path
+        raise DomainError(f"name must be one of {sorted(ROBOT_DESCRIPTIONS)} or a robot of example-robot-data "
+                          f"({name_list(sorted(robots), limit=12)}; robokin.models.available_robots() lists "
+                          f"them with their links); got {name!r}")
     try:
         dist = importlib.metadata.distribution("example-robot-data")
     except importlib.metadata.PackageNotFoundError:
