@@ -757,6 +757,20 @@ class Answer(Arg):
         }[kind]
 
 
+class _Configuration(Answer):
+    """A student's configuration for the UR10 (valid: any (6,) array)."""
+
+    def valid(self, ctx: Ctx) -> Any:
+        return ctx.rng.uniform(-2.0, 2.0, 6)
+
+
+class _SolutionRows(Answer):
+    """A student's set of AR-601 solutions (valid: any (k, 6) array)."""
+
+    def valid(self, ctx: Ctx) -> Any:
+        return ctx.rng.uniform(-2.0, 2.0, (int(ctx.rng.integers(1, 9)), 6))
+
+
 def _is_result(r: Any, c: Ctx, v: dict) -> None:
     assert isinstance(r, CheckResult) and isinstance(r.message, str) and r.message, r
 
@@ -892,6 +906,24 @@ def view_specs() -> list[Spec]:
     ]
 
 
+def solution_check_specs() -> list[Spec]:
+    """The ready-made checks of robokin.check.solutions: student garbage -> a failed CheckResult."""
+    arm = models.ur10()
+    goal = arm.fk(np.array([0.3, -1.2, 1.4, -1.0, -1.57, 0.4]))
+    chain = Obj("chain", lambda c: arm)
+    ref = models.ar601_leg_ik(models.ar601_leg().fk(np.array([0.1, 0.05, -0.3, 0.6, -0.3, -0.05]))).q
+    return [
+        Spec("check.ik_solution", lambda q, chain, target, atol: check.ik_solution(q, chain, target, atol=atol,
+                                                                                   quiet=True),
+             [_Configuration("q"), chain, Const("target", goal), Num("atol", 1e-8, 1e-3, positive=True)],
+             student=("q",), check=_is_result, weight=0.3),
+        Spec("check.solution_set", lambda solutions, reference, atol: check.solution_set(
+             solutions, reference, atol=atol, quiet=True),
+             [_SolutionRows("solutions"), Const("reference", ref), Num("atol", 1e-8, 1e-3, positive=True)],
+             student=("solutions",), check=_is_result, weight=0.3),
+    ]
+
+
 def all_specs() -> list[Spec]:
     return (transform_specs() + chain_method_specs() + construction_specs() + model_specs() + urdf_specs()
-            + motion_specs() + parallel_specs() + check_specs() + view_specs())
+            + motion_specs() + parallel_specs() + check_specs() + solution_check_specs() + view_specs())
