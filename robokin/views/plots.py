@@ -8,10 +8,15 @@ Figure.  Output is deterministic (no random colours).
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 from robokin.errors import DomainError, ShapeError
+from robokin.views import optional
 from robokin.views.arguments import as_chain, as_numbers
+from robokin.views.geometry import scene_scale
+from robokin.views.record import ChainItem, PathItem, PointsItem, SceneRecord, TargetItem
 
 __all__ = ["plot_chain", "plot_planar", "plot_history", "plot_scene"]
 
@@ -24,8 +29,7 @@ PLOT_LIMIT = 1e100
 
 
 def _new_axes(projection=None, figsize=(5.5, 4.5)):
-    import matplotlib.pyplot as plt
-    fig = plt.figure(figsize=figsize)
+    fig = optional.pyplot().figure(figsize=figsize)
     return fig.add_subplot(projection=projection)
 
 
@@ -211,7 +215,7 @@ def plot_history(record=None, *, t=None, q=None, dq=None, error=None, singular_v
 
     Returns the Figure.
     """
-    import matplotlib.pyplot as plt
+    plt = optional.pyplot()
 
     q = q if q is not None else _get(record, "q", "qs", "joint_positions")
     dq = dq if dq is not None else _get(record, "dq", "qd", "q_dot", "joint_velocities")
@@ -298,16 +302,37 @@ def plot_history(record=None, *, t=None, q=None, dq=None, error=None, singular_v
     return fig
 
 
-def plot_scene(scene, ax=None, *, frames=None):
-    """matplotlib version of a :class:`~robokin.views.scene.Scene` (3D stick figures)."""
-    from robokin.views.scene import ChainItem, PathItem, PointsItem, Scene, TargetItem
+def plot_scene(scene: SceneRecord, ax: Any = None, *, frames: bool | None = None) -> Any:
+    """matplotlib version of a :class:`~robokin.views.Scene` (3D stick figures).
 
-    if not isinstance(scene, Scene):
+    Chains at their configuration (the first step of an animation), targets as
+    triads, points as dots, paths and animation traces as lines.
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene to draw.
+    ax : matplotlib.axes.Axes, optional
+        A 3D Axes to draw into; default a new figure.
+    frames : bool, optional
+        Draw a triad at every joint frame; default: as each chain item says.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The 3D Axes (equal scales, metres).
+
+    Raises
+    ------
+    TypeError
+        ``scene`` is not a :class:`~robokin.views.Scene`.
+    """
+    if not isinstance(scene, SceneRecord):
         raise TypeError(f"scene must be a robokin.views.Scene; got {type(scene).__name__}")
     if ax is None:
         ax = _new_axes("3d")
     pts = [np.zeros((1, 3))]
-    L = scene.scale()
+    L = scene_scale(scene)
     for it in scene.items:
         if isinstance(it, ChainItem):
             a = 1.0 if it.opacity == 1.0 else max(it.opacity, 0.25)

@@ -13,15 +13,17 @@ nor matplotlib.  The backends turn the record into pictures:
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from collections.abc import Sequence
+from os import PathLike
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from robokin.errors import DomainError, ShapeError
+from robokin.models.urdf import ROBOT_DESCRIPTIONS
 from robokin.views import arguments
 from robokin.views.arguments import (
-    MAX_PATH_POINTS,
     as_color,
     as_configuration,
     as_height,
@@ -34,66 +36,25 @@ from robokin.views.arguments import (
     as_trajectory,
     subsample,
 )
+from robokin.views.display import show_scene
+from robokin.views.geometry import chain_layout, scene_scale
+from robokin.views.live import LiveViewer
+from robokin.views.meshcat_draw import chain_transforms, scene_commands
+from robokin.views.meshes import robot_meshes
+from robokin.views.plots import plot_scene
+from robokin.views.record import (
+    DEFAULT_HEIGHT,
+    AnimationItem,
+    ChainItem,
+    PathItem,
+    PointsItem,
+    SceneOptions,
+    SceneRecord,
+    TargetItem,
+)
+from robokin.views.static_html import save_page, scene_html
 
 __all__ = ["Scene", "show"]
-
-DEFAULT_HEIGHT = 420
-
-
-# --------------------------------------------------------------------------- items
-@dataclass
-class ChainItem:
-    name: str
-    chain: Any
-    q: np.ndarray
-    color: int | None = None
-    opacity: float = 1.0
-    frames: bool = False
-    labels: bool = True
-    ghost: bool = False
-    meshes: Any = None          # robokin.models.urdf_meshes.RobotMeshes when drawn with meshes
-
-
-@dataclass
-class TargetItem:
-    name: str
-    T: np.ndarray
-    size: float | None = None
-    label: str | None = None
-
-
-@dataclass
-class PointsItem:
-    name: str
-    points: np.ndarray
-    radius: float | None = None
-    color: int = 0xFFD92F
-
-
-@dataclass
-class PathItem:
-    name: str
-    points: np.ndarray
-    color: int = 0xFFFFFF
-
-
-@dataclass
-class AnimationItem:
-    chain_name: str
-    trajectory: np.ndarray
-    times: np.ndarray
-    trace: bool = True
-    trace_color: int = 0xFFFF66
-
-
-@dataclass
-class _Options:
-    height: int = DEFAULT_HEIGHT
-    play: bool = True
-    loop: bool = False
-    grid: bool = True
-    extra: dict = field(default_factory=dict)
-
 
 STYLES = ("stick", "mesh")
 
@@ -109,8 +70,6 @@ def _resolve_meshes(chain, style, meshes):
             raise DomainError("meshes were given with style='stick'; use style='mesh' (or leave style out)")
         return None
     if meshes is None:
-        from robokin.models.urdf import ROBOT_DESCRIPTIONS
-
         label = str(getattr(chain, "name", "")).lower()
         meshes = next((k for k in ROBOT_DESCRIPTIONS if label == k or label.startswith(k + "_")), None)
         if meshes is None:
@@ -119,7 +78,6 @@ def _resolve_meshes(chain, style, meshes):
                 f"({', '.join(sorted(ROBOT_DESCRIPTIONS))}), the path of its URDF file, or "
                 f"robokin.views.robot_meshes(urdf, chain)")
     if isinstance(meshes, str) or hasattr(meshes, "__fspath__"):
-        from robokin.views.meshes import robot_meshes
         return robot_meshes(meshes, chain)
     frames = getattr(meshes, "frames", None)
     if frames is None or not hasattr(meshes, "unreadable"):
@@ -132,7 +90,7 @@ def _resolve_meshes(chain, style, meshes):
 
 
 # --------------------------------------------------------------------------- scene
-class Scene:
+class Scene(SceneRecord):
     """A backend-independent record of a 3D scene.
 
     Build it with the ``add_*`` methods and :meth:`animate`, then call
@@ -148,11 +106,9 @@ class Scene:
     >>> scene.show()                           # doctest: +SKIP
     """
 
-    def __init__(self, *, height: int = DEFAULT_HEIGHT, grid: bool = True):
-        self.items: list = []
-        self.animations: list[AnimationItem] = []
-        self.options = _Options(height=as_height(height), grid=bool(grid))
-        self._live = None          # robokin.views.live.LiveViewer, once shown live
+    def __init__(self, *, height: int = DEFAULT_HEIGHT, grid: bool = True) -> None:
+        super().__init__(SceneOptions(height=as_height(height), grid=bool(grid)))
+        self._live: LiveViewer | None = None          # once shown live
 
     # ---- naming
     def _name(self, name, stem):
@@ -171,13 +127,6 @@ class Scene:
         if name in taken:
             raise DomainError(f"name {name!r} is already used in this scene")
         return name
-
-    def item(self, name):
-        """The recorded item called ``name`` (KeyError if there is none)."""
-        for it in self.items:
-            if it.name == name:
-                return it
-        raise KeyError(f"no item named {name!r} in this scene; names: {[it.name for it in self.items]}")
 
     # ---- adding things
     def add_chain(self, chain, q=None, *, name=None, color=None, opacity=1.0, frames=False, labels=True,
@@ -198,8 +147,6 @@ class Scene:
         ``models.baxter_left()``). Needs ``pip install 'robokin[robots]'``.
         ``views.show(models.ur10(), q, meshes="ur10")`` is the short form.
         """
-        from robokin.views.meshcat_draw import chain_layout  # numpy only
-
         q = as_configuration(chain, q)
         layout = chain_layout(chain, q)  # validates (zero-length chain -> DomainError)
         if not layout["reach"] <= arguments.MAX_COORDINATE:
@@ -317,18 +264,15 @@ class Scene:
         item = self.item(name)
         item.q = as_configuration(item.chain, q)
         if self._live is not None:
-            from robokin.views.meshcat_draw import chain_transforms
             self._live.send_transforms(chain_transforms(item.name, item.chain, item.q))
 
     # ---- outputs
     def scale(self) -> float:
         """A characteristic length of the scene in metres (the largest reach)."""
-        from robokin.views.meshcat_draw import scene_scale
         return scene_scale(self)
 
     def commands(self) -> list[dict]:
         """The MeshCat commands (dicts, as sent to the viewer) that draw the scene."""
-        from robokin.views.meshcat_draw import scene_commands
         return scene_commands(self)
 
     def to_html(self, *, height=None, viewer_src=None) -> str:
@@ -338,7 +282,6 @@ class Scene:
         ``<content root>_static/meshcat/main.min.js`` (put there by
         :mod:`robokin.views.sphinx_extension`), or from ``viewer_src`` if given.
         """
-        from robokin.views.static_html import scene_html
         return scene_html(self.commands(), height=self.options.height if height is None else as_height(height),
                           animated=bool(self.animations), viewer_src=viewer_src)
 
@@ -347,12 +290,10 @@ class Scene:
 
     def save(self, path, *, copy_viewer=True):
         """Write a standalone HTML page (plus ``_static/meshcat/main.min.js`` next to it)."""
-        from robokin.views.static_html import save_page
         return save_page(path, [self], copy_viewer=copy_viewer)
 
     def plot(self, ax=None, **kwargs):
         """Matplotlib stick figure of the scene (first configuration of animations)."""
-        from robokin.views.plots import plot_scene
         return plot_scene(self, ax=ax, **kwargs)
 
     def show(self, mode=None, *, height=None):
@@ -362,13 +303,28 @@ class Scene:
         notebook outputs stay deterministic); in live mode the viewer is kept in
         ``scene.viewer``.
         """
-        from robokin.views.display import show_scene
         show_scene(self, mode=mode, height=height)
 
     @property
-    def viewer(self):
+    def viewer(self) -> LiveViewer | None:
         """The live viewer this scene was last shown in (None if never shown live)."""
         return self._live
+
+    def attach_viewer(self, viewer: LiveViewer) -> None:
+        """Record ``viewer`` as the live viewer showing this scene (:func:`~robokin.views.display.show_live`).
+
+        Parameters
+        ----------
+        viewer : LiveViewer
+            A running viewer that holds this scene's commands.
+        """
+        self._live = viewer
+
+    def detach_viewer(self) -> None:
+        """Stop this scene's live viewer, if any (its later :meth:`show` starts a new one)."""
+        if self._live is not None:
+            self._live.close()
+            self._live = None
 
     def __repr__(self):
         kinds = ", ".join(f"{type(it).__name__[:-4].lower()} {it.name!r}" for it in self.items)
