@@ -37,6 +37,7 @@ from pathlib import Path
 
 from sphinx.application import Sphinx
 from sphinx.util import logging
+from sphinx.util.nodes import make_refnode
 
 logger = logging.getLogger(__name__)
 
@@ -260,10 +261,57 @@ def one_solution_style(app: Sphinx, doctree, docname: str) -> None:
         node["classes"] = [c for c in node["classes"] if c not in ("dropdown", "toggle")]
 
 
+def _docstring_owner(node) -> str:
+    """The dotted name of the object whose docstring holds ``node`` (autodoc), or ''."""
+    source = str(node.source or "")
+    return source.rsplit("docstring of ", 1)[1].strip() if "docstring of " in source else ""
+
+
+def resolve_short_python_names(app: Sphinx, env, node, contnode):
+    """Resolve a short Python name of the API reference (``:data:`REASONS```) to its one documented object.
+
+    A docstring refers to a name of its own module by its short name; in the
+    reference that name is documented under its full name. Among the documented
+    objects whose full name ends with ``.<name>`` (of a type the role accepts),
+    the one sharing the longest module prefix with the docstring's owner wins;
+    a tie or no candidate leaves the reference unresolved (a nitpicky warning).
+    """
+    if node.get("refdomain") != "py":
+        return None
+    target = node["reftarget"].lstrip(".~")
+    domain = env.get_domain("py")
+    objtypes = set(domain.objtypes_for_role(node["reftype"]) or ())
+    if node["reftype"] == "mod":
+        candidates = {name: (entry.docname, entry.node_id) for name, entry in domain.modules.items()
+                      if name.endswith("." + target)}
+    else:
+        candidates = {name: (entry.docname, entry.node_id) for name, entry in domain.objects.items()
+                      if name.endswith("." + target) and entry.objtype in objtypes and not entry.aliased}
+    if not candidates:
+        return None
+    owner = _docstring_owner(node).split(".")
+
+    def shared(name: str) -> int:
+        parts, count = name.split("."), 0
+        for a, b in zip(parts, owner):
+            if a != b:
+                break
+            count += 1
+        return count
+
+    best = max(shared(name) for name in candidates)
+    winners = [name for name in candidates if shared(name) == best]
+    if len(winners) != 1:
+        return None
+    docname, node_id = candidates[winners[0]]
+    return make_refnode(app.builder, node["refdoc"], docname, node_id, contnode, winners[0])
+
+
 def setup(app: Sphinx) -> dict:
     app.add_config_value("robokin_edition", os.environ.get("ROBOKIN_EDITION", "instructor") or "instructor",
                          "env", [str])
     app.connect("config-inited", configure_edition, priority=50)
+    app.connect("missing-reference", resolve_short_python_names)
     app.connect("source-read", remove_solutions)
     # Run after myst-parser has added its own MathJax options.
     app.connect("config-inited", configure_mathjax, priority=900)
