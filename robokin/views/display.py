@@ -114,7 +114,17 @@ def display(obj: Any) -> None:
 
 
 def html_output(text: str) -> Any:
-    """``text`` (HTML) as an ``IPython.display.HTML`` output."""
+    """HTML as a notebook output.
+
+    Parameters
+    ----------
+    text : str
+        HTML.
+
+    Returns
+    -------
+    IPython.display.HTML
+    """
     return optional.ipython_display().HTML(text)
 
 

@@ -236,12 +236,29 @@ class LiveViewer:
                 self._last[path] = command["matrix"]
 
     def delete(self, path: str = "/meshcat") -> None:
-        """Delete the node ``path`` and everything under it."""
+        """Delete a node of the scene and everything under it.
+
+        Parameters
+        ----------
+        path : str, optional
+            MeshCat path; default the whole scene.
+        """
         self.send({"type": "delete", "path": path})
         self._last.clear()
 
     def iframe_html(self, height: int = DEFAULT_HEIGHT) -> str:
-        """An ``<iframe>`` of the viewer, ``height`` CSS pixels high (resizable)."""
+        """An ``<iframe>`` of the viewer (resizable).
+
+        Parameters
+        ----------
+        height : int, optional
+            CSS pixels.
+
+        Returns
+        -------
+        str
+            HTML.
+        """
         return (f'<div style="height:{int(height)}px;width:100%;overflow:hidden;resize:vertical">'
                 f'<iframe src="{self.url}" style="width:100%;height:100%;border:none"></iframe></div>')
 
@@ -268,7 +285,17 @@ class LiveViewer:
 
 
 def get_viewer() -> LiveViewer:
-    """The kernel's shared live viewer, started on first use."""
+    """The kernel's shared live viewer, started on first use.
+
+    Returns
+    -------
+    LiveViewer
+
+    Raises
+    ------
+    MeshcatUnavailable
+        The server cannot start.
+    """
     global _SHARED
     if _SHARED is None or not _SHARED.alive:
         _SHARED = LiveViewer()

@@ -34,30 +34,90 @@ def _load(name: str) -> ModuleType:
 
 
 def pyplot() -> ModuleType:
-    """``matplotlib.pyplot`` (matplotlib figures of :mod:`robokin.views.plots`)."""
+    """``matplotlib.pyplot`` (matplotlib figures of :mod:`robokin.views.plots`).
+
+    Returns
+    -------
+    module
+
+    Raises
+    ------
+    ModuleNotFoundError
+        The library is not installed (the message says what to install).
+    """
     return _load("matplotlib.pyplot")
 
 
 def ipython_display() -> ModuleType:
-    """``IPython.display`` (``display``, ``HTML``: notebook outputs)."""
+    """``IPython.display`` (``display``, ``HTML``: notebook outputs).
+
+    Returns
+    -------
+    module
+
+    Raises
+    ------
+    ModuleNotFoundError
+        The library is not installed (the message says what to install).
+    """
     return _load("IPython.display")
 
 
 def ipywidgets() -> ModuleType:
-    """``ipywidgets`` (the joint sliders)."""
+    """``ipywidgets`` (the joint sliders).
+
+    Returns
+    -------
+    module
+
+    Raises
+    ------
+    ModuleNotFoundError
+        The library is not installed (the message says what to install).
+    """
     return _load("ipywidgets")
 
 
 def umsgpack() -> ModuleType:
-    """``umsgpack`` (MeshCat's wire format; installed with meshcat)."""
+    """``umsgpack`` (MeshCat's wire format; installed with meshcat).
+
+    Returns
+    -------
+    module
+
+    Raises
+    ------
+    ModuleNotFoundError
+        The library is not installed (the message says what to install).
+    """
     return _load("umsgpack")
 
 
 def zmq() -> ModuleType:
-    """``zmq`` (the command socket of a live MeshCat server; installed with meshcat)."""
+    """``zmq`` (the command socket of a live MeshCat server; installed with meshcat).
+
+    Returns
+    -------
+    module
+
+    Raises
+    ------
+    ModuleNotFoundError
+        The library is not installed (the message says what to install).
+    """
     return _load("zmq")
 
 
 def psutil() -> ModuleType:
-    """``psutil`` (a process's environment where ``/proc`` is not available)."""
+    """``psutil`` (a process's environment where ``/proc`` is not available).
+
+    Returns
+    -------
+    module
+
+    Raises
+    ------
+    ModuleNotFoundError
+        The library is not installed (the message says what to install).
+    """
     return _load("psutil")

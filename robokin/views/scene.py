@@ -98,6 +98,24 @@ class Scene(SceneRecord):
     :meth:`to_html` (static HTML), :meth:`commands` (the MeshCat command list) or
     :meth:`plot` (matplotlib).
 
+    Parameters
+    ----------
+    height : int, optional
+        Height in CSS pixels, in [100, 4000].
+    grid : bool, optional
+        Draw the floor grid.
+
+    Attributes
+    ----------
+    items : list
+        The recorded items (:class:`~robokin.views.record.ChainItem`, ...), in order.
+    animations : list of AnimationItem
+        The recorded animations.
+    options : SceneOptions
+        Height, grid, play and loop.
+
+    Examples
+    --------
     >>> scene = Scene()
     >>> scene.add_chain(chain, q)              # doctest: +SKIP
     'robot'
@@ -129,13 +147,10 @@ class Scene(SceneRecord):
         return name
 
     # ---- adding things
-    def add_chain(self, chain, q=None, *, name=None, color=None, opacity=1.0, frames=False, labels=True,
-                  style=None, meshes=None):
-        """Draw ``chain`` at configuration ``q`` (default: mid-limits / zeros).
-
-        ``frames=True`` adds a triad at every joint frame (with text labels when
-        ``labels`` is true).  Returns the item name (default ``"robot"``).
-        Raises ValueError if all links of the chain have zero length.
+    def add_chain(self, chain: Any, q: Any = None, *, name: str | None = None, color: Any = None,
+                  opacity: float = 1.0, frames: bool = False, labels: bool = True, style: str | None = None,
+                  meshes: Any = None) -> str:
+        """Draw ``chain`` at configuration ``q``.
 
         ``style`` is ``"stick"`` (the default: cylinders between the frame
         origins) or ``"mesh"``: the robot's visual meshes from its URDF, moved by
@@ -146,6 +161,48 @@ class Scene(SceneRecord):
         picks the robot (``models.ur10()``, ``models.panda()``,
         ``models.baxter_left()``). Needs ``pip install 'robokin[robots]'``.
         ``views.show(models.ur10(), q, meshes="ur10")`` is the short form.
+
+        Parameters
+        ----------
+        chain : SerialChain
+            The chain (any object with ``n``, ``frames(q)``, ``joint_axes``,
+            ``joint_types`` and ``limits``).
+        q : array_like, shape (n,), optional
+            Configuration (rad for revolute, m for prismatic joints); default
+            zeros, moved into the joint limits.
+        name : str, optional
+            Item name, unique in the scene, without ``/``; default ``"robot"``
+            (then ``"robot_2"``, ...).
+        color : int, optional
+            One colour ``0xRRGGBB`` for every part; default the link, joint and
+            end-effector colours.
+        opacity : float, optional
+            In (0, 1]; below 1 the chain is translucent.
+        frames : bool, optional
+            Add a triad at every joint frame.
+        labels : bool, optional
+            Label those triads with the frame names.
+        style : {"stick", "mesh"}, optional
+            See above.
+        meshes : str, os.PathLike or RobotMeshes, optional
+            See above.
+
+        Returns
+        -------
+        str
+            The item's name.
+
+        Raises
+        ------
+        ShapeError
+            ``q`` does not have n entries.
+        DomainError
+            All links of the chain have zero length, its reach is beyond
+            :data:`~robokin.views.arguments.MAX_COORDINATE`, ``name`` is taken or
+            invalid, ``opacity`` is outside (0, 1], or ``style``/``meshes`` do not
+            fit the chain.
+        TypeError
+            ``name`` is not a str, ``color`` not an int, or ``meshes`` of another type.
         """
         q = as_configuration(chain, q)
         layout = chain_layout(chain, q)  # validates (zero-length chain -> DomainError)
@@ -160,20 +217,71 @@ class Scene(SceneRecord):
         self.items.append(item)
         return item.name
 
-    def add_ghost(self, chain, q, *, name=None, color=0xB0C4DE, opacity=0.3, style=None, meshes=None):
-        """A translucent copy of ``chain`` at ``q`` (e.g. another IK solution); ``style``/``meshes``
-        as in :meth:`add_chain`."""
+    def add_ghost(self, chain: Any, q: Any, *, name: str | None = None, color: Any = 0xB0C4DE,
+                  opacity: float = 0.3, style: str | None = None, meshes: Any = None) -> str:
+        """A translucent copy of ``chain`` at ``q`` (e.g. another IK solution).
+
+        Parameters
+        ----------
+        chain : SerialChain
+            The chain.
+        q : array_like, shape (n,)
+            Configuration (rad, m).
+        name : str, optional
+            Item name; default ``"ghost"`` (then ``"ghost_2"``, ...).
+        color : int, optional
+            Colour ``0xRRGGBB`` of every part (default light steel blue).
+        opacity : float, optional
+            In (0, 1].
+        style, meshes : optional
+            As in :meth:`add_chain`.
+
+        Returns
+        -------
+        str
+            The item's name.
+
+        Raises
+        ------
+        ShapeError, DomainError, TypeError
+            As :meth:`add_chain`.
+        """
         name = self.add_chain(chain, q, name=self._name(name, "ghost"), color=color, opacity=opacity,
                               style=style, meshes=meshes)
         self.items[-1].ghost = True
         return name
 
-    def add_target(self, T, *, name=None, size=None, label=None):
+    def add_target(self, T: Any, *, name: str | None = None, size: float | None = None,
+                   label: str | None = None) -> str:
         """A target frame: a triad at the pose ``T``.
 
-        ``T`` is a rigid transform (4, 4) (rotation part a rotation matrix, bottom
-        row [0, 0, 0, 1]; DomainError otherwise) or a (3,) position; ``size`` the
-        triad's length in metres (default: from the scene's scale).
+        Parameters
+        ----------
+        T : array_like, shape (4, 4) or (3,)
+            A rigid transform (rotation part a rotation matrix, bottom row
+            ``[0, 0, 0, 1]``; position in m), or a position (m) with the base
+            frame's orientation.
+        name : str, optional
+            Item name; default ``"target"`` (then ``"target_2"``, ...).
+        size : float, optional
+            The triad's length (m); default 0.18 times the scene's scale.
+        label : str, optional
+            Text shown next to the triad.
+
+        Returns
+        -------
+        str
+            The item's name.
+
+        Raises
+        ------
+        ShapeError
+            ``T`` has another shape.
+        DomainError
+            ``T`` is not a rigid transform, holds NaN/inf, ``size`` is not
+            positive, or ``name`` is taken.
+        TypeError
+            ``label`` is not a str.
         """
         if size is not None:
             size = as_length(size, "size")
@@ -183,14 +291,41 @@ class Scene(SceneRecord):
         self.items.append(item)
         return item.name
 
-    def add_points(self, points, *, name=None, radius=None, color=0xFFD92F):
-        """Spheres at the rows of ``points`` (N, 3), N >= 1, in metres (``radius`` in metres).
+    def add_points(self, points: Any, *, name: str | None = None, radius: float | None = None,
+                   color: Any = 0xFFD92F) -> str:
+        """Spheres at the rows of ``points``.
 
         More than 500 points are drawn as one point cloud (a square of side
         2 ``radius`` facing the camera at each point), which a page stores in 12
         bytes per point.
         At most :data:`~robokin.views.arguments.MAX_POINTS` (100 000) points are
         kept: more are subsampled evenly, with a :class:`~robokin.errors.ViewWarning`.
+
+        Parameters
+        ----------
+        points : array_like, shape (N, 3) or (N, 2)
+            Positions (m), N >= 1; rows of two get z = 0.
+        name : str, optional
+            Item name; default ``"points"``.
+        radius : float, optional
+            Sphere radius (m); default 0.02 times the scene's scale.
+        color : int, optional
+            ``0xRRGGBB`` (default yellow).
+
+        Returns
+        -------
+        str
+            The item's name.
+
+        Raises
+        ------
+        ShapeError
+            ``points`` is not (N, 3) or (N, 2) with N >= 1.
+        DomainError
+            NaN/inf or coordinates beyond :data:`~robokin.views.arguments.MAX_COORDINATE`,
+            a radius that is not positive, a colour outside [0, 0xFFFFFF] or a taken name.
+        TypeError
+            ``color`` is not an int.
         """
         if radius is not None:
             radius = as_length(radius, "radius")
@@ -198,21 +333,46 @@ class Scene(SceneRecord):
         self.items.append(item)
         return item.name
 
-    def add_path(self, points, *, name=None, color=0xFFFFFF):
-        """A polyline through the rows of ``points`` (N, 3), N >= 2, in metres.
+    def add_path(self, points: Any, *, name: str | None = None, color: Any = 0xFFFFFF) -> str:
+        """A polyline through the rows of ``points``.
 
         At most :data:`~robokin.views.arguments.MAX_PATH_POINTS` (100 000) points
         are kept: more are subsampled evenly (ends kept), with a
         :class:`~robokin.errors.ViewWarning`.
+
+        Parameters
+        ----------
+        points : array_like, shape (N, 3) or (N, 2)
+            Vertices in order (m), N >= 2; rows of two get z = 0.
+        name : str, optional
+            Item name; default ``"path"``.
+        color : int, optional
+            ``0xRRGGBB`` (default white).
+
+        Returns
+        -------
+        str
+            The item's name.
+
+        Raises
+        ------
+        ShapeError
+            ``points`` is not (N, 3) or (N, 2) with N >= 2.
+        DomainError
+            NaN/inf or coordinates beyond :data:`~robokin.views.arguments.MAX_COORDINATE`,
+            a colour outside [0, 0xFFFFFF] or a taken name.
+        TypeError
+            ``color`` is not an int.
         """
         pts = as_points(points, "points", minimum=2, cap=arguments.MAX_PATH_POINTS)
         item = PathItem(self._name(name, "path"), pts, as_color(color))
         self.items.append(item)
         return item.name
 
-    def animate(self, chain, trajectory, dt=0.05, *, times=None, trace=True, name=None,
-                trace_color=0xFFFF66, play=True, loop=False):
-        """Animate a chain along ``trajectory`` (T, n), one row every ``dt`` seconds.
+    def animate(self, chain: Any, trajectory: Any, dt: float = 0.05, *, times: Any = None, trace: bool = True,
+                name: str | None = None, trace_color: Any = 0xFFFF66, play: bool = True,
+                loop: bool = False) -> str:
+        """Animate a chain along ``trajectory``, one row every ``dt`` seconds.
 
         ``chain`` is either a chain (added to the scene at ``trajectory[0]`` unless
         a chain item called ``name`` exists) or the name of a chain item already in
@@ -222,6 +382,42 @@ class Scene(SceneRecord):
         At most :data:`~robokin.views.arguments.MAX_ANIMATION_STEPS` (20 000)
         steps are kept: a longer trajectory is subsampled in time (first and last
         step kept, their times kept), with a :class:`~robokin.errors.ViewWarning`.
+
+        Parameters
+        ----------
+        chain : SerialChain or str
+            A chain, or the name of a chain item of the scene.
+        trajectory : array_like, shape (T, n)
+            One configuration per step (rad, m).
+        dt : float, optional
+            Time between steps (s), positive.
+        times : array_like, shape (T,), optional
+            Time of each step (s), strictly increasing (shifted to start at 0);
+            overrides ``dt``.
+        trace : bool, optional
+            Draw the end-effector's path.
+        name : str, optional
+            The chain item to animate (or to create).
+        trace_color : int, optional
+            Colour ``0xRRGGBB`` of the trace.
+        play : bool, optional
+            Start playing when the scene opens.
+        loop : bool, optional
+            Repeat the animation.
+
+        Returns
+        -------
+        str
+            The animated chain item's name.
+
+        Raises
+        ------
+        ShapeError
+            ``trajectory`` is not (T, n) or ``times`` not (T,).
+        DomainError
+            No chain item ``chain``, the item is already animated, ``dt`` is not
+            positive, ``times`` do not increase, or the animation lasts more than
+            :data:`~robokin.views.arguments.MAX_DURATION`.
         """
         if isinstance(chain, str):
             items = [it for it in self.items if isinstance(it, ChainItem) and it.name == chain]
@@ -259,8 +455,23 @@ class Scene(SceneRecord):
         return item.name
 
     # ---- updating (live)
-    def set_configuration(self, name, q):
-        """Move chain item ``name`` to ``q``; pushes only transforms to a live viewer."""
+    def set_configuration(self, name: str, q: Any) -> None:
+        """Move chain item ``name`` to ``q``; pushes only transforms to a live viewer.
+
+        Parameters
+        ----------
+        name : str
+            A chain item's name.
+        q : array_like, shape (n,)
+            Configuration (rad, m).
+
+        Raises
+        ------
+        KeyError
+            No item ``name``.
+        ShapeError
+            ``q`` does not have n entries.
+        """
         item = self.item(name)
         item.q = as_configuration(item.chain, q)
         if self._live is not None:
@@ -268,19 +479,43 @@ class Scene(SceneRecord):
 
     # ---- outputs
     def scale(self) -> float:
-        """A characteristic length of the scene in metres (the largest reach)."""
+        """A characteristic length of the scene (the largest reach).
+
+        Returns
+        -------
+        float
+            In metres (see :func:`~robokin.views.geometry.scene_scale`).
+        """
         return scene_scale(self)
 
     def commands(self) -> list[dict]:
-        """The MeshCat commands (dicts, as sent to the viewer) that draw the scene."""
+        """The MeshCat commands that draw the scene.
+
+        Returns
+        -------
+        list of dict
+            As sent to the viewer (:func:`~robokin.views.meshcat_draw.scene_commands`).
+        """
         return scene_commands(self)
 
-    def to_html(self, *, height=None, viewer_src=None) -> str:
+    def to_html(self, *, height: int | None = None, viewer_src: str | None = None) -> str:
         """Static HTML (no server, no network) that renders the scene interactively.
 
         The MeshCat viewer script is *not* inlined: it is loaded from
         ``<content root>_static/meshcat/main.min.js`` (put there by
         :mod:`robokin.views.sphinx_extension`), or from ``viewer_src`` if given.
+
+        Parameters
+        ----------
+        height : int, optional
+            CSS pixels; default the scene's height.
+        viewer_src : str, optional
+            URL of MeshCat's ``main.min.js``.
+
+        Returns
+        -------
+        str
+            The HTML snippet (:func:`~robokin.views.static_html.scene_html`).
         """
         return scene_html(self.commands(), height=self.options.height if height is None else as_height(height),
                           animated=bool(self.animations), viewer_src=viewer_src)
@@ -288,20 +523,59 @@ class Scene(SceneRecord):
     def _repr_html_(self):
         return self.to_html()
 
-    def save(self, path, *, copy_viewer=True):
-        """Write a standalone HTML page (plus ``_static/meshcat/main.min.js`` next to it)."""
+    def save(self, path: str | PathLike, *, copy_viewer: bool = True) -> Path:
+        """Write a standalone HTML page (plus ``_static/meshcat/main.min.js`` next to it).
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            The page's file.
+        copy_viewer : bool, optional
+            Copy MeshCat's viewer script next to the page.
+
+        Returns
+        -------
+        pathlib.Path
+            ``path`` (see :func:`robokin.views.save_page`).
+        """
         return save_page(path, [self], copy_viewer=copy_viewer)
 
-    def plot(self, ax=None, **kwargs):
-        """Matplotlib stick figure of the scene (first configuration of animations)."""
+    def plot(self, ax: Any = None, **kwargs: Any) -> Any:
+        """Matplotlib stick figure of the scene (first configuration of animations).
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes, optional
+            A 3D Axes to draw into; default a new figure.
+        **kwargs
+            Passed to :func:`robokin.views.plot_scene` (``frames``).
+
+        Returns
+        -------
+        matplotlib.axes.Axes
+        """
         return plot_scene(self, ax=ax, **kwargs)
 
-    def show(self, mode=None, *, height=None):
-        """Display the scene: ``mode`` is ``"live"``, ``"static"``, ``"matplotlib"`` or None (automatic).
+    def show(self, mode: str | None = None, *, height: int | None = None) -> None:
+        """Display the scene live, statically or as a matplotlib figure.
 
         See :mod:`robokin.views` for how the mode is chosen.  Returns None (so that
         notebook outputs stay deterministic); in live mode the viewer is kept in
         ``scene.viewer``.
+
+        Parameters
+        ----------
+        mode : {"live", "static", "matplotlib"}, optional
+            Default: ``ROBOKIN_VIEWER``, else automatic.
+        height : int, optional
+            CSS pixels; default the scene's height.
+
+        Raises
+        ------
+        ValueError
+            An unknown ``mode``, or a ``height`` outside [100, 4000] (DomainError).
+        TypeError
+            ``height`` is not an int.
         """
         show_scene(self, mode=mode, height=height)
 
@@ -326,21 +600,55 @@ class Scene(SceneRecord):
             self._live.close()
             self._live = None
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         kinds = ", ".join(f"{type(it).__name__[:-4].lower()} {it.name!r}" for it in self.items)
         return f"<robokin.views.Scene: {kinds or 'empty'}; {len(self.animations)} animation(s)>"
 
 
-def show(chain=None, q=None, *, targets=(), points=None, path=None, ghosts=(), trajectory=None,
-         dt=0.05, frames=False, mode=None, height=None, style=None, meshes=None):
+def show(chain: Any = None, q: Any = None, *, targets: Sequence | np.ndarray = (), points: Any = None,
+         path: Any = None, ghosts: Sequence | np.ndarray = (), trajectory: Any = None, dt: float = 0.05,
+         frames: bool = False, mode: str | None = None, height: int | None = None, style: str | None = None,
+         meshes: Any = None) -> None:
     """Show a chain (and friends) in one call; returns None.
 
-    ``targets`` are 4x4 poses, ``ghosts`` configurations drawn translucent,
-    ``trajectory`` a (T, n) joint trajectory animated every ``dt`` seconds.
     ``style``/``meshes`` draw the chain with its real meshes, e.g.
     ``show(models.ur10(), q, meshes="ur10")`` (see :meth:`Scene.add_chain`;
     ghosts stay stick figures).
     Equivalent to building a :class:`Scene` and calling :meth:`Scene.show`.
+
+    Parameters
+    ----------
+    chain : SerialChain, optional
+        The chain to draw (item ``"robot"``).
+    q : array_like, shape (n,), optional
+        Its configuration (rad, m); default the trajectory's first row, else zeros
+        moved into the joint limits.
+    targets : sequence of array_like of shape (4, 4) or (3,), or array, shape (K, 4, 4)
+        Target poses (m).
+    points : array_like, shape (N, 3), optional
+        Points drawn as spheres (m).
+    path : array_like, shape (N, 3), optional
+        A polyline (m).
+    ghosts : sequence of array_like of shape (n,), or array, shape (K, n)
+        Configurations drawn translucent (rad, m).
+    trajectory : array_like, shape (T, n), optional
+        A joint trajectory, animated every ``dt`` seconds.
+    dt : float, optional
+        Time between trajectory rows (s).
+    frames : bool, optional
+        A triad at every joint frame.
+    mode : {"live", "static", "matplotlib"}, optional
+        As in :meth:`Scene.show`.
+    height : int, optional
+        CSS pixels.
+    style, meshes : optional
+        As in :meth:`Scene.add_chain`.
+
+    Raises
+    ------
+    ShapeError, DomainError, TypeError
+        As the :class:`Scene` methods; ``q``, ``ghosts`` or ``trajectory``
+        without a chain is a DomainError.
     """
     if trajectory is not None:
         if chain is None:

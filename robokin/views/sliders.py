@@ -73,7 +73,7 @@ class JointSliders:
     chain : SerialChain
         The chain.
     q : array_like, shape (n,), optional
-        Initial configuration (rad, m); default mid-limits / zeros.
+        Initial configuration (rad, m); default zeros, moved into the joint limits.
     scene : Scene, optional
         A scene holding the chain as item ``name``; default a new scene with the chain alone.
     name : str, optional

@@ -58,8 +58,17 @@ def copy_viewer(app: Any, exception: Exception | None) -> None:
 def externalize_scene_data(outdir: Path) -> int:
     """Move inline scene data of every page under ``outdir`` to ``_static/scenes/``.
 
-    Returns the number of scenes moved. Idempotent: a page already rewritten has no
-    inline data left.
+    Idempotent: a page already rewritten has no inline data left.
+
+    Parameters
+    ----------
+    outdir : pathlib.Path
+        The HTML output folder of a build.
+
+    Returns
+    -------
+    int
+        The number of scenes moved.
     """
     scenes = outdir / "_static" / "scenes"
     moved = 0
