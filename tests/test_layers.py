@@ -63,6 +63,11 @@ KNOWN_CYCLES: dict[frozenset, str] = {
         "polish calls solve inside a function; the IK refactor (issue 22, another part) owns it",
 }
 
+#: The modules of robokin.views, bottom up: each imports only views modules listed before it
+#: (the layers of the robokin.views docstring). ``_server`` runs in its own process and imports none.
+VIEWS_ORDER = ["optional", "record", "arguments", "geometry", "meshcat_draw", "static_html", "plots", "meshes",
+               "live", "sphinx_extension", "display", "scene", "sliders", "_server", ""]
+
 #: Modules allowed to import inside functions (all other views modules import at the top).
 FUNCTION_IMPORTS_ALLOWED = {
     "robokin.views.optional": "the one place that imports each optional library, on first use",
@@ -249,6 +254,19 @@ def test_private_exceptions_are_still_needed():
     used = {(m, t, n) for m in MODULES for _, t, n, _ in _imports(m)}
     stale = [key for key in PRIVATE_EXCEPTIONS if key not in used]
     assert not stale, f"remove these from PRIVATE_EXCEPTIONS (no longer imported): {stale}"
+
+
+def test_views_modules_import_only_those_below_them():
+    rank = {("robokin.views." + name).rstrip("."): k for k, name in enumerate(VIEWS_ORDER)}
+    views = [m for m in MODULES if m.startswith("robokin.views")]
+    assert set(views) == set(rank), f"add/remove modules in VIEWS_ORDER of tests/test_layers.py: {set(views) ^ set(rank)}"
+    problems = []
+    for module in views:
+        for line, target, name, _ in _imports(module):
+            if target in rank and target != module and rank[target] >= rank[module]:
+                problems.append(f"{_where(module, line)}: imports {target}, which comes after it in the views' layers "
+                                f"(VIEWS_ORDER in tests/test_layers.py, the robokin.views docstring)")
+    assert not problems, "\n".join(problems)
 
 
 @pytest.mark.parametrize("module", sorted(m for m in MODULES if m.startswith("robokin.views")))

@@ -38,15 +38,17 @@ How ``show()`` chooses the display mode (first match wins):
   and any static web server, no network; deterministic output.
 - **matplotlib**: a stick figure (PDF, text-only outputs).
 
-Layers (each module imports only modules of the layers before it):
+Layers (each module imports only modules listed before it; ``tests/test_layers.py``
+checks the order):
 
-1. :mod:`~robokin.views.arguments` (argument checks), :mod:`~robokin.views.record`
-   (the scene's items), :mod:`~robokin.views.optional` (the optional libraries,
-   each imported there only, on first use);
+1. :mod:`~robokin.views.optional` (the optional libraries, each imported there
+   only, on first use), :mod:`~robokin.views.record` (the scene's items),
+   :mod:`~robokin.views.arguments` (argument checks);
 2. :mod:`~robokin.views.geometry` (frames, layout, scale, bounds: numpy only);
 3. backends: :mod:`~robokin.views.meshcat_draw` (MeshCat commands),
    :mod:`~robokin.views.static_html`, :mod:`~robokin.views.plots` (matplotlib),
-   :mod:`~robokin.views.meshes` (URDF meshes), :mod:`~robokin.views.live` (live server);
+   :mod:`~robokin.views.meshes` (URDF meshes), :mod:`~robokin.views.live` (live server),
+   :mod:`~robokin.views.sphinx_extension`;
 4. :mod:`~robokin.views.display` (choosing the mode, showing);
 5. the facade: :mod:`~robokin.views.scene` (:class:`Scene`, :func:`show`), then
    :mod:`~robokin.views.sliders`.
