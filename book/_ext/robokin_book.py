@@ -261,6 +261,11 @@ def one_solution_style(app: Sphinx, doctree, docname: str) -> None:
         node["classes"] = [c for c in node["classes"] if c not in ("dropdown", "toggle")]
 
 
+def nitpick_pairs_as_tuples(app: Sphinx, config) -> None:
+    """``nitpick_ignore`` from ``_config.yml`` arrives as lists; Sphinx looks pairs up as tuples."""
+    config.nitpick_ignore = [tuple(pair) for pair in config.nitpick_ignore]
+
+
 def _docstring_owner(node) -> str:
     """The dotted name of the object whose docstring holds ``node`` (autodoc), or ''."""
     source = str(node.source or "")
@@ -312,6 +317,7 @@ def setup(app: Sphinx) -> dict:
                          "env", [str])
     app.connect("config-inited", configure_edition, priority=50)
     app.connect("missing-reference", resolve_short_python_names)
+    app.connect("config-inited", nitpick_pairs_as_tuples)
     app.connect("source-read", remove_solutions)
     # Run after myst-parser has added its own MathJax options.
     app.connect("config-inited", configure_mathjax, priority=900)
