@@ -259,7 +259,8 @@ def test_private_exceptions_are_still_needed():
 def test_views_modules_import_only_those_below_them():
     rank = {("robokin.views." + name).rstrip("."): k for k, name in enumerate(VIEWS_ORDER)}
     views = [m for m in MODULES if m.startswith("robokin.views")]
-    assert set(views) == set(rank), f"add/remove modules in VIEWS_ORDER of tests/test_layers.py: {set(views) ^ set(rank)}"
+    assert set(views) == set(rank), (f"add/remove modules in VIEWS_ORDER of tests/test_layers.py: "
+                                     f"{set(views) ^ set(rank)}")
     problems = []
     for module in views:
         for line, target, name, _ in _imports(module):

@@ -24,7 +24,8 @@ from robokin.views import live, optional
 from robokin.views.arguments import as_height
 from robokin.views.plots import plot_scene
 
-__all__ = ["ENV", "MAX_LIVE", "MODES", "choose_mode", "display", "html_output", "in_browser_kernel", "note", "show_live", "show_scene"]
+__all__ = ["ENV", "MAX_LIVE", "MODES", "choose_mode", "display", "html_output", "in_browser_kernel", "note",
+           "show_live", "show_scene"]
 
 #: The display modes.
 MODES = ("live", "static", "matplotlib")

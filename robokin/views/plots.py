@@ -257,7 +257,8 @@ def plot_history(record: Any = None, *, t: Any = None, q: Any = None, dq: Any = 
     Quantities come from keyword arguments or from ``record`` (an object or dict
     with ``t``/``time``, ``q``, ``dq``/``qd``, ``error``/``errors`` and
     ``singular_values``).  ``q``/``dq`` are (T, n) [rad, m]; ``error`` is (T,)
-    norms or (T, k) vectors (plotted as their norm); ``singular_values`` (T, m).  The x axis is time [s] when ``t`` or ``dt`` is known,
+    norms or (T, k) vectors (plotted as their norm); ``singular_values`` (T, m).
+    The x axis is time [s] when ``t`` or ``dt`` is known,
     else the iteration number.  Errors use a log scale unless ``log_error=False``.
 
     Singularities: ``sigma_min`` (T,), the smallest singular value of the

@@ -10,7 +10,7 @@ The bottom layer of :mod:`robokin.views`: the items a
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, Union
+from typing import Any
 
 import numpy as np
 
@@ -147,7 +147,7 @@ class AnimationItem:
 
 
 #: Any item of a scene.
-Item = Union[ChainItem, TargetItem, PointsItem, PathItem]
+Item = ChainItem | TargetItem | PointsItem | PathItem
 
 
 @dataclass
