@@ -13,7 +13,7 @@ with [V_b] = T⁻¹ Ṫ, so ω_b = Rᵀ ω and v_b = Rᵀ ṗ. Hence
 
 J_s and J_b are built here without robokin's Jacobian: by finite differences of the forward
 kinematics (Ṫ T⁻¹ and T⁻¹ Ṫ), and J_s a second time from the screw axes of the product of
-exponentials (L&P eq. 5.11) with the home screw axes read off the forward kinematics at q = 0.
+exponentials (L&P §5.1.1) with the home screw axes read off the forward kinematics at q = 0.
 """
 
 from __future__ import annotations
@@ -47,7 +47,7 @@ def hat(V: np.ndarray) -> np.ndarray:
 
 
 def adjoint(T: np.ndarray) -> np.ndarray:
-    """Ad_T for twists [ω; v] (L&P eq. 3.83)."""
+    """Ad_T for twists [ω; v] (L&P §3.3.2)."""
     R, p = T[:3, :3], T[:3, 3]
     return np.block([[R, Z3], [skew(p) @ R, R]])
 
@@ -130,6 +130,6 @@ def test_body_jacobian_relation(ur10, configurations):
 
 
 def test_body_and_space_jacobians_differ_by_the_adjoint(ur10, configurations):
-    """L&P eq. 5.18, J_s = Ad_T J_b: ties the two finite-difference Jacobians together."""
+    """L&P §5.1.3, J_s = Ad_T J_b: ties the two finite-difference Jacobians together."""
     for q in configurations:
         assert np.allclose(space_jacobian_fd(ur10, q), adjoint(ur10.fk(q)) @ body_jacobian_fd(ur10, q), atol=1e-7)
