@@ -52,8 +52,8 @@ modes0 = np.column_stack([np.zeros(3), np.zeros(3), 2 * np.arctan(np.sort(np.roo
 _F_WITHOUT_D = """
 def F_of_phi(phi, rho, robot=robot):
     M, r = linear_solve(phi, rho, robot)
-    N = np.array([[M[1, 1], -M[0, 1]], [-M[1, 0], M[0, 0]]]) @ r
-    return N @ N - rho[0] ** 2  # the factor det(M)^2 forgotten
+    adj_r = np.array([[M[1, 1], -M[0, 1]], [-M[1, 0], M[0, 0]]]) @ r
+    return adj_r @ adj_r - rho[0] ** 2  # the factor det(M)^2 forgotten
 """
 
 MUTATIONS = {
