@@ -286,3 +286,17 @@ def test_figure_fonts_are_at_least_9pt(path):
                 points = match.group(1) or match.group(3)
                 assert points is not None and float(points) >= 9, (
                     f"{path.name} cell {index}: a font below 9 pt: {line.strip()}")
+
+
+@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
+def test_no_comments_behind_closing_brackets(path):
+    """``)  # why`` reads as a comment about a bracket: a comment that does not fit behind
+    its statement goes above it (tools/format_notebooks.py moves it there)."""
+    import re
+
+    dangling = re.compile(r"^\s*[)\]}]+[,;]?\s+#")
+    found = [(index, line.strip()[:60]) for index, cell in enumerate(load(path)["cells"])
+             if cell["cell_type"] == "code"
+             for line in "".join(cell["source"]).splitlines() if dangling.match(line)]
+    assert not found, (f"{path.name}: {len(found)} comments behind closing brackets (run "
+                       f"tools/format_notebooks.py): {found[:3]}")
