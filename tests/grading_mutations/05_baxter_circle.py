@@ -56,9 +56,6 @@ MUTATIONS = {
         ("no feed-forward in the controller (the hand lags)", _P_ONLY_LOG),
     ],
     "task3_test5": [
-        ("no feed-forward in the controller (the hand does not return)", _P_ONLY_LOG),
-    ],
-    "task3_test6": [
         ("the open-loop law",
          "_resolved_rate = resolved_rate\n"
          "resolved_rate = lambda q, r_des, v_des, kp=KP: _resolved_rate(q, r_des, v_des, kp=0.0)"),
