@@ -65,3 +65,17 @@ def test_the_cases_cover_every_outcome(golden):
     assert {c["label"] for c in cases} >= {"lm", "pinv", "transpose", "weighted", "dls", "nullspace"}
     assert {c["robot"] for c in cases} == set(robots())
     assert 0.3 < golden["single_success"].mean() < 0.9  # both successes and failures
+
+
+def test_solve_ik_once_is_solve_ik_without_restarts_and_polish(chains):
+    """One attempt of the method alone equals solve_ik(..., restarts=0, polish=False) bit for bit."""
+    from robokin.motion import solve_ik, solve_ik_once
+
+    cases = [c for c in single_cases()[:300] if c.get("seed") is None][:120]
+    for case in cases:
+        kwargs = {k: v for k, v in case.items() if k not in ("robot", "label", "restarts", "polish")}
+        chain = chains[case["robot"]]
+        once = solve_ik_once(chain, **kwargs)
+        full = solve_ik(chain, **kwargs, restarts=0, polish=False)
+        assert once.attempts == 1
+        assert digest_single(once) == digest_single(full), _describe(case)

@@ -1,6 +1,7 @@
 """Inverse kinematics: iterative solvers behind one interface.
 
 - :func:`solve_ik` — one target, with a per-iteration history;
+- :func:`solve_ik_once` — one attempt of a method alone (no restarts, no polish);
 - :func:`solve_ik_batch` — many targets at once, vectorised over targets;
 - :mod:`~robokin.motion.ik.methods` — the step rules (``"lm"``, ``"pinv"``,
   ``"transpose"``, ``"weighted"``, ``"dls"``, ``"nullspace"``);
@@ -16,14 +17,16 @@ from robokin.motion.ik.methods import (
     LevenbergMarquardt,
     NullSpace,
     PseudoInverse,
+    StepResult,
     WeightedPseudoInverse,
 )
 from robokin.motion.ik.objectives import GradientObjective, JointLimitDistance, Manipulability
 from robokin.motion.ik.result import REASONS, IKBatchResult, IKHistory, IKResult
-from robokin.motion.ik.solve import solve_ik
+from robokin.motion.ik.solve import solve_ik, solve_ik_once
 
 __all__ = [
     "solve_ik",
+    "solve_ik_once",
     "solve_ik_batch",
     "IKResult",
     "IKHistory",
@@ -31,6 +34,7 @@ __all__ = [
     "REASONS",
     "METHODS",
     "IKMethod",
+    "StepResult",
     "PseudoInverse",
     "JacobianTranspose",
     "WeightedPseudoInverse",

@@ -72,6 +72,22 @@ class IKContext:
             q = np.where(self.shift & (q < self.lower) & (q + two_pi <= self.upper), q + two_pi, q)
         return np.minimum(np.maximum(q, self.lower), self.upper)
 
+    def touches_limit(self, q: np.ndarray) -> bool:
+        """Does configuration ``q`` (n,) rest on one of its joint limits?"""
+        return bool(np.any((q <= self.lower) | (q >= self.upper)))
+
+    def advance(self, q: np.ndarray, dq: np.ndarray) -> tuple[np.ndarray, bool]:
+        """``q + dq`` brought within the limits (:meth:`project`), and whether it rests on a limit.
+
+        One configuration (n,).  A step that stays strictly inside the limits
+        (and no wrapping) is returned as is and reported off the limits.
+        """
+        q_new = q + dq
+        if self.wrap is not None or ((q_new < self.lower) | (q_new > self.upper)).any():
+            q_new = self.project(q_new)
+            return q_new, self.touches_limit(q_new)
+        return q_new, False
+
     def pose(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Flange pose and tool pose, each (4, 4) or (N, 4, 4)."""
         T_flange = self.chain.fk(q, check=False)
