@@ -43,7 +43,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from robokin.errors import DomainError, ShapeError
-from robokin.motion.ik.objectives import as_objective
+from robokin.motion.ik.objectives import JointLimitDistance, as_objective, objective_limits
 from robokin.validation import as_float_array, check_positive
 
 __all__ = [
@@ -367,12 +367,25 @@ class NullSpace(IKMethod):
         default), ``"manipulability"``, an object with ``gradient(q, ctx)``, or a
         callable ``grad_H(q) -> (n,)``.
     gain : float or None, optional
-        :math:`k > 0`.  ``None`` picks :math:`k = n\,\Delta_{min}^2 / 2` for the
-        joint-limit objective (:math:`\Delta_{min}` the smallest joint range:
-        before projection, the most constrained joint then moves half-way to
-        the middle of its range per step) and 1 otherwise.
+        :math:`k > 0`, applied to the gradient of whatever objective is used.
+        ``None`` (default) picks the objective's own ``default_gain`` if it
+        states one (``"manipulability"``: 1), otherwise, for the joint-limit
+        objective, a plain gradient function and any other objective alike,
+        :math:`k = n\,\Delta_{min}^2 / 2` (:math:`\Delta_{min}` the smallest
+        finite joint range; 1 if no joint is limited).  With the joint-limit
+        gradient of eq. 3.57 this moves the most constrained joint, before
+        projection, half-way to the middle of its range per step; a gradient
+        function computing the same :math:`\nabla H` therefore gives the same
+        steps as ``"joint_limits"``.  :meth:`resolved_gain` tells the value.
     rcond : float, optional
         Relative cut-off for small singular values.
+
+    Notes
+    -----
+    :meth:`step` needs ``q`` and the joint limits: from ``ctx`` (the solver's
+    context) or, with ``ctx=None``, from an objective created with its limits
+    (``JointLimitDistance(limits)``); a plain gradient function with
+    ``ctx=None`` needs an explicit ``gain``.
     """
 
     name = "nullspace"
@@ -383,20 +396,29 @@ class NullSpace(IKMethod):
         self.gain = None if gain is None else check_positive(gain, "gain", scalar=True)
         self.rcond = check_positive(rcond, "rcond", scalar=True)
 
-    def resolved_gain(self, ctx: Any) -> float:
-        """The gain :math:`k` used for a chain (see ``gain``)."""
+    def resolved_gain(self, ctx: Any = None) -> float:
+        """The gain :math:`k` used (see ``gain``); ``ctx``: the solver's context or limits (n, 2)."""
         if self.gain is not None:
             return self.gain
-        from robokin.motion.ik.objectives import JointLimitDistance  # noqa: PLC0415
-
-        if isinstance(self.objective, JointLimitDistance):
-            rng = ctx.upper - ctx.lower
-            rng = rng[np.isfinite(rng) & (rng > 0)]
-            if rng.size:
-                return float(len(ctx.lower) * np.min(rng) ** 2 * 0.5)
+        default = getattr(self.objective, "default_gain", None)
+        if default is not None:
+            return float(default)
+        if isinstance(self.objective, JointLimitDistance) and self.objective.limits is not None:
+            lower, upper = self.objective.bounds()
+        elif ctx is not None:
+            lower, upper = objective_limits(ctx, "ctx")
+        else:
+            raise TypeError("the null-space gain needs the joint limits: give gain=, the solver's context "
+                            "(ctx) or an objective created with its limits")
+        rng = upper - lower
+        rng = rng[np.isfinite(rng) & (rng > 0)]
+        if rng.size:
+            return float(len(lower) * np.min(rng) ** 2 * 0.5)
         return 1.0
 
     def step(self, J, e, q=None, ctx=None):
+        if q is None:
+            raise TypeError("the null-space step needs the configuration q (the objective's gradient is taken there)")
         U, s, Vt = np.linalg.svd(J, full_matrices=False)
         keep = s > self.rcond * s[..., :1]
         s_inv = np.where(keep, 1.0 / np.where(keep, s, 1.0), 0.0)
