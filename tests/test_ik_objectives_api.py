@@ -91,6 +91,8 @@ def test_objectives_without_what_they_need_say_so():
         Manipulability().value(np.zeros(6), None)
     with pytest.raises(TypeError, match="gain"):
         NullSpace(objective=joint_limit_gradient).step(np.eye(3, 6), np.ones(3), np.zeros(6))
+    with pytest.raises(TypeError, match="mask"):  # error weights of 6 components, 3 task rows
+        LevenbergMarquardt(error_weights=[1, 1, 1, 2, 2, 2]).step(np.eye(3, 6), np.ones(3))
 
 
 # ------------------------------------------------------------ steps
@@ -103,10 +105,12 @@ def jacobian_and_error():
     return chain, Q[0], J, e
 
 
-@pytest.mark.parametrize("method", [PseudoInverse(), JacobianTranspose(), WeightedPseudoInverse(weights=np.arange(1.0, 7.0)),
-                                    DampedLeastSquares(damping=0.1), DampedLeastSquares(adaptive="singular_value"),
-                                    LevenbergMarquardt(), LevenbergMarquardt(error_weights=[1, 1, 1, 2, 2, 2])],
-                         ids=repr)
+STEP_RULES = [PseudoInverse(), JacobianTranspose(), WeightedPseudoInverse(weights=np.arange(1.0, 7.0)),
+              DampedLeastSquares(damping=0.1), DampedLeastSquares(adaptive="singular_value"),
+              LevenbergMarquardt(), LevenbergMarquardt(error_weights=[1, 1, 1, 2, 2, 2])]
+
+
+@pytest.mark.parametrize("method", STEP_RULES, ids=repr)
 def test_steps_return_a_named_result_and_need_no_context(jacobian_and_error, method):
     chain, q, J, e = jacobian_and_error
     ctx = make_context(chain, np.ones(6, dtype=bool), None, "limits")

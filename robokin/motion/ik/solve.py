@@ -434,8 +434,8 @@ def solve_ik_once(
     r"""One attempt of an IK method alone, from ``q0``: no restarts, no polish.
 
     The textbook iteration (Siciliano et al. 2009, §3.7, the closed-loop
-    inverse kinematics algorithm; Lynch & Park 2017, §6.2.2, Newton–Raphson,
-    their ``IKinBody``): starting from :math:`q_0`,
+    inverse kinematics algorithm; Lynch & Park 2017, §6.2.2, the numerical
+    inverse kinematics algorithm, Newton–Raphson): starting from :math:`q_0`,
 
     .. math::
         e_k = \begin{bmatrix} p_{goal} - p(q_k) \\ \log\!\left(R_{goal} R(q_k)^T\right)
@@ -489,6 +489,8 @@ def solve_ik_once(
     ----------
     Siciliano et al., *Robotics: Modelling, Planning and Control*, 2009, §3.7.
     Lynch and Park, *Modern Robotics*, 2017, §6.2.2.
+    Sugihara, "Solvability-unconcerned inverse kinematics by the
+    Levenberg–Marquardt method", IEEE T-RO 27(5), 2011.
     """
     settings, T_goal, q_start = parse_settings(
         chain, target, q0, method, options, batched=False, mask=mask, tool=tool, tol=tol,
