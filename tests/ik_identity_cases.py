@@ -18,6 +18,7 @@ say so in the commit message)::
 from __future__ import annotations
 
 import hashlib
+import platform
 from pathlib import Path
 from typing import Any
 
@@ -228,6 +229,21 @@ def run_batch(case: dict[str, Any], chains: dict[str, Any]) -> Any:
     return solve_ik_batch(chains[case["robot"]], **kwargs)
 
 
+def platform_fingerprint() -> str:
+    """numpy and BLAS versions, machine and the CPU features numpy uses.
+
+    Floating-point results are reproducible bit for bit only on the same
+    arithmetic: another BLAS or other SIMD kernels may change last bits.
+    """
+    blas = np.show_config(mode="dicts")["Build Dependencies"]["blas"]
+    try:
+        from numpy._core._multiarray_umath import __cpu_features__ as features
+    except ImportError:  # an older or newer numpy layout
+        features = {}
+    enabled = ",".join(sorted(k for k, v in features.items() if v))
+    return f"numpy {np.__version__}; blas {blas.get('name')} {blas.get('version')}; {platform.machine()}; {enabled}"
+
+
 def compute() -> dict[str, np.ndarray]:
     """Digests, iterations and success of every case, as arrays."""
     chains = robots()
@@ -238,6 +254,7 @@ def compute() -> dict[str, np.ndarray]:
         "single_iterations": np.array([r.iterations for r in single]),
         "single_success": np.array([r.success for r in single]),
         "batch_digest": np.array([list(digest_batch(r)) for r in batch], dtype=np.uint8),
+        "platform": np.array(platform_fingerprint()),
     }
 
 
