@@ -6,6 +6,11 @@
 - :mod:`~robokin.motion.ik.methods` — the step rules (``"lm"``, ``"pinv"``,
   ``"transpose"``, ``"weighted"``, ``"dls"``, ``"nullspace"``);
 - :mod:`~robokin.motion.ik.objectives` — secondary objectives for ``"nullspace"``.
+
+Inside: :mod:`~robokin.motion.ik.settings` checks the keywords once into an
+``IKSettings`` record; :func:`~robokin.motion.ik.solve.run_attempt` is the
+iteration of one attempt; :mod:`~robokin.motion.ik.stall` decides when an
+attempt stalls and why; :mod:`~robokin.motion.ik.polish` polishes failures.
 """
 
 from robokin.motion.ik.batch import solve_ik_batch
