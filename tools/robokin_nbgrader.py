@@ -39,18 +39,26 @@ import re
 import sys
 from pathlib import Path
 
+from nbclient.exceptions import CellTimeoutError, DeadKernelError
 from nbformat.notebooknode import NotebookNode, from_dict
 from nbgrader import utils
+from nbgrader.coursedir import CourseDirectory
 from nbgrader.preprocessors import Execute, NbGraderPreprocessor, OverwriteCells
-from traitlets import Unicode
+from traitlets import Bool, Unicode
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from notebook_analysis import mark_solution  # noqa: E402
+from robokin_sandbox import SandboxedKernelManager, bwrap_executable, sandbox_wanted  # noqa: E402
 
 ANSI = re.compile(r"\x1b\[[0-9;]*[A-Za-z]")
 VERDICT_MARK = "ROBOKIN-VERDICTS"
 RESTORED_NOTE = "was missing from the submission"
+STDERR_NOTE = "[written to stderr; not counted as a failure]"
+#: ename of the error output that zeroes a test the kernel could not run (it had died).
+NOT_RUN = "TestNotRun"
+#: ename of a cell whose kernel died, or was killed because it ignored the interrupt.
+KERNEL_LOST = "KernelLost"
 
 
 def _robokin(cell) -> dict:
@@ -163,10 +171,88 @@ class RestoreMissingCells(OverwriteCells):
 
 
 class RobokinExecute(Execute):
-    """nbgrader's ``Execute``, plus robokin.check's verdicts on a failing task."""
+    """nbgrader's ``Execute`` in a sandbox, scoring a test by pass/fail, plus robokin.check's verdicts.
+
+    - The kernel runs in bubblewrap (``tools/robokin_sandbox.py``) unless ``sandbox`` is
+      False or ``ROBOKIN_GRADING_SANDBOX=off``; without ``bwrap`` grading stops with a
+      message naming the package to install.
+    - A test cell fails only by an error output: what it writes to stderr (a warning,
+      a log message) stays in its output marked as a note, and a result or display it
+      shows is kept as a display (nbgrader would read a number as partial credit).
+    - A kernel that dies, or ignores the interrupt after the time limit (it is then
+      killed), costs the cells not yet run: they are not run, their tests score 0 with
+      the reason, and the report names the incident (``resources['robokin']['incidents']``,
+      written by ``GradingIncidents``).
+    """
 
     viewer = Unicode("matplotlib", help="ROBOKIN_VIEWER of the grading kernel (how 3D scenes are shown)"
                      ).tag(config=True)
+    sandbox = Bool(True, help="run each submission's kernel in bubblewrap (bwrap); "
+                   "ROBOKIN_GRADING_SANDBOX=off|on overrides it").tag(config=True)
+
+    def create_kernel_manager(self):
+        if not self._sandboxed:
+            return super().create_kernel_manager()
+        if not self.kernel_name:
+            self.kernel_name = self.nb.metadata.get("kernelspec", {}).get("name") or "python3"
+        folder = self.resources.get("metadata", {}).get("path") or os.getcwd()
+        course = Path(CourseDirectory(config=self.config).root).resolve()
+        exchange = self.config.get("Exchange", {}).get("root", "/srv/nbgrader/exchange")
+        hidden = [str(course), str(Path(exchange).resolve()), str(Path(__file__).resolve().parent.parent)]
+        self.km = SandboxedKernelManager(kernel_name=self.kernel_name, config=self.config,
+                                         writable=str(Path(folder).resolve()), hidden=hidden)
+        return self.km
+
+    def _grade_by_pass_fail(self, cell) -> None:
+        """A test cell's outputs such that only an error output can lower its score."""
+        notes = []
+        for output in cell.get("outputs", []):
+            if output.get("output_type") == "stream" and output.get("name") == "stderr":
+                output["name"] = "stdout"
+                output["text"] = f"{STDERR_NOTE}\n{output.get('text', '')}"
+                notes.append(output["text"])
+            elif output.get("output_type") == "execute_result":
+                output["output_type"] = "display_data"
+                output.pop("execution_count", None)
+        if notes:
+            self._report["incidents"].append({"kind": "stderr", "label": _label(cell)})
+
+    def _kernel_lost(self, cell, index, exc) -> None:
+        """The kernel died in ``cell``, or ignored the interrupt at the time limit: kill it, stop."""
+        hung = isinstance(exc, CellTimeoutError)
+        if hung:
+            self.log.error("The kernel ignored the interrupt after %s s: killing it", self.timeout)
+        try:
+            self.km.shutdown_kernel(now=True)
+        except Exception as kill_error:  # noqa: BLE001 - it is already gone
+            self.log.warning("Killing the kernel: %s", kill_error)
+        cell = self.nb.cells[index]
+        why = (f"the cell ran longer than the time limit ({self.timeout} s) and ignored the interrupt: "
+               "the kernel was killed" if hung else
+               "the kernel died while running this cell (os._exit, a crash, or not enough memory)")
+        if utils.is_grade(cell):   # the test scores 0
+            output = {"output_type": "error", "ename": KERNEL_LOST, "evalue": why,
+                      "traceback": [f"{KERNEL_LOST}: {why}; the cells after it were not run"]}
+        else:                      # not an error of the notebook that ran on: said in the report
+            output = {"output_type": "stream", "name": "stderr",
+                      "text": f"{KERNEL_LOST}: {why}; the cells after it were not run\n"}
+        cell.setdefault("outputs", []).append(from_dict(output))
+        later = [c for c in self.nb.cells[index + 1:] if c.cell_type == "code" and utils.is_grade(c)]
+        self._stopped = {"kind": "hang" if hung else "died", "label": _label(cell),
+                         "graded": utils.is_grade(cell), "tests_lost": len(later)}
+        self._report["incidents"].append(self._stopped)
+
+    def _not_run(self, cell):
+        if cell.cell_type != "code":
+            return cell
+        cell.outputs = []
+        cell.execution_count = None
+        if utils.is_grade(cell):
+            why = f"not run: the kernel had stopped in {self._stopped['label']}"
+            cell.outputs.append(from_dict({"output_type": "error", "ename": NOT_RUN, "evalue": why,
+                                           "traceback": [f"{NOT_RUN}: {why}"]}))
+            self._report["incidents"].append({"kind": "not_run", "label": _label(cell)})
+        return cell
 
     async def _async_handle_timeout(self, timeout, cell=None):
         # nbgrader interrupts a cell that runs too long; the kernel then reports a
@@ -176,8 +262,12 @@ class RobokinExecute(Execute):
         return await super()._async_handle_timeout(timeout, cell)
 
     def preprocess(self, nb, resources=None, km=None):
+        self._sandboxed = km is None and sandbox_wanted(self.sandbox)
+        if self._sandboxed:
+            bwrap_executable()   # stops grading with a message naming the package when it is missing
+        self._stopped: dict | None = None
         self._timed_out: set[int] = set()
-        self._report = {"explained": {}, "verdicts": None, "pairs": []}
+        self._report = {"explained": {}, "verdicts": None, "pairs": [], "incidents": []}
         pairs = []
         for cell in nb.cells:
             for pair in _robokin(cell).get("explain", []):
@@ -185,7 +275,10 @@ class RobokinExecute(Execute):
                 if item not in pairs:
                     pairs.append(item)
         self._report["pairs"] = pairs
-        self._last_code = max((i for i, c in enumerate(nb.cells) if c.cell_type == "code"), default=-1)
+        # robokin.check's verdicts on every task: after the last test (the answers are all
+        # there), so that a kernel that dies in a later cell does not take them along
+        self._last_code = max((i for i, c in enumerate(nb.cells) if c.cell_type == "code" and utils.is_grade(c)),
+                              default=max((i for i, c in enumerate(nb.cells) if c.cell_type == "code"), default=-1))
         previous = os.environ.get("ROBOKIN_VIEWER")
         os.environ["ROBOKIN_VIEWER"] = self.viewer  # inherited by the kernel started below
         try:
@@ -225,7 +318,15 @@ class RobokinExecute(Execute):
         return None
 
     def preprocess_cell(self, cell, resources, index):
-        cell, resources = super().preprocess_cell(cell, resources, index)
+        if self._stopped is not None:
+            return self._not_run(cell), self.resources
+        try:
+            cell, resources = super().preprocess_cell(cell, resources, index)
+        except (DeadKernelError, CellTimeoutError) as exc:
+            self._kernel_lost(cell, index, exc)
+            return self.nb.cells[index], self.resources
+        if cell.cell_type == "code" and utils.is_grade(cell):
+            self._grade_by_pass_fail(cell)
         if id(cell) in self._timed_out or id(self.nb.cells[index]) in self._timed_out:
             for output in cell.get("outputs", []):
                 if output.get("output_type") == "error" and output.get("ename") == "KeyboardInterrupt":
@@ -356,6 +457,50 @@ class AutograderReport(NbGraderPreprocessor):
                 break
         # timeouts and deleted tests first, then errors
         return sorted(notes, key=lambda n: 0 if ("time limit" in n or "missing" in n) else 1)
+
+
+class GradingIncidents(NbGraderPreprocessor):
+    """What happened to the kernel, appended to the report (autograde, after ``AutograderReport``).
+
+    From ``RobokinExecute``: a kernel that died or was killed (and in which cell), the
+    tests that were therefore not run (0 points, with the reason), and the tests whose
+    code wrote to stderr (shown as a note, not counted as a failure).
+    """
+
+    def preprocess(self, nb, resources):
+        incidents = resources.get("robokin", {}).get("incidents", [])
+        if not incidents:
+            return nb, resources
+        lines = []
+        for item in incidents:
+            if item["kind"] in ("died", "hang"):
+                what = ("the kernel died (os._exit, a crash or too much memory)" if item["kind"] == "died" else
+                        "it ran longer than the time limit and ignored the interrupt, so the kernel was killed")
+                lost = (f"the {item['tests_lost']} tests after it were not run and score 0"
+                        if item["tests_lost"] else "no test came after it, so no points were lost")
+                scope = "a test" if item["graded"] else "not graded"
+                lines.append(f"- **The kernel stopped** in {_md(item['label'])} ({scope}): {what}. "
+                             f"Grading stopped there; {lost}. Everything that ran before it was graded.")
+        not_run = [item["label"] for item in incidents if item["kind"] == "not_run"]
+        if not_run:
+            lines.append("- Not run (0 points), because the kernel had stopped: "
+                         + "; ".join(_md(label) for label in not_run) + ".")
+        noisy = [item["label"] for item in incidents if item["kind"] == "stderr"]
+        if noisy:
+            lines.append("- Your code wrote to stderr (a warning or a log message) while these tests ran: "
+                         + "; ".join(_md(label) for label in noisy)
+                         + ". It is shown under the test and is not counted as a failure.")
+        section = "\n".join(["", "**What happened while grading**", "", *lines])
+        report = next((c for c in nb.cells if c.cell_type == "markdown"
+                       and _robokin(c).get("role") == "report"), None)
+        if report is None:
+            report = from_dict({"cell_type": "markdown", "metadata": {"robokin": {"role": "report"}},
+                                "source": "## Autograder report\n"})
+            if nb.cells and "id" in nb.cells[0]:
+                report["id"] = "robokin-report"
+            nb.cells.insert(0, report)
+        report.source = report.source.rstrip() + "\n" + section
+        return nb, resources
 
 
 def _label(cell) -> str:
