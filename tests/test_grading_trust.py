@@ -6,8 +6,8 @@ built as in tests/test_nbgrader.py, then ``nbgrader autograde``,
 
 benign (the instructor's solutions, plus ...) -- each keeps full marks:
     ``noisy``   answers that log (``logging.warning``), warn (``RuntimeWarning``),
-                print to stderr and use helpers of their own, called by the tests;
-    ``hooked``  a post-run hook that shows a number (``0.0``) under every cell,
+                print to stderr and use helpers of their own, called by the tests,
+                and a post-run hook that shows a number (``0.0``) under every cell,
                 which nbgrader would take for partial credit;
     ``crash``   ``os._exit(1)`` in the ungraded *Try it yourself* cell;
     ``hang``    a loop that ignores SIGINT there (the kernel is killed at the time limit);
@@ -56,6 +56,7 @@ from robokin_sandbox import PACKAGE, SWITCH, sandbox_arguments, sandbox_wanted  
 
 CHAPTER = "03_three_rpr"
 TIMEOUT = 10          # seconds per cell: the hang is killed after it (+ nbclient's 4 s for the interrupt)
+TOKEN = "robokin-test-token-4f1c"   # a secret in the grader's environment
 ATTACK_DELAY = 1.0    # the escape's detached process tries every ATTACK_DELAY seconds
 
 
@@ -118,6 +119,7 @@ for target in {targets!r}:
         print("WRO" "TE", target)
     except OSError as error:
         print("WRITE" "-BLOCKED", target, type(error).__name__)
+print("TOKEN", os.environ.get("JUPYTERHUB_API_TOKEN", "absent"))
 for secret in {secrets!r}:
     try:
         with open(secret, "rb") as f:
@@ -170,8 +172,7 @@ def submissions(correct: dict, course: Path) -> dict[str, dict]:
                  str(gradebook)],
         gradebook=str(gradebook), delay=ATTACK_DELAY)
     return {
-        "noisy": _with_answer_code(correct, "task1_answer1", NOISY),
-        "hooked": _with_answer_code(correct, "task1_answer1", HOOKED),
+        "noisy": _with_answer_code(correct, "task1_answer1", NOISY + HOOKED),
         "crash": _with_try_cell(correct, CRASH),
         "hang": _with_try_cell(correct, HANG),
         "escape": _with_try_cell(correct, escape),
@@ -189,7 +190,7 @@ def _digest(path: Path) -> str:
 
 @pytest.fixture(scope="module")
 def trusted(tmp_path_factory) -> Run:
-    """Chapter 3, five crafted submissions, one autograde run, feedback and export."""
+    """Chapter 3, four crafted submissions, one autograde run, feedback and export."""
     _require_bwrap()
     base = tmp_path_factory.mktemp("trust")
     course = base / "course"
@@ -211,7 +212,8 @@ def trusted(tmp_path_factory) -> Run:
                         PATH=str(Path(sys.executable).parent))
     run.refused = (no_bwrap.returncode, no_bwrap.stdout + no_bwrap.stderr)
 
-    nbgrader(["autograde", CHAPTER], course, run.log, ROBOKIN_CELL_TIMEOUT=str(TIMEOUT))
+    nbgrader(["autograde", CHAPTER], course, run.log, ROBOKIN_CELL_TIMEOUT=str(TIMEOUT),
+             JUPYTERHUB_API_TOKEN=TOKEN)
     run.gradebook_digest = _digest(course / "gradebook.db")
     alive = course / "autograded" / "escape" / CHAPTER / "alive.txt"
     run.alive_before = alive.read_text() if alive.exists() else None
@@ -257,8 +259,12 @@ def test_logging_warnings_and_stderr_keep_full_marks(trusted):
 
 
 def test_a_number_shown_by_a_hook_sets_no_score(trusted):
-    _full_marks(trusted, "hooked")
-    assert "0.0" in trusted.feedback["hooked"], "the hook did not show its number (the test tests nothing)"
+    """nbgrader reads a test's first result as partial credit: the hook shows 0.0 under every cell."""
+    _full_marks(trusted, "noisy")
+    nb = load(trusted.course / "autograded" / "noisy" / CHAPTER / f"{CHAPTER}.ipynb")
+    shown = [o for c in nb["cells"] if nbg(c).get("grade") for o in c.get("outputs", [])
+             if src({"source": o.get("data", {}).get("text/plain", "")}) == "0.0"]
+    assert shown, "the hook showed no number under the tests (the test tests nothing)"
 
 
 def test_kernel_that_dies_in_an_ungraded_cell(trusted):
@@ -274,11 +280,29 @@ def test_kernel_that_ignores_the_interrupt_is_killed(trusted):
     assert "The kernel stopped" in report and "ignored the interrupt" in report and "killed" in report
 
 
-def test_kernel_lost_before_the_tests_scores_them_zero_and_says_why(trusted):
-    """Not a submission of its own: the crash's report would name lost tests the same way."""
-    from robokin_nbgrader import GradingIncidents, NOT_RUN  # noqa: F401 - the names the report uses
-    report = _report(trusted.feedback["crash"])
-    assert "Everything that ran before it was graded" in report
+def test_tests_after_a_lost_kernel_score_zero_and_say_why():
+    """The cells after the one the kernel stopped in are not run: their tests score 0, with the reason."""
+    from nbformat.v4 import new_code_cell, new_notebook
+    from nbgrader import utils
+    from robokin_nbgrader import NOT_RUN, GradingIncidents, RobokinExecute
+
+    execute = RobokinExecute()
+    execute._report = {"incidents": []}
+    execute._stopped = {"kind": "died", "label": "In [7] `os._exit(1)`", "graded": False, "tests_lost": 1}
+    execute._report["incidents"].append(execute._stopped)
+    test = new_code_cell("assert rho0 is not None", metadata={"nbgrader": {
+        "grade": True, "solution": False, "points": 2, "grade_id": "task1_test1", "schema_version": 3},
+        "robokin": {"role": "test", "task": 1}})
+    test = execute._not_run(test)
+    assert utils.determine_grade(test, None) == (0, 2.0)
+    assert test.outputs[0]["ename"] == NOT_RUN and "In [7]" in test.outputs[0]["evalue"]
+    nb, _ = GradingIncidents().preprocess(new_notebook(cells=[test]),
+                                          {"robokin": {"incidents": execute._report["incidents"]}})
+    report = nb.cells[0].source
+    assert "The kernel stopped** in In [7] `os._exit(1)` (not graded): the kernel died" in report
+    assert "the test after it was not run and scores 0" in report
+    assert "Not run (0 points), because the kernel had stopped: a cell `assert rho0 is not None` " \
+        "(a test of Task 1)" in report
 
 
 # ---------------------------------------------------------------- the sandbox
@@ -295,6 +319,11 @@ def test_nothing_is_written_outside_the_submission_folder(trusted):
     # the course and the repository read-only; /tmp and $HOME private, empty and thrown away
     for target in _outside_targets(trusted.course)[:3]:
         assert f"WRITE-BLOCKED {target}" in page, f"{target}: the write was not refused"
+
+
+def test_the_graders_environment_is_not_passed_on(trusted):
+    page = trusted.feedback["escape"]
+    assert "TOKEN absent" in page and TOKEN not in page
 
 
 def test_the_instructors_files_are_not_readable(trusted):
@@ -343,6 +372,18 @@ def test_the_switch_off_runs_nbgraders_own_kernel(monkeypatch):
         execute.nb, execute.resources = new_notebook(), {"metadata": {"path": str(ROOT)}}
         execute._sandboxed = sandbox_wanted(execute.sandbox)
         assert type(execute.create_kernel_manager()) is expected
+
+
+def test_a_bwrap_that_cannot_make_a_sandbox_stops_grading(tmp_path, monkeypatch):
+    import robokin_sandbox
+
+    fake = tmp_path / "bwrap"
+    fake.write_text("#!/bin/sh\necho 'bwrap: No permissions to create new namespace' >&2\nexit 1\n")
+    fake.chmod(0o755)
+    monkeypatch.setenv("PATH", str(tmp_path))
+    with pytest.raises(robokin_sandbox.SandboxUnavailable, match="No permissions to create new namespace.*"
+                       + SWITCH):
+        robokin_sandbox.bwrap_executable()
 
 
 def test_hidden_folder_inside_a_readable_one_is_covered(tmp_path):

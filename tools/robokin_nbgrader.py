@@ -204,18 +204,26 @@ class RobokinExecute(Execute):
         return self.km
 
     def _grade_by_pass_fail(self, cell) -> None:
-        """A test cell's outputs such that only an error output can lower its score."""
-        notes = []
+        """A test cell's outputs such that only an error output can lower its score.
+
+        Its stderr (warnings, log messages) becomes one stdout note, where the first stderr
+        output was; a result it shows (``execute_result``) becomes a display.
+        """
+        outputs, stderr, position = [], [], None
         for output in cell.get("outputs", []):
             if output.get("output_type") == "stream" and output.get("name") == "stderr":
-                output["name"] = "stdout"
-                output["text"] = f"{STDERR_NOTE}\n{output.get('text', '')}"
-                notes.append(output["text"])
-            elif output.get("output_type") == "execute_result":
+                position = len(outputs) if position is None else position
+                stderr.append(output.get("text", ""))
+                continue
+            if output.get("output_type") == "execute_result":
                 output["output_type"] = "display_data"
                 output.pop("execution_count", None)
-        if notes:
+            outputs.append(output)
+        if stderr:
+            outputs.insert(position, from_dict({"output_type": "stream", "name": "stdout",
+                                                "text": f"{STDERR_NOTE}\n{''.join(stderr)}"}))
             self._report["incidents"].append({"kind": "stderr", "label": _label(cell)})
+        cell.outputs = outputs
 
     def _kernel_lost(self, cell, index, exc) -> None:
         """The kernel died in ``cell``, or ignored the interrupt at the time limit: kill it, stop."""
@@ -476,8 +484,10 @@ class GradingIncidents(NbGraderPreprocessor):
             if item["kind"] in ("died", "hang"):
                 what = ("the kernel died (os._exit, a crash or too much memory)" if item["kind"] == "died" else
                         "it ran longer than the time limit and ignored the interrupt, so the kernel was killed")
-                lost = (f"the {item['tests_lost']} tests after it were not run and score 0"
-                        if item["tests_lost"] else "no test came after it, so no points were lost")
+                count = item["tests_lost"]
+                lost = ("no test came after it, so no points were lost" if not count else
+                        "the test after it was not run and scores 0" if count == 1 else
+                        f"the {count} tests after it were not run and score 0")
                 scope = "a test" if item["graded"] else "not graded"
                 lines.append(f"- **The kernel stopped** in {_md(item['label'])} ({scope}): {what}. "
                              f"Grading stopped there; {lost}. Everything that ran before it was graded.")

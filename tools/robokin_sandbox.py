@@ -38,6 +38,7 @@ from __future__ import annotations
 import importlib.util
 import os
 import shutil
+import subprocess
 import sys
 import tempfile
 from pathlib import Path
@@ -72,8 +73,11 @@ def sandbox_wanted(configured: bool) -> bool:
     return configured
 
 
+_WORKS: dict[str, bool] = {}
+
+
 def bwrap_executable() -> str:
-    """Path of ``bwrap``; SandboxUnavailable (naming the package to install) when missing."""
+    """Path of a ``bwrap`` that can make a sandbox here; SandboxUnavailable (saying what to do) if none."""
     path = shutil.which("bwrap")
     if path is None:
         raise SandboxUnavailable(
@@ -83,6 +87,18 @@ def bwrap_executable() -> str:
             f"own, turn the sandbox off with `export {SWITCH}=off` or `c.RobokinExecute.sandbox = False` "
             "in nbgrader_config.py (book/for-instructors.md, 'What grading guarantees')."
         )
+    if path not in _WORKS:   # once per process: can bwrap make a sandbox on this machine?
+        probe = subprocess.run([path, "--unshare-all", "--die-with-parent", "--ro-bind", "/", "/", "true"],
+                               capture_output=True, text=True, timeout=30)
+        if probe.returncode != 0:
+            raise SandboxUnavailable(
+                f"robokin grades every submission in a sandbox, but `{path}` cannot make one on this "
+                f"machine: {(probe.stderr or probe.stdout).strip() or f'exit {probe.returncode}'}. bwrap "
+                "needs unprivileged user namespaces (or a setuid bwrap). If this machine is a container "
+                f"that grades nothing else, turn the sandbox off: `export {SWITCH}=off` or "
+                "`c.RobokinExecute.sandbox = False` (book/for-instructors.md, 'What grading guarantees')."
+            )
+        _WORKS[path] = True
     return path
 
 
