@@ -387,12 +387,18 @@ def test_a_bwrap_that_cannot_make_a_sandbox_stops_grading(tmp_path, monkeypatch)
 
 
 def test_hidden_folder_inside_a_readable_one_is_covered(tmp_path):
-    course = Path("/opt/course")
-    args = sandbox_arguments(writable=course / "autograded" / "s" / "a", runtime=tmp_path, hidden=[course],
-                             readable=[], home="/home/grader", bwrap="bwrap")
+    shared = tmp_path / "shared"           # a folder the sandbox reads (as /usr or the venv) ...
+    course = shared / "course"             # ... that holds the course (hidden) ...
+    venv = course / "venv"                 # ... that holds a folder the sandbox reads again
+    submission = course / "autograded" / "s" / "a"
+    for folder in (venv, submission):
+        folder.mkdir(parents=True)
+    args = sandbox_arguments(writable=submission, runtime=tmp_path / "run", hidden=[course, Path("/srv/exchange")],
+                             readable=[shared, venv], home="/home/grader", bwrap="bwrap")
     text = " ".join(args)
-    assert "--tmpfs /opt/course" in text
-    assert text.index("--ro-bind /opt /opt") < text.index("--tmpfs /opt/course") < text.index(
-        "--bind /opt/course/autograded/s/a")
+    assert text.index("--tmpfs /home/grader") < text.index(f"--ro-bind {shared} {shared}") < text.index(
+        f"--tmpfs {course}") < text.index(f"--ro-bind {venv} {venv}") < text.index(
+        f"--bind {submission} {submission}") < text.index(f"--remount-ro {course}") < text.index("--remount-ro / ")
+    assert "/srv" not in text, "a folder outside the readable ones is not in the sandbox at all"
     for flag in ("--unshare-all", "--die-with-parent", "--new-session", "--clearenv", "--cap-drop"):
         assert flag in args

@@ -39,6 +39,7 @@ import re
 import sys
 from pathlib import Path
 
+from jupyter_core.utils import run_sync
 from nbclient.exceptions import CellTimeoutError, DeadKernelError
 from nbformat.notebooknode import NotebookNode, from_dict
 from nbgrader import utils
@@ -231,7 +232,7 @@ class RobokinExecute(Execute):
         if hung:
             self.log.error("The kernel ignored the interrupt after %s s: killing it", self.timeout)
         try:
-            self.km.shutdown_kernel(now=True)
+            run_sync(self.km.shutdown_kernel)(now=True)
         except Exception as kill_error:  # noqa: BLE001 - it is already gone
             self.log.warning("Killing the kernel: %s", kill_error)
         cell = self.nb.cells[index]

@@ -6,7 +6,7 @@ student's notebook with ``SandboxedKernelManager``, jupyter_client's
 (Debian/Ubuntu package ``bubblewrap``). The sandbox's file system is built
 from nothing (bwrap's root is an empty tmpfs):
 
-- read-only: the system (``/usr``, ``/etc`` and the ``/bin``, ``/lib`` links),
+- read-only: the system (``/usr``, ``/etc`` and ``/bin``, ``/lib`` ...),
   the Python environment of the grader (the venv and the Python it was made
   from) and the ``robokin`` package folder -- not the repository around it, whose
   notebooks hold the solutions;
@@ -53,7 +53,7 @@ KEPT_ENVIRONMENT = ("PATH", "LANG", "LANGUAGE", "LC_ALL", "LC_CTYPE", "LC_NUMERI
                     "PYTHONHASHSEED", "PYTHONDONTWRITEBYTECODE", "MPLBACKEND", "OMP_NUM_THREADS",
                     "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "PYDEVD_DISABLE_FILE_VALIDATION")
 KEPT_PREFIXES = ("ROBOKIN_",)
-SYSTEM = ("/usr", "/etc", "/opt")
+SYSTEM = ("/usr", "/etc")
 SYSTEM_LINKS = ("/bin", "/sbin", "/lib", "/lib32", "/lib64", "/libx32")
 
 
