@@ -20,13 +20,20 @@ into its pipelines:
     cell is put back after the nearest cell the submission still has (nbgrader
     0.9.6 fails with a KeyError when that cell is a read-only one).
 ``RobokinExecute`` (autograde, replaces ``Execute``)
-    nbgrader's ``Execute``; when a test cell fails it asks ``robokin.check``, in
-    the student's kernel, about the quantities of that task and writes the answer
-    above the traceback; at the end it asks about every task.
+    nbgrader's ``Execute``, with the kernel in a bubblewrap sandbox
+    (``tools/robokin_sandbox.py``); a test scores by pass/fail only (its stderr is
+    a note, a result it shows no partial credit); a kernel that dies or ignores
+    the interrupt is killed and costs only the cells not yet run. When a test cell
+    fails it asks ``robokin.check``, in the student's kernel, about the quantities
+    of that task and writes the answer above the traceback; after the last test it
+    asks about every task.
 ``AutograderReport`` (autograde, after ``SaveAutoGrades``)
     A markdown cell on top of the graded notebook (and so of the feedback): the
     score per task, what ``robokin.check`` found, and what went wrong outside the
     tests (a cell that raised, a cell that timed out, a test cell that was deleted).
+``GradingIncidents`` (autograde, after ``AutograderReport``)
+    Adds to the report what happened to the kernel (died, killed), the tests not
+    run because of it, and the tests whose code wrote to stderr.
 
 The cell roles come from ``tools/nbgrader_metadata.py`` (``metadata.robokin``).
 """
