@@ -366,12 +366,20 @@ def test_the_switch_off_runs_nbgraders_own_kernel(monkeypatch):
     from robokin_nbgrader import RobokinExecute
     from robokin_sandbox import SandboxedKernelManager
 
-    for value, expected in (("off", AsyncKernelManager), ("on", SandboxedKernelManager)):
-        monkeypatch.setenv(SWITCH, value)
-        execute = RobokinExecute()
+    from traitlets.config import Config
+
+    def manager(**config):
+        execute = RobokinExecute(config=Config({"RobokinExecute": config}))
         execute.nb, execute.resources = new_notebook(), {"metadata": {"path": str(ROOT)}}
         execute._sandboxed = sandbox_wanted(execute.sandbox)
-        assert type(execute.create_kernel_manager()) is expected
+        return type(execute.create_kernel_manager())
+
+    for value, expected in (("off", AsyncKernelManager), ("on", SandboxedKernelManager)):
+        monkeypatch.setenv(SWITCH, value)
+        assert manager() is expected
+    monkeypatch.delenv(SWITCH)
+    assert manager() is SandboxedKernelManager               # the default
+    assert manager(sandbox=False) is AsyncKernelManager      # c.RobokinExecute.sandbox = False
 
 
 def test_a_bwrap_that_cannot_make_a_sandbox_stops_grading(tmp_path, monkeypatch):
