@@ -23,7 +23,8 @@ into its pipelines:
     nbgrader's ``Execute``, with the kernel in a bubblewrap sandbox
     (``tools/robokin_sandbox.py``); a test scores by pass/fail only (its stderr is
     a note, a result it shows no partial credit); a kernel that dies or ignores
-    the interrupt is killed and costs only the cells not yet run. When a test cell
+    the interrupt is killed, restarted and brought back to where it was (the cells
+    before are run again), so it costs only that cell. When a test cell
     fails it asks ``robokin.check``, in the student's kernel, about the quantities
     of that task and writes the answer above the traceback; after the last test it
     asks about every task.
@@ -188,8 +189,9 @@ class RobokinExecute(Execute):
       a log message) stays in its output marked as a note, and a result or display it
       shows is kept as a display (nbgrader would read a number as partial credit).
     - A kernel that dies, or ignores the interrupt after the time limit (it is then
-      killed), costs the cells not yet run: they are not run, their tests score 0 with
-      the reason, and the report names the incident (``resources['robokin']['incidents']``,
+      killed), is restarted and the cells before are run again: only that cell is lost.
+      If that fails, the cells after it are not run and their tests score 0 with the
+      reason. The report names the incident (``resources['robokin']['incidents']``,
       written by ``GradingIncidents``).
     """
 
@@ -234,29 +236,62 @@ class RobokinExecute(Execute):
         cell.outputs = outputs
 
     def _kernel_lost(self, cell, index, exc) -> None:
-        """The kernel died in ``cell``, or ignored the interrupt at the time limit: kill it, stop."""
+        """The kernel died in ``cell``, or ignored the interrupt at the time limit.
+
+        The kernel is killed and restarted, and the code cells before this one are run
+        again (their outputs are kept from the first run), so that the notebook goes on
+        and loses only this cell. If that fails too, grading stops here: the cells after
+        it are not run (``_not_run``).
+        """
         hung = isinstance(exc, CellTimeoutError)
         if hung:
             self.log.error("The kernel ignored the interrupt after %s s: killing it", self.timeout)
-        try:
-            run_sync(self.km.shutdown_kernel)(now=True)
-        except Exception as kill_error:  # noqa: BLE001 - it is already gone
-            self.log.warning("Killing the kernel: %s", kill_error)
         cell = self.nb.cells[index]
         why = (f"the cell ran longer than the time limit ({self.timeout} s) and ignored the interrupt: "
                "the kernel was killed" if hung else
                "the kernel died while running this cell (os._exit, a crash, or not enough memory)")
         if utils.is_grade(cell):   # the test scores 0
             output = {"output_type": "error", "ename": KERNEL_LOST, "evalue": why,
-                      "traceback": [f"{KERNEL_LOST}: {why}; the cells after it were not run"]}
+                      "traceback": [f"{KERNEL_LOST}: {why}"]}
         else:                      # not an error of the notebook that ran on: said in the report
-            output = {"output_type": "stream", "name": "stderr",
-                      "text": f"{KERNEL_LOST}: {why}; the cells after it were not run\n"}
+            output = {"output_type": "stream", "name": "stderr", "text": f"{KERNEL_LOST}: {why}\n"}
         cell.setdefault("outputs", []).append(from_dict(output))
         later = [c for c in self.nb.cells[index + 1:] if c.cell_type == "code" and utils.is_grade(c)]
-        self._stopped = {"kind": "hang" if hung else "died", "label": _label(cell),
-                         "graded": utils.is_grade(cell), "tests_lost": len(later)}
-        self._report["incidents"].append(self._stopped)
+        incident = {"kind": "hang" if hung else "died", "label": _label(cell), "graded": utils.is_grade(cell),
+                    "tests_lost": len(later), "replayed": False}
+        self._report["incidents"].append(incident)
+        if not self._replays and self._restart_and_replay(index):
+            incident["replayed"], incident["tests_lost"] = True, 0
+            self._replays += 1
+            return
+        try:
+            run_sync(self.km.shutdown_kernel)(now=True)
+        except Exception as kill_error:  # noqa: BLE001 - it is already gone
+            self.log.warning("Stopping the kernel: %s", kill_error)
+        self._stopped = incident
+
+    def _restart_and_replay(self, index) -> bool:
+        """A fresh kernel in the state before cell ``index``: True if that worked."""
+        self.log.warning("Restarting the kernel and running the %d cells before cell %d again", index, index)
+        try:
+            run_sync(self.km.restart_kernel)(now=True)
+            run_sync(self.kc.wait_for_ready)(timeout=self.startup_timeout)
+        except Exception as restart_error:  # noqa: BLE001 - then grading stops at this cell
+            self.log.error("Restarting the kernel failed: %s", restart_error)
+            return False
+        for number, original in enumerate(self.nb.cells[:index]):
+            if original.cell_type != "code" or not original.source.strip() or any(
+                    o.get("ename") == "CellTimeoutError" for o in original.get("outputs", [])):
+                continue
+            copy = from_dict(json.loads(json.dumps(original)))
+            try:
+                super().execute_cell(copy, number, store_history=True)
+            except (DeadKernelError, CellTimeoutError) as again:
+                self.log.error("Running cell %d again, the kernel was lost again: %s", number, again)
+                return False
+            finally:
+                self.nb.cells[number] = original   # nbclient stores the executed copy at its index
+        return True
 
     def _not_run(self, cell):
         if cell.cell_type != "code":
@@ -282,6 +317,7 @@ class RobokinExecute(Execute):
         if self._sandboxed:
             bwrap_executable()   # stops grading with a message naming the package when it is missing
         self._stopped: dict | None = None
+        self._replays = 0
         self._timed_out: set[int] = set()
         self._report = {"explained": {}, "verdicts": None, "pairs": [], "incidents": []}
         pairs = []
@@ -492,13 +528,17 @@ class GradingIncidents(NbGraderPreprocessor):
             if item["kind"] in ("died", "hang"):
                 what = ("the kernel died (os._exit, a crash or too much memory)" if item["kind"] == "died" else
                         "it ran longer than the time limit and ignored the interrupt, so the kernel was killed")
-                count = item["tests_lost"]
-                lost = ("no test came after it, so no points were lost" if not count else
-                        "the test after it was not run and scores 0" if count == 1 else
-                        f"the {count} tests after it were not run and score 0")
-                scope = "a test" if item["graded"] else "not graded"
-                lines.append(f"- **The kernel stopped** in {_md(item['label'])} ({scope}): {what}. "
-                             f"Grading stopped there; {lost}. Everything that ran before it was graded.")
+                scope = "a test, which scores 0" if item["graded"] else "not graded"
+                if item.get("replayed"):
+                    after = ("The kernel was restarted and the cells before it were run again, so the "
+                             "notebook went on: only this cell's work is lost.")
+                else:
+                    count = item["tests_lost"]
+                    lost = ("no test came after it, so no points were lost" if not count else
+                            "the test after it was not run and scores 0" if count == 1 else
+                            f"the {count} tests after it were not run and score 0")
+                    after = f"Grading stopped there; {lost}. Everything that ran before it was graded."
+                lines.append(f"- **The kernel stopped** in {_md(item['label'])} ({scope}): {what}. {after}")
         not_run = [item["label"] for item in incidents if item["kind"] == "not_run"]
         if not_run:
             lines.append("- Not run (0 points), because the kernel had stopped: "
