@@ -413,3 +413,37 @@ def test_hidden_folder_inside_a_readable_one_is_covered(tmp_path):
     assert "/srv" not in text, "a folder outside the readable ones is not in the sandbox at all"
     for flag in ("--unshare-all", "--die-with-parent", "--new-session", "--clearenv", "--cap-drop"):
         assert flag in args
+
+
+def test_when_the_kernel_cannot_be_restarted_grading_stops_there():
+    """_kernel_lost: restart fails -> the kernel is stopped and the cells after it are not run."""
+    from nbclient.exceptions import DeadKernelError
+    from nbformat.v4 import new_code_cell, new_notebook
+    from robokin_nbgrader import NOT_RUN, RobokinExecute
+
+    class Manager:
+        stopped = False
+
+        async def restart_kernel(self, now=False):
+            raise RuntimeError("no more kernels")
+
+        async def shutdown_kernel(self, now=False):
+            Manager.stopped = now
+
+    crash = new_code_cell("import os\nos._exit(1)")
+    test = new_code_cell("assert x == 1", metadata={"nbgrader": {
+        "grade": True, "solution": False, "points": 1, "grade_id": "task1_test1", "schema_version": 3}})
+    execute = RobokinExecute()
+    execute.nb, execute.km = new_notebook(cells=[crash, test]), Manager()
+    execute._report, execute._replays, execute._stopped = {"incidents": []}, 0, None
+    execute._kernel_lost(crash, 0, DeadKernelError("Kernel died"))
+    assert Manager.stopped and execute._stopped["tests_lost"] == 1 and not execute._stopped["replayed"]
+    execute.preprocess_cell(test, {}, 1)
+    assert test.outputs[0]["ename"] == NOT_RUN
+    # a second lost kernel in the same notebook: no second restart, grading stops there
+    execute = RobokinExecute()
+    execute.nb, execute.km = new_notebook(cells=[crash, test]), Manager()
+    execute._report, execute._replays, execute._stopped = {"incidents": []}, 1, None
+    Manager.restart_kernel = None   # must not be called
+    execute._kernel_lost(crash, 0, DeadKernelError("Kernel died"))
+    assert execute._stopped is not None and not execute._stopped["replayed"]
