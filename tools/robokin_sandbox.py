@@ -16,7 +16,8 @@ from nothing (bwrap's root is an empty tmpfs):
 - hidden: everything else, among it the course directory (``source/`` with the
   instructor's notebooks, ``release/``, ``submitted/``, other students' folders,
   ``feedback/``, ``gradebook.db``), nbgrader's exchange and the repository. A
-  hidden folder that lies inside a readable one is covered by an empty tmpfs.
+  hidden folder that lies inside a readable one, or holds the submission's
+  folder, is covered by an empty tmpfs made read-only; so is the sandbox's root.
 
 The kernel has no network (``--unshare-net``: it talks to the grader over ZMQ's
 ``ipc`` transport, through sockets in a private folder bound into the sandbox),
