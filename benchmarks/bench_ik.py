@@ -80,7 +80,8 @@ def bench(robot: str, n_lm: int, n_other: int, methods: list[str]) -> list[dict]
         rows.append({
             "robot": robot, "method": name, "N": N, "success": ok.mean(), "median_ms": 1e3 * np.median(times),
             "mean_ms": 1e3 * times.mean(), "median_cpu_ms": 1e3 * np.median(cpu),
-            "yardsticks": np.median(cpu) / np.median(yard), "iterations": its.mean(), "batch_success": rb.success.mean(),
+            "yardsticks": np.median(cpu) / np.median(yard), "iterations": its.mean(),
+            "batch_success": rb.success.mean(),
             "batch_us": 1e6 * tb,
         })
         r = rows[-1]

@@ -13,7 +13,7 @@ import importlib.util
 import math
 import shutil
 import tempfile
-from functools import lru_cache
+from functools import cache
 from pathlib import Path
 from typing import Any
 
@@ -83,7 +83,7 @@ B = batch_shape
 
 
 # ------------------------------------------------------------------ shared objects
-@lru_cache(maxsize=None)
+@cache
 def chains() -> dict[str, SerialChain]:
     return {
         "planar": models.planar_two_link(),
@@ -97,7 +97,7 @@ def pick_chain(ctx: Ctx, names: tuple[str, ...] = ("planar", "ur10", "leg", "pri
     ctx.extra["chain"] = chains()[names[int(ctx.rng.integers(len(names)))]]
 
 
-@lru_cache(maxsize=None)
+@cache
 def lambdified() -> tuple[Any, Any]:
     c = chains()["planar"]
     return c.lambdify_fk(), c.lambdify_jacobian()
@@ -293,7 +293,7 @@ def chain_method_specs() -> list[Spec]:
     return S
 
 
-@lru_cache(maxsize=None)
+@cache
 def _symbolic_planar() -> SerialChain:
     import sympy as sp
 
@@ -372,7 +372,7 @@ _TOY_URDF = """<robot name="toy">
 """
 
 
-@lru_cache(maxsize=None)
+@cache
 def toy_urdf() -> str:
     """A small URDF file (fixed, revolute, prismatic joints), written once per session."""
     folder = tempfile.mkdtemp(prefix="robokin-fuzz-urdf-")
@@ -692,7 +692,7 @@ def _ik_batch_ok(r: IKBatchResult, ctx: Ctx) -> None:
 
 
 # ------------------------------------------------------------------ parallel
-@lru_cache(maxsize=None)
+@cache
 def robot_3rpr() -> Planar3RPR:
     return models.three_rpr()
 

@@ -25,7 +25,7 @@ from typing import Any
 import numpy as np
 
 import robokin.models as models
-from robokin.chains import Rz, SerialChain, Tx, Ty
+from robokin.chains import Rz, SerialChain, Tx
 from robokin.motion import (
     DampedLeastSquares,
     JacobianTranspose,

@@ -52,8 +52,8 @@ from test_nbgrader import (
 
 sys.path.insert(0, str(ROOT / "tools"))
 
-import student_edition  # noqa: E402
-from robokin_sandbox import PACKAGE, SWITCH, sandbox_arguments, sandbox_wanted  # noqa: E402
+import student_edition
+from robokin_sandbox import PACKAGE, SWITCH, sandbox_arguments, sandbox_wanted
 
 CHAPTER = "03_three_rpr"
 TIMEOUT = 10          # seconds per cell: the hang is killed after it (+ nbclient's 4 s for the interrupt)

@@ -371,7 +371,7 @@ def ik_solution(
     name = "q"
     T = T_GOAL if T_target is None else check_transform(T_target, name="T_target")
     if T.shape != (4, 4):
-        from robokin.errors import ShapeError  # noqa: PLC0415
+        from robokin.errors import ShapeError
 
         raise ShapeError(f"T_target must have shape (4, 4); got shape {T.shape}")
     rows, code, msg = _as_rows(q, name)

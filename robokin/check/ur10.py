@@ -108,7 +108,7 @@ class MatrixArgumentsCheck(Check):
     arguments: Callable[[np.ndarray], tuple] | None = None
     signature: str = ""
 
-    def evaluate(self, answer: Any) -> CheckResult:  # noqa: D102 - see Check.evaluate
+    def evaluate(self, answer: Any) -> CheckResult:
         if callable(answer) and not isinstance(answer, np.ndarray) and self.arguments is not None:
             build = self.arguments
             student = answer
@@ -177,8 +177,8 @@ def _wp_mistakes():
         ))]),
         alternatives("weights_after_pinv", [
             (after_pinv, (
-                "{name} is W⁻¹ J⁺ (= W⁻¹ J^T (J J^T)⁻¹): the plain pseudoinverse scaled joint by joint afterwards. That "
-                "is not a (weighted) inverse: J (W⁻¹ J⁺) ≠ I, so the step no longer achieves the "
+                "{name} is W⁻¹ J⁺ (= W⁻¹ J^T (J J^T)⁻¹): the plain pseudoinverse scaled joint by joint "
+                "afterwards. That is not a (weighted) inverse: J (W⁻¹ J⁺) ≠ I, so the step no longer achieves the "
                 "commanded displacement. Put W⁻¹ inside: W⁻¹ J^T (J W⁻¹ J^T)⁻¹."
             )),
             (w_times_pinv, (
@@ -430,7 +430,7 @@ class LoopCheck(MatrixArgumentsCheck):
     """Check of an IK loop ``f(chain, p_goal, q0, step, max_step, tol, max_iterations)``
     returning ``(q, converged, iterations)``; compared packed as one vector."""
 
-    def evaluate(self, answer: Any) -> CheckResult:  # noqa: D102 - see Check.evaluate
+    def evaluate(self, answer: Any) -> CheckResult:
         if callable(answer) and not isinstance(answer, np.ndarray):
             student = answer
 
