@@ -34,6 +34,7 @@ sys.path.insert(0, str(ROBOKIN / "tools"))
 
 from robokin_nbgrader import (  # noqa: E402
     AutograderReport,
+    GradingIncidents,
     MarkSolutionRegions,
     PointsHeader,
     RequireGradingMetadata,
@@ -88,8 +89,16 @@ c.Autograde.autograde_preprocessors = [
     AssignLatePenalties,
     CheckCellMetadata,
     AutograderReport,
+    GradingIncidents,         # a kernel that died or was killed, tests not run, stderr notes
 ]
 c.OverwriteCells.add_missing_cells = True
 c.Execute.timeout = int(os.environ.get("ROBOKIN_CELL_TIMEOUT", "120"))   # seconds per cell
 # 3D scenes of the graded notebook as pictures: the feedback page is read offline.
 c.RobokinExecute.viewer = "matplotlib"
+# Each submission's kernel runs in a bubblewrap sandbox (Debian package `bubblewrap`):
+# it sees the system and the Python environment read-only and writes only its own
+# folder; the course (source/, gradebook.db, other students), the exchange and the
+# repository are hidden, and it has no network. Turn it off only where grading
+# already runs in a container of its own: ROBOKIN_GRADING_SANDBOX=off, or
+# c.RobokinExecute.sandbox = False   (book/for-instructors.md, "What grading guarantees")
+c.RobokinExecute.sandbox = True

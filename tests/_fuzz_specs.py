@@ -13,7 +13,7 @@ import importlib.util
 import math
 import shutil
 import tempfile
-from functools import lru_cache
+from functools import cache
 from pathlib import Path
 from typing import Any
 
@@ -69,6 +69,7 @@ from robokin.motion import (
     simulate,
     solve_ik,
     solve_ik_batch,
+    solve_ik_once,
     time_law,
     tool_jacobian,
     track_position_batch,
@@ -82,7 +83,7 @@ B = batch_shape
 
 
 # ------------------------------------------------------------------ shared objects
-@lru_cache(maxsize=None)
+@cache
 def chains() -> dict[str, SerialChain]:
     return {
         "planar": models.planar_two_link(),
@@ -96,7 +97,7 @@ def pick_chain(ctx: Ctx, names: tuple[str, ...] = ("planar", "ur10", "leg", "pri
     ctx.extra["chain"] = chains()[names[int(ctx.rng.integers(len(names)))]]
 
 
-@lru_cache(maxsize=None)
+@cache
 def lambdified() -> tuple[Any, Any]:
     c = chains()["planar"]
     return c.lambdify_fk(), c.lambdify_jacobian()
@@ -292,7 +293,7 @@ def chain_method_specs() -> list[Spec]:
     return S
 
 
-@lru_cache(maxsize=None)
+@cache
 def _symbolic_planar() -> SerialChain:
     import sympy as sp
 
@@ -371,7 +372,7 @@ _TOY_URDF = """<robot name="toy">
 """
 
 
-@lru_cache(maxsize=None)
+@cache
 def toy_urdf() -> str:
     """A small URDF file (fixed, revolute, prismatic joints), written once per session."""
     folder = tempfile.mkdtemp(prefix="robokin-fuzz-urdf-")
@@ -605,6 +606,11 @@ def motion_specs() -> list[Spec]:
               "tol": _tol(), "restarts": Int("restarts", 0, 2),
               "max_iterations": Int("max_iterations", 5, 30, minimum=1, optional=True)},
              setup=pick_small, check=lambda r, c, v: _ik_ok(r, c), weight=0.6),
+        Spec("motion.solve_ik_once", solve_ik_once, [Obj("chain", lambda c: c.chain),
+                                                     Arr("target", (3,), batch=False, lo=-1.5, hi=1.5)],
+             {"q0": Q("q0", batch=False, optional=True), "method": Choice("method", ["lm", "pinv", "dls"]),
+              "tol": _tol(), "max_iterations": Int("max_iterations", 5, 30, minimum=1, optional=True)},
+             setup=pick_small, check=lambda r, c, v: _ik_ok(r, c), weight=0.4),
         Spec("motion.solve_ik (pose)", solve_ik, [Obj("chain", lambda c: c.chain), Tf("target", batch=False)],
              {"restarts": Const("restarts", 1), "tool": Tf("tool", batch=False, optional=True)},
              setup=pick_small, check=lambda r, c, v: _ik_ok(r, c), weight=0.4, covers=()),
@@ -686,7 +692,7 @@ def _ik_batch_ok(r: IKBatchResult, ctx: Ctx) -> None:
 
 
 # ------------------------------------------------------------------ parallel
-@lru_cache(maxsize=None)
+@cache
 def robot_3rpr() -> Planar3RPR:
     return models.three_rpr()
 

@@ -498,9 +498,9 @@ def run_example(spec: Spec, data: Any) -> None:
             try:
                 result = spec.fn(*args, **kwargs)
                 raised = None
-            except ACCEPTED as exc:  # noqa: PERF203
+            except ACCEPTED as exc:
                 raised = exc
-            except Exception as exc:  # noqa: BLE001
+            except Exception as exc:
                 raise AssertionError(f"{what}: raised {type(exc).__name__}: {exc}") from exc
     numpy_warnings = [w for w in caught if issubclass(w.category, RuntimeWarning)
                       and not issubclass(w.category, RobokinWarning)]

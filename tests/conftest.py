@@ -69,7 +69,8 @@ def build_book(edition: str = "instructor") -> Path:
     log_file.write_text(log)
     if proc.returncode != 0 or "build succeeded" not in log:
         tail = "\n".join(log.splitlines()[-60:])
-        pytest.fail(f"jupyter-book build ({edition} edition) failed (exit {proc.returncode}) after {elapsed:.0f} s:\n{tail}")
+        pytest.fail(f"jupyter-book build ({edition} edition) failed (exit {proc.returncode}) after "
+                    f"{elapsed:.0f} s:\n{tail}")
     print(f"\n[book] {edition} edition built in {elapsed:.1f} s")
     return EDITION_HTML[edition]
 

@@ -51,7 +51,7 @@ def random_cases():
 
 def test_every_solution_reproduces_the_pose(random_cases):
     Q, T, results = random_cases
-    for q, Tq, res in zip(Q, T, results):
+    for _q, Tq, res in zip(Q, T, results):
         assert res.success and res.reason == "solved"
         F = LEG.fk(res.q)
         assert np.allclose(F, Tq, atol=1e-10)
@@ -88,7 +88,7 @@ def test_hip_angles_are_the_rpy_of_the_hip_rotation(random_cases):
 
 def test_within_limits_filter(random_cases):
     Q, T, results = random_cases
-    for q, Tq, res in zip(Q[:40], T[:40], results[:40]):
+    for _q, Tq, res in zip(Q[:40], T[:40], results[:40]):
         assert np.array_equal(res.within_limits, LEG.within_limits(res.q))
         inside = ar601_leg_ik(Tq, within_limits=True)
         assert inside.success and np.all(LEG.within_limits(inside.q))

@@ -597,14 +597,14 @@ def test_batches_larger_than_one_chunk(mixed):
 
 
 def test_subs_fixed_and_tool():
-    l = sp.Symbol("l", positive=True)
-    T = sp.Matrix([[1, 0, 0, l], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]])
-    chain = SerialChain([Rz("a"), Fixed(T), Rz("b"), Tx(l)], tool=T)
-    assert chain.parameters == {l}
+    length = sp.Symbol("l", positive=True)
+    T = sp.Matrix([[1, 0, 0, length], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]])
+    chain = SerialChain([Rz("a"), Fixed(T), Rz("b"), Tx(length)], tool=T)
+    assert chain.parameters == {length}
     a, b = chain.symbols()
     p = chain.fk([a, b])[:3, 3]
-    assert sp.simplify(p[0] - l * (sp.cos(a) + 2 * sp.cos(a + b))) == 0
-    num = chain.subs({l: 2})
+    assert sp.simplify(p[0] - length * (sp.cos(a) + 2 * sp.cos(a + b))) == 0
+    num = chain.subs({length: 2})
     assert num.parameters == set()
     np.testing.assert_allclose(num.fk([0.0, 0.0])[:3, 3], [6.0, 0.0, 0.0])
     np.testing.assert_allclose(num.jacobian([0.3, 0.4]), num.lambdify_jacobian()(np.array([0.3, 0.4])), atol=1e-12)

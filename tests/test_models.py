@@ -400,7 +400,8 @@ def test_ar601_matches_report_formulas(lengths):
 def test_ar601_zero_pose_and_frames():
     leg = ar601_leg(10, 10, 10)
     # the report's own check: all lengths 10, all angles 0 -> foot at z = −30
-    np.testing.assert_allclose(leg.fk(np.zeros(6)), np.diag([1.0, 1, 1, 1]) + np.r_[0, 0, -30.0, 0][:, None] * np.eye(4)[3], atol=1e-12)
+    expected = np.diag([1.0, 1, 1, 1]) + np.r_[0, 0, -30.0, 0][:, None] * np.eye(4)[3]
+    np.testing.assert_allclose(leg.fk(np.zeros(6)), expected, atol=1e-12)
     F = leg.frames(np.zeros(6))
     np.testing.assert_allclose(F[1:4, :3, 3], 0.0)  # hip joints intersect at the base origin
     np.testing.assert_allclose(F[4, :3, 3], [0, 0, -10])  # knee

@@ -60,7 +60,7 @@ def test_scaffold_writes_every_place_of_a_chapter(new_chapter):
     assert '"scara": "robokin.check.scara"' in (new_chapter / "robokin" / "check" / "_registry.py").read_text()
     assert (new_chapter / "tests" / "grading_mutations" / "07_scara.py").is_file()
     cells = json.loads(nb.read_text())["cells"]
-    assert [c["execution_count"] for c in cells if c["cell_type"] == "code"] == [1, 2, 3, 4, 5]
+    assert [c["execution_count"] for c in cells if c["cell_type"] == "code"] == [1, 2, 3, 4, 5, 6, 7]
     again = subprocess.run([sys.executable, "tools/new_chapter.py", "--name", "scara", "--title", "x"],
                            cwd=new_chapter, env=dict(os.environ, PYTHONPATH=str(new_chapter)),
                            capture_output=True, text=True)

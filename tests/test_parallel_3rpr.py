@@ -96,7 +96,8 @@ def test_classic_example_has_six_modes():
     assert np.allclose(robot.inverse_kinematics(res.poses), CLASSIC_RHO, atol=1e-12)
     # the six orientations (rad), obtained independently by scanning F(φ) for sign changes + brentq
     from scipy.optimize import brentq
-    F = lambda phi: robot._orientation_function(np.array(phi), CLASSIC_RHO)
+    def F(phi):
+        return robot._orientation_function(np.array(phi), CLASSIC_RHO)
     grid = np.linspace(-math.pi, math.pi, 4001)
     vals = F(grid)
     roots = [brentq(F, a, b, xtol=1e-14) for a, b, fa, fb in

@@ -18,9 +18,9 @@ import pytest
 
 matplotlib.use("Agg")
 
-from robokin import models, views  # noqa: E402
-from robokin.errors import DomainError, ShapeError, ViewWarning  # noqa: E402
-from robokin.views import Scene, arguments  # noqa: E402
+from robokin import models, views
+from robokin.errors import DomainError, ShapeError, ViewWarning
+from robokin.views import Scene, arguments
 
 ARM = models.planar_two_link()
 UR10 = models.ur10()

@@ -391,7 +391,8 @@ def test_import_robokin_does_not_import_yourdfpy():
 
 
 def test_robot_description_bad_names():
-    with pytest.raises(DomainError, match=r"name must be one of \['baxter', 'panda', 'ur10'\]; got 'ur5'"):
+    with pytest.raises(DomainError, match=r"name must be one of \['baxter', 'panda', 'ur10'\] or a robot of "
+                                          r"example-robot-data .*available_robots\(\).*; got 'ur5'"):
         robot_description("ur5")
     with pytest.raises(TypeError, match="name must be"):
         robot_description(10)

@@ -41,7 +41,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from notebook_analysis import Chapter, analyse, dump_notebook, load_notebook  # noqa: E402
+from notebook_analysis import Chapter, analyse, dump_notebook
 
 ROOT = Path(__file__).resolve().parent.parent
 DOC = ROOT / "book" / "for-instructors.md"

@@ -267,9 +267,9 @@ tool_jacobian = exercise(_CH, "tool_jacobian", Check(
 
 
 def mutations(name: str) -> str:
-    return f'''"""Wrong answers that each autograded test of the chapter must reject."""
+    return '''"""Wrong answers that each autograded test of the chapter must reject."""
 
-MUTATIONS = {{
+MUTATIONS = {
     "task1_test1": [
         ("degrees for radians", "tool_position = (lambda f: lambda q: f(np.rad2deg(q)))(tool_position)"),
         ("the second link's own angle q2 instead of q1 + q2",
@@ -279,7 +279,7 @@ MUTATIONS = {{
     "task2_test1": [
         ("the transposed Jacobian", "tool_jacobian = (lambda f: lambda q: f(q).T)(tool_jacobian)"),
     ],
-}}
+}
 '''
 
 

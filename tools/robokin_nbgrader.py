@@ -20,13 +20,21 @@ into its pipelines:
     cell is put back after the nearest cell the submission still has (nbgrader
     0.9.6 fails with a KeyError when that cell is a read-only one).
 ``RobokinExecute`` (autograde, replaces ``Execute``)
-    nbgrader's ``Execute``; when a test cell fails it asks ``robokin.check``, in
-    the student's kernel, about the quantities of that task and writes the answer
-    above the traceback; at the end it asks about every task.
+    nbgrader's ``Execute``, with the kernel in a bubblewrap sandbox
+    (``tools/robokin_sandbox.py``); a test scores by pass/fail only (its stderr is
+    a note, a result it shows no partial credit); a kernel that dies or ignores
+    the interrupt is killed, restarted and brought back to where it was (the cells
+    before are run again), so it costs only that cell. When a test cell
+    fails it asks ``robokin.check``, in the student's kernel, about the quantities
+    of that task and writes the answer above the traceback; after the last test it
+    asks about every task.
 ``AutograderReport`` (autograde, after ``SaveAutoGrades``)
     A markdown cell on top of the graded notebook (and so of the feedback): the
     score per task, what ``robokin.check`` found, and what went wrong outside the
     tests (a cell that raised, a cell that timed out, a test cell that was deleted).
+``GradingIncidents`` (autograde, after ``AutograderReport``)
+    Adds to the report what happened to the kernel (died, killed), the tests not
+    run because of it, and the tests whose code wrote to stderr.
 
 The cell roles come from ``tools/nbgrader_metadata.py`` (``metadata.robokin``).
 """
@@ -39,18 +47,27 @@ import re
 import sys
 from pathlib import Path
 
+from jupyter_core.utils import run_sync
+from nbclient.exceptions import CellTimeoutError, DeadKernelError
 from nbformat.notebooknode import NotebookNode, from_dict
 from nbgrader import utils
+from nbgrader.coursedir import CourseDirectory
 from nbgrader.preprocessors import Execute, NbGraderPreprocessor, OverwriteCells
-from traitlets import Unicode
+from traitlets import Bool, Unicode
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from notebook_analysis import mark_solution  # noqa: E402
+from robokin_sandbox import SandboxedKernelManager, bwrap_executable, sandbox_wanted  # noqa: E402
 
 ANSI = re.compile(r"\x1b\[[0-9;]*[A-Za-z]")
 VERDICT_MARK = "ROBOKIN-VERDICTS"
 RESTORED_NOTE = "was missing from the submission"
+STDERR_NOTE = "[written to stderr; not counted as a failure]"
+#: ename of the error output that zeroes a test the kernel could not run (it had died).
+NOT_RUN = "TestNotRun"
+#: ename of a cell whose kernel died, or was killed because it ignored the interrupt.
+KERNEL_LOST = "KernelLost"
 
 
 def _robokin(cell) -> dict:
@@ -163,10 +180,130 @@ class RestoreMissingCells(OverwriteCells):
 
 
 class RobokinExecute(Execute):
-    """nbgrader's ``Execute``, plus robokin.check's verdicts on a failing task."""
+    """nbgrader's ``Execute`` in a sandbox, scoring a test by pass/fail, plus robokin.check's verdicts.
+
+    - The kernel runs in bubblewrap (``tools/robokin_sandbox.py``) unless ``sandbox`` is
+      False or ``ROBOKIN_GRADING_SANDBOX=off``; without ``bwrap`` grading stops with a
+      message naming the package to install.
+    - A test cell fails only by an error output: what it writes to stderr (a warning,
+      a log message) stays in its output marked as a note, and a result or display it
+      shows is kept as a display (nbgrader would read a number as partial credit).
+    - A kernel that dies, or ignores the interrupt after the time limit (it is then
+      killed), is restarted and the cells before are run again: only that cell is lost.
+      If that fails, the cells after it are not run and their tests score 0 with the
+      reason. The report names the incident (``resources['robokin']['incidents']``,
+      written by ``GradingIncidents``).
+    """
 
     viewer = Unicode("matplotlib", help="ROBOKIN_VIEWER of the grading kernel (how 3D scenes are shown)"
                      ).tag(config=True)
+    sandbox = Bool(True, help="run each submission's kernel in bubblewrap (bwrap); "
+                   "ROBOKIN_GRADING_SANDBOX=off|on overrides it").tag(config=True)
+
+    def create_kernel_manager(self):
+        if not self._sandboxed:
+            return super().create_kernel_manager()
+        if not self.kernel_name:
+            self.kernel_name = self.nb.metadata.get("kernelspec", {}).get("name") or "python3"
+        folder = self.resources.get("metadata", {}).get("path") or os.getcwd()
+        course = Path(CourseDirectory(config=self.config).root).resolve()
+        exchange = self.config.get("Exchange", {}).get("root", "/srv/nbgrader/exchange")
+        hidden = [str(course), str(Path(exchange).resolve()), str(Path(__file__).resolve().parent.parent)]
+        self.km = SandboxedKernelManager(kernel_name=self.kernel_name, config=self.config,
+                                         writable=str(Path(folder).resolve()), hidden=hidden)
+        return self.km
+
+    def _grade_by_pass_fail(self, cell) -> None:
+        """A test cell's outputs such that only an error output can lower its score.
+
+        Its stderr (warnings, log messages) becomes one stdout note, where the first stderr
+        output was; a result it shows (``execute_result``) becomes a display.
+        """
+        outputs, stderr, position = [], [], None
+        for output in cell.get("outputs", []):
+            if output.get("output_type") == "stream" and output.get("name") == "stderr":
+                position = len(outputs) if position is None else position
+                stderr.append(output.get("text", ""))
+                continue
+            if output.get("output_type") == "execute_result":
+                output["output_type"] = "display_data"
+                output.pop("execution_count", None)
+            outputs.append(output)
+        if stderr:
+            outputs.insert(position, from_dict({"output_type": "stream", "name": "stdout",
+                                                "text": f"{STDERR_NOTE}\n{''.join(stderr)}"}))
+            self._report["incidents"].append({"kind": "stderr", "label": _label(cell)})
+        cell.outputs = outputs
+
+    def _kernel_lost(self, cell, index, exc) -> None:
+        """The kernel died in ``cell``, or ignored the interrupt at the time limit.
+
+        The kernel is killed and restarted, and the code cells before this one are run
+        again (their outputs are kept from the first run), so that the notebook goes on
+        and loses only this cell. If that fails too, grading stops here: the cells after
+        it are not run (``_not_run``).
+        """
+        hung = isinstance(exc, CellTimeoutError)
+        if hung:
+            self.log.error("The kernel ignored the interrupt after %s s: killing it", self.timeout)
+        cell = self.nb.cells[index]
+        why = (f"the cell ran longer than the time limit ({self.timeout} s) and ignored the interrupt: "
+               "the kernel was killed" if hung else
+               "the kernel died while running this cell (os._exit, a crash, or not enough memory)")
+        if utils.is_grade(cell):   # the test scores 0
+            output = {"output_type": "error", "ename": KERNEL_LOST, "evalue": why,
+                      "traceback": [f"{KERNEL_LOST}: {why}"]}
+        else:                      # not an error of the notebook that ran on: said in the report
+            output = {"output_type": "stream", "name": "stderr", "text": f"{KERNEL_LOST}: {why}\n"}
+        cell.setdefault("outputs", []).append(from_dict(output))
+        later = [c for c in self.nb.cells[index + 1:] if c.cell_type == "code" and utils.is_grade(c)]
+        incident = {"kind": "hang" if hung else "died", "label": _label(cell), "graded": utils.is_grade(cell),
+                    "tests_lost": len(later), "replayed": False}
+        self._report["incidents"].append(incident)
+        if not self._replays and self._restart_and_replay(index):
+            incident["replayed"], incident["tests_lost"] = True, 0
+            self._replays += 1
+            return
+        try:
+            run_sync(self.km.shutdown_kernel)(now=True)
+        except Exception as kill_error:  # noqa: BLE001 - it is already gone
+            self.log.warning("Stopping the kernel: %s", kill_error)
+        self._stopped = incident
+
+    def _restart_and_replay(self, index) -> bool:
+        """A fresh kernel in the state before cell ``index``: True if that worked."""
+        self.log.warning("Restarting the kernel and running the %d cells before cell %d again", index, index)
+        try:
+            run_sync(self.km.restart_kernel)(now=True)
+            run_sync(self.kc.wait_for_ready)(timeout=self.startup_timeout)
+        except Exception as restart_error:  # noqa: BLE001 - then grading stops at this cell
+            self.log.error("Restarting the kernel failed: %s", restart_error)
+            return False
+        for number, original in enumerate(self.nb.cells[:index]):
+            if original.cell_type != "code" or not original.source.strip() or any(
+                    o.get("ename") == "CellTimeoutError" for o in original.get("outputs", [])):
+                continue
+            copy = from_dict(json.loads(json.dumps(original)))
+            try:
+                super().execute_cell(copy, number, store_history=True)
+            except (DeadKernelError, CellTimeoutError) as again:
+                self.log.error("Running cell %d again, the kernel was lost again: %s", number, again)
+                return False
+            finally:
+                self.nb.cells[number] = original   # nbclient stores the executed copy at its index
+        return True
+
+    def _not_run(self, cell):
+        if cell.cell_type != "code":
+            return cell
+        cell.outputs = []
+        cell.execution_count = None
+        if utils.is_grade(cell):
+            why = f"not run: the kernel had stopped in {self._stopped['label']}"
+            cell.outputs.append(from_dict({"output_type": "error", "ename": NOT_RUN, "evalue": why,
+                                           "traceback": [f"{NOT_RUN}: {why}"]}))
+            self._report["incidents"].append({"kind": "not_run", "label": _label(cell)})
+        return cell
 
     async def _async_handle_timeout(self, timeout, cell=None):
         # nbgrader interrupts a cell that runs too long; the kernel then reports a
@@ -176,8 +313,13 @@ class RobokinExecute(Execute):
         return await super()._async_handle_timeout(timeout, cell)
 
     def preprocess(self, nb, resources=None, km=None):
+        self._sandboxed = km is None and sandbox_wanted(self.sandbox)
+        if self._sandboxed:
+            bwrap_executable()   # stops grading with a message naming the package when it is missing
+        self._stopped: dict | None = None
+        self._replays = 0
         self._timed_out: set[int] = set()
-        self._report = {"explained": {}, "verdicts": None, "pairs": []}
+        self._report = {"explained": {}, "verdicts": None, "pairs": [], "incidents": []}
         pairs = []
         for cell in nb.cells:
             for pair in _robokin(cell).get("explain", []):
@@ -185,7 +327,10 @@ class RobokinExecute(Execute):
                 if item not in pairs:
                     pairs.append(item)
         self._report["pairs"] = pairs
-        self._last_code = max((i for i, c in enumerate(nb.cells) if c.cell_type == "code"), default=-1)
+        # robokin.check's verdicts on every task: after the last test (the answers are all
+        # there), so that a kernel that dies in a later cell does not take them along
+        self._last_code = max((i for i, c in enumerate(nb.cells) if c.cell_type == "code" and utils.is_grade(c)),
+                              default=max((i for i, c in enumerate(nb.cells) if c.cell_type == "code"), default=-1))
         previous = os.environ.get("ROBOKIN_VIEWER")
         os.environ["ROBOKIN_VIEWER"] = self.viewer  # inherited by the kernel started below
         try:
@@ -225,7 +370,15 @@ class RobokinExecute(Execute):
         return None
 
     def preprocess_cell(self, cell, resources, index):
-        cell, resources = super().preprocess_cell(cell, resources, index)
+        if self._stopped is not None:
+            return self._not_run(cell), self.resources
+        try:
+            cell, resources = super().preprocess_cell(cell, resources, index)
+        except (DeadKernelError, CellTimeoutError) as exc:
+            self._kernel_lost(cell, index, exc)
+            return self.nb.cells[index], self.resources
+        if cell.cell_type == "code" and utils.is_grade(cell):
+            self._grade_by_pass_fail(cell)
         if id(cell) in self._timed_out or id(self.nb.cells[index]) in self._timed_out:
             for output in cell.get("outputs", []):
                 if output.get("output_type") == "error" and output.get("ename") == "KeyboardInterrupt":
@@ -356,6 +509,56 @@ class AutograderReport(NbGraderPreprocessor):
                 break
         # timeouts and deleted tests first, then errors
         return sorted(notes, key=lambda n: 0 if ("time limit" in n or "missing" in n) else 1)
+
+
+class GradingIncidents(NbGraderPreprocessor):
+    """What happened to the kernel, appended to the report (autograde, after ``AutograderReport``).
+
+    From ``RobokinExecute``: a kernel that died or was killed (and in which cell), the
+    tests that were therefore not run (0 points, with the reason), and the tests whose
+    code wrote to stderr (shown as a note, not counted as a failure).
+    """
+
+    def preprocess(self, nb, resources):
+        incidents = resources.get("robokin", {}).get("incidents", [])
+        if not incidents:
+            return nb, resources
+        lines = []
+        for item in incidents:
+            if item["kind"] in ("died", "hang"):
+                what = ("the kernel died (os._exit, a crash or too much memory)" if item["kind"] == "died" else
+                        "it ran longer than the time limit and ignored the interrupt, so the kernel was killed")
+                scope = "a test, which scores 0" if item["graded"] else "not graded"
+                if item.get("replayed"):
+                    after = ("The kernel was restarted and the cells before it were run again, so the "
+                             "notebook went on: only this cell's work is lost.")
+                else:
+                    count = item["tests_lost"]
+                    lost = ("no test came after it, so no points were lost" if not count else
+                            "the test after it was not run and scores 0" if count == 1 else
+                            f"the {count} tests after it were not run and score 0")
+                    after = f"Grading stopped there; {lost}. Everything that ran before it was graded."
+                lines.append(f"- **The kernel stopped** in {_md(item['label'])} ({scope}): {what}. {after}")
+        not_run = [item["label"] for item in incidents if item["kind"] == "not_run"]
+        if not_run:
+            lines.append("- Not run (0 points), because the kernel had stopped: "
+                         + "; ".join(_md(label) for label in not_run) + ".")
+        noisy = [item["label"] for item in incidents if item["kind"] == "stderr"]
+        if noisy:
+            lines.append("- Your code wrote to stderr (a warning or a log message) while these tests ran: "
+                         + "; ".join(_md(label) for label in noisy)
+                         + ". It is shown under the test and is not counted as a failure.")
+        section = "\n".join(["", "**What happened while grading**", "", *lines])
+        report = next((c for c in nb.cells if c.cell_type == "markdown"
+                       and _robokin(c).get("role") == "report"), None)
+        if report is None:
+            report = from_dict({"cell_type": "markdown", "metadata": {"robokin": {"role": "report"}},
+                                "source": "## Autograder report\n"})
+            if nb.cells and "id" in nb.cells[0]:
+                report["id"] = "robokin-report"
+            nb.cells.insert(0, report)
+        report.source = report.source.rstrip() + "\n" + section
+        return nb, resources
 
 
 def _label(cell) -> str:

@@ -43,6 +43,10 @@ c = get_config()  # noqa: F821
 load_subconfig({repo_config!r})  # noqa: F821
 c.CourseDirectory.root = {root!r}
 c.Exchange.root = {exchange!r}
+# autograde runs every submission in a bubblewrap sandbox (apt-get install bubblewrap).
+# Only where grading already runs in a container of its own (book/for-instructors.md,
+# "What grading guarantees"):
+# c.RobokinExecute.sandbox = False
 '''
 
 

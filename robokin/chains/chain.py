@@ -598,7 +598,8 @@ class SerialChain:
         return jac(a, upto=k, point=pt)
 
     def position_jacobian(self, q: Any, frame: Any = None, point: Any = None, *, check: bool = True) -> Any:
-        r"""Linear-velocity rows of :meth:`jacobian`: :math:`\partial\mathbf{p}/\partial\mathbf{q}`, (3, n) or (N, 3, n)."""
+        r"""Linear-velocity rows of :meth:`jacobian`: :math:`\partial\mathbf{p}/\partial\mathbf{q}`,
+        (3, n) or (N, 3, n)."""
         J = self.jacobian(q, frame=frame, point=point, check=check)
         if hasattr(J, "free_symbols") and not isinstance(J, np.ndarray):
             return J[:3, :]

@@ -219,7 +219,7 @@ def check_poses(poses: Any, rho: Any, robot: Any = None, *, name: str = "pose", 
 
     A pose is accepted when its leg lengths match ``rho`` within ``tol`` metres.
     """
-    from robokin.parallel import Planar3RPR  # noqa: PLC0415
+    from robokin.parallel import Planar3RPR
 
     if robot is None:
         robot = _robot()
@@ -239,7 +239,8 @@ def check_poses(poses: Any, rho: Any, robot: Any = None, *, name: str = "pose", 
 
 
 def _judge(poses: Any, rho: np.ndarray, robot, name: str, tol: float, n: int = 1) -> CheckResult:
-    fail = lambda code, msg: CheckResult(name, False, f"{FAIL} {msg}", code, n)
+    def fail(code: str, msg: str) -> CheckResult:
+        return CheckResult(name, False, f"{FAIL} {msg}", code, n)
     if poses is None:
         return fail("error", f"{name} is None: did you forget to return it?")
     try:

@@ -279,7 +279,7 @@ class CartesianController:
     def _jacobian(self, q: np.ndarray) -> np.ndarray:
         J = self.chain.jacobian(q, check=False)
         if self.tool is not None:
-            from robokin.motion._kernels import tool_jacobian  # noqa: PLC0415
+            from robokin.motion._kernels import tool_jacobian
 
             J = tool_jacobian(J, self.chain.fk(q, check=False)[:3, :3], self.tool[:3, 3])
         return J

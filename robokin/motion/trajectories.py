@@ -24,7 +24,6 @@ from robokin.validation import (
     as_float_array,
     as_scalar,
     as_vector,
-    check_choice,
     check_positive,
     check_result_finite,
 )

@@ -54,10 +54,12 @@ loop equations.
 Velocities
 ----------
 Differentiating :math:`\rho_i^2 = \lVert\mathbf{B}_i - \mathbf{A}_i\rVert^2` gives
-:math:`\dot\rho_i = \mathbf{n}_i^\top\dot{\mathbf{p}} + ((\mathbf{B}_i - \mathbf{p}) \times \mathbf{n}_i)_z\,\dot\varphi`
+:math:`\dot\rho_i = \mathbf{n}_i^\top\dot{\mathbf{p}}
++ ((\mathbf{B}_i - \mathbf{p}) \times \mathbf{n}_i)_z\,\dot\varphi`
 with the leg direction :math:`\mathbf{n}_i = (\mathbf{B}_i - \mathbf{A}_i)/\rho_i`, i.e.
 :math:`\dot{\boldsymbol\rho} = \mathbf{A}(\mathbf{x})\,\dot{\mathbf{x}}` with the
-*inverse Jacobian* :math:`\mathbf{A}` (rows :math:`[\mathbf{n}_i^\top,\ ((\mathbf{B}_i - \mathbf{p})\times\mathbf{n}_i)_z]`)
+*inverse Jacobian* :math:`\mathbf{A}` (rows
+:math:`[\mathbf{n}_i^\top,\ ((\mathbf{B}_i - \mathbf{p})\times\mathbf{n}_i)_z]`)
 (Merlet 2006, §5.2). :math:`\mathbf{A}` is singular when the three leg lines meet in
 one point or are parallel (parallel or type-2 singularity, Gosselin & Angeles 1990).
 """
@@ -190,7 +192,7 @@ class Planar3RPR:
         if shape == (2,):
             stroke = [stroke] * 3
         elif shape != (3, 2):
-            raise ShapeError(f"stroke must have shape (2,) or (3, 2); got "
+            raise ShapeError("stroke must have shape (2,) or (3, 2); got "
                              + (f"shape {shape}" if shape is not None else repr(stroke)))
         s = check_limits(stroke, 3, "stroke")  # numbers, no NaN, rho_min <= rho_max
         if (s[:, 0] < 0).any() or np.isinf(s[:, 0]).any():
@@ -280,7 +282,8 @@ class Planar3RPR:
 
     # ------------------------------------------------------------------ Jacobian
     def jacobian(self, pose: Any) -> np.ndarray:
-        r"""Inverse Jacobian :math:`\mathbf{A}` with :math:`\dot{\boldsymbol\rho} = \mathbf{A}\,[\dot x, \dot y, \dot\varphi]^\top`.
+        r"""Inverse Jacobian :math:`\mathbf{A}`:
+        :math:`\dot{\boldsymbol\rho} = \mathbf{A}\,[\dot x, \dot y, \dot\varphi]^\top`.
 
         Row :math:`i` is :math:`[\mathbf{n}_i^\top,\ ((\mathbf{B}_i - \mathbf{p}) \times \mathbf{n}_i)_z]`
         with :math:`\mathbf{n}_i = (\mathbf{B}_i - \mathbf{A}_i)/\rho_i` (Merlet 2006, §5.2).
@@ -312,7 +315,8 @@ class Planar3RPR:
         return J if batched else J[0]
 
     def direct_jacobian(self, pose: Any) -> np.ndarray:
-        r"""Direct Jacobian :math:`\mathbf{A}^{-1}`: :math:`[\dot x, \dot y, \dot\varphi]^\top = \mathbf{A}^{-1}\dot{\boldsymbol\rho}`.
+        r"""Direct Jacobian :math:`\mathbf{A}^{-1}`:
+        :math:`[\dot x, \dot y, \dot\varphi]^\top = \mathbf{A}^{-1}\dot{\boldsymbol\rho}`.
 
         Parameters
         ----------

@@ -25,7 +25,7 @@ import numpy as np
 from robokin._dispatch import is_symbolic, scalar_input, to_sympy
 from robokin.errors import DomainError, ShapeError
 from robokin.transforms.rotations import skew
-from robokin.validation import as_batch, as_float_array, check_rotation_matrix, check_result_finite
+from robokin.validation import as_batch, as_float_array, check_rotation_matrix
 
 __all__ = [
     "rotation_exp",

@@ -1,0 +1,449 @@
+"""Grading an instructor can trust (book/for-instructors.md, "What grading guarantees").
+
+Crafted submissions of chapter 3 go through the course's own pipeline (the course
+built as in tests/test_nbgrader.py, then ``nbgrader autograde``,
+``generate_feedback`` and ``export``), all graded in ONE autograde run:
+
+benign (the instructor's solutions, plus ...) -- each keeps full marks:
+    ``noisy``   answers that log (``logging.warning``), warn (``RuntimeWarning``),
+                print to stderr and use helpers of their own, called by the tests,
+                and a post-run hook that shows a number (``0.0``) under every cell,
+                which nbgrader would take for partial credit;
+    ``crash``   ``os._exit(1)`` in the ungraded *Try it yourself* cell;
+    ``hang``    a loop that ignores SIGINT there (the kernel is killed at the time limit);
+                in both the kernel is restarted and the cells before are run again;
+sandbox:
+    ``escape``  the solutions, and a *Try it yourself* cell that writes outside its
+                folder, reads the instructor's source notebook, the repository's
+                notebook and the gradebook and prints what it got, and leaves a
+                detached process behind that keeps trying to rewrite ``gradebook.db``.
+
+The sandbox needs ``bwrap`` (Debian package ``bubblewrap``): without it the tests
+skip locally and fail on CI (``CI=true``), which installs it (``.ci/run``).
+"""
+
+from __future__ import annotations
+
+import csv
+import hashlib
+import json
+import os
+import re
+import shutil
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from conftest import ROOT
+from test_nbgrader import (
+    NOTEBOOKS,
+    Run,
+    correct_submission,
+    load,
+    nbg,
+    nbgrader,
+    read_gradebook,
+    rk,
+    save,
+    src,
+)
+
+sys.path.insert(0, str(ROOT / "tools"))
+
+import student_edition
+from robokin_sandbox import PACKAGE, SWITCH, sandbox_arguments, sandbox_wanted
+
+CHAPTER = "03_three_rpr"
+TIMEOUT = 10          # seconds per cell: the hang is killed after it (+ nbclient's 4 s for the interrupt)
+TOKEN = "robokin-test-token-4f1c"   # a secret in the grader's environment
+ATTACK_DELAY = 1.0    # the escape's detached process tries every ATTACK_DELAY seconds
+
+
+def _require_bwrap() -> None:
+    if shutil.which("bwrap") is None:
+        message = f"bwrap is not installed (Debian package {PACKAGE})"
+        if os.environ.get("CI"):
+            pytest.fail(f"{message}: CI must install it (.ci/run) and run these tests")
+        pytest.skip(message)
+
+
+# ---------------------------------------------------------------- the submissions
+NOISY = '''
+
+import logging
+import sys
+import warnings
+
+
+def _my_norms(vectors):  # a helper of my own
+    return np.sqrt((np.asarray(vectors) ** 2).sum(axis=1))
+
+
+def ik(pose):  # the same answer, talkative
+    logging.warning("ik called")
+    print("debugging ik", file=sys.stderr)
+    x, y, phi = pose
+    if phi < 0:
+        warnings.warn("a negative angle", RuntimeWarning)
+    B = np.array([x, y]) + b_anchor @ rot(phi).T
+    return _my_norms(B - A_anchor)
+'''
+
+HOOKED = '''
+
+def _show_zero(result):  # shows 0.0 as the result of every cell that runs after this one
+    get_ipython().displayhook(0.0)
+
+
+get_ipython().events.register("post_run_cell", _show_zero)
+'''
+
+CRASH = 'import os\n\nos._exit(1)  # my experiment killed the kernel\n'
+
+HANG = '''import signal
+
+signal.signal(signal.SIGINT, signal.SIG_IGN)
+while True:  # my experiment never ends, and ignores the interrupt
+    pass
+'''
+
+ESCAPE = '''import os
+import subprocess
+import sys
+
+for target in {targets!r}:
+    try:
+        with open(target, "w") as f:
+            f.write("escaped")
+        print("WRO" "TE", target)
+    except OSError as error:
+        print("WRITE" "-BLOCKED", target, type(error).__name__)
+print("TOKEN", os.environ.get("JUPYTERHUB_API_TOKEN", "absent"))
+for secret in {secrets!r}:
+    try:
+        with open(secret, "rb") as f:
+            print("SECRET" "-READ", f.read()[:3000])
+    except OSError as error:
+        print("SECRET" "-BLOCKED", type(error).__name__)
+ATTACK = """
+import os, sqlite3, sys, time
+os.setsid()
+if os.fork():
+    sys.exit(0)
+for _ in range(600):
+    with open("alive.txt", "w") as f:
+        f.write(str(time.time()))
+    try:
+        db = sqlite3.connect({gradebook!r})
+        db.execute("UPDATE grade SET auto_score = 0")
+        db.commit()
+        db.close()
+    except Exception:
+        pass
+    time.sleep({delay!r})
+"""
+subprocess.Popen([sys.executable, "-c", ATTACK], stdin=subprocess.DEVNULL,
+                 stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+'''
+
+
+def _with_answer_code(nb: dict, grade_id: str, code: str) -> dict:
+    nb = json.loads(json.dumps(nb))
+    cell = next(c for c in nb["cells"] if nbg(c).get("grade_id") == grade_id)
+    cell["source"] = src(cell).rstrip() + "\n" + code
+    return nb
+
+
+def _with_try_cell(nb: dict, code: str) -> dict:
+    """``code`` in the (editable, ungraded) Try it yourself cell."""
+    nb = json.loads(json.dumps(nb))
+    cell = next(c for c in nb["cells"] if c["cell_type"] == "code" and "nbgrader" not in c["metadata"])
+    cell["source"] = code + "\n" + src(cell)
+    return nb
+
+
+def submissions(correct: dict, course: Path) -> dict[str, dict]:
+    gradebook = course / "gradebook.db"
+    escape = ESCAPE.format(
+        targets=[str(course / "escaped.txt"), str(course / "submitted" / "noisy" / "escaped.txt"),
+                 str(ROOT / "escaped.txt"), str(Path.home() / "robokin-escaped.txt"), "/tmp/robokin-escaped.txt"],
+        secrets=[str(course / "source" / CHAPTER / f"{CHAPTER}.ipynb"), str(NOTEBOOKS / f"{CHAPTER}.ipynb"),
+                 str(gradebook)],
+        gradebook=str(gradebook), delay=ATTACK_DELAY)
+    return {
+        "noisy": _with_answer_code(correct, "task1_answer1", NOISY + HOOKED),
+        "crash": _with_try_cell(correct, CRASH),
+        "hang": _with_try_cell(correct, HANG),
+        "escape": _with_try_cell(correct, escape),
+    }
+
+
+def _outside_targets(course: Path) -> list[Path]:
+    return [course / "escaped.txt", course / "submitted" / "noisy" / "escaped.txt", ROOT / "escaped.txt",
+            Path.home() / "robokin-escaped.txt", Path("/tmp/robokin-escaped.txt")]
+
+
+def _digest(path: Path) -> str:
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+@pytest.fixture(scope="module")
+def trusted(tmp_path_factory) -> Run:
+    """Chapter 3, four crafted submissions, one autograde run, feedback and export."""
+    _require_bwrap()
+    base = tmp_path_factory.mktemp("trust")
+    course = base / "course"
+    run = Run(CHAPTER, course)
+    started = time.perf_counter()
+    for target in _outside_targets(course):   # left by an earlier run that escaped
+        target.unlink(missing_ok=True)
+    student_edition.write_course(course, base / "exchange")
+    student_edition.add_source(course, NOTEBOOKS / f"{CHAPTER}.ipynb")
+    nbgrader(["generate_assignment", CHAPTER], course, run.log)
+    run.source = load(course / "source" / CHAPTER / f"{CHAPTER}.ipynb")
+    run.release = load(course / "release" / CHAPTER / f"{CHAPTER}.ipynb")
+    correct = correct_submission(run.release, run.source)
+    for student, nb in submissions(correct, course).items():
+        save(nb, course / "submitted" / student / CHAPTER / f"{CHAPTER}.ipynb")
+
+    # without bwrap on PATH autograde refuses to grade, naming the package
+    no_bwrap = nbgrader(["autograde", CHAPTER, "--student", "noisy"], course, run.log, check=False,
+                        PATH=str(Path(sys.executable).parent))
+    run.refused = (no_bwrap.returncode, no_bwrap.stdout + no_bwrap.stderr)
+
+    nbgrader(["autograde", CHAPTER], course, run.log, ROBOKIN_CELL_TIMEOUT=str(TIMEOUT),
+             JUPYTERHUB_API_TOKEN=TOKEN)
+    run.gradebook_digest = _digest(course / "gradebook.db")
+    alive = course / "autograded" / "escape" / CHAPTER / "alive.txt"
+    run.alive_before = alive.read_text() if alive.exists() else None
+    time.sleep(3 * ATTACK_DELAY)   # a process left behind would rewrite the gradebook by now
+    run.alive_after = alive.read_text() if alive.exists() else None
+    run.gradebook_after = _digest(course / "gradebook.db")
+    nbgrader(["generate_feedback", CHAPTER], course, run.log)
+    nbgrader(["export", "--to", str(base / "grades.csv")], course, run.log)
+    with open(base / "grades.csv", newline="") as f:
+        run.exported = {row["student_id"]: float(row["raw_score"]) for row in csv.DictReader(f)}
+    read_gradebook(course, CHAPTER, run)
+    for student in submissions(correct, course):
+        page = course / "feedback" / student / CHAPTER / f"{CHAPTER}.html"
+        run.feedback[student] = page.read_text(encoding="utf-8") if page.exists() else ""
+    run.seconds = time.perf_counter() - started
+    print(f"\n[grading trust] {len(run.feedback)} submissions of {CHAPTER} in {run.seconds:.0f} s: "
+          + " | ".join(line for line in run.log if line.startswith("$")))
+    return run
+
+
+def _report(page: str) -> str:
+    """The text of the Autograder report at the top of a feedback page (tags removed)."""
+    text = re.sub(r"<[^>]+>", " ", page.split("Autograder report", 1)[-1])
+    return re.sub(r"\s+", " ", text.replace("&#39;", "'").replace("&quot;", '"'))
+
+
+def _full_marks(run: Run, student: str) -> None:
+    scores = run.scores.get(student)
+    assert scores is not None and set(scores) == set(run.maximum), f"{student}: not graded"
+    lost = {k: v for k, v in scores.items() if v != run.maximum[k]}
+    assert not lost, f"{student}: a correct notebook loses points in {lost}\n{_report(run.feedback[student])[:3000]}"
+    total, top = sum(scores.values()), sum(run.maximum.values())
+    assert f"{total:g} of {top:g} points" in _report(run.feedback[student]), "the feedback's total differs"
+
+
+# ---------------------------------------------------------------- benign submissions
+def test_logging_warnings_and_stderr_keep_full_marks(trusted):
+    _full_marks(trusted, "noisy")
+    page = trusted.feedback["noisy"]
+    assert "ik called" in page and "debugging ik" in page and "RuntimeWarning" in page, (
+        "what the answer logged is not shown")
+    assert "not counted as a failure" in _report(page)
+
+
+def test_a_number_shown_by_a_hook_sets_no_score(trusted):
+    """nbgrader reads a test's first result as partial credit: the hook shows 0.0 under every cell."""
+    _full_marks(trusted, "noisy")
+    nb = load(trusted.course / "autograded" / "noisy" / CHAPTER / f"{CHAPTER}.ipynb")
+    shown = [o for c in nb["cells"] if nbg(c).get("grade") for o in c.get("outputs", [])
+             if src({"source": o.get("data", {}).get("text/plain", "")}) == "0.0"]
+    assert shown, "the hook showed no number under the tests (the test tests nothing)"
+
+
+def test_kernel_that_dies_in_an_ungraded_cell(trusted):
+    _full_marks(trusted, "crash")
+    report = _report(trusted.feedback["crash"])
+    assert "The kernel stopped" in report and "the kernel died" in report and "os._exit" in report
+    assert "The kernel was restarted and the cells before it were run again" in report
+
+
+def test_kernel_that_ignores_the_interrupt_is_killed(trusted):
+    _full_marks(trusted, "hang")
+    report = _report(trusted.feedback["hang"])
+    assert "The kernel stopped" in report and "ignored the interrupt" in report and "killed" in report
+    assert "The kernel was restarted and the cells before it were run again" in report
+
+
+def test_tests_after_a_lost_kernel_score_zero_and_say_why():
+    """The cells after the one the kernel stopped in are not run: their tests score 0, with the reason."""
+    from nbformat.v4 import new_code_cell, new_notebook
+    from nbgrader import utils
+    from robokin_nbgrader import NOT_RUN, GradingIncidents, RobokinExecute
+
+    execute = RobokinExecute()
+    execute._report = {"incidents": []}
+    execute._stopped = {"kind": "died", "label": "In [7] `os._exit(1)`", "graded": False, "tests_lost": 1,
+                        "replayed": False}   # restarting the kernel failed
+    execute._report["incidents"].append(execute._stopped)
+    test = new_code_cell("assert rho0 is not None", metadata={"nbgrader": {
+        "grade": True, "solution": False, "points": 2, "grade_id": "task1_test1", "schema_version": 3},
+        "robokin": {"role": "test", "task": 1}})
+    test = execute._not_run(test)
+    assert utils.determine_grade(test, None) == (0, 2.0)
+    assert test.outputs[0]["ename"] == NOT_RUN and "In [7]" in test.outputs[0]["evalue"]
+    nb, _ = GradingIncidents().preprocess(new_notebook(cells=[test]),
+                                          {"robokin": {"incidents": execute._report["incidents"]}})
+    report = nb.cells[0].source
+    assert "The kernel stopped** in In [7] `os._exit(1)` (not graded): the kernel died" in report
+    assert "the test after it was not run and scores 0" in report
+    assert "Not run (0 points), because the kernel had stopped: a cell `assert rho0 is not None` " \
+        "(a test of Task 1)" in report
+
+
+# ---------------------------------------------------------------- the sandbox
+def test_without_bwrap_autograde_refuses_and_names_the_package(trusted):
+    code, output = trusted.refused
+    assert code != 0
+    assert f"install the Debian/Ubuntu package '{PACKAGE}'" in output and SWITCH in output
+
+
+def test_nothing_is_written_outside_the_submission_folder(trusted):
+    for target in _outside_targets(trusted.course):
+        assert not target.exists(), f"the submission wrote {target}"
+    page = trusted.feedback["escape"]
+    # the course and the repository read-only; /tmp and $HOME private, empty and thrown away
+    for target in _outside_targets(trusted.course)[:3]:
+        assert f"WRITE-BLOCKED {target}" in page, f"{target}: the write was not refused"
+
+
+def test_the_graders_environment_is_not_passed_on(trusted):
+    page = trusted.feedback["escape"]
+    assert "TOKEN absent" in page and TOKEN not in page
+
+
+def test_the_instructors_files_are_not_readable(trusted):
+    page = trusted.feedback["escape"]
+    assert "SECRET-READ" not in page and page.count("SECRET-BLOCKED") == 3
+    prose = [src(c).strip() for c in trusted.source["cells"] if rk(c).get("role") == "prose" and src(c).strip()]
+    for student, feedback in trusted.feedback.items():
+        assert "solution-start" not in feedback, f"{student}: the instructor's source is in the feedback"
+        assert not [p for p in prose if p.splitlines()[-1][:50] in feedback], (
+            f"{student}: solution prose in the feedback")
+    _full_marks(trusted, "escape")
+
+
+def test_a_process_left_behind_dies_with_the_kernel(trusted):
+    assert trusted.alive_before is not None, "the detached process never ran (the test tests nothing)"
+    assert trusted.alive_after == trusted.alive_before, "a process started by the submission outlived grading"
+    assert trusted.gradebook_after == trusted.gradebook_digest, "gradebook.db changed after autograde"
+    top = sum(trusted.maximum.values())
+    for student, scores in trusted.scores.items():
+        assert trusted.exported[student] == sum(scores.values()) == top, (
+            f"{student}: export {trusted.exported[student]} vs gradebook {sum(scores.values())}")
+
+
+# ---------------------------------------------------------------- the switch and the layout
+def test_the_switch(monkeypatch):
+    monkeypatch.delenv(SWITCH, raising=False)
+    assert sandbox_wanted(True) and not sandbox_wanted(False)
+    monkeypatch.setenv(SWITCH, "off")
+    assert not sandbox_wanted(True)
+    monkeypatch.setenv(SWITCH, "on")
+    assert sandbox_wanted(False)
+    monkeypatch.setenv(SWITCH, "maybe")
+    with pytest.raises(ValueError, match=SWITCH):
+        sandbox_wanted(True)
+
+
+def test_the_switch_off_runs_nbgraders_own_kernel(monkeypatch):
+    from jupyter_client.manager import AsyncKernelManager
+    from nbformat.v4 import new_notebook
+    from robokin_nbgrader import RobokinExecute
+    from robokin_sandbox import SandboxedKernelManager
+
+    from traitlets.config import Config
+
+    def manager(**config):
+        execute = RobokinExecute(config=Config({"RobokinExecute": config}))
+        execute.nb, execute.resources = new_notebook(), {"metadata": {"path": str(ROOT)}}
+        execute._sandboxed = sandbox_wanted(execute.sandbox)
+        return type(execute.create_kernel_manager())
+
+    for value, expected in (("off", AsyncKernelManager), ("on", SandboxedKernelManager)):
+        monkeypatch.setenv(SWITCH, value)
+        assert manager() is expected
+    monkeypatch.delenv(SWITCH)
+    assert manager() is SandboxedKernelManager               # the default
+    assert manager(sandbox=False) is AsyncKernelManager      # c.RobokinExecute.sandbox = False
+
+
+def test_a_bwrap_that_cannot_make_a_sandbox_stops_grading(tmp_path, monkeypatch):
+    import robokin_sandbox
+
+    fake = tmp_path / "bwrap"
+    fake.write_text("#!/bin/sh\necho 'bwrap: No permissions to create new namespace' >&2\nexit 1\n")
+    fake.chmod(0o755)
+    monkeypatch.setenv("PATH", str(tmp_path))
+    with pytest.raises(robokin_sandbox.SandboxUnavailable, match="No permissions to create new namespace.*"
+                       + SWITCH):
+        robokin_sandbox.bwrap_executable()
+
+
+def test_hidden_folder_inside_a_readable_one_is_covered(tmp_path):
+    shared = tmp_path / "shared"           # a folder the sandbox reads (as /usr or the venv) ...
+    course = shared / "course"             # ... that holds the course (hidden) ...
+    venv = course / "venv"                 # ... that holds a folder the sandbox reads again
+    submission = course / "autograded" / "s" / "a"
+    for folder in (venv, submission):
+        folder.mkdir(parents=True)
+    args = sandbox_arguments(writable=submission, runtime=tmp_path / "run", hidden=[course, Path("/srv/exchange")],
+                             readable=[shared, venv], home="/home/grader", bwrap="bwrap")
+    text = " ".join(args)
+    assert text.index("--tmpfs /home/grader") < text.index(f"--ro-bind {shared} {shared}") < text.index(
+        f"--tmpfs {course}") < text.index(f"--ro-bind {venv} {venv}") < text.index(
+        f"--bind {submission} {submission}") < text.index(f"--remount-ro {course}") < text.index("--remount-ro / ")
+    assert "/srv" not in text, "a folder outside the readable ones is not in the sandbox at all"
+    for flag in ("--unshare-all", "--die-with-parent", "--new-session", "--clearenv", "--cap-drop"):
+        assert flag in args
+
+
+def test_when_the_kernel_cannot_be_restarted_grading_stops_there():
+    """_kernel_lost: restart fails -> the kernel is stopped and the cells after it are not run."""
+    from nbclient.exceptions import DeadKernelError
+    from nbformat.v4 import new_code_cell, new_notebook
+    from robokin_nbgrader import NOT_RUN, RobokinExecute
+
+    class Manager:
+        stopped = False
+
+        async def restart_kernel(self, now=False):
+            raise RuntimeError("no more kernels")
+
+        async def shutdown_kernel(self, now=False):
+            Manager.stopped = now
+
+    crash = new_code_cell("import os\nos._exit(1)")
+    test = new_code_cell("assert x == 1", metadata={"nbgrader": {
+        "grade": True, "solution": False, "points": 1, "grade_id": "task1_test1", "schema_version": 3}})
+    execute = RobokinExecute()
+    execute.nb, execute.km = new_notebook(cells=[crash, test]), Manager()
+    execute._report, execute._replays, execute._stopped = {"incidents": []}, 0, None
+    execute._kernel_lost(crash, 0, DeadKernelError("Kernel died"))
+    assert Manager.stopped and execute._stopped["tests_lost"] == 1 and not execute._stopped["replayed"]
+    execute.preprocess_cell(test, {}, 1)
+    assert test.outputs[0]["ename"] == NOT_RUN
+    # a second lost kernel in the same notebook: no second restart, grading stops there
+    execute = RobokinExecute()
+    execute.nb, execute.km = new_notebook(cells=[crash, test]), Manager()
+    execute._report, execute._replays, execute._stopped = {"incidents": []}, 1, None
+    Manager.restart_kernel = None   # must not be called
+    execute._kernel_lost(crash, 0, DeadKernelError("Kernel died"))
+    assert execute._stopped is not None and not execute._stopped["replayed"]
