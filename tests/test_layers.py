@@ -59,8 +59,6 @@ KNOWN_CYCLES: dict[frozenset, str] = {
         "SerialChain's alternative constructors call the builders (imported inside the methods)",
     frozenset({"robokin.check._core", "robokin.check.diagnoses"}):
         "check._core's comparisons call the diagnoses, which use _core's helpers",
-    frozenset({"robokin.motion.ik.polish", "robokin.motion.ik.solve"}):
-        "polish calls solve inside a function; the IK refactor (issue 22, another part) owns it",
 }
 
 #: The modules of robokin.views, bottom up: each imports only views modules listed before it

@@ -30,6 +30,7 @@
 from __future__ import annotations
 
 import hashlib
+import importlib
 import json
 import os
 import shutil
@@ -266,6 +267,28 @@ def nitpick_pairs_as_tuples(app: Sphinx, config) -> None:
     config.nitpick_ignore = [tuple(pair) for pair in config.nitpick_ignore]
 
 
+def _python_object(dotted: str):
+    """The object called ``dotted`` (a module, or attributes of one), or None."""
+    parts = dotted.split(".")
+    for split in range(len(parts), 0, -1):
+        try:
+            obj = importlib.import_module(".".join(parts[:split]))
+        except ImportError:
+            continue
+        for attribute in parts[split:]:
+            obj = getattr(obj, attribute, None)
+            if obj is None:
+                return None
+        return obj
+    return None
+
+
+def _same_object(documented: str, target: str) -> bool:
+    """True if the names ``documented`` and ``target`` are the same Python object (a re-export)."""
+    obj = _python_object(target)
+    return obj is not None and obj is _python_object(documented)
+
+
 def _docstring_owner(node) -> str:
     """The dotted name of the object whose docstring holds ``node`` (autodoc), or ''."""
     source = str(node.source or "")
@@ -273,42 +296,47 @@ def _docstring_owner(node) -> str:
 
 
 def resolve_short_python_names(app: Sphinx, env, node, contnode):
-    """Resolve a short Python name of the API reference (``:data:`REASONS```) to its one documented object.
+    """Resolve a Python name of the API reference that Sphinx did not find to its one documented object.
 
-    A docstring refers to a name of its own module by its short name; in the
-    reference that name is documented under its full name. Among the documented
-    objects whose full name ends with ``.<name>`` (of a type the role accepts),
-    the one sharing the longest module prefix with the docstring's owner wins;
-    a tie or no candidate leaves the reference unresolved (a nitpicky warning).
+    Two cases: a docstring refers to a name of its own module by its short name
+    (``:data:`REASONS```), documented under its full name; or it uses a full name
+    under which a re-exported object is not documented (``robokin.motion.ik.NullSpace``
+    is documented as ``robokin.motion.NullSpace``). Among the documented objects
+    whose name ends with ``.<name>`` (of a type the role accepts), a re-export of
+    the very same object wins; else the one sharing the longest module prefix with
+    the docstring's owner. A tie or no candidate leaves the reference unresolved
+    (a nitpicky warning).
     """
     if node.get("refdomain") != "py":
         return None
     target = node["reftarget"].lstrip(".~")
     domain = env.get_domain("py")
-    objtypes = set(domain.objtypes_for_role(node["reftype"]) or ())
     if node["reftype"] == "mod":
-        candidates = {name: (entry.docname, entry.node_id) for name, entry in domain.modules.items()
-                      if name.endswith("." + target)}
+        entries = {name: (entry.docname, entry.node_id) for name, entry in domain.modules.items()}
     else:
-        candidates = {name: (entry.docname, entry.node_id) for name, entry in domain.objects.items()
-                      if name.endswith("." + target) and entry.objtype in objtypes and not entry.aliased}
-    if not candidates:
-        return None
-    owner = _docstring_owner(node).split(".")
+        objtypes = set(domain.objtypes_for_role(node["reftype"]) or ())
+        entries = {name: (entry.docname, entry.node_id) for name, entry in domain.objects.items()
+                   if entry.objtype in objtypes and not entry.aliased}
+    winners = [name for name in entries if name.endswith("." + target)]
+    if not winners and "." in target and node["reftype"] != "mod":
+        last = target.rsplit(".", 1)[1]
+        winners = [name for name in entries if name.endswith("." + last) and _same_object(name, target)]
+    elif len(winners) > 1:
+        owner = _docstring_owner(node).split(".")
 
-    def shared(name: str) -> int:
-        parts, count = name.split("."), 0
-        for a, b in zip(parts, owner):
-            if a != b:
-                break
-            count += 1
-        return count
+        def shared(name: str) -> int:
+            count = 0
+            for a, b in zip(name.split("."), owner):
+                if a != b:
+                    break
+                count += 1
+            return count
 
-    best = max(shared(name) for name in candidates)
-    winners = [name for name in candidates if shared(name) == best]
+        best = max(shared(name) for name in winners)
+        winners = [name for name in winners if shared(name) == best]
     if len(winners) != 1:
         return None
-    docname, node_id = candidates[winners[0]]
+    docname, node_id = entries[winners[0]]
     return make_refnode(app.builder, node["refdoc"], docname, node_id, contnode, winners[0])
 
 
