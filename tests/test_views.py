@@ -163,7 +163,7 @@ def test_show_static_and_matplotlib_display(monkeypatch):
     from robokin.views import display as disp
 
     shown = []
-    monkeypatch.setattr(disp, "_display", shown.append)
+    monkeypatch.setattr(disp, "display", shown.append)
     s = _demo_scene()
     s.show(mode="static")
     assert shown[-1].data == s.to_html()
@@ -182,7 +182,7 @@ def test_live_failure_falls_back_to_static(monkeypatch):
         raise live.MeshcatUnavailable("no zmq today")
     monkeypatch.setattr(live, "LiveViewer", broken)
     shown = []
-    monkeypatch.setattr(disp, "_display", shown.append)
+    monkeypatch.setattr(disp, "display", shown.append)
     s = _demo_scene()
     s.show(mode="live")
     assert "no zmq today" in shown[0].data and "static" in shown[0].data
@@ -279,7 +279,7 @@ def test_module_show_one_call(monkeypatch):
     from robokin.views import display as disp
 
     shown = []
-    monkeypatch.setattr(disp, "_display", shown.append)
+    monkeypatch.setattr(disp, "display", shown.append)
     chain = two_link()
     T = np.eye(4)
     T[:3, 3] = [1, 1, 0]

@@ -30,6 +30,7 @@
 from __future__ import annotations
 
 import hashlib
+import importlib
 import json
 import os
 import shutil
@@ -37,6 +38,7 @@ from pathlib import Path
 
 from sphinx.application import Sphinx
 from sphinx.util import logging
+from sphinx.util.nodes import make_refnode
 
 logger = logging.getLogger(__name__)
 
@@ -260,10 +262,90 @@ def one_solution_style(app: Sphinx, doctree, docname: str) -> None:
         node["classes"] = [c for c in node["classes"] if c not in ("dropdown", "toggle")]
 
 
+def nitpick_pairs_as_tuples(app: Sphinx, config) -> None:
+    """``nitpick_ignore`` from ``_config.yml`` arrives as lists; Sphinx looks pairs up as tuples."""
+    config.nitpick_ignore = [tuple(pair) for pair in config.nitpick_ignore]
+
+
+def _python_object(dotted: str):
+    """The object called ``dotted`` (a module, or attributes of one), or None."""
+    parts = dotted.split(".")
+    for split in range(len(parts), 0, -1):
+        try:
+            obj = importlib.import_module(".".join(parts[:split]))
+        except ImportError:
+            continue
+        for attribute in parts[split:]:
+            obj = getattr(obj, attribute, None)
+            if obj is None:
+                return None
+        return obj
+    return None
+
+
+def _same_object(documented: str, target: str) -> bool:
+    """True if the names ``documented`` and ``target`` are the same Python object (a re-export)."""
+    obj = _python_object(target)
+    return obj is not None and obj is _python_object(documented)
+
+
+def _docstring_owner(node) -> str:
+    """The dotted name of the object whose docstring holds ``node`` (autodoc), or ''."""
+    source = str(node.source or "")
+    return source.rsplit("docstring of ", 1)[1].strip() if "docstring of " in source else ""
+
+
+def resolve_short_python_names(app: Sphinx, env, node, contnode):
+    """Resolve a Python name of the API reference that Sphinx did not find to its one documented object.
+
+    Two cases: a docstring refers to a name of its own module by its short name
+    (``:data:`REASONS```), documented under its full name; or it uses a full name
+    under which a re-exported object is not documented (``robokin.motion.ik.NullSpace``
+    is documented as ``robokin.motion.NullSpace``). Among the documented objects
+    whose name ends with ``.<name>`` (of a type the role accepts), a re-export of
+    the very same object wins; else the one sharing the longest module prefix with
+    the docstring's owner. A tie or no candidate leaves the reference unresolved
+    (a nitpicky warning).
+    """
+    if node.get("refdomain") != "py":
+        return None
+    target = node["reftarget"].lstrip(".~")
+    domain = env.get_domain("py")
+    if node["reftype"] == "mod":
+        entries = {name: (entry.docname, entry.node_id) for name, entry in domain.modules.items()}
+    else:
+        objtypes = set(domain.objtypes_for_role(node["reftype"]) or ())
+        entries = {name: (entry.docname, entry.node_id) for name, entry in domain.objects.items()
+                   if entry.objtype in objtypes and not entry.aliased}
+    winners = [name for name in entries if name.endswith("." + target)]
+    if not winners and "." in target and node["reftype"] != "mod":
+        last = target.rsplit(".", 1)[1]
+        winners = [name for name in entries if name.endswith("." + last) and _same_object(name, target)]
+    elif len(winners) > 1:
+        owner = _docstring_owner(node).split(".")
+
+        def shared(name: str) -> int:
+            count = 0
+            for a, b in zip(name.split("."), owner):
+                if a != b:
+                    break
+                count += 1
+            return count
+
+        best = max(shared(name) for name in winners)
+        winners = [name for name in winners if shared(name) == best]
+    if len(winners) != 1:
+        return None
+    docname, node_id = entries[winners[0]]
+    return make_refnode(app.builder, node["refdoc"], docname, node_id, contnode, winners[0])
+
+
 def setup(app: Sphinx) -> dict:
     app.add_config_value("robokin_edition", os.environ.get("ROBOKIN_EDITION", "instructor") or "instructor",
                          "env", [str])
     app.connect("config-inited", configure_edition, priority=50)
+    app.connect("missing-reference", resolve_short_python_names)
+    app.connect("config-inited", nitpick_pairs_as_tuples)
     app.connect("source-read", remove_solutions)
     # Run after myst-parser has added its own MathJax options.
     app.connect("config-inited", configure_mathjax, priority=900)

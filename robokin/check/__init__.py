@@ -18,7 +18,7 @@ matrix, a transform, a Jacobian -- ``kind=`` picks the typical mistakes),
 :func:`value` (a number or array), :func:`ik_solution` (any configuration that
 reaches a target) and :func:`solution_set` (all solutions, each once, in any
 order). Chapter checks live in submodules listed in
-:data:`robokin.check._registry.CHAPTERS` and are imported on first access
+:data:`robokin.check.CHAPTERS` and are imported on first access
 (``robokin.check.leg``).
 """
 

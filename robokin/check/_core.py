@@ -41,8 +41,17 @@ MESSAGE_WIDTH = 80
 
 
 def show(message: str, width: int = MESSAGE_WIDTH) -> None:
-    """Print a check's message with its lines wrapped at ``width`` characters
-    (continuation lines indented by two spaces); ``CheckResult.message`` is unchanged."""
+    """Print a check's message with its lines wrapped at ``width`` characters.
+
+    Continuation lines are indented by two spaces; ``CheckResult.message`` is unchanged.
+
+    Parameters
+    ----------
+    message : str
+        The message (one or more lines).
+    width : int, optional
+        Longest printed line, in characters.
+    """
     lines = []
     for line in message.splitlines() or [""]:
         if len(line) <= width:
@@ -162,6 +171,13 @@ class Variable:
         return _GREEK.get(self.name, self.name)
 
     def names(self) -> set[str]:
+        """Every name the variable may be called by in an answer.
+
+        Returns
+        -------
+        set of str
+            ``name``, ``label`` and the aliases, each also without underscores.
+        """
         out = {self.name, self.label, *self.aliases}
         return out | {n.replace("_", "") for n in out}
 
@@ -190,6 +206,17 @@ def fmt(x: Any, precision: int = 3) -> str:
 
     Numbers of magnitude 1e16 and above (a wildly wrong answer) are written in
     scientific notation instead of with hundreds of digits.
+
+    Parameters
+    ----------
+    x : float or array_like
+        A number or an array (any shape).
+    precision : int, optional
+        Decimals kept.
+
+    Returns
+    -------
+    str
     """
     raw = np.asarray(x, dtype=float)
     with np.errstate(all="ignore"):
@@ -417,7 +444,22 @@ class Diagnosis:
 
 
 def mistake(code: str, transform: Callable[[RefFn], RefFn], message: str) -> Diagnosis:
-    """A diagnosis with one variant: ``transform`` maps the reference to the mistake."""
+    """A diagnosis with one variant: ``transform`` maps the reference to the mistake.
+
+    Parameters
+    ----------
+    code : str
+        The diagnosis code reported in :attr:`CheckResult.diagnosis` (e.g. ``"transpose"``).
+    transform : callable
+        Maps the reference function (inputs (nvars,) to an array) to the
+        mistaken function.
+    message : str
+        What the student is told; ``{name}`` is replaced by the answer's name.
+
+    Returns
+    -------
+    Diagnosis
+    """
     m = Mistake(code, transform, message)
     return Diagnosis(code, lambda ctx: [m])
 
@@ -428,6 +470,18 @@ def alternatives(code: str, items: Sequence[tuple[RefFn, str]]) -> Diagnosis:
     Use it when the mistake is easier to write directly than as a transform of
     the reference (a rotation about another axis, the factors of a product in
     another order, a controller without its feed-forward term).
+
+    Parameters
+    ----------
+    code : str
+        The diagnosis code reported in :attr:`CheckResult.diagnosis`.
+    items : sequence of (callable, str)
+        Mistaken functions of the check's inputs (nvars,) and the message of each
+        (``{name}`` is replaced by the answer's name).
+
+    Returns
+    -------
+    Diagnosis
     """
     ms = [Mistake(code, (lambda f: (lambda ref: f))(fn), msg) for fn, msg in items]
     return Diagnosis(code, lambda ctx: ms)
@@ -512,7 +566,14 @@ class Check:
 
     # -- inputs
     def sample_points(self) -> np.ndarray:
-        """The inputs used for the comparison, shape (N, nvars)."""
+        """The inputs used for the comparison.
+
+        Returns
+        -------
+        numpy.ndarray, shape (N, nvars)
+            The given points (``at``), else ``samples`` random points within the
+            variables' ranges (seeded: the same on every run).
+        """
         if self.at is not None:
             return np.atleast_2d(np.asarray(self.at, dtype=float))
         if not self.variables:
@@ -546,7 +607,17 @@ class Check:
         return result
 
     def evaluate(self, answer: Any) -> CheckResult:
-        """Like calling the check, but neither prints nor raises."""
+        """Like calling the check, but neither prints nor raises.
+
+        Parameters
+        ----------
+        answer : object
+            The student's answer: a function, a sympy expression or matrix, or numbers.
+
+        Returns
+        -------
+        CheckResult
+        """
         X = self.sample_points()
         reference = self.reference
         R = np.stack([np.asarray(reference(x), dtype=float) for x in X])
@@ -736,6 +807,38 @@ def value(
     """Check a numeric answer (array or number) against a reference value.
 
     The default tolerances accept answers typed with three or four decimals.
+
+    Parameters
+    ----------
+    student : float or array_like
+        The student's answer.
+    reference : float or array_like
+        The reference value (same shape), finite.
+    name : str, optional
+        The answer's name in the messages.
+    kind : {"matrix", "rotation", "transform", "vector", "jacobian", "angles"}, optional
+        Selects the typical mistakes diagnosed (see :func:`~robokin.check.diagnoses.standard`).
+    atol, rtol : float, optional
+        Absolute and relative tolerances (units of the answer), non-negative.
+    raise_on_fail : bool, optional
+        Raise AssertionError (with the message) when the answer is wrong.
+    quiet : bool, optional
+        Do not print the message.
+
+    Returns
+    -------
+    CheckResult
+
+    Raises
+    ------
+    TypeError
+        ``reference`` is not numbers.
+    DomainError
+        ``reference`` holds NaN or infinity, or a tolerance is negative.
+    ValueError
+        An unknown ``kind``.
+    AssertionError
+        ``raise_on_fail`` and the answer is wrong.
     """
     from robokin.check.diagnoses import standard
     from robokin.errors import DomainError

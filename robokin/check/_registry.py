@@ -29,13 +29,43 @@ _REGISTRY: dict[str, dict[str, Check]] = {}
 
 
 def exercise(chapter: str, attr: str, check: Check) -> Check:
-    """Register ``check`` as ``robokin.check.<chapter>.<attr>`` and return it."""
+    """Register ``check`` as ``robokin.check.<chapter>.<attr>``.
+
+    Parameters
+    ----------
+    chapter : str
+        A chapter of :data:`CHAPTERS`.
+    attr : str
+        The check's name in the chapter's module.
+    check : Check
+        The check.
+
+    Returns
+    -------
+    Check
+        ``check``.
+    """
     _REGISTRY.setdefault(chapter, {})[attr] = check
     return check
 
 
 def chapter(name: str) -> Any:
-    """Import and return the check module of a chapter."""
+    """Import and return the check module of a chapter.
+
+    Parameters
+    ----------
+    name : str
+        A chapter of :data:`CHAPTERS` (e.g. ``"ur10"``).
+
+    Returns
+    -------
+    module
+
+    Raises
+    ------
+    AttributeError
+        ``name`` is not a chapter with checks (the message lists them).
+    """
     if not isinstance(name, str) or name not in CHAPTERS:
         raise AttributeError(
             f"robokin.check has no chapter {name!r}; available: {', '.join(sorted(CHAPTERS))}"
@@ -45,6 +75,15 @@ def chapter(name: str) -> Any:
 
 def checks_of(name: str) -> dict[str, Check]:
     """All checks of a chapter, by attribute name.
+
+    Parameters
+    ----------
+    name : str
+        A chapter of :data:`CHAPTERS`.
+
+    Returns
+    -------
+    dict of str to Check
 
     Raises
     ------

@@ -54,7 +54,18 @@ def _T(a: np.ndarray) -> np.ndarray:
 
 
 def transpose(kind: str = "matrix") -> Diagnosis:
-    """The transpose of the reference (square or not)."""
+    """The transpose of the reference (square or not).
+
+    Parameters
+    ----------
+    kind : str, optional
+        ``"rotation"`` and ``"jacobian"`` get their own explanation; others a
+        generic one.
+
+    Returns
+    -------
+    Diagnosis
+    """
     messages = {
         "rotation": (
             "{name} is transposed: your matrix is {name}ᵀ = {name}⁻¹, the rotation the other "
@@ -71,7 +82,12 @@ def transpose(kind: str = "matrix") -> Diagnosis:
 
 
 def inverse_transform() -> Diagnosis:
-    """The inverse of a homogeneous transform."""
+    """The inverse of a homogeneous transform (``T_BA`` for ``T_AB``).
+
+    Returns
+    -------
+    Diagnosis
+    """
     return mistake(
         "inverse",
         lambda ref: (lambda x: np.linalg.inv(ref(x))),
@@ -89,7 +105,12 @@ def _tf(R: np.ndarray, p: np.ndarray) -> np.ndarray:
 
 
 def transform_mistakes() -> list[Diagnosis]:
-    """Mistakes inside a homogeneous transform ``[[R, p], [0, 1]]``."""
+    """Mistakes inside a homogeneous transform ``[[R, p], [0, 1]]``.
+
+    Returns
+    -------
+    list of Diagnosis
+    """
     return [
         mistake(
             "rotation_block_transposed",
@@ -126,7 +147,18 @@ def transform_mistakes() -> list[Diagnosis]:
 
 
 def sign_flips(kind: str = "matrix") -> Diagnosis:
-    """The whole answer, one column, one row or one entry with the opposite sign."""
+    """The whole answer, one column, one row or one entry with the opposite sign.
+
+    Parameters
+    ----------
+    kind : str, optional
+        The kind of answer (see :func:`standard`); ``"jacobian"`` names the joint
+        of a wrong column.
+
+    Returns
+    -------
+    Diagnosis
+    """
 
     def variants(ctx: Context) -> Iterator[Mistake]:
         shape = ctx.R.shape[1:]
@@ -195,7 +227,12 @@ def _convert_angles(ctx: Context, factor: float):
 
 
 def degrees() -> Diagnosis:
-    """Degrees where radians are expected, in either direction."""
+    """Degrees where radians are expected, in either direction (inputs of kind ``"angle"``).
+
+    Returns
+    -------
+    Diagnosis
+    """
 
     def variants(ctx: Context) -> Iterator[Mistake]:
         to_rad, mask = _convert_angles(ctx, np.pi / 180)
@@ -225,7 +262,12 @@ def degrees() -> Diagnosis:
 
 
 def degrees_output() -> Diagnosis:
-    """An angle-valued answer given in degrees (or deg/s)."""
+    """An angle-valued answer given in degrees (or deg/s).
+
+    Returns
+    -------
+    Diagnosis
+    """
     return mistake(
         "degrees_output",
         lambda ref: (lambda x: np.rad2deg(ref(x))),
@@ -235,7 +277,12 @@ def degrees_output() -> Diagnosis:
 
 
 def negated_variable() -> Diagnosis:
-    """One input with the opposite sign (a joint turning the other way)."""
+    """One input with the opposite sign (a joint turning the other way).
+
+    Returns
+    -------
+    Diagnosis
+    """
 
     def variants(ctx: Context) -> Iterator[Mistake]:
         for i, v in enumerate(ctx.check.variables):
@@ -252,7 +299,12 @@ def negated_variable() -> Diagnosis:
 
 
 def swapped_variables() -> Diagnosis:
-    """Two inputs exchanged."""
+    """Two inputs exchanged.
+
+    Returns
+    -------
+    Diagnosis
+    """
 
     def variants(ctx: Context) -> Iterator[Mistake]:
         vs = ctx.check.variables
@@ -272,7 +324,12 @@ def swapped_variables() -> Diagnosis:
 
 
 def scale() -> Diagnosis:
-    """The answer is a constant multiple of the reference."""
+    """The answer is a constant multiple of the reference.
+
+    Returns
+    -------
+    Diagnosis
+    """
 
     def variants(ctx: Context) -> Iterator[Mistake]:
         if ctx.S.shape != ctx.R.shape:
@@ -293,7 +350,12 @@ def scale() -> Diagnosis:
 
 
 def offset() -> Diagnosis:
-    """The answer differs from the reference by the same constant at every input."""
+    """The answer differs from the reference by the same constant at every input.
+
+    Returns
+    -------
+    Diagnosis
+    """
 
     def variants(ctx: Context) -> Iterator[Mistake]:
         if ctx.S.shape != ctx.R.shape or len(ctx.X) < 2:
@@ -324,6 +386,17 @@ def composition_order(factors: Sequence[tuple[str, Callable]], product_name: str
     ``factors`` are ``[(name, fn), ...]`` in the correct order, each ``fn`` a
     function of the check's inputs; ``product_name`` is the product's name in
     the message (e.g. ``"H_BF"``). All ``k! - 1`` other orders are tried.
+
+    Parameters
+    ----------
+    factors : sequence of (str, callable)
+        Name and function of each factor (inputs (nvars,) to a matrix), in the correct order.
+    product_name : str
+        The product's name in the message.
+
+    Returns
+    -------
+    Diagnosis
     """
     names = [n for n, _ in factors]
     right = "·".join(names)
@@ -342,7 +415,19 @@ def composition_order(factors: Sequence[tuple[str, Callable]], product_name: str
 
 
 def missing_factor(factors: Sequence[tuple[str, Callable]], product_name: str) -> Diagnosis:
-    """A product with one of its factors left out."""
+    """A product with one of its factors left out.
+
+    Parameters
+    ----------
+    factors : sequence of (str, callable)
+        Name and function of each factor (inputs (nvars,) to a matrix), in the correct order.
+    product_name : str
+        The product's name in the message.
+
+    Returns
+    -------
+    Diagnosis
+    """
     names = [n for n, _ in factors]
     right = "·".join(names)
     items = []
@@ -358,7 +443,20 @@ def missing_factor(factors: Sequence[tuple[str, Callable]], product_name: str) -
 def standard(kind: str = "matrix") -> list[Diagnosis]:
     """The usual diagnoses for a kind of answer.
 
-    kind : {'matrix', 'rotation', 'transform', 'vector', 'jacobian', 'angles'}
+    Parameters
+    ----------
+    kind : {"matrix", "rotation", "transform", "vector", "jacobian", "angles"}, optional
+        The kind of answer.
+
+    Returns
+    -------
+    list of Diagnosis
+        Tried in order; the first that explains the answer is reported.
+
+    Raises
+    ------
+    ValueError
+        An unknown ``kind``.
     """
     common = [degrees(), negated_variable(), swapped_variables()]
     if kind == "rotation":

@@ -32,16 +32,16 @@ def ur10(description: str = "dh") -> SerialChain:
     Source: Universal Robots, "DH parameters for calculations of kinematics and
     dynamics" (support article), UR10 CB3 standard DH table, metres/radians:
 
-    ====  ========  ======  ========  =====
-    i     d_i       a_i     α_i       θ_i
-    ====  ========  ======  ========  =====
-    1     0.1273    0       π/2       q1
-    2     0         −0.612  0         q2
-    3     0         −0.5723 0         q3
-    4     0.163941  0       π/2       q4
-    5     0.1157    0       −π/2      q5
-    6     0.0922    0       0         q6
-    ====  ========  ======  ========  =====
+    ====  ========  =======  ========  =====
+    i     d_i       a_i      α_i       θ_i
+    ====  ========  =======  ========  =====
+    1     0.1273    0        π/2       q1
+    2     0         −0.612   0         q2
+    3     0         −0.5723  0         q3
+    4     0.163941  0        π/2       q4
+    5     0.1157    0        −π/2      q5
+    6     0.0922    0        0         q6
+    ====  ========  =======  ========  =====
 
     Joint limits ±2π (the controller's range) for all joints. The base frame is
     the robot's ``base`` frame (z up along joint 1), the end-effector the tool

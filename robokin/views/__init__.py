@@ -38,37 +38,35 @@ How ``show()`` chooses the display mode (first match wins):
   and any static web server, no network; deterministic output.
 - **matplotlib**: a stick figure (PDF, text-only outputs).
 
-This package imports matplotlib, MeshCat, IPython and ipywidgets only when a
-function needs them; ``import robokin`` never imports it.
+Layers (each module imports only modules listed before it; ``tests/test_layers.py``
+checks the order):
+
+1. :mod:`~robokin.views.optional` (the optional libraries, each imported there
+   only, on first use), :mod:`~robokin.views.record` (the scene's items),
+   :mod:`~robokin.views.arguments` (argument checks);
+2. :mod:`~robokin.views.geometry` (frames, layout, scale, bounds: numpy only);
+3. backends: :mod:`~robokin.views.meshcat_draw` (MeshCat commands),
+   :mod:`~robokin.views.static_html`, :mod:`~robokin.views.plots` (matplotlib),
+   :mod:`~robokin.views.meshes` (URDF meshes), :mod:`~robokin.views.live` (live server),
+   :mod:`~robokin.views.sphinx_extension`;
+4. :mod:`~robokin.views.display` (choosing the mode, showing);
+5. the facade: :mod:`~robokin.views.scene` (:class:`Scene`, :func:`show`), then
+   :mod:`~robokin.views.sliders`.
+
+``import robokin.views`` imports numpy and robokin only: matplotlib, MeshCat,
+IPython and ipywidgets are imported when a function needs them, and
+``import robokin`` does not import this package.
 """
 
 from __future__ import annotations
 
+from robokin.views.display import choose_mode
+from robokin.views.live import LiveViewer
+from robokin.views.meshes import robot_meshes
+from robokin.views.plots import plot_chain, plot_history, plot_planar, plot_scene
 from robokin.views.scene import Scene, show
+from robokin.views.sliders import JointSliders, joint_sliders
+from robokin.views.static_html import save_page
 
 __all__ = ["Scene", "show", "choose_mode", "joint_sliders", "JointSliders", "LiveViewer",
            "plot_chain", "plot_planar", "plot_history", "plot_scene", "save_page", "robot_meshes"]
-
-_LAZY = {
-    "choose_mode": "robokin.views.display",
-    "joint_sliders": "robokin.views.sliders",
-    "JointSliders": "robokin.views.sliders",
-    "LiveViewer": "robokin.views.live",
-    "plot_chain": "robokin.views.plots",
-    "plot_planar": "robokin.views.plots",
-    "plot_history": "robokin.views.plots",
-    "plot_scene": "robokin.views.plots",
-    "save_page": "robokin.views.static_html",
-    "robot_meshes": "robokin.views.meshes",
-}
-
-
-def __getattr__(name):
-    if name in _LAZY:
-        import importlib
-        return getattr(importlib.import_module(_LAZY[name]), name)
-    raise AttributeError(f"module 'robokin.views' has no attribute {name!r}")
-
-
-def __dir__():
-    return sorted(list(globals()) + list(_LAZY))

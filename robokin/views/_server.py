@@ -38,7 +38,16 @@ try { viewer.connect(url); } catch (e) { console.info("Not connected to MeshCat 
 """
 
 
-def main(argv=None):
+def main(argv: list[str] | None = None) -> None:
+    """Run the server until the parent process exits (``python -m robokin.views._server``).
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        ``--port`` (first web port tried), ``--zmq-url`` (``ipc://`` address of the
+        command socket), ``--parent-pid``; default ``sys.argv[1:]``. The URL
+        token comes on standard input.
+    """
     first_ppid = os.getppid()     # before anything slow: the kernel may be killed right after starting us
     parser = argparse.ArgumentParser()
     parser.add_argument("--port", type=int, default=7000, help="first web port to try")

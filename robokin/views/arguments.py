@@ -66,8 +66,31 @@ def _describe(x: Any) -> str:
 
 
 def as_numbers(x: Any, name: str, expected: str) -> np.ndarray:
-    """``x`` as a finite float array; TypeError naming ``name`` and ``expected`` for non-numbers,
-    DomainError for NaN or infinity."""
+    """``x`` as a finite float array.
+
+    Parameters
+    ----------
+    x : array_like
+        Numbers (any shape).
+    name : str
+        The argument's name, for messages.
+    expected : str
+        What was expected, for messages (e.g. ``"points of shape (N, 3)"``).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``x`` as floats, same shape.
+
+    Raises
+    ------
+    TypeError
+        Not numbers (a string, a dict, None, objects).
+    ShapeError
+        A ragged sequence.
+    DomainError
+        NaN or infinity.
+    """
     if isinstance(x, (str, bytes, dict, set)) or x is None:
         raise TypeError(f"{name} must be {expected}; got {_describe(x)}")
     try:
@@ -86,7 +109,29 @@ def _in_range(arr: np.ndarray, name: str) -> np.ndarray:
 
 
 def subsample(rows: np.ndarray, cap: int, name: str, what: str) -> np.ndarray:
-    """At most ``cap`` rows, evenly spaced, first and last kept; a ViewWarning when rows were dropped."""
+    """At most ``cap`` rows, evenly spaced, first and last kept.
+
+    Parameters
+    ----------
+    rows : numpy.ndarray, shape (N, ...)
+        The rows.
+    cap : int
+        Most rows kept.
+    name : str
+        The argument's name, for the warning.
+    what : str
+        What a row is (``"points"``, ``"steps"``), for the warning.
+
+    Returns
+    -------
+    numpy.ndarray, shape (min(N, cap), ...)
+        ``rows`` itself when N <= cap.
+
+    Warns
+    -----
+    ViewWarning
+        When rows were dropped (both numbers in the message).
+    """
     if len(rows) <= cap:
         return rows
     keep = np.unique(np.linspace(0, len(rows) - 1, cap).round().astype(int))
@@ -97,13 +142,52 @@ def subsample(rows: np.ndarray, cap: int, name: str, what: str) -> np.ndarray:
 
 
 def as_chain(chain: Any, name: str = "chain") -> Any:
-    """A kinematic chain the views can draw (``n``, ``limits`` and ``frames(q)``)."""
+    """A kinematic chain the views can draw.
+
+    Parameters
+    ----------
+    chain : object
+        Needs ``n`` (int >= 1) and ``frames(q)``; the views also read ``limits``.
+    name : str, optional
+        The argument's name, for messages.
+
+    Returns
+    -------
+    object
+        ``chain``.
+
+    Raises
+    ------
+    TypeError
+        ``chain`` has no integer ``n >= 1`` or no ``frames`` method.
+    """
     check_chain(chain, name, methods=("frames",))
     return chain
 
 
 def as_configuration(chain: Any, q: Any, name: str = "q") -> np.ndarray:
-    """Joint configuration ``(n,)`` of ``chain`` (None: zeros moved into the limits)."""
+    """A joint configuration of ``chain``.
+
+    Parameters
+    ----------
+    chain : SerialChain
+        The chain.
+    q : array_like, shape (n,), or None
+        Configuration (rad, m); None: zeros moved into the joint limits.
+    name : str, optional
+        The argument's name, for messages.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,)
+
+    Raises
+    ------
+    ShapeError
+        Another shape.
+    TypeError, DomainError
+        Not numbers; NaN or infinity.
+    """
     n = int(as_chain(chain).n)
     if q is None:
         lim = np.asarray(chain.limits, dtype=float).reshape(n, 2)
@@ -115,7 +199,28 @@ def as_configuration(chain: Any, q: Any, name: str = "q") -> np.ndarray:
 
 
 def as_trajectory(chain: Any, trajectory: Any, name: str = "trajectory") -> np.ndarray:
-    """Joint trajectory ``(T, n)``, T >= 1 (a 1-D array for a one-joint chain)."""
+    """A joint trajectory of ``chain``.
+
+    Parameters
+    ----------
+    chain : SerialChain
+        The chain.
+    trajectory : array_like, shape (T, n)
+        One configuration per step (rad, m), T >= 1; shape (T,) for a one-joint chain.
+    name : str, optional
+        The argument's name, for messages.
+
+    Returns
+    -------
+    numpy.ndarray, shape (T, n)
+
+    Raises
+    ------
+    ShapeError
+        Another shape.
+    TypeError, DomainError
+        Not numbers; NaN or infinity.
+    """
     n = int(as_chain(chain).n)
     expected = f"a joint trajectory of shape (T, {n}) (one row per time step, one column per joint)"
     arr = as_numbers(trajectory, name, expected)
@@ -128,8 +233,32 @@ def as_trajectory(chain: Any, trajectory: Any, name: str = "trajectory") -> np.n
 
 
 def as_points(points: Any, name: str = "points", *, minimum: int = 1, cap: int | None = None) -> np.ndarray:
-    """Points ``(N, 3)`` (rows of ``(N, 2)`` get z = 0), ``minimum <= N``, subsampled to ``cap``
-    (default :data:`MAX_POINTS`)."""
+    """Points in space, subsampled to at most ``cap``.
+
+    Parameters
+    ----------
+    points : array_like, shape (N, 3) or (N, 2), or (3,) or (2,)
+        Positions (m); rows of two get z = 0, a single point is one row.
+    name : str, optional
+        The argument's name, for messages.
+    minimum : int, optional
+        Fewest rows accepted.
+    cap : int, optional
+        Most rows kept (default :data:`MAX_POINTS`); more are subsampled with a warning.
+
+    Returns
+    -------
+    numpy.ndarray, shape (N, 3)
+
+    Raises
+    ------
+    ShapeError
+        Another shape, or fewer than ``minimum`` rows.
+    DomainError
+        NaN, infinity, or a coordinate beyond :data:`MAX_COORDINATE`.
+    TypeError
+        Not numbers.
+    """
     arr = as_numbers(points, name, "points of shape (N, 3) (or (N, 2) for planar points)")
     if arr.ndim == 1 and arr.shape[0] in (2, 3):
         arr = arr[None, :]
@@ -144,7 +273,27 @@ def as_points(points: Any, name: str = "points", *, minimum: int = 1, cap: int |
 
 
 def as_pose(T: Any, name: str = "T") -> np.ndarray:
-    """A rigid transform ``(4, 4)`` (a ``(3,)`` position means no rotation)."""
+    """A rigid transform.
+
+    Parameters
+    ----------
+    T : array_like, shape (4, 4) or (3,)
+        A homogeneous transform (m), or a position (m) meaning no rotation.
+    name : str, optional
+        The argument's name, for messages.
+
+    Returns
+    -------
+    numpy.ndarray, shape (4, 4)
+
+    Raises
+    ------
+    ShapeError
+        Another shape.
+    DomainError
+        Not a rigid transform (rotation part, bottom row), NaN/inf, or a
+        coordinate beyond :data:`MAX_COORDINATE`.
+    """
     arr = as_numbers(T, name, "a (4, 4) homogeneous transform or a (3,) position")
     if arr.shape == (3,):
         out = np.eye(4)
@@ -158,7 +307,29 @@ def as_pose(T: Any, name: str = "T") -> np.ndarray:
 
 
 def as_times(times: Any, count: int, name: str = "times") -> np.ndarray:
-    """Sample times ``(count,)`` in seconds, finite and strictly increasing, shifted to start at 0."""
+    """Sample times, shifted to start at 0.
+
+    Parameters
+    ----------
+    times : array_like, shape (count,)
+        Times (s), finite and strictly increasing.
+    count : int
+        Number of samples expected (the trajectory's length).
+    name : str, optional
+        The argument's name, for messages.
+
+    Returns
+    -------
+    numpy.ndarray, shape (count,)
+        ``times - times[0]`` (s).
+
+    Raises
+    ------
+    ShapeError
+        Another shape.
+    DomainError
+        Not strictly increasing, NaN/inf, or beyond :data:`MAX_DURATION`.
+    """
     arr = as_numbers(times, name, f"sample times of shape ({count},) in seconds")
     if arr.shape != (count,):
         raise ShapeError(f"{name} must have shape ({count},) to match trajectory; got shape {arr.shape}")
@@ -172,7 +343,27 @@ def as_times(times: Any, count: int, name: str = "times") -> np.ndarray:
 
 
 def as_length(value: Any, name: str) -> float:
-    """A positive length in metres, at most :data:`MAX_COORDINATE`."""
+    """A positive length.
+
+    Parameters
+    ----------
+    value : float
+        Length (m).
+    name : str
+        The argument's name, for messages.
+
+    Returns
+    -------
+    float
+        In (0, :data:`MAX_COORDINATE`] (m).
+
+    Raises
+    ------
+    DomainError
+        Not positive, not finite, or larger than :data:`MAX_COORDINATE`.
+    TypeError
+        Not a number.
+    """
     length = check_positive(value, name, scalar=True)
     if length > MAX_COORDINATE:
         raise DomainError(f"{name} must be at most {MAX_COORDINATE:g} m; got {length:.3g}")
@@ -180,7 +371,27 @@ def as_length(value: Any, name: str) -> float:
 
 
 def as_time_step(value: Any, name: str = "dt") -> float:
-    """A positive time step in seconds, at most :data:`MAX_DURATION`."""
+    """A positive time step.
+
+    Parameters
+    ----------
+    value : float
+        Time step (s).
+    name : str, optional
+        The argument's name, for messages.
+
+    Returns
+    -------
+    float
+        In (0, :data:`MAX_DURATION`] (s).
+
+    Raises
+    ------
+    DomainError
+        Not positive, not finite, or larger than :data:`MAX_DURATION`.
+    TypeError
+        Not a number.
+    """
     dt = check_positive(value, name, scalar=True)
     if dt > MAX_DURATION:
         raise DomainError(f"{name} must be at most {MAX_DURATION:g} s; got {dt:.3g}")
@@ -188,7 +399,26 @@ def as_time_step(value: Any, name: str = "dt") -> float:
 
 
 def as_height(height: Any, name: str = "height") -> int:
-    """A scene's height in CSS pixels: an int in [100, 4000]."""
+    """A scene's height.
+
+    Parameters
+    ----------
+    height : int
+        CSS pixels, in [100, 4000].
+    name : str, optional
+        The argument's name, for messages.
+
+    Returns
+    -------
+    int
+
+    Raises
+    ------
+    TypeError
+        Not an int (a bool is not accepted).
+    DomainError
+        Outside [100, 4000].
+    """
     if isinstance(height, bool) or not isinstance(height, (int, np.integer)):
         raise TypeError(f"{name} must be an int (pixels); got {_describe(height)}")
     if not 100 <= int(height) <= 4000:
@@ -197,7 +427,26 @@ def as_height(height: Any, name: str = "height") -> int:
 
 
 def as_color(color: Any, name: str = "color") -> int:
-    """A colour 0xRRGGBB (an int in [0, 0xFFFFFF])."""
+    """A colour.
+
+    Parameters
+    ----------
+    color : int
+        ``0xRRGGBB``, in [0, 0xFFFFFF].
+    name : str, optional
+        The argument's name, for messages.
+
+    Returns
+    -------
+    int
+
+    Raises
+    ------
+    TypeError
+        Not an int (a bool is not accepted).
+    DomainError
+        Outside [0, 0xFFFFFF].
+    """
     if isinstance(color, bool) or not isinstance(color, (int, np.integer)):
         raise TypeError(f"{name} must be an int 0xRRGGBB; got {_describe(color)}")
     if not 0 <= int(color) <= 0xFFFFFF:
@@ -206,7 +455,26 @@ def as_color(color: Any, name: str = "color") -> int:
 
 
 def as_opacity(opacity: Any, name: str = "opacity") -> float:
-    """An opacity in (0, 1]."""
+    """An opacity.
+
+    Parameters
+    ----------
+    opacity : float
+        In (0, 1]; 1 is opaque.
+    name : str, optional
+        The argument's name, for messages.
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    TypeError
+        Not a number.
+    DomainError
+        Outside (0, 1].
+    """
     if isinstance(opacity, (bool, str, bytes)) or not isinstance(opacity, (int, float, np.number)):
         raise TypeError(f"{name} must be a number in (0, 1]; got {_describe(opacity)}")
     value = float(opacity)

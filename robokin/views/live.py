@@ -30,6 +30,13 @@ import sys
 import tempfile
 import time
 import weakref
+from collections.abc import Iterable
+
+import numpy as np
+
+from robokin.views import optional
+from robokin.views.meshcat_draw import set_transform_command
+from robokin.views.record import DEFAULT_HEIGHT
 
 __all__ = ["LiveViewer", "MeshcatUnavailable", "proxy_url", "get_viewer", "close_all"]
 
@@ -41,13 +48,25 @@ class MeshcatUnavailable(RuntimeError):
     """The MeshCat server could not be started or reached."""
 
 
-def proxy_url(port, secret=""):
+def proxy_url(port: int, secret: str = "") -> str | None:
     """The URL of a local port through jupyter-server-proxy, or None where the browser should use loopback.
 
     The proxied form is used when ``jupyter-server-proxy`` is importable, and always
     on JupyterHub/Binder (``JUPYTERHUB_SERVICE_PREFIX`` set): there the browser never
     runs on the kernel's machine, so ``127.0.0.1`` cannot work, and the proxy is often
     installed in the server's environment only, not in the kernel's.
+
+    Parameters
+    ----------
+    port : int
+        The server's local web port.
+    secret : str, optional
+        The server's URL token (a path segment before ``static/``).
+
+    Returns
+    -------
+    str or None
+        ``<prefix>proxy/<port>/<secret>/static/``, or None (use the loopback URL).
     """
     hub_prefix = os.environ.get("JUPYTERHUB_SERVICE_PREFIX")
     if not hub_prefix and importlib.util.find_spec("jupyter_server_proxy") is None:
@@ -79,15 +98,26 @@ def _stop(proc, logfile, folder=None):
 class LiveViewer:
     """A MeshCat server process plus a zmq client.
 
-    ``LiveViewer(port=7000)`` starts the server (``port`` is the first port tried);
-    raises :class:`MeshcatUnavailable` if it cannot.  ``send(cmd)`` sends a
-    command dict, ``send_transforms([(path, T)])`` only transforms.
+    ``send(cmd)`` sends a command dict, ``send_transforms([(path, T)])`` only
+    transforms.
+
+    Parameters
+    ----------
+    port : int, optional
+        The first web port tried (the next free one is used).
+    timeout : float, optional
+        Seconds to wait for the server to start.
+
+    Raises
+    ------
+    MeshcatUnavailable
+        meshcat is not installed, or the server did not start.
     """
 
-    def __init__(self, *, port=7000, timeout=20.0):
+    def __init__(self, *, port: int = 7000, timeout: float = 20.0) -> None:
         try:
-            import umsgpack  # noqa: F401
-            import zmq
+            self._umsgpack = optional.umsgpack()
+            zmq = optional.zmq()
         except ImportError as exc:
             raise MeshcatUnavailable(f"meshcat is not installed ({exc}); pip install 'robokin[views]'") from exc
         self._log = tempfile.TemporaryFile()
@@ -146,23 +176,33 @@ class LiveViewer:
 
     # ---- state
     @property
-    def alive(self):
+    def alive(self) -> bool:
+        """The server process is running."""
         return self.process.poll() is None
 
     @property
-    def url(self):
+    def url(self) -> str:
         """The URL the browser should open (proxied on JupyterHub/Binder)."""
         return proxy_url(self.port, self.secret) or self.web_url
 
     # ---- commands
-    def send(self, command):
-        """Send one MeshCat command dict (``type``, ``path``, ...)."""
-        import umsgpack
+    def send(self, command: dict) -> None:
+        """Send one MeshCat command.
 
+        Parameters
+        ----------
+        command : dict
+            A command in MeshCat's wire format (``type``, ``path``, ...).
+
+        Raises
+        ------
+        MeshcatUnavailable
+            The server has stopped or does not answer.
+        """
         if not self.alive:
             raise MeshcatUnavailable("the MeshCat server has stopped")
         frames = [command["type"].encode(), command.get("path", "").encode(),
-                  umsgpack.packb(command, force_float_precision="single")]
+                  self._umsgpack.packb(command, force_float_precision="single")]
         try:
             self._socket.send_multipart(frames)
             self._socket.recv()
@@ -170,32 +210,60 @@ class LiveViewer:
             self._connect()
             raise MeshcatUnavailable(f"no answer from the MeshCat server: {exc}") from exc
 
-    def send_all(self, commands):
-        """Send a list of command dicts (e.g. ``scene.commands()``)."""
+    def send_all(self, commands: Iterable[dict]) -> None:
+        """Send commands in order (e.g. ``scene.commands()``).
+
+        Parameters
+        ----------
+        commands : iterable of dict
+        """
         self._last.clear()
         for c in commands:
             self.send(c)
 
-    def send_transforms(self, transforms):
-        """Send ``set_transform`` for each ``(path, 4x4)`` that changed since the last call: no geometry."""
-        from robokin.views.meshcat_draw import _set_transform
+    def send_transforms(self, transforms: Iterable[tuple[str, np.ndarray]]) -> None:
+        """Send ``set_transform`` for each node whose pose changed since the last call: no geometry.
 
+        Parameters
+        ----------
+        transforms : iterable of (str, array_like of shape (4, 4))
+            MeshCat path and pose (m), as :func:`~robokin.views.meshcat_draw.chain_transforms` returns.
+        """
         for path, T in transforms:
-            command = _set_transform(path, T)
+            command = set_transform_command(path, T)
             if self._last.get(path) != command["matrix"]:
                 self.send(command)
                 self._last[path] = command["matrix"]
 
-    def delete(self, path="/meshcat"):
+    def delete(self, path: str = "/meshcat") -> None:
+        """Delete a node of the scene and everything under it.
+
+        Parameters
+        ----------
+        path : str, optional
+            MeshCat path; default the whole scene.
+        """
         self.send({"type": "delete", "path": path})
         self._last.clear()
 
-    def iframe_html(self, height=420):
+    def iframe_html(self, height: int = DEFAULT_HEIGHT) -> str:
+        """An ``<iframe>`` of the viewer (resizable).
+
+        Parameters
+        ----------
+        height : int, optional
+            CSS pixels.
+
+        Returns
+        -------
+        str
+            HTML.
+        """
         return (f'<div style="height:{int(height)}px;width:100%;overflow:hidden;resize:vertical">'
                 f'<iframe src="{self.url}" style="width:100%;height:100%;border:none"></iframe></div>')
 
     # ---- life cycle
-    def close(self):
+    def close(self) -> None:
         """Stop the server process (idempotent)."""
         if self._socket is not None:
             self._socket.close(linger=0)
@@ -205,10 +273,10 @@ class LiveViewer:
         if _SHARED is self:
             _SHARED = None
 
-    def __enter__(self):
+    def __enter__(self) -> LiveViewer:
         return self
 
-    def __exit__(self, *exc):
+    def __exit__(self, *exc: object) -> None:
         self.close()
 
     def __repr__(self):
@@ -216,15 +284,25 @@ class LiveViewer:
         return f"<LiveViewer {self.web_url} pid={self.pid} {state}>"
 
 
-def get_viewer():
-    """The kernel's shared live viewer, started on first use."""
+def get_viewer() -> LiveViewer:
+    """The kernel's shared live viewer, started on first use.
+
+    Returns
+    -------
+    LiveViewer
+
+    Raises
+    ------
+    MeshcatUnavailable
+        The server cannot start.
+    """
     global _SHARED
     if _SHARED is None or not _SHARED.alive:
         _SHARED = LiveViewer()
     return _SHARED
 
 
-def close_all():
+def close_all() -> None:
     """Stop every server robokin started in this process."""
     for v in list(_SERVERS):
         v.close()

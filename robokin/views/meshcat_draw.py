@@ -28,19 +28,33 @@ stick-figure parts.
 Sizes are proportional to the chain's reach (sum of link lengths).  Commands are
 plain dicts in MeshCat's wire format; ids are derived from paths, so the output is
 deterministic.  Only numpy is needed here (``umsgpack`` is used for packing).
+The geometry (layout, scale, bounds) comes from :mod:`robokin.views.geometry`.
 """
 
 from __future__ import annotations
 
 import hashlib
 import re
+from typing import Any
 
 import numpy as np
 
-from robokin.errors import DomainError
+from robokin.views import optional
+from robokin.views.geometry import (
+    chain_frames,
+    chain_frames_batch,
+    chain_layout,
+    quaternion_xyzw,
+    scene_bounds,
+    scene_floor,
+    scene_points,
+    scene_scale,
+)
+from robokin.views.record import ChainItem, PathItem, PointsItem, SceneRecord, TargetItem
 
-__all__ = ["chain_layout", "chain_commands", "chain_transforms", "scene_commands", "scene_scale",
-           "animation_command", "quaternion_xyzw"]
+__all__ = ["animation_command", "chain_commands", "chain_transforms", "scene_commands", "set_transform_command"]
+# chain_layout, quaternion_xyzw, scene_bounds, scene_floor and scene_scale live in robokin.views.geometry;
+# they are imported here too for code written when they lived here.
 
 ROOT = "/meshcat"
 LINK_COLOR = 0xE69F00        # orange
@@ -94,67 +108,6 @@ def _pose(R=None, p=None, scale=None):
     return T
 
 
-# ----------------------------------------------------------------- geometry analysis
-def _frames(chain, q):
-    F = np.asarray(chain.frames(np.asarray(q, dtype=float)), dtype=float)
-    n = int(chain.n)
-    if F.shape != (n + 2, 4, 4):
-        raise DomainError(f"chain.frames(q) must return shape ({n + 2}, 4, 4); got {F.shape}")
-    return F
-
-
-def _frames_batch(chain, Q):
-    Q = np.asarray(Q, dtype=float)
-    n = int(chain.n)
-    try:
-        F = np.asarray(chain.frames(Q), dtype=float)
-        if F.shape == (Q.shape[0], n + 2, 4, 4):
-            return F
-    except Exception:  # noqa: BLE001 - fall back to one call per row
-        pass
-    return np.stack([_frames(chain, q) for q in Q])
-
-
-def _sample_configurations(chain, q):
-    n = int(chain.n)
-    lim = np.asarray(chain.limits, dtype=float).reshape(n, 2)
-    lo = np.where(np.isfinite(lim[:, 0]), lim[:, 0], -np.pi)
-    hi = np.where(np.isfinite(lim[:, 1]), lim[:, 1], np.pi)
-    rng = np.random.default_rng(12345)
-    return [q] + [lo + (hi - lo) * rng.random(n) for _ in range(2)]
-
-
-def chain_layout(chain, q):
-    """Analyse the chain's geometry at ``q``.
-
-    Returns a dict with ``reach`` (sum of link lengths), ``segments`` (list of
-    ``(i, rigid, length)`` for the link from frame i to frame i+1) and the frames.
-    """
-    F = _frames(chain, q)
-    n = int(chain.n)
-    origins = F[:, :3, 3]
-    lengths = np.linalg.norm(np.diff(origins, axis=0), axis=1)
-    samples = [_frames(chain, qs) for qs in _sample_configurations(chain, q)[1:]]
-    reach = float(max([lengths.sum()] + [np.linalg.norm(np.diff(Fs[:, :3, 3], axis=0), axis=1).sum()
-                                         for Fs in samples]))
-    if not reach > 1e-9:
-        raise DomainError(
-            f"chain: all {n + 1} links have zero length (every frame origin coincides with the base), "
-            "so there is nothing to draw")
-    tol = 1e-9 * max(reach, 1.0)
-    segments = []
-    for i in range(n + 1):
-        local = [np.linalg.solve(Fs[i], Fs[i + 1])[:3, 3] for Fs in [F] + samples]
-        rigid = all(np.allclose(v, local[0], atol=tol * 1e3) for v in local[1:])
-        varying_len = max(np.linalg.norm(v) for v in local)
-        if rigid and np.linalg.norm(local[0]) < 1e-6 * reach:
-            continue                      # zero-length link: nothing to draw
-        if not rigid and varying_len < 1e-6 * reach:
-            continue
-        segments.append((i, rigid, local[0]))
-    return {"frames": F, "reach": reach, "segments": segments, "n": n}
-
-
 def _sizes(reach):
     r = 0.022 * reach
     return {"link": r, "joint_r": 1.7 * r, "joint_h": 5.0 * r, "box": 3.0 * r, "box_h": 6.5 * r,
@@ -194,13 +147,11 @@ def _box(w, h, d):
 
 
 def _float32(array):
-    import umsgpack
-    return umsgpack.Ext(0x17, (np.ascontiguousarray(array, dtype="<f4") + np.float32(0.0)).tobytes())
+    return optional.umsgpack().Ext(0x17, (np.ascontiguousarray(array, dtype="<f4") + np.float32(0.0)).tobytes())
 
 
 def _uint32(array):
-    import umsgpack
-    return umsgpack.Ext(0x16, np.ascontiguousarray(array, dtype="<u4").tobytes())
+    return optional.umsgpack().Ext(0x16, np.ascontiguousarray(array, dtype="<u4").tobytes())
 
 
 def _data_uuid(*chunks):
@@ -259,7 +210,21 @@ def _set_object(path, obj):
     return {"type": "set_object", "path": path, "object": obj}
 
 
-def _set_transform(path, T):
+def set_transform_command(path: str, T: np.ndarray) -> dict:
+    """The MeshCat command that sets the transform of node ``path``.
+
+    Parameters
+    ----------
+    path : str
+        A MeshCat path such as ``"/meshcat/robot/1_link1"``.
+    T : array_like, shape (4, 4)
+        The node's pose in its parent node (m); rounded to 6 decimals.
+
+    Returns
+    -------
+    dict
+        ``{"type": "set_transform", "path": path, "matrix": [16 floats, column-major]}``.
+    """
     return {"type": "set_transform", "path": path, "matrix": _matrix_list(T)}
 
 
@@ -270,11 +235,11 @@ def _triad_commands(path, size, opacity=1.0, label=None):
         sub = f"{path}/{name}"
         cmds.append(_set_object(sub, _object(sub, _cylinder(size / 28, size, 10),
                                              _material("MeshLambertMaterial", AXIS_COLORS[k], opacity))))
-        cmds.append(_set_transform(sub, _pose(_rot_y_to(axis), axis * size / 2)))
+        cmds.append(set_transform_command(sub, _pose(_rot_y_to(axis), axis * size / 2)))
     if label:
         sub = f"{path}/label"
         cmds.append(_set_object(sub, _text_sprite(sub, label, 0.9 * size)))
-        cmds.append(_set_transform(sub, _pose(p=(0.25 * size, 0.25 * size, 0.35 * size))))
+        cmds.append(set_transform_command(sub, _pose(p=(0.25 * size, 0.25 * size, 0.35 * size))))
     return cmds
 
 
@@ -293,9 +258,27 @@ def _segment_pose(a, b):
     return _pose(_rot_y_to(d / L), (a + b) / 2, scale=(1.0, L, 1.0))
 
 
-def chain_transforms(name, chain, q, layout=None):
-    """``[(path, 4x4)]`` for every moving node of chain item ``name`` at ``q``."""
-    F = _frames(chain, q)
+def chain_transforms(name: str, chain: Any, q: np.ndarray, layout: dict | None = None
+                     ) -> list[tuple[str, np.ndarray]]:
+    """The pose of every moving node of chain item ``name`` at ``q``.
+
+    Parameters
+    ----------
+    name : str
+        The chain item's name.
+    chain : SerialChain
+        Any object with ``n``, ``frames(q)`` and ``limits``.
+    q : array_like, shape (n,)
+        Configuration (rad, m).
+    layout : dict, optional
+        :func:`~robokin.views.geometry.chain_layout` of the chain, when already computed.
+
+    Returns
+    -------
+    list of (str, numpy.ndarray of shape (4, 4))
+        MeshCat path and pose (m): one per frame, then one per link of varying length.
+    """
+    F = chain_frames(chain, q)
     layout = layout or chain_layout(chain, q)
     paths = _frame_paths(name, chain)
     out = [(paths[i], F[i]) for i in range(len(paths))]
@@ -305,8 +288,26 @@ def chain_transforms(name, chain, q, layout=None):
     return out
 
 
-def chain_commands(item, scene_scale=None):
-    """MeshCat commands drawing a :class:`~robokin.views.scene.ChainItem`."""
+def chain_commands(item: ChainItem, scene_scale: float | None = None) -> list[dict]:
+    """MeshCat commands drawing a chain item.
+
+    Parameters
+    ----------
+    item : ChainItem
+        The chain, its configuration and style.
+    scene_scale : float, optional
+        Unused (sizes follow the chain's own reach); kept for callers that pass it.
+
+    Returns
+    -------
+    list of dict
+        ``set_transform`` and ``set_object`` commands.
+
+    Raises
+    ------
+    DomainError
+        All links of the chain have zero length.
+    """
     chain, q, name = item.chain, item.q, item.name
     layout = chain_layout(chain, q)
     reach = layout["reach"]
@@ -324,7 +325,7 @@ def chain_commands(item, scene_scale=None):
         stick = {i for i, files in enumerate(meshes.unreadable) if files}
     cmds = []
     for path, T in chain_transforms(name, chain, q, layout):
-        cmds.append(_set_transform(path, T))
+        cmds.append(set_transform_command(path, T))
     if meshes is not None:
         for i, ms in enumerate(meshes.frames):
             for k, m in enumerate(ms):
@@ -346,7 +347,7 @@ def chain_commands(item, scene_scale=None):
             path = f"{paths[i]}/link"
             cmds.append(_set_object(path, _object(path, _cylinder(s["link"], float(np.linalg.norm(v))),
                                                   link_mat)))
-            cmds.append(_set_transform(path, _pose(_rot_y_to(v), v / 2)))
+            cmds.append(set_transform_command(path, _pose(_rot_y_to(v), v / 2)))
         else:
             path = f"{ROOT}/{name}/link_{i}"
             cmds.append(_set_object(path, _object(path, _cylinder(s["link"], 1.0), link_mat)))
@@ -364,7 +365,7 @@ def chain_commands(item, scene_scale=None):
             geom = _cylinder(s["joint_r"], s["joint_h"], 24)
             mat = _material("MeshPhongMaterial", joint_color, op)
         cmds.append(_set_object(path, _object(path, geom, mat)))
-        cmds.append(_set_transform(path, _pose(_rot_y_to(axes[j]))))
+        cmds.append(set_transform_command(path, _pose(_rot_y_to(axes[j]))))
     # end-effector
     ee = f"{paths[n + 1]}/marker"
     if meshes is None or n in stick or n + 1 in stick:
@@ -381,90 +382,6 @@ def chain_commands(item, scene_scale=None):
 
 
 # ----------------------------------------------------------------- scene
-def scene_scale(scene):
-    from robokin.views.scene import ChainItem, PathItem, PointsItem, TargetItem
-    reaches = [chain_layout(it.chain, it.q)["reach"] for it in scene.items if isinstance(it, ChainItem)]
-    if reaches:
-        return max(reaches)
-    pts = [it.points for it in scene.items if isinstance(it, (PathItem, PointsItem))]
-    pts += [it.T[None, :3, 3] for it in scene.items if isinstance(it, TargetItem)]
-    if pts:
-        ext = float(np.abs(np.vstack(pts)).max())
-        if ext > 0:
-            return ext
-    return 1.0
-
-
-def scene_bounds(scene, points=None):
-    """Centre (3,) and radius of the box around everything drawn (chains over their animations too);
-    ``points``: :func:`_scene_points` of the scene when already computed."""
-    P = _scene_points(scene) if points is None else points
-    lo, hi = P.min(axis=0), P.max(axis=0)
-    return (lo + hi) / 2, float(np.linalg.norm(hi - lo) / 2)
-
-
-def scene_floor(scene, points=None):
-    """Height (m) of the grid: the base plane z = 0, or the lowest point drawn when the robot
-    reaches below it (a hanging arm, a leg), so that the grid is a floor, never a ceiling."""
-    P = _scene_points(scene) if points is None else points
-    return min(0.0, float(P[:, 2].min()))
-
-
-def _scene_points(scene):
-    """Every point drawn (N, 3): the world origin, the chains' frames (over their animations), targets, paths."""
-    from robokin.views.scene import ChainItem, PathItem, PointsItem, TargetItem
-    pts = [np.zeros((1, 3))]
-    animated = {a.chain_name: a for a in scene.animations}
-    for it in scene.items:
-        if isinstance(it, ChainItem):
-            if it.name in animated:
-                F = _frames_batch(it.chain, animated[it.name].trajectory)
-            else:
-                F = _frames(it.chain, it.q)[None]
-            pts.append(F[:, :, :3, 3].reshape(-1, 3))
-            if getattr(it, "meshes", None) is not None:
-                pts += _mesh_box_points(it.meshes, F)
-        elif isinstance(it, TargetItem):
-            pts.append(it.T[None, :3, 3])
-        elif isinstance(it, (PathItem, PointsItem)):
-            pts.append(it.points)
-    return np.vstack(pts)
-
-
-def _mesh_box_points(meshes, F):
-    """Corners of each frame's mesh bounding box, placed by the frames F (T, n+2, 4, 4)."""
-    out = []
-    for i, ms in enumerate(meshes.frames):
-        if not ms:
-            continue
-        V = np.vstack([np.asarray(m.vertices, dtype=float) for m in ms])
-        lo, hi = V.min(axis=0), V.max(axis=0)
-        corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
-        out.append((F[:, i, None, :3, :3] @ corners[None, :, :, None])[..., 0].reshape(-1, 3)
-                   + np.repeat(F[:, i, :3, 3], 8, axis=0))
-    return out
-
-
-def quaternion_xyzw(R):
-    """Unit quaternions (x, y, z, w) of rotation matrices (..., 3, 3), sign-continuous along axis 0."""
-    R = np.asarray(R, dtype=float)
-    m00, m11, m22 = R[..., 0, 0], R[..., 1, 1], R[..., 2, 2]
-    w = np.sqrt(np.maximum(0.0, 1 + m00 + m11 + m22)) / 2
-    x = np.sqrt(np.maximum(0.0, 1 + m00 - m11 - m22)) / 2
-    y = np.sqrt(np.maximum(0.0, 1 - m00 + m11 - m22)) / 2
-    z = np.sqrt(np.maximum(0.0, 1 - m00 - m11 + m22)) / 2
-    x = np.copysign(x, R[..., 2, 1] - R[..., 1, 2])
-    y = np.copysign(y, R[..., 0, 2] - R[..., 2, 0])
-    z = np.copysign(z, R[..., 1, 0] - R[..., 0, 1])
-    quat = np.stack([x, y, z, w], axis=-1)
-    quat /= np.linalg.norm(quat, axis=-1, keepdims=True)
-    if quat.ndim == 2:
-        for k in range(1, len(quat)):
-            if quat[k] @ quat[k - 1] < 0:
-                quat[k] = -quat[k]
-    return quat
-
-
 def _decompose(Ts):
     """positions (T,3), quaternions (T,4) xyzw, scales (T,3) of transforms with positive scales."""
     M = Ts[:, :3, :3]
@@ -473,14 +390,25 @@ def _decompose(Ts):
     return Ts[:, :3, 3], quaternion_xyzw(R), scale
 
 
-def animation_command(scene):
-    """One ``set_animation`` command for all animations of the scene (or None)."""
+def animation_command(scene: SceneRecord) -> dict | None:
+    """One ``set_animation`` command for all animations of the scene.
+
+    Parameters
+    ----------
+    scene : SceneRecord
+
+    Returns
+    -------
+    dict or None
+        The command (position, quaternion and, for links of varying length,
+        scale tracks of every node that moves); None without animations.
+    """
     if not scene.animations:
         return None
     entries = []
     for anim in scene.animations:
         item = scene.item(anim.chain_name)
-        F = _frames_batch(item.chain, anim.trajectory)
+        F = chain_frames_batch(item.chain, anim.trajectory)
         layout = chain_layout(item.chain, anim.trajectory[0])
         paths = _frame_paths(item.name, item.chain)
         tracks = [(paths[i], F[:, i]) for i in range(len(paths))]
@@ -508,16 +436,26 @@ def animation_command(scene):
 
 def _trace_commands(scene, anim):
     item = scene.item(anim.chain_name)
-    F = _frames_batch(item.chain, anim.trajectory)
+    F = chain_frames_batch(item.chain, anim.trajectory)
     path = f"{ROOT}/{item.name}_trace"
     return [_set_object(path, _line(path, F[:, -1, :3, 3], anim.trace_color))]
 
 
-def scene_commands(scene):
-    """All MeshCat commands of a scene, in order: camera, objects, then the animation."""
-    from robokin.views.scene import ChainItem, PathItem, PointsItem, TargetItem
+def scene_commands(scene: SceneRecord) -> list[dict]:
+    """All MeshCat commands of a scene, in order: camera, objects, then the animation.
+
+    Parameters
+    ----------
+    scene : SceneRecord
+        Usually a :class:`robokin.views.Scene`.
+
+    Returns
+    -------
+    list of dict
+        Commands in MeshCat's wire format; deterministic (ids hashed from paths and data).
+    """
     L = scene_scale(scene)
-    points = _scene_points(scene)                   # forward kinematics over every animation, once
+    points = scene_points(scene)                   # forward kinematics over every animation, once
     center, radius = scene_bounds(scene, points)
     floor = scene_floor(scene, points)
     shift = _pose(p=-center)
@@ -530,8 +468,8 @@ def scene_commands(scene):
         # composes with -- adding that turn here again would stand the grid up vertically.
         # Headless Chromium with SwiftShader drops grid lines that cross the camera plane,
         # so there only the far part of the grid is drawn; that is the renderer, not the grid.)
-        _set_transform(ROOT, shift), _set_transform("/Grid", _pose(p=[0.0, 0.0, floor] - center)),
-        _set_transform("/Axes", shift),
+        set_transform_command(ROOT, shift), set_transform_command("/Grid", _pose(p=[0.0, 0.0, floor] - center)),
+        set_transform_command("/Axes", shift),
         {"type": "set_property", "path": "/Cameras/default/rotated/<object>", "property": "position",
          "value": [_r(v) for v in eye]},
     ]
@@ -546,7 +484,7 @@ def scene_commands(scene):
             cmds += _triad_commands(path, size, label=it.label)
             cmds.append(_set_object(f"{path}/origin", _object(f"{path}/origin", _sphere(size / 12),
                                                                _material("MeshPhongMaterial", TARGET_COLOR))))
-            cmds.append(_set_transform(path, it.T))
+            cmds.append(set_transform_command(path, it.T))
         elif isinstance(it, PointsItem) and len(it.points) > SPHERES_UP_TO:
             path = f"{ROOT}/{it.name}"
             cmds.append(_set_object(path, _point_cloud(path, it.points, it.color, 2 * (it.radius or 0.02 * L))))
@@ -556,7 +494,7 @@ def scene_commands(scene):
                 path = f"{ROOT}/{it.name}/{k}"
                 cmds.append(_set_object(path, _object(path, _sphere(radius),
                                                       _material("MeshPhongMaterial", it.color))))
-                cmds.append(_set_transform(path, _pose(p=p)))
+                cmds.append(set_transform_command(path, _pose(p=p)))
         elif isinstance(it, PathItem):
             path = f"{ROOT}/{it.name}"
             cmds.append(_set_object(path, _line(path, it.points, it.color)))

@@ -12,10 +12,13 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from robokin.errors import DomainError, ShapeError
+from robokin.models.urdf import ROBOT_DESCRIPTIONS, from_urdf, robot_description
+from robokin.models.urdf_meshes import DEFAULT_MESH_BYTES, RobotMeshes, VisualMesh, visual_meshes
 
 __all__ = ["robot_meshes"]
 
@@ -32,7 +35,8 @@ def _sample_qs(chain):
     return [np.clip(np.zeros(n), lo, hi)] + [lo + (hi - lo) * rng.random(n) for _ in range(3)]
 
 
-def robot_meshes(urdf, chain, *, base_link=None, tip_link=None, max_bytes=None):
+def robot_meshes(urdf: str | os.PathLike, chain: Any, *, base_link: str | None = None,
+                 tip_link: str | None = None, max_bytes: int | None = None) -> RobotMeshes:
     """The visual meshes of a robot, frame by frame in the frames of ``chain``.
 
     Parameters
@@ -68,9 +72,6 @@ def robot_meshes(urdf, chain, *, base_link=None, tip_link=None, max_bytes=None):
         ``chain`` has another number of joints than the URDF chain, or one of its
         frames moves relative to the URDF link it should be attached to.
     """
-    from robokin.models.urdf import ROBOT_DESCRIPTIONS, from_urdf, robot_description
-    from robokin.models.urdf_meshes import DEFAULT_MESH_BYTES, RobotMeshes, VisualMesh, visual_meshes
-
     if isinstance(urdf, str) and urdf in ROBOT_DESCRIPTIONS:
         path = robot_description(urdf)
         base_link = base_link or ROBOT_DESCRIPTIONS[urdf][1]

@@ -8,12 +8,18 @@ Figure.  Output is deterministic (no random colours).
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+from typing import Any
+
 import numpy as np
 
 from robokin.errors import DomainError, ShapeError
+from robokin.views import optional
 from robokin.views.arguments import as_chain, as_numbers
+from robokin.views.geometry import scene_scale
+from robokin.views.record import ChainItem, PathItem, PointsItem, SceneRecord, TargetItem
 
-__all__ = ["plot_chain", "plot_planar", "plot_history", "plot_scene"]
+__all__ = ["PLOT_LIMIT", "SINGULAR_COLOR", "plot_chain", "plot_planar", "plot_history", "plot_scene"]
 
 LINK = "#E69F00"
 JOINT = "#3B3B3B"
@@ -24,8 +30,7 @@ PLOT_LIMIT = 1e100
 
 
 def _new_axes(projection=None, figsize=(5.5, 4.5)):
-    import matplotlib.pyplot as plt
-    fig = plt.figure(figsize=figsize)
+    fig = optional.pyplot().figure(figsize=figsize)
     return fig.add_subplot(projection=projection)
 
 
@@ -64,12 +69,38 @@ def _draw_chain(ax, chain, q, alpha=1.0, color=None, frames=False, label=None, t
     return o
 
 
-def plot_chain(chain, q, ax=None, *, frames=False, alpha=None, labels=None):
-    """3D stick figure of ``chain`` at ``q`` (n,) or at each row of ``Q`` (N, n).
+def plot_chain(chain: Any, q: Any, ax: Any = None, *, frames: bool = False, alpha: float | None = None,
+               labels: Sequence[str] | None = None) -> Any:
+    """3D stick figure of ``chain`` at one configuration or at each row of a batch.
 
     Links orange, joints dark dots, end-effector red with a small RGB triad;
     ``frames=True`` adds a triad per frame.  With several configurations the
-    first is opaque and the others fade.  Returns the 3D Axes.
+    first is opaque and the others fade.
+
+    Parameters
+    ----------
+    chain : SerialChain
+        Any object with ``n`` and ``frames(q)``.
+    q : array_like, shape (n,) or (N, n)
+        Configuration(s) (rad, m).
+    ax : mpl_toolkits.mplot3d.axes3d.Axes3D, optional
+        A 3D Axes to draw into; default a new figure.
+    frames : bool, optional
+        A triad at every frame.
+    alpha : float, optional
+        Opacity of every configuration; default 1 for the first, fading for the others.
+    labels : sequence of str, optional
+        A legend label per configuration.
+
+    Returns
+    -------
+    mpl_toolkits.mplot3d.axes3d.Axes3D
+        The Axes (equal scales, metres).
+
+    Raises
+    ------
+    ShapeError
+        ``q`` is not (n,) or (N, n) with N >= 1.
     """
     n = int(as_chain(chain).n)
     Q = as_numbers(q, "q", f"a configuration ({n},) or configurations (N, {n})")
@@ -90,14 +121,41 @@ def plot_chain(chain, q, ax=None, *, frames=False, alpha=None, labels=None):
     return ax
 
 
-def plot_planar(segments=(), points=None, ax=None, *, labels=None, color=LINK, point_color=JOINT,
-                title=None, annotate=None):
+def plot_planar(segments: Any = (), points: Any = None, ax: Any = None, *, labels: Sequence[str] | None = None,
+                color: str = LINK, point_color: str = JOINT, title: str | None = None,
+                annotate: Sequence | None = None) -> Any:
     """Planar drawing of links and points (planar serial or parallel robots).
 
-    ``segments`` is a list of ((x0, y0), (x1, y1)) pairs (or an (M, 2, 2) array)
-    or of polylines (K, 2); ``points`` an (N, 2) array of joints/markers;
-    ``annotate`` an optional list of text labels for the points.  Returns the Axes
-    (equal aspect, metres).
+    Parameters
+    ----------
+    segments : sequence of array_like of shape (K, 2), or array, shape (M, 2, 2)
+        Links: polylines of K >= 2 points (m), e.g. ``((x0, y0), (x1, y1))`` pairs.
+    points : array_like, shape (N, 2), optional
+        Joints or markers (m).
+    ax : matplotlib.axes.Axes, optional
+        Axes to draw into; default a new figure.
+    labels : sequence of str, optional
+        A legend label per segment.
+    color : str, optional
+        Colour of the links (matplotlib colour).
+    point_color : str, optional
+        Colour of the points.
+    title : str, optional
+        Axes title.
+    annotate : sequence, optional
+        Text labels for the points, in order.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The Axes (equal aspect, metres).
+
+    Raises
+    ------
+    ShapeError
+        A segment is not (K, 2) with K >= 2, or ``points`` not (N, 2).
+    TypeError
+        ``segments`` is a string, or holds something that is not numbers.
     """
     if isinstance(segments, (str, bytes)):
         raise TypeError(f"segments must be a list of polylines (K, 2); got {type(segments).__name__}")
@@ -189,16 +247,18 @@ def _history_values(kind, values):
     return v
 
 
-def plot_history(record=None, *, t=None, q=None, dq=None, error=None, singular_values=None,
-                 dt=None, joint_names=None, joint_types=None, log_error=True, degrees=False,
-                 error_label="error", time_label=None, sigma_min=None, singular=None,
-                 singular_threshold=None):
+def plot_history(record: Any = None, *, t: Any = None, q: Any = None, dq: Any = None, error: Any = None,
+                 singular_values: Any = None, dt: float | None = None, joint_names: Sequence[str] | None = None,
+                 joint_types: Sequence[str] | None = None, log_error: bool = True, degrees: bool = False,
+                 error_label: str = "error", time_label: str | None = None, sigma_min: Any = None,
+                 singular: Any = None, singular_threshold: float | None = None) -> Any:
     """Time-series figure of a simulation / IK record: one panel per quantity given.
 
     Quantities come from keyword arguments or from ``record`` (an object or dict
     with ``t``/``time``, ``q``, ``dq``/``qd``, ``error``/``errors`` and
     ``singular_values``).  ``q``/``dq`` are (T, n) [rad, m]; ``error`` is (T,)
-    norms or (T, k) vectors (plotted as their norm); ``singular_values`` (T, m).  The x axis is time [s] when ``t`` or ``dt`` is known,
+    norms or (T, k) vectors (plotted as their norm); ``singular_values`` (T, m).
+    The x axis is time [s] when ``t`` or ``dt`` is known,
     else the iteration number.  Errors use a log scale unless ``log_error=False``.
 
     Singularities: ``sigma_min`` (T,), the smallest singular value of the
@@ -209,9 +269,57 @@ def plot_history(record=None, *, t=None, q=None, dq=None, error=None, singular_v
     ``singular_threshold`` fields), so ``plot_history(log)`` shows where a run
     came close to a singular configuration.
 
-    Returns the Figure.
+    Parameters
+    ----------
+    record : object or dict, optional
+        Source of the quantities not given as keywords (see above).
+    t : array_like, shape (T,), optional
+        Sample times (s).
+    q : array_like, shape (T, n), optional
+        Joint positions (rad, m).
+    dq : array_like, shape (T, n), optional
+        Joint velocities (rad/s, m/s).
+    error : array_like, shape (T,) or (T, k), optional
+        Error norms, or error vectors (plotted as their norm).
+    singular_values : array_like, shape (T, m), optional
+        Singular values of the Jacobian.
+    dt : float, optional
+        Sampling period (s), when ``t`` is not known.
+    joint_names : sequence of str, optional
+        Legend labels of the joints.
+    joint_types : sequence of str, optional
+        ``"revolute"``/``"prismatic"`` per joint (units of the axes).
+    log_error : bool, optional
+        Log scale for the error panel.
+    degrees : bool, optional
+        Revolute joints in degrees.
+    error_label : str, optional
+        Name of the error on its axis.
+    time_label : str, optional
+        Label of the x axis.
+    sigma_min : array_like, shape (T,), optional
+        Smallest singular value of the controller's Jacobian.
+    singular : array_like of bool, shape (T,), optional
+        Steps flagged near a singularity.
+    singular_threshold : float, optional
+        The threshold drawn in the ``sigma_min`` panel.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One panel per quantity, sharing the x axis.
+
+    Raises
+    ------
+    DomainError
+        No quantity given or found, a quantity with no finite value, or values
+        beyond :data:`PLOT_LIMIT`.
+    ShapeError
+        A quantity without samples, or lengths that differ.
+    TypeError
+        A quantity that is not numbers.
     """
-    import matplotlib.pyplot as plt
+    plt = optional.pyplot()
 
     q = q if q is not None else _get(record, "q", "qs", "joint_positions")
     dq = dq if dq is not None else _get(record, "dq", "qd", "q_dot", "joint_velocities")
@@ -298,16 +406,37 @@ def plot_history(record=None, *, t=None, q=None, dq=None, error=None, singular_v
     return fig
 
 
-def plot_scene(scene, ax=None, *, frames=None):
-    """matplotlib version of a :class:`~robokin.views.scene.Scene` (3D stick figures)."""
-    from robokin.views.scene import ChainItem, PathItem, PointsItem, Scene, TargetItem
+def plot_scene(scene: SceneRecord, ax: Any = None, *, frames: bool | None = None) -> Any:
+    """matplotlib version of a :class:`~robokin.views.Scene` (3D stick figures).
 
-    if not isinstance(scene, Scene):
+    Chains at their configuration (the first step of an animation), targets as
+    triads, points as dots, paths and animation traces as lines.
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene to draw.
+    ax : matplotlib.axes.Axes, optional
+        A 3D Axes to draw into; default a new figure.
+    frames : bool, optional
+        Draw a triad at every joint frame; default: as each chain item says.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        The 3D Axes (equal scales, metres).
+
+    Raises
+    ------
+    TypeError
+        ``scene`` is not a :class:`~robokin.views.Scene`.
+    """
+    if not isinstance(scene, SceneRecord):
         raise TypeError(f"scene must be a robokin.views.Scene; got {type(scene).__name__}")
     if ax is None:
         ax = _new_axes("3d")
     pts = [np.zeros((1, 3))]
-    L = scene.scale()
+    L = scene_scale(scene)
     for it in scene.items:
         if isinstance(it, ChainItem):
             a = 1.0 if it.opacity == 1.0 else max(it.opacity, 0.25)

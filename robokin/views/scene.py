@@ -13,15 +13,17 @@ nor matplotlib.  The backends turn the record into pictures:
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from collections.abc import Sequence
+from os import PathLike
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from robokin.errors import DomainError, ShapeError
+from robokin.models.urdf import ROBOT_DESCRIPTIONS
 from robokin.views import arguments
 from robokin.views.arguments import (
-    MAX_PATH_POINTS,
     as_color,
     as_configuration,
     as_height,
@@ -34,66 +36,25 @@ from robokin.views.arguments import (
     as_trajectory,
     subsample,
 )
+from robokin.views.display import show_scene
+from robokin.views.geometry import chain_layout, scene_scale
+from robokin.views.live import LiveViewer
+from robokin.views.meshcat_draw import chain_transforms, scene_commands
+from robokin.views.meshes import robot_meshes
+from robokin.views.plots import plot_scene
+from robokin.views.record import (
+    DEFAULT_HEIGHT,
+    AnimationItem,
+    ChainItem,
+    PathItem,
+    PointsItem,
+    SceneOptions,
+    SceneRecord,
+    TargetItem,
+)
+from robokin.views.static_html import save_page, scene_html
 
 __all__ = ["Scene", "show"]
-
-DEFAULT_HEIGHT = 420
-
-
-# --------------------------------------------------------------------------- items
-@dataclass
-class ChainItem:
-    name: str
-    chain: Any
-    q: np.ndarray
-    color: int | None = None
-    opacity: float = 1.0
-    frames: bool = False
-    labels: bool = True
-    ghost: bool = False
-    meshes: Any = None          # robokin.models.urdf_meshes.RobotMeshes when drawn with meshes
-
-
-@dataclass
-class TargetItem:
-    name: str
-    T: np.ndarray
-    size: float | None = None
-    label: str | None = None
-
-
-@dataclass
-class PointsItem:
-    name: str
-    points: np.ndarray
-    radius: float | None = None
-    color: int = 0xFFD92F
-
-
-@dataclass
-class PathItem:
-    name: str
-    points: np.ndarray
-    color: int = 0xFFFFFF
-
-
-@dataclass
-class AnimationItem:
-    chain_name: str
-    trajectory: np.ndarray
-    times: np.ndarray
-    trace: bool = True
-    trace_color: int = 0xFFFF66
-
-
-@dataclass
-class _Options:
-    height: int = DEFAULT_HEIGHT
-    play: bool = True
-    loop: bool = False
-    grid: bool = True
-    extra: dict = field(default_factory=dict)
-
 
 STYLES = ("stick", "mesh")
 
@@ -109,8 +70,6 @@ def _resolve_meshes(chain, style, meshes):
             raise DomainError("meshes were given with style='stick'; use style='mesh' (or leave style out)")
         return None
     if meshes is None:
-        from robokin.models.urdf import ROBOT_DESCRIPTIONS
-
         label = str(getattr(chain, "name", "")).lower()
         meshes = next((k for k in ROBOT_DESCRIPTIONS if label == k or label.startswith(k + "_")), None)
         if meshes is None:
@@ -119,7 +78,6 @@ def _resolve_meshes(chain, style, meshes):
                 f"({', '.join(sorted(ROBOT_DESCRIPTIONS))}), the path of its URDF file, or "
                 f"robokin.views.robot_meshes(urdf, chain)")
     if isinstance(meshes, str) or hasattr(meshes, "__fspath__"):
-        from robokin.views.meshes import robot_meshes
         return robot_meshes(meshes, chain)
     frames = getattr(meshes, "frames", None)
     if frames is None or not hasattr(meshes, "unreadable"):
@@ -132,7 +90,7 @@ def _resolve_meshes(chain, style, meshes):
 
 
 # --------------------------------------------------------------------------- scene
-class Scene:
+class Scene(SceneRecord):
     """A backend-independent record of a 3D scene.
 
     Build it with the ``add_*`` methods and :meth:`animate`, then call
@@ -140,6 +98,24 @@ class Scene:
     :meth:`to_html` (static HTML), :meth:`commands` (the MeshCat command list) or
     :meth:`plot` (matplotlib).
 
+    Parameters
+    ----------
+    height : int, optional
+        Height in CSS pixels, in [100, 4000].
+    grid : bool, optional
+        Draw the floor grid.
+
+    Attributes
+    ----------
+    items : list
+        The recorded items (:class:`~robokin.views.record.ChainItem`, ...), in order.
+    animations : list of AnimationItem
+        The recorded animations.
+    options : SceneOptions
+        Height, grid, play and loop.
+
+    Examples
+    --------
     >>> scene = Scene()
     >>> scene.add_chain(chain, q)              # doctest: +SKIP
     'robot'
@@ -148,11 +124,9 @@ class Scene:
     >>> scene.show()                           # doctest: +SKIP
     """
 
-    def __init__(self, *, height: int = DEFAULT_HEIGHT, grid: bool = True):
-        self.items: list = []
-        self.animations: list[AnimationItem] = []
-        self.options = _Options(height=as_height(height), grid=bool(grid))
-        self._live = None          # robokin.views.live.LiveViewer, once shown live
+    def __init__(self, *, height: int = DEFAULT_HEIGHT, grid: bool = True) -> None:
+        super().__init__(SceneOptions(height=as_height(height), grid=bool(grid)))
+        self._live: LiveViewer | None = None          # once shown live
 
     # ---- naming
     def _name(self, name, stem):
@@ -172,21 +146,11 @@ class Scene:
             raise DomainError(f"name {name!r} is already used in this scene")
         return name
 
-    def item(self, name):
-        """The recorded item called ``name`` (KeyError if there is none)."""
-        for it in self.items:
-            if it.name == name:
-                return it
-        raise KeyError(f"no item named {name!r} in this scene; names: {[it.name for it in self.items]}")
-
     # ---- adding things
-    def add_chain(self, chain, q=None, *, name=None, color=None, opacity=1.0, frames=False, labels=True,
-                  style=None, meshes=None):
-        """Draw ``chain`` at configuration ``q`` (default: mid-limits / zeros).
-
-        ``frames=True`` adds a triad at every joint frame (with text labels when
-        ``labels`` is true).  Returns the item name (default ``"robot"``).
-        Raises ValueError if all links of the chain have zero length.
+    def add_chain(self, chain: Any, q: Any = None, *, name: str | None = None, color: Any = None,
+                  opacity: float = 1.0, frames: bool = False, labels: bool = True, style: str | None = None,
+                  meshes: Any = None) -> str:
+        """Draw ``chain`` at configuration ``q``.
 
         ``style`` is ``"stick"`` (the default: cylinders between the frame
         origins) or ``"mesh"``: the robot's visual meshes from its URDF, moved by
@@ -197,9 +161,49 @@ class Scene:
         picks the robot (``models.ur10()``, ``models.panda()``,
         ``models.baxter_left()``). Needs ``pip install 'robokin[robots]'``.
         ``views.show(models.ur10(), q, meshes="ur10")`` is the short form.
-        """
-        from robokin.views.meshcat_draw import chain_layout  # numpy only
 
+        Parameters
+        ----------
+        chain : SerialChain
+            The chain (any object with ``n``, ``frames(q)``, ``joint_axes``,
+            ``joint_types`` and ``limits``).
+        q : array_like, shape (n,), optional
+            Configuration (rad for revolute, m for prismatic joints); default
+            zeros, moved into the joint limits.
+        name : str, optional
+            Item name, unique in the scene, without ``/``; default ``"robot"``
+            (then ``"robot_2"``, ...).
+        color : int, optional
+            One colour ``0xRRGGBB`` for every part; default the link, joint and
+            end-effector colours.
+        opacity : float, optional
+            In (0, 1]; below 1 the chain is translucent.
+        frames : bool, optional
+            Add a triad at every joint frame.
+        labels : bool, optional
+            Label those triads with the frame names.
+        style : {"stick", "mesh"}, optional
+            See above.
+        meshes : str, os.PathLike or RobotMeshes, optional
+            See above.
+
+        Returns
+        -------
+        str
+            The item's name.
+
+        Raises
+        ------
+        ShapeError
+            ``q`` does not have n entries.
+        DomainError
+            All links of the chain have zero length, its reach is beyond
+            :data:`~robokin.views.arguments.MAX_COORDINATE`, ``name`` is taken or
+            invalid, ``opacity`` is outside (0, 1], or ``style``/``meshes`` do not
+            fit the chain.
+        TypeError
+            ``name`` is not a str, ``color`` not an int, or ``meshes`` of another type.
+        """
         q = as_configuration(chain, q)
         layout = chain_layout(chain, q)  # validates (zero-length chain -> DomainError)
         if not layout["reach"] <= arguments.MAX_COORDINATE:
@@ -213,20 +217,71 @@ class Scene:
         self.items.append(item)
         return item.name
 
-    def add_ghost(self, chain, q, *, name=None, color=0xB0C4DE, opacity=0.3, style=None, meshes=None):
-        """A translucent copy of ``chain`` at ``q`` (e.g. another IK solution); ``style``/``meshes``
-        as in :meth:`add_chain`."""
+    def add_ghost(self, chain: Any, q: Any, *, name: str | None = None, color: Any = 0xB0C4DE,
+                  opacity: float = 0.3, style: str | None = None, meshes: Any = None) -> str:
+        """A translucent copy of ``chain`` at ``q`` (e.g. another IK solution).
+
+        Parameters
+        ----------
+        chain : SerialChain
+            The chain.
+        q : array_like, shape (n,)
+            Configuration (rad, m).
+        name : str, optional
+            Item name; default ``"ghost"`` (then ``"ghost_2"``, ...).
+        color : int, optional
+            Colour ``0xRRGGBB`` of every part (default light steel blue).
+        opacity : float, optional
+            In (0, 1].
+        style, meshes : optional
+            As in :meth:`add_chain`.
+
+        Returns
+        -------
+        str
+            The item's name.
+
+        Raises
+        ------
+        ShapeError, DomainError, TypeError
+            As :meth:`add_chain`.
+        """
         name = self.add_chain(chain, q, name=self._name(name, "ghost"), color=color, opacity=opacity,
                               style=style, meshes=meshes)
         self.items[-1].ghost = True
         return name
 
-    def add_target(self, T, *, name=None, size=None, label=None):
+    def add_target(self, T: Any, *, name: str | None = None, size: float | None = None,
+                   label: str | None = None) -> str:
         """A target frame: a triad at the pose ``T``.
 
-        ``T`` is a rigid transform (4, 4) (rotation part a rotation matrix, bottom
-        row [0, 0, 0, 1]; DomainError otherwise) or a (3,) position; ``size`` the
-        triad's length in metres (default: from the scene's scale).
+        Parameters
+        ----------
+        T : array_like, shape (4, 4) or (3,)
+            A rigid transform (rotation part a rotation matrix, bottom row
+            ``[0, 0, 0, 1]``; position in m), or a position (m) with the base
+            frame's orientation.
+        name : str, optional
+            Item name; default ``"target"`` (then ``"target_2"``, ...).
+        size : float, optional
+            The triad's length (m); default 0.18 times the scene's scale.
+        label : str, optional
+            Text shown next to the triad.
+
+        Returns
+        -------
+        str
+            The item's name.
+
+        Raises
+        ------
+        ShapeError
+            ``T`` has another shape.
+        DomainError
+            ``T`` is not a rigid transform, holds NaN/inf, ``size`` is not
+            positive, or ``name`` is taken.
+        TypeError
+            ``label`` is not a str.
         """
         if size is not None:
             size = as_length(size, "size")
@@ -236,14 +291,41 @@ class Scene:
         self.items.append(item)
         return item.name
 
-    def add_points(self, points, *, name=None, radius=None, color=0xFFD92F):
-        """Spheres at the rows of ``points`` (N, 3), N >= 1, in metres (``radius`` in metres).
+    def add_points(self, points: Any, *, name: str | None = None, radius: float | None = None,
+                   color: Any = 0xFFD92F) -> str:
+        """Spheres at the rows of ``points``.
 
         More than 500 points are drawn as one point cloud (a square of side
         2 ``radius`` facing the camera at each point), which a page stores in 12
         bytes per point.
         At most :data:`~robokin.views.arguments.MAX_POINTS` (100 000) points are
         kept: more are subsampled evenly, with a :class:`~robokin.errors.ViewWarning`.
+
+        Parameters
+        ----------
+        points : array_like, shape (N, 3) or (N, 2)
+            Positions (m), N >= 1; rows of two get z = 0.
+        name : str, optional
+            Item name; default ``"points"``.
+        radius : float, optional
+            Sphere radius (m); default 0.02 times the scene's scale.
+        color : int, optional
+            ``0xRRGGBB`` (default yellow).
+
+        Returns
+        -------
+        str
+            The item's name.
+
+        Raises
+        ------
+        ShapeError
+            ``points`` is not (N, 3) or (N, 2) with N >= 1.
+        DomainError
+            NaN/inf or coordinates beyond :data:`~robokin.views.arguments.MAX_COORDINATE`,
+            a radius that is not positive, a colour outside [0, 0xFFFFFF] or a taken name.
+        TypeError
+            ``color`` is not an int.
         """
         if radius is not None:
             radius = as_length(radius, "radius")
@@ -251,21 +333,46 @@ class Scene:
         self.items.append(item)
         return item.name
 
-    def add_path(self, points, *, name=None, color=0xFFFFFF):
-        """A polyline through the rows of ``points`` (N, 3), N >= 2, in metres.
+    def add_path(self, points: Any, *, name: str | None = None, color: Any = 0xFFFFFF) -> str:
+        """A polyline through the rows of ``points``.
 
         At most :data:`~robokin.views.arguments.MAX_PATH_POINTS` (100 000) points
         are kept: more are subsampled evenly (ends kept), with a
         :class:`~robokin.errors.ViewWarning`.
+
+        Parameters
+        ----------
+        points : array_like, shape (N, 3) or (N, 2)
+            Vertices in order (m), N >= 2; rows of two get z = 0.
+        name : str, optional
+            Item name; default ``"path"``.
+        color : int, optional
+            ``0xRRGGBB`` (default white).
+
+        Returns
+        -------
+        str
+            The item's name.
+
+        Raises
+        ------
+        ShapeError
+            ``points`` is not (N, 3) or (N, 2) with N >= 2.
+        DomainError
+            NaN/inf or coordinates beyond :data:`~robokin.views.arguments.MAX_COORDINATE`,
+            a colour outside [0, 0xFFFFFF] or a taken name.
+        TypeError
+            ``color`` is not an int.
         """
         pts = as_points(points, "points", minimum=2, cap=arguments.MAX_PATH_POINTS)
         item = PathItem(self._name(name, "path"), pts, as_color(color))
         self.items.append(item)
         return item.name
 
-    def animate(self, chain, trajectory, dt=0.05, *, times=None, trace=True, name=None,
-                trace_color=0xFFFF66, play=True, loop=False):
-        """Animate a chain along ``trajectory`` (T, n), one row every ``dt`` seconds.
+    def animate(self, chain: Any, trajectory: Any, dt: float = 0.05, *, times: Any = None, trace: bool = True,
+                name: str | None = None, trace_color: Any = 0xFFFF66, play: bool = True,
+                loop: bool = False) -> str:
+        """Animate a chain along ``trajectory``, one row every ``dt`` seconds.
 
         ``chain`` is either a chain (added to the scene at ``trajectory[0]`` unless
         a chain item called ``name`` exists) or the name of a chain item already in
@@ -275,6 +382,42 @@ class Scene:
         At most :data:`~robokin.views.arguments.MAX_ANIMATION_STEPS` (20 000)
         steps are kept: a longer trajectory is subsampled in time (first and last
         step kept, their times kept), with a :class:`~robokin.errors.ViewWarning`.
+
+        Parameters
+        ----------
+        chain : SerialChain or str
+            A chain, or the name of a chain item of the scene.
+        trajectory : array_like, shape (T, n)
+            One configuration per step (rad, m).
+        dt : float, optional
+            Time between steps (s), positive.
+        times : array_like, shape (T,), optional
+            Time of each step (s), strictly increasing (shifted to start at 0);
+            overrides ``dt``.
+        trace : bool, optional
+            Draw the end-effector's path.
+        name : str, optional
+            The chain item to animate (or to create).
+        trace_color : int, optional
+            Colour ``0xRRGGBB`` of the trace.
+        play : bool, optional
+            Start playing when the scene opens.
+        loop : bool, optional
+            Repeat the animation.
+
+        Returns
+        -------
+        str
+            The animated chain item's name.
+
+        Raises
+        ------
+        ShapeError
+            ``trajectory`` is not (T, n) or ``times`` not (T,).
+        DomainError
+            No chain item ``chain``, the item is already animated, ``dt`` is not
+            positive, ``times`` do not increase, or the animation lasts more than
+            :data:`~robokin.views.arguments.MAX_DURATION`.
         """
         if isinstance(chain, str):
             items = [it for it in self.items if isinstance(it, ChainItem) and it.name == chain]
@@ -312,79 +455,200 @@ class Scene:
         return item.name
 
     # ---- updating (live)
-    def set_configuration(self, name, q):
-        """Move chain item ``name`` to ``q``; pushes only transforms to a live viewer."""
+    def set_configuration(self, name: str, q: Any) -> None:
+        """Move chain item ``name`` to ``q``; pushes only transforms to a live viewer.
+
+        Parameters
+        ----------
+        name : str
+            A chain item's name.
+        q : array_like, shape (n,)
+            Configuration (rad, m).
+
+        Raises
+        ------
+        KeyError
+            No item ``name``.
+        ShapeError
+            ``q`` does not have n entries.
+        """
         item = self.item(name)
         item.q = as_configuration(item.chain, q)
         if self._live is not None:
-            from robokin.views.meshcat_draw import chain_transforms
             self._live.send_transforms(chain_transforms(item.name, item.chain, item.q))
 
     # ---- outputs
     def scale(self) -> float:
-        """A characteristic length of the scene in metres (the largest reach)."""
-        from robokin.views.meshcat_draw import scene_scale
+        """A characteristic length of the scene (the largest reach).
+
+        Returns
+        -------
+        float
+            In metres (see :func:`~robokin.views.geometry.scene_scale`).
+        """
         return scene_scale(self)
 
     def commands(self) -> list[dict]:
-        """The MeshCat commands (dicts, as sent to the viewer) that draw the scene."""
-        from robokin.views.meshcat_draw import scene_commands
+        """The MeshCat commands that draw the scene.
+
+        Returns
+        -------
+        list of dict
+            As sent to the viewer (:func:`~robokin.views.meshcat_draw.scene_commands`).
+        """
         return scene_commands(self)
 
-    def to_html(self, *, height=None, viewer_src=None) -> str:
+    def to_html(self, *, height: int | None = None, viewer_src: str | None = None) -> str:
         """Static HTML (no server, no network) that renders the scene interactively.
 
         The MeshCat viewer script is *not* inlined: it is loaded from
         ``<content root>_static/meshcat/main.min.js`` (put there by
         :mod:`robokin.views.sphinx_extension`), or from ``viewer_src`` if given.
+
+        Parameters
+        ----------
+        height : int, optional
+            CSS pixels; default the scene's height.
+        viewer_src : str, optional
+            URL of MeshCat's ``main.min.js``.
+
+        Returns
+        -------
+        str
+            The HTML snippet (:func:`~robokin.views.static_html.scene_html`).
         """
-        from robokin.views.static_html import scene_html
         return scene_html(self.commands(), height=self.options.height if height is None else as_height(height),
                           animated=bool(self.animations), viewer_src=viewer_src)
 
     def _repr_html_(self):
         return self.to_html()
 
-    def save(self, path, *, copy_viewer=True):
-        """Write a standalone HTML page (plus ``_static/meshcat/main.min.js`` next to it)."""
-        from robokin.views.static_html import save_page
+    def save(self, path: str | PathLike, *, copy_viewer: bool = True) -> Path:
+        """Write a standalone HTML page (plus ``_static/meshcat/main.min.js`` next to it).
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            The page's file.
+        copy_viewer : bool, optional
+            Copy MeshCat's viewer script next to the page.
+
+        Returns
+        -------
+        pathlib.Path
+            ``path`` (see :func:`robokin.views.save_page`).
+        """
         return save_page(path, [self], copy_viewer=copy_viewer)
 
-    def plot(self, ax=None, **kwargs):
-        """Matplotlib stick figure of the scene (first configuration of animations)."""
-        from robokin.views.plots import plot_scene
+    def plot(self, ax: Any = None, **kwargs: Any) -> Any:
+        """Matplotlib stick figure of the scene (first configuration of animations).
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes, optional
+            A 3D Axes to draw into; default a new figure.
+        **kwargs
+            Passed to :func:`robokin.views.plot_scene` (``frames``).
+
+        Returns
+        -------
+        matplotlib.axes.Axes
+        """
         return plot_scene(self, ax=ax, **kwargs)
 
-    def show(self, mode=None, *, height=None):
-        """Display the scene: ``mode`` is ``"live"``, ``"static"``, ``"matplotlib"`` or None (automatic).
+    def show(self, mode: str | None = None, *, height: int | None = None) -> None:
+        """Display the scene live, statically or as a matplotlib figure.
 
         See :mod:`robokin.views` for how the mode is chosen.  Returns None (so that
         notebook outputs stay deterministic); in live mode the viewer is kept in
         ``scene.viewer``.
+
+        Parameters
+        ----------
+        mode : {"live", "static", "matplotlib"}, optional
+            Default: ``ROBOKIN_VIEWER``, else automatic.
+        height : int, optional
+            CSS pixels; default the scene's height.
+
+        Raises
+        ------
+        ValueError
+            An unknown ``mode``, or a ``height`` outside [100, 4000] (DomainError).
+        TypeError
+            ``height`` is not an int.
         """
-        from robokin.views.display import show_scene
         show_scene(self, mode=mode, height=height)
 
     @property
-    def viewer(self):
+    def viewer(self) -> LiveViewer | None:
         """The live viewer this scene was last shown in (None if never shown live)."""
         return self._live
 
-    def __repr__(self):
+    def attach_viewer(self, viewer: LiveViewer) -> None:
+        """Record ``viewer`` as the live viewer showing this scene (:func:`~robokin.views.display.show_live`).
+
+        Parameters
+        ----------
+        viewer : LiveViewer
+            A running viewer that holds this scene's commands.
+        """
+        self._live = viewer
+
+    def detach_viewer(self) -> None:
+        """Stop this scene's live viewer, if any (its later :meth:`show` starts a new one)."""
+        if self._live is not None:
+            self._live.close()
+            self._live = None
+
+    def __repr__(self) -> str:
         kinds = ", ".join(f"{type(it).__name__[:-4].lower()} {it.name!r}" for it in self.items)
         return f"<robokin.views.Scene: {kinds or 'empty'}; {len(self.animations)} animation(s)>"
 
 
-def show(chain=None, q=None, *, targets=(), points=None, path=None, ghosts=(), trajectory=None,
-         dt=0.05, frames=False, mode=None, height=None, style=None, meshes=None):
+def show(chain: Any = None, q: Any = None, *, targets: Sequence | np.ndarray = (), points: Any = None,
+         path: Any = None, ghosts: Sequence | np.ndarray = (), trajectory: Any = None, dt: float = 0.05,
+         frames: bool = False, mode: str | None = None, height: int | None = None, style: str | None = None,
+         meshes: Any = None) -> None:
     """Show a chain (and friends) in one call; returns None.
 
-    ``targets`` are 4x4 poses, ``ghosts`` configurations drawn translucent,
-    ``trajectory`` a (T, n) joint trajectory animated every ``dt`` seconds.
     ``style``/``meshes`` draw the chain with its real meshes, e.g.
     ``show(models.ur10(), q, meshes="ur10")`` (see :meth:`Scene.add_chain`;
     ghosts stay stick figures).
     Equivalent to building a :class:`Scene` and calling :meth:`Scene.show`.
+
+    Parameters
+    ----------
+    chain : SerialChain, optional
+        The chain to draw (item ``"robot"``).
+    q : array_like, shape (n,), optional
+        Its configuration (rad, m); default the trajectory's first row, else zeros
+        moved into the joint limits.
+    targets : sequence of array_like of shape (4, 4) or (3,), or array, shape (K, 4, 4)
+        Target poses (m).
+    points : array_like, shape (N, 3), optional
+        Points drawn as spheres (m).
+    path : array_like, shape (N, 3), optional
+        A polyline (m).
+    ghosts : sequence of array_like of shape (n,), or array, shape (K, n)
+        Configurations drawn translucent (rad, m).
+    trajectory : array_like, shape (T, n), optional
+        A joint trajectory, animated every ``dt`` seconds.
+    dt : float, optional
+        Time between trajectory rows (s).
+    frames : bool, optional
+        A triad at every joint frame.
+    mode : {"live", "static", "matplotlib"}, optional
+        As in :meth:`Scene.show`.
+    height : int, optional
+        CSS pixels.
+    style, meshes : optional
+        As in :meth:`Scene.add_chain`.
+
+    Raises
+    ------
+    ShapeError, DomainError, TypeError
+        As the :class:`Scene` methods; ``q``, ``ghosts`` or ``trajectory``
+        without a chain is a DomainError.
     """
     if trajectory is not None:
         if chain is None:

@@ -10,15 +10,36 @@ statically with one line explaining that the sliders need a running kernel.
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
+
+from robokin.transforms import rpy_from_rotation
+from robokin.views import optional
+from robokin.views.arguments import as_configuration
+from robokin.views.display import choose_mode, display, html_output, note, show_live
+from robokin.views.geometry import chain_layout
+from robokin.views.live import LiveViewer
+from robokin.views.meshcat_draw import chain_transforms
+from robokin.views.record import DEFAULT_HEIGHT
+from robokin.views.scene import Scene
 
 __all__ = ["JointSliders", "joint_sliders", "pose_readout"]
 
 
-def pose_readout(T):
-    """``'p = (x, y, z) m   rpy = (r, p, y) deg'`` for a 4x4 pose."""
-    from robokin.transforms import rpy_from_rotation
+def pose_readout(T: np.ndarray) -> str:
+    """One line describing a pose: position (m) and roll-pitch-yaw (deg, ZYX).
 
+    Parameters
+    ----------
+    T : array_like, shape (4, 4)
+        The end-effector's pose in the base frame (m).
+
+    Returns
+    -------
+    str
+        ``'end-effector: p = (x, y, z) m, rpy = (r, p, y) deg'`` (3 and 1 decimals).
+    """
     T = np.asarray(T, dtype=float)
     rpy = np.rad2deg(np.asarray(rpy_from_rotation(T[:3, :3], check=False), dtype=float))
     x, y, z = T[:3, 3]
@@ -46,12 +67,25 @@ class JointSliders:
 
     ``update(q)`` moves the robot (radians/metres) -- this is what every slider
     move calls.  ``q`` is the current configuration.
+
+    Parameters
+    ----------
+    chain : SerialChain
+        The chain.
+    q : array_like, shape (n,), optional
+        Initial configuration (rad, m); default zeros, moved into the joint limits.
+    scene : Scene, optional
+        A scene holding the chain as item ``name``; default a new scene with the chain alone.
+    name : str, optional
+        The chain item's name.
+    height : int, optional
+        Height of the viewer in CSS pixels.
+    viewer : LiveViewer, optional
+        A running viewer to draw in; default one started by :meth:`build`.
     """
 
-    def __init__(self, chain, q=None, *, scene=None, name="robot", height=420, viewer=None):
-        from robokin.views.scene import Scene
-        from robokin.views.arguments import as_configuration
-
+    def __init__(self, chain: Any, q: Any = None, *, scene: Scene | None = None, name: str = "robot",
+                 height: int = DEFAULT_HEIGHT, viewer: LiveViewer | None = None) -> None:
         self.chain = chain
         self.q = as_configuration(chain, q)
         if scene is None:
@@ -71,12 +105,20 @@ class JointSliders:
     def _from_slider(self, v):
         return np.where(self._revolute, np.deg2rad(v), v)
 
-    def build(self):
-        """Start the live viewer (if needed) and create the widgets; returns the widget box."""
-        import ipywidgets as w
-        from IPython.display import HTML  # noqa: F401
-        from robokin.views.display import show_live
+    def build(self) -> Any:
+        """Start the live viewer (if needed) and create the widgets.
 
+        Returns
+        -------
+        ipywidgets.VBox
+            The viewer, one slider per joint and the pose readout.
+
+        Raises
+        ------
+        MeshcatUnavailable
+            The live viewer cannot start.
+        """
+        w = optional.ipywidgets()
         if self._viewer is None:
             self._viewer = show_live(self.scene)
         values = self._to_slider(self.q)
@@ -98,10 +140,19 @@ class JointSliders:
     def _on_change(self, _change):
         self.update(self._from_slider(np.array([s.value for s in self.sliders])))
 
-    def update(self, q):
-        """Move the robot to ``q``: frames -> set_transform only -> readout."""
-        from robokin.views.meshcat_draw import chain_transforms
+    def update(self, q: np.ndarray) -> str:
+        """Move the robot to ``q``: frames, then ``set_transform`` commands only, then the readout.
 
+        Parameters
+        ----------
+        q : array_like, shape (n,)
+            Configuration (rad, m).
+
+        Returns
+        -------
+        str
+            The new readout (:func:`pose_readout` of the end-effector).
+        """
         self.q = np.asarray(q, dtype=float)
         item = self.scene.item(self.name)
         item.q = self.q
@@ -114,7 +165,6 @@ class JointSliders:
         return text
 
     def _layout(self):
-        from robokin.views.meshcat_draw import chain_layout
         if getattr(self, "_cached_layout", None) is None:
             self._cached_layout = chain_layout(self.chain, self.q)
         return self._cached_layout
@@ -122,38 +172,56 @@ class JointSliders:
     def _ipython_display_(self):
         # already displayed by joint_sliders(); showing it again re-displays the widgets only
         if self.widget is not None:
-            from IPython.display import display
             display(self.widget)
 
     def __repr__(self):
         return f"<JointSliders: {int(self.chain.n)} joints>"
 
-    def close(self):
+    def close(self) -> None:
         """Stop the live viewer of these sliders."""
         if self._viewer is not None:
             self._viewer.close()
 
 
-def joint_sliders(chain, q=None, *, mode=None, height=420):
-    """Show ``chain`` with one slider per joint (live mode); returns the :class:`JointSliders`.
+def joint_sliders(chain: Any, q: Any = None, *, mode: str | None = None,
+                  height: int = DEFAULT_HEIGHT) -> JointSliders:
+    """Show ``chain`` with one slider per joint (live mode).
 
     Outside live mode the chain is shown statically with a one-line note, and the
     returned object has no widget.
+
+    Parameters
+    ----------
+    chain : SerialChain
+        The chain.
+    q : array_like, shape (n,), optional
+        Initial configuration (rad, m).
+    mode : str, optional
+        As in :func:`robokin.views.choose_mode`.
+    height : int, optional
+        Height of the viewer in CSS pixels.
+
+    Returns
+    -------
+    JointSliders
+
+    Raises
+    ------
+    ShapeError
+        ``q`` has the wrong length.
     """
-    from IPython.display import HTML, display
-    from robokin.views.display import _note, choose_mode
 
     js = JointSliders(chain, q, height=height)
     if choose_mode(mode) == "live":
         try:
             box = js.build()
         except Exception as exc:  # noqa: BLE001 - keep the notebook running
-            display(_note(f"robokin: joint sliders need a live MeshCat viewer ({exc}); showing a static scene."))
+            display(note(f"robokin: joint sliders need a live MeshCat viewer ({exc}); showing a static scene."))
         else:
             display(box)
             return js
     else:
-        display(_note("robokin: joint sliders need a running Jupyter kernel (live mode); "
+        display(note("robokin: joint sliders need a running Jupyter kernel (live mode); "
                       "showing the chain at its initial configuration."))
-    display(HTML(js.scene.to_html(height=height)))
+    display(html_output(js.scene.to_html(height=height)))
     return js

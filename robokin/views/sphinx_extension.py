@@ -27,6 +27,9 @@ import json
 import os
 import re
 from pathlib import Path
+from typing import Any
+
+from robokin.views.static_html import copy_viewer_files
 
 __all__ = ["setup", "copy_viewer", "externalize_scene_data"]
 
@@ -36,11 +39,18 @@ SHARED_COMMAND_SIZE = 4_000
 _DATA = re.compile(r'<script type="application/json" class="robokin-scene-data">(\[.*?\])</script>', re.S)
 
 
-def copy_viewer(app, exception):
+def copy_viewer(app: Any, exception: Exception | None) -> None:
+    """After an HTML build: copy MeshCat's viewer into ``_static/meshcat/`` and move the scenes' data out.
+
+    Parameters
+    ----------
+    app : sphinx.application.Sphinx
+        The Sphinx application.
+    exception : Exception or None
+        The build's exception (then nothing is done).
+    """
     if exception is not None or getattr(app.builder, "format", None) != "html":
         return
-    from robokin.views.static_html import copy_viewer_files
-
     copy_viewer_files(os.path.join(app.outdir, "_static", "meshcat"))
     externalize_scene_data(Path(app.outdir))
 
@@ -48,8 +58,17 @@ def copy_viewer(app, exception):
 def externalize_scene_data(outdir: Path) -> int:
     """Move inline scene data of every page under ``outdir`` to ``_static/scenes/``.
 
-    Returns the number of scenes moved. Idempotent: a page already rewritten has no
-    inline data left.
+    Idempotent: a page already rewritten has no inline data left.
+
+    Parameters
+    ----------
+    outdir : pathlib.Path
+        The HTML output folder of a build.
+
+    Returns
+    -------
+    int
+        The number of scenes moved.
     """
     scenes = outdir / "_static" / "scenes"
     moved = 0
@@ -89,6 +108,17 @@ def _store(folder: Path, value) -> str:
     return key
 
 
-def setup(app):
+def setup(app: Any) -> dict:
+    """Register the extension with Sphinx (``build-finished`` hook).
+
+    Parameters
+    ----------
+    app : sphinx.application.Sphinx
+
+    Returns
+    -------
+    dict
+        Extension metadata (parallel-safe).
+    """
     app.connect("build-finished", copy_viewer)
     return {"version": "0.1", "parallel_read_safe": True, "parallel_write_safe": True}

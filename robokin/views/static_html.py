@@ -19,20 +19,35 @@ from __future__ import annotations
 import base64
 import hashlib
 import html
+import importlib.util
 import json
 import os
 import shutil
+from collections.abc import Sequence
 from pathlib import Path
+
+from robokin.views import optional
+from robokin.views.record import DEFAULT_HEIGHT
 
 __all__ = ["pack_commands", "scene_html", "save_page", "viewer_files", "VIEWER_PATH"]
 
 VIEWER_PATH = "_static/meshcat/main.min.js"
 
 
-def viewer_files():
-    """``{name: source path}`` of the MeshCat viewer script and its licence files."""
-    import importlib.util
+def viewer_files() -> dict[str, Path]:
+    """The MeshCat viewer script and its licence files, as installed with meshcat.
 
+    Returns
+    -------
+    dict of str to pathlib.Path
+        ``{file name: source path}`` of ``main.min.js``, its licence file and
+        MeshCat's ``LICENSE`` (those that exist).
+
+    Raises
+    ------
+    ModuleNotFoundError
+        meshcat is not installed.
+    """
     spec = importlib.util.find_spec("meshcat")
     if spec is None or not spec.submodule_search_locations:
         raise ModuleNotFoundError("meshcat is not installed: pip install 'robokin[views]'")
@@ -43,10 +58,20 @@ def viewer_files():
     return {k: v for k, v in files.items() if v.exists()}
 
 
-def pack_commands(commands):
-    """Each command msgpack-packed (single-precision floats) and base64-encoded."""
-    import umsgpack
+def pack_commands(commands: Sequence[dict]) -> list[str]:
+    """Each command msgpack-packed (single-precision floats) and base64-encoded.
 
+    Parameters
+    ----------
+    commands : sequence of dict
+        MeshCat commands (:meth:`robokin.views.Scene.commands`).
+
+    Returns
+    -------
+    list of str
+        One ASCII string per command.
+    """
+    umsgpack = optional.umsgpack()
     return [base64.b64encode(umsgpack.packb(c, force_float_precision="single")).decode("ascii")
             for c in commands]
 
@@ -141,8 +166,28 @@ _MESSAGE = ("3D scene: loading the MeshCat viewer&hellip; (if this line stays, J
             "<code>_static/meshcat/main.min.js</code> is not next to this page)")
 
 
-def scene_html(commands, *, height=420, animated=False, viewer_src=None):
-    """The HTML snippet of a scene given its MeshCat ``commands`` (list of dicts)."""
+def scene_html(commands: Sequence[dict], *, height: int = DEFAULT_HEIGHT, animated: bool = False,
+               viewer_src: str | None = None) -> str:
+    """The HTML snippet of a scene given its MeshCat commands.
+
+    Parameters
+    ----------
+    commands : sequence of dict
+        MeshCat commands (:meth:`robokin.views.Scene.commands`).
+    height : int, optional
+        Height of the scene in CSS pixels.
+    animated : bool, optional
+        The scene has an animation: open the viewer's controls (play, pause, time)
+        when the scene is wide enough.
+    viewer_src : str, optional
+        URL of MeshCat's ``main.min.js``; default ``<content root>_static/meshcat/main.min.js``.
+
+    Returns
+    -------
+    str
+        A ``<div>`` with the packed commands and the script that shows them;
+        deterministic (its id is a hash of the content).
+    """
     packed = pack_commands(commands)
     payload = json.dumps(packed, separators=(",", ":"))
     digest = hashlib.sha1(f"{height}|{viewer_src}|{payload}".encode()).hexdigest()[:12]
@@ -160,11 +205,30 @@ def scene_html(commands, *, height=420, animated=False, viewer_src=None):
     )
 
 
-def save_page(path, scenes, *, copy_viewer=True, title="robokin scene"):
+def save_page(path: str | os.PathLike, scenes: Sequence, *, copy_viewer: bool = True,
+              title: str = "robokin scene") -> Path:
     """Write a standalone HTML page showing ``scenes``; copy the viewer into ``_static/meshcat/``.
 
-    ``scenes`` is a list of :class:`~robokin.views.Scene` (or HTML strings put in
-    the page as they are); ``path`` the page's file. Returns the path.
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The page's file (its folder is created if needed).
+    scenes : list or tuple
+        :class:`~robokin.views.Scene` objects, or HTML strings put in the page as they are.
+    copy_viewer : bool, optional
+        Copy MeshCat's viewer script next to the page (``_static/meshcat/``).
+    title : str, optional
+        The page's title.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+
+    Raises
+    ------
+    TypeError
+        ``scenes`` is not a list/tuple of scenes or strings, or ``path`` is not a file name.
     """
     if isinstance(scenes, (str, bytes)) or not isinstance(scenes, (list, tuple)):
         raise TypeError(f"scenes must be a list of robokin.views.Scene; got {type(scenes).__name__}")
@@ -185,8 +249,19 @@ def save_page(path, scenes, *, copy_viewer=True, title="robokin scene"):
     return path
 
 
-def copy_viewer_files(dest):
-    """Copy the MeshCat viewer script and licences into folder ``dest``; return the paths."""
+def copy_viewer_files(dest: str | os.PathLike) -> list[Path]:
+    """Copy the MeshCat viewer script and licences into folder ``dest``.
+
+    Parameters
+    ----------
+    dest : str or os.PathLike
+        Target folder (created if needed); files of the right size are not copied again.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The copied files.
+    """
     os.makedirs(dest, exist_ok=True)
     out = []
     for name, src in viewer_files().items():
