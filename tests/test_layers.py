@@ -46,10 +46,6 @@ LAYER_NAMES = {1: "errors/validation/_dispatch/formatting", 2: "transforms", 3: 
 
 #: ``(importing module, imported module, private name)``: reason. Keep it short; each entry is a debt.
 PRIVATE_EXCEPTIONS: dict[tuple[str, str, str], str] = {
-    ("robokin.chains.builders", "robokin.chains.elements", "_check_value"):
-        "found when this test was written (issue 22); to be made public or moved by the chains' owner",
-    ("robokin.transforms.quaternions", "robokin.transforms.angle_axis", "_norms"):
-        "found when this test was written (issue 22); to be made public or moved by the transforms' owner",
 }
 
 #: Import cycles known when this test was written, each held by imports inside functions: reason.
@@ -57,8 +53,6 @@ PRIVATE_EXCEPTIONS: dict[tuple[str, str, str], str] = {
 KNOWN_CYCLES: dict[frozenset, str] = {
     frozenset({"robokin.chains.builders", "robokin.chains.chain"}):
         "SerialChain's alternative constructors call the builders (imported inside the methods)",
-    frozenset({"robokin.check._core", "robokin.check.diagnoses"}):
-        "check._core's comparisons call the diagnoses, which use _core's helpers",
 }
 
 #: The modules of robokin.views, bottom up: each imports only views modules listed before it

@@ -34,7 +34,7 @@ from typing import Any
 import numpy as np
 
 from robokin.chains.chain import SerialChain
-from robokin.chains.elements import Element, Fixed, Rx, Rz, Tx, Tz, _check_value
+from robokin.chains.elements import Element, Fixed, Rx, Rz, Tx, Tz, check_parameter_value
 from robokin.errors import DomainError, ShapeError
 from robokin.validation import check_transform
 
@@ -82,7 +82,7 @@ def _rows(table: Any, name: str = "table") -> list[list[Any]]:
         )
     for i, row in enumerate(rows):  # numbers or sympy expressions, finite
         for j, x in enumerate(row[:4]):
-            _check_value(x, f"{name}[{i}][{j}] ({_COLUMNS[j]})")
+            check_parameter_value(x, f"{name}[{i}][{j}] ({_COLUMNS[j]})")
     return rows
 
 

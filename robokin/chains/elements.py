@@ -52,7 +52,7 @@ def _is_sympy(x: Any) -> bool:
     return sp is not None and isinstance(x, (sp.Basic, sp.MatrixBase))
 
 
-def _check_value(value: Any, name: str) -> Any:
+def check_parameter_value(value: Any, name: str) -> Any:
     """Accept a real number or a sympy expression (kept as is)."""
     if _is_sympy(value):
         if getattr(value, "is_number", False):
@@ -165,7 +165,7 @@ def _make(kind: str, axis: str, value: Any, offset: Any, limits: Any) -> Element
             text = text[1:].strip()
         if not text:
             raise ValueError(f"{label}: empty joint name {value!r}")
-        offset = _check_value(offset, f"{label}('{value}') offset")
+        offset = check_parameter_value(offset, f"{label}('{value}') offset")
         lim = None
         if limits is not None:
             name = f"limits of joint {text!r}"
@@ -181,7 +181,7 @@ def _make(kind: str, axis: str, value: Any, offset: Any, limits: Any) -> Element
         return Element(kind, ax, None, text, sign, offset, lim)
     if limits is not None or (offset is not None and offset != 0):
         raise ValueError(f"{label}: offset/limits only apply to joints (give a joint name)")
-    return Element(kind, ax, _check_value(value, f"{label} value"))
+    return Element(kind, ax, check_parameter_value(value, f"{label} value"))
 
 
 def Tx(value: Any, *, offset: Any = 0.0, limits: Any = None) -> Element:

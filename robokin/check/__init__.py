@@ -33,10 +33,9 @@ from robokin.check._core import (
     Mistake,
     Variable,
     alternatives,
-    matrix_function,
     mistake,
-    value,
 )
+from robokin.check.generic import matrix_function, value
 from robokin.check._registry import CHAPTERS, checks_of
 from robokin.check.solutions import ik_solution, solution_set
 

@@ -70,8 +70,6 @@ __all__ = [
     "Check",
     "mistake",
     "alternatives",
-    "matrix_function",
-    "value",
     "PASS",
     "FAIL",
 ]
@@ -127,7 +125,7 @@ class CheckResult:
         """
 
 
-class _AnswerError(Exception):
+class AnswerError(Exception):
     """The answer cannot be evaluated; carries a diagnosis code and a message."""
 
     def __init__(self, code: str, message: str):
@@ -182,7 +180,7 @@ class Variable:
         return out | {n.replace("_", "") for n in out}
 
 
-def _as_variables(variables: Any) -> list[Variable]:
+def as_variables(variables: Any) -> list[Variable]:
     if variables is None:
         return []
     if isinstance(variables, (str, Variable)) or not isinstance(variables, Iterable):
@@ -266,7 +264,7 @@ def _is_sympy(x: Any) -> bool:
     return False
 
 
-def _to_float_array(out: Any, what: str) -> np.ndarray:
+def to_float_array(out: Any, what: str) -> np.ndarray:
     sp = _sympy()
     if sp is not None and _is_sympy(out):
         try:
@@ -274,16 +272,16 @@ def _to_float_array(out: Any, what: str) -> np.ndarray:
                 return np.array(float(out.evalf()))
             return np.array(sp.Matrix(out).evalf().tolist(), dtype=float)
         except (TypeError, ValueError):
-            raise _AnswerError(
+            raise AnswerError(
                 "symbols", f"{what} still contains symbols after substituting numbers: {out}"
             ) from None
     try:
         a = np.asarray(out)
         if a.dtype.kind == "c":
-            raise _AnswerError("error", f"{what} has complex entries; expected real numbers.")
+            raise AnswerError("error", f"{what} has complex entries; expected real numbers.")
         return np.array(a, dtype=float)
     except (TypeError, ValueError):
-        raise _AnswerError("error", f"{what} is not numeric (got {type(out).__name__}).") from None
+        raise AnswerError("error", f"{what} is not numeric (got {type(out).__name__}).") from None
 
 
 def _match_symbols(free: set, variables: list[Variable], name: str) -> list:
@@ -303,7 +301,7 @@ def _match_symbols(free: set, variables: list[Variable], name: str) -> list:
         else:
             expected = ", ".join(v.name for v in variables) or "no symbols (a constant)"
             got = ", ".join(sorted(s.name for s in unmatched))
-            raise _AnswerError(
+            raise AnswerError(
                 "symbols",
                 f"{name} contains the symbol(s) {got}; expected an expression in {expected}.",
             )
@@ -326,7 +324,7 @@ def _sympy_evaluator(expr: Any, variables: list[Variable], name: str) -> _Evalua
     by_var = _match_symbols(free, variables, name)
     used = [(i, s) for i, s in enumerate(by_var) if s is not None]
     if not used:
-        const = _to_float_array(expr, name)
+        const = to_float_array(expr, name)
         return _Evaluator(lambda x: const, "constant")
     f = sp.lambdify([s for _, s in used], expr, modules="numpy")
     idx = [i for i, _ in used]
@@ -376,10 +374,10 @@ def _function_evaluator(
             try:
                 out = f(*chosen[0](x))
             except Exception as exc:  # noqa: BLE001 - report the student's error
-                raise _AnswerError(
+                raise AnswerError(
                     "error", f"calling {name} raised {type(exc).__name__}: {exc}"
                 ) from None
-            return _to_float_array(out, f"the value returned by {name}")
+            return to_float_array(out, f"the value returned by {name}")
         first_error = None
         for _, style in styles:
             try:
@@ -388,8 +386,8 @@ def _function_evaluator(
                 first_error = first_error or exc
                 continue
             chosen.append(style)
-            return _to_float_array(out, f"the value returned by {name}")
-        raise _AnswerError(
+            return to_float_array(out, f"the value returned by {name}")
+        raise AnswerError(
             "error",
             f"calling {name} raised {type(first_error).__name__}: {first_error}",
         )
@@ -397,14 +395,14 @@ def _function_evaluator(
     return _Evaluator(fn, "function")
 
 
-def _evaluator(answer: Any, variables: list[Variable], groups, name: str) -> _Evaluator:
+def evaluator(answer: Any, variables: list[Variable], groups, name: str) -> _Evaluator:
     if answer is None:
-        raise _AnswerError("error", f"{name} is None: did you forget to return or assign it?")
+        raise AnswerError("error", f"{name} is None: did you forget to return or assign it?")
     if _is_sympy(answer):
         return _sympy_evaluator(answer, variables, name)
     if callable(answer) and not isinstance(answer, np.ndarray):
         return _function_evaluator(answer, variables, groups, name)
-    const = _to_float_array(answer, name)
+    const = to_float_array(answer, name)
     return _Evaluator(lambda x: const, "constant")
 
 
@@ -560,7 +558,7 @@ class Check:
     doc: str = ""
 
     def __post_init__(self) -> None:
-        self.variables = _as_variables(self.variables)
+        self.variables = as_variables(self.variables)
         if self.doc:
             self.__doc__ = self.doc
 
@@ -625,14 +623,14 @@ class Check:
             R = R.reshape(R.shape[0], -1)
             reference = (lambda f: lambda x: np.asarray(f(x), dtype=float).ravel())(reference)
         try:
-            ev = _evaluator(answer, self.variables, self.groups, self.name)
+            ev = evaluator(answer, self.variables, self.groups, self.name)
             values = [ev.fn(x) for x in X]
             if len({v.shape for v in values}) > 1:
-                raise _AnswerError(
+                raise AnswerError(
                     "shape", f"{self.name} returns arrays of different shapes for different inputs."
                 )
             S = np.stack(values)
-        except _AnswerError as exc:
+        except AnswerError as exc:
             return self._fail(exc.code, exc.message, len(X))
         S = _normalise_vector(S, R.shape[1:])
         if _close(S, R, self.atol, self.rtol):
@@ -722,135 +720,3 @@ class Check:
 
 
 # ---------------------------------------------------------------- generic entry points
-def _reference_fn(reference: Any, variables: list[Variable], groups, name: str) -> RefFn:
-    try:
-        ev = _evaluator(reference, variables, groups, f"the reference of {name}")
-    except _AnswerError as exc:  # an instructor's mistake: a normal exception naming the argument
-        raise TypeError(f"reference must be a sympy expression, a function or numbers: {exc.message}") from None
-    return ev.fn
-
-
-def _check_tolerances(atol: Any, rtol: Any) -> None:
-    """Validate the comparison tolerances of the generic checks (the messages name them)."""
-    from robokin.validation import check_positive  # noqa: PLC0415
-
-    check_positive(atol, "atol", allow_zero=True, scalar=True)
-    check_positive(rtol, "rtol", allow_zero=True, scalar=True)
-
-
-def matrix_function(
-    student: Any,
-    reference: Any,
-    variables: Any = None,
-    name: str = "answer",
-    *,
-    kind: str = "matrix",
-    diagnoses: Sequence[Diagnosis] | None = None,
-    samples: int = 20,
-    seed: int = 0,
-    atol: float = 1e-8,
-    rtol: float = 1e-6,
-    raise_on_fail: bool = False,
-    quiet: bool = False,
-) -> CheckResult:
-    """Check a matrix/vector/scalar function of ``variables`` against a reference.
-
-    Parameters
-    ----------
-    student : sympy Matrix or expression, Python function, or array
-        The answer.
-    reference : sympy Matrix or expression, Python function (same call style
-        as the student's), or array
-        The correct answer.
-    variables : sequence of sympy symbols, names or :class:`Variable`
-        The inputs (angles by default, sampled in [-π, π]).
-    name : str
-        Shown in the messages.
-    kind : {'matrix', 'rotation', 'transform', 'vector', 'jacobian', 'angles'}
-        Selects the standard diagnoses (see :func:`robokin.check.diagnoses.standard`).
-    diagnoses : list of Diagnosis, optional
-        Replaces the standard list.
-
-    Returns
-    -------
-    CheckResult
-    """
-    from robokin.check.diagnoses import standard
-
-    from robokin.validation import check_int  # noqa: PLC0415
-
-    check_int(samples, "samples", 1, 100_000)
-    check_int(seed, "seed", 0)
-    _check_tolerances(atol, rtol)
-    vars_ = _as_variables(variables)
-    ref = _reference_fn(reference, vars_, [], name)
-    check = Check(
-        name, ref, vars_, [],
-        list(diagnoses) if diagnoses is not None else standard(kind),
-        samples=samples, seed=seed, atol=atol, rtol=rtol,
-        noun="angles" if all(v.kind == "angle" for v in vars_) else "inputs",
-    )
-    return check(student, raise_on_fail=raise_on_fail, quiet=quiet)
-
-
-def value(
-    student: Any,
-    reference: Any,
-    name: str = "answer",
-    *,
-    kind: str = "matrix",
-    atol: float = 1e-3,
-    rtol: float = 1e-3,
-    raise_on_fail: bool = False,
-    quiet: bool = False,
-) -> CheckResult:
-    """Check a numeric answer (array or number) against a reference value.
-
-    The default tolerances accept answers typed with three or four decimals.
-
-    Parameters
-    ----------
-    student : float or array_like
-        The student's answer.
-    reference : float or array_like
-        The reference value (same shape), finite.
-    name : str, optional
-        The answer's name in the messages.
-    kind : {"matrix", "rotation", "transform", "vector", "jacobian", "angles"}, optional
-        Selects the typical mistakes diagnosed (see :func:`~robokin.check.diagnoses.standard`).
-    atol, rtol : float, optional
-        Absolute and relative tolerances (units of the answer), non-negative.
-    raise_on_fail : bool, optional
-        Raise AssertionError (with the message) when the answer is wrong.
-    quiet : bool, optional
-        Do not print the message.
-
-    Returns
-    -------
-    CheckResult
-
-    Raises
-    ------
-    TypeError
-        ``reference`` is not numbers.
-    DomainError
-        ``reference`` holds NaN or infinity, or a tolerance is negative.
-    ValueError
-        An unknown ``kind``.
-    AssertionError
-        ``raise_on_fail`` and the answer is wrong.
-    """
-    from robokin.check.diagnoses import standard
-    from robokin.errors import DomainError
-
-    _check_tolerances(atol, rtol)
-    if reference is None or callable(reference):
-        raise TypeError(f"reference must be a number or an array of numbers; got {type(reference).__name__}")
-    try:
-        ref = _to_float_array(reference, "reference")
-    except _AnswerError as exc:
-        raise TypeError(f"reference must be a number or an array of numbers: {exc.message}") from None
-    if not np.all(np.isfinite(ref)):
-        raise DomainError("reference must be finite; got NaN or infinite entries")
-    check = Check(name, lambda x: ref, [], [], standard(kind), atol=atol, rtol=rtol)
-    return check(student, raise_on_fail=raise_on_fail, quiet=quiet)

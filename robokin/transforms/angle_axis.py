@@ -325,7 +325,7 @@ def rotation_from_angle_axis(axis: Any, angle: Any) -> Any:
         return c * sp.eye(3) + s * skew(h) + (1 - c) * h * h.T
     a = _vectors(axis, "axis")
     try:
-        n = _norms(a)
+        n = vector_norms(a)
     except DomainError:
         raise DomainError(f"axis is too large: its norm overflows float64 (largest |axis| = "
                           f"{float(np.abs(a).max()):.3g})") from None
@@ -349,7 +349,7 @@ def rotation_from_angle_axis(axis: Any, angle: Any) -> Any:
         ) from None
 
 
-def _norms(a: np.ndarray) -> np.ndarray:
+def vector_norms(a: np.ndarray) -> np.ndarray:
     """Euclidean norms of the rows of ``a`` (..., k), without overflow for huge entries.
 
     The plain ``np.linalg.norm`` everywhere it is finite (so ordinary input gives

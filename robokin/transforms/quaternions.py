@@ -18,7 +18,7 @@ import numpy as np
 
 from robokin._dispatch import is_symbolic, stack_matrix, stack_vector, to_sympy
 from robokin.errors import DomainError, ShapeError
-from robokin.transforms.angle_axis import _norms
+from robokin.transforms.angle_axis import vector_norms
 from robokin.validation import as_batch, as_float_array, check_result_finite, check_rotation_matrix
 
 __all__ = [
@@ -159,7 +159,7 @@ def rotation_from_quaternion(q: Any) -> Any:
     else:
         a = _quats(q, "q")
         try:
-            n = _norms(a)
+            n = vector_norms(a)
         except DomainError:
             raise DomainError(f"q is too large: its norm overflows float64 (largest |q| = "
                               f"{float(np.abs(a).max()):.3g})") from None
