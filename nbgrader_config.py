@@ -34,6 +34,7 @@ sys.path.insert(0, str(ROBOKIN / "tools"))
 
 from robokin_nbgrader import (  # noqa: E402
     AutograderReport,
+    DropSolutionProse,
     MarkSolutionRegions,
     PointsHeader,
     RequireGradingMetadata,
@@ -57,6 +58,7 @@ c.GenerateAssignment.preprocessors = [
     MarkSolutionRegions,      # keep signatures and interface names; mark the prose
     LockCells,
     ClearSolutions,
+    DropSolutionProse,        # the emptied solution prose is left out
     ClearOutput,
     CheckCellMetadata,
     ComputeChecksums,

@@ -660,3 +660,89 @@ def analyse(path: Path, nb: dict | None = None, check_names: dict[str, str] | No
     if not tasks:
         problems.append("no task headings (`## Task k: ...`)")
     return Chapter(path, cells, tasks, problems)
+
+
+# ---------------------------------------------------------------- where a value comes from
+@dataclass(frozen=True)
+class Binding:
+    """The last binding of a name before some cell.
+
+    ``cell`` is the index of the code cell that bound it, ``answer`` whether that
+    cell is an answer cell (the student wrote it), and ``roots`` the names bound
+    by answer cells that the value depends on -- through given cells and other
+    answers, the name itself included when an answer cell bound it.
+    """
+
+    cell: int
+    answer: bool
+    roots: frozenset[str]
+
+
+def trace(cells: list[tuple[str, str]]) -> list[dict[str, Binding]]:
+    """For every cell, the names it reads that an earlier code cell bound, with that binding.
+
+    ``cells`` are ``(kind, source)`` pairs in notebook order, ``kind`` being
+    ``"answer"`` for the student's cells, ``"code"`` for any other code cell and
+    anything else (``"markdown"``) for cells that are not run. A given cell that
+    reads an answer passes the answer on (``J = jacobian(q_answer)`` depends on
+    ``q_answer``); a given cell that reads none makes a clean value.
+    """
+    table: dict[str, Binding] = {}
+    out: list[dict[str, Binding]] = []
+    for index, (kind, code) in enumerate(cells):
+        if kind not in ("answer", "code"):
+            out.append({})
+            continue
+        names = _names(code)
+        reads = {name: table[name] for name in names.free if name in table}
+        out.append(reads)
+        inherited = frozenset().union(*(b.roots for b in reads.values())) if reads else frozenset()
+        answer = kind == "answer"
+        for name in names.defined:
+            table[name] = Binding(index, answer, inherited | {name} if answer else inherited)
+    return out
+
+
+def statement_at(code: str, line: int) -> str:
+    """The whole top-level statement of ``code`` that contains ``line`` (1-based); the line if none."""
+    tree = _parse(code)
+    lines = code.splitlines()
+    if tree is not None:
+        for stmt in tree.body:
+            if stmt.lineno <= line <= stmt.end_lineno:
+                first = stmt.decorator_list[0].lineno if getattr(stmt, "decorator_list", None) else stmt.lineno
+                return "\n".join(lines[first - 1: stmt.end_lineno])
+    return lines[line - 1] if 0 < line <= len(lines) else ""
+
+
+# ---------------------------------------------------------------- the student edition, statically
+#: What nbgrader's ``ClearSolutions`` writes for a solution region of Python code.
+CODE_STUB = "# YOUR CODE HERE\nraise NotImplementedError()"
+
+
+def stub_source(code: str, declare: set[str] | None) -> str:
+    """An answer cell as the student edition shows it (``MarkSolutionRegions`` + ``ClearSolutions``)."""
+    plan = stub_plan(code, declare)
+    if plan is None:
+        return CODE_STUB
+    if not plan.regions:
+        return code
+    lines = code.splitlines()
+    out: list[str] = []
+    starts = {first: (last, indent, names) for first, last, indent, names in plan.regions}
+    k = 1
+    while k <= len(lines):
+        if k in starts:
+            last, indent, names = starts[k]
+            out.extend(f"{indent}{name} = None" for name in names)
+            out.extend(f"{indent}{line}" for line in CODE_STUB.splitlines())
+            k = last + 1
+        else:
+            out.append(lines[k - 1])
+            k += 1
+    return "\n".join(out)
+
+
+def removed_in_student_edition(cell: Cell) -> bool:
+    """Cells the student edition leaves out: solution prose (it would be an empty cell)."""
+    return cell.role == "prose"

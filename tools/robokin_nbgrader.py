@@ -13,6 +13,8 @@ into its pipelines:
     of a solution cell that the student writes, so that ``ClearSolutions`` keeps
     imports, function signatures and docstrings, and the variables later cells
     need (``name = None``); marks the solution prose for removal.
+``DropSolutionProse`` (generate_assignment, after ``ClearSolutions``)
+    Leaves the emptied solution prose out of the student edition.
 ``PointsHeader`` (generate_assignment)
     A read-only cell under the title: points per task and in total.
 ``RestoreMissingCells`` (autograde, replaces ``OverwriteCells``)
@@ -103,6 +105,19 @@ class MarkSolutionRegions(NbGraderPreprocessor):
         elif cell.cell_type == "markdown" and role == "prose" and "BEGIN SOLUTION" not in cell.source:
             cell.source = f"{self.begin}\n{cell.source}\n{self.end}"
         return cell, resources
+
+
+class DropSolutionProse(NbGraderPreprocessor):
+    """Leave solution prose out of the student edition (after ``ClearSolutions`` it is an empty cell).
+
+    The cells are read-only and not graded, so the gradebook does not miss them;
+    ``tests/test_student_edition_contracts.py`` predicts the student edition with
+    the same rule (``notebook_analysis.removed_in_student_edition``).
+    """
+
+    def preprocess(self, nb, resources):
+        nb.cells = [c for c in nb.cells if not (c.cell_type == "markdown" and _robokin(c).get("role") == "prose")]
+        return nb, resources
 
 
 class PointsHeader(NbGraderPreprocessor):
