@@ -703,16 +703,21 @@ def trace(cells: list[tuple[str, str]]) -> list[dict[str, Binding]]:
     return out
 
 
-def statement_at(code: str, line: int) -> str:
-    """The whole top-level statement of ``code`` that contains ``line`` (1-based); the line if none."""
+def statement_span(code: str, line: int) -> tuple[int, int]:
+    """First and last line (1-based) of the top-level statement of ``code`` that contains ``line``."""
     tree = _parse(code)
-    lines = code.splitlines()
     if tree is not None:
         for stmt in tree.body:
             if stmt.lineno <= line <= stmt.end_lineno:
-                first = stmt.decorator_list[0].lineno if getattr(stmt, "decorator_list", None) else stmt.lineno
-                return "\n".join(lines[first - 1: stmt.end_lineno])
-    return lines[line - 1] if 0 < line <= len(lines) else ""
+                decorators = getattr(stmt, "decorator_list", None)
+                return (decorators[0].lineno if decorators else stmt.lineno), stmt.end_lineno
+    return line, line
+
+
+def statement_at(code: str, line: int) -> str:
+    """The whole top-level statement of ``code`` that contains ``line`` (1-based); the line if none."""
+    first, last = statement_span(code, line)
+    return "\n".join(code.splitlines()[first - 1: last])
 
 
 # ---------------------------------------------------------------- the student edition, statically

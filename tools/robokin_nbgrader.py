@@ -39,6 +39,7 @@ import json
 import os
 import re
 import sys
+import textwrap
 from pathlib import Path
 
 from nbformat.notebooknode import NotebookNode, from_dict
@@ -48,8 +49,18 @@ from traitlets import Unicode
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from notebook_analysis import mark_solution  # noqa: E402
+from notebook_analysis import (  # noqa: E402
+    _check_aliases,
+    defined_names,
+    free_names,
+    level2_headings,
+    mark_solution,
+    statement_at,
+    statement_span,
+    trace,
+)
 
+TYPE_PROBE = "type"  # robokin.check.grading.TYPE_PROBE: what a value is, no verdict
 ANSI = re.compile(r"\x1b\[[0-9;]*[A-Za-z]")
 VERDICT_MARK = "ROBOKIN-VERDICTS"
 RESTORED_NOTE = "was missing from the submission"
@@ -199,6 +210,7 @@ class RobokinExecute(Execute):
                 item = (_task_of(cell), pair[0], pair[1])
                 if item not in pairs:
                     pairs.append(item)
+        pairs += [item for item in registered_pairs(nb) if item not in pairs]
         self._report["pairs"] = pairs
         self._last_code = max((i for i, c in enumerate(nb.cells) if c.cell_type == "code"), default=-1)
         previous = os.environ.get("ROBOKIN_VIEWER")
@@ -255,41 +267,302 @@ class RobokinExecute(Execute):
         return cell, resources
 
     def _explain(self, cell, error, index) -> None:
-        meta = _robokin(cell)
-        task = _task_of(cell)
-        grade_id = cell.metadata["nbgrader"]["grade_id"]
-        lines = []
-        where = ""
-        traceback = ANSI.sub("", "\n".join(error.get("traceback", [])))
-        hits = re.findall(r"Cell In\[(\d+)\], line (\d+)", traceback)
-        source_lines = cell.source.splitlines()
-        failing = ""
-        for count, line in hits:
-            if str(count) == str(cell.get("execution_count")) and 0 < int(line) <= len(source_lines):
-                failing = source_lines[int(line) - 1].strip()
-                where = f" at line {line}: `{failing}`"
-                break
-        if error.ename == "CellTimeoutError":
-            lines.append(f"✘ Task {task} ({grade_id}) did not finish within the time limit: it was stopped.")
-        else:
-            message = f"{error.ename}: {error.evalue}".strip().rstrip(":")
-            lines.append(f"✘ Task {task} ({grade_id}) failed{where}")
-            lines.append(f"  {message}" if error.evalue else f"  ({error.ename})")
-        reads = meta.get("reads", [])
-        named = [n for n in reads if re.search(rf"\b{re.escape(n)}\b", failing)] or reads
-        if named:
-            lines.append("  It tests " + ", ".join(named) + f" from your answer{'s' if len(named) > 1 else ''}.")
-        verdicts = self._verdicts([tuple(p) for p in meta.get("explain", [])], index) or []
-        for v in verdicts:
-            if v["status"] == "skipped":
-                continue
-            tag = f"  (typical mistake: {v['diagnosis']})" if v["typical"] else ""
-            text = v["message"] if v["status"] in ("correct", "wrong") else f"✘ {v['message']}"
-            lines.append(f"  robokin.check: {text}{tag}")
-        self._report["explained"][grade_id] = lines
+        notes = FailureNotes(self.nb, index, self._report)
+        verdicts = self._verdicts(notes.pairs(error), index) or []
+        lines = notes.lines(error, verdicts)
+        self._report["explained"][cell.metadata["nbgrader"]["grade_id"]] = lines
         note = from_dict({"output_type": "stream", "name": "stdout", "text": "\n".join(lines) + "\n\n"})
         position = cell.outputs.index(error)
         cell.outputs.insert(position, note)
+
+
+# ---------------------------------------------------------------- what a failing test says
+def _cell_kinds(nb) -> list[tuple[str, str]]:
+    """``(kind, source)`` of every cell for ``notebook_analysis.trace``: the student's answer
+    cells are ``"answer"``, other code cells (given, tests, the student's own) ``"code"``."""
+    out = []
+    for cell in nb.cells:
+        if cell.cell_type != "code":
+            out.append(("markdown", ""))
+        else:
+            out.append(("answer" if utils.is_solution(cell) else "code", cell.source))
+    return out
+
+
+def _errors(cell) -> list:
+    return [o for o in cell.get("outputs", []) if o.get("output_type") == "error"]
+
+
+def _identifier_names(expression: str) -> set[str]:
+    return free_names(expression) if expression.strip() else set()
+
+
+def registered_pairs(nb) -> list[tuple[int | None, str, str]]:
+    """``(task, check, name)`` for every exercise check registered in ``robokin.check`` whose
+    quantity has the name of a variable or function that an answer cell binds, in the
+    chapters of checks the notebook uses (imports, or names in its test cells' metadata)."""
+    try:
+        from nbgrader_metadata import check_names
+        names = check_names()
+    except Exception:  # noqa: BLE001 - feedback is a bonus; grading goes on
+        return []
+    chapters = set()
+    for cell in nb.cells:
+        if cell.cell_type == "code":
+            chapters |= {v for v in _check_aliases(cell.source).values() if v != "*"}
+            chapters |= {p[0].split(".")[0] for p in _robokin(cell).get("explain", [])}
+    bound: dict[str, int | None] = {}
+    for cell in nb.cells:
+        if cell.cell_type == "code" and utils.is_solution(cell):
+            for name in defined_names(cell.source):
+                bound[name] = _task_of(cell)
+    return [(bound[name], check, name) for check, name in sorted(names.items())
+            if check.split(".")[0] in chapters and name in bound]
+
+
+class FailureNotes:
+    """The note under a failing test: what failed, which of the student's answers it
+    depends on, which of those is the root cause, and what ``robokin.check`` says.
+
+    * the whole failing statement is quoted (a multi-line ``assert`` too);
+    * the names it reads are traced back (``notebook_analysis.trace``) through the
+      read-only cells and the earlier statements of the test cell to the answer
+      cells: only names bound by an answer cell are called "your answer";
+    * among those answers, the ones whose own earlier test failed, whose cell raised,
+      or that ``robokin.check`` found wrong are named as the root cause (the first
+      in the chain: an answer that is wrong only because it uses another wrong one
+      is left out);
+    * ``robokin.check`` is asked about those answers only, and a typical mistake is
+      named only for a check run on the student's value of those very names;
+    * a test that fails with a wrong type (``AttributeError``, ``TypeError``, ...)
+      says what the answer is and what was expected (the stub's docstring, the
+      task statement, or the check's signature).
+
+    ``report`` is the run's shared record (``resources["robokin"]``): it collects what
+    checks found wrong (``"wrong"``) and the root causes (``"causes"``) for the report.
+    """
+
+    max_statement_lines = 12
+    type_errors = ("AttributeError", "TypeError", "IndexError", "KeyError", "ValueError")
+
+    def __init__(self, nb, index: int, report: dict):
+        self.nb = nb
+        self.index = index
+        self.cell = nb.cells[index]
+        self.report = report
+        self.grade_id = self.cell.metadata.get("nbgrader", {}).get("grade_id", "?")
+        self.task = _task_of(self.cell)
+        self._analysed = False
+
+    # -- the static analysis
+    def _failing_line(self, error) -> int | None:
+        traceback = ANSI.sub("", "\n".join(error.get("traceback", [])))
+        count = self.cell.get("execution_count")
+        for number, line in re.findall(r"Cell In\[(\d+)\], line (\d+)", traceback):
+            if str(number) == str(count) and 0 < int(line) <= len(self.cell.source.splitlines()):
+                return int(line)
+        return None
+
+    def analyse(self, error) -> None:
+        if self._analysed:
+            return
+        self._analysed = True
+        self.line = self._failing_line(error)
+        kinds = _cell_kinds(self.nb)[: self.index]
+        self.statement = statement_at(self.cell.source, self.line) if self.line else ""
+        if self.statement:
+            first, _ = statement_span(self.cell.source, self.line)
+            own = [("code", s) for s in _statements("\n".join(self.cell.source.splitlines()[: first - 1]))]
+            reads = trace(kinds + own + [("code", self.statement)])[-1]
+        else:
+            reads = trace(kinds + [("code", self.cell.source)])[-1]
+        student = {n: b for n, b in reads.items() if b.roots}
+        if self.statement and not student:  # the failing line reads nothing of the student's
+            reads = trace(kinds + [("code", self.cell.source)])[-1]
+            student = {n: b for n, b in reads.items() if b.roots}
+        self.yours = {n: b for n, b in student.items() if b.answer and b.cell < self.index}
+        self.derived = {n: b for n, b in student.items() if n not in self.yours}
+        self.roots = set().union(*(b.roots for b in student.values())) if student else set()
+        table = _bindings(kinds)
+        self.answer_cell = {n: table[n].cell for n in self.roots if n in table}
+        self.root_roots = {n: table[n].roots for n in self.roots if n in table}
+        self.causes = self._causes(kinds)
+
+    def _causes(self, kinds) -> dict[str, str]:
+        """``{answer name: why it is suspect}`` for the root causes of this failure."""
+        why: dict[str, str] = {}
+        all_reads = trace(kinds)
+        for name in sorted(self.roots):
+            cell = self.answer_cell.get(name)
+            if cell is not None and _errors(self.nb.cells[cell]):
+                error = _errors(self.nb.cells[cell])[0]
+                why[name] = f"its cell ({_label(self.nb.cells[cell])}) raised {error.get('ename')}"
+                continue
+            failed = []
+            for j in range(cell + 1 if cell is not None else 0, self.index):
+                other = self.nb.cells[j]
+                if other.cell_type == "code" and utils.is_grade(other) and _errors(other):
+                    roots = set().union(*(b.roots for b in all_reads[j].values())) if all_reads[j] else set()
+                    if name in roots:
+                        failed.append(other.metadata["nbgrader"]["grade_id"])
+            if failed:
+                why[name] = f"its own test {failed[0]} failed" if len(failed) == 1 else \
+                    f"its own tests {', '.join(failed)} failed"
+            elif name in self.report.get("wrong", {}):
+                why[name] = f"robokin.check finds it wrong ({self.report['wrong'][name]})"
+        # the first link of the chain: leave out an answer that uses another suspect one
+        return {n: w for n, w in why.items()
+                if not any(other != n and other in self.root_roots.get(n, ()) for other in why)}
+
+    # -- the questions to the kernel
+    def pairs(self, error) -> list[tuple[str, str]]:
+        """``(check, quantity)`` pairs to evaluate in the kernel: the checks of this test and
+        the registered checks, on the student's answers it depends on; type probes."""
+        self.analyse(error)
+        names = self.roots | set(self.yours)
+        out: list[tuple[str, str]] = []
+        candidates = [tuple(p) for p in _robokin(self.cell).get("explain", [])]
+        candidates += [(check, name) for _, check, name in self.report.get("pairs", [])]
+        for check, quantity in candidates:
+            used = _identifier_names(quantity)
+            if used and used <= names | _BUILTIN_NAMES and (check, quantity) not in out:
+                out.append((check, quantity))
+        if error.get("ename") in self.type_errors:
+            for name in sorted(self.yours):
+                out.append((TYPE_PROBE, name))
+        return out
+
+    # -- the note
+    def lines(self, error, verdicts: list[dict]) -> list[str]:
+        self.analyse(error)
+        out = []
+        if error.get("ename") == "CellTimeoutError":
+            out.append(f"✘ Task {self.task} ({self.grade_id}) did not finish within the time limit: "
+                       "it was stopped.")
+        else:
+            where = f" at line {self.line}:" if self.line else ""
+            out.append(f"✘ Task {self.task} ({self.grade_id}) failed{where}")
+            statement = self.statement.splitlines()
+            if len(statement) > self.max_statement_lines:
+                statement = statement[: self.max_statement_lines] + ["..."]
+            out += [f"      {line}" for line in textwrap.dedent("\n".join(statement)).splitlines()]
+            message = f"{error.get('ename')}: {error.get('evalue', '')}".strip().rstrip(":")
+            out.append(f"  {message}" if error.get("evalue") else f"  ({error.get('ename')})")
+        if self.yours:
+            out.append(f"  It checks your answer{'s' if len(self.yours) > 1 else ''} "
+                       f"{self._named(self.yours)}.")
+        if self.derived:
+            upstream = sorted(set().union(*(b.roots for b in self.derived.values())))
+            given = ", ".join(f"`{n}`" for n in sorted(self.derived))
+            here = [b.cell >= self.index for b in self.derived.values()]
+            where = ("earlier in this test cell" if all(here) else "by read-only cells" if not any(here)
+                     else "by read-only cells and earlier in this test cell")
+            out.append(f"  It also reads {given}, computed {where} from your answer"
+                       f"{'s' if len(upstream) > 1 else ''} {self._named(upstream)}.")
+        for name in sorted(self.yours):
+            missing = f"name '{name}' is not defined"
+            if error.get("ename") == "NameError" and missing in str(error.get("evalue", "")):
+                cell = self.yours[name].cell
+                out.append(f"  `{name}` was never defined: your answer cell of Task "
+                           f"{_task_of(self.nb.cells[cell])} did not finish (see its error above it).")
+        if self.causes:
+            items = "; ".join(f"{self._named([n])}: {why}" for n, why in sorted(self.causes.items()))
+            out.append(f"  This test failed because of {items}. Fix that first: this test may then pass.")
+            record = self.report.setdefault("causes", {})
+            for name, why in self.causes.items():
+                entry = record.setdefault(name, {"task": self._task_of_name(name), "why": why, "tests": []})
+                entry["tests"].append(self.grade_id)
+        infos = {}
+        for v in verdicts:
+            if v.get("status") == "info":
+                infos[v["quantity"]] = v.get("got") or v.get("message", "")
+        for name, got in sorted(infos.items()):
+            expected = _expected_from_notebook(self.nb, self.yours[name].cell, name) if name in self.yours else ""
+            text = f"  Your `{name}` is {got}"
+            out.append(text + (f"; expected: {expected}" if expected else "."))
+        names = self.roots | set(self.yours)
+        wrong = self.report.setdefault("wrong", {})
+        for v in verdicts:
+            if v.get("status") in ("skipped", "info"):
+                continue
+            used = _identifier_names(v["quantity"])
+            mine = bool(used) and used <= names | _BUILTIN_NAMES
+            tag = f"  (typical mistake: {v['diagnosis']})" if v.get("typical") and mine else ""
+            text = v["message"] if v["status"] in ("correct", "wrong") else f"✘ {v['message']}"
+            out.append(f"  robokin.check: {text}{tag}")
+            if v["status"] in ("wrong", "missing") and v["quantity"].isidentifier():
+                wrong.setdefault(v["quantity"], v.get("diagnosis") or v["status"])
+        return out
+
+    def _task_of_name(self, name: str) -> int | None:
+        cell = self.answer_cell.get(name)
+        return _task_of(self.nb.cells[cell]) if cell is not None else None
+
+    def _named(self, names) -> str:
+        parts = []
+        for name in sorted(names):
+            task = self._task_of_name(name)
+            if task is None and name in self.yours:
+                task = _task_of(self.nb.cells[self.yours[name].cell])
+            parts.append(f"`{name}` (Task {task})" if task is not None else f"`{name}`")
+        return ", ".join(parts)
+
+
+_BUILTIN_NAMES = set(dir(__import__("builtins")))
+
+
+def _statements(code: str) -> list[str]:
+    """The top-level statements of ``code`` (the lines before the failing one), as sources."""
+    import ast
+
+    try:
+        tree = ast.parse(code)
+    except SyntaxError:
+        return [code]
+    lines = code.splitlines()
+    return ["\n".join(lines[s.lineno - 1: s.end_lineno]) for s in tree.body]
+
+
+def _bindings(kinds: list[tuple[str, str]]):
+    """The last binding of every name after ``kinds`` (``notebook_analysis.Binding``)."""
+    marker = "_robokin_every_name_"
+    names = set()
+    for kind, code in kinds:
+        if kind in ("answer", "code"):
+            names |= set(defined_names(code))
+    probe = ", ".join(sorted(names)) or "None"
+    return trace(kinds + [("code", f"{marker} = ({probe},)")])[-1]
+
+
+def _expected_from_notebook(nb, cell_index: int, name: str) -> str:
+    """What the notebook says ``name`` is: the docstring of the function, or the sentence of
+    the task statement above its answer cell that names it in backticks."""
+    import ast
+
+    cell = nb.cells[cell_index]
+    try:
+        tree = ast.parse(cell.source)
+    except SyntaxError:
+        tree = None
+    for node in tree.body if tree else []:
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)) and node.name == name:
+            doc = ast.get_docstring(node) or ""
+            returns = re.search(r"Returns\n-+\n(.*?)(\n\s*\n|\Z)", doc, re.S)
+            text = returns.group(1) if returns else doc.split("\n\n")[0]
+            args = ", ".join(a.arg for a in node.args.args)
+            text = " ".join(text.split())
+            return f"{name}({args})" + (f" returning {text}" if returns else f": {text}" if text else "")
+    word = re.compile(rf"`[^`]*(?<![\w.]){re.escape(name)}\b[^`]*`")
+    for other in reversed(nb.cells[:cell_index]):
+        if other.cell_type != "markdown":
+            continue
+        text = " ".join(other.source.split())
+        for sentence in re.split(r"(?<=[.!?])\s+", text):
+            if word.search(sentence):
+                return f"the task says: “{sentence[:240]}”"
+        if level2_headings(other.source):
+            break
+    return ""
 
 
 class AutograderReport(NbGraderPreprocessor):
@@ -334,6 +607,16 @@ class AutograderReport(NbGraderPreprocessor):
             out += ["", "**What `robokin.check` says about your answers**", "", *findings]
         elif verdicts and all(v["status"] == "correct" for v in verdicts):
             out += ["", f"`robokin.check` finds all {len(verdicts)} answers it can check correct."]
+
+        causes = report.get("causes") or {}
+        if causes:
+            out += ["", "**Where to start**", ""]
+            for name, cause in sorted(causes.items(), key=lambda kv: (kv[1]["task"] is None, kv[1]["task"] or 0)):
+                task = f" (Task {cause['task']})" if cause["task"] is not None else ""
+                tests = ", ".join(dict.fromkeys(cause["tests"]))
+                out.append(f"- `{name}`{task}: {_md(cause['why'])}; the later failing test"
+                           f"{'s' if len(set(cause['tests'])) > 1 else ''} {tests} depend"
+                           f"{'' if len(set(cause['tests'])) > 1 else 's'} on it. Fix it first.")
 
         notes = self._incidents(nb)
         if notes:
