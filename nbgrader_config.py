@@ -36,6 +36,7 @@ from robokin_nbgrader import (  # noqa: E402
     AutograderReport,
     DropSolutionProse,
     MarkSolutionRegions,
+    OfflineMathJaxHTMLExporter,
     PointsHeader,
     RequireGradingMetadata,
     RestoreMissingCells,
@@ -95,3 +96,6 @@ c.OverwriteCells.add_missing_cells = True
 c.Execute.timeout = int(os.environ.get("ROBOKIN_CELL_TIMEOUT", "120"))   # seconds per cell
 # 3D scenes of the graded notebook as pictures: the feedback page is read offline.
 c.RobokinExecute.viewer = "matplotlib"
+
+# -- generate_feedback: MathJax inlined (the page is read offline, and handed out alone)
+c.GenerateFeedback.exporter_class = OfflineMathJaxHTMLExporter
