@@ -258,6 +258,47 @@ def bad_submission(correct: dict) -> tuple[dict, dict]:
     return nb, what
 
 
+#: Chapter 2's wrong answers for the feedback tests: a knock-on failure (a wrong
+#: ``weighted_pinv`` breaks later tasks) and an answer of the wrong type.
+KNOCK_ON = {"02_ur10_ik": ("weighted_pinv", (
+    "\n\ndef weighted_pinv(J, W):  # a mistake made by the test: W where W^-1 belongs\n"
+    "    return W @ J.T @ np.linalg.inv(J @ W @ J.T)\n"))}
+WRONG_TYPE = {"02_ur10_ik": ("res_a", "\nres_a = [1, 2, 3]  # a mistake made by the test: a list, not a result\n")}
+
+
+def _answer_defining(nb: dict, name: str) -> dict | None:
+    from notebook_analysis import defined_names
+    hits = [c for c in nb["cells"] if nbg(c).get("solution") and name in defined_names(src(c))]
+    return hits[-1] if hits else None
+
+
+def chapter_submissions(chapter: str, correct: dict) -> dict[str, dict]:
+    """The knock-on and wrong-type submissions of a chapter that has them."""
+    out = {}
+    for student, table in (("knockon", KNOCK_ON), ("wrongtype", WRONG_TYPE)):
+        if chapter not in table:
+            continue
+        name, code = table[chapter]
+        nb = copy.deepcopy(correct)
+        cell = _answer_defining(nb, name)
+        if cell is not None:
+            cell["source"] = src(cell).rstrip() + "\n" + code
+            out[student] = nb
+    return out
+
+
+def notes(nb: dict) -> dict[str, str]:
+    """``{grade_id: the robokin note}`` under the failing tests of a graded notebook."""
+    out = {}
+    for cell in nb.get("cells", []):
+        for output in cell.get("outputs", []):
+            text = output.get("text", "")
+            text = "".join(text) if isinstance(text, list) else text
+            if output.get("output_type") == "stream" and text.startswith("✘ Task"):
+                out[nbg(cell).get("grade_id", "?")] = text
+    return out
+
+
 # ---------------------------------------------------------------- running a chapter
 @dataclass
 class Run:
@@ -269,6 +310,8 @@ class Run:
     scores: dict[str, dict[str, float]] = field(default_factory=dict)   # student -> grade_id -> score
     maximum: dict[str, float] = field(default_factory=dict)              # grade_id -> points
     feedback: dict[str, str] = field(default_factory=dict)               # student -> HTML
+    autograded: dict[str, dict] = field(default_factory=dict)            # student -> graded notebook
+    rounds: list[dict[str, dict[str, float]]] = field(default_factory=list)  # scores after each autograde
     log: list[str] = field(default_factory=list)
     error: str | None = None
     seconds: float = 0.0
@@ -308,6 +351,7 @@ def run_chapter(chapter: str, base: Path) -> Run:
         if candidates:
             run.mistake = candidates[0]
             submissions["mistake"] = mistaken_submission(correct, run.mistake)
+        submissions.update(chapter_submissions(chapter, correct))
         for student, nb in submissions.items():
             save(nb, course / "submitted" / student / chapter / f"{chapter}.ipynb")
         nbgrader(["autograde", chapter], course, run.log)
@@ -316,6 +360,8 @@ def run_chapter(chapter: str, base: Path) -> Run:
         for student in submissions:
             page = course / "feedback" / student / chapter / f"{chapter}.html"
             run.feedback[student] = page.read_text(encoding="utf-8") if page.exists() else ""
+            graded_nb = course / "autograded" / student / chapter / f"{chapter}.ipynb"
+            run.autograded[student] = load(graded_nb) if graded_nb.exists() else {}
     except Exception as exc:  # noqa: BLE001 - reported by the tests that need it
         run.error = str(exc)
     run.seconds = time.perf_counter() - started
@@ -350,17 +396,41 @@ def run_walkthrough(base: Path) -> Run:
         nbgrader(["generate_assignment", chapter], course, run.log)   # what `make student` runs
         run.source = load(course / "source" / chapter / f"{chapter}.ipynb")
         env = {"EXCHANGE": str(exchange), "ROBOKIN_CELL_TIMEOUT": str(TIMEOUT_FOR_BAD_SUBMISSION)}
+        submitted, seen_pages = 0, set()
         for who, line in walkthrough_commands():
             args = shlex.split(os.path.expandvars(line.replace("$EXCHANGE", str(exchange))))[1:]
-            if args[0] == "submit":   # the student works on the fetched notebook, badly
+            if args[0] == "submit":   # the student works on the fetched notebook: badly, then right
                 fetched = home / chapter / f"{chapter}.ipynb"
-                nb, what = bad_submission(correct_submission(load(fetched), run.source))
-                run.mistake = {"deleted": what["deleted"]}
+                if submitted == 0:
+                    release = load(fetched)
+                    nb, what = bad_submission(correct_submission(release, run.source))
+                    run.mistake = {"deleted": what["deleted"]}
+                    # and leaves an answer after the deleted test as it was given (it loses points)
+                    ids = [nbg(c).get("grade_id") for c in release["cells"]]
+                    after = [c for c in release["cells"][ids.index(what["deleted"]) + 1:]
+                             if nbg(c).get("solution")][:-1]
+                    for cell in nb["cells"]:
+                        if after and nbg(cell).get("grade_id") == nbg(after[0])["grade_id"]:
+                            cell["source"] = src(after[0])
+                else:
+                    nb = correct_submission(load(fetched), run.source)
                 save(nb, fetched)
+                submitted += 1
+            if args[0] == "collect" and "--update" in args:   # what collect does without it
+                proc = nbgrader([a for a in args if a != "--update"], course, run.log, **env)
+                run.log.append("plain collect of a resubmission: " + (proc.stdout + proc.stderr)[-2000:])
             nbgrader(args, home if who == "student" else course, run.log, **env)
+            if args[0] == "autograde":
+                snapshot = Run(chapter, course)
+                read_gradebook(course, chapter, snapshot)
+                run.rounds.append(snapshot.scores)
+            if args[0] == "fetch_feedback":
+                for page in sorted((home / chapter / "feedback").rglob("*.html")):
+                    if page not in seen_pages:
+                        seen_pages.add(page)
+                        key = "student" if "student" not in run.feedback else "resubmission"
+                        run.feedback[key] = page.read_text(encoding="utf-8")
         read_gradebook(course, chapter, run)
-        for page in (home / chapter / "feedback").rglob("*.html"):
-            run.feedback["student"] = page.read_text(encoding="utf-8")
     except Exception as exc:  # noqa: BLE001
         run.error = str(exc)
     run.seconds = time.perf_counter() - started
@@ -566,7 +636,8 @@ def test_typical_mistake_scores_partial_marks_and_is_named(graded, chapter):
 # ---------------------------------------------------------------- 5. the walk-through and bad input
 def test_walkthrough_with_a_bad_submission(graded):
     run = _run(graded, "walkthrough")
-    scores = run.scores.get(next(iter(run.scores), ""), {})
+    assert run.rounds, "the walk-through has no autograde"
+    scores = run.rounds[0].get(next(iter(run.rounds[0]), ""), {})   # the first submission
     assert scores and set(scores) == set(run.maximum), "the submission was not graded"
     page = run.feedback.get("student", "")
     assert "Autograder report" in page, "the student did not get the feedback"
@@ -583,3 +654,136 @@ def test_chapter_without_metadata_is_reported_by_name(graded):
     assert f"chapter {chapter} was not assigned: no nbgrader metadata" in log
     assert "nbgrader generate_assignment: exit 0" not in log
     assert f"notebook '{chapter}' has no nbgrader metadata" in log
+
+
+def test_walkthrough_resubmission_is_graded_as_the_new_version(graded):
+    """A second submission, collected with --update, is the one graded and fed back
+    (a plain collect keeps the old one: book/for-instructors.md says so)."""
+    run = _run(graded, "walkthrough")
+    assert len(run.rounds) == 2, f"expected two rounds of autograde in the walk-through, got {len(run.rounds)}"
+    first, second = (r.get(next(iter(r), ""), {}) for r in run.rounds)
+    top = sum(run.maximum.values())
+    assert sum(first.values()) < top, "the first submission (its first answer left as given) should lose points"
+    assert second == run.maximum, f"the resubmission (the instructor's solutions) is graded {second}"
+    assert run.scores.get(next(iter(run.scores), ""), {}) == run.maximum
+    plain = next(entry for entry in run.log if entry.startswith("plain collect of a resubmission"))
+    assert "use --update" in plain, "nbgrader collect without --update no longer refuses a resubmission: " + plain
+    page = run.feedback.get("resubmission", "")
+    assert "Autograder report" in page and "ran longer than the time limit" not in page, (
+        "the student did not get the feedback on the new version")
+
+
+# ---------------------------------------------------------------- 6. what the feedback says
+def _answer_names(source: dict) -> set[str]:
+    from notebook_analysis import defined_names
+    return {n for c in source["cells"] if nbg(c).get("solution") for n in defined_names(src(c))}
+
+
+@pytest.mark.parametrize("chapter", CHAPTERS)
+def test_feedback_calls_only_answers_your_answers_and_quotes_whole_statements(graded, chapter):
+    """Names from read-only and test cells are never "your answers"; a root cause is an
+    answer; the failing statement is quoted whole (a multi-line assert too)."""
+    import ast
+    import textwrap
+
+    run = _run(graded, chapter)
+    answers = _answer_names(run.source)
+    checked = 0
+    for student, nb in run.autograded.items():
+        for grade_id, note in notes(nb).items():
+            checked += 1
+            where = f"{chapter}, submission {student!r}, test {grade_id}"
+            for line in note.splitlines():
+                if line.strip().startswith(("It checks your answer", "This test failed because of")):
+                    part = line.split("This test failed because of")[-1].split(":")[0]
+                    named = set(re.findall(r"`([A-Za-z_]\w*)` \(Task", part if "because" in line else line))
+                    assert named and named <= answers, (
+                        f"{where}: {line.strip()!r} calls {sorted(named - answers)} the student's answers, "
+                        f"but no answer cell defines them")
+            quoted = re.search(r"failed at line \d+:\n((?:      .*\n)+)", note)
+            if quoted and not quoted.group(1).rstrip().endswith("..."):
+                code = textwrap.dedent(quoted.group(1))
+                try:
+                    ast.parse(code)
+                except SyntaxError:
+                    pytest.fail(f"{where}: the failing statement is not quoted whole:\n{code}")
+    assert checked, f"{chapter}: no failing test with a note in any submission"
+
+
+def test_knock_on_failure_names_the_root_cause(graded):
+    if "02_ur10_ik" not in graded:
+        pytest.skip("chapter 2 is not graded here")
+    run = _run(graded, "02_ur10_ik")
+    name = KNOCK_ON["02_ur10_ik"][0]
+    cell = _answer_defining(run.source, name)
+    assert cell is not None, f"02_ur10_ik: no answer cell defines {name}"
+    task = rk(cell)["task"]
+    found = notes(run.autograded["knockon"])
+    later = {g: n for g, n in found.items() if not g.startswith(f"task{task}_")}
+    assert later, (f"02_ur10_ik: a wrong {name} (Task {task}) makes no test of another task fail; "
+                   f"failing: {sorted(found)}")
+    for grade_id, note in later.items():
+        assert f"This test failed because of `{name}` (Task {task}): its own test" in note, (
+            f"02_ur10_ik {grade_id}: the note does not name {name} (Task {task}) as the root cause:\n{note}")
+    page = run.feedback["knockon"]
+    assert "Where to start" in page and f"<code>{name}</code> (Task {task})" in page
+
+
+def test_wrong_type_says_what_came_and_what_was_expected(graded):
+    if "02_ur10_ik" not in graded:
+        pytest.skip("chapter 2 is not graded here")
+    run = _run(graded, "02_ur10_ik")
+    name = WRONG_TYPE["02_ur10_ik"][0]
+    found = notes(run.autograded["wrongtype"])
+    hits = [n for n in found.values() if f"Your `{name}` is a list of 3 items" in n]
+    assert hits, f"02_ur10_ik: no note says what {name} is: {found}"
+    assert all("; expected: " in n for n in hits), (
+        f"02_ur10_ik: the note does not say what {name} should be (document `{name}` in the task "
+        f"statement, in backticks, or in the stub):\n{hits[0]}")
+
+
+@pytest.mark.parametrize("chapter", CHAPTERS)
+def test_feedback_renders_formulas_offline(graded, chapter):
+    run = _run(graded, chapter)
+    page = run.feedback["correct"]
+    remote = [url for url in re.findall(r"<script[^>]*\bsrc=[\"']([^\"']+)", page, re.I)
+              if "mathjax" in url.lower() or url.startswith(("http:", "https:", "//"))]
+    assert not remote, f"{chapter}: the feedback page loads scripts from the network: {remote}"
+    assert 'id="robokin-mathjax"' in page and "MathJax" in page, f"{chapter}: no inline MathJax in the feedback"
+    assert "text/x-mathjax-config" not in page, f"{chapter}: MathJax 2 configuration left in the feedback"
+
+
+@pytest.mark.parametrize("chapter", CHAPTERS)
+def test_points_per_test_in_header_and_report(graded, chapter):
+    """A test cell tagged points-N is worth N: in the gradebook, the student edition's header
+    and the report's table."""
+    run = _run(graded, chapter)
+    per_task: dict[int, float] = {}
+    for cell in run.source["cells"]:
+        if nbg(cell).get("grade"):
+            per_task[rk(cell)["task"]] = per_task.get(rk(cell)["task"], 0) + nbg(cell)["points"]
+            assert run.maximum[nbg(cell)["grade_id"]] == nbg(cell)["points"], f"{chapter}: gradebook points"
+    header = next(src(c) for c in run.release["cells"] if nbg(c).get("grade_id") == "robokin-points")
+    report = src(run.autograded["correct"]["cells"][0])
+    for task, points in per_task.items():
+        assert re.search(rf"\| Task {task}: [^|]*\| {points:g} \|", header), (
+            f"{chapter}: the student edition's header does not give Task {task} {points:g} points:\n{header}")
+        assert re.search(rf"\| Task {task}: [^|]*\| {points:g} / {points:g} \|", report), (
+            f"{chapter}: the report does not give Task {task} {points:g} of {points:g} points:\n{report}")
+
+
+@pytest.mark.parametrize("chapter", CHAPTERS)
+def test_student_edition_is_what_the_contract_test_predicts(graded, chapter):
+    """tests/test_student_edition_contracts.py computes the student edition statically: the
+    stubs and the cells left out must be what generate_assignment makes."""
+    from notebook_analysis import stub_source
+
+    run = _run(graded, chapter)
+    stubs = {nbg(c)["grade_id"]: stub_source(src(c), set(rk(c).get("declare", [])))
+             for c in run.source["cells"] if nbg(c).get("solution")}
+    for cell in run.release["cells"]:
+        grade_id = nbg(cell).get("grade_id")
+        if grade_id in stubs:
+            assert src(cell) == stubs[grade_id], f"{chapter} {grade_id}: the stub differs from stub_source"
+    empty = [i for i, c in enumerate(run.release["cells"]) if c["cell_type"] == "markdown" and not src(c).strip()]
+    assert not empty, f"{chapter}: empty markdown cells in the student edition: {empty}"

@@ -558,6 +558,11 @@ def _expected_from_notebook(nb, cell_index: int, name: str) -> str:
             args = ", ".join(a.arg for a in node.args.args)
             text = " ".join(text.split())
             return f"{name}({args})" + (f" returning {text}" if returns else f": {text}" if text else "")
+    mention = re.compile(rf"(?<![\w.]){re.escape(name)}\b")
+    for line in cell.source.splitlines():
+        if "#" in line and mention.search(line[line.index("#"):]) and "YOUR CODE HERE" not in line:
+            comment = " ".join(line[line.index("#") + 1:].split())
+            return f"the notebook says: “{comment[:240]}”"
     word = re.compile(rf"`[^`]*(?<![\w.]){re.escape(name)}\b[^`]*`")
     for other in reversed(nb.cells[:cell_index]):
         if other.cell_type != "markdown":
