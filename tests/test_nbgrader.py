@@ -787,3 +787,48 @@ def test_student_edition_is_what_the_contract_test_predicts(graded, chapter):
             assert src(cell) == stubs[grade_id], f"{chapter} {grade_id}: the stub differs from stub_source"
     empty = [i for i, c in enumerate(run.release["cells"]) if c["cell_type"] == "markdown" and not src(c).strip()]
     assert not empty, f"{chapter}: empty markdown cells in the student edition: {empty}"
+
+
+def test_failure_notes_trace_the_root_cause_without_a_kernel():
+    """FailureNotes on a made-up graded notebook: a given value is not "your answer", the
+    earlier answer whose own test failed is the root cause, and the whole assert is quoted."""
+    import nbformat
+
+    sys.path.insert(0, str(ROOT / "tools"))
+    from robokin_nbgrader import FailureNotes
+
+    def code(source, grade_id=None, solution=False, grade=False, task=None, outputs=()):
+        cell = nbformat.v4.new_code_cell(source)
+        if grade_id:
+            cell.metadata["nbgrader"] = {"grade_id": grade_id, "solution": solution, "grade": grade,
+                                         "locked": not solution, "points": 1, "schema_version": 3}
+            cell.metadata["robokin"] = {"task": task}
+        cell.outputs = [nbformat.from_dict(o) for o in outputs]
+        return cell
+
+    def error(ename, count, line):
+        return {"output_type": "error", "ename": ename, "evalue": "", "traceback": [
+            f"Cell In[{count}], line {line}"]}
+
+    nb = nbformat.v4.new_notebook()
+    nb.cells = [
+        nbformat.v4.new_markdown_cell("## Task 1: f"),
+        code("def f(x):\n    return x + 1", "task1_answer1", solution=True, task=1),
+        code("assert f(1) == 2", "task1_test1", grade=True, task=1, outputs=[error("AssertionError", 2, 1)]),
+        nbformat.v4.new_markdown_cell("## Task 2: g"),
+        code("J0 = 2.0\nscale = f(J0)", "cell-given"),
+        code("g = scale * 3", "task2_answer1", solution=True, task=2),
+        code("limit = 9.0\nassert abs(\n    g - limit\n) < 1e-9", "task2_test1", grade=True, task=2),
+    ]
+    nb.cells[2].execution_count = 2
+    nb.cells[6].execution_count = 5
+    failure = nbformat.from_dict(error("AssertionError", 5, 2))
+    report = {"pairs": [], "explained": {}}
+    notes_ = FailureNotes(nb, 6, report)
+    assert notes_.pairs(failure) == []
+    text = "\n".join(notes_.lines(failure, []))
+    assert "      assert abs(\n          g - limit\n      ) < 1e-9" in text, text
+    assert "It checks your answer `g` (Task 2)." in text, text
+    assert "`limit`" not in text and "`J0`" not in text, text      # not the student's
+    assert "This test failed because of `f` (Task 1): its own test task1_test1 failed." in text, text
+    assert report["causes"]["f"]["tests"] == ["task2_test1"]

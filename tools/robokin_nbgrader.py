@@ -22,9 +22,11 @@ into its pipelines:
     cell is put back after the nearest cell the submission still has (nbgrader
     0.9.6 fails with a KeyError when that cell is a read-only one).
 ``RobokinExecute`` (autograde, replaces ``Execute``)
-    nbgrader's ``Execute``; when a test cell fails it asks ``robokin.check``, in
-    the student's kernel, about the quantities of that task and writes the answer
-    above the traceback; at the end it asks about every task.
+    nbgrader's ``Execute``; when a test cell fails, ``FailureNotes`` writes above
+    the traceback the failing statement, the student's answers it depends on (traced
+    through the read-only cells), the root cause among them, and what
+    ``robokin.check`` (asked in the student's kernel) says about those answers; at
+    the end it asks about every answer it has a check for (``registered_pairs``).
 ``OfflineMathJaxHTMLExporter`` (generate_feedback)
     nbgrader's HTML exporter with MathJax 3 inlined in the page (from the
     ``django-static-mathjax`` wheel the book uses) instead of loaded from a CDN:
@@ -597,8 +599,9 @@ class AutograderReport(NbGraderPreprocessor):
 
         out = ["## Autograder report", "",
                f"**{_num(total)} of {_num(maximum)} points** from the automatic tests. "
-               "A test scores 0 when it raises an error; the message below the failing test "
-               "says which quantity it checks and, where `robokin.check` recognises it, which typical "
+               "A test scores 0 when it raises an error; the note below a failing test quotes the "
+               "statement that failed, names your answers it depends on (and the earlier answer that "
+               "made it fail, if any) and, where `robokin.check` recognises it, which typical "
                "mistake your answer looks like.", "",
                "| task | points |", "|---|---|"]
         for task in sorted(scores, key=lambda t: (t is None, t or 0)):
