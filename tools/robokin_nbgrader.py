@@ -625,12 +625,15 @@ class AutograderReport(NbGraderPreprocessor):
         causes = report.get("causes") or {}
         if causes:
             out += ["", "**Where to start**", ""]
-            for name, cause in sorted(causes.items(), key=lambda kv: (kv[1]["task"] is None, kv[1]["task"] or 0)):
+            ordered = sorted(causes.items(), key=lambda kv: (kv[1]["task"] is None, kv[1]["task"] or 0))
+            for name, cause in ordered[: self.max_notes]:
                 task = f" (Task {cause['task']})" if cause["task"] is not None else ""
                 tests = ", ".join(dict.fromkeys(cause["tests"]))
                 out.append(f"- `{name}`{task}: {_md(cause['why'])}; the later failing test"
                            f"{'s' if len(set(cause['tests'])) > 1 else ''} {tests} depend"
                            f"{'' if len(set(cause['tests'])) > 1 else 's'} on it. Fix it first.")
+            if len(ordered) > self.max_notes:
+                out.append(f"- … and {len(ordered) - self.max_notes} more answers that later tests depend on.")
 
         notes = self._incidents(nb)
         if notes:
