@@ -308,24 +308,28 @@ def _identifier_names(expression: str) -> set[str]:
 def registered_pairs(nb) -> list[tuple[int | None, str, str]]:
     """``(task, check, name)`` for every exercise check registered in ``robokin.check`` whose
     quantity has the name of a variable or function that an answer cell binds, in the
-    chapters of checks the notebook uses (imports, or names in its test cells' metadata)."""
+    chapters of checks the notebook uses (imports, or names in its test cells' metadata),
+    unless a test cell's metadata already explains with that check."""
     try:
         from nbgrader_metadata import check_names
         names = check_names()
     except Exception:  # noqa: BLE001 - feedback is a bonus; grading goes on
         return []
-    chapters = set()
+    chapters, explained = set(), set()
     for cell in nb.cells:
         if cell.cell_type == "code":
             chapters |= {v for v in _check_aliases(cell.source).values() if v != "*"}
-            chapters |= {p[0].split(".")[0] for p in _robokin(cell).get("explain", [])}
+            explained |= {p[0] for p in _robokin(cell).get("explain", [])}
+    chapters |= {check.split(".")[0] for check in explained}
     bound: dict[str, int | None] = {}
     for cell in nb.cells:
         if cell.cell_type == "code" and utils.is_solution(cell):
             for name in defined_names(cell.source):
                 bound[name] = _task_of(cell)
+    # a check the chapter already calls on an answer is asked as the chapter calls it (e.g.
+    # through a lambda that fixes default arguments), not on the bare name
     return [(bound[name], check, name) for check, name in sorted(names.items())
-            if check.split(".")[0] in chapters and name in bound]
+            if check.split(".")[0] in chapters and name in bound and check not in explained]
 
 
 class FailureNotes:
