@@ -401,14 +401,17 @@ class FailureNotes:
         self.causes = self._causes(kinds)
 
     def _causes(self, kinds) -> dict[str, str]:
-        """``{answer name: why it is suspect}`` for the root causes of this failure."""
+        """``{answer name: why it is suspect}`` for the root causes of this failure (the why
+        reads after "its" or "their": ``"own test task2_test1 failed"``)."""
         why: dict[str, str] = {}
         all_reads = trace(kinds)
         for name in sorted(self.roots):
             cell = self.answer_cell.get(name)
             if cell is not None and _errors(self.nb.cells[cell]):
                 error = _errors(self.nb.cells[cell])[0]
-                why[name] = f"its cell ({_label(self.nb.cells[cell])}) raised {error.get('ename')}"
+                count = self.nb.cells[cell].get("execution_count")
+                where = f" In [{count}]" if count else ""
+                why[name] = f"answer cell{where} raised {error.get('ename')}"
                 continue
             failed = []
             for j in range(cell + 1 if cell is not None else 0, self.index):
@@ -418,10 +421,10 @@ class FailureNotes:
                     if name in roots:
                         failed.append(other.metadata["nbgrader"]["grade_id"])
             if failed:
-                why[name] = f"its own test {failed[0]} failed" if len(failed) == 1 else \
-                    f"its own tests {', '.join(failed)} failed"
+                why[name] = f"own test {failed[0]} failed" if len(failed) == 1 else \
+                    f"own tests {', '.join(failed)} failed"
             elif name in self.report.get("wrong", {}):
-                why[name] = f"robokin.check finds it wrong ({self.report['wrong'][name]})"
+                why[name] = f"value is wrong for robokin.check ({self.report['wrong'][name]})"
         # the first link of the chain: leave out an answer that uses another suspect one
         return {n: w for n, w in why.items()
                 if not any(other != n and other in self.root_roots.get(n, ()) for other in why)}
@@ -478,20 +481,29 @@ class FailureNotes:
                 out.append(f"  `{name}` was never defined: your answer cell of Task "
                            f"{_task_of(self.nb.cells[cell])} did not finish (see its error above it).")
         if self.causes:
-            items = "; ".join(f"{self._named([n])}: {why}" for n, why in sorted(self.causes.items()))
+            groups: dict[tuple, list[str]] = {}
+            for name, why in sorted(self.causes.items()):
+                groups.setdefault((self._task_of_name(name), why), []).append(name)
+            items = "; ".join(f"{self._named(names)}: {'its' if len(names) == 1 else 'their'} {why}"
+                              for (_, why), names in groups.items())
             out.append(f"  This test failed because of {items}. Fix that first: this test may then pass.")
             record = self.report.setdefault("causes", {})
-            for name, why in self.causes.items():
-                entry = record.setdefault(name, {"task": self._task_of_name(name), "why": why, "tests": []})
+            for (task, why), names in groups.items():
+                entry = record.setdefault(f"{task}|{why}", {"task": task, "why": why, "names": [], "tests": []})
+                entry["names"] = sorted(set(entry["names"]) | set(names))
                 entry["tests"].append(self.grade_id)
-        infos = {}
+        checked = {name for v in verdicts if v.get("status") not in ("info", "skipped")
+                   for name in _identifier_names(v["quantity"])}
+        infos: dict[str, list[str]] = {}
         for v in verdicts:
-            if v.get("status") == "info":
-                infos[v["quantity"]] = v.get("got") or v.get("message", "")
-        for name, got in sorted(infos.items()):
-            expected = _expected_from_notebook(self.nb, self.yours[name].cell, name) if name in self.yours else ""
-            text = f"  Your `{name}` is {got}"
-            out.append(text + (f"; expected: {expected}" if expected else "."))
+            if v.get("status") == "info" and v["quantity"] not in checked:
+                infos.setdefault(v.get("got") or v.get("message", ""), []).append(v["quantity"])
+        for got, names in infos.items():
+            expected = [_expected_from_notebook(self.nb, self.yours[n].cell, n) for n in names if n in self.yours]
+            listed = ", ".join(f"`{n}`" for n in names)
+            text = f"  Your {listed} {'is' if len(names) == 1 else 'are'} {got}"
+            hints = "; ".join(e for e in expected if e)
+            out.append(text + (f"; expected: {hints}" if hints else "."))
         names = self.roots | set(self.yours)
         wrong = self.report.setdefault("wrong", {})
         for v in verdicts:
@@ -511,12 +523,17 @@ class FailureNotes:
         return _task_of(self.nb.cells[cell]) if cell is not None else None
 
     def _named(self, names) -> str:
-        parts = []
+        """```a`, `b` (Task 2), `c` (Task 3)``: names with their task, grouped by task."""
+        by_task: dict[int | None, list[str]] = {}
         for name in sorted(names):
             task = self._task_of_name(name)
             if task is None and name in self.yours:
                 task = _task_of(self.nb.cells[self.yours[name].cell])
-            parts.append(f"`{name}` (Task {task})" if task is not None else f"`{name}`")
+            by_task.setdefault(task, []).append(name)
+        parts = []
+        for task, group in sorted(by_task.items(), key=lambda kv: (kv[0] is None, kv[0] or 0)):
+            listed = ", ".join(f"`{n}`" for n in group)
+            parts.append(f"{listed} (Task {task})" if task is not None else listed)
         return ", ".join(parts)
 
 
@@ -630,14 +647,17 @@ class AutograderReport(NbGraderPreprocessor):
         if causes:
             out += ["", "**Where to start**", ""]
             ordered = sorted(causes.items(), key=lambda kv: (kv[1]["task"] is None, kv[1]["task"] or 0))
-            for name, cause in ordered[: self.max_notes]:
+            for _, cause in ordered[: self.max_notes]:
                 task = f" (Task {cause['task']})" if cause["task"] is not None else ""
-                tests = ", ".join(dict.fromkeys(cause["tests"]))
-                out.append(f"- `{name}`{task}: {_md(cause['why'])}; the later failing test"
-                           f"{'s' if len(set(cause['tests'])) > 1 else ''} {tests} depend"
-                           f"{'' if len(set(cause['tests'])) > 1 else 's'} on it. Fix it first.")
+                tests = list(dict.fromkeys(cause["tests"]))
+                several = len(cause["names"]) > 1
+                names = ", ".join(f"`{n}`" for n in cause["names"])
+                out.append(f"- {names}{task}: {'their' if several else 'its'} {_md(cause['why'])}; "
+                           f"the failing test{'s' if len(tests) > 1 else ''} {', '.join(tests)} "
+                           f"depend{'' if len(tests) > 1 else 's'} on {'them' if several else 'it'}. "
+                           f"Fix {'them' if several else 'it'} first.")
             if len(ordered) > self.max_notes:
-                out.append(f"- … and {len(ordered) - self.max_notes} more answers that later tests depend on.")
+                out.append(f"- … and {len(ordered) - self.max_notes} more groups of answers that tests depend on.")
 
         notes = self._incidents(nb)
         if notes:
