@@ -6,7 +6,10 @@
 #   make test    run the complete test suite (same set-up on first use)
 #   make lab     open the notebooks in JupyterLab with live 3D views
 #   make execute re-run every notebook in a fresh kernel and store its outputs (stream
-#                outputs merged, so that an unchanged notebook stores unchanged bytes)
+#                outputs merged, so that an unchanged notebook stores unchanged bytes);
+#                make execute NB=notebooks/02_ur10_ik.ipynb re-runs that one only
+#   make chapter NAME=scara TITLE="The SCARA arm" [ROBOT="a SCARA arm"]  a new chapter
+#                (tools/new_chapter.py; book/authoring.md explains it)
 #   make bench   print the benchmark tables
 #   make clean   remove the built book and caches (keeps .venv)
 
@@ -30,7 +33,7 @@ else
 $(error EDITION must be 'instructor' or 'student', not '$(EDITION)')
 endif
 
-.PHONY: book student test lab execute bench clean distclean check-python
+.PHONY: book student test lab execute chapter bench clean distclean check-python
 
 # The Python that builds the venv (or, once it exists, the venv's own) must be >= 3.11.
 check-python:
@@ -79,14 +82,20 @@ test: $(STAMP)
 lab: $(STAMP)
 	ROBOKIN_VIEWER=live $(BIN)/jupyter lab notebooks/
 
+NB ?= notebooks/[0-9]*.ipynb
 execute: $(STAMP)
-	@for nb in notebooks/[0-9]*.ipynb; do \
+	@for nb in $(NB); do \
+	  test -f "$$nb" || { echo "ERROR [execute]: no notebook $$nb (NB= takes paths such as notebooks/02_ur10_ik.ipynb)"; exit 1; }; \
 	  echo "== executing $$nb"; \
 	  ROBOKIN_VIEWER=static $(BIN)/jupyter nbconvert --to notebook --execute --inplace \
 	    --ExecutePreprocessor.timeout=300 --ExecutePreprocessor.record_timing=False "$$nb" || exit 1; \
 	  $(BIN)/jupyter nbconvert --to notebook --inplace --log-level=WARN \
 	    --CoalesceStreamsPreprocessor.enabled=True "$$nb" || exit 1; \
 	done
+
+chapter: $(STAMP)
+	@test -n "$(NAME)" -a -n "$(TITLE)" || { echo 'usage: make chapter NAME=scara TITLE="The SCARA arm" [ROBOT="a SCARA arm"]'; exit 1; }
+	@$(BIN)/python tools/new_chapter.py --name "$(NAME)" --title "$(TITLE)" $(if $(ROBOT),--robot "$(ROBOT)")
 
 bench: $(STAMP)
 	@for script in benchmarks/bench_*.py; do echo "== $$script"; $(BIN)/python "$$script" || exit 1; done

@@ -32,7 +32,7 @@ Warnings (issued with :func:`warnings.warn`, never raised):
 from __future__ import annotations
 
 __all__ = ["RobokinError", "ShapeError", "DomainError", "URDFError", "URDFNotFoundError", "RobokinWarning",
-           "SingularityWarning", "MeshWarning"]
+           "SingularityWarning", "MeshWarning", "ViewWarning"]
 
 
 class RobokinError(Exception):
@@ -87,8 +87,18 @@ class SingularityWarning(RobokinWarning, RuntimeWarning):
 
 
 class MeshWarning(RobokinWarning):
-    """A visual mesh file named by a URDF could not be read (missing, or not a mesh).
+    """Visual mesh files named by a URDF were not read: outside the robot's package, missing,
+    not a mesh, or over a size cap.
 
     Issued once per URDF file by :func:`robokin.models.visual_meshes`; the frames
-    those meshes belong to are drawn as a stick figure. The message names the files.
+    those meshes belong to are drawn as a stick figure. The message names each
+    file and why it was not read.
+    """
+
+
+class ViewWarning(RobokinWarning):
+    """A view drew less than it was given: more points, path points or animation steps than a scene keeps.
+
+    Issued by :mod:`robokin.views` (caps in :mod:`robokin.views.arguments`); the
+    message gives the number given and the number drawn.
     """

@@ -69,6 +69,7 @@ from robokin.motion import (
     simulate,
     solve_ik,
     solve_ik_batch,
+    solve_ik_once,
     time_law,
     tool_jacobian,
     track_position_batch,
@@ -423,7 +424,10 @@ def urdf_specs() -> list[Spec]:
              [_UrdfFile("path"), Choice("base_link", ["world", "base"]), Choice("tip_link", ["l2", "tool"])],
              {"name": Choice("name", ["arm", None], bad=("int", "object"))}, check=is_chain, weight=0.3),
         Spec("models.robot_description", _optional(models.robot_description, distribution="example-robot-data"),
-             [Choice("name", ["ur10", "baxter", "panda"])], check=is_file, weight=0.2),
+             [Choice("name", ["ur10", "baxter", "panda", "kinova", "xarm7"])], check=is_file, weight=0.2),
+        Spec("models.available_robots", _optional(models.available_robots, distribution="example-robot-data"),
+             [], check=lambda r, c, v: None if len(r) > 0 else (_ for _ in ()).throw(AssertionError(r)),
+             weight=0.05),
         Spec("models.visual_meshes", _optional(_optional(models.visual_meshes, module="trimesh"),
                                                module="fast_simplification"),
              [_UrdfFile("path"), Choice("base_link", ["world", "base"]), Choice("tip_link", ["l2", "tool"])],
@@ -602,6 +606,11 @@ def motion_specs() -> list[Spec]:
               "tol": _tol(), "restarts": Int("restarts", 0, 2),
               "max_iterations": Int("max_iterations", 5, 30, minimum=1, optional=True)},
              setup=pick_small, check=lambda r, c, v: _ik_ok(r, c), weight=0.6),
+        Spec("motion.solve_ik_once", solve_ik_once, [Obj("chain", lambda c: c.chain),
+                                                     Arr("target", (3,), batch=False, lo=-1.5, hi=1.5)],
+             {"q0": Q("q0", batch=False, optional=True), "method": Choice("method", ["lm", "pinv", "dls"]),
+              "tol": _tol(), "max_iterations": Int("max_iterations", 5, 30, minimum=1, optional=True)},
+             setup=pick_small, check=lambda r, c, v: _ik_ok(r, c), weight=0.4),
         Spec("motion.solve_ik (pose)", solve_ik, [Obj("chain", lambda c: c.chain), Tf("target", batch=False)],
              {"restarts": Const("restarts", 1), "tool": Tf("tool", batch=False, optional=True)},
              setup=pick_small, check=lambda r, c, v: _ik_ok(r, c), weight=0.4, covers=()),
@@ -754,6 +763,20 @@ class Answer(Arg):
         }[kind]
 
 
+class _Configuration(Answer):
+    """A student's configuration for the UR10 (valid: any (6,) array)."""
+
+    def valid(self, ctx: Ctx) -> Any:
+        return ctx.rng.uniform(-2.0, 2.0, 6)
+
+
+class _SolutionRows(Answer):
+    """A student's set of AR-601 solutions (valid: any (k, 6) array)."""
+
+    def valid(self, ctx: Ctx) -> Any:
+        return ctx.rng.uniform(-2.0, 2.0, (int(ctx.rng.integers(1, 9)), 6))
+
+
 def _is_result(r: Any, c: Ctx, v: dict) -> None:
     assert isinstance(r, CheckResult) and isinstance(r.message, str) and r.message, r
 
@@ -799,6 +822,114 @@ def check_specs() -> list[Spec]:
     return S
 
 
+# ------------------------------------------------------------------ views
+class _Points(Arr):
+    """Points (N, 3) with N >= 1 (a batch of at least one point)."""
+
+    def valid(self, ctx: Ctx) -> Any:
+        return ctx.rng.uniform(-1.0, 1.0, (int(ctx.rng.integers(1, 5)) + (1 if self.name == "path" else 0), 3))
+
+    def default_bad(self, ctx: Ctx) -> tuple[str, ...]:
+        return NONNUMERIC + NONFINITE + ("complex", "shape", "ragged", "empty", "huge")
+
+    def corrupt(self, kind: str, ctx: Ctx) -> Any:
+        if kind == "empty":
+            return np.zeros((0, 3))
+        if kind == "huge":
+            return np.array([[0.0, 0.0, 0.0], [1e39, 0.0, 0.0]])
+        if kind == "shape":
+            return ctx.rng.uniform(-1.0, 1.0, (3, 4))
+        return super().corrupt(kind, ctx)
+
+
+class _Pose(Tf):
+    """One rigid transform; also corrupted into a scaled one (2 I)."""
+
+    def __init__(self, name: str) -> None:
+        super().__init__(name, batch=False)
+
+    def default_bad(self, ctx: Ctx) -> tuple[str, ...]:
+        return super().default_bad(ctx) + ("scaled",)
+
+    def corrupt(self, kind: str, ctx: Ctx) -> Any:
+        if kind == "scaled":
+            return 2.0 * np.eye(4)
+        return super().corrupt(kind, ctx)
+
+
+def _view_chain(ctx: Ctx) -> Any:
+    return models.planar_two_link()
+
+
+class _Steps(Arr):
+    def valid(self, ctx: Ctx) -> Any:
+        return ctx.rng.uniform(-1.0, 1.0, (4, 2))
+
+
+def _close_figures(result: Any, ctx: Ctx, values: dict) -> None:
+    import matplotlib.pyplot as plt
+
+    plt.close("all")
+
+
+def view_specs() -> list[Spec]:
+    """Every public function of robokin.views that draws what it is given (static and matplotlib)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from robokin import views
+
+    def scene_call(method: str) -> Any:
+        def call(*args: Any, **kwargs: Any) -> Any:
+            scene = views.Scene()
+            getattr(scene, method)(*args, **kwargs)
+            return scene.to_html() and None  # the page is made: nothing reached the packer unchecked
+
+        call.__name__ = method
+        return call
+
+    chain = Obj("chain", _view_chain)
+    q = Arr("q", (2,), batch=False, optional=True)
+    steps = _Steps("trajectory", (4, 2), batch=False, extra_bad={"empty": lambda c: np.zeros((0, 2))})
+    return [
+        Spec("views.Scene.add_chain", scene_call("add_chain"), [chain, q], finite=False, weight=0.3),
+        Spec("views.Scene.add_ghost", scene_call("add_ghost"), [chain, q], finite=False, weight=0.2),
+        Spec("views.Scene.add_target", scene_call("add_target"), [_Pose("T")], finite=False, weight=0.3),
+        Spec("views.Scene.add_points", scene_call("add_points"), [_Points("points", (3,))],
+             {"radius": Num("radius", positive=True, optional=True)}, finite=False, weight=0.3),
+        Spec("views.Scene.add_path", scene_call("add_path"), [_Points("path", (3,), labels=("points",))],
+             finite=False, weight=0.3),
+        Spec("views.Scene.animate", scene_call("animate"), [chain, steps],
+             {"dt": Num("dt", 0.01, 0.5, positive=True)}, finite=False, weight=0.3),
+        Spec("views.show", views.show, [chain, q],
+             {"trajectory": _Steps("trajectory", (4, 2), batch=False, optional=True,
+                                   extra_bad={"empty": lambda c: np.zeros((0, 2))}),
+              "mode": Const("mode", "static")}, finite=False, weight=0.3),
+        Spec("views.plot_chain", views.plot_chain, [chain, q], check=_close_figures, finite=False, weight=0.2),
+        Spec("views.plot_history", lambda q: views.plot_history(q=q), [_Steps("q", (4, 2), batch=False,
+             extra_bad={"empty": lambda c: np.zeros((0, 2))}, bad=("none", "str", "strlist", "object"))],
+             check=_close_figures, finite=False, weight=0.2),
+    ]
+
+
+def solution_check_specs() -> list[Spec]:
+    """The ready-made checks of robokin.check.solutions: student garbage -> a failed CheckResult."""
+    arm = models.ur10()
+    goal = arm.fk(np.array([0.3, -1.2, 1.4, -1.0, -1.57, 0.4]))
+    chain = Obj("chain", lambda c: arm)
+    ref = models.ar601_leg_ik(models.ar601_leg().fk(np.array([0.1, 0.05, -0.3, 0.6, -0.3, -0.05]))).q
+    return [
+        Spec("check.ik_solution", lambda q, chain, target, atol: check.ik_solution(q, chain, target, atol=atol,
+                                                                                   quiet=True),
+             [_Configuration("q"), chain, Const("target", goal), Num("atol", 1e-8, 1e-3, positive=True)],
+             student=("q",), check=_is_result, weight=0.3),
+        Spec("check.solution_set", lambda solutions, reference, atol: check.solution_set(
+             solutions, reference, atol=atol, quiet=True),
+             [_SolutionRows("solutions"), Const("reference", ref), Num("atol", 1e-8, 1e-3, positive=True)],
+             student=("solutions",), check=_is_result, weight=0.3),
+    ]
+
+
 def all_specs() -> list[Spec]:
     return (transform_specs() + chain_method_specs() + construction_specs() + model_specs() + urdf_specs()
-            + motion_specs() + parallel_specs() + check_specs())
+            + motion_specs() + parallel_specs() + check_specs() + solution_check_specs() + view_specs())

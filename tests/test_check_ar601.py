@@ -153,5 +153,97 @@ def test_ik_solver_wrong_ankle_point():
         T2[:3, 3] = T[:3, 3] + 0.1 * np.array([0.0, 0.0, 1.0]) - 0.1 * T[:3, 2]
         return ar601_leg_ik(T2).q
     r = ck.ik_solver(base_z_ankle, quiet=True)
-    assert r.diagnosis in ("orientation_only", "no_solution"), r.message
+    assert r.diagnosis in ("ankle_point_base_z", "no_solution"), r.message
     assert ck.ik_solver(np.zeros(6), quiet=True).diagnosis == "constant"
+
+
+def _leg_ik(T, ankle, knee):
+    """The chapter's construction with a pluggable ankle point and knee (non-negative branch)."""
+    l1, l2, _ = ck.LENGTHS
+    R, a = T[:3, :3], ankle(T)
+    d = np.linalg.norm(a)
+    if not abs(ck.LENGTHS[0] - ck.LENGTHS[1]) <= d <= ck.LENGTHS[0] + ck.LENGTHS[1]:
+        return np.zeros((0, 6))
+    q4 = knee(d)
+    u = R.T @ a
+    rho, phi = np.hypot(u[1], u[2]), np.arctan2(u[2], u[1])
+    c6 = -l1 * np.sin(q4) / rho
+    if abs(c6) > 1:
+        return np.zeros((0, 6))
+    q6 = np.arccos(c6) - phi
+    w = Rx_num(q6) @ u
+    k = l1 * np.cos(q4) + l2
+    q5 = np.arctan2(w[0] / k, -w[2] / k)
+    from robokin.transforms import rotation_from_rpy, rpy_from_rotation  # noqa: F401
+
+    R_H = R @ (Rx_num(q4) @ Ry_num(q5) @ Rx_num(q6)).T
+    roll, pitch, yaw = rpy_from_rotation(R_H)
+    return np.array([yaw, pitch, roll, q4, q5, q6])
+
+
+def Rx_num(t):
+    c, s = math.cos(t), math.sin(t)
+    return np.array([[1, 0, 0], [0, c, -s], [0, s, c]])
+
+
+def Ry_num(t):
+    c, s = math.cos(t), math.sin(t)
+    return np.array([[c, 0, s], [0, 1, 0], [-s, 0, c]])
+
+
+def foot_ankle(T):
+    return T[:3, 3] + ck.LENGTHS[2] * T[:3, 2]
+
+
+def knee_ok(d):
+    l1, l2, _ = ck.LENGTHS
+    return math.acos((d * d - l1 * l1 - l2 * l2) / (2 * l1 * l2))
+
+
+def test_ik_solver_construction_is_right():
+    # the helper above is a correct solver: the diagnoses below come from the mistakes alone
+    r = ck.ik_solver(lambda T: _leg_ik(T, foot_ankle, knee_ok), quiet=True)
+    assert r.passed, r.message
+
+
+def test_ik_solver_blames_the_knee_only_when_the_ankle_point_is_right():
+    # interior angle: the ankle point is right, the knee is wrong; the orientation stays exact
+    def interior(d):
+        return math.pi - knee_ok(d)
+
+    r = ck.ik_solver(lambda T: _leg_ik(T, foot_ankle, interior), quiet=True)
+    assert r.diagnosis == "hip_ankle_distance", r.message
+    assert "a = p + L3 R e_z, along" not in r.message and "knee" in r.message
+
+
+@pytest.mark.parametrize("ankle, code", [
+    (lambda T: T[:3, 3] + np.array([0.0, 0.0, ck.LENGTHS[2]]), "ankle_point_base_z"),
+    (lambda T: T[:3, 3] - ck.LENGTHS[2] * T[:3, 2], "ankle_point_sign"),
+    (lambda T: T[:3, 3].copy(), "ankle_point_missing"),
+])
+def test_ik_solver_names_the_wrong_ankle_point(ankle, code):
+    r = ck.ik_solver(lambda T: _leg_ik(T, ankle, knee_ok), quiet=True)
+    assert r.diagnosis in (code, "no_solution"), r.message
+    if r.diagnosis == code:
+        assert "ankle point" in r.message
+
+
+def test_ik_solver_wrong_ankle_angles_at_the_right_distance():
+    # q6 from the other arccos branch but q5 kept from the first: right |a|, wrong ankle
+    def bad(T):
+        q = _leg_ik(T, foot_ankle, knee_ok)
+        if len(q) == 0:
+            return q
+        q = q.copy()
+        q[5] += 0.3
+        R = T[:3, :3]
+        # re-solve the hip so that the orientation is exact again
+        from robokin.transforms import rpy_from_rotation
+
+        R_H = R @ (Rx_num(q[3]) @ Ry_num(q[4]) @ Rx_num(q[5])).T
+        roll, pitch, yaw = rpy_from_rotation(R_H)
+        q[:3] = [yaw, pitch, roll]
+        return q
+
+    r = ck.ik_solver(bad, quiet=True)
+    assert r.diagnosis == "ankle_angles", r.message

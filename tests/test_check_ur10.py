@@ -141,4 +141,86 @@ def test_references_match_robokin_solvers():
 def test_registered():
     from robokin.check._registry import _REGISTRY
 
-    assert set(_REGISTRY["ur10"]) == {"weighted_pinv", "dls_step", "nullspace_projector"}
+    assert set(_REGISTRY["ur10"]) == {"weighted_pinv", "dls_step", "nullspace_projector", "ik_position"}
+
+
+# ---------------------------------------------------------------- the IK loop
+def loop_for(chain, p_goal, q0, step, max_step=0.5, tol=1e-9, max_iterations=100, *,
+             sign=1.0, cap=True, per_joint=False, clamp=True, early_stop=True):
+    """An IK loop written independently of the check's reference (a for loop that
+    returns from inside, the cap as a division, the limits with minimum/maximum)."""
+    lower, upper = chain.limits[:, 0], chain.limits[:, 1]
+    q = np.array(q0, dtype=float)
+    for iteration in range(max_iterations + 1):
+        e = sign * (p_goal - chain.fk(q)[:3, 3])
+        if early_stop and np.sqrt(e @ e) <= tol:
+            return q, True, iteration
+        if iteration == max_iterations:
+            return q, bool(np.sqrt(e @ e) <= tol), iteration
+        dq = step(chain.position_jacobian(q), e, q)
+        length = np.sqrt(dq @ dq)
+        if per_joint:
+            dq = np.clip(dq, -max_step, max_step)
+        elif cap and length > max_step:
+            dq = dq / length * max_step
+        q = q + dq
+        if clamp:
+            q = np.minimum(np.maximum(q, lower), upper)
+
+
+WRONG_LOOP = {
+    "error_sign": dict(sign=-1.0),
+    "no_step_cap": dict(cap=False),
+    "step_cap_per_joint": dict(per_joint=True),
+    "no_joint_limits": dict(clamp=False),
+    "no_early_stop": dict(early_stop=False),
+}
+
+
+def test_loop_correct_passes():
+    r = ur.ik_position(loop_for, quiet=True)
+    assert r.passed and r.samples == 20, r.message
+
+
+@pytest.mark.parametrize("code", sorted(WRONG_LOOP))
+def test_loop_mistakes(code):
+    def wrong(*args):
+        return loop_for(*args, **WRONG_LOOP[code])
+
+    r = ur.ik_position(wrong, quiet=True)
+    assert not r.passed and r.diagnosis == code, r.message
+
+
+def test_loop_must_return_a_tuple():
+    r = ur.ik_position(lambda *args: loop_for(*args)[0], quiet=True)
+    assert not r.passed and r.diagnosis == "error" and "(q, converged, iterations)" in r.message
+
+
+def test_loop_samples_exercise_every_branch():
+    """Some sampled runs converge within their budget and some do not, and the
+    check's goals make the cap and the limits act at some samples."""
+    X = ur.ik_position.sample_points()
+    R = np.array([ur._loop_ref(x) for x in X])
+    assert 0 < R[:, 6].sum() < len(X)
+    for kwargs in (dict(cap=None), dict(clamp=False)):
+        M = np.array([ur._loop(*ur._loop_args(x), **kwargs) for x in X])
+        assert (~np.all(np.isclose(M, R, atol=1e-7), axis=1)).sum() >= 2
+
+
+def test_loop_reference_matches_solve_ik():
+    """Where no joint reaches a limit, the reference loop takes solve_ik's steps."""
+    from robokin.motion import solve_ik
+
+    chain = ur._cell()
+    compared = 0
+    for x in ur.ik_position.sample_points()[:8]:
+        _, p_goal, q0, _, max_step, tol, _ = ur._loop_args(x)
+        out = ur._loop(chain, p_goal, q0, ur._pinv_step, max_step, tol, 100)
+        res = solve_ik(chain, p_goal, q0=q0, method="pinv", max_step=max_step, tol=tol,
+                       restarts=0, polish=False, max_iterations=100)
+        touched = np.any(np.isclose(res.history.q, chain.limits[:, 0]) | np.isclose(res.history.q, chain.limits[:, 1]))
+        if res.success and not touched:
+            assert out[6] == 1.0 and out[7] == res.iterations
+            np.testing.assert_allclose(out[:6], res.q, atol=1e-9)
+            compared += 1
+    assert compared >= 4

@@ -17,6 +17,7 @@ from robokin.motion import (
     NullSpace,
     PseudoInverse,
     WeightedPseudoInverse,
+    pose_error,
     solve_ik,
 )
 from robokin.motion._kernels import rotation_log_fast, rotation_log_single, tool_jacobian
@@ -386,17 +387,31 @@ def test_user_gradient_callable_is_used():
 
 # ------------------------------------------------------------ kernels
 def test_rotation_log_kernels_match_transforms():
+    """The atan2-based kernels agree with transforms.rotation_log to 1e-12 rad, also within 1e-3 of pi
+    (the former arccos form lost up to 3.5e-8 rad there)."""
     rng = np.random.default_rng(0)
-    angles = [0.0, 1e-9, 1e-5, 0.3, 2.0, np.pi - 1e-2, np.pi - 1e-5, np.pi - 1e-8]
-    for th in angles:
-        h = rng.normal(size=3)
-        h /= np.linalg.norm(h)
-        R = rotation_exp(th * h)
-        w = rotation_log(R)
-        assert np.allclose(rotation_log_fast(R), w, atol=1e-7)
-        assert np.allclose(rotation_log_single(R), w, atol=1e-7)
-    Rs = rotation_exp(rng.normal(size=(50, 3)))
-    assert np.allclose(rotation_log_fast(Rs), rotation_log(Rs), atol=1e-9)
+    axes = rng.normal(size=(3000, 3))
+    axes /= np.linalg.norm(axes, axis=1, keepdims=True)
+    angles = np.concatenate((np.pi - rng.uniform(0.0, 1e-3, 1000), np.pi - np.logspace(-16, -3, 500),
+                             rng.uniform(0.0, np.pi, 1000), np.logspace(-12, -3, 500)))
+    R = rotation_exp(angles[:, None] * axes)
+    w = rotation_log(R)
+    assert np.abs(rotation_log_fast(R) - w).max() < 1e-12
+    assert np.abs(np.array([rotation_log_single(r) for r in R]) - w).max() < 1e-12
+    assert np.allclose(np.linalg.norm(rotation_log_fast(R), axis=1), angles, rtol=0, atol=1e-12)
+    Rs = rotation_exp(rng.normal(size=(500, 3)))
+    assert np.abs(rotation_log_fast(Rs) - rotation_log(Rs)).max() < 1e-12
+
+
+def test_pose_error_at_exactly_pi_makes_the_largest_axis_component_positive():
+    """At theta = pi both axis signs are right; pose_error returns the one whose largest-magnitude
+    component is positive (as its docstring says)."""
+    for h in ([0.0, 0.0, -1.0], [0.6, -0.8, 0.0], [-1.0, 0.0, 0.0]):
+        h = np.asarray(h)
+        R = 2.0 * np.outer(h, h) - np.eye(3)  # rotation by pi about h, exactly symmetric
+        e = pose_error(np.eye(4), transform(R, np.zeros(3)))[3:]
+        expected = np.pi * h * np.sign(h[np.argmax(np.abs(h))])
+        assert np.allclose(e, expected, atol=1e-15)
 
 
 def test_classify_stall():

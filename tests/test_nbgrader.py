@@ -52,6 +52,7 @@ pytest.importorskip("nbgrader", reason="nbgrader is not installed: run `make tes
 NOTEBOOKS = Path(os.environ.get("ROBOKIN_NBGRADER_NOTEBOOKS", ROOT / "notebooks")).resolve()
 CHAPTERS = [p.stem for p in nbgrader_metadata.chapter_notebooks(NOTEBOOKS.parent, NOTEBOOKS.name)]
 WALKTHROUGH_CHAPTER = "03_three_rpr"
+HIDDEN_TESTS = re.compile(r"\n?### BEGIN HIDDEN TESTS\n.*?### END HIDDEN TESTS\n?", re.S)
 WORKERS = 2
 TIMEOUT_FOR_BAD_SUBMISSION = 10  # seconds per cell, for the submission that runs forever
 
@@ -581,8 +582,10 @@ def test_student_edition_has_no_solutions(graded, chapter):
     stubs = [c for c in release["cells"] if nbg(c).get("solution")]
     assert stubs and all("# YOUR CODE HERE" in src(c) for c in stubs)
     # the problem, the tests and the Try-it-yourself cells are all there
-    kept = [src(c) for c in run.source["cells"] if not nbg(c).get("solution") and rk(c).get("role") != "prose"]
-    assert kept == [src(c) for c in release["cells"] if not nbg(c).get("solution")
+    # hidden tests (### BEGIN/END HIDDEN TESTS) are left out of the student edition
+    kept = [HIDDEN_TESTS.sub("", src(c)).rstrip("\n") for c in run.source["cells"]
+            if not nbg(c).get("solution") and rk(c).get("role") != "prose"]
+    assert kept == [src(c).rstrip("\n") for c in release["cells"] if not nbg(c).get("solution")
                     and rk(c).get("role") != "prose" and nbg(c).get("grade_id") != "robokin-points"]
     points = run.source["metadata"]["robokin"]["grading"]["points"]
     header = next(src(c) for c in release["cells"] if nbg(c).get("grade_id") == "robokin-points")

@@ -8,6 +8,7 @@ of the notebooks: stored executed top to bottom, exercise structure, and the
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 
 import pytest
@@ -26,6 +27,9 @@ ALLOWED_TAGS = {
     "remove-cell",         # set-up cells that the book does not show
     "check",               # asserts the computed values against independent references
 }
+
+#: A check cell's weight in points (``points-N``, tools/nbgrader_metadata.py); only on check cells.
+POINTS_TAG = re.compile(r"^points-[1-9][0-9]?$")
 
 #: Output types that may be left out of nbval's comparison.
 UNCOMPARABLE_MIME = {"image/png", "image/svg+xml", "text/html", "application/vnd.jupyter.widget-view+json"}
@@ -73,8 +77,12 @@ def test_no_warnings_in_outputs(path):
 def test_tags(path):
     for index, cell in enumerate(load(path)["cells"]):
         tags = set(cell.get("metadata", {}).get("tags", []))
-        unknown = tags - ALLOWED_TAGS
+        unknown = {t for t in tags - ALLOWED_TAGS if not POINTS_TAG.match(t)}
         assert not unknown, f"{path.name} cell {index}: unknown tags {unknown}"
+        points = {t for t in tags if POINTS_TAG.match(t)}
+        assert not points or ("check" in tags and len(points) == 1), (
+            f"{path.name} cell {index}: {points} belongs on one check cell"
+        )
         if "nbval-ignore-output" in tags:
             mimes = {m for o in cell.get("outputs", []) for m in o.get("data", {})}
             assert mimes & UNCOMPARABLE_MIME, (
@@ -278,3 +286,17 @@ def test_figure_fonts_are_at_least_9pt(path):
                 points = match.group(1) or match.group(3)
                 assert points is not None and float(points) >= 9, (
                     f"{path.name} cell {index}: a font below 9 pt: {line.strip()}")
+
+
+@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
+def test_no_comments_behind_closing_brackets(path):
+    """``)  # why`` reads as a comment about a bracket: a comment that does not fit behind
+    its statement goes above it (tools/format_notebooks.py moves it there)."""
+    import re
+
+    dangling = re.compile(r"^\s*[)\]}]+[,;]?\s+#")
+    found = [(index, line.strip()[:60]) for index, cell in enumerate(load(path)["cells"])
+             if cell["cell_type"] == "code"
+             for line in "".join(cell["source"]).splitlines() if dangling.match(line)]
+    assert not found, (f"{path.name}: {len(found)} comments behind closing brackets (run "
+                       f"tools/format_notebooks.py): {found[:3]}")

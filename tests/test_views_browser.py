@@ -136,3 +136,29 @@ def test_large_command_shared_by_two_scenes_is_stored_once(tmp_path, browser):
     pg.evaluate("document.querySelectorAll('.robokin-scene')[1].scrollIntoView()")
     pg.wait_for_function("document.querySelectorAll('.robokin-scene canvas').length == 2", timeout=20_000)
     assert not errors, errors
+
+
+def test_point_cloud_renders_in_chromium(tmp_path, browser):
+    """More than 500 points are one MeshCat Points object: drawn, and the page stays small."""
+    from robokin.views import Scene
+    from robokin.views.static_html import save_page
+
+    rng = np.random.default_rng(1)
+    cloud = Scene(height=400)
+    cloud.add_points(rng.uniform(-0.5, 0.5, (20_000, 3)), radius=0.01, color=0xFF0000)
+    empty = Scene(height=400)
+    empty.add_points([[0.0, 0.0, 0.0]], radius=1e-4)
+    page = save_page(tmp_path / "index.html", [cloud, empty])
+    assert len(page.read_text()) < 600_000        # 12 bytes a point, base64: ~320 kB
+    pg, errors = watched_page(browser, 800, 900)
+    pg.goto(page.as_uri())
+    pg.wait_for_function("document.querySelectorAll('.robokin-scene canvas').length == 2", timeout=20_000)
+    pg.wait_for_timeout(1500)
+    import io
+
+    from PIL import Image
+    shots = [np.asarray(Image.open(io.BytesIO(c.screenshot())).convert("RGB"), dtype=int)
+             for c in pg.query_selector_all(".robokin-scene canvas")]
+    red = (shots[0][..., 0] > 150) & (shots[0][..., 1] < 80) & (shots[0][..., 2] < 80)
+    assert red.sum() > 2000, "point cloud not drawn"
+    assert not errors, errors

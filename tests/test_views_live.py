@@ -71,11 +71,9 @@ def test_server_on_loopback_free_port_and_cleaned_up():
         try:
             assert viewer.alive
             assert viewer.port != 7000
-            assert viewer.web_url == f"http://127.0.0.1:{viewer.port}/static/"
+            assert viewer.web_url == f"http://127.0.0.1:{viewer.port}/{viewer.secret}/static/"
             listening = _listening(viewer.pid)
-            assert listening, "server listens on nothing"
-            assert all(ip == "127.0.0.1" for ip, _ in listening), listening
-            assert ("127.0.0.1", viewer.port) in listening
+            assert listening == {("127.0.0.1", viewer.port)}, listening   # commands come over ipc, not TCP
             # drawing and transform-only updates work
             from robokin.views import Scene
             from robokin.views.meshcat_draw import chain_transforms
@@ -163,6 +161,7 @@ def test_proxy_url(monkeypatch):
                         lambda name, *a: object() if name == "jupyter_server_proxy" else real(name, *a))
     monkeypatch.setenv("JUPYTERHUB_SERVICE_PREFIX", "/user/ada/")
     assert proxy_url(7001) == "/user/ada/proxy/7001/static/"
+    assert proxy_url(7001, "s3cret") == "/user/ada/proxy/7001/s3cret/static/"
     monkeypatch.delenv("JUPYTERHUB_SERVICE_PREFIX")
     assert proxy_url(7001) == "/proxy/7001/static/"
 
@@ -179,3 +178,29 @@ def test_proxy_url_on_a_hub_even_if_the_kernel_lacks_the_proxy(monkeypatch):
     assert proxy_url(7002) == "/user/ada/proxy/7002/static/"
     monkeypatch.delenv("JUPYTERHUB_SERVICE_PREFIX")
     assert proxy_url(7002) is None
+
+
+def test_only_the_owner_reaches_the_server():
+    """Another user of the machine knows the port but not the secret: 404 for pages and websocket;
+    the command socket is in a folder only the owner can open; the secret is not on the command line."""
+    import stat
+    import urllib.error
+    import urllib.request
+
+    with LiveViewer() as viewer:
+        base = f"http://127.0.0.1:{viewer.port}"
+        for path in ("/static/", "/static/main.min.js", "/", "/wrong-secret-0123456789/static/",
+                     f"/{viewer.secret[:-1]}/static/"):
+            with pytest.raises(urllib.error.HTTPError) as info:
+                urllib.request.urlopen(base + path, timeout=5)
+            assert info.value.code == 404, path
+        assert urllib.request.urlopen(viewer.web_url, timeout=5).status == 200
+        assert urllib.request.urlopen(viewer.web_url + "main.min.js", timeout=5).status == 200
+        assert viewer.zmq_url.startswith("ipc://")
+        folder = os.path.dirname(viewer.zmq_url[len("ipc://"):])
+        mode = os.stat(folder)
+        assert stat.S_IMODE(mode.st_mode) == 0o700 and mode.st_uid == os.getuid()
+        with open(f"/proc/{viewer.pid}/cmdline", "rb") as f:
+            assert viewer.secret.encode() not in f.read()
+        assert viewer.secret in viewer.url
+    assert not os.path.exists(folder), "the private folder outlived the server"

@@ -84,14 +84,70 @@ def wrap_long_text(code: str) -> str:
     return "\n".join(out) + ("\n" if code.endswith("\n") else "")
 
 
-def format_code(code: str) -> str:
+#: A line of closing brackets with a comment behind it: ``)  # why``, what black leaves when a
+#: trailing comment made a statement too long. The comment belongs above the statement.
+DANGLING_COMMENT = re.compile(r"^\s*[)\]}]+[,;]?\s+#")
+
+
+def _trailing_comments(code: str) -> list[tuple[int, int, int]]:
+    """``(comment line, column, first line of its statement)`` of every comment after code."""
+    out, start = [], None
+    try:
+        for tok in tokenize.generate_tokens(io.StringIO(code).readline):
+            if tok.type in (tokenize.NEWLINE, tokenize.NL) and start is not None and tok.type == tokenize.NEWLINE:
+                start = None
+            elif tok.type == tokenize.COMMENT:
+                if tok.line[: tok.start[1]].strip():
+                    out.append((tok.start[0], tok.start[1], start or tok.start[0]))
+            elif tok.type not in (tokenize.NL, tokenize.INDENT, tokenize.DEDENT, tokenize.ENCODING) and start is None:
+                start = tok.start[0]
+    except (tokenize.TokenError, IndentationError, SyntaxError):
+        return []
+    return out
+
+
+def hoist_comments(code: str, only_dangling: bool) -> str:
+    """Move trailing comments above their statement: those on lines longer than LIMIT (before
+    black, so that a comment does not split a statement), or those left behind closing brackets
+    (``)  # ...``, after black)."""
+    lines = code.splitlines()
+    moves: dict[int, list[str]] = {}
+    for number, column, first in reversed(_trailing_comments(code)):
+        line = lines[number - 1]
+        if only_dangling and not DANGLING_COMMENT.match(line):
+            continue
+        if not only_dangling and len(line) <= LIMIT:
+            continue
+        head = lines[first - 1]
+        indent = head[: len(head) - len(head.lstrip())]
+        moves.setdefault(first, []).insert(0, indent + line[column:].strip())
+        lines[number - 1] = line[:column].rstrip()
+    if not moves:
+        return code
+    out = []
+    for number, line in enumerate(lines, 1):
+        out.extend(moves.get(number, []))
+        out.append(line)
+    return "\n".join(out) + ("\n" if code.endswith("\n") else "")
+
+
+def _black(code: str) -> str:
     import black
 
     mode = black.Mode(line_length=LIMIT, unstable=True, is_ipynb=True)
     try:
-        formatted = black.format_cell(code, fast=False, mode=mode)
+        return black.format_cell(code, fast=False, mode=mode)
     except black.NothingChanged:
-        formatted = code
+        return code
+
+
+def format_code(code: str) -> str:
+    """black at LIMIT columns, with trailing comments that do not fit moved above their statement,
+    then long comments and docstrings wrapped."""
+    formatted = _black(hoist_comments(code, only_dangling=False))
+    hoisted = hoist_comments(formatted, only_dangling=True)
+    if hoisted != formatted:
+        formatted = _black(hoisted)
     return wrap_long_text(formatted)
 
 

@@ -1,7 +1,13 @@
 #!/usr/bin/env python3
 """Write the first code cell of every notebook: install robokin where it is missing.
 
-    .venv/bin/python tools/install_cell.py           # write (idempotent)
+    .venv/bin/python tools/install_cell.py                     # every chapter (idempotent)
+    .venv/bin/python tools/install_cell.py notebooks/07_x.ipynb # one notebook
+    .venv/bin/python tools/install_cell.py --check              # exit 1 if a cell is missing or stale
+
+Run it before ``tools/format_notebooks.py`` and ``tools/nbgrader_metadata.py`` (it
+writes the cell already formatted; the metadata script then gives it its nbgrader
+metadata).
 
 Colab's launch button opens a notebook without the rest of the repository, so the
 notebook has to install robokin itself. The cell does that only when robokin is not
@@ -14,6 +20,7 @@ script and ``make execute``; ``tests/test_notebook_conventions.py`` fails until 
 
 from __future__ import annotations
 
+import argparse
 import sys
 from pathlib import Path
 
@@ -32,8 +39,17 @@ import subprocess
 import sys
 
 if importlib.util.find_spec("robokin") is None:
-    subprocess.run([sys.executable, "-m", "pip", "install", "--quiet",
-                    "robokin[views] @ git+{url}"], check=True)'''
+    subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "pip",
+            "install",
+            "--quiet",
+            "robokin[views] @ git+{url}",
+        ],
+        check=True,
+    )'''  # as tools/format_notebooks.py (black) writes it
 
 
 def install_code(root: Path = ROOT) -> str:
@@ -41,8 +57,9 @@ def install_code(root: Path = ROOT) -> str:
     return TEMPLATE.format(url=url)
 
 
-def write(path: Path, code: str) -> bool:
-    """Put the install cell before the first code cell (or update it); True if changed."""
+def write(path: Path, code: str, dry_run: bool = False) -> bool:
+    """Put the install cell before the first code cell (or update it); True if changed
+    (with ``dry_run``: True if it would change, and nothing is written)."""
     nb = load_notebook(path)
     cells = nb["cells"]
     cell = next((c for c in cells if c["cell_type"] == "code" and MARK in "".join(c["source"])), None)
@@ -54,16 +71,34 @@ def write(path: Path, code: str) -> bool:
         cells.insert(next(i for i, c in enumerate(cells) if c["cell_type"] == "code"), cell)
     elif "".join(cell["source"]) == code:
         return False
+    if dry_run:
+        return True
     cell["source"] = code.splitlines(keepends=True)
     path.write_text(dump_notebook(nb), encoding="utf-8")
     return True
 
 
-def main() -> int:
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("notebooks", nargs="*", type=Path,
+                        help="notebooks to write (default: every notebooks/NN_*.ipynb)")
+    parser.add_argument("--check", action="store_true", help="write nothing; exit 1 naming stale notebooks")
+    args = parser.parse_args(argv)
     code = install_code()
-    for path in sorted((ROOT / "notebooks").glob("[0-9][0-9]_*.ipynb")):
-        if write(path, code):
-            print(f"install cell written: {path.relative_to(ROOT)}")
+    paths = args.notebooks or sorted((ROOT / "notebooks").glob("[0-9][0-9]_*.ipynb"))
+    stale = []
+    for path in paths:
+        if not path.is_file():
+            parser.error(f"{path}: no such notebook")
+        if write(path, code, dry_run=args.check):
+            stale.append(path)
+            if not args.check:
+                print(f"install cell written: {path}")
+    if args.check and stale:
+        print("STALE install cell (run tools/install_cell.py, then tools/format_notebooks.py and "
+              "tools/nbgrader_metadata.py): " + ", ".join(map(str, stale)), file=sys.stderr)
+        return 1
     return 0
 
 

@@ -29,6 +29,7 @@ end-effector (including the tool transform).
 from __future__ import annotations
 
 import math
+from collections import Counter
 from collections.abc import Callable, Sequence
 from typing import Any
 
@@ -162,7 +163,7 @@ class SerialChain:
         if not joints:
             raise ValueError("elements must contain at least one joint element")
         names = [el.joint for el in joints]
-        dup = sorted({x for x in names if names.count(x) > 1})
+        dup = sorted(name for name, count in Counter(names).items() if count > 1)
         if dup:
             raise ValueError(f"joint names must be unique; repeated: {dup}")
         self._elements: tuple[Element, ...] = tuple(elements)

@@ -13,8 +13,11 @@ check returns a :class:`CheckResult` (``.passed``, ``.message``, ``.diagnosis``)
 ``raise_on_fail=True`` turns a wrong answer into an ``AssertionError`` and
 ``quiet=True`` suppresses the printout (for autograders).
 
-Generic checks: :func:`matrix_function` (a function of some variables) and
-:func:`value` (a number or array). Chapter checks live in submodules listed in
+Generic checks: :func:`matrix_function` (a function of some variables: a
+matrix, a transform, a Jacobian -- ``kind=`` picks the typical mistakes),
+:func:`value` (a number or array), :func:`ik_solution` (any configuration that
+reaches a target) and :func:`solution_set` (all solutions, each once, in any
+order). Chapter checks live in submodules listed in
 :data:`robokin.check._registry.CHAPTERS` and are imported on first access
 (``robokin.check.leg``).
 """
@@ -35,6 +38,7 @@ from robokin.check._core import (
     value,
 )
 from robokin.check._registry import CHAPTERS, checks_of
+from robokin.check.solutions import ik_solution, solution_set
 
 __all__ = [
     "Check",
@@ -46,6 +50,8 @@ __all__ = [
     "matrix_function",
     "mistake",
     "value",
+    "ik_solution",
+    "solution_set",
     "checks_of",
     "CHAPTERS",
 ]

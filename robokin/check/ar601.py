@@ -18,7 +18,12 @@ check                the student's answer                                       
 
 A solution that puts the foot at the right *place* but with the wrong
 *orientation* is recognised and explained (a 6-DOF leg has to match all six
-numbers of the pose).
+numbers of the pose). One with the right orientation but the wrong place is
+explained by the step the numbers single out: a typical wrong ankle point
+(``ankle_point_base_z``, ``ankle_point_sign``, ``ankle_point_missing``), a knee
+angle that does not fit the hip–ankle distance (``hip_ankle_distance``: the ankle
+point or the knee is wrong), or ankle angles that put the ankle elsewhere at the
+right distance (``ankle_angles``).
 """
 
 from __future__ import annotations
@@ -239,6 +244,7 @@ knee_angle = exercise(_CH, "knee_angle", Check(
 # ------------------------------------------------------------------ inverse kinematics
 _TOL_P = 1e-6   # m
 _TOL_R = 1e-6   # rad
+_TOL_ANKLE = 1e-5  # m: ankle points closer than this are the same (the orientation is right to 1e-4 rad)
 
 
 def _pose_errors(q: np.ndarray, T: np.ndarray) -> tuple[float, float]:
@@ -273,6 +279,51 @@ def _as_rows(answer: Any, name: str) -> tuple[np.ndarray | None, str, str]:
     return a, "", ""
 
 
+def _ankle_point(T: np.ndarray) -> np.ndarray:
+    """The ankle point a = p + L3 R e_z (3,) of a foot pose T (4×4), in m."""
+    return T[:3, 3] + LENGTHS[2] * T[:3, 2]
+
+
+def _position_diagnosis(q: np.ndarray, T: np.ndarray, dp: float, name: str) -> tuple[str, str]:
+    """(code, message) for a solution ``q`` whose orientation is right but whose position is not.
+
+    Only the hip–ankle distance depends on the knee alone (|a|² = L1² + L2² + 2 L1 L2 cos q4),
+    so a diagnosis names a step only when the numbers single it out: the ankle point of the
+    solution is one of the typical wrong ankle points; or q4 does not fit the target's
+    hip–ankle distance (then the ankle point or the knee is wrong, and the message says
+    both); or q4 fits it and the ankle angles put the ankle elsewhere on that sphere.
+    """
+    ankle_reached = _ankle_point(_fk(q))
+    p, R = T[:3, 3], T[:3, :3]
+    ankle_target = _ankle_point(T)
+    lead = f"{name} turns the foot correctly but puts it {fmt(dp, 4)} m away from the target. "
+    wrong_ankles = [
+        ("ankle_point_base_z", p + LENGTHS[2] * np.array([0.0, 0.0, 1.0]),
+         "Its ankle point is p + L3 e_z, backed off from the sole along the BASE z axis; that is "
+         "right only while the sole is level. The ankle point is a = p + L3 R e_z, along the "
+         "FOOT's z axis (the third column of R)."),
+        ("ankle_point_sign", p - LENGTHS[2] * R[:, 2],
+         "Its ankle point is p − L3 R e_z, L3 BELOW the sole. The sole is L3 below the ankle, so "
+         "the ankle point is a = p + L3 R e_z."),
+        ("ankle_point_missing", p,
+         "It treats the sole point p as the ankle point: the ankle is L3 above the sole, "
+         "a = p + L3 R e_z, and the knee comes from |a|."),
+    ]
+    for code, ankle, text in wrong_ankles:
+        if np.linalg.norm(ankle_reached - ankle) <= _TOL_ANKLE:
+            return code, lead + text
+    d_target, d_reached = float(np.linalg.norm(ankle_target)), float(np.linalg.norm(ankle_reached))
+    if abs(d_reached - d_target) > _TOL_ANKLE:
+        return "hip_ankle_distance", lead + (
+            f"Its knee angle q4 gives a hip–ankle distance of {fmt(d_reached, 4)} m, the target's is "
+            f"d = |p + L3 R e_z| = {fmt(d_target, 4)} m: the ankle point or the knee angle is wrong "
+            "(d² = L1² + L2² + 2 L1 L2 cos q4).")
+    return "ankle_angles", lead + (
+        f"Its knee angle fits the hip–ankle distance d = {fmt(d_target, 4)} m, but the ankle lands "
+        f"{fmt(float(np.linalg.norm(ankle_reached - ankle_target)), 4)} m from the target's ankle "
+        "point: look at the ankle angles (q5, q6 from u = Rᵀ a) and the hip angles.")
+
+
 def _verdict(rows: np.ndarray, T: np.ndarray, name: str) -> tuple[bool, str, str]:
     """(passed, code, message) for solutions ``rows`` of target ``T``."""
     errs = np.array([_pose_errors(q, T) for q in rows])
@@ -294,12 +345,7 @@ def _verdict(rows: np.ndarray, T: np.ndarray, name: str) -> tuple[bool, str, str
             "from the hip seen in FOOT coordinates, Rᵀ a."
         )
     if dr <= 1e-4 < dp:
-        return False, "orientation_only", (
-            f"{name}{which} turns the foot correctly but puts it {fmt(dp, 4)} m away from the target. "
-            "The angles are consistent with the orientation, so look at the position steps: the "
-            "ankle point is a = p + L3 R e_z, backed off along the FOOT's z axis (the third column "
-            "of R), and the knee comes from |a|."
-        )
+        return (False, *_position_diagnosis(rows[bad], T, dp, f"{name}{which}"))
     return False, "mismatch", (
         f"{name}{which} does not reach the target: the foot is {fmt(dp, 4)} m away and turned by "
         f"{fmt(math.degrees(dr), 1)}°. Check it with forward kinematics."

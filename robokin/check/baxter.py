@@ -331,7 +331,7 @@ def _fk_mistakes() -> list:
 
 
 forward_kinematics = exercise(_CH, "forward_kinematics", Check(
-    name="T_0E(q)",
+    name="T_BE(q)",
     reference=lambda x: _pose(x),
     variables=_Q_ANY,
     groups=[("q", list(range(7)))],
@@ -340,8 +340,8 @@ forward_kinematics = exercise(_CH, "forward_kinematics", Check(
     atol=1e-3,
     rtol=0.0,
     hint="Compare with robokin.models.baxter_left(base='shoulder').fk(q).",
-    doc=("Check a function T_0E(q) -> 4×4 pose of the hand flange in the shoulder (s0) frame, "
-          "within 1 mm (Baxter left arm, modified DH, θ2 = q2 + π/2)."),
+    doc=("Check a function T_BE(q) -> 4×4 pose of the hand flange in the base frame B "
+         "(the s0 joint frame), within 1 mm (Baxter left arm, modified DH, θ2 = q2 + π/2)."),
 ))
 
 

@@ -20,7 +20,7 @@ check                    the student's answer                                   
 ``goal_frame``           the 4×4 array :math:`{}^{B}\mathbf{T}_{G}`                     :math:`\mathbf{R}_z(-3.02)\mathbf{R}_y(-0.40)\mathbf{R}_x(-1.33)`, origin (−0.14, −0.85, 0.6) m
 ``tool_pose``            ``f(q)`` -> :math:`{}^{B}\mathbf{T}_{T}` (4×4)                  :math:`{}^{B}\mathbf{T}_{E}(\mathbf{q})\,{}^{E}\mathbf{T}_{T}`
 ``orientation_error``    ``f(R, R_goal)`` -> :math:`\theta\mathbf{h}` (3,), base frame    :math:`\log(\mathbf{R}_{goal}\mathbf{R}^\top)`
-``tool_jacobian``        ``f(J_e, R_be, p_et)`` -> :math:`\mathbf{J}_T` (6×n)              :math:`\mathbf{S}(\mathbf{R}_{BE}\,{}_E\mathbf{r}_{ET})\,\mathbf{J}_E`
+``tool_jacobian``        ``f(J_e, R_be, p_et)`` -> :math:`\mathbf{J}_T` (6×n)              :math:`\mathbf{J}_{rb}(\mathbf{R}_{BE}\,{}_E\mathbf{r}_{ET})\,\mathbf{J}_E`
 ``control_law``          ``f(J, e, gain_linear, gain_angular)`` -> :math:`\dot{\mathbf{q}}`    :math:`\mathbf{J}^+[K_l\mathbf{e}_p;\ K_a\mathbf{e}_o]`
 =======================  ==========================================================  ==========================================
 
@@ -365,8 +365,9 @@ def _oe_mistakes():
         ))]),
         alternatives("rpy_difference", [(rpy_diff, (
             "{name} is the difference of roll–pitch–yaw angles. That is not a rotation vector: "
-            "its components are angles about three different, moving axes, it is not zero-only-"
-            "when-equal near pitch = ±π/2, and it cannot be used as an angular velocity."
+            "its components are angles about three different, moving axes, near pitch = ±π/2 two "
+            "almost equal rotations can differ by whole radians in roll and yaw, and it cannot be "
+            "used as an angular velocity without the matrix E(φ) of the Euler-angle rates."
         ))]),
         alternatives("quaternion", [
             (quat_vec, (
@@ -406,25 +407,26 @@ def _tj_args(x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return _robot().jacobian(q), _robot().fk(q)[:3, :3], np.array(x[N_JOINTS:N_JOINTS + 3])
 
 
-def _S(r: np.ndarray) -> np.ndarray:
-    S = np.eye(6)
-    S[:3, 3:] = -_skew(r)
-    return S
+def _rigid_body(r: np.ndarray) -> np.ndarray:
+    """The rigid-body Jacobian J_rb(r) = [[I, -[r×]], [0, I]] for twists [v; ω]."""
+    J_rb = np.eye(6)
+    J_rb[:3, 3:] = -_skew(r)
+    return J_rb
 
 
 def _tj_ref(x: np.ndarray) -> np.ndarray:
     J, R, p = _tj_args(x)
-    return _S(R @ p) @ J
+    return _rigid_body(R @ p) @ J
 
 
 def _tj_mistakes():
     def not_rotated(x):
         J, _R, p = _tj_args(x)
-        return _S(p) @ J
+        return _rigid_body(p) @ J
 
     def plus_skew(x):
         J, R, p = _tj_args(x)
-        return _S(-(R @ p)) @ J
+        return _rigid_body(-(R @ p)) @ J
 
     def angular_first_block(x):
         J, R, p = _tj_args(x)
@@ -434,7 +436,7 @@ def _tj_mistakes():
 
     def transposed(x):
         J, R, p = _tj_args(x)
-        return _S(R @ p).T @ J
+        return _rigid_body(R @ p).T @ J
 
     def untouched(x):
         return _tj_args(x)[0]
@@ -454,8 +456,8 @@ def _tj_mistakes():
             "map is [[I, −[r×]], [0, I]]."
         ))]),
         alternatives("transposed_transport", [(transposed, (
-            "{name} uses the transposed transport matrix Sᵀ (the map of wrenches, not twists): "
-            "J_T = [[I, −[r×]], [0, I]] J_E."
+            "{name} uses the transposed transport matrix [[I, 0], [[r×], I]] (it carries wrenches, "
+            "not twists): J_T = [[I, −[r×]], [0, I]] J_E."
         ))]),
         alternatives("no_transport", [(untouched, "{name} is the end-effector Jacobian J_E: the tool offset is ignored.")]),
     ]

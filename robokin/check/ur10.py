@@ -10,7 +10,9 @@ check                    the student's function                                 
 =======================  ===========================================================  ======================
 ``weighted_pinv``        ``f(J, W)`` -> :math:`J_W^+` (6×3)                            :math:`W^{-1}J^T(JW^{-1}J^T)^{-1}`
 ``dls_step``             ``f(J, e, damping)`` -> :math:`\Delta q` (6,)                 :math:`J^T(JJ^T+\lambda^2 I)^{-1}e`
-``nullspace_projector``  ``f(J)`` -> :math:`P` (6×6)                                   :math:`I - J^+J`
+``nullspace_projector``  ``f(J)`` -> :math:`N` (6×6)                                   :math:`I - J^+J`
+``ik_position``          ``f(chain, p_goal, q0, step, max_step, tol, max_iterations)``  the IK loop below
+                         -> ``(q, converged, iterations)``
 =======================  ===========================================================  ======================
 
 ``W`` is a diagonal weight matrix (weights sampled in [0.5, 4]), ``e`` a position
@@ -19,6 +21,16 @@ squares in metres (in [0.01, 0.5]). A wrong answer is explained in the terms of
 the exercise: ``W`` used where ``W⁻¹`` belongs, the weights applied after the
 plain pseudoinverse, λ where λ² belongs, the projector onto the range of
 :math:`J^T` instead of the null space of :math:`J`, and so on.
+
+``ik_position`` is the whole iteration (the style of Lynch & Park's ``IKinBody``):
+with :math:`e = p_{goal} - p(q)`, while :math:`\|e\| >` ``tol`` and fewer than
+``max_iterations`` steps were taken: ``dq = step(J_v(q), e, q)``, scaled down to
+the norm ``max_step`` if longer, ``q = clip(q + dq, lower, upper)``. It is called
+on the UR10 with the chapter's working joint limits (:data:`WORK_LIMITS`), a
+pseudoinverse step, seeded starts and goals, and iteration budgets of 1 to 12
+steps; the returned ``(q, converged, iterations)`` is compared with this loop.
+Diagnosed: the error's sign flipped, no step cap, the cap applied joint by
+joint, no joint limits, no early stop.
 
 Usage::
 
@@ -39,11 +51,20 @@ import numpy as np
 from robokin.check._core import Check, CheckResult, Variable, alternatives
 from robokin.check._registry import exercise
 
-__all__ = ["weighted_pinv", "dls_step", "nullspace_projector", "N_JOINTS"]
+__all__ = ["weighted_pinv", "dls_step", "nullspace_projector", "ik_position", "N_JOINTS", "WORK_LIMITS"]
 
 _CH = "ur10"
 #: Number of joints of the UR10.
 N_JOINTS = 6
+#: The working joint limits of chapter 2's work cell (rad), one row ``[lower, upper]`` per joint.
+WORK_LIMITS = np.array([
+    [-math.pi, math.pi],
+    [-math.pi, 0.0],
+    [0.0, math.pi],
+    [-math.pi, 0.0],
+    [-math.pi, 0.0],
+    [-math.pi, math.pi],
+])
 
 
 @lru_cache(maxsize=1)
@@ -299,7 +320,7 @@ def _ns_mistakes():
             "{name} = I − J^T J uses the transpose where the pseudoinverse belongs: "
             "I − J⁺J with J⁺ = J^T (J J^T)⁻¹."
         ))]),
-        alternatives("sign", [(negated, "{name} has the wrong sign: P = I − J⁺J.")]),
+        alternatives("sign", [(negated, "{name} has the wrong sign: N = I − J⁺J.")]),
     ]
 
 
@@ -312,6 +333,145 @@ nullspace_projector = exercise(_CH, "nullspace_projector", MatrixArgumentsCheck(
     noun="configurations",
     arguments=_ns_args,
     signature="nullspace_projector(J) -> (n, n) array",
-    hint="The projector P = I − J⁺J is n×n (n = 6 joints) and satisfies J P = 0, P P = P.",
+    hint="The projector N = I − J⁺J is n×n (n = 6 joints) and satisfies J P = 0, P P = P.",
     doc="Check a function nullspace_projector(J) -> I − J⁺ J (n×n).",
+))
+
+
+# ------------------------------------------------------------------ the IK loop
+@lru_cache(maxsize=1)
+def _cell():
+    from robokin.chains import SerialChain
+
+    robot = _robot()
+    return SerialChain(robot.elements, limits=WORK_LIMITS, frame_names=robot.frame_names, name="ur10_cell")
+
+
+#: Step cap (rad) and tolerance (m) the check passes to the student's loop.
+_LOOP_MAX_STEP = 0.4
+_LOOP_TOL = 1e-9
+
+
+def _pinv_step(J: np.ndarray, e: np.ndarray, q: np.ndarray) -> np.ndarray:
+    """The step the check hands to the loop: the pseudoinverse step J⁺ e."""
+    return np.linalg.pinv(J) @ e
+
+
+def _loop_args(x: np.ndarray) -> tuple:
+    """(chain, p_goal, q0, step, max_step, tol, max_iterations) from the sampled scalars."""
+    chain = _cell()
+    lower, upper = WORK_LIMITS[:, 0], WORK_LIMITS[:, 1]
+    q0 = np.array(x[:6])
+    q_goal = np.clip(q0 + x[6:12], lower, upper)
+    p_goal = chain.fk(q_goal)[:3, 3]
+    return chain, p_goal, q0, _pinv_step, _LOOP_MAX_STEP, _LOOP_TOL, int(x[12])
+
+
+def _loop(chain, p_goal, q0, step, max_step, tol, max_iterations, *, sign=1.0, cap="norm",
+          clamp=True, early_stop=True) -> np.ndarray:
+    """The reference loop (and, with the keywords, its typical mistakes), packed as
+    ``[q (6), converged, iterations]``."""
+    lower, upper = chain.limits[:, 0], chain.limits[:, 1]
+    q = np.array(q0, dtype=float)
+    e = sign * (p_goal - chain.fk(q)[:3, 3])
+    iterations = 0
+    while (np.linalg.norm(e) > tol or not early_stop) and iterations < max_iterations:
+        dq = step(chain.position_jacobian(q), e, q)
+        if cap == "norm":
+            length = np.linalg.norm(dq)
+            if length > max_step:
+                dq = dq * (max_step / length)
+        elif cap == "joint":
+            dq = np.clip(dq, -max_step, max_step)
+        q = q + dq
+        if clamp:
+            q = np.clip(q, lower, upper)
+        e = sign * (p_goal - chain.fk(q)[:3, 3])
+        iterations += 1
+    return np.r_[q, float(np.linalg.norm(e) <= tol), float(iterations)]
+
+
+def _loop_ref(x: np.ndarray) -> np.ndarray:
+    return _loop(*_loop_args(x))
+
+
+def _loop_mistakes():
+    def variant(**kwargs):
+        return lambda x: _loop(*_loop_args(x), **kwargs)
+
+    return [
+        alternatives("error_sign", [(variant(sign=-1.0), (
+            "{name} steps away from the goal: the error is e = p_goal − p(q) (goal minus "
+            "current), and the step J⁺e then moves the flange towards the goal."
+        ))]),
+        alternatives("no_step_cap", [(variant(cap=None), (
+            "{name} does not cap the step: scale dq down to the norm max_step when "
+            "‖dq‖ > max_step (dq ← dq · max_step/‖dq‖), so that far from the goal, where "
+            "the linearisation is poor, the loop takes short steps."
+        ))]),
+        alternatives("step_cap_per_joint", [(variant(cap="joint"), (
+            "{name} clips every joint's step to ±max_step: that changes the step's "
+            "direction. Scale the whole step instead: dq ← dq · max_step/‖dq‖ when "
+            "‖dq‖ > max_step."
+        ))]),
+        alternatives("no_joint_limits", [(variant(clamp=False), (
+            "{name} lets the joints leave their limits: clamp q to [lower, upper] "
+            "(chain.limits) after every step, q = np.clip(q + dq, lower, upper)."
+        ))]),
+        alternatives("no_early_stop", [(variant(early_stop=False), (
+            "{name} always takes max_iterations steps: stop as soon as ‖e‖ <= tol, "
+            "and return the number of steps taken."
+        ))]),
+    ]
+
+
+@dataclass
+class LoopCheck(MatrixArgumentsCheck):
+    """Check of an IK loop ``f(chain, p_goal, q0, step, max_step, tol, max_iterations)``
+    returning ``(q, converged, iterations)``; compared packed as one vector."""
+
+    def evaluate(self, answer: Any) -> CheckResult:  # noqa: D102 - see Check.evaluate
+        if callable(answer) and not isinstance(answer, np.ndarray):
+            student = answer
+
+            def packed(*args):
+                out = student(*args)
+                if not isinstance(out, tuple) or len(out) != 3:
+                    raise TypeError(
+                        "the loop should return a tuple (q, converged, iterations); got "
+                        f"{type(out).__name__}"
+                        + (f" of length {len(out)}" if isinstance(out, tuple) else "")
+                    )
+                q, converged, iterations = out
+                return np.r_[np.asarray(q, dtype=float).ravel(), float(bool(converged)), float(iterations)]
+
+            return super().evaluate(packed)
+        return super().evaluate(answer)
+
+
+_Q0 = [
+    Variable("q1", "angle", -2.5, 2.5),
+    Variable("q2", "angle", -2.6, -0.6),
+    Variable("q3", "angle", 0.4, 2.6),
+    Variable("q4", "angle", -2.8, -0.3),
+    Variable("q5", "angle", -2.8, -0.4),
+    Variable("q6", "angle", -2.5, 2.5),
+]
+_DQ = [Variable(f"dq{i}", "other", -0.9, 0.9) for i in range(1, N_JOINTS + 1)]
+_BUDGET = [Variable("max_iterations", "other", 1.0, 12.999)]
+
+ik_position = exercise(_CH, "ik_position", LoopCheck(
+    name="ik_position(chain, p_goal, q0, step, ...)",
+    reference=_loop_ref,
+    variables=[*_Q0, *_DQ, *_BUDGET],
+    groups=_group(13),
+    diagnoses=_loop_mistakes(),
+    noun="starts, goals and iteration budgets",
+    arguments=_loop_args,
+    signature="ik_position(chain, p_goal, q0, step, max_step, tol, max_iterations) -> (q, converged, iterations)",
+    hint=("The loop: e = p_goal − p(q); while ‖e‖ > tol and fewer than max_iterations steps: "
+          "dq = step(J_v(q), e, q), capped to the norm max_step, q = clip(q + dq, limits), "
+          "recompute e; return (q, ‖e‖ <= tol, steps taken)."),
+    atol=1e-7,
+    doc="Check an IK loop ik_position(chain, p_goal, q0, step, max_step, tol, max_iterations).",
 ))

@@ -32,10 +32,11 @@ from robokin.models.panda import panda
 from robokin.models.planar import planar_two_link
 from robokin.models.three_rpr import three_rpr, three_rpr_classic
 from robokin.models.ur10 import ur10
+from robokin.models.robot_library import RobotInfo, available_robots
 from robokin.models.urdf import ROBOT_DESCRIPTIONS, from_urdf, robot_description
 from robokin.models.urdf_meshes import visual_meshes
 
 __all__ = ["planar_two_link", "eth_leg", "ur10", "baxter_left", "ar601_leg", "ar601_leg_ik",
            "ar601_leg_ik_batch", "AR601IKResult", "genova_arm", "panda", "three_rpr",
            "three_rpr_classic", "from_urdf", "robot_description", "ROBOT_DESCRIPTIONS",
-           "visual_meshes"]
+           "visual_meshes", "available_robots", "RobotInfo"]

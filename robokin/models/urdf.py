@@ -44,6 +44,8 @@ import numpy as np
 
 from robokin.chains import Element, Fixed, Rx, Ry, Rz, SerialChain, Tx, Ty, Tz
 from robokin.errors import DomainError, URDFError, URDFNotFoundError
+from robokin.models.robot_library import available_robots
+from robokin.models.urdf_tree import chain_path, joint_origin, link_tree, name_list
 from robokin.transforms import rotation_exp
 
 __all__ = ["from_urdf", "robot_description", "ROBOT_DESCRIPTIONS", "CONTINUOUS_LIMITS"]
@@ -72,8 +74,12 @@ def robot_description(name: str) -> Path:
 
     Parameters
     ----------
-    name : {'ur10', 'baxter', 'panda'}
-        The robot. The files, and the links to pass to :func:`from_urdf`:
+    name : str
+        The robot: one of the three the chapters use (their files and the links
+        to pass to :func:`from_urdf` below), or the name of any URDF file of
+        example-robot-data (:func:`available_robots` lists them, about seventy,
+        with their base and tip links: ``"kinova"``, ``"xarm7"``, ``"ur5_robot"``,
+        ``"solo12"``, ...):
 
         ==========  ==========================================  ===============  ==================
         name        file (under ``example-robot-data/robots``)  base link        tip link
@@ -98,7 +104,8 @@ def robot_description(name: str) -> Path:
     TypeError
         ``name`` is not a string.
     DomainError
-        Unknown ``name``.
+        Unknown ``name`` (the message lists some names and points to
+        :func:`available_robots`).
     ImportError
         ``example-robot-data`` is not installed (``pip install 'robokin[robots]'``).
 
@@ -108,9 +115,15 @@ def robot_description(name: str) -> Path:
     >>> arm = from_urdf(robot_description("panda"), "panda_link0", "panda_link8")  # doctest: +SKIP
     """
     if not isinstance(name, str):
-        raise TypeError(f"name must be one of {sorted(ROBOT_DESCRIPTIONS)}; got {type(name).__name__} {name!r}"[:200])
+        raise TypeError(f"name must be a robot name such as {sorted(ROBOT_DESCRIPTIONS)} (str); got "
+                        f"{type(name).__name__} {name!r}"[:200])
     if name not in ROBOT_DESCRIPTIONS:
-        raise DomainError(f"name must be one of {sorted(ROBOT_DESCRIPTIONS)}; got {name!r}")
+        robots = {r.name: r for r in available_robots()}
+        if name in robots:
+            return robots[name].path
+        raise DomainError(f"name must be one of {sorted(ROBOT_DESCRIPTIONS)} or a robot of example-robot-data "
+                          f"({name_list(sorted(robots), limit=12)}; robokin.models.available_robots() lists "
+                          f"them with their links); got {name!r}")
     try:
         dist = importlib.metadata.distribution("example-robot-data")
     except importlib.metadata.PackageNotFoundError:
@@ -129,7 +142,7 @@ def robot_description(name: str) -> Path:
 
 # ------------------------------------------------------------------ reading the file
 @contextlib.contextmanager
-def _quiet_yourdfpy() -> Iterator[None]:
+def quiet_yourdfpy() -> Iterator[None]:
     """Silence yourdfpy's logger (it logs, rather than raises, about meshes and XML recovery)."""
     logger = logging.getLogger("yourdfpy.urdf")
     before = logger.disabled
@@ -171,7 +184,7 @@ def _check_structure(root: Any, where: str) -> None:
             raise URDFError(f"{where}: {label} has no type attribute (one of {', '.join(_KNOWN)})")
 
 
-def _load(path: Path, where: str) -> Any:
+def parse_urdf(path: Path, where: str) -> Any:
     """Parse ``path`` with yourdfpy (no meshes, no scene graph); URDFError if it is not a URDF."""
     yourdfpy = _import_yourdfpy()
     from lxml import etree  # a dependency of yourdfpy
@@ -186,7 +199,7 @@ def _load(path: Path, where: str) -> Any:
         raise URDFError(f"{where} cannot be read: {exc}") from None
     _check_structure(root, where)
     try:
-        with _quiet_yourdfpy():
+        with quiet_yourdfpy():
             return yourdfpy.URDF.load(str(path), build_scene_graph=False, load_meshes=False,
                                       build_collision_scene_graph=False, load_collision_meshes=False)
     except (ValueError, TypeError, KeyError, AttributeError, IndexError) as exc:
@@ -213,78 +226,6 @@ def _bad_number(root: Any) -> str | None:
                 return (f"<{el.tag} {attr}={text!r}> on line {el.sourceline} (in <{owner.tag} "
                         f"name={owner.get('name')!r}>) must be {count} number{'s' if count > 1 else ''}")
     return None
-
-
-# ------------------------------------------------------------------ the tree
-def _tree(robot: Any, where: str) -> tuple[list[str], dict[str, Any]]:
-    """Link names and ``child link -> joint``; URDFError unless the joints form a tree (forest)."""
-    links = [link.name for link in robot.links]
-    dup = sorted({x for x in links if links.count(x) > 1})
-    if dup:
-        raise URDFError(f"{where}: link names must be unique; repeated: {dup}")
-    names = [j.name for j in robot.joints]
-    dup = sorted({x for x in names if names.count(x) > 1})
-    if dup:
-        raise URDFError(f"{where}: joint names must be unique; repeated: {dup}")
-    known = set(links)
-    parent_joint: dict[str, Any] = {}
-    for j in robot.joints:
-        for role, link in (("parent", j.parent), ("child", j.child)):
-            if link not in known:
-                raise URDFError(f"{where}: joint {j.name!r} names {role} link {link!r}, which is not a <link> "
-                                f"of the file")
-        if j.child in parent_joint:
-            other = parent_joint[j.child].name
-            raise URDFError(
-                f"{where}: link {j.child!r} is the child of two joints, {other!r} and {j.name!r}: the links "
-                f"form a closed loop, and a URDF (and a serial chain) must be a tree"
-            )
-        parent_joint[j.child] = j
-    return links, parent_joint
-
-
-def _ancestors(link: str, parent_joint: dict[str, Any], where: str) -> list[Any]:
-    """Joints from ``link`` up to its root, nearest first; URDFError on a cycle."""
-    out, seen = [], {link}
-    while link in parent_joint:
-        j = parent_joint[link]
-        out.append(j)
-        link = j.parent
-        if link in seen:
-            cycle = " -> ".join(jj.name for jj in out)
-            raise URDFError(f"{where}: the joints {cycle} form a closed loop (link {link!r} is its own "
-                            f"ancestor); a URDF must be a tree")
-        seen.add(link)
-    return out
-
-
-def _path(base: str, tip: str, links: list[str], parent_joint: dict[str, Any],
-          where: str) -> tuple[list[Any], list[Any]]:
-    """The joints from ``base`` up to the common ancestor (all fixed) and from there down to ``tip``."""
-    for arg, link in (("base_link", base), ("tip_link", tip)):
-        if link not in links:
-            raise URDFError(f"{where}: {arg} {link!r} is not a link of the file; its links are: {', '.join(links)}")
-    up_tip = _ancestors(tip, parent_joint, where)
-    above_tip = [tip] + [j.parent for j in up_tip]
-    up_base = _ancestors(base, parent_joint, where)
-    above_base = [base] + [j.parent for j in up_base]
-    common = next((x for x in above_base if x in above_tip), None)
-    if common is None:
-        raise URDFError(f"{where}: no chain from base_link {base!r} to tip_link {tip!r}: they are in different "
-                        f"trees (roots {above_base[-1]!r} and {above_tip[-1]!r})")
-    up = up_base[: above_base.index(common)]  # base -> common ancestor
-    down = list(reversed(up_tip[: above_tip.index(common)]))  # common ancestor -> tip
-    moving = [j for j in up if j.type != "fixed"]
-    if moving:
-        if common == tip:
-            raise URDFError(f"{where}: tip_link {tip!r} is above base_link {base!r} in the tree (their order is "
-                            f"swapped?): the chain must run from base_link down to tip_link")
-        raise URDFError(
-            f"{where}: no chain from base_link {base!r} to tip_link {tip!r}: tip_link is not a descendant of "
-            f"base_link (they are on different branches below {common!r}, and the branch to base_link has the "
-            f"{moving[0].type} joint {moving[0].name!r}); the links above tip_link are {' <- '.join(above_tip)}"
-        )
-    return up, down
 
 
 # ------------------------------------------------------------------ joints -> elements
@@ -351,13 +292,6 @@ def _joint_elements(j: Any, before: np.ndarray, where: str) -> tuple[list[Elemen
     R[:3, :3] = _z_to(axis)
     els += [Fixed(before @ R), factories[2](name, limits=limits)]
     return els, R.T, False
-
-
-def _origin(j: Any, where: str) -> np.ndarray:
-    T = np.eye(4) if j.origin is None else np.asarray(j.origin, dtype=float)
-    if T.shape != (4, 4) or not np.isfinite(T).all():
-        raise URDFError(f"{where}: joint {j.name!r} has a non-finite or malformed <origin>")
-    return T
 
 
 # ------------------------------------------------------------------ public builder
@@ -442,21 +376,21 @@ def from_urdf(path: str | os.PathLike, base_link: str, tip_link: str, *, name: s
         raise URDFNotFoundError(f"path: {where} does not exist")
     if not file.is_file():
         raise URDFNotFoundError(f"path: {where} is not a file")
-    urdf = _load(file, where)
+    urdf = parse_urdf(file, where)
     robot = urdf.robot
-    links, parent_joint = _tree(robot, where)
-    up, joints = _path(base_link, tip_link, links, parent_joint, where)
+    links, parent_joint = link_tree(robot, where)
+    up, joints = chain_path(base_link, tip_link, links, parent_joint, where)
 
     elements: list[Element] = []
     frame_names = [base_link]
     T = np.eye(4)  # constant transform not yet written out
     for j in up:  # base_link hangs below the common ancestor by fixed joints: start with their inverse
-        T = T @ np.linalg.inv(_origin(j, where))
+        T = T @ np.linalg.inv(joint_origin(j, where))
     for j in joints:
         if j.type == "fixed":
-            T = T @ _origin(j, where)
+            T = T @ joint_origin(j, where)
             continue
-        els, T, exact = _joint_elements(j, T @ _origin(j, where), where)
+        els, T, exact = _joint_elements(j, T @ joint_origin(j, where), where)
         elements += els
         frame_names.append(j.child if exact else f"{j.name}_axis")
     if not elements or not any(el.is_joint for el in elements):

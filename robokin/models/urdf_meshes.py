@@ -30,19 +30,32 @@ import warnings
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
 
 from robokin.errors import DomainError, MeshWarning, URDFNotFoundError
+from robokin.models.urdf import from_urdf, parse_urdf, quiet_yourdfpy
+from robokin.models.mesh_files import MeshRoot, allowed_roots, resolve_mesh_file
+from robokin.models.urdf_tree import chain_path, link_tree, name_list, root_poses
 
-__all__ = ["visual_meshes", "VisualMesh", "RobotMeshes", "DEFAULT_MESH_BYTES", "DEFAULT_MESH_COLOR"]
+__all__ = ["visual_meshes", "VisualMesh", "RobotMeshes", "DEFAULT_MESH_BYTES", "DEFAULT_MESH_COLOR",
+           "MAX_MESH_FILE_BYTES", "MAX_SOURCE_TRIANGLES"]
 
 #: Default budget (bytes of float32 vertices + uint32 indices) of all meshes of one robot.
 DEFAULT_MESH_BYTES = 150_000
 
 #: Colour (0xRRGGBB) of visuals with no colour of their own and no URDF ``<material>``.
 DEFAULT_MESH_COLOR = 0xA0A0A0
+
+#: Mesh files larger than this (bytes) are not read (a MeshWarning says so): trimesh needs about
+#: 1 kB of memory per triangle while it reads a file (a binary STL has 50 bytes per triangle).
+MAX_MESH_FILE_BYTES = 16_000_000
+
+#: At most this many triangles are read for one robot (all files together) before decimation;
+#: files past it are not read (a MeshWarning says so). Keeps one call under about 500 MB.
+MAX_SOURCE_TRIANGLES = 1_000_000
 
 _INSTALL = "pip install 'robokin[robots]'"
 _MIN_FACES = 16  # a colour group keeps at least this many triangles (when it has them)
@@ -142,29 +155,9 @@ def _import_mesh_libraries() -> tuple[Any, Any]:
 # ------------------------------------------------------------------ which links belong to which frame
 def _chain_links(urdf: Any, base_link: str, tip_link: str, where: str) -> list[str]:
     """The link of each chain frame: base_link, the child of each movable joint, tip_link."""
-    from robokin.models.urdf import _path, _tree
-
-    links, parent_joint = _tree(urdf.robot, where)
-    _, down = _path(base_link, tip_link, links, parent_joint, where)
+    links, parent_joint = link_tree(urdf.robot, where)
+    _, down = chain_path(base_link, tip_link, links, parent_joint, where)
     return [base_link] + [j.child for j in down if j.type != "fixed"] + [tip_link]
-
-
-def _root_poses(urdf: Any) -> dict[str, np.ndarray]:
-    """Pose of every link in its tree's root, all joints at zero."""
-    from robokin.models.urdf import _origin
-
-    parent_joint = {j.child: j for j in urdf.robot.joints}
-    poses: dict[str, np.ndarray] = {}
-
-    def pose(link: str) -> np.ndarray:
-        if link not in poses:
-            j = parent_joint.get(link)
-            poses[link] = np.eye(4) if j is None else pose(j.parent) @ _origin(j, "URDF")
-        return poses[link]
-
-    for link in urdf.robot.links:
-        pose(link.name)
-    return poses
 
 
 def _rigid_groups(urdf: Any, frame_links: list[str]) -> list[list[str]]:
@@ -221,10 +214,56 @@ def _primitive(trimesh: Any, geometry: Any) -> Any:
     return None
 
 
-def _submeshes(trimesh: Any, urdf: Any, visual: Any, default: tuple[int, int, int, int] | None
+class _MeshReader:
+    """Reads the mesh files of one URDF within the allowed roots and the memory caps.
+
+    Refused and unreadable files are remembered with their reason (for one
+    warning), never opened when refused.
+    """
+
+    def __init__(self, trimesh: Any, urdf_file: Path, roots: tuple[MeshRoot, ...]) -> None:
+        self.trimesh, self.urdf_file, self.roots = trimesh, urdf_file, roots
+        self.triangles = 0                     # triangles read so far (all files)
+        self.problems: dict[str, str] = {}     # mesh name -> why it was not read
+
+    def read(self, name: str) -> list[Any] | None:
+        """The triangle meshes of file ``name``, or None (the reason is in :attr:`problems`)."""
+        path, reason = resolve_mesh_file(name, self.urdf_file, self.roots)
+        if path is None:
+            self.problems[name] = f"not read: {reason}"
+            return None
+        try:
+            size = path.stat().st_size
+        except OSError as exc:
+            self.problems[name] = f"cannot be read ({exc.strerror or exc})"
+            return None
+        if size > MAX_MESH_FILE_BYTES:
+            self.problems[name] = (f"not read: {size:,} bytes, more than the cap of {MAX_MESH_FILE_BYTES:,} "
+                                   f"bytes per mesh file (robokin.models.urdf_meshes.MAX_MESH_FILE_BYTES)")
+            return None
+        try:
+            loaded = self.trimesh.load(str(path), force="scene")
+            meshes = [m for m in loaded.dump() if isinstance(m, self.trimesh.Trimesh) and len(m.faces)]
+        except Exception as exc:  # noqa: BLE001 - any failure to parse a mesh file: stick figure + warning
+            self.problems[name] = f"cannot be read as a mesh ({type(exc).__name__})"
+            return None
+        if not meshes:
+            self.problems[name] = "holds no triangles"
+            return None
+        count = sum(len(m.faces) for m in meshes)
+        if self.triangles + count > MAX_SOURCE_TRIANGLES:
+            self.problems[name] = (f"not read: its {count:,} triangles would take the robot past the cap of "
+                                   f"{MAX_SOURCE_TRIANGLES:,} triangles before decimation "
+                                   f"(robokin.models.urdf_meshes.MAX_SOURCE_TRIANGLES)")
+            return None
+        self.triangles += count
+        return meshes
+
+
+def _submeshes(reader: _MeshReader, visual: Any, default: tuple[int, int, int, int] | None
                ) -> tuple[list[tuple[np.ndarray, np.ndarray, tuple[int, int, int, int]]], str | None]:
     """``([(vertices, faces, rgba)], None)`` of one ``<visual>`` in its link's frame, or ``([], file)``
-    when its mesh file cannot be read."""
+    when its mesh file is not read (the reason is in ``reader.problems``)."""
     g = visual.geometry
     T = np.eye(4) if visual.origin is None else np.asarray(visual.origin, dtype=float)
     color = default or _rgba_int(DEFAULT_MESH_COLOR)
@@ -232,19 +271,14 @@ def _submeshes(trimesh: Any, urdf: Any, visual: Any, default: tuple[int, int, in
     if g is None:
         return [], None
     if g.mesh is None:
-        mesh = _primitive(trimesh, g)
+        mesh = _primitive(reader.trimesh, g)
         if mesh is None:
             return [], None
         parts.append((np.asarray(mesh.vertices, dtype=float), np.asarray(mesh.faces), color))
     else:
-        name = g.mesh.filename
-        try:
-            file = urdf._filename_handler(name)
-            loaded = trimesh.load(file, force="scene")
-            meshes = [m for m in loaded.dump() if isinstance(m, trimesh.Trimesh) and len(m.faces)]
-        except Exception:  # noqa: BLE001 - any failure to read a mesh file: fall back, with a warning
-            return [], name
-        if not meshes:
+        name = str(g.mesh.filename)
+        meshes = reader.read(name)
+        if meshes is None:
             return [], name
         scale = np.ones(3) if g.mesh.scale is None else np.broadcast_to(np.asarray(g.mesh.scale, float), (3,))
         for m in meshes:
@@ -348,24 +382,26 @@ def _decimate(fast_simplification: Any, V: np.ndarray, F: np.ndarray, target: in
 
 # ------------------------------------------------------------------ public
 @lru_cache(maxsize=32)
-def _cached(file: str, stamp: tuple[int, int], base_link: str, tip_link: str, max_bytes: int) -> RobotMeshes:
-    from robokin.models.urdf import _load, _quiet_yourdfpy, from_urdf
-
+def _cached(file: str, stamp: tuple[int, int], base_link: str, tip_link: str, max_bytes: int,
+            mesh_roots: tuple[str, ...]) -> RobotMeshes:
     trimesh, fast_simplification = _import_mesh_libraries()
     chain = from_urdf(file, base_link, tip_link)  # validates the file and the links
     where = f"URDF file {file!r}"
-    urdf = _load(Path(file), where)
+    urdf = parse_urdf(Path(file), where)
     frame_links = _chain_links(urdf, base_link, tip_link, where)
-    poses = _root_poses(urdf)
+    poses = root_poses(urdf.robot, where)
     G0 = np.asarray(chain.frames(np.zeros(chain.n)), dtype=float)  # chain frames at q = 0, in base_link
     T_root_base = poses[base_link]
     materials = {m.name: m for m in (urdf.robot.materials or []) if m.name}
     link_by_name = {link.name: link for link in urdf.robot.links}
+    names = [str(v.geometry.mesh.filename) for link in urdf.robot.links for v in link.visuals
+             if v.geometry is not None and v.geometry.mesh is not None]
+    reader = _MeshReader(trimesh, Path(file), allowed_roots(Path(file), names, [Path(r) for r in mesh_roots]))
 
     groups = []        # (frame, rgba, [(V, F)], [links])
     unreadable: list[list[str]] = [[] for _ in frame_links]
     original = 0
-    with _quiet_yourdfpy():
+    with quiet_yourdfpy():
         for i, links in enumerate(_rigid_groups(urdf, frame_links)):
             # pose of each link in frame i (constant: the link is rigid with the frame)
             T_frame_root = np.linalg.inv(T_root_base @ G0[i])
@@ -373,7 +409,7 @@ def _cached(file: str, stamp: tuple[int, int], base_link: str, tip_link: str, ma
             for link in links:
                 T = T_frame_root @ poses[link]
                 for visual in link_by_name[link].visuals:
-                    parts, bad = _submeshes(trimesh, urdf, visual, _visual_color(visual, materials))
+                    parts, bad = _submeshes(reader, visual, _visual_color(visual, materials))
                     if bad is not None and bad not in unreadable[i]:
                         unreadable[i].append(bad)
                     for V, F, rgba in parts:
@@ -386,12 +422,12 @@ def _cached(file: str, stamp: tuple[int, int], base_link: str, tip_link: str, ma
                 V, F = _merge(trimesh, parts)
                 if len(F):
                     groups.append((i, rgba, V, F, owners))
-    bad_files = [f for u in unreadable for f in u]
-    if bad_files:
+    if reader.problems:
+        listed = [f"{name!r} {why}" for name, why in sorted(reader.problems.items())]
         warnings.warn(MeshWarning(
-            f"{where}: cannot read the visual mesh file(s) {', '.join(sorted(set(bad_files)))}; the chain "
-            f"frames {[frame_links[i] for i, u in enumerate(unreadable) if u]} are drawn as a stick figure"),
-            stacklevel=3)
+            f"{where}: {len(listed)} visual mesh file(s) not drawn: {name_list(listed, limit=5, sep='; ')}. "
+            f"The chain frames {name_list([frame_links[i] for i, u in enumerate(unreadable) if u])} are drawn "
+            f"as a stick figure."), stacklevel=3)
 
     faces = [len(F) for _, _, _, F, _ in groups]
     weights = [_area(V, F) ** 0.75 for _, _, V, F, _ in groups]
@@ -420,15 +456,21 @@ def _cached(file: str, stamp: tuple[int, int], base_link: str, tip_link: str, ma
 
 
 def visual_meshes(path: str | os.PathLike, base_link: str, tip_link: str, *,
-                  max_bytes: int = DEFAULT_MESH_BYTES) -> RobotMeshes:
+                  max_bytes: int = DEFAULT_MESH_BYTES,
+                  mesh_roots: Sequence[str | os.PathLike] = ()) -> RobotMeshes:
     """The visual meshes of the chain ``from_urdf(path, base_link, tip_link)``, frame by frame.
 
     Parameters
     ----------
     path : str or os.PathLike
         The URDF file (:func:`robokin.models.robot_description` gives a few).
-        Mesh file names (``package://...``, relative or absolute) are resolved as
-        yourdfpy does: relative to the file and the directories above it.
+        Its mesh files (``package://...``, ``file://...``, relative or absolute
+        names) are read only inside the robot's own package -- the nearest folder
+        above the file with a ``package.xml``, else the folder named as the
+        ``package://`` name, else the file's folder -- and the packages robokin
+        knows (example-robot-data), symbolic links followed
+        (:mod:`robokin.models.mesh_files`). Any other file is never opened: its
+        frame is drawn as a stick figure and the warning names file and rule.
     base_link, tip_link : str
         As for :func:`robokin.models.from_urdf`.
     max_bytes : int, optional
@@ -436,6 +478,10 @@ def visual_meshes(path: str | os.PathLike, base_link: str, tip_link: str, *,
         uint32 triangle indices (default 150 000, about 8 000 triangles).
         Meshes are decimated to it; triangles are shared out between the
         (frame, colour) groups in proportion to their area to the power 0.75.
+    mesh_roots : sequence of str or os.PathLike, optional
+        More folders mesh files may be read from (for a URDF whose meshes live
+        in another package: each folder also answers to ``package://<its
+        name>/...``).
 
     Returns
     -------
@@ -459,8 +505,17 @@ def visual_meshes(path: str | os.PathLike, base_link: str, tip_link: str, *,
     Warns
     -----
     MeshWarning
-        Once per file, when mesh files cannot be read (missing, not a mesh): they
-        are skipped and their frames listed in ``result.unreadable``.
+        Once per call that reads the file, when mesh files are not read: outside
+        the allowed folders, missing, not a mesh, larger than
+        :data:`MAX_MESH_FILE_BYTES` (16 MB), or past :data:`MAX_SOURCE_TRIANGLES`
+        (10⁶ triangles for the whole robot, before decimation). They are skipped,
+        named with the reason, and their frames listed in ``result.unreadable``.
+
+    Notes
+    -----
+    Caps: at most 16 MB per mesh file and 10⁶ triangles per robot are read, so
+    that one call stays under about 500 MB of memory; the result is decimated to
+    ``max_bytes``.
 
     Examples
     --------
@@ -469,8 +524,6 @@ def visual_meshes(path: str | os.PathLike, base_link: str, tip_link: str, *,
     >>> meshes.triangles <= 8_000  # doctest: +SKIP
     True
     """
-    from robokin.models.urdf import from_urdf
-
     if isinstance(max_bytes, bool) or not isinstance(max_bytes, (int, np.integer)):
         raise TypeError(f"max_bytes must be an int (bytes); got {type(max_bytes).__name__} {max_bytes!r}"[:200])
     if max_bytes <= 0:
@@ -485,5 +538,13 @@ def visual_meshes(path: str | os.PathLike, base_link: str, tip_link: str, *,
     for arg, value in (("base_link", base_link), ("tip_link", tip_link)):
         if not isinstance(value, str):
             raise TypeError(f"{arg} must be a link name (str); got {type(value).__name__} {value!r}"[:200])
+    if isinstance(mesh_roots, (str, bytes, os.PathLike)) or not all(
+            isinstance(r, (str, os.PathLike)) and not isinstance(r, bytes) for r in mesh_roots):
+        raise TypeError(f"mesh_roots must be a sequence of folders (str or os.PathLike); got "
+                        f"{type(mesh_roots).__name__} {mesh_roots!r}"[:200])
+    roots = tuple(str(Path(os.fsdecode(os.fspath(r))).resolve()) for r in mesh_roots)
+    for r in roots:
+        if not Path(r).is_dir():
+            raise DomainError(f"mesh_roots: {r!r} is not a folder")
     st = file.stat()
-    return _cached(str(file), (st.st_mtime_ns, st.st_size), base_link, tip_link, int(max_bytes))
+    return _cached(str(file), (st.st_mtime_ns, st.st_size), base_link, tip_link, int(max_bytes), roots)

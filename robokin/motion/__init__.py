@@ -23,6 +23,7 @@ from robokin.motion.ik import (
     WeightedPseudoInverse,
     solve_ik,
     solve_ik_batch,
+    solve_ik_once,
 )
 from robokin.motion.control import CartesianController, ControlOutput
 from robokin.motion.pose_error import pose_error
@@ -56,6 +57,7 @@ __all__ = [
     "via_point_trajectory",
     "time_law",
     "solve_ik",
+    "solve_ik_once",
     "solve_ik_batch",
     "IKResult",
     "IKHistory",

@@ -37,29 +37,34 @@ _NEAR_PI = 1e-3
 def rotation_log_fast(R: np.ndarray) -> np.ndarray:
     """Rotation vector ``w = theta h`` of ``R`` (..., 3, 3) -> (..., 3), theta in [0, pi].
 
-    Uses ``w = theta / (2 sin theta) * vee(R - R^T)`` away from 0 and pi, the
-    series ``1/2 + theta^2/12`` near 0 and the symmetric part
-    ``(R + R^T)/2 = cos(theta) I + (1 - cos(theta)) h h^T`` near pi (Siciliano
-    et al. 2009, eq. 2.22 and its singular cases).
+    ``theta = atan2(|vee(R - R^T)|, trace(R) - 1)`` (the two arguments are
+    ``2 sin(theta)`` and ``2 cos(theta)``: accurate to the last digits for
+    every angle, unlike ``arccos((trace(R) - 1) / 2)``, which loses half of
+    them near 0 and pi) and ``w = theta / (2 sin theta) * vee(R - R^T)`` away
+    from 0 and pi, the series ``1/2 + theta^2/12`` of that factor near 0, and
+    near pi the axis from the symmetric part
+    ``(R + R^T)/2 = cos(theta) I + (1 - cos(theta)) h h^T`` (the column of its
+    largest diagonal entry), its sign from ``vee(R - R^T) = 2 sin(theta) h``
+    (Siciliano et al. 2009, eq. 2.22 and its singular cases; the same maths
+    as :func:`robokin.transforms.rotation_log`).  At exactly ``theta = pi``
+    (``vee = 0``) the sign of ``h`` is undefined; the component of ``h`` of
+    largest magnitude (the first of equals) is then made positive.
     """
     R = np.asarray(R, dtype=float)
-    trace = R[..., 0, 0] + R[..., 1, 1] + R[..., 2, 2]
-    cos_theta = np.clip(0.5 * (trace - 1.0), -1.0, 1.0)
-    theta = np.arccos(cos_theta)
     vee = np.stack(
         (R[..., 2, 1] - R[..., 1, 2], R[..., 0, 2] - R[..., 2, 0], R[..., 1, 0] - R[..., 0, 1]),
         axis=-1,
     )
-    sin_theta = np.sin(theta)
+    two_sin = np.sqrt(np.einsum("...i,...i->...", vee, vee))
+    two_cos = R[..., 0, 0] + R[..., 1, 1] + R[..., 2, 2] - 1.0
+    theta = np.arctan2(two_sin, two_cos)
     small = theta < _SMALL_ANGLE
-    with np.errstate(divide="ignore", invalid="ignore"):
-        factor = np.where(small, 0.5 + theta * theta / 12.0, theta / (2.0 * np.where(small, 1.0, sin_theta)))
-    w = factor[..., None] * vee
     near_pi = theta > np.pi - _NEAR_PI
+    factor = np.where(small, 0.5 + theta * theta / 12.0, theta / np.where(small | near_pi, 1.0, two_sin))
+    w = factor[..., None] * vee
     if np.any(near_pi):
-        w = np.array(w, copy=True)
         Rn = R[near_pi]
-        cn = cos_theta[near_pi]
+        cn = np.clip(0.5 * two_cos[near_pi], -1.0, 1.0)
         sym = 0.5 * (Rn + np.swapaxes(Rn, -1, -2))
         hh = (sym - cn[:, None, None] * np.eye(3)) / (1.0 - cn)[:, None, None]
         diag = np.einsum("kii->ki", hh)
@@ -135,15 +140,14 @@ def random_within_limits(
 def rotation_log_single(R: np.ndarray) -> list[float]:
     """:func:`rotation_log_fast` for one (3, 3) matrix, in plain Python floats (fast)."""
     (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = R.tolist()
-    c = 0.5 * (r00 + r11 + r22 - 1.0)
-    c = 1.0 if c > 1.0 else (-1.0 if c < -1.0 else c)
-    theta = math.acos(c)
     vx, vy, vz = r21 - r12, r02 - r20, r10 - r01
+    two_sin = math.sqrt(vx * vx + vy * vy + vz * vz)
+    theta = math.atan2(two_sin, r00 + r11 + r22 - 1.0)
     if theta < _SMALL_ANGLE:
         f = 0.5 + theta * theta / 12.0
         return [f * vx, f * vy, f * vz]
     if theta <= math.pi - _NEAR_PI:
-        f = theta / (2.0 * math.sin(theta))
+        f = theta / two_sin
         return [f * vx, f * vy, f * vz]
     w = rotation_log_fast(R)
     return [float(w[0]), float(w[1]), float(w[2])]

@@ -50,9 +50,15 @@ def pose_error(T_current: Any, T_goal: Any, representation: str = "angle_axis") 
 
         ``"angle_axis"`` (default)
             :math:`e_O = \theta h = \log(R_{goal}R^T)`, the rotation vector of
-            the rotation still to do, in the base frame, :math:`\theta\in[0,\pi]`.
-            Exact for any size of error; at :math:`\theta = \pi` the axis sign is
-            arbitrary (both are correct).
+            the rotation still to do, in the base frame, :math:`\theta\in[0,\pi]`,
+            with :math:`\theta = \operatorname{atan2}(\tfrac12\|\operatorname{vee}(R_e
+            - R_e^T)\|, \tfrac12(\operatorname{tr}R_e - 1))` for
+            :math:`R_e = R_{goal}R^T`, which keeps its digits for any size of
+            error, also next to :math:`\pi` (it agrees with
+            :func:`robokin.transforms.rotation_log` to 1e-12 rad).  At exactly
+            :math:`\theta = \pi` the sign of the axis is undefined (both
+            :math:`\pm\pi h` are correct): the one returned has its component of
+            largest magnitude positive (the first of equally large ones).
         ``"quaternion"``
             :math:`e_O = 2\,\varepsilon_{err}` with
             :math:`(\eta_{err}, \varepsilon_{err}) = Q_{goal} \otimes Q^{-1}`,

@@ -1,10 +1,19 @@
 """MeshCat server process started by :mod:`robokin.views.live` (``python -m robokin.views._server``).
 
-Differences from ``meshcat-server``: the web server listens on 127.0.0.1 only
-(MeshCat's own ``app.listen(port)`` binds all interfaces), ``/static/`` serves a
-page whose websocket URL is relative to the page (so it also works behind
-jupyter-server-proxy at ``.../proxy/<port>/static/``), and the process exits by
-itself when its parent (the Jupyter kernel) is gone.
+Differences from ``meshcat-server``:
+
+- only the user who started it can reach it. The commands come over a zmq
+  ``ipc://`` socket in a folder only that user can open (mode 0700), not a TCP
+  port; the web pages and the websocket (which sends the whole scene to whoever
+  connects) are served only under ``/<secret>/``, a random token the kernel
+  passes on the server's standard input (not its command line, which every user
+  of the machine can read) and puts in the iframe's URL. Any other path is 404;
+- the web server listens on 127.0.0.1 only (MeshCat's own ``app.listen(port)``
+  binds all interfaces);
+- ``/<secret>/static/`` serves a page whose websocket URL is relative to the
+  page (so it also works behind jupyter-server-proxy at
+  ``.../proxy/<port>/<secret>/static/``);
+- the process exits by itself when its parent (the Jupyter kernel) is gone.
 """
 
 from __future__ import annotations
@@ -33,9 +42,12 @@ def main(argv=None):
     first_ppid = os.getppid()     # before anything slow: the kernel may be killed right after starting us
     parser = argparse.ArgumentParser()
     parser.add_argument("--port", type=int, default=7000, help="first web port to try")
-    parser.add_argument("--zmq-port", type=int, default=6000, help="first zmq port to try")
+    parser.add_argument("--zmq-url", required=True, help="ipc:// address of the command socket")
     parser.add_argument("--parent-pid", type=int, default=None)
     args = parser.parse_args(argv)
+    secret = sys.stdin.readline().strip()   # the URL token: never on the command line
+    if len(secret) < 16 or not secret.replace("-", "").replace("_", "").isalnum():
+        raise SystemExit("robokin.views._server: expected a URL token (>= 16 URL-safe characters) on stdin")
 
     import tornado.ioloop
     import tornado.web
@@ -50,11 +62,11 @@ def main(argv=None):
     class Bridge(zmqserver.ZMQWebSocketBridge):
         def make_app(self):
             app = tornado.web.Application([
-                (r"/static/?", IndexHandler),
-                (r"/static/index\.html", IndexHandler),
-                (r"/static/(.*)", zmqserver.StaticFileHandlerNoCache,
+                (rf"/{secret}/static/?", IndexHandler),
+                (rf"/{secret}/static/index\.html", IndexHandler),
+                (rf"/{secret}/static/(.*)", zmqserver.StaticFileHandlerNoCache,
                  {"path": zmqserver.VIEWER_ROOT, "default_filename": zmqserver.VIEWER_HTML}),
-                (r"/", zmqserver.WebSocketHandler, {"bridge": self}),
+                (rf"/{secret}/", zmqserver.WebSocketHandler, {"bridge": self}),
             ])
             listen = app.listen
 
@@ -65,10 +77,9 @@ def main(argv=None):
             return app
 
     zmqserver.DEFAULT_FILESERVER_PORT = args.port
-    zmqserver.DEFAULT_ZMQ_PORT = args.zmq_port
-    bridge = Bridge(host=HOST)
+    bridge = Bridge(zmq_url=args.zmq_url, host=HOST)
     print(f"zmq_url={bridge.zmq_url}", flush=True)
-    print(f"web_url={bridge.web_url}", flush=True)
+    print(f"web_url={bridge.web_url.replace('/static/', f'/{secret}/static/')}", flush=True)
     print(f"port={bridge.fileserver_port}", flush=True)
     sys.stdout = open(os.devnull, "w")    # nobody reads our stdout any more
 

@@ -18,6 +18,8 @@ from __future__ import annotations
 import os
 import sys
 
+from robokin.views.arguments import as_height
+
 __all__ = ["MODES", "choose_mode", "in_browser_kernel", "show_scene"]
 
 MODES = ("live", "static", "matplotlib")
@@ -84,7 +86,7 @@ def show_scene(scene, mode=None, height=None):
     from IPython.display import HTML
 
     mode = choose_mode(mode)
-    height = height or scene.options.height
+    height = scene.options.height if height is None else as_height(height)
     if mode == "matplotlib":
         import matplotlib.pyplot as plt
         ax = scene.plot()

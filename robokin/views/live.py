@@ -1,12 +1,15 @@
 """Live MeshCat servers started by robokin.
 
 :class:`LiveViewer` starts ``python -m robokin.views._server`` (a MeshCat
-server listening on 127.0.0.1 only, on the first free web port from 7000 and
-zmq port from 6000), talks to it over zmq, and gives the URL the notebook
-should show in an iframe:
+server listening on 127.0.0.1 only, on the first free web port from 7000),
+talks to it over a zmq ``ipc://`` socket in a private folder (mode 0700), and
+gives the URL the notebook should show in an iframe, which carries a random
+secret (``secrets.token_urlsafe``) without which the server answers 404 -- so on
+a shared machine (a JupyterHub node) other users can neither read nor change a
+student's scene:
 
-- ``http://127.0.0.1:<port>/static/`` normally;
-- ``{JUPYTERHUB_SERVICE_PREFIX or "/"}proxy/<port>/static/`` when
+- ``http://127.0.0.1:<port>/<secret>/static/`` normally;
+- ``{JUPYTERHUB_SERVICE_PREFIX or "/"}proxy/<port>/<secret>/static/`` when
   ``jupyter-server-proxy`` is importable or the kernel runs under JupyterHub/Binder
   (the browser cannot reach the kernel's loopback, the Jupyter server proxies it;
   the proxy may be installed in the server's environment only).
@@ -20,6 +23,8 @@ from __future__ import annotations
 
 import importlib.util
 import os
+import secrets
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -36,7 +41,7 @@ class MeshcatUnavailable(RuntimeError):
     """The MeshCat server could not be started or reached."""
 
 
-def proxy_url(port):
+def proxy_url(port, secret=""):
     """The URL of a local port through jupyter-server-proxy, or None where the browser should use loopback.
 
     The proxied form is used when ``jupyter-server-proxy`` is importable, and always
@@ -50,10 +55,10 @@ def proxy_url(port):
     prefix = hub_prefix or "/"
     if not prefix.endswith("/"):
         prefix += "/"
-    return f"{prefix}proxy/{int(port)}/static/"
+    return f"{prefix}proxy/{int(port)}/{secret + '/' if secret else ''}static/"
 
 
-def _stop(proc, logfile):
+def _stop(proc, logfile, folder=None):
     try:
         if proc.poll() is None:
             proc.terminate()
@@ -67,6 +72,8 @@ def _stop(proc, logfile):
             logfile.close()
         except Exception:  # noqa: BLE001
             pass
+        if folder is not None:
+            shutil.rmtree(folder, ignore_errors=True)
 
 
 class LiveViewer:
@@ -77,21 +84,26 @@ class LiveViewer:
     command dict, ``send_transforms([(path, T)])`` only transforms.
     """
 
-    def __init__(self, *, port=7000, zmq_port=6000, timeout=20.0):
+    def __init__(self, *, port=7000, timeout=20.0):
         try:
             import umsgpack  # noqa: F401
             import zmq
         except ImportError as exc:
             raise MeshcatUnavailable(f"meshcat is not installed ({exc}); pip install 'robokin[views]'") from exc
         self._log = tempfile.TemporaryFile()
+        self.secret = secrets.token_urlsafe(24)
+        self._folder = tempfile.mkdtemp(prefix="robokin-meshcat-")   # mode 0700: only this user
         cmd = [sys.executable, "-u", "-m", "robokin.views._server", "--port", str(int(port)),
-               "--zmq-port", str(int(zmq_port)), "--parent-pid", str(os.getpid())]
+               "--zmq-url", f"ipc://{self._folder}/commands", "--parent-pid", str(os.getpid())]
         try:
             self.process = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=self._log,
-                                            stdin=subprocess.DEVNULL, start_new_session=True)
+                                            stdin=subprocess.PIPE, start_new_session=True)
+            self.process.stdin.write(f"{self.secret}\n".encode())
+            self.process.stdin.close()
         except OSError as exc:
+            shutil.rmtree(self._folder, ignore_errors=True)
             raise MeshcatUnavailable(f"cannot start the MeshCat server: {exc}") from exc
-        self._finalizer = weakref.finalize(self, _stop, self.process, self._log)
+        self._finalizer = weakref.finalize(self, _stop, self.process, self._log, self._folder)
         info = {}
         deadline = time.monotonic() + timeout
         while len(info) < 3:
@@ -140,7 +152,7 @@ class LiveViewer:
     @property
     def url(self):
         """The URL the browser should open (proxied on JupyterHub/Binder)."""
-        return proxy_url(self.port) or self.web_url
+        return proxy_url(self.port, self.secret) or self.web_url
 
     # ---- commands
     def send(self, command):

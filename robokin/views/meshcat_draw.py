@@ -50,6 +50,8 @@ EE_COLOR = 0xD62728          # red
 TARGET_COLOR = 0xFF00FF
 AXIS_COLORS = (0xE41A1C, 0x2CA02C, 0x1F77B4)   # x red, y green, z blue
 _DIGITS = 6
+#: Up to this many points, ``Scene.add_points`` draws spheres; more are one point cloud (squares).
+SPHERES_UP_TO = 500
 
 
 def _r(x):
@@ -231,6 +233,15 @@ def _line(path, points, color, opacity=1.0):
         "itemSize": 3, "type": "Float32Array", "array": _float32(np.asarray(points).ravel()),
         "normalized": False}}}}
     return _object(path, geometry, _material("LineBasicMaterial", color, opacity), kind="Line")
+
+
+def _point_cloud(path, points, color, size):
+    """One MeshCat ``Points`` object: every point a square of side ``size`` (m) facing the camera."""
+    geometry = {"type": "BufferGeometry", "data": {"attributes": {"position": {
+        "itemSize": 3, "type": "Float32Array", "array": _float32(np.asarray(points).ravel()),
+        "normalized": False}}}}
+    return _object(path, geometry, _material("PointsMaterial", color, size=_r(size), sizeAttenuation=True),
+                   kind="Points")
 
 
 def _text_sprite(path, text, size):
@@ -536,6 +547,9 @@ def scene_commands(scene):
             cmds.append(_set_object(f"{path}/origin", _object(f"{path}/origin", _sphere(size / 12),
                                                                _material("MeshPhongMaterial", TARGET_COLOR))))
             cmds.append(_set_transform(path, it.T))
+        elif isinstance(it, PointsItem) and len(it.points) > SPHERES_UP_TO:
+            path = f"{ROOT}/{it.name}"
+            cmds.append(_set_object(path, _point_cloud(path, it.points, it.color, 2 * (it.radius or 0.02 * L))))
         elif isinstance(it, PointsItem):
             radius = it.radius or 0.02 * L
             for k, p in enumerate(it.points):

@@ -39,7 +39,9 @@ def robot_meshes(urdf, chain, *, base_link=None, tip_link=None, max_bytes=None):
     ----------
     urdf : str or os.PathLike
         A robot name of :func:`robokin.models.robot_description` (``"ur10"``,
-        ``"baxter"``, ``"panda"``) or the path of a URDF file.
+        ``"baxter"``, ``"panda"``, or any robot of
+        :func:`robokin.models.available_robots`, e.g. ``"kinova"``) or the path
+        of a URDF file.
     chain : SerialChain
         The chain to draw: ``from_urdf(urdf, base_link, tip_link)`` or any chain
         with the same joints whose frame ``i`` is rigid with the URDF link that
@@ -47,8 +49,8 @@ def robot_meshes(urdf, chain, *, base_link=None, tip_link=None, max_bytes=None):
         base frame is ``base_link``'s.
     base_link, tip_link : str, optional
         The chain's ends in the URDF. Default: for a robot name, those of
-        :data:`robokin.models.ROBOT_DESCRIPTIONS`; for a file, the chain's first
-        and last frame names.
+        :data:`robokin.models.ROBOT_DESCRIPTIONS`; for another robot or a file, the
+        chain's first and last frame names (those of a ``from_urdf`` chain).
     max_bytes : int, optional
         Budget of the meshes (see :func:`robokin.models.visual_meshes`; default 150 000).
 
@@ -76,8 +78,9 @@ def robot_meshes(urdf, chain, *, base_link=None, tip_link=None, max_bytes=None):
     elif isinstance(urdf, (str, os.PathLike)) and not isinstance(urdf, bytes):
         path = Path(os.fsdecode(os.fspath(urdf)))
         if not str(path).lower().endswith((".urdf", ".xml")) and not path.exists():
-            raise DomainError(f"urdf must be one of {sorted(ROBOT_DESCRIPTIONS)} or the path of a URDF file; "
-                              f"got {urdf!r}")
+            if not isinstance(urdf, str):
+                raise DomainError(f"urdf: {str(path)!r} is not a URDF file")
+            path = robot_description(urdf)   # any robot of example-robot-data, or a DomainError naming them
         names = list(getattr(chain, "frame_names", None) or [])
         base_link = base_link or (names[0] if names else None)
         tip_link = tip_link or (names[-1] if names else None)

@@ -10,7 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from robokin.errors import ShapeError
+from robokin.errors import DomainError, ShapeError
+from robokin.views.arguments import as_chain, as_numbers
 
 __all__ = ["plot_chain", "plot_planar", "plot_history", "plot_scene"]
 
@@ -18,6 +19,8 @@ LINK = "#E69F00"
 JOINT = "#3B3B3B"
 EE = "#D62728"
 AXES_RGB = ("#E41A1C", "#2CA02C", "#1F77B4")
+#: Largest magnitude plot_history draws (matplotlib's autoscaling overflows near 1e308).
+PLOT_LIMIT = 1e100
 
 
 def _new_axes(projection=None, figsize=(5.5, 4.5)):
@@ -68,11 +71,11 @@ def plot_chain(chain, q, ax=None, *, frames=False, alpha=None, labels=None):
     ``frames=True`` adds a triad per frame.  With several configurations the
     first is opaque and the others fade.  Returns the 3D Axes.
     """
-    Q = np.asarray(q, dtype=float)
-    n = int(chain.n)
+    n = int(as_chain(chain).n)
+    Q = as_numbers(q, "q", f"a configuration ({n},) or configurations (N, {n})")
     if Q.ndim == 1:
         Q = Q[None]
-    if Q.ndim != 2 or Q.shape[1] != n:
+    if Q.ndim != 2 or Q.shape[1] != n or not len(Q):
         raise ShapeError(f"q must have shape ({n},) or (N, {n}); got shape {np.shape(q)}")
     if ax is None:
         ax = _new_axes("3d")
@@ -96,18 +99,23 @@ def plot_planar(segments=(), points=None, ax=None, *, labels=None, color=LINK, p
     ``annotate`` an optional list of text labels for the points.  Returns the Axes
     (equal aspect, metres).
     """
+    if isinstance(segments, (str, bytes)):
+        raise TypeError(f"segments must be a list of polylines (K, 2); got {type(segments).__name__}")
     if ax is None:
         ax = _new_axes()
     allpts = []
     for k, seg in enumerate(segments):
-        s = np.asarray(seg, dtype=float)
+        s = as_numbers(seg, f"segments[{k}]", "a polyline of shape (K, 2)")
         if s.ndim != 2 or s.shape[1] != 2 or s.shape[0] < 2:
             raise ShapeError(f"segments[{k}] must have shape (K, 2) with K >= 2; got shape {s.shape}")
         ax.plot(s[:, 0], s[:, 1], "-", color=color, lw=3, solid_capstyle="round",
                 label=labels[k] if labels is not None else None)
         allpts.append(s)
     if points is not None:
-        p = np.asarray(points, dtype=float).reshape(-1, 2)
+        p = as_numbers(points, "points", "points of shape (N, 2)")
+        if p.size % 2:
+            raise ShapeError(f"points must have shape (N, 2); got shape {p.shape}")
+        p = p.reshape(-1, 2)
         ax.plot(p[:, 0], p[:, 1], "o", color=point_color, ms=6, zorder=3)
         allpts.append(p)
         for txt, xy in zip(annotate or [], p):
@@ -162,6 +170,25 @@ def _singular_spans(x, flags):
     return [(x[a], x[b] + step) for a, b in zip(starts, ends)]
 
 
+def _history_values(kind, values):
+    """One panel's samples as floats; a named error when empty, not numbers or never finite."""
+    if isinstance(values, (str, bytes)):
+        raise TypeError(f"{kind} must be an array of numbers (one row per sample); got str {values!r}"[:200])
+    try:
+        v = np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        raise TypeError(f"{kind} must be an array of numbers (one row per sample); got "
+                        f"{type(values).__name__}") from None
+    if v.ndim == 0 or len(v) == 0:
+        raise ShapeError(f"{kind} has no samples (shape {v.shape}): there is nothing to plot")
+    if not np.isfinite(v).any():
+        raise DomainError(f"{kind} has no finite value ({v.size} NaN or infinite): there is nothing to plot")
+    largest = float(np.nanmax(np.abs(np.where(np.isfinite(v), v, 0.0))))
+    if largest > PLOT_LIMIT:
+        raise DomainError(f"{kind} has values up to {largest:.3g}, more than a plot can scale ({PLOT_LIMIT:g})")
+    return v
+
+
 def plot_history(record=None, *, t=None, q=None, dq=None, error=None, singular_values=None,
                  dt=None, joint_names=None, joint_types=None, log_error=True, degrees=False,
                  error_label="error", time_label=None, sigma_min=None, singular=None,
@@ -200,14 +227,19 @@ def plot_history(record=None, *, t=None, q=None, dq=None, error=None, singular_v
     panels = [(k, v) for k, v in (("q", q), ("dq", dq), ("error", error), ("sv", singular_values),
                                   ("sigma_min", sigma_min)) if v is not None]
     if not panels:
-        raise ValueError("plot_history needs at least one of q, dq, error, singular_values (none given or found in record)")
-    length = len(np.asarray(panels[0][1]))
+        raise DomainError("plot_history needs at least one of q, dq, error, singular_values (none given or "
+                          "found in record)")
+    panels = [(kind, _history_values(kind, v)) for kind, v in panels]
+    length = len(panels[0][1])
     if t is None and dt is not None:
         t = np.arange(length) * float(dt)
     if t is None:
         x, xlabel = np.arange(length), time_label or "iteration"
     else:
-        x, xlabel = np.asarray(t, dtype=float), time_label or "time t [s]"
+        x, xlabel = as_numbers(t, "t", f"sample times of shape ({length},)"), time_label or "time t [s]"
+        if x.shape != (length,):
+            raise ShapeError(f"t must have shape ({length},) (one time per sample of {panels[0][0]}); got shape "
+                             f"{x.shape}")
     kinds = set(joint_types or [])
     if kinds == {"prismatic"}:
         qunit, dqunit = "m", "m/s"
@@ -268,8 +300,10 @@ def plot_history(record=None, *, t=None, q=None, dq=None, error=None, singular_v
 
 def plot_scene(scene, ax=None, *, frames=None):
     """matplotlib version of a :class:`~robokin.views.scene.Scene` (3D stick figures)."""
-    from robokin.views.scene import ChainItem, PathItem, PointsItem, TargetItem
+    from robokin.views.scene import ChainItem, PathItem, PointsItem, Scene, TargetItem
 
+    if not isinstance(scene, Scene):
+        raise TypeError(f"scene must be a robokin.views.Scene; got {type(scene).__name__}")
     if ax is None:
         ax = _new_axes("3d")
     pts = [np.zeros((1, 3))]

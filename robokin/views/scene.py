@@ -19,6 +19,21 @@ from typing import Any
 import numpy as np
 
 from robokin.errors import DomainError, ShapeError
+from robokin.views import arguments
+from robokin.views.arguments import (
+    MAX_PATH_POINTS,
+    as_color,
+    as_configuration,
+    as_height,
+    as_length,
+    as_opacity,
+    as_points,
+    as_pose,
+    as_time_step,
+    as_times,
+    as_trajectory,
+    subsample,
+)
 
 __all__ = ["Scene", "show"]
 
@@ -80,60 +95,6 @@ class _Options:
     extra: dict = field(default_factory=dict)
 
 
-# --------------------------------------------------------------------------- checks
-def _as_q(chain, q, argname="q"):
-    n = int(chain.n)
-    if q is None:
-        lim = np.asarray(chain.limits, dtype=float).reshape(n, 2)
-        return np.clip(np.zeros(n), lim[:, 0], lim[:, 1])  # zero, moved into the limits
-    arr = np.asarray(q, dtype=float)
-    if arr.shape != (n,):
-        raise ShapeError(f"{argname} must have shape ({n},) for a chain with {n} joints; got shape {arr.shape}")
-    if not np.all(np.isfinite(arr)):
-        raise DomainError(f"{argname} must be finite; got {arr}")
-    return arr
-
-
-def _as_trajectory(chain, trajectory, argname="trajectory"):
-    n = int(chain.n)
-    arr = np.asarray(trajectory, dtype=float)
-    if arr.ndim == 1 and n == 1:
-        arr = arr[:, None]
-    if arr.ndim != 2 or arr.shape[1] != n or arr.shape[0] < 1:
-        raise ShapeError(
-            f"{argname} must have shape (T, {n}) (one row per time step, one column per joint "
-            f"of the {n}-joint chain); got shape {arr.shape}")
-    if not np.all(np.isfinite(arr)):
-        raise DomainError(f"{argname} must be finite (found NaN or inf)")
-    return arr
-
-
-def _as_points(points, argname):
-    arr = np.asarray(points, dtype=float)
-    if arr.ndim == 1 and arr.shape[0] in (2, 3):
-        arr = arr[None, :]
-    if arr.ndim != 2 or arr.shape[1] not in (2, 3):
-        raise ShapeError(f"{argname} must have shape (N, 3) (or (N, 2) for planar points); got shape {arr.shape}")
-    if arr.shape[1] == 2:
-        arr = np.hstack([arr, np.zeros((arr.shape[0], 1))])
-    if not np.all(np.isfinite(arr)):
-        raise DomainError(f"{argname} must be finite (found NaN or inf)")
-    return arr
-
-
-def _as_transform(T, argname="T"):
-    arr = np.asarray(T, dtype=float)
-    if arr.shape == (3,):
-        out = np.eye(4)
-        out[:3, 3] = arr
-        return out
-    if arr.shape != (4, 4):
-        raise ShapeError(f"{argname} must be a (4, 4) homogeneous transform (or a (3,) position); got shape {arr.shape}")
-    if not np.all(np.isfinite(arr)):
-        raise DomainError(f"{argname} must be finite")
-    return arr
-
-
 STYLES = ("stick", "mesh")
 
 
@@ -190,7 +151,7 @@ class Scene:
     def __init__(self, *, height: int = DEFAULT_HEIGHT, grid: bool = True):
         self.items: list = []
         self.animations: list[AnimationItem] = []
-        self.options = _Options(height=int(height), grid=bool(grid))
+        self.options = _Options(height=as_height(height), grid=bool(grid))
         self._live = None          # robokin.views.live.LiveViewer, once shown live
 
     # ---- naming
@@ -203,7 +164,8 @@ class Scene:
                 k += 1
                 name = f"{stem}_{k}"
             return name
-        name = str(name)
+        if not isinstance(name, str):
+            raise TypeError(f"name must be a str (or None for a default); got {type(name).__name__} {name!r}")
         if not name or "/" in name:
             raise DomainError(f"name must be a non-empty string without '/'; got {name!r}")
         if name in taken:
@@ -238,13 +200,16 @@ class Scene:
         """
         from robokin.views.meshcat_draw import chain_layout  # numpy only
 
-        q = _as_q(chain, q)
-        chain_layout(chain, q)  # validates (zero-length chain -> DomainError)
-        if not 0.0 < float(opacity) <= 1.0:
-            raise DomainError(f"opacity must be in (0, 1]; got {opacity}")
+        q = as_configuration(chain, q)
+        layout = chain_layout(chain, q)  # validates (zero-length chain -> DomainError)
+        if not layout["reach"] <= arguments.MAX_COORDINATE:
+            raise DomainError(f"chain: its reach of {layout['reach']:.3g} m is more than a scene draws "
+                              f"({arguments.MAX_COORDINATE:g} m)")
+        opacity = as_opacity(opacity)
+        color = None if color is None else as_color(color)
         item_name = self._name(name, "robot")
         resolved = _resolve_meshes(chain, style, meshes)
-        item = ChainItem(item_name, chain, q, color, float(opacity), bool(frames), bool(labels), meshes=resolved)
+        item = ChainItem(item_name, chain, q, color, opacity, bool(frames), bool(labels), meshes=resolved)
         self.items.append(item)
         return item.name
 
@@ -257,23 +222,44 @@ class Scene:
         return name
 
     def add_target(self, T, *, name=None, size=None, label=None):
-        """A target frame: a triad at the pose ``T`` (4x4; a (3,) position is allowed)."""
-        item = TargetItem(self._name(name, "target"), _as_transform(T), size, label)
+        """A target frame: a triad at the pose ``T``.
+
+        ``T`` is a rigid transform (4, 4) (rotation part a rotation matrix, bottom
+        row [0, 0, 0, 1]; DomainError otherwise) or a (3,) position; ``size`` the
+        triad's length in metres (default: from the scene's scale).
+        """
+        if size is not None:
+            size = as_length(size, "size")
+        if label is not None and not isinstance(label, str):
+            raise TypeError(f"label must be a str or None; got {type(label).__name__}")
+        item = TargetItem(self._name(name, "target"), as_pose(T), size, label)
         self.items.append(item)
         return item.name
 
     def add_points(self, points, *, name=None, radius=None, color=0xFFD92F):
-        """Spheres at the rows of ``points`` (N, 3)."""
-        item = PointsItem(self._name(name, "points"), _as_points(points, "points"), radius, int(color))
+        """Spheres at the rows of ``points`` (N, 3), N >= 1, in metres (``radius`` in metres).
+
+        More than 500 points are drawn as one point cloud (a square of side
+        2 ``radius`` facing the camera at each point), which a page stores in 12
+        bytes per point.
+        At most :data:`~robokin.views.arguments.MAX_POINTS` (100 000) points are
+        kept: more are subsampled evenly, with a :class:`~robokin.errors.ViewWarning`.
+        """
+        if radius is not None:
+            radius = as_length(radius, "radius")
+        item = PointsItem(self._name(name, "points"), as_points(points, "points"), radius, as_color(color))
         self.items.append(item)
         return item.name
 
     def add_path(self, points, *, name=None, color=0xFFFFFF):
-        """A polyline through the rows of ``points`` (N, 3), N >= 2."""
-        pts = _as_points(points, "points")
-        if pts.shape[0] < 2:
-            raise ShapeError(f"points of a path must have at least 2 rows; got shape {pts.shape}")
-        item = PathItem(self._name(name, "path"), pts, int(color))
+        """A polyline through the rows of ``points`` (N, 3), N >= 2, in metres.
+
+        At most :data:`~robokin.views.arguments.MAX_PATH_POINTS` (100 000) points
+        are kept: more are subsampled evenly (ends kept), with a
+        :class:`~robokin.errors.ViewWarning`.
+        """
+        pts = as_points(points, "points", minimum=2, cap=arguments.MAX_PATH_POINTS)
+        item = PathItem(self._name(name, "path"), pts, as_color(color))
         self.items.append(item)
         return item.name
 
@@ -286,37 +272,41 @@ class Scene:
         the scene.  ``times`` (T,) overrides ``dt`` for non-uniform samples.  With
         ``trace=True`` the end-effector path is drawn as a line.  The viewer shows
         play / pause / reset and a time slider under *Animations* in its controls.
+        At most :data:`~robokin.views.arguments.MAX_ANIMATION_STEPS` (20 000)
+        steps are kept: a longer trajectory is subsampled in time (first and last
+        step kept, their times kept), with a :class:`~robokin.errors.ViewWarning`.
         """
         if isinstance(chain, str):
-            item = self.item(chain)
-            if not isinstance(item, ChainItem):
-                raise DomainError(f"{chain!r} is not a chain item")
+            items = [it for it in self.items if isinstance(it, ChainItem) and it.name == chain]
+            if not items:
+                raise DomainError(f"chain: no chain item named {chain!r} in this scene; chain items: "
+                                  f"{[it.name for it in self.items if isinstance(it, ChainItem)]}")
+            item = items[0]
         else:
             existing = [it for it in self.items if isinstance(it, ChainItem) and
                         (it.name == name or (name is None and it.chain is chain and not it.ghost))]
-            Q = _as_trajectory(chain, trajectory)
+            Q = as_trajectory(chain, trajectory)
             if existing:
                 item = existing[0]
             else:
                 self.add_chain(chain, Q[0], name=name)
                 item = self.items[-1]
-        Q = _as_trajectory(item.chain, trajectory)
+        Q = as_trajectory(item.chain, trajectory)
         if times is None:
-            dt = float(dt)
-            if not (np.isfinite(dt) and dt > 0):
-                raise DomainError(f"dt must be a positive number of seconds; got {dt}")
-            t = np.arange(Q.shape[0]) * dt
+            t = np.arange(Q.shape[0]) * as_time_step(dt)
         else:
-            t = np.asarray(times, dtype=float)
-            if t.shape != (Q.shape[0],):
-                raise ShapeError(f"times must have shape ({Q.shape[0]},) to match trajectory; got shape {t.shape}")
-            if np.any(np.diff(t) <= 0) or not np.all(np.isfinite(t)):
-                raise DomainError("times must be finite and strictly increasing")
-            t = t - t[0]
+            t = as_times(times, Q.shape[0])
+        if t[-1] > arguments.MAX_DURATION:
+            raise DomainError(f"{'dt' if times is None else 'times'}: the animation would last {t[-1]:.3g} s, "
+                              f"more than a scene plays ({arguments.MAX_DURATION:g} s)")
+        if len(t) > arguments.MAX_ANIMATION_STEPS:
+            keep = subsample(np.arange(len(t)), arguments.MAX_ANIMATION_STEPS, "trajectory", "steps")
+            Q, t = Q[keep], t[keep]
+        trace_color = as_color(trace_color, "trace_color")
         if any(a.chain_name == item.name for a in self.animations):
             raise DomainError(f"chain item {item.name!r} is already animated")
         item.q = Q[0].copy()
-        self.animations.append(AnimationItem(item.name, Q, t, bool(trace), int(trace_color)))
+        self.animations.append(AnimationItem(item.name, Q, t, bool(trace), trace_color))
         self.options.play = bool(play)
         self.options.loop = bool(loop)
         return item.name
@@ -325,7 +315,7 @@ class Scene:
     def set_configuration(self, name, q):
         """Move chain item ``name`` to ``q``; pushes only transforms to a live viewer."""
         item = self.item(name)
-        item.q = _as_q(item.chain, q)
+        item.q = as_configuration(item.chain, q)
         if self._live is not None:
             from robokin.views.meshcat_draw import chain_transforms
             self._live.send_transforms(chain_transforms(item.name, item.chain, item.q))
@@ -349,7 +339,7 @@ class Scene:
         :mod:`robokin.views.sphinx_extension`), or from ``viewer_src`` if given.
         """
         from robokin.views.static_html import scene_html
-        return scene_html(self.commands(), height=height or self.options.height,
+        return scene_html(self.commands(), height=self.options.height if height is None else as_height(height),
                           animated=bool(self.animations), viewer_src=viewer_src)
 
     def _repr_html_(self):
@@ -396,20 +386,34 @@ def show(chain=None, q=None, *, targets=(), points=None, path=None, ghosts=(), t
     ghosts stay stick figures).
     Equivalent to building a :class:`Scene` and calling :meth:`Scene.show`.
     """
-    scene = Scene(height=height or DEFAULT_HEIGHT)
+    if trajectory is not None:
+        if chain is None:
+            raise DomainError("trajectory needs a chain: show(chain, trajectory=...)")
+        trajectory = as_trajectory(chain, trajectory)
+    scene = Scene(height=DEFAULT_HEIGHT if height is None else height)
     if chain is not None:
-        scene.add_chain(chain, q if q is not None or trajectory is None else np.asarray(trajectory)[0],
+        scene.add_chain(chain, q if q is not None or trajectory is None else trajectory[0],
                         frames=frames, style=style, meshes=meshes)
-        for g in ghosts:
-            scene.add_ghost(chain, g)
-    for T in (targets if not isinstance(targets, np.ndarray) or targets.ndim == 3 else [targets]):
-        scene.add_target(T)
+        for k, g in enumerate(_as_list(ghosts, "ghosts")):
+            scene.add_ghost(chain, as_configuration(chain, g, f"ghosts[{k}]"))
+    elif q is not None or ghosts:
+        raise DomainError("q and ghosts need a chain: show(chain, q, ghosts=...)")
+    for k, T in enumerate(_as_list(targets, "targets", stacked=3)):
+        scene.add_target(as_pose(T, f"targets[{k}]"))
     if points is not None:
         scene.add_points(points)
     if path is not None:
         scene.add_path(path)
     if trajectory is not None:
-        if chain is None:
-            raise DomainError("trajectory needs a chain")
         scene.animate("robot", trajectory, dt=dt)
     scene.show(mode=mode, height=height)
+
+
+def _as_list(items, name, stacked=2):
+    """``items`` as a list of entries: a sequence, or an array whose first axis lists them
+    (an array of ``stacked - 1`` dimensions is one entry)."""
+    if isinstance(items, (str, bytes, dict)) or items is None:
+        raise TypeError(f"{name} must be a sequence; got {type(items).__name__} {items!r}"[:200])
+    if isinstance(items, np.ndarray):
+        return [items] if items.ndim < stacked else list(items)
+    return list(items)

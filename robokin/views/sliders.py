@@ -49,10 +49,11 @@ class JointSliders:
     """
 
     def __init__(self, chain, q=None, *, scene=None, name="robot", height=420, viewer=None):
-        from robokin.views.scene import Scene, _as_q
+        from robokin.views.scene import Scene
+        from robokin.views.arguments import as_configuration
 
         self.chain = chain
-        self.q = _as_q(chain, q)
+        self.q = as_configuration(chain, q)
         if scene is None:
             scene = Scene(height=height)
             scene.add_chain(chain, self.q, name=name)

@@ -161,7 +161,19 @@ def scene_html(commands, *, height=420, animated=False, viewer_src=None):
 
 
 def save_page(path, scenes, *, copy_viewer=True, title="robokin scene"):
-    """Write a standalone HTML page showing ``scenes``; copy the viewer into ``_static/meshcat/``."""
+    """Write a standalone HTML page showing ``scenes``; copy the viewer into ``_static/meshcat/``.
+
+    ``scenes`` is a list of :class:`~robokin.views.Scene` (or HTML strings put in
+    the page as they are); ``path`` the page's file. Returns the path.
+    """
+    if isinstance(scenes, (str, bytes)) or not isinstance(scenes, (list, tuple)):
+        raise TypeError(f"scenes must be a list of robokin.views.Scene; got {type(scenes).__name__}")
+    for k, s in enumerate(scenes):
+        if not (hasattr(s, "to_html") or isinstance(s, str)):
+            raise TypeError(f"scenes[{k}] must be a robokin.views.Scene (or an HTML string); got "
+                            f"{type(s).__name__}")
+    if isinstance(path, bytes) or not isinstance(path, (str, os.PathLike)):
+        raise TypeError(f"path must be a file name (str or os.PathLike); got {type(path).__name__}")
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     body = "\n".join(s.to_html() if hasattr(s, "to_html") else str(s) for s in scenes)

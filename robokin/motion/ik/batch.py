@@ -2,37 +2,211 @@ r"""Many-target inverse kinematics: :func:`solve_ik_batch`.
 
 The same algorithm as :func:`~robokin.motion.solve_ik`, vectorised over the
 targets: each iteration evaluates the chain's batched ``fk``/``jacobian`` on
-all targets still working, computes every step with one batched linear-algebra
+all attempts still working, computes every step with one batched linear-algebra
 call, and drops targets as they converge (or restarts them from random
 configurations when an attempt fails).  No history is kept.
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass, fields
 from typing import Any
 
 import numpy as np
 
 from robokin.motion._kernels import pose_error_vector, random_within_limits
-from robokin.motion.ik.methods import IKMethod, make_method
-from robokin.motion.ik.problem import (
-    check_nonnegative_int,
-    make_context,
-    parse_mask,
-    parse_q0,
-    parse_stall,
-    parse_target,
-    parse_tolerance,
-)
-from robokin.motion.ik.result import IKBatchResult
+from robokin.motion.ik.methods import IKMethod
 from robokin.motion.ik.polish import polish as polish_rows
-from robokin.motion.ik.solve import DEFAULTS, REFINE_STALL_TOLERANCE, classify_stall
-from robokin.validation import check_chain, check_positive
+from robokin.motion.ik.problem import IKContext
+from robokin.motion.ik.result import IKBatchResult
+from robokin.motion.ik.settings import DEFAULTS, IKSettings, parse_settings
+from robokin.motion.ik.stall import classify_stall, stall_check
 
 __all__ = ["solve_ik_batch"]
 
 _REASON_NAMES = np.array(["stalled", "unreachable", "joint_limits", "max_iterations", "converged"])
 _STALLED, _UNREACHABLE, _JOINT_LIMITS, _MAX_IT, _CONVERGED = range(5)
+
+
+@dataclass
+class AttemptRows:
+    """The attempts in progress, one row each (a target may have several).
+
+    Attributes
+    ----------
+    target : ndarray of int, shape (R,)
+        Index of the target of each row.
+    q : ndarray, shape (R, n)
+        Current configuration.
+    iteration : ndarray of int, shape (R,)
+        Steps taken in this attempt.
+    checkpoint, reference : ndarray, shape (R,)
+        Iteration and best error norm of the last stall check.
+    best_norm, best_q, best_error : ndarray, shapes (R,), (R, n), (R, 6)
+        Best configuration of the attempt so far.
+    """
+
+    target: np.ndarray
+    q: np.ndarray
+    iteration: np.ndarray
+    checkpoint: np.ndarray
+    reference: np.ndarray
+    best_norm: np.ndarray
+    best_q: np.ndarray
+    best_error: np.ndarray
+
+    @classmethod
+    def start(cls, targets: np.ndarray, q: np.ndarray) -> AttemptRows:
+        """New attempts of ``targets`` (R,) from configurations ``q`` (R, n)."""
+        R = targets.size
+        return cls(targets, q, np.zeros(R, dtype=int), np.zeros(R, dtype=int), np.full(R, np.inf),
+                   np.full(R, np.inf), q.copy(), np.zeros((R, 6)))
+
+    def take(self, keep: np.ndarray) -> AttemptRows:
+        """The rows selected by ``keep`` (bool or indices)."""
+        return AttemptRows(*(getattr(self, f.name)[keep] for f in fields(self)))
+
+    def extend(self, other: AttemptRows) -> AttemptRows:
+        return AttemptRows(*(np.concatenate((getattr(self, f.name), getattr(other, f.name))) for f in fields(self)))
+
+
+@dataclass
+class TargetBest:
+    """Per target (N): the best configuration over its attempts and how that attempt ended."""
+
+    norm: np.ndarray
+    q: np.ndarray
+    error: np.ndarray
+    code: np.ndarray
+    success: np.ndarray
+    attempts: np.ndarray
+    iterations: np.ndarray
+
+    @classmethod
+    def start(cls, q_init: np.ndarray) -> TargetBest:
+        N = q_init.shape[0]
+        return cls(np.full(N, np.inf), q_init.copy(), np.zeros((N, 6)), np.full(N, _MAX_IT),
+                   np.zeros(N, dtype=bool), np.ones(N, dtype=int), np.zeros(N, dtype=int))
+
+    def keep(self, targets: np.ndarray, norm: np.ndarray, q: np.ndarray, error: np.ndarray, code: Any) -> None:
+        """Make the given configurations (one per entry of ``targets``) the targets' best."""
+        self.norm[targets], self.q[targets], self.error[targets], self.code[targets] = norm, q, error, code
+
+    def keep_better(self, rows: AttemptRows, index: np.ndarray, codes: np.ndarray) -> None:
+        """The ended attempts ``index`` (in order): keep each one's best if it beats its target's."""
+        for k, code in zip(index, codes):
+            t = rows.target[k]
+            if rows.best_norm[k] < self.norm[t]:
+                self.keep(t, rows.best_norm[k], rows.best_q[k], rows.best_error[k], code)
+
+
+def steps_within_limits(
+    method: IKMethod, J: np.ndarray, e: np.ndarray, q: np.ndarray, ctx: IKContext
+) -> np.ndarray:
+    """Batched limit-aware step (see ``limit_aware_step`` in :mod:`~robokin.motion.ik.solve`).
+
+    ``J`` (R, m, n), ``e`` (R, m), ``q`` (R, n) -> ``dq`` (R, n): joints resting
+    on a limit and pushed outwards are frozen and the step recomputed.
+    """
+    dq = method.step(J, e, q, ctx)[0]
+    blocked = ((q <= ctx.lower) & (dq < 0)) | ((q >= ctx.upper) & (dq > 0))
+    rb = np.flatnonzero(blocked.any(axis=1))
+    if rb.size:
+        bl = blocked[rb]
+        dq_b = method.step(np.where(bl[:, None, :], 0.0, J[rb]), e[rb], q[rb], ctx)[0]
+        dq[rb] = np.where(bl, 0.0, dq_b)
+    return dq
+
+
+def cap_steps(dq: np.ndarray, max_step: float | None) -> np.ndarray:
+    """Scale the rows of ``dq`` (R, n) longer than ``max_step`` down to it (None: no cap)."""
+    if max_step is None:
+        return dq
+    s = np.linalg.norm(dq, axis=1, keepdims=True)
+    return dq * np.minimum(1.0, max_step / np.maximum(s, 1e-300))
+
+
+def _errors(settings: IKSettings, rows: AttemptRows, T_goal: np.ndarray):
+    """Pose errors (R, 6), their masked position and orientation norms, and the flange poses."""
+    ctx = settings.ctx
+    T_flange, T = ctx.pose(rows.q)
+    e = pose_error_vector(T, T_goal[rows.target])
+    if settings.is_position:
+        e[:, 3:] = 0.0
+    m = ctx.mask
+    pe = np.linalg.norm(e[:, :3] * m[:3].astype(float), axis=1)
+    oe = np.linalg.norm(e[:, 3:] * m[3:].astype(float), axis=1)
+    return e, pe, oe, T_flange
+
+
+def _iterate(settings: IKSettings, rows: AttemptRows, best: TargetBest, T_goal: np.ndarray
+             ) -> tuple[AttemptRows, np.ndarray]:
+    """One iteration of every attempt in progress.
+
+    Returns the rows that go on (stepped) and the indices of the targets
+    whose attempts ended unsolved in this iteration.
+    """
+    ctx, method = settings.ctx, settings.method
+    e, pe, oe, T_flange = _errors(settings, rows, T_goal)
+    norm = np.sqrt(pe * pe + oe * oe)
+    fresh = rows.iteration == 0
+    rows.reference[fresh] = norm[fresh]
+    better = norm < rows.best_norm
+    rows.best_norm[better], rows.best_q[better], rows.best_error[better] = norm[better], rows.q[better], e[better]
+    converged = np.flatnonzero((pe <= settings.tol_position) & (oe <= settings.tol_orientation))
+    if converged.size:
+        best.success[rows.target[converged]] = True
+        best.keep(rows.target[converged], norm[converged], rows.q[converged], e[converged], _CONVERGED)
+    alive = ~best.success[rows.target]  # drops every row of a solved target
+    maxed = alive & (rows.iteration >= settings.max_iterations)
+    end_code = np.where(maxed, _MAX_IT, -1)
+    go = np.zeros(rows.target.size, dtype=bool)
+    ri = np.flatnonzero(alive & ~maxed)
+    new_q = rows.q
+    if ri.size:
+        J = ctx.jacobian(rows.q[ri], T_flange[ri])
+        J_task, e_task = (J, e[ri]) if ctx.full_mask else (J[:, ctx.rows, :], e[ri][:, ctx.rows])
+        stalled, passed = stall_check(rows.iteration[ri], rows.checkpoint[ri], rows.reference[ri],
+                                      rows.best_norm[ri], settings.stall_iterations, settings.stall_tolerance)
+        if stalled.any():
+            end_code[ri[stalled]] = classify_stall(J_task[stalled], e_task[stalled], rows.q[ri][stalled],
+                                                   ctx.lower, ctx.upper, settings.gradient_tolerance)
+        moved = ri[passed]
+        rows.checkpoint[moved], rows.reference[moved] = rows.iteration[moved], rows.best_norm[moved]
+        keep = ~stalled
+        gi = ri[keep]
+        if gi.size:
+            qg = rows.q[gi]
+            dq = cap_steps(steps_within_limits(method, J_task[keep], e_task[keep], qg, ctx), settings.max_step)
+            new_q = rows.q.copy()
+            new_q[gi] = ctx.project(qg + dq)
+            go[gi] = True
+            np.add.at(best.iterations, rows.target[gi], 1)
+    ended = np.flatnonzero(end_code >= 0)
+    best.keep_better(rows, ended, end_code[ended])
+    rows.q = new_q
+    going = rows.take(go)
+    going.iteration += 1
+    return going, rows.target[ended]
+
+
+def _restart(settings: IKSettings, rows: AttemptRows, best: TargetBest, ended_targets: np.ndarray,
+             rng: np.random.Generator) -> AttemptRows:
+    """Targets whose attempts have all ended get new ones, several in parallel (1, 2, 6, 18, ...)."""
+    restarts = settings.restarts
+    if not (ended_targets.size and restarts):
+        return rows
+    live = np.bincount(rows.target, minlength=best.success.size)
+    spawn = [t for t in np.unique(ended_targets)
+             if live[t] == 0 and not best.success[t] and best.attempts[t] <= restarts]
+    if not spawn:
+        return rows
+    st = np.array(spawn)
+    count = np.minimum(restarts + 1 - best.attempts[st], 2 * best.attempts[st])
+    best.attempts[st] += count
+    targets = np.repeat(st, count)
+    q = random_within_limits(rng, settings.ctx.lower, settings.ctx.upper, targets.size)
+    return rows.extend(AttemptRows.start(targets, q))
 
 
 def solve_ik_batch(
@@ -97,170 +271,42 @@ def solve_ik_batch(
     failures occur, so results are reproducible for a given ``seed`` and
     batch but may differ from solving each target alone.
     """
-    check_chain(chain)
-    T_goal, is_position = parse_target(targets, batched=True)
-    N = T_goal.shape[0]
-    m = parse_mask(mask, is_position)
-    ctx = make_context(chain, m, tool, wrap)
-    n = ctx.n
-    tol_p, tol_o = parse_tolerance(tol)
-    meth = make_method(method, options)
-    max_it = meth.default_max_iterations if max_iterations is None else check_nonnegative_int(
-        max_iterations, "max_iterations", 1)
-    restarts = check_nonnegative_int(restarts, "restarts")
-    stall_iterations, stall_tolerance = parse_stall(meth, stall_iterations, stall_tolerance)
-    gtol = check_positive(gradient_tolerance, "gradient_tolerance", scalar=True)
-    if max_step is not None:
-        max_step = check_positive(max_step, "max_step", scalar=True)
-    q_init = parse_q0(q0, n, ctx.lower, ctx.upper, N).copy()
+    settings, T_goal, q_init = parse_settings(
+        chain, targets, q0, method, options, batched=True, mask=mask, tool=tool, tol=tol,
+        max_iterations=max_iterations, restarts=restarts, seed=seed, stall_iterations=stall_iterations,
+        stall_tolerance=stall_tolerance, gradient_tolerance=gradient_tolerance, max_step=max_step,
+        wrap=wrap, polish=polish)
     rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
-    lower, upper, rows, full = ctx.lower, ctx.upper, ctx.rows, ctx.full_mask
-    m_pos = m[:3].astype(float)
-    m_ori = m[3:].astype(float)
+    best = TargetBest.start(q_init)
+    rows = AttemptRows.start(np.arange(q_init.shape[0]), q_init)
+    while rows.target.size:
+        rows, ended_targets = _iterate(settings, rows, best, T_goal)
+        rows = _restart(settings, rows, best, ended_targets, rng)
+    return _batch_result(settings, best, T_goal)
 
-    # per target
-    best_norm = np.full(N, np.inf)
-    best_q = q_init.copy()
-    best_e = np.zeros((N, 6))
-    best_reason = np.full(N, _MAX_IT)
-    success = np.zeros(N, dtype=bool)
-    attempts = np.ones(N, dtype=int)
-    total_it = np.zeros(N, dtype=int)
-    # per row (one row = one attempt in progress; a target may have several)
-    r_t = np.arange(N)
-    r_q = q_init
-    r_it = np.zeros(N, dtype=int)
-    r_ck = np.zeros(N, dtype=int)
-    r_ckn = np.full(N, np.inf)
-    r_bn = np.full(N, np.inf)
-    r_bq = q_init.copy()
-    r_be = np.zeros((N, 6))
 
-    while r_t.size:
-        T_flange, T = ctx.pose(r_q)
-        e = pose_error_vector(T, T_goal[r_t])
-        if is_position:
-            e[:, 3:] = 0.0
-        pe = np.linalg.norm(e[:, :3] * m_pos, axis=1)
-        oe = np.linalg.norm(e[:, 3:] * m_ori, axis=1)
-        task_e = e if full else e[:, rows]
-        norm = np.sqrt(pe * pe + oe * oe)
-        fresh = r_it == 0
-        r_ckn[fresh] = norm[fresh]
-        better = norm < r_bn
-        r_bn[better] = norm[better]
-        r_bq[better] = r_q[better]
-        r_be[better] = e[better]
-
-        conv = (pe <= tol_p) & (oe <= tol_o)
-        if conv.any():
-            ci = np.flatnonzero(conv)
-            tc = r_t[ci]
-            success[tc] = True
-            best_norm[tc] = norm[ci]
-            best_q[tc] = r_q[ci]
-            best_e[tc] = e[ci]
-            best_reason[tc] = _CONVERGED
-        alive = ~success[r_t]  # drops every row of a solved target
-        maxed = alive & (r_it >= max_it)
-        rest = alive & ~maxed
-        end_code = np.where(maxed, _MAX_IT, -1)
-        go = np.zeros(r_t.size, dtype=bool)
-        new_q = r_q
-        if rest.any():
-            ri = np.flatnonzero(rest)
-            qr = r_q[ri]
-            J = ctx.jacobian(qr, T_flange[ri])
-            Jt = J if full else J[:, rows, :]
-            er = task_e[ri]
-            # stall: every stall_iterations steps the best error must have
-            # dropped by the fraction stall_tolerance
-            check = (r_it[ri] - r_ck[ri]) >= stall_iterations
-            stalled = check & (r_bn[ri] > (1.0 - stall_tolerance) * r_ckn[ri])
-            if stalled.any():
-                end_code[ri[stalled]] = classify_stall(Jt[stalled], er[stalled], qr[stalled], lower, upper, gtol)
-            moved = ri[check & ~stalled]
-            r_ck[moved] = r_it[moved]
-            r_ckn[moved] = r_bn[moved]
-            keep = ~stalled
-            gi = ri[keep]
-            if gi.size:
-                qg, Jg, eg = qr[keep], Jt[keep], er[keep]
-                dq, _ = meth.step(Jg, eg, qg, ctx)
-                # limit-aware step (see solve_ik): freeze joints pushed through a limit
-                blocked = ((qg <= lower) & (dq < 0)) | ((qg >= upper) & (dq > 0))
-                rb = np.flatnonzero(blocked.any(axis=1))
-                if rb.size:
-                    bl = blocked[rb]
-                    dq_b, _ = meth.step(np.where(bl[:, None, :], 0.0, Jg[rb]), eg[rb], qg[rb], ctx)
-                    dq[rb] = np.where(bl, 0.0, dq_b)
-                if max_step is not None:
-                    s = np.linalg.norm(dq, axis=1, keepdims=True)
-                    dq = dq * np.minimum(1.0, max_step / np.maximum(s, 1e-300))
-                new_q = r_q.copy()
-                new_q[gi] = ctx.project(qg + dq)
-                go[gi] = True
-                np.add.at(total_it, r_t[gi], 1)
-
-        # attempts that ended without converging: keep their best, maybe restart
-        ended = np.flatnonzero(end_code >= 0)
-        spawn_targets: list[int] = []
-        for k in ended:
-            t = r_t[k]
-            if r_bn[k] < best_norm[t]:
-                best_norm[t] = r_bn[k]
-                best_q[t] = r_bq[k]
-                best_e[t] = r_be[k]
-                best_reason[t] = end_code[k]
-        ended_targets = r_t[ended]
-        r_t, r_q, r_it = r_t[go], new_q[go], r_it[go] + 1
-        r_ck, r_ckn, r_bn, r_bq, r_be = r_ck[go], r_ckn[go], r_bn[go], r_bq[go], r_be[go]
-        if ended.size and restarts:
-            # a target whose attempts have all ended gets new ones from random
-            # configurations, several in parallel (1, 2, 6, 18, ... at a time)
-            live = np.bincount(r_t, minlength=N)
-            spawn_targets = [t for t in np.unique(ended_targets)
-                             if live[t] == 0 and not success[t] and attempts[t] <= restarts]
-        if spawn_targets:
-            st = np.array(spawn_targets)
-            count = np.minimum(restarts + 1 - attempts[st], 2 * attempts[st])
-            attempts[st] += count
-            nt = np.repeat(st, count)
-            nq = random_within_limits(rng, lower, upper, nt.size)
-            z = np.zeros(nt.size, dtype=int)
-            r_t = np.concatenate((r_t, nt))
-            r_q = np.concatenate((r_q, nq))
-            r_it = np.concatenate((r_it, z))
-            r_ck = np.concatenate((r_ck, z))
-            r_ckn = np.concatenate((r_ckn, np.full(nt.size, np.inf)))
-            r_bn = np.concatenate((r_bn, np.full(nt.size, np.inf)))
-            r_bq = np.concatenate((r_bq, nq))
-            r_be = np.concatenate((r_be, np.zeros((nt.size, 6))))
-
-    failed = np.flatnonzero(~success)
-    if polish and failed.size:
+def _batch_result(settings: IKSettings, best: TargetBest, T_goal: np.ndarray) -> IKBatchResult:
+    failed = np.flatnonzero(~best.success)
+    if settings.polish and failed.size:
         # as in solve_ik: polish the best attempt of every failed target
-        qp, ep_, conv, code, its = polish_rows(
-            ctx, best_q[failed], T_goal[failed], is_position, (tol_p, tol_o), max_it,
-            stall_iterations, REFINE_STALL_TOLERANCE, gtol)
-        best_q[failed] = qp
-        best_e[failed] = ep_
-        success[failed] = conv
-        best_reason[failed] = np.where(conv, _CONVERGED, np.where(code == 3, _MAX_IT, code))
-        total_it[failed] += its
-    pe = np.linalg.norm(best_e[:, :3] * m_pos, axis=1)
-    oe = np.linalg.norm(best_e[:, 3:] * m_ori, axis=1)
-    ok = success & (pe <= tol_p) & (oe <= tol_o)
-    reason = _REASON_NAMES[best_reason]
-    reason = np.where(ok, "converged", np.where(best_reason == _CONVERGED, "max_iterations", reason))
+        q, e, converged, code, iterations = polish_rows(settings, best.q[failed], T_goal[failed])
+        best.q[failed], best.error[failed], best.success[failed] = q, e, converged
+        best.code[failed] = np.where(converged, _CONVERGED, np.where(code == 3, _MAX_IT, code))
+        best.iterations[failed] += iterations
+    m = settings.ctx.mask
+    pe = np.linalg.norm(best.error[:, :3] * m[:3].astype(float), axis=1)
+    oe = np.linalg.norm(best.error[:, 3:] * m[3:].astype(float), axis=1)
+    ok = best.success & (pe <= settings.tol_position) & (oe <= settings.tol_orientation)
+    reason = _REASON_NAMES[best.code]
+    reason = np.where(ok, "converged", np.where(best.code == _CONVERGED, "max_iterations", reason))
     return IKBatchResult(
-        q=best_q,
+        q=best.q,
         success=ok,
-        iterations=total_it,
+        iterations=best.iterations,
         reason=reason,
         position_error=pe,
         orientation_error=oe,
-        errors=best_e,
-        attempts=attempts,
-        method=meth.name,
+        errors=best.error,
+        attempts=best.attempts,
+        method=settings.method.name,
     )

@@ -38,15 +38,16 @@ Levenberg–Marquardt method", IEEE Trans. Robotics 27(5), 2011.
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
 from robokin.errors import DomainError, ShapeError
-from robokin.motion.ik.objectives import as_objective
+from robokin.motion.ik.objectives import JointLimitDistance, as_objective, objective_limits
 from robokin.validation import as_float_array, check_positive
 
 __all__ = [
+    "StepResult",
     "IKMethod",
     "PseudoInverse",
     "JacobianTranspose",
@@ -80,11 +81,44 @@ def _svd_pinv_apply(J: np.ndarray, e: np.ndarray, rcond: float) -> tuple[np.ndar
     return dq, s, Vt
 
 
+class StepResult(NamedTuple):
+    r"""What a step rule returns: the joint step and the damping used.
+
+    A tuple, so ``dq, damping = method.step(...)`` and ``method.step(...)[0]``
+    both work.
+
+    Attributes
+    ----------
+    step : ndarray, shape (n,) or (N, n)
+        Joint step :math:`\Delta q` (rad or m).
+    damping : float or ndarray, shape () or (N,)
+        Damping :math:`\lambda` of the step (regulariser :math:`\lambda^2 I`);
+        0 for the undamped methods.
+    """
+
+    step: np.ndarray
+    damping: Any
+
+
+def _mask(ctx: Any) -> np.ndarray:
+    if ctx is None:
+        raise TypeError("error_weights on a masked task need the context (ctx) of the solve, for its mask")
+    return ctx.mask
+
+
 class IKMethod:
     """Base class of the IK step rules.
 
     Subclasses implement :meth:`step`.  ``default_max_iterations`` is the
     iteration budget per attempt used when the caller gives none.
+
+    A step rule is called as ``method.step(J, e, q, ctx)`` with the task
+    Jacobian ``J`` (m, n) or (N, m, n), the task error ``e`` (m,) or (N, m),
+    the configuration ``q`` (n,) or (N, n) and the solver's context (limits,
+    mask; an :class:`~robokin.motion.ik.problem.IKContext`).  ``q`` and ``ctx``
+    are optional for the rules that do not use them (all but ``"nullspace"``,
+    which needs ``q`` and the joint limits, and ``"lm"`` with
+    ``error_weights`` on a masked task, which needs the mask).
     """
 
     name: str = "base"
@@ -92,8 +126,8 @@ class IKMethod:
     #: (stall_iterations, stall_tolerance) used when the caller gives none.
     default_stall: tuple[int, float] = (10, 0.5)
 
-    def step(self, J: np.ndarray, e: np.ndarray, q: np.ndarray, ctx: Any) -> tuple[np.ndarray, Any]:
-        """Joint step ``dq`` (shape of ``q``) and the damping ``lambda`` used."""
+    def step(self, J: np.ndarray, e: np.ndarray, q: np.ndarray | None = None, ctx: Any = None) -> StepResult:
+        """Joint step ``dq`` (n,) or (N, n) and the damping ``lambda`` used, as a :class:`StepResult`."""
         raise NotImplementedError
 
     def __repr__(self) -> str:
@@ -123,9 +157,9 @@ class PseudoInverse(IKMethod):
         self.gain = check_positive(gain, "gain", scalar=True)
         self.rcond = check_positive(rcond, "rcond", scalar=True)
 
-    def step(self, J, e, q, ctx):
+    def step(self, J, e, q=None, ctx=None):
         dq, _, _ = _svd_pinv_apply(J, e, self.rcond)
-        return self.gain * dq, 0.0
+        return StepResult(self.gain * dq, 0.0)
 
 
 class JacobianTranspose(IKMethod):
@@ -150,15 +184,15 @@ class JacobianTranspose(IKMethod):
     def __init__(self, gain: float | None = None) -> None:
         self.gain = None if gain is None else check_positive(gain, "gain", scalar=True)
 
-    def step(self, J, e, q, ctx):
+    def step(self, J, e, q=None, ctx=None):
         g = _matvec(_T(J), e)
         if self.gain is not None:
-            return self.gain * g, 0.0
+            return StepResult(self.gain * g, 0.0)
         Jg = _matvec(J, g)
         num = np.sum(e * Jg, axis=-1)
         den = np.sum(Jg * Jg, axis=-1)
         alpha = np.where(den > 0, num / np.where(den > 0, den, 1.0), 0.0)
-        return alpha[..., None] * g, 0.0
+        return StepResult(alpha[..., None] * g, 0.0)
 
 
 class WeightedPseudoInverse(IKMethod):
@@ -212,12 +246,12 @@ class WeightedPseudoInverse(IKMethod):
         self.rcond = check_positive(rcond, "rcond", scalar=True)
         self._M = np.linalg.cholesky(np.linalg.inv(W))
 
-    def step(self, J, e, q, ctx):
+    def step(self, J, e, q=None, ctx=None):
         if self._M.shape[0] != J.shape[-1]:
             raise ShapeError(f"weights must have shape ({J.shape[-1]},) or ({J.shape[-1]}, {J.shape[-1]}) "
                              f"for this chain; got shape {self.weights.shape[:1]}")
         y, _, _ = _svd_pinv_apply(J @ self._M, e, self.rcond)
-        return self.gain * _matvec(self._M, y), 0.0
+        return StepResult(self.gain * _matvec(self._M, y), 0.0)
 
 
 _ADAPTIVE = (None, "manipulability", "singular_value", "error")
@@ -284,7 +318,7 @@ class DampedLeastSquares(IKMethod):
         self.bias = check_positive(bias, "bias", allow_zero=adaptive != "error", scalar=True)
         self.gain = check_positive(gain, "gain", scalar=True)
 
-    def step(self, J, e, q, ctx):
+    def step(self, J, e, q=None, ctx=None):
         undamped = self.adaptive is None and self.damping == 0
         if self.adaptive in (None, "error") and not undamped:  # one m x m solve
             if self.adaptive is None:
@@ -295,7 +329,7 @@ class DampedLeastSquares(IKMethod):
                 lam2 = 0.5 * np.sum(e * e, axis=-1) + self.bias
                 A = J @ _T(J) + lam2[..., None, None] * np.eye(J.shape[-2])
                 lam = np.sqrt(lam2)
-            return self.gain * _matvec(_T(J), _solve(A, e)), lam
+            return StepResult(self.gain * _matvec(_T(J), _solve(A, e)), lam)
         U, s, Vt = np.linalg.svd(J, full_matrices=False)
         if self.adaptive == "manipulability":
             w = np.prod(s, axis=-1)
@@ -312,7 +346,7 @@ class DampedLeastSquares(IKMethod):
         if self.adaptive is None:  # undamped: cut tiny singular values like pinv
             factor = np.where(s > 1e-8 * s[..., :1], factor, 0.0)
         dq = _matvec(_T(Vt), factor * _matvec(_T(U), e))
-        return self.gain * dq, np.sqrt(lam2)
+        return StepResult(self.gain * dq, np.sqrt(lam2))
 
 
 class NullSpace(IKMethod):
@@ -333,12 +367,25 @@ class NullSpace(IKMethod):
         default), ``"manipulability"``, an object with ``gradient(q, ctx)``, or a
         callable ``grad_H(q) -> (n,)``.
     gain : float or None, optional
-        :math:`k > 0`.  ``None`` picks :math:`k = n\,\Delta_{min}^2 / 2` for the
-        joint-limit objective (:math:`\Delta_{min}` the smallest joint range:
-        before projection, the most constrained joint then moves half-way to
-        the middle of its range per step) and 1 otherwise.
+        :math:`k > 0`, applied to the gradient of whatever objective is used.
+        ``None`` (default) picks the objective's own ``default_gain`` if it
+        states one (``"manipulability"``: 1), otherwise, for the joint-limit
+        objective, a plain gradient function and any other objective alike,
+        :math:`k = n\,\Delta_{min}^2 / 2` (:math:`\Delta_{min}` the smallest
+        finite joint range; 1 if no joint is limited).  With the joint-limit
+        gradient of eq. 3.57 this moves the most constrained joint, before
+        projection, half-way to the middle of its range per step; a gradient
+        function computing the same :math:`\nabla H` therefore gives the same
+        steps as ``"joint_limits"``.  :meth:`resolved_gain` tells the value.
     rcond : float, optional
         Relative cut-off for small singular values.
+
+    Notes
+    -----
+    :meth:`step` needs ``q`` and the joint limits: from ``ctx`` (the solver's
+    context) or, with ``ctx=None``, from an objective created with its limits
+    (``JointLimitDistance(limits)``); a plain gradient function with
+    ``ctx=None`` needs an explicit ``gain``.
     """
 
     name = "nullspace"
@@ -349,20 +396,29 @@ class NullSpace(IKMethod):
         self.gain = None if gain is None else check_positive(gain, "gain", scalar=True)
         self.rcond = check_positive(rcond, "rcond", scalar=True)
 
-    def resolved_gain(self, ctx: Any) -> float:
-        """The gain :math:`k` used for a chain (see ``gain``)."""
+    def resolved_gain(self, ctx: Any = None) -> float:
+        """The gain :math:`k` used (see ``gain``); ``ctx``: the solver's context or limits (n, 2)."""
         if self.gain is not None:
             return self.gain
-        from robokin.motion.ik.objectives import JointLimitDistance  # noqa: PLC0415
-
-        if isinstance(self.objective, JointLimitDistance):
-            rng = ctx.upper - ctx.lower
-            rng = rng[np.isfinite(rng) & (rng > 0)]
-            if rng.size:
-                return float(len(ctx.lower) * np.min(rng) ** 2 * 0.5)
+        default = getattr(self.objective, "default_gain", None)
+        if default is not None:
+            return float(default)
+        if isinstance(self.objective, JointLimitDistance) and self.objective.limits is not None:
+            lower, upper = self.objective.bounds()
+        elif ctx is not None:
+            lower, upper = objective_limits(ctx, "ctx")
+        else:
+            raise TypeError("the null-space gain needs the joint limits: give gain=, the solver's context "
+                            "(ctx) or an objective created with its limits")
+        rng = upper - lower
+        rng = rng[np.isfinite(rng) & (rng > 0)]
+        if rng.size:
+            return float(len(lower) * np.min(rng) ** 2 * 0.5)
         return 1.0
 
-    def step(self, J, e, q, ctx):
+    def step(self, J, e, q=None, ctx=None):
+        if q is None:
+            raise TypeError("the null-space step needs the configuration q (the objective's gradient is taken there)")
         U, s, Vt = np.linalg.svd(J, full_matrices=False)
         keep = s > self.rcond * s[..., :1]
         s_inv = np.where(keep, 1.0 / np.where(keep, s, 1.0), 0.0)
@@ -370,7 +426,7 @@ class NullSpace(IKMethod):
         g = self.resolved_gain(ctx) * self.objective.gradient(q, ctx)
         Vr = Vt * keep[..., :, None]
         g_null = g - _matvec(_T(Vr), _matvec(Vr, g))
-        return dq + g_null, 0.0
+        return StepResult(dq + g_null, 0.0)
 
 
 class LevenbergMarquardt(IKMethod):
@@ -415,18 +471,18 @@ class LevenbergMarquardt(IKMethod):
             self.error_weights = as_float_array(error_weights, "error_weights", (6,))
             check_positive(self.error_weights, "error_weights")
 
-    def step(self, J, e, q, ctx):
+    def step(self, J, e, q=None, ctx=None):
         n = J.shape[-1]
         if J.ndim == 2 and self.error_weights is None:  # single configuration: lean path
             lam2 = 0.5 * self.error_damping * float(e @ e) + self.bias
             A = J.T @ J
             A.flat[:: n + 1] += lam2
-            return np.linalg.solve(A, J.T @ e), math.sqrt(lam2)
+            return StepResult(np.linalg.solve(A, J.T @ e), math.sqrt(lam2))
         if self.error_weights is None:
             We_e = e
             JtWe = _T(J)
         else:
-            w = self.error_weights[ctx.mask]
+            w = self.error_weights if ctx is None and J.shape[-2] == 6 else self.error_weights[_mask(ctx)]
             We_e = w * e
             JtWe = _T(J) * w[..., None, :]
         lam2 = 0.5 * self.error_damping * np.einsum("...i,...i->...", e, We_e) + self.bias
@@ -434,7 +490,7 @@ class LevenbergMarquardt(IKMethod):
         d = np.arange(n)
         A[..., d, d] += np.asarray(lam2)[..., None]
         dq = np.linalg.solve(A, (JtWe @ e[..., None]))[..., 0]
-        return dq, np.sqrt(lam2)
+        return StepResult(dq, np.sqrt(lam2))
 
 
 METHODS: dict[str, type[IKMethod]] = {

@@ -9,7 +9,7 @@ of :math:`\tfrac12\|e\|^2` within the joint limits, which gives
 
 - the closest configuration (in the least-squares sense, locally) to an
   unreachable target, and
-- a meaningful ``reason`` from :func:`~robokin.motion.ik.solve.classify_stall`
+- a meaningful ``reason`` from :func:`~robokin.motion.ik.stall.classify_stall`
   (``"unreachable"``, ``"joint_limits"`` or ``"stalled"``).
 
 Vectorised over rows: ``q`` has shape ``(N, n)``.
@@ -22,8 +22,13 @@ from typing import Any
 import numpy as np
 
 from robokin.motion._kernels import pose_error_vector
+from robokin.motion.ik.settings import REFINE_STALL_TOLERANCE, IKSettings
+from robokin.motion.ik.stall import STALL_REASONS, classify_stall
 
-__all__ = ["polish"]
+__all__ = ["polish", "POLISH_REASONS"]
+
+#: Names of the codes returned by :func:`polish` (3: out of iterations).
+POLISH_REASONS = (*STALL_REASONS, "max_iterations")
 
 
 def _task(ctx: Any, q: np.ndarray, T_goal: np.ndarray, is_position: bool):
@@ -36,24 +41,23 @@ def _task(ctx: Any, q: np.ndarray, T_goal: np.ndarray, is_position: bool):
 
 
 def polish(
-    ctx: Any,
-    q: np.ndarray,
-    T_goal: np.ndarray,
-    is_position: bool,
-    tol: tuple[float, float],
-    max_iterations: int,
-    window: int,
-    min_decrease: float,
-    gtol: float,
+    settings: IKSettings, q: np.ndarray, T_goal: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Polish rows ``q`` (N, n) towards ``T_goal`` (N, 4, 4).
 
+    Uses the tolerances, ``max_iterations``, ``stall_iterations`` (window of
+    the stationarity test, with the relative decrease
+    :data:`~robokin.motion.ik.settings.REFINE_STALL_TOLERANCE`) and
+    ``gradient_tolerance`` of ``settings``.
+
     Returns ``(q, e (N, 6), converged (N,), code (N,), iterations (N,))``,
     ``code`` as in :func:`classify_stall` (0 stalled, 1 unreachable,
-    2 joint_limits) or 3 for max_iterations.
+    2 joint_limits) or 3 for max_iterations (names in :data:`POLISH_REASONS`).
     """
-    from robokin.motion.ik.solve import classify_stall  # noqa: PLC0415  (avoid a cycle)
-
+    ctx, is_position = settings.ctx, settings.is_position
+    tol = (settings.tol_position, settings.tol_orientation)
+    max_iterations, window = settings.max_iterations, settings.stall_iterations
+    min_decrease, gtol = REFINE_STALL_TOLERANCE, settings.gradient_tolerance
     N, n = q.shape
     lower, upper = ctx.lower, ctx.upper
     tol_p, tol_o = tol

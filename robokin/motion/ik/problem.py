@@ -72,6 +72,22 @@ class IKContext:
             q = np.where(self.shift & (q < self.lower) & (q + two_pi <= self.upper), q + two_pi, q)
         return np.minimum(np.maximum(q, self.lower), self.upper)
 
+    def touches_limit(self, q: np.ndarray) -> bool:
+        """Does configuration ``q`` (n,) rest on one of its joint limits?"""
+        return bool(np.any((q <= self.lower) | (q >= self.upper)))
+
+    def advance(self, q: np.ndarray, dq: np.ndarray) -> tuple[np.ndarray, bool]:
+        """``q + dq`` brought within the limits (:meth:`project`), and whether it rests on a limit.
+
+        One configuration (n,).  A step that stays strictly inside the limits
+        (and no wrapping) is returned as is and reported off the limits.
+        """
+        q_new = q + dq
+        if self.wrap is not None or ((q_new < self.lower) | (q_new > self.upper)).any():
+            q_new = self.project(q_new)
+            return q_new, self.touches_limit(q_new)
+        return q_new, False
+
     def pose(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Flange pose and tool pose, each (4, 4) or (N, 4, 4)."""
         T_flange = self.chain.fk(q, check=False)
@@ -143,10 +159,13 @@ def parse_target(target: Any, batched: bool) -> tuple[np.ndarray, bool]:
 def _check_pose(T: np.ndarray, name: str, tol: float = 1e-6) -> np.ndarray:
     """Fast check of one finite (4, 4) transform; falls back to check_transform for the message."""
     R = T[:3, :3]
+    (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = R.tolist()
+    det = r00 * (r11 * r22 - r12 * r21) - r01 * (r10 * r22 - r12 * r20) + r02 * (r10 * r21 - r11 * r20)
+    b0, b1, b2, b3 = T[3].tolist()
     ok = (
-        abs(T[3, 0]) <= tol and abs(T[3, 1]) <= tol and abs(T[3, 2]) <= tol and abs(T[3, 3] - 1.0) <= tol
+        abs(b0) <= tol and abs(b1) <= tol and abs(b2) <= tol and abs(b3 - 1.0) <= tol
         and float(np.abs(R @ R.T - np.eye(3)).max()) <= tol
-        and float(np.cross(R[:, 0], R[:, 1]) @ R[:, 2]) > 0.0
+        and det > 0.0
     )
     return T if ok else check_transform(T, name=name)
 

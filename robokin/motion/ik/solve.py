@@ -1,83 +1,253 @@
-r"""Single-target inverse kinematics: :func:`solve_ik`.
+r"""Single-target inverse kinematics: :func:`solve_ik` and :func:`solve_ik_once`.
 
-The loop is the closed-loop IK scheme of Siciliano et al. (2009, §3.7): at
-configuration :math:`q_k` compute the pose error :math:`e_k` and the Jacobian
-:math:`J_k`, take the step :math:`\Delta q_k` of the chosen method, clamp to
-the joint limits, repeat.  It is written plainly (one configuration at a time,
-every iteration recorded); :func:`~robokin.motion.solve_ik_batch` is the
-vectorised twin for many targets.
+The algorithm is the closed-loop IK scheme of Siciliano et al. (2009, §3.7),
+the Newton–Raphson iteration of Lynch & Park (2017, §6.2.2): at configuration
+:math:`q_k` compute the pose error :math:`e_k` and the Jacobian :math:`J_k`,
+take the step :math:`\Delta q_k` of the chosen method, bring :math:`q_k +
+\Delta q_k` back within the joint limits, repeat.  :func:`run_attempt` is
+that loop; :func:`solve_ik` adds random restarts and the final LM polish;
+:func:`~robokin.motion.solve_ik_batch` is the vectorised twin for many targets.
 """
 
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
 from robokin.motion._kernels import pose_error_single, random_within_limits
-from robokin.motion.ik.methods import IKMethod, make_method
-from robokin.motion.ik.polish import polish as polish_rows
-from robokin.motion.ik.problem import (
-    check_nonnegative_int,
-    make_context,
-    parse_mask,
-    parse_q0,
-    parse_stall,
-    parse_target,
-    parse_tolerance,
-)
+from robokin.motion.ik.methods import IKMethod, StepResult
+from robokin.motion.ik.polish import POLISH_REASONS, polish
+from robokin.motion.ik.problem import IKContext
 from robokin.motion.ik.result import IKHistory, IKResult
-from robokin.validation import check_chain, check_positive
+from robokin.motion.ik.settings import DEFAULTS, IKSettings, parse_settings
+from robokin.motion.ik.stall import STALL_REASONS, StallWatch, classify_stall
 
-__all__ = ["solve_ik", "classify_stall", "DEFAULTS"]
-
-#: Default stopping parameters shared by :func:`solve_ik` and :func:`solve_ik_batch`.
-DEFAULTS = {
-    "tol": 1e-6,
-    "restarts": 20,
-    "seed": 0,
-    "stall_iterations": None,
-    "stall_tolerance": None,
-    "gradient_tolerance": 1e-2,
-}
-
-_LIMIT_EPS = 1e-12
-#: Stall tolerance of the final polishing run after all attempts failed.
-REFINE_STALL_TOLERANCE = 1e-3
+__all__ = ["solve_ik", "solve_ik_once", "run_attempt", "classify_stall", "DEFAULTS"]
 
 
-def classify_stall(
-    J: np.ndarray, e: np.ndarray, q: np.ndarray, lower: np.ndarray, upper: np.ndarray, gtol: float
-) -> np.ndarray:
-    r"""Why did the error stop decreasing? Codes 0 = stalled, 1 = unreachable, 2 = joint_limits.
+class Goal:
+    """The target of one solve and how far a pose is from it (plain floats: runs every iteration).
 
-    With :math:`g = J^T e` (the steepest-descent direction of
-    :math:`\tfrac12\|e\|^2`) and :math:`g_p` the same with the components that
-    push a joint through an active limit removed:
-
-    - ``unreachable``: :math:`\|g\| \le` ``gtol`` :math:`\|J\|_F\|e\|` — a
-      stationary point of the error with :math:`e \ne 0` (a least-squares
-      "closest" configuration: the target is out of reach, or a local minimum);
-    - ``joint_limits``: :math:`\|g_p\|` is that small but :math:`\|g\|` is not —
-      the limits block the only descent directions;
-    - ``stalled``: otherwise (slow progress, e.g. near a singularity).
-
-    Broadcasts over a leading batch axis.
+    Parameters
+    ----------
+    T_goal : ndarray, shape (4, 4)
+        Goal pose (identity rotation for a position target).
+    settings : IKSettings
+        For the task mask and whether the target is a position.
     """
-    g = (np.swapaxes(J, -1, -2) @ e[..., None])[..., 0]
-    at_lo = q <= lower + _LIMIT_EPS
-    at_hi = q >= upper - _LIMIT_EPS
-    blocked = (at_lo & (g < 0)) | (at_hi & (g > 0))
-    gp = np.where(blocked, 0.0, g)
-    scale = gtol * np.linalg.norm(J, axis=(-2, -1)) * np.linalg.norm(e, axis=-1)
-    g_small = np.linalg.norm(g, axis=-1) <= scale
-    gp_small = np.linalg.norm(gp, axis=-1) <= scale
-    return np.where(g_small, 1, np.where(gp_small, 2, 0))
+
+    __slots__ = ("T", "position", "is_position", "mask_position", "mask_orientation")
+
+    def __init__(self, T_goal: np.ndarray, settings: IKSettings) -> None:
+        self.T = T_goal
+        self.position = T_goal[:3, 3].tolist()
+        self.is_position = settings.is_position
+        mask = settings.ctx.mask
+        self.mask_position = [float(x) for x in mask[:3]]
+        self.mask_orientation = [float(x) for x in mask[3:]]
+
+    def error(self, T: np.ndarray) -> tuple[np.ndarray, float, float]:
+        """Error ``[p_goal - p; theta h]`` (6,) of pose ``T`` and its masked position and orientation norms."""
+        if self.is_position:
+            p, g = T[:3, 3].tolist(), self.position
+            e = np.array((g[0] - p[0], g[1] - p[1], g[2] - p[2], 0.0, 0.0, 0.0))
+        else:
+            e = pose_error_single(T, self.T)
+        ex, ey, ez, rx, ry, rz = e.tolist()
+        mp, mo = self.mask_position, self.mask_orientation
+        position_error = math.sqrt(mp[0] * ex * ex + mp[1] * ey * ey + mp[2] * ez * ez)
+        orientation_error = math.sqrt(mo[0] * rx * rx + mo[1] * ry * ry + mo[2] * rz * rz)
+        return e, position_error, orientation_error
 
 
-_STALL_REASONS = ("stalled", "unreachable", "joint_limits")
-_POLISH_REASONS = ("stalled", "unreachable", "joint_limits", "max_iterations")
+class HistoryRecorder:
+    """Collects the rows of an :class:`IKHistory` while the attempts run."""
+
+    def __init__(self) -> None:
+        self.q: list[np.ndarray] = []
+        self.error: list[np.ndarray] = []
+        self.jacobian: list[np.ndarray] = []
+        self.attempt: list[int] = []
+        self.damping: list[float] = []
+        self.step_size: list[float] = []
+
+    def add_point(self, q: np.ndarray, e: np.ndarray, J: np.ndarray, attempt: int) -> None:
+        """One evaluated configuration: ``q`` (n,), its error (6,) and Jacobian (6, n)."""
+        self.q.append(q)
+        self.error.append(e)
+        self.jacobian.append(J)
+        self.attempt.append(attempt)
+
+    def add_step(self, damping: Any, q: np.ndarray, q_new: np.ndarray) -> None:
+        """The step taken from the last point: its damping and its length ``||q_new - q||``."""
+        self.damping.append(float(np.asarray(damping)))
+        d = q_new - q
+        self.step_size.append(math.sqrt(float(d @ d)))
+
+    def end_attempt(self) -> None:
+        """The last point of an attempt takes no step."""
+        self.damping.append(0.0)
+        self.step_size.append(0.0)
+
+    def history(self, ctx: IKContext) -> IKHistory:
+        return IKHistory(
+            q=np.array(self.q),
+            error=np.array(self.error),
+            jacobian=np.array(self.jacobian),
+            damping=np.array(self.damping),
+            step_size=np.array(self.step_size),
+            attempt=np.array(self.attempt, dtype=int),
+            mask=ctx.mask,
+            limits=np.column_stack((ctx.lower, ctx.upper)),
+        )
+
+
+def limit_aware_step(
+    method: IKMethod, J: np.ndarray, e: np.ndarray, q: np.ndarray, ctx: IKContext, on_limit: bool
+) -> StepResult:
+    """The method's step, with the joints that rest on a limit and are pushed outwards frozen.
+
+    Frozen joints get their Jacobian columns removed and the step is recomputed
+    without them (the others then do the work).  ``J`` (m, n), ``e`` (m,), ``q`` (n,).
+    """
+    step = method.step(J, e, q, ctx)
+    if not on_limit:
+        return step
+    dq = step[0]
+    blocked = ((q <= ctx.lower) & (dq < 0)) | ((q >= ctx.upper) & (dq > 0))
+    if not blocked.any():
+        return step
+    dq, damping = method.step(np.where(blocked, 0.0, J), e, q, ctx)
+    return StepResult(np.where(blocked, 0.0, dq), damping)
+
+
+def cap_step(dq: np.ndarray, max_step: float | None) -> np.ndarray:
+    """Scale the step ``dq`` (n,) down to norm ``max_step`` if it is longer (None: no cap)."""
+    if max_step is None:
+        return dq
+    size = math.sqrt(float(dq @ dq))
+    return dq * (max_step / size) if size > max_step else dq
+
+
+class Attempt(NamedTuple):
+    """Outcome of one attempt: the best configuration it visited and why it ended."""
+
+    q: np.ndarray
+    error: np.ndarray
+    norm: float
+    reason: str
+    iterations: int
+
+
+def run_attempt(
+    settings: IKSettings, goal: Goal, q: np.ndarray, attempt: int = 0, history: HistoryRecorder | None = None
+) -> Attempt:
+    r"""One attempt of the method from ``q`` (n,): iterate until converged, stalled or out of steps.
+
+    :math:`q_{k+1} = \mathrm{clamp}(q_k + \Delta q_k)`, :math:`\Delta q_k` the
+    step of ``settings.method`` from the task rows of :math:`J(q_k)` and
+    :math:`e(q_k)`.  Returns the best configuration visited (smallest error norm).
+    """
+    ctx, method, tol_p, tol_o = settings.ctx, settings.method, settings.tol_position, settings.tol_orientation
+    max_iterations, max_step = settings.max_iterations, settings.max_step
+    rows = None if ctx.full_mask else ctx.rows  # task rows of a masked task
+    watch = StallWatch(settings.stall_iterations, settings.stall_tolerance)
+    best_norm, best_q, best_e = math.inf, q, np.zeros(6)
+    on_limit = ctx.touches_limit(q)
+    k = 0
+    while True:
+        T_flange, T = ctx.pose(q)
+        e, position_error, orientation_error = goal.error(T)
+        converged = position_error <= tol_p and orientation_error <= tol_o
+        J = ctx.jacobian(q, T_flange) if history is not None or not converged else None
+        if history is not None:
+            history.add_point(q, e, J, attempt)
+        norm = math.sqrt(position_error * position_error + orientation_error * orientation_error)
+        if norm < best_norm or converged:
+            best_norm, best_q, best_e = norm, q, e
+        if converged:
+            reason = "converged"
+            break
+        if k >= max_iterations:
+            reason = "max_iterations"
+            break
+        J_task, e_task = (J, e) if rows is None else (J[rows], e[rows])
+        if watch.stalled(k, best_norm):
+            code = classify_stall(J_task, e_task, q, ctx.lower, ctx.upper, settings.gradient_tolerance)
+            reason = STALL_REASONS[int(code)]
+            break
+        dq, damping = limit_aware_step(method, J_task, e_task, q, ctx, on_limit)  # the method's step
+        q_new, on_limit = ctx.advance(q, cap_step(dq, max_step))
+        if history is not None:
+            history.add_step(damping, q, q_new)
+        q = q_new
+        k += 1
+    if history is not None:
+        history.end_attempt()
+    return Attempt(best_q, best_e, best_norm, reason, k)
+
+
+def _polish_best(
+    settings: IKSettings, goal: Goal, best: Attempt, attempts: int, history: HistoryRecorder | None
+) -> Attempt:
+    """Every attempt failed: polish the best one (monotone LM) so that the reason says why."""
+    q, e, converged, code, iterations = polish(settings, best.q[None, :], goal.T[None])
+    reason = "converged" if converged[0] else POLISH_REASONS[int(code[0])]
+    if history is not None:
+        T_flange, _ = settings.ctx.pose(q[0])
+        history.add_point(q[0], e[0], settings.ctx.jacobian(q[0], T_flange), attempts)
+        history.end_attempt()
+    return Attempt(q[0], e[0], math.nan, reason, int(iterations[0]))
+
+
+def _result(settings: IKSettings, best: Attempt, iterations: int, attempts: int,
+            history: HistoryRecorder | None) -> IKResult:
+    mask = settings.ctx.mask
+    position_error = float(np.linalg.norm(best.error[:3] * mask[:3]))
+    orientation_error = float(np.linalg.norm(best.error[3:] * mask[3:]))
+    ok = bool(best.reason == "converged" and position_error <= settings.tol_position
+              and orientation_error <= settings.tol_orientation)
+    return IKResult(
+        q=np.array(best.q, copy=True),
+        success=ok,
+        iterations=iterations,
+        reason=best.reason,
+        position_error=position_error,
+        orientation_error=orientation_error,
+        errors=np.array(best.error, copy=True),
+        attempts=attempts,
+        history=None if history is None else history.history(settings.ctx),
+        method=settings.method.name,
+    )
+
+
+def _solve(settings: IKSettings, T_goal: np.ndarray, q_start: np.ndarray, record_history: bool) -> IKResult:
+    """Attempts from ``q_start``, then from random configurations, then the polish."""
+    ctx, seed = settings.ctx, settings.seed
+    goal = Goal(T_goal, settings)
+    history = HistoryRecorder() if record_history else None
+    rng = seed if isinstance(seed, np.random.Generator) else None  # created on the first restart
+    best = Attempt(q_start, np.zeros(6), math.inf, "max_iterations", 0)
+    iterations = attempts = 0
+    for attempt in range(settings.restarts + 1):
+        attempts += 1
+        if attempt == 0:
+            q = q_start
+        else:
+            rng = np.random.default_rng(seed) if rng is None else rng
+            q = random_within_limits(rng, ctx.lower, ctx.upper, 1)[0]
+        result = run_attempt(settings, goal, q, attempt, history)
+        iterations += result.iterations
+        if result.reason == "converged" or result.norm < best.norm:
+            best = result
+        if result.reason == "converged":
+            break
+    if best.reason != "converged" and settings.polish:
+        best = _polish_best(settings, goal, best, attempts, history)
+        iterations += best.iterations
+    return _result(settings, best, iterations, attempts, history)
 
 
 def solve_ik(
@@ -171,12 +341,15 @@ def solve_ik(
         until the error stops decreasing: the answer is then the locally
         closest configuration and ``reason`` tells why (default True; its
         iterations are counted and, in the history, only its end point is
-        recorded, as attempt ``attempts``).  Set False to see a method alone.
+        recorded, as attempt ``attempts``).  Set False to see a method alone
+        (:func:`solve_ik_once` is one attempt of the method alone).
     record_history : bool, optional
         Keep the per-iteration :class:`IKHistory` (default True).
     **options
         Options of a named method, e.g. ``damping=0.1`` for ``"dls"``,
-        ``weights=...`` for ``"weighted"``, ``objective=...`` for ``"nullspace"``.
+        ``weights=...`` for ``"weighted"``, ``objective=...`` and ``gain=...``
+        for ``"nullspace"`` (the gain :math:`k` multiplies the gradient of any
+        objective; its default is in :class:`~robokin.motion.ik.NullSpace`).
 
     Returns
     -------
@@ -232,178 +405,96 @@ def solve_ik(
     >>> res.success, res.reason                               # doctest: +SKIP
     (True, 'converged')
     """
-    check_chain(chain)
-    T_goal, is_position = parse_target(target, batched=False)
-    m = parse_mask(mask, is_position)
-    ctx = make_context(chain, m, tool, wrap)
-    tol_p, tol_o = parse_tolerance(tol)
-    meth = make_method(method, options)
-    max_it = meth.default_max_iterations if max_iterations is None else check_nonnegative_int(
-        max_iterations, "max_iterations", 1)
-    restarts = check_nonnegative_int(restarts, "restarts")
-    stall_iterations, stall_tolerance = parse_stall(meth, stall_iterations, stall_tolerance)
-    gtol = check_positive(gradient_tolerance, "gradient_tolerance", scalar=True)
-    if max_step is not None:
-        max_step = check_positive(max_step, "max_step", scalar=True)
-    q_start = parse_q0(q0, ctx.n, ctx.lower, ctx.upper, None)
-    if seed is not None and not isinstance(seed, (np.random.Generator, int, np.integer)):
-        raise TypeError(f"seed must be an int, a numpy Generator or None; got {type(seed).__name__}")
-    rng = seed if isinstance(seed, np.random.Generator) else None  # created on the first restart
+    settings, T_goal, q_start = parse_settings(
+        chain, target, q0, method, options, batched=False, mask=mask, tool=tool, tol=tol,
+        max_iterations=max_iterations, restarts=restarts, seed=seed, stall_iterations=stall_iterations,
+        stall_tolerance=stall_tolerance, gradient_tolerance=gradient_tolerance, max_step=max_step,
+        wrap=wrap, polish=polish)
+    return _solve(settings, T_goal, q_start, record_history)
 
-    lower, upper, rows, full = ctx.lower, ctx.upper, ctx.rows, ctx.full_mask
-    mp, mo = [float(x) for x in m[:3]], [float(x) for x in m[3:]]
-    pos_rows = bool(m[:3].all())
-    g_pos = T_goal[:3, 3].tolist()
-    wrap_any = ctx.wrap is not None
 
-    hist_q: list[np.ndarray] = []
-    hist_e: list[np.ndarray] = []
-    hist_J: list[np.ndarray] = []
-    hist_lam: list[float] = []
-    hist_step: list[float] = []
-    hist_att: list[int] = []
+def solve_ik_once(
+    chain: Any,
+    target: Any,
+    q0: Any = None,
+    method: str | IKMethod = "lm",
+    *,
+    mask: Any = None,
+    tool: Any = None,
+    tol: float | tuple[float, float] = DEFAULTS["tol"],
+    max_iterations: int | None = None,
+    stall_iterations: int | None = DEFAULTS["stall_iterations"],
+    stall_tolerance: float | None = DEFAULTS["stall_tolerance"],
+    gradient_tolerance: float = DEFAULTS["gradient_tolerance"],
+    max_step: float | None = None,
+    wrap: bool | str | Any = "limits",
+    record_history: bool = True,
+    **options: Any,
+) -> IKResult:
+    r"""One attempt of an IK method alone, from ``q0``: no restarts, no polish.
 
-    best: tuple[float, np.ndarray, np.ndarray, str] = (np.inf, q_start, np.zeros(6), "max_iterations")
-    total_iterations = 0
-    attempts = 0
-    success = False
-    stall_k, stall_f = stall_iterations, stall_tolerance
-    for attempt in range(restarts + 1):
-        attempts += 1
-        if attempt == 0:
-            q = q_start
-        else:
-            if rng is None:
-                rng = np.random.default_rng(seed)
-            q = random_within_limits(rng, lower, upper, 1)[0]
-        checkpoint, checkpoint_norm = 0, np.inf  # for stall detection
-        attempt_best: tuple[float, np.ndarray, np.ndarray] = (np.inf, q, np.zeros(6))
-        it = 0
-        on_limit = bool(np.any((q <= lower) | (q >= upper)))
-        while True:
-            T_flange, T = ctx.pose(q)
-            if is_position:
-                p = T[:3, 3].tolist()
-                e = np.array((g_pos[0] - p[0], g_pos[1] - p[1], g_pos[2] - p[2], 0.0, 0.0, 0.0))
-            else:
-                e = pose_error_single(T, T_goal)
-            ex, ey, ez, rx, ry, rz = e.tolist()
-            if pos_rows:
-                pe = math.sqrt(ex * ex + ey * ey + ez * ez)
-            else:
-                pe = math.sqrt(mp[0] * ex * ex + mp[1] * ey * ey + mp[2] * ez * ez)
-            oe = math.sqrt(mo[0] * rx * rx + mo[1] * ry * ry + mo[2] * rz * rz)
-            converged = pe <= tol_p and oe <= tol_o
-            J = None
-            if record_history or not converged:
-                J = ctx.jacobian(q, T_flange)
-            if record_history:
-                hist_q.append(q)
-                hist_e.append(e)
-                hist_J.append(J)
-                hist_att.append(attempt)
-            if full:
-                task_e = e
-                norm = math.sqrt(pe * pe + oe * oe)
-            else:
-                task_e = e[rows]
-                norm = math.sqrt(pe * pe + oe * oe)
-            if it == 0:
-                checkpoint_norm = norm
-            if norm < attempt_best[0] or converged:
-                attempt_best = (norm, q, e)
-            if converged:
-                reason = "converged"
-                success = True
-                break
-            if it >= max_it:
-                reason = "max_iterations"
-                break
-            Jt = J if full else J[rows]
-            if it - checkpoint >= stall_k:
-                # stalled: the best error did not drop by the fraction stall_tolerance
-                if attempt_best[0] > (1.0 - stall_f) * checkpoint_norm:
-                    reason = _STALL_REASONS[int(classify_stall(Jt, task_e, q, lower, upper, gtol))]
-                    break
-                checkpoint, checkpoint_norm = it, attempt_best[0]
-            dq, lam = meth.step(Jt, task_e, q, ctx)
-            if on_limit:
-                # limit-aware step: joints resting on a limit and pushed outwards
-                # are frozen (their Jacobian columns removed), the step recomputed
-                blocked = ((q <= lower) & (dq < 0)) | ((q >= upper) & (dq > 0))
-                if blocked.any():
-                    dq, lam = meth.step(np.where(blocked, 0.0, Jt), task_e, q, ctx)
-                    dq = np.where(blocked, 0.0, dq)
-            if max_step is not None:
-                s = math.sqrt(float(dq @ dq))
-                if s > max_step:
-                    dq = dq * (max_step / s)
-            q_new = q + dq
-            if wrap_any or ((q_new < lower) | (q_new > upper)).any():
-                q_new = ctx.project(q_new)
-                on_limit = bool(np.any((q_new <= lower) | (q_new >= upper)))
-            else:
-                on_limit = False
-            if record_history:
-                hist_lam.append(float(np.asarray(lam)))
-                d = q_new - q
-                hist_step.append(math.sqrt(float(d @ d)))
-            q = q_new
-            it += 1
-        if record_history:
-            hist_lam.append(0.0)
-            hist_step.append(0.0)
-        total_iterations += it
-        if success or attempt_best[0] < best[0]:
-            best = (attempt_best[0], attempt_best[1], attempt_best[2], reason)
-        if success:
-            break
+    The textbook iteration (Siciliano et al. 2009, §3.7, the closed-loop
+    inverse kinematics algorithm; Lynch & Park 2017, §6.2.2, the numerical
+    inverse kinematics algorithm, Newton–Raphson): starting from :math:`q_0`,
 
-    norm, q_best, e_best, reason = best
-    if not success and polish:
-        # every attempt failed: polish the best one (monotone LM) so that the
-        # answer is the locally closest configuration and the reason says why
-        qp, ep_, conv, code, its = polish_rows(
-            ctx, q_best[None, :], T_goal[None], is_position, (tol_p, tol_o), max_it,
-            stall_k, REFINE_STALL_TOLERANCE, gtol)
-        total_iterations += int(its[0])
-        q_best, e_best = qp[0], ep_[0]
-        success = bool(conv[0])
-        reason = "converged" if success else _POLISH_REASONS[int(code[0])]
-        if record_history:
-            T_flange, _ = ctx.pose(q_best)
-            hist_q.append(q_best)
-            hist_e.append(e_best)
-            hist_J.append(ctx.jacobian(q_best, T_flange))
-            hist_att.append(attempts)
-            hist_lam.append(0.0)
-            hist_step.append(0.0)
-    ep = e_best[:3] * m[:3]
-    eo = e_best[3:] * m[3:]
-    pe = float(np.linalg.norm(ep))
-    oe = float(np.linalg.norm(eo))
-    ok = bool(success and pe <= tol_p and oe <= tol_o)
-    history = None
-    if record_history:
-        history = IKHistory(
-            q=np.array(hist_q),
-            error=np.array(hist_e),
-            jacobian=np.array(hist_J),
-            damping=np.array(hist_lam),
-            step_size=np.array(hist_step),
-            attempt=np.array(hist_att, dtype=int),
-            mask=m,
-            limits=np.column_stack((lower, upper)),
-        )
-    return IKResult(
-        q=np.array(q_best, copy=True),
-        success=ok,
-        iterations=total_iterations,
-        reason=reason if not ok else "converged",
-        position_error=pe,
-        orientation_error=oe,
-        errors=np.array(e_best, copy=True),
-        attempts=attempts,
-        history=history,
-        method=meth.name,
-    )
+    .. math::
+        e_k = \begin{bmatrix} p_{goal} - p(q_k) \\ \log\!\left(R_{goal} R(q_k)^T\right)
+              \end{bmatrix}, \qquad
+        q_{k+1} = \mathrm{clamp}\!\left(q_k + \Delta q(J(q_k), e_k)\right)
+
+    until :math:`\|e_{P,k}\| \le` ``tol`` and :math:`\|e_{O,k}\| \le`
+    ``tol`` (converged), the error stops decreasing (stalled) or
+    ``max_iterations`` steps are taken.  :math:`\Delta q` is the step of
+    ``method``, e.g. :math:`J^+ e` for ``"pinv"`` (Siciliano eq. 3.70),
+    :math:`J^T(JJ^T + \lambda^2 I)^{-1} e` for ``"dls"`` (eq. 3.59),
+    :math:`(J^TJ + (\tfrac{c}{2}\|e\|^2 + \bar w) I)^{-1} J^T e` for
+    ``"lm"`` (Sugihara 2011); :math:`J` (6, n) is the geometric Jacobian of the
+    (tool) frame in the base frame, rows ``[v; ω]``, reduced to the rows of
+    ``mask``.  The result equals, bit for bit,
+    ``solve_ik(chain, target, q0, method, restarts=0, polish=False, ...)``.
+
+    Parameters
+    ----------
+    chain : chain object
+        Offers ``n``, ``limits`` (n, 2), ``fk(q, check=False)`` and
+        ``jacobian(q, check=False)``.
+    target : array_like, shape (4, 4) or (3,)
+        Goal pose ``T_base_goal`` or goal position (m).
+    q0 : array_like, shape (n,), optional
+        Initial guess (clamped to the limits); default the middle of the limits.
+    method : str or IKMethod, optional
+        The step rule (default ``"lm"``); see :func:`solve_ik`.
+    mask, tool, tol, max_iterations, stall_iterations, stall_tolerance, gradient_tolerance, max_step, wrap
+        As for :func:`solve_ik`.
+    record_history : bool, optional
+        Keep every iterate, error (K, 6), Jacobian (K, 6, n), damping and step
+        size in ``history`` (default True).
+    **options
+        Options of a named method (e.g. ``damping=0.1`` for ``"dls"``).
+
+    Returns
+    -------
+    IKResult
+        As for :func:`solve_ik`, with ``attempts == 1``; ``reason`` is
+        ``"converged"``, ``"max_iterations"`` or, when the attempt stalled,
+        ``"stalled"``, ``"unreachable"`` or ``"joint_limits"``
+        (see :func:`classify_stall`).
+
+    Raises
+    ------
+    ShapeError, DomainError, TypeError
+        As for :func:`solve_ik`.
+
+    References
+    ----------
+    Siciliano et al., *Robotics: Modelling, Planning and Control*, 2009, §3.7.
+    Lynch and Park, *Modern Robotics*, 2017, §6.2.2.
+    Sugihara, "Solvability-unconcerned inverse kinematics by the
+    Levenberg–Marquardt method", IEEE T-RO 27(5), 2011.
+    """
+    settings, T_goal, q_start = parse_settings(
+        chain, target, q0, method, options, batched=False, mask=mask, tool=tool, tol=tol,
+        max_iterations=max_iterations, restarts=0, seed=None, stall_iterations=stall_iterations,
+        stall_tolerance=stall_tolerance, gradient_tolerance=gradient_tolerance, max_step=max_step,
+        wrap=wrap, polish=False)
+    return _solve(settings, T_goal, q_start, record_history)

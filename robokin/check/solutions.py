@@ -1,0 +1,193 @@
+r"""Ready-made checks for answers that are *a* solution or *the set of* solutions.
+
+Inverse kinematics has many right answers: a redundant arm reaches a target in
+infinitely many postures, a six-joint arm in up to sixteen, and a student's
+solver may return any of them. These checks accept every right answer:
+
+- :func:`ik_solution`: a configuration ``q`` is right when ``chain.fk(q)``
+  reaches the target (position, or full pose) within a tolerance, and lies
+  within the joint limits;
+- :func:`solution_set`: a set of solutions (rows, any order, angles equal up to
+  multiples of 2π when ``angles=True``) is right when it holds every reference
+  solution once and nothing else.
+
+Like :func:`robokin.check.value`, they print one line (``quiet=True`` silences
+it), return a :class:`~robokin.check.CheckResult` with a diagnosis code when the
+answer is wrong (``"shape"``, ``"not_finite"``, ``"degrees"``, ``"limits"``,
+``"misses_target"``, ``"missing"``, ``"extra"``, ``"duplicate"``), and raise an
+``AssertionError`` with ``raise_on_fail=True`` -- so that an instructor's
+chapter check is one line (see the authoring page of the book).
+"""
+
+from __future__ import annotations
+
+from collections import Counter
+from typing import Any
+
+import numpy as np
+
+from robokin.check._core import FAIL, PASS, CheckResult, show
+from robokin.validation import as_float_array, check_chain, check_positive
+
+__all__ = ["ik_solution", "solution_set"]
+
+
+def _finish(result: CheckResult, raise_on_fail: bool, quiet: bool) -> CheckResult:
+    if not quiet:
+        show(result.message)
+    if raise_on_fail and not result.passed:
+        raise AssertionError(result.message)
+    return result
+
+
+def _as_answer(answer: Any, name: str, width: int) -> tuple[np.ndarray | None, str]:
+    """The answer as a float array of rows of ``width``, or None and what is wrong with it."""
+    if callable(answer) or isinstance(answer, (str, bytes, dict)) or np.iscomplexobj(answer):
+        return None, f"{name} must be an array of real numbers; got {type(answer).__name__}"
+    try:
+        with np.errstate(all="ignore"):
+            a = np.asarray(answer, dtype=float)
+    except (TypeError, ValueError, OverflowError):
+        return None, f"{name} must be an array of real numbers; got {type(answer).__name__}"
+    if a.ndim == 0 or a.shape[-1] != width or a.ndim > 2:
+        return None, f"{name} must have shape ({width},) or (k, {width}); got shape {a.shape}"
+    if not np.all(np.isfinite(a)):
+        return None, f"{name} has NaN or infinite entries"
+    return a, ""
+
+
+def _pose_error(chain: Any, q: np.ndarray, target: np.ndarray) -> tuple[float, float]:
+    """(position error in m, orientation error in rad) of ``chain.fk(q)`` against ``target``."""
+    T = np.asarray(chain.fk(q), dtype=float)
+    if target.shape == (3,):
+        return float(np.linalg.norm(T[:3, 3] - target)), 0.0
+    R = target[:3, :3].T @ T[:3, :3]
+    angle = float(np.arccos(np.clip((np.trace(R) - 1.0) / 2.0, -1.0, 1.0)))
+    return float(np.linalg.norm(T[:3, 3] - target[:3, 3])), angle
+
+
+def ik_solution(q: Any, chain: Any, target: Any, name: str = "q", *, atol: float = 1e-6,
+                limits: bool = True, raise_on_fail: bool = False, quiet: bool = False) -> CheckResult:
+    """Check that ``q`` is *an* inverse-kinematics solution: ``chain.fk(q)`` reaches ``target``.
+
+    Parameters
+    ----------
+    q : array_like, shape (n,)
+        The student's configuration (rad for revolute, m for prismatic joints).
+    chain : SerialChain
+        The robot (anything with ``n``, ``limits`` and ``fk(q)``).
+    target : array_like, shape (3,) or (4, 4)
+        A position (m): only the tool point must reach it; or a pose: position
+        and orientation.
+    name : str, optional
+        The answer's name in the message.
+    atol : float, optional
+        Tolerance on the position error (m) and on the orientation error (rad).
+    limits : bool, optional
+        Require ``q`` within the chain's joint limits (default True).
+    raise_on_fail, quiet : bool, optional
+        As for every check.
+
+    Returns
+    -------
+    CheckResult
+        Diagnoses: ``"shape"``/``"not_finite"`` (not a configuration),
+        ``"degrees"`` (``np.deg2rad(q)`` would reach the target), ``"limits"``,
+        ``"misses_target"``.
+    """
+    check_chain(chain, "chain", methods=("fk",))
+    atol = check_positive(atol, "atol", scalar=True)
+    goal = as_float_array(target, "target")
+    if goal.shape not in ((3,), (4, 4)):
+        raise TypeError(f"target must be a position (3,) or a pose (4, 4); got shape {goal.shape}")
+    n = int(chain.n)
+    a, problem = _as_answer(q, name, n)
+    if a is None or a.ndim != 1:
+        code = "not_finite" if "NaN" in problem else "shape"
+        text = problem or f"{name} must be one configuration of shape ({n},); got shape {np.shape(q)}"
+        return _finish(CheckResult(name, False, f"{FAIL} {text}.", code), raise_on_fail, quiet)
+    with np.errstate(all="ignore"):
+        dp, dr = _pose_error(chain, a, goal)
+    if not (np.isfinite(dp) and np.isfinite(dr)):
+        text = f"{FAIL} fk({name}) is not finite: {name} holds values too large to be joint values."
+        return _finish(CheckResult(name, False, text, "not_finite", 1), raise_on_fail, quiet)
+    if dp <= atol and dr <= atol:
+        lim = np.asarray(chain.limits, dtype=float).reshape(n, 2)
+        outside = np.flatnonzero((a < lim[:, 0] - 1e-9) | (a > lim[:, 1] + 1e-9))
+        if limits and outside.size:
+            k = int(outside[0])
+            text = (f"{FAIL} {name} reaches the target but joint {k + 1} is outside its limits: "
+                    f"{a[k]:.4g} not in [{lim[k, 0]:.4g}, {lim[k, 1]:.4g}].")
+            return _finish(CheckResult(name, False, text, "limits", 1), raise_on_fail, quiet)
+        what = "position" if goal.shape == (3,) else "pose"
+        return _finish(CheckResult(name, True, f"{PASS} {name} reaches the target {what} (error "
+                                   f"{max(dp, dr):.1e}).", None, 1), raise_on_fail, quiet)
+    with np.errstate(all="ignore"):
+        dp_deg, dr_deg = _pose_error(chain, np.deg2rad(a), goal)
+    if dp_deg <= atol and dr_deg <= atol:
+        text = f"{FAIL} {name} is in degrees: np.deg2rad({name}) reaches the target; robokin works in radians."
+        return _finish(CheckResult(name, False, text, "degrees", 1), raise_on_fail, quiet)
+    miss = f"{dp:.3g} m" + (f" and {np.degrees(dr):.3g}°" if goal.shape == (4, 4) else "")
+    text = f"{FAIL} fk({name}) misses the target by {miss} (tolerance {atol:g})."
+    return _finish(CheckResult(name, False, text, "misses_target", 1), raise_on_fail, quiet)
+
+
+def solution_set(solutions: Any, reference: Any, name: str = "solutions", *, atol: float = 1e-6,
+                 angles: bool = True, raise_on_fail: bool = False, quiet: bool = False) -> CheckResult:
+    """Check a set of solutions against the reference set: each one once, in any order.
+
+    Parameters
+    ----------
+    solutions : array_like, shape (k, m)
+        The student's solutions, one per row (a single row may be given as (m,)).
+    reference : array_like, shape (r, m)
+        All the right solutions.
+    name : str, optional
+        The answer's name in the message.
+    atol : float, optional
+        Two rows are the same solution when every entry differs by at most ``atol``.
+    angles : bool, optional
+        Entries are angles: equal up to a multiple of 2π (default True).
+    raise_on_fail, quiet : bool, optional
+        As for every check.
+
+    Returns
+    -------
+    CheckResult
+        Diagnoses: ``"shape"``/``"not_finite"``, ``"duplicate"`` (a solution
+        twice), ``"extra"`` (a row that is no solution), ``"missing"``.
+    """
+    atol = check_positive(atol, "atol", scalar=True)
+    ref = as_float_array(reference, "reference")
+    ref = ref[None] if ref.ndim == 1 else ref
+    if ref.ndim != 2:
+        raise TypeError(f"reference must have shape (r, m); got shape {ref.shape}")
+    a, problem = _as_answer(solutions, name, ref.shape[1])
+    if a is None:
+        code = "not_finite" if "NaN" in problem else "shape"
+        return _finish(CheckResult(name, False, f"{FAIL} {problem}.", code), raise_on_fail, quiet)
+    a = a[None] if a.ndim == 1 else a
+
+    def same(x: np.ndarray, y: np.ndarray) -> bool:
+        d = x - y
+        if angles:
+            d = (d + np.pi) % (2 * np.pi) - np.pi
+        return bool(np.all(np.abs(d) <= atol))
+
+    matched = [next((j for j, r in enumerate(ref) if same(row, r)), None) for row in a]
+    extra = [i for i, j in enumerate(matched) if j is None]
+    found = [j for j in matched if j is not None]
+    duplicate = sorted(j for j, count in Counter(found).items() if count > 1)
+    missing = [j for j in range(len(ref)) if j not in found]
+    if extra:
+        text = (f"{FAIL} row {extra[0]} of {name} is not a solution ({len(extra)} such row"
+                f"{'s' if len(extra) > 1 else ''}).")
+        return _finish(CheckResult(name, False, text, "extra", len(a)), raise_on_fail, quiet)
+    if duplicate:
+        text = f"{FAIL} {name} holds the same solution twice (reference solution {duplicate[0]})."
+        return _finish(CheckResult(name, False, text, "duplicate", len(a)), raise_on_fail, quiet)
+    if missing:
+        text = f"{FAIL} {name} has {len(a)} of the {len(ref)} solutions: {len(missing)} missing."
+        return _finish(CheckResult(name, False, text, "missing", len(a)), raise_on_fail, quiet)
+    return _finish(CheckResult(name, True, f"{PASS} {name}: all {len(ref)} solutions, each once.", None, len(a)),
+                   raise_on_fail, quiet)

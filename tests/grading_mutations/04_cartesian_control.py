@@ -1,0 +1,260 @@
+"""Wrong answers that each autograded test of chapter 4 (Cartesian control of a tool frame) must reject.
+
+Each entry rebinds the student's names the way a typical mistake would leave them (the
+names that depend on the changed one are recomputed as the answer cell would), see
+``tests/test_grading_mutations.py``.
+"""
+
+# the tool read as (roll, pitch, yaw): everything of Task 1 built from it
+_TOOL_AS_RPY = """
+def transform_from_ypr(ypr, position):
+    return transform_from_rpy(ypr, position)  # the list taken as (roll, pitch, yaw)
+
+T_ET = transform_from_ypr(TOOL_YPR, TOOL_OFFSET)
+tool_arm = chain_with_tool(arm, T_ET)
+T_BT0 = tool_arm.fk(Q0)
+"""
+
+# the offset taken in centimetres
+_OFFSET_CM = """
+TOOL_OFFSET = np.array([0.002, 0.0, 0.0])  # "0.2 cm"
+T_ET = transform_from_ypr(TOOL_YPR, TOOL_OFFSET)
+tool_arm = chain_with_tool(arm, T_ET)
+T_BT0 = tool_arm.fk(Q0)
+"""
+
+# the tool composed on the wrong side
+_TOOL_ORDER = """
+T_BT0 = T_ET @ T_BE0
+"""
+
+# the triple stored in robokin's order (roll, pitch, yaw) and passed on unreversed
+_TRIPLE_IN_RPY_ORDER = """
+TOOL_YPR = np.array([np.pi / 10, 0.0, 0.0])  # stored as (roll, pitch, yaw)
+
+def transform_from_ypr(ypr, position):
+    return transform_from_rpy(ypr, position)
+"""
+
+# the goal read as (roll, pitch, yaw)
+_GOAL_AS_RPY = """
+T_BG = transform_from_rpy(GOAL_YPR, GOAL_POSITION)
+e0 = pose_error(T_BT0, T_BG)
+h_T, theta = angle_axis_from_rotation((transform_inverse(T_BT0) @ T_BG)[:3, :3])
+h_B = T_BT0[:3, :3] @ h_T
+"""
+
+# the axis left in tool coordinates
+_AXIS_IN_TOOL_FRAME = """
+h_B, theta = angle_axis_from_rotation((transform_inverse(T_BT0) @ T_BG)[:3, :3])
+"""
+
+# the error from the goal to the tool (sign)
+_ERROR_SIGN = """
+e0 = pose_error(T_BG, T_BT0)
+"""
+
+# the goal's pose inverted instead of the tool's: the relative rotation is the identity
+_INVERTED_THE_GOAL = """
+T_TG = transform_inverse(T_BG) @ T_BG
+h_T, theta = angle_axis_from_rotation(T_TG[:3, :3])
+h_B = T_BT0[:3, :3] @ h_T
+"""
+
+# the offset used without rotating it into the base frame
+_OFFSET_NOT_ROTATED = """
+def my_tool_jacobian(q):
+    r = TOOL_OFFSET  # E r_ET used as if it were B r_ET
+    J_rb = np.block([[np.eye(3), -skew(r)], [np.zeros((3, 3)), np.eye(3)]])
+    return J_rb @ arm.jacobian(q)
+
+J_T0 = my_tool_jacobian(Q0)
+qdot0 = np.linalg.pinv(J_T0) @ twist0
+"""
+
+# the course's transport matrix (angular rows first) pasted into linear-first code
+_COURSE_TRANSPORT = """
+def my_tool_jacobian(q):
+    r = arm.fk(q)[:3, :3] @ TOOL_OFFSET
+    J_rb = np.block([[np.eye(3), np.zeros((3, 3))], [skew(r).T, np.eye(3)]])
+    return J_rb @ arm.jacobian(q)
+
+J_T0 = my_tool_jacobian(Q0)
+qdot0 = np.linalg.pinv(J_T0) @ twist0
+"""
+
+# the desired twist stacked in the course's order [w; v]
+_TWIST_COURSE_ORDER = """
+def my_twist(q):
+    e = pose_error(tool_arm.fk(q), T_BG)
+    return np.r_[GAIN_ANGULAR * e[3:], GAIN_LINEAR * e[:3]]
+
+twist0 = my_twist(Q0)
+qdot0 = np.linalg.pinv(J_T0) @ twist0
+"""
+
+# the row swap taken as the identity
+_SWAP_IDENTITY = """
+S = np.eye(6)
+"""
+
+# the spare joint dropped: a square 6x6 system solved for joints 1-6, joint 7 at rest
+_SQUARE_SYSTEM = """
+qdot0 = np.r_[np.linalg.solve(J_T0[:, :6], twist0), 0.0]
+"""
+
+# the loop that steps first and tests afterwards (one step further)
+_STEP_THEN_TEST = '''
+def kinematic_loop(twist_of, q0, ts=TS, t_end=T_END, robot=tool_arm):
+    lower, upper = robot.limits.T
+    q, Q, V = np.array(q0, dtype=float), [np.array(q0, dtype=float)], []
+    for k in range(int(round(t_end / ts))):
+        nu = twist_of(q)
+        q = np.clip(q + ts * np.linalg.pinv(robot.jacobian(q)) @ nu, lower, upper)
+        Q.append(q)
+        V.append(nu)
+        if np.linalg.norm(nu[:3]) < STOP and np.linalg.norm(nu[3:]) < STOP:
+            break
+    V.append(twist_of(q))
+    return np.array(Q), np.array(V)
+
+Q_run, V_run = kinematic_loop(my_twist, Q0)
+k_stop = len(Q_run) - 1
+q_final = Q_run[-1]
+T_final = tool_arm.fk(q_final)
+e_final = pose_error(T_final, T_BG)
+'''
+
+# the stop test on the error instead of the commanded twist
+_STOP_ON_ERROR = '''
+def kinematic_loop(twist_of, q0, ts=TS, t_end=T_END, robot=tool_arm):
+    lower, upper = robot.limits.T
+    q, Q, V = np.array(q0, dtype=float), [], []
+    for k in range(int(round(t_end / ts)) + 1):
+        nu = twist_of(q)
+        Q.append(q)
+        V.append(nu)
+        if np.linalg.norm(nu[:3]) / 0.8 < STOP and np.linalg.norm(nu[3:]) / 0.8 < STOP:
+            break
+        q = np.clip(q + ts * np.linalg.pinv(robot.jacobian(q)) @ nu, lower, upper)
+    return np.array(Q), np.array(V)
+
+Q_run, V_run = kinematic_loop(my_twist, Q0)
+k_stop = len(Q_run) - 1
+q_final = Q_run[-1]
+T_final = tool_arm.fk(q_final)
+e_final = pose_error(T_final, T_BG)
+'''
+
+# the report's rule: a joint whose new value is out of its limits is not updated
+_SKIP_RULE = '''
+def kinematic_loop(twist_of, q0, ts=TS, t_end=T_END, robot=tool_arm):
+    lower, upper = robot.limits.T
+    q, Q, V = np.array(q0, dtype=float), [], []
+    for k in range(int(round(t_end / ts)) + 1):
+        nu = twist_of(q)
+        Q.append(q)
+        V.append(nu)
+        if np.linalg.norm(nu[:3]) < STOP and np.linalg.norm(nu[3:]) < STOP:
+            break
+        q_new = q + ts * np.linalg.pinv(robot.jacobian(q)) @ nu
+        q = np.where((q_new >= lower) & (q_new <= upper), q_new, q)
+    return np.array(Q), np.array(V)
+'''
+
+# the run with the twist in the course's order [w; v]
+_RUN_COURSE_ORDER = _TWIST_COURSE_ORDER + '''
+Q_run, V_run = kinematic_loop(my_twist, Q0)
+k_stop = len(Q_run) - 1
+q_final = Q_run[-1]
+T_final = tool_arm.fk(q_final)
+e_final = pose_error(T_final, T_BG)
+'''
+
+# the RPY difference without wrapping the yaw into (-pi, pi]
+_UNWRAPPED = """
+E_rpy = np.array(
+    [
+        GOAL_YPR[::-1] - np.array(rpy_from_rotation(tool_arm.fk(q)[:3, :3]))
+        for q in Q_run
+    ]
+)
+"""
+
+# the angle between the error vectors left in radians
+_ANGLE_IN_RADIANS = """
+angle_between = np.arccos(
+    np.clip(
+        np.sum(E_rpy * E_aa, axis=1)
+        / np.linalg.norm(E_rpy, axis=1)
+        / np.linalg.norm(E_aa, axis=1),
+        -1,
+        1,
+    )
+)
+"""
+
+# the "naive" loop that converts the rates with E(phi) after all: it converges
+_NAIVE_CONVERTED = """
+def naive_twist(q):
+    T = tool_arm.fk(q)
+    e = pose_error(T, T_BG, representation="rpy")
+    _, pitch, yaw = rpy_from_rotation(T[:3, :3])
+    E = np.column_stack(
+        [rotation_from_rpy(0.0, pitch, yaw)[:, 0], rotz(yaw)[:, 1], [0.0, 0.0, 1.0]]
+    )
+    return np.r_[GAIN_LINEAR * e[:3], GAIN_ANGULAR * E @ e[3:]]
+
+Q_naive, _ = kinematic_loop(naive_twist, Q0)
+theta_naive = np.array(
+    [np.linalg.norm(pose_error(tool_arm.fk(q), T_BG)[3:]) for q in Q_naive]
+)
+"""
+
+MUTATIONS = {
+    "task1_test1": [
+        ("the YPR triple read as (roll, pitch, yaw)", _TOOL_AS_RPY),
+        ("the offset taken in centimetres", _OFFSET_CM),
+        ("E T_T multiplied on the wrong side", _TOOL_ORDER),
+    ],
+    "task1_test2": [
+        ("the YPR triple read as (roll, pitch, yaw)", _TOOL_AS_RPY),
+        ("the offset taken in centimetres", _OFFSET_CM),
+        ("the triple stored in (roll, pitch, yaw) order", _TRIPLE_IN_RPY_ORDER),
+    ],
+    "task2_test1": [
+        ("the goal triple read as (roll, pitch, yaw)", _GOAL_AS_RPY),
+        ("the rotation axis left in tool coordinates", _AXIS_IN_TOOL_FRAME),
+        ("the error from the goal to the tool", _ERROR_SIGN),
+    ],
+    "task2_test2": [
+        ("the goal's pose inverted instead of the tool's", _INVERTED_THE_GOAL),
+        ("the goal triple read as (roll, pitch, yaw)", _GOAL_AS_RPY),
+    ],
+    "task3_test1": [
+        ("the tool offset not rotated into the base frame", _OFFSET_NOT_ROTATED),
+        ("the course's [w; v] transport matrix in linear-first code", _COURSE_TRANSPORT),
+        ("the desired twist stacked [w; v]", _TWIST_COURSE_ORDER),
+        ("the row swap taken as the identity", _SWAP_IDENTITY),
+    ],
+    "task3_test2": [
+        ("joint 7 dropped to solve a square 6x6 system", _SQUARE_SYSTEM),
+    ],
+    "task4_test1": [
+        ("the step taken before the stop test", _STEP_THEN_TEST),
+        ("the stop test on the error instead of the twist", _STOP_ON_ERROR),
+        ("the twist stacked [w; v] in the loop", _RUN_COURSE_ORDER),
+    ],
+    "task4_test2": [
+        ("the report's skip rule instead of clamping", _SKIP_RULE),
+        ("the twist stacked [w; v] in the loop", _RUN_COURSE_ORDER),
+    ],
+    "task5_test1": [
+        ("the yaw difference not wrapped into (-pi, pi]", _UNWRAPPED),
+        ("the angle between the errors in radians", _ANGLE_IN_RADIANS),
+        ("the naive loop converts the rates with E(phi) after all", _NAIVE_CONVERTED),
+    ],
+    "task5_test2": [
+        ("k_stop counts samples instead of steps", "k_stop = len(Q_run)"),
+    ],
+}

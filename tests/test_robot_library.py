@@ -1,0 +1,61 @@
+"""Every robot of the installed example-robot-data: listed with its links, loadable by name."""
+
+from __future__ import annotations
+
+import importlib.metadata
+
+import numpy as np
+import pytest
+
+from robokin.errors import DomainError
+from robokin.models import ROBOT_DESCRIPTIONS, available_robots, from_urdf, robot_description
+
+pytest.importorskip("yourdfpy", reason="yourdfpy is not installed: pip install 'robokin[robots]'")
+try:
+    importlib.metadata.distribution("example-robot-data")
+except importlib.metadata.PackageNotFoundError:
+    pytest.skip("example-robot-data is not installed: pip install 'robokin[robots]'", allow_module_level=True)
+
+
+def test_every_urdf_file_of_the_package_is_listed_once():
+    robots = available_robots()
+    names = [r.name for r in robots]
+    assert len(robots) >= 60 and len(set(names)) == len(names)
+    files = {r.path for r in robots}
+    assert len(files) == len(robots) and all(p.suffix == ".urdf" and p.is_file() for p in files)
+    by_name = {r.name: r for r in robots}
+    for name in ("kinova", "xarm7", "ur5_robot", "solo12", "panda", "baxter"):
+        assert name in by_name, name
+    assert "anymal_b_simple_description/anymal" in by_name       # shared file names keep their package
+    assert available_robots() is robots                           # read once
+
+
+@pytest.mark.parametrize("name, base, tip, joints", [
+    ("kinova", "base", "j2s6s200_end_effector", 6),
+    ("xarm7", "world", "link_eef", 7),
+    ("ur10_robot", "world", "ee_link", 6),
+])
+def test_listed_links_give_the_arm(name, base, tip, joints):
+    info = {r.name: r for r in available_robots()}[name]
+    assert (info.base_link, info.tip_links[0], info.movable_joints) == (base, tip, joints)
+    arm = from_urdf(robot_description(name), info.base_link, info.tip_links[0])
+    assert arm.n == joints
+    q = np.linspace(-0.5, 0.5, arm.n)
+    h = 1e-6
+    J_fd = np.column_stack([(arm.fk(q + h * e)[:3, 3] - arm.fk(q - h * e)[:3, 3]) / (2 * h) for e in np.eye(arm.n)])
+    assert np.allclose(arm.jacobian(q)[:3], J_fd, atol=1e-8)
+
+
+def test_robot_description_takes_every_listed_name():
+    for info in available_robots():
+        assert robot_description(info.name) == info.path
+    for name, (file, _, _) in ROBOT_DESCRIPTIONS.items():
+        assert robot_description(name).as_posix().endswith(file)
+
+
+def test_unknown_robot_names_some_and_points_to_the_list():
+    with pytest.raises(DomainError) as info:
+        robot_description("kinova2")
+    message = str(info.value)
+    assert "'kinova2'" in message and "available_robots()" in message and "more)" in message
+    assert len(message) < 600

@@ -1,0 +1,385 @@
+#!/usr/bin/env python3
+"""Create a new chapter: its notebook, its check module, its places in the book and the README.
+
+    .venv/bin/python tools/new_chapter.py --name scara --title "The SCARA arm" --robot "a SCARA arm"
+    make chapter NAME=scara TITLE="The SCARA arm" ROBOT="a SCARA arm"      # the same
+
+What it writes (and nothing else; it refuses to overwrite an existing chapter):
+
+* ``notebooks/NN_<name>.ipynb`` (NN = the next free number) with the book's structure:
+  title, learning goals, problem statement, one task with its worked solution, its
+  graded check cell (asserts against an independent value, and the chapter's
+  robokin.check), a pitfall, a *Try it yourself* cell and *Going further*; the
+  Colab install cell; formatted, with nbgrader metadata, executed top to bottom;
+* ``robokin/check/<name>.py`` with the task's check (``check.<name>.tool_position``),
+  registered in ``robokin/check/_registry.py``'s ``CHAPTERS``;
+* ``tests/grading_mutations/NN_<name>.py``: the wrong answer the graded test must reject;
+* its line in ``_toc.yml`` (Exercises), and its row in the chapter tables of
+  ``book/intro.md`` and ``README.md``; the points table of ``book/for-instructors.md``.
+
+The generated chapter passes ``make test`` as it is (its task: the tool position of
+the two-link planar arm, ``robokin.models.planar_two_link()``): replace the
+exercise, keep the structure. ``book/authoring.md`` explains every part and every
+rule the test suite enforces on a chapter.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+TOOLS = Path(__file__).resolve().parent
+
+NAME_RE = re.compile(r"^[a-z][a-z0-9_]{1,30}$")
+
+
+def md(text: str, **meta) -> dict:
+    return {"cell_type": "markdown", "metadata": dict(meta), "source": text.strip("\n")}
+
+
+def code(text: str, *tags: str) -> dict:
+    meta = {"tags": list(tags)} if tags else {}
+    return {"cell_type": "code", "execution_count": None, "metadata": meta, "outputs": [],
+            "source": text.strip("\n")}
+
+
+def notebook(number: int, name: str, title: str, robot: str) -> dict:
+    """The chapter notebook: one worked, graded task on the two-link arm, to be replaced."""
+    label = name.replace("_", "-")
+    cells = [
+        md(f"""
+# Chapter {number}: {title}
+
+This chapter is about {robot}. *(Replace this paragraph: what the robot is, what the
+exercise asks and why it matters.)* Its one task so far -- the tool position of the
+two-link planar arm -- shows the structure every chapter follows.
+"""),
+        md("""
+## Learning goals
+
+After this chapter you can
+
+- write the forward kinematics of a planar arm as a function of its joint angles;
+- check a function against an independent reference at many configurations.
+"""),
+        md("""
+## Problem statement
+
+The two-link planar arm `robokin.models.planar_two_link()` has two revolute joints
+about $z$ and links of $l_1 = l_2 = 1$ m along the $x$ axis of their frames. Find the
+position of its tool point in the base frame {B} as a function of the joint angles
+$\\mathbf{q} = (q_1, q_2)$ in radians.
+"""),
+        code("""
+import numpy as np
+
+from robokin import check, models
+from robokin.formatting import format_array
+
+arm = models.planar_two_link()
+Q0 = np.array([0.3, 0.2])  # the configuration of Task 1 (rad)
+"""),
+        md(f"""
+## Task 1: The tool position
+
+```{{exercise}}
+:label: {label}-fk
+
+Write `tool_position(q)`: for `q` = $(q_1, q_2)$ in radians (an array of shape (2,)),
+it returns the tool position $(x, y)$ in metres in {{B}}, a NumPy array of shape (2,).
+Evaluate it at `Q0` $= \\mathbf{{q}}_0 = (0.3, 0.2)$ rad.
+```
+"""),
+        md(f"""
+```{{solution-start}} {label}-fk
+:class: dropdown
+```
+Each link adds its length along its own direction, $q_1$ for the first link and
+$q_1 + q_2$ for the second:
+$x = l_1\\cos q_1 + l_2\\cos(q_1 + q_2)$, $y = l_1\\sin q_1 + l_2\\sin(q_1 + q_2)$.
+"""),
+        code("""
+def tool_position(q):
+    q1, q2 = q
+    return np.array([np.cos(q1) + np.cos(q1 + q2), np.sin(q1) + np.sin(q1 + q2)])
+
+
+print("tool position at q0:", format_array(tool_position(Q0)), "m")
+""", "solution"),
+        md("""
+```{solution-end}
+```
+"""),
+        md("""
+**Check.** The tool position must be the translation of the model's forward
+kinematics `arm.fk(q)` (an independent implementation: a product of elementary
+transforms) at many configurations, and robokin.check must find it right. (The test
+also compares with the closed form at `Q0`, in a hidden part that the student edition
+leaves out: it would give the answer away.)
+"""),
+        code("""
+rng = np.random.default_rng(0)
+for q in rng.uniform(-np.pi, np.pi, (50, 2)):
+    assert np.allclose(tool_position(q), arm.fk(q)[:2, 3], atol=1e-12)
+check.{name}.tool_position(tool_position)
+### BEGIN HIDDEN TESTS
+assert np.allclose(tool_position(Q0), [np.cos(0.3) + np.cos(0.5), np.sin(0.3) + np.sin(0.5)])
+### END HIDDEN TESTS
+""".replace("{name}", name), "check"),
+        md(f"""
+## Task 2: The Jacobian
+
+```{{exercise}}
+:label: {label}-jacobian
+
+Write `tool_jacobian(q)`: the 2×2 matrix $\\mathbf{{J}}(\\mathbf{{q}}) = \\partial \\mathbf{{p}} / \\partial
+\\mathbf{{q}}$ of `tool_position` (rows $x, y$ in m; columns $q_1, q_2$; in m/rad), for `q` of
+shape (2,) in radians.
+```
+"""),
+        md(f"""
+```{{solution-start}} {label}-jacobian
+:class: dropdown
+```
+Differentiate each coordinate: with $s_1 = \\sin q_1$, $s_{{12}} = \\sin(q_1 + q_2)$ (and $c$ for
+the cosines), $\\mathbf{{J}} = \\begin{{bmatrix}} -s_1 - s_{{12}} & -s_{{12}} \\\\ c_1 + c_{{12}} & c_{{12}}
+\\end{{bmatrix}}$.
+"""),
+        code("""
+def tool_jacobian(q):
+    q1, q2 = q
+    s1, s12, c1, c12 = np.sin(q1), np.sin(q1 + q2), np.cos(q1), np.cos(q1 + q2)
+    return np.array([[-s1 - s12, -s12], [c1 + c12, c12]])
+""", "solution"),
+        md("""
+```{solution-end}
+```
+"""),
+        md("""
+**Check.** Central finite differences of the model's tool position (an independent
+value, to the accuracy their step allows; not of your `tool_position`, so that this test
+grades the Jacobian alone) and the model's position Jacobian.
+"""),
+        code("""
+for q in rng.uniform(-np.pi, np.pi, (20, 2)):
+    h = 1e-6
+    J_fd = np.column_stack(
+        [(arm.fk(q + h * e)[:2, 3] - arm.fk(q - h * e)[:2, 3]) / (2 * h) for e in np.eye(2)]
+    )
+    assert np.allclose(tool_jacobian(q), J_fd, atol=1e-8)
+    assert np.allclose(tool_jacobian(q), arm.position_jacobian(q)[:2], atol=1e-12)
+check.{name}.tool_jacobian(tool_jacobian)
+""".replace("{name}", name), "check"),
+        md("""
+```{admonition} Pitfall: degrees for radians
+:class: warning
+
+NumPy's `cos` and `sin` take radians. Typing the angles in degrees gives a wrong
+position without any error; convert at the edge with `np.deg2rad`.
+```
+"""),
+        md("""
+### Try it yourself
+
+Where is the tool when the arm is stretched out ($\\mathbf{q} = (0, 0)$)? And folded
+back ($q_2 = \\pi$)?
+"""),
+        code("""
+print(format_array(tool_position([0.0, 0.0])), format_array(tool_position([0.0, np.pi])))
+"""),
+        md("""
+## Going further
+
+- The same function for a batch of configurations (shape (N, 2)) without a loop.
+- The Jacobian $\\partial \\mathbf{p} / \\partial \\mathbf{q}$, checked against finite
+  differences.
+"""),
+    ]
+    for k, cell in enumerate(cells):
+        cell["id"] = f"{label}-{k}"
+    return {"cells": cells, "metadata": {
+        "kernelspec": {"display_name": "Python 3 (ipykernel)", "language": "python", "name": "python3"},
+        "language_info": {"name": "python"}}, "nbformat": 4, "nbformat_minor": 5}
+
+
+def check_module(number: int, name: str, title: str) -> str:
+    return f'''r"""Exercise checks of chapter {number}: {title}.
+
+=================  ==========================================  ==========
+check              the student's answer                         inputs
+=================  ==========================================  ==========
+``tool_position``  p(q): tool position (x, y) in m, shape (2,)  q1, q2
+``tool_jacobian``  J(q) = ∂p/∂q: 2×2, in m/rad                 q1, q2
+=================  ==========================================  ==========
+
+Every reference comes from the chapter's robot model (one model definition); the
+diagnoses are the standard ones for a vector (a sign, degrees for radians, swapped
+or negated inputs). See the book's page "Adding a chapter" for the pattern.
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+
+import numpy as np
+
+from robokin.check import diagnoses as dg
+from robokin.check._core import Check, Variable
+from robokin.check._registry import exercise
+
+__all__ = ["tool_position", "tool_jacobian"]
+
+_CH = "{name}"
+
+
+@lru_cache(maxsize=1)
+def _arm():
+    from robokin.models import planar_two_link
+
+    return planar_two_link()
+
+
+tool_position = exercise(_CH, "tool_position", Check(
+    name="tool_position",
+    reference=lambda x: np.asarray(_arm().fk(x))[:2, 3],
+    variables=[Variable("q1"), Variable("q2")],
+    groups=[("q", [0, 1])],
+    diagnoses=dg.standard("vector"),
+    noun="angles",
+    doc="Check tool_position(q): the tool position (x, y) in m of the two-link arm, shape (2,).",
+))
+
+tool_jacobian = exercise(_CH, "tool_jacobian", Check(
+    name="tool_jacobian",
+    reference=lambda x: np.asarray(_arm().position_jacobian(x))[:2],
+    variables=[Variable("q1"), Variable("q2")],
+    groups=[("q", [0, 1])],
+    diagnoses=dg.standard("jacobian"),
+    noun="angles",
+    doc="Check tool_jacobian(q): the 2x2 Jacobian of the tool position, in m/rad.",
+))
+'''
+
+
+def mutations(name: str) -> str:
+    return f'''"""Wrong answers that each autograded test of the chapter must reject."""
+
+MUTATIONS = {{
+    "task1_test1": [
+        ("degrees for radians", "tool_position = (lambda f: lambda q: f(np.rad2deg(q)))(tool_position)"),
+        ("the second link's own angle q2 instead of q1 + q2",
+         "def tool_position(q):\\n    q1, q2 = q\\n"
+         "    return np.array([np.cos(q1) + np.cos(q2), np.sin(q1) + np.sin(q2)])"),
+    ],
+    "task2_test1": [
+        ("the transposed Jacobian", "tool_jacobian = (lambda f: lambda q: f(q).T)(tool_jacobian)"),
+    ],
+}}
+'''
+
+
+def next_number(root: Path) -> int:
+    numbers = [int(p.name[:2]) for p in (root / "notebooks").glob("[0-9][0-9]_*.ipynb")]
+    return max(numbers, default=0) + 1
+
+
+def insert_after_last(text: str, pattern: str, line: str, where: str) -> str:
+    """``text`` with ``line`` after the last line matching ``pattern`` (SystemExit naming ``where``)."""
+    lines = text.splitlines(keepends=True)
+    hits = [i for i, row in enumerate(lines) if re.search(pattern, row)]
+    if not hits:
+        raise SystemExit(f"ERROR {where}: no line matching {pattern!r} to add the chapter after; add it by hand")
+    lines.insert(hits[-1] + 1, line if line.endswith("\n") else line + "\n")
+    return "".join(lines)
+
+
+def register(root: Path, name: str) -> None:
+    path = root / "robokin" / "check" / "_registry.py"
+    text = path.read_text()
+    if f'"{name}":' in text:
+        return
+    path.write_text(insert_after_last(text, r'^\s+"\w+": "robokin\.check\.\w+",$',
+                                      f'    "{name}": "robokin.check.{name}",', str(path)))
+
+
+def run(command: list[str], root: Path) -> None:
+    print("$", " ".join(command))
+    subprocess.run(command, cwd=root, check=True)
+
+
+def execute(path: Path, root: Path) -> None:
+    """What ``make execute NB=path`` does: run in a fresh kernel, store outputs, merge streams."""
+    import os
+
+    env = dict(os.environ, ROBOKIN_VIEWER="static")
+    base = [sys.executable, "-m", "nbconvert", "--to", "notebook", "--inplace", "--log-level=WARN"]
+    for extra in (["--execute", "--ExecutePreprocessor.timeout=300", "--ExecutePreprocessor.record_timing=False"],
+                  ["--CoalesceStreamsPreprocessor.enabled=True"]):
+        print("$", " ".join(base[2:] + extra), path.name)
+        subprocess.run(base + extra + [str(path)], cwd=root, env=env, check=True)
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
+                                     formatter_class=argparse.RawDescriptionHelpFormatter,
+                                     epilog="book/authoring.md ('Adding a chapter') explains the result.")
+    parser.add_argument("--name", required=True, help="the chapter's short name: lower case, digits, _ "
+                                                       "(names the notebook and robokin.check.<name>)")
+    parser.add_argument("--title", required=True, help='the chapter title, e.g. "The SCARA arm"')
+    parser.add_argument("--robot", default="a robot", help='the robot, for the intro table, e.g. "a SCARA arm"')
+    parser.add_argument("--topics", default="to be written", help="what the chapter teaches, for the tables")
+    parser.add_argument("--root", type=Path, default=ROOT, help="the repository (default: this one)")
+    parser.add_argument("--no-execute", action="store_true", help="do not execute the new notebook")
+    args = parser.parse_args(argv)
+
+    root = args.root.resolve()
+    if not NAME_RE.match(args.name):
+        parser.error(f"--name must be lower case letters, digits and _ (2-31 characters); got {args.name!r}")
+    sys.path.insert(0, str(root))
+    from robokin.check._registry import CHAPTERS  # the tree's own registry
+
+    if args.name in CHAPTERS or (root / "robokin" / "check" / f"{args.name}.py").exists():
+        parser.error(f"a chapter with checks named {args.name!r} exists already")
+    number = next_number(root)
+    stem = f"{number:02d}_{args.name}"
+    nb_path = root / "notebooks" / f"{stem}.ipynb"
+
+    nb_path.write_text(json.dumps(notebook(number, args.name, args.title, args.robot), indent=1,
+                                  ensure_ascii=False) + "\n")
+    (root / "robokin" / "check" / f"{args.name}.py").write_text(check_module(number, args.name, args.title))
+    register(root, args.name)
+    mutation_dir = root / "tests" / "grading_mutations"
+    mutation_dir.mkdir(exist_ok=True)
+    (mutation_dir / "__init__.py").touch()
+    (mutation_dir / f"{stem}.py").write_text(mutations(args.name))
+
+    toc = root / "_toc.yml"
+    toc.write_text(insert_after_last(toc.read_text(), r"^\s+- file: notebooks/[0-9][0-9]_",
+                                     f"      - file: notebooks/{stem}", str(toc)))
+    intro = root / "book" / "intro.md"
+    intro.write_text(insert_after_last(intro.read_text(), r"^\| \d+ \|",
+                                       f"| {number} | {args.robot} | {args.topics} |", str(intro)))
+    readme = root / "README.md"
+    readme.write_text(insert_after_last(readme.read_text(), r"^\| \d+ \| `notebooks/",
+                                        f"| {number} | `notebooks/{stem}.ipynb` | {args.robot}: {args.topics} |",
+                                        str(readme)))
+
+    python = sys.executable
+    run([python, str(TOOLS / "install_cell.py"), str(nb_path.relative_to(root))], root)
+    run([python, str(TOOLS / "format_notebooks.py"), str(nb_path.relative_to(root))], root)
+    run([python, str(TOOLS / "nbgrader_metadata.py")], root)
+    if not args.no_execute:
+        execute(nb_path, root)
+    print(f"\nNew chapter {number}: {nb_path.relative_to(root)}, robokin/check/{args.name}.py, "
+          f"tests/grading_mutations/{stem}.py; listed in _toc.yml, book/intro.md and README.md.")
+    print("Next: write the exercise (book/authoring.md), then `make execute NB=...` and `make test`.")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
