@@ -790,6 +790,16 @@ def test_student_edition_is_what_the_contract_test_predicts(graded, chapter):
             assert src(cell) == stubs[grade_id], f"{chapter} {grade_id}: the stub differs from stub_source"
     empty = [i for i, c in enumerate(run.release["cells"]) if c["cell_type"] == "markdown" and not src(c).strip()]
     assert not empty, f"{chapter}: empty markdown cells in the student edition: {empty}"
+    from notebook_analysis import analyse, student_markdown
+    predicted = {}
+    for info, cell in zip(analyse(NOTEBOOKS / f"{chapter}.ipynb", run.source).cells, run.source["cells"]):
+        if info.cell_type == "markdown":
+            predicted[nbg(cell).get("grade_id")] = student_markdown(info)
+    released = {nbg(c).get("grade_id"): src(c) for c in run.release["cells"] if c["cell_type"] == "markdown"}
+    for grade_id, text in predicted.items():
+        assert released.get(grade_id) == text, (
+            f"{chapter} {grade_id}: the student edition's text differs from student_markdown:\n"
+            f"{released.get(grade_id)!r}\n{text!r}")
 
 
 def test_failure_notes_trace_the_root_cause_without_a_kernel():

@@ -12,7 +12,7 @@ Static (no kernel, no nbgrader run): for every chapter notebook,
 
 The student edition is computed as ``generate_assignment`` makes it
 (``tools/notebook_analysis.py``: ``stub_source`` is ``MarkSolutionRegions`` and
-``ClearSolutions``, ``removed_in_student_edition`` is ``DropSolutionProse``);
+``ClearSolutions``, ``student_markdown`` is ``ClearSolutions`` and ``DropSolutionProse``);
 ``tests/test_nbgrader.py`` checks that the two agree on the real student edition.
 
 ``ROBOKIN_NBGRADER_NOTEBOOKS=<folder>`` checks the notebooks of another folder.
@@ -39,6 +39,7 @@ from notebook_analysis import (  # noqa: E402
     analyse,
     defined_names,
     removed_in_student_edition,
+    student_markdown,
     stub_source,
     trace,
 )
@@ -82,7 +83,7 @@ def statement_before(chapter: Chapter, answer: int) -> list[tuple[int, str]]:
     """The task statement an answer cell follows: the markdown cells of the student edition
     in the same section (``## Task k``), above the answer cell."""
     section = chapter.cells[answer].section
-    return [(c.index, c.source) for c in chapter.cells[:answer]
+    return [(c.index, student_markdown(c)) for c in chapter.cells[:answer]
             if c.section == section and c.cell_type == "markdown" and not removed_in_student_edition(c)]
 
 
@@ -134,7 +135,7 @@ def contract_problems(path: Path) -> list[str]:
                        f"comment that names it on a line the stub keeps (e.g. an import line or a signature)")
                 problems.append(f"{where}, but the student edition does not say what `{name}` is: {fix}.")
     for cell in chapter.cells:
-        if cell.cell_type == "markdown" and not removed_in_student_edition(cell) and not cell.source.strip():
+        if cell.cell_type == "markdown" and not removed_in_student_edition(cell) and not student_markdown(cell).strip():
             problems.append(f"{chapter.name}: markdown cell {cell.index} (section {cell.section!r}) is empty "
                             "in the student edition: delete it or give it text.")
     return problems

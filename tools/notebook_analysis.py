@@ -748,6 +748,37 @@ def stub_source(code: str, declare: set[str] | None) -> str:
     return "\n".join(out)
 
 
+def clear_solution_text(text: str, stub: str = "") -> str:
+    """``text`` with every ``BEGIN SOLUTION`` ... ``END SOLUTION`` region (the marker lines
+    included) replaced by ``stub``, as nbgrader's ``ClearSolutions`` does in markdown."""
+    out: list[str] = []
+    inside = False
+    for line in text.split("\n"):
+        if "BEGIN SOLUTION" in line:
+            inside = True
+            indent = re.match(r"\s*", line).group(0)
+            out.extend(indent + s for s in stub.split("\n"))
+        elif "END SOLUTION" in line:
+            inside = False
+        elif not inside:
+            out.append(line)
+    return "\n".join(out)
+
+
+def student_markdown(cell: Cell) -> str | None:
+    """The text of a markdown cell in the student edition; None when the cell is left out.
+
+    Solution prose is removed (``MarkSolutionRegions`` marks a whole prose cell, unless it
+    has ``BEGIN SOLUTION``/``END SOLUTION`` markers of its own, e.g. in HTML comments,
+    which then keep the text around them); a cell left empty is left out
+    (``DropSolutionProse``).
+    """
+    if cell.role != "prose":
+        return cell.source
+    text = clear_solution_text(cell.source) if "BEGIN SOLUTION" in cell.source else ""
+    return text if text.strip() else None
+
+
 def removed_in_student_edition(cell: Cell) -> bool:
-    """Cells the student edition leaves out: solution prose (it would be an empty cell)."""
-    return cell.role == "prose"
+    """Cells the student edition leaves out: solution prose with nothing else in it."""
+    return cell.cell_type == "markdown" and student_markdown(cell) is None

@@ -127,15 +127,17 @@ class MarkSolutionRegions(NbGraderPreprocessor):
 
 
 class DropSolutionProse(NbGraderPreprocessor):
-    """Leave solution prose out of the student edition (after ``ClearSolutions`` it is an empty cell).
+    """Leave out of the student edition the solution prose that ``ClearSolutions`` emptied.
 
-    The cells are read-only and not graded, so the gradebook does not miss them;
-    ``tests/test_student_edition_contracts.py`` predicts the student edition with
-    the same rule (``notebook_analysis.removed_in_student_edition``).
+    A prose cell with text outside its own ``BEGIN SOLUTION``/``END SOLUTION``
+    markers keeps that text. The cells are read-only and not graded, so the gradebook
+    does not miss them; ``tests/test_student_edition_contracts.py`` predicts the
+    student edition with the same rule (``notebook_analysis.student_markdown``).
     """
 
     def preprocess(self, nb, resources):
-        nb.cells = [c for c in nb.cells if not (c.cell_type == "markdown" and _robokin(c).get("role") == "prose")]
+        nb.cells = [c for c in nb.cells if not (
+            c.cell_type == "markdown" and _robokin(c).get("role") == "prose" and not c.source.strip())]
         return nb, resources
 
 
