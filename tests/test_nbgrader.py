@@ -52,7 +52,7 @@ pytest.importorskip("nbgrader", reason="nbgrader is not installed: run `make tes
 NOTEBOOKS = Path(os.environ.get("ROBOKIN_NBGRADER_NOTEBOOKS", ROOT / "notebooks")).resolve()
 CHAPTERS = [p.stem for p in nbgrader_metadata.chapter_notebooks(NOTEBOOKS.parent, NOTEBOOKS.name)]
 WALKTHROUGH_CHAPTER = "03_three_rpr"
-HIDDEN_TESTS = re.compile(r"\n?### BEGIN HIDDEN TESTS\n.*?### END HIDDEN TESTS\n?", re.S)
+HIDDEN_TESTS = re.compile(r"### BEGIN HIDDEN TESTS\n.*?### END HIDDEN TESTS\n?", re.S)
 WORKERS = 2
 TIMEOUT_FOR_BAD_SUBMISSION = 10  # seconds per cell, for the submission that runs forever
 
@@ -259,32 +259,82 @@ def bad_submission(correct: dict) -> tuple[dict, dict]:
     return nb, what
 
 
-#: Chapter 2's wrong answers for the feedback tests: a knock-on failure (a wrong
-#: ``weighted_pinv`` breaks later tasks) and an answer of the wrong type.
-KNOCK_ON = {"02_ur10_ik": ("weighted_pinv", (
-    "\n\ndef weighted_pinv(J, W):  # a mistake made by the test: W where W^-1 belongs\n"
-    "    return W @ J.T @ np.linalg.inv(J @ W @ J.T)\n"))}
-WRONG_TYPE = {"02_ur10_ik": ("res_a", "\nres_a = [1, 2, 3]  # a mistake made by the test: a list, not a result\n")}
+#: The chapter that gets two more submissions for the feedback tests: an answer cell that
+#: raises (its names are missing in later tasks: a knock-on failure) and an answer of the
+#: wrong type. Chosen from the notebook (tools/notebook_analysis.py), not by name.
+FEEDBACK_CHAPTER = "02_ur10_ik" if "02_ur10_ik" in CHAPTERS else (CHAPTERS[0] if CHAPTERS else "")
+LIST_ATTRIBUTES = set(dir([]))
 
 
-def _answer_defining(nb: dict, name: str) -> dict | None:
-    from notebook_analysis import defined_names
-    hits = [c for c in nb["cells"] if nbg(c).get("solution") and name in defined_names(src(c))]
-    return hits[-1] if hits else None
+def _analysis(source: dict, chapter: str):
+    from notebook_analysis import analyse, trace
+    info = analyse(NOTEBOOKS / f"{chapter}.ipynb", source)
+    kinds = [("answer" if c.role == "answer" else "code" if c.cell_type == "code" else "markdown", c.source)
+             for c in info.cells]
+    return info, trace(kinds)
 
 
-def chapter_submissions(chapter: str, correct: dict) -> dict[str, dict]:
-    """The knock-on and wrong-type submissions of a chapter that has them."""
-    out = {}
-    for student, table in (("knockon", KNOCK_ON), ("wrongtype", WRONG_TYPE)):
-        if chapter not in table:
+def knock_on_candidate(source: dict, chapter: str) -> dict | None:
+    """The first test that reads, directly or through given cells, an answer of an earlier task."""
+    info, reads = _analysis(source, chapter)
+    for test in info.tests():
+        todo, seen = [test.index], set()
+        while todo:
+            cell = todo.pop()
+            if cell in seen:
+                continue
+            seen.add(cell)
+            for name, binding in sorted(reads[cell].items()):
+                answer = info.cells[binding.cell]
+                if binding.answer and answer.task is not None and test.task is not None and answer.task < test.task:
+                    return {"name": name, "task": answer.task, "answer": nbg(source["cells"][binding.cell])["grade_id"],
+                            "test": nbg(source["cells"][test.index])["grade_id"]}
+                if not binding.answer and binding.roots:
+                    todo.append(binding.cell)
+    return None
+
+
+def wrong_type_candidate(source: dict, chapter: str) -> dict | None:
+    """An answer variable (not a function) whose attribute a test reads: a list has none of it."""
+    import ast
+    info, reads = _analysis(source, chapter)
+    for test in info.tests():
+        try:
+            tree = ast.parse(test.source)
+        except SyntaxError:
             continue
-        name, code = table[chapter]
+        for node in ast.walk(tree):
+            if not (isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name)):
+                continue
+            binding = reads[test.index].get(node.value.id)
+            if binding is None or not binding.answer or node.attr in LIST_ATTRIBUTES:
+                continue
+            body = ast.parse(info.cells[binding.cell].source).body
+            if any(isinstance(n, (ast.FunctionDef, ast.ClassDef)) and n.name == node.value.id for n in body):
+                continue
+            return {"name": node.value.id, "answer": nbg(source["cells"][binding.cell])["grade_id"],
+                    "test": nbg(source["cells"][test.index])["grade_id"]}
+    return None
+
+
+def chapter_submissions(chapter: str, source: dict, correct: dict, run: "Run") -> dict[str, dict]:
+    """The knock-on and wrong-type submissions of FEEDBACK_CHAPTER."""
+    out = {}
+    if chapter != FEEDBACK_CHAPTER:
+        return out
+    knock, wrong = knock_on_candidate(source, chapter), wrong_type_candidate(source, chapter)
+    for student, probe, change in (
+        ("knockon", knock, lambda code: 'raise RuntimeError("not finished")  # made by the test\n' + code),
+        ("wrongtype", wrong, lambda code: code.rstrip() + f"\n{wrong['name']} = [1, 2, 3]\n" if wrong else code),
+    ):
+        if probe is None:
+            continue
         nb = copy.deepcopy(correct)
-        cell = _answer_defining(nb, name)
-        if cell is not None:
-            cell["source"] = src(cell).rstrip() + "\n" + code
-            out[student] = nb
+        for cell in nb["cells"]:
+            if nbg(cell).get("grade_id") == probe["answer"]:
+                cell["source"] = change(src(cell))
+        run.probes[student] = probe
+        out[student] = nb
     return out
 
 
@@ -313,6 +363,7 @@ class Run:
     feedback: dict[str, str] = field(default_factory=dict)               # student -> HTML
     autograded: dict[str, dict] = field(default_factory=dict)            # student -> graded notebook
     rounds: list[dict[str, dict[str, float]]] = field(default_factory=list)  # scores after each autograde
+    probes: dict[str, dict] = field(default_factory=dict)                # student -> what was changed
     log: list[str] = field(default_factory=list)
     error: str | None = None
     seconds: float = 0.0
@@ -352,7 +403,7 @@ def run_chapter(chapter: str, base: Path) -> Run:
         if candidates:
             run.mistake = candidates[0]
             submissions["mistake"] = mistaken_submission(correct, run.mistake)
-        submissions.update(chapter_submissions(chapter, correct))
+        submissions.update(chapter_submissions(chapter, run.source, correct, run))
         for student, nb in submissions.items():
             save(nb, course / "submitted" / student / chapter / f"{chapter}.ipynb")
         nbgrader(["autograde", chapter], course, run.log)
@@ -714,35 +765,35 @@ def test_feedback_calls_only_answers_your_answers_and_quotes_whole_statements(gr
 
 
 def test_knock_on_failure_names_the_root_cause(graded):
-    if "02_ur10_ik" not in graded:
-        pytest.skip("chapter 2 is not graded here")
-    run = _run(graded, "02_ur10_ik")
-    name = KNOCK_ON["02_ur10_ik"][0]
-    cell = _answer_defining(run.source, name)
-    assert cell is not None, f"02_ur10_ik: no answer cell defines {name}"
-    task = rk(cell)["task"]
-    found = notes(run.autograded["knockon"])
-    later = {g: n for g, n in found.items() if not g.startswith(f"task{task}_")}
-    assert later, (f"02_ur10_ik: a wrong {name} (Task {task}) makes no test of another task fail; "
-                   f"failing: {sorted(found)}")
-    for grade_id, note in later.items():
-        assert f"This test failed because of `{name}` (Task {task}): its own test" in note, (
-            f"02_ur10_ik {grade_id}: the note does not name {name} (Task {task}) as the root cause:\n{note}")
+    """An answer cell that raises: a later task's test that needs its names says so."""
+    if FEEDBACK_CHAPTER not in graded:
+        pytest.skip("no chapter graded here")
+    run = _run(graded, FEEDBACK_CHAPTER)
+    probe = run.probes.get("knockon")
+    assert probe, f"{FEEDBACK_CHAPTER}: no test of a later task reads an answer of an earlier one"
+    note = notes(run.autograded["knockon"]).get(probe["test"])
+    assert note, f"{FEEDBACK_CHAPTER}: {probe['test']} does not fail without {probe['name']} (Task {probe['task']})"
+    cause = re.search(r"This test failed because of (.*?)\. Fix that first", note)
+    assert cause and f"`{probe['name']}`" in cause.group(1) and f"(Task {probe['task']}): " in cause.group(1) \
+        and "raised RuntimeError" in cause.group(1), (
+        f"{FEEDBACK_CHAPTER} {probe['test']}: the note does not name {probe['name']} (Task {probe['task']}), "
+        f"whose answer cell raised, as the root cause:\n{note}")
     page = run.feedback["knockon"]
-    assert "Where to start" in page and f"<code>{name}</code> (Task {task})" in page
+    assert "Where to start" in page and f"<code>{probe['name']}</code>" in page
 
 
 def test_wrong_type_says_what_came_and_what_was_expected(graded):
-    if "02_ur10_ik" not in graded:
-        pytest.skip("chapter 2 is not graded here")
-    run = _run(graded, "02_ur10_ik")
-    name = WRONG_TYPE["02_ur10_ik"][0]
-    found = notes(run.autograded["wrongtype"])
-    hits = [n for n in found.values() if f"Your `{name}` is a list of 3 items" in n]
-    assert hits, f"02_ur10_ik: no note says what {name} is: {found}"
-    assert all("; expected: " in n for n in hits), (
-        f"02_ur10_ik: the note does not say what {name} should be (document `{name}` in the task "
-        f"statement, in backticks, or in the stub):\n{hits[0]}")
+    if FEEDBACK_CHAPTER not in graded:
+        pytest.skip("no chapter graded here")
+    run = _run(graded, FEEDBACK_CHAPTER)
+    probe = run.probes.get("wrongtype")
+    assert probe, f"{FEEDBACK_CHAPTER}: no test reads an attribute of an answer variable"
+    note = notes(run.autograded["wrongtype"]).get(probe["test"], "")
+    name = probe["name"]
+    assert f"Your `{name}` is a list of 3 items" in note, f"{FEEDBACK_CHAPTER}: the note does not say what {name} is:\n{note}"
+    assert "; expected: " in note, (
+        f"{FEEDBACK_CHAPTER}: the note does not say what {name} should be (document `{name}` in the task "
+        f"statement, in backticks, or in the stub):\n{note}")
 
 
 @pytest.mark.parametrize("chapter", CHAPTERS)
