@@ -355,8 +355,15 @@ def check_calls(code: str, aliases: dict[str, str]) -> list[tuple[str, str]]:
         return f"{base}.{parts[1]}" if len(parts) == 2 else None
 
     for stmt in tree.body:
+        first = stmt.lineno
+        # comments directly above belong to the statement (a formatter moves a long
+        # trailing ``# deliberately wrong`` there)
+        while first > 1 and lines[first - 2].lstrip().startswith("#"):
+            first -= 1
+        above = "\n".join(lines[first - 1: stmt.lineno - 1])
         text = "\n".join(lines[stmt.lineno - 1: stmt.end_lineno])
-        negative = "diagnosis" in text or re.search(r"\bnot\b", text) is not None
+        negative = ("diagnosis" in text or re.search(r"\bnot\b", text) is not None
+                    or "wrong" in above.lower())
         for node in ast.walk(stmt):
             if not (isinstance(node, ast.Call) and node.args):
                 continue
