@@ -791,7 +791,8 @@ def test_wrong_type_says_what_came_and_what_was_expected(graded):
     note = notes(run.autograded["wrongtype"]).get(probe["test"], "")
     name = probe["name"]
     # in the note's own words, or in robokin.check's when a check describes the answer
-    said = re.search(rf"Your `{name}` is a list of 3 items; expected: .+|{name} is a list of 3 items; expected .+", note)
+    said = re.search(rf"Your `{name}` is a list of 3 items; expected: .+"
+                     rf"|{name} is a list of 3 items; expected .+", note)
     assert f"{name}` is a list of 3 items" in note or f"{name} is a list of 3 items" in note, (
         f"{FEEDBACK_CHAPTER}: the note does not say what {name} is:\n{note}")
     assert said, (
