@@ -35,7 +35,9 @@ sys.path.insert(0, str(ROBOKIN / "tools"))
 from robokin_nbgrader import (  # noqa: E402
     AutograderReport,
     GradingIncidents,
+    DropSolutionProse,
     MarkSolutionRegions,
+    OfflineMathJaxHTMLExporter,
     PointsHeader,
     RequireGradingMetadata,
     RestoreMissingCells,
@@ -58,6 +60,7 @@ c.GenerateAssignment.preprocessors = [
     MarkSolutionRegions,      # keep signatures and interface names; mark the prose
     LockCells,
     ClearSolutions,
+    DropSolutionProse,        # the emptied solution prose is left out
     ClearOutput,
     CheckCellMetadata,
     ComputeChecksums,
@@ -102,3 +105,6 @@ c.RobokinExecute.viewer = "matplotlib"
 # already runs in a container of its own: ROBOKIN_GRADING_SANDBOX=off, or
 # c.RobokinExecute.sandbox = False   (book/for-instructors.md, "What grading guarantees")
 c.RobokinExecute.sandbox = True
+
+# -- generate_feedback: MathJax inlined (the page is read offline, and handed out alone)
+c.GenerateFeedback.exporter_class = OfflineMathJaxHTMLExporter

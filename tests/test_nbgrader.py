@@ -52,7 +52,7 @@ pytest.importorskip("nbgrader", reason="nbgrader is not installed: run `make tes
 NOTEBOOKS = Path(os.environ.get("ROBOKIN_NBGRADER_NOTEBOOKS", ROOT / "notebooks")).resolve()
 CHAPTERS = [p.stem for p in nbgrader_metadata.chapter_notebooks(NOTEBOOKS.parent, NOTEBOOKS.name)]
 WALKTHROUGH_CHAPTER = "03_three_rpr"
-HIDDEN_TESTS = re.compile(r"\n?### BEGIN HIDDEN TESTS\n.*?### END HIDDEN TESTS\n?", re.S)
+HIDDEN_TESTS = re.compile(r"### BEGIN HIDDEN TESTS\n.*?### END HIDDEN TESTS\n?", re.S)
 WORKERS = 2
 TIMEOUT_FOR_BAD_SUBMISSION = 10  # seconds per cell, for the submission that runs forever
 
@@ -259,6 +259,97 @@ def bad_submission(correct: dict) -> tuple[dict, dict]:
     return nb, what
 
 
+#: The chapter that gets two more submissions for the feedback tests: an answer cell that
+#: raises (its names are missing in later tasks: a knock-on failure) and an answer of the
+#: wrong type. Chosen from the notebook (tools/notebook_analysis.py), not by name.
+FEEDBACK_CHAPTER = "02_ur10_ik" if "02_ur10_ik" in CHAPTERS else (CHAPTERS[0] if CHAPTERS else "")
+LIST_ATTRIBUTES = set(dir([]))
+
+
+def _analysis(source: dict, chapter: str):
+    from notebook_analysis import analyse, trace
+    info = analyse(NOTEBOOKS / f"{chapter}.ipynb", source)
+    kinds = [("answer" if c.role == "answer" else "code" if c.cell_type == "code" else "markdown", c.source)
+             for c in info.cells]
+    return info, trace(kinds)
+
+
+def knock_on_candidate(source: dict, chapter: str) -> dict | None:
+    """The first test that reads, directly or through given cells, an answer of an earlier task."""
+    info, reads = _analysis(source, chapter)
+    for test in info.tests():
+        todo, seen = [test.index], set()
+        while todo:
+            cell = todo.pop()
+            if cell in seen:
+                continue
+            seen.add(cell)
+            for name, binding in sorted(reads[cell].items()):
+                answer = info.cells[binding.cell]
+                if binding.answer and answer.task is not None and test.task is not None and answer.task < test.task:
+                    return {"name": name, "task": answer.task, "answer": nbg(source["cells"][binding.cell])["grade_id"],
+                            "test": nbg(source["cells"][test.index])["grade_id"]}
+                if not binding.answer and binding.roots:
+                    todo.append(binding.cell)
+    return None
+
+
+def wrong_type_candidate(source: dict, chapter: str) -> dict | None:
+    """An answer variable (not a function) whose attribute a test reads: a list has none of it."""
+    import ast
+    info, reads = _analysis(source, chapter)
+    for test in info.tests():
+        try:
+            tree = ast.parse(test.source)
+        except SyntaxError:
+            continue
+        for node in ast.walk(tree):
+            if not (isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name)):
+                continue
+            binding = reads[test.index].get(node.value.id)
+            if binding is None or not binding.answer or node.attr in LIST_ATTRIBUTES:
+                continue
+            body = ast.parse(info.cells[binding.cell].source).body
+            if any(isinstance(n, (ast.FunctionDef, ast.ClassDef)) and n.name == node.value.id for n in body):
+                continue
+            return {"name": node.value.id, "answer": nbg(source["cells"][binding.cell])["grade_id"],
+                    "test": nbg(source["cells"][test.index])["grade_id"]}
+    return None
+
+
+def chapter_submissions(chapter: str, source: dict, correct: dict, run: "Run") -> dict[str, dict]:
+    """The knock-on and wrong-type submissions of FEEDBACK_CHAPTER."""
+    out = {}
+    if chapter != FEEDBACK_CHAPTER:
+        return out
+    knock, wrong = knock_on_candidate(source, chapter), wrong_type_candidate(source, chapter)
+    for student, probe, change in (
+        ("knockon", knock, lambda code: 'raise RuntimeError("not finished")  # made by the test\n' + code),
+        ("wrongtype", wrong, lambda code: code.rstrip() + f"\n{wrong['name']} = [1, 2, 3]\n" if wrong else code),
+    ):
+        if probe is None:
+            continue
+        nb = copy.deepcopy(correct)
+        for cell in nb["cells"]:
+            if nbg(cell).get("grade_id") == probe["answer"]:
+                cell["source"] = change(src(cell))
+        run.probes[student] = probe
+        out[student] = nb
+    return out
+
+
+def notes(nb: dict) -> dict[str, str]:
+    """``{grade_id: the robokin note}`` under the failing tests of a graded notebook."""
+    out = {}
+    for cell in nb.get("cells", []):
+        for output in cell.get("outputs", []):
+            text = output.get("text", "")
+            text = "".join(text) if isinstance(text, list) else text
+            if output.get("output_type") == "stream" and text.startswith("✘ Task"):
+                out[nbg(cell).get("grade_id", "?")] = text
+    return out
+
+
 # ---------------------------------------------------------------- running a chapter
 @dataclass
 class Run:
@@ -270,6 +361,9 @@ class Run:
     scores: dict[str, dict[str, float]] = field(default_factory=dict)   # student -> grade_id -> score
     maximum: dict[str, float] = field(default_factory=dict)              # grade_id -> points
     feedback: dict[str, str] = field(default_factory=dict)               # student -> HTML
+    autograded: dict[str, dict] = field(default_factory=dict)            # student -> graded notebook
+    rounds: list[dict[str, dict[str, float]]] = field(default_factory=list)  # scores after each autograde
+    probes: dict[str, dict] = field(default_factory=dict)                # student -> what was changed
     log: list[str] = field(default_factory=list)
     error: str | None = None
     seconds: float = 0.0
@@ -309,6 +403,7 @@ def run_chapter(chapter: str, base: Path) -> Run:
         if candidates:
             run.mistake = candidates[0]
             submissions["mistake"] = mistaken_submission(correct, run.mistake)
+        submissions.update(chapter_submissions(chapter, run.source, correct, run))
         for student, nb in submissions.items():
             save(nb, course / "submitted" / student / chapter / f"{chapter}.ipynb")
         nbgrader(["autograde", chapter], course, run.log)
@@ -317,6 +412,8 @@ def run_chapter(chapter: str, base: Path) -> Run:
         for student in submissions:
             page = course / "feedback" / student / chapter / f"{chapter}.html"
             run.feedback[student] = page.read_text(encoding="utf-8") if page.exists() else ""
+            graded_nb = course / "autograded" / student / chapter / f"{chapter}.ipynb"
+            run.autograded[student] = load(graded_nb) if graded_nb.exists() else {}
     except Exception as exc:  # noqa: BLE001 - reported by the tests that need it
         run.error = str(exc)
     run.seconds = time.perf_counter() - started
@@ -351,17 +448,41 @@ def run_walkthrough(base: Path) -> Run:
         nbgrader(["generate_assignment", chapter], course, run.log)   # what `make student` runs
         run.source = load(course / "source" / chapter / f"{chapter}.ipynb")
         env = {"EXCHANGE": str(exchange), "ROBOKIN_CELL_TIMEOUT": str(TIMEOUT_FOR_BAD_SUBMISSION)}
+        submitted, seen_pages = 0, set()
         for who, line in walkthrough_commands():
             args = shlex.split(os.path.expandvars(line.replace("$EXCHANGE", str(exchange))))[1:]
-            if args[0] == "submit":   # the student works on the fetched notebook, badly
+            if args[0] == "submit":   # the student works on the fetched notebook: badly, then right
                 fetched = home / chapter / f"{chapter}.ipynb"
-                nb, what = bad_submission(correct_submission(load(fetched), run.source))
-                run.mistake = {"deleted": what["deleted"]}
+                if submitted == 0:
+                    release = load(fetched)
+                    nb, what = bad_submission(correct_submission(release, run.source))
+                    run.mistake = {"deleted": what["deleted"]}
+                    # and leaves an answer after the deleted test as it was given (it loses points)
+                    ids = [nbg(c).get("grade_id") for c in release["cells"]]
+                    after = [c for c in release["cells"][ids.index(what["deleted"]) + 1:]
+                             if nbg(c).get("solution")][:-1]
+                    for cell in nb["cells"]:
+                        if after and nbg(cell).get("grade_id") == nbg(after[0])["grade_id"]:
+                            cell["source"] = src(after[0])
+                else:
+                    nb = correct_submission(load(fetched), run.source)
                 save(nb, fetched)
+                submitted += 1
+            if args[0] == "collect" and "--update" in args:   # what collect does without it
+                proc = nbgrader([a for a in args if a != "--update"], course, run.log, **env)
+                run.log.append("plain collect of a resubmission: " + (proc.stdout + proc.stderr)[-2000:])
             nbgrader(args, home if who == "student" else course, run.log, **env)
+            if args[0] == "autograde":
+                snapshot = Run(chapter, course)
+                read_gradebook(course, chapter, snapshot)
+                run.rounds.append(snapshot.scores)
+            if args[0] == "fetch_feedback":
+                for page in sorted((home / chapter / "feedback").rglob("*.html")):
+                    if page not in seen_pages:
+                        seen_pages.add(page)
+                        key = "student" if "student" not in run.feedback else "resubmission"
+                        run.feedback[key] = page.read_text(encoding="utf-8")
         read_gradebook(course, chapter, run)
-        for page in (home / chapter / "feedback").rglob("*.html"):
-            run.feedback["student"] = page.read_text(encoding="utf-8")
     except Exception as exc:  # noqa: BLE001
         run.error = str(exc)
     run.seconds = time.perf_counter() - started
@@ -569,7 +690,8 @@ def test_typical_mistake_scores_partial_marks_and_is_named(graded, chapter):
 # ---------------------------------------------------------------- 5. the walk-through and bad input
 def test_walkthrough_with_a_bad_submission(graded):
     run = _run(graded, "walkthrough")
-    scores = run.scores.get(next(iter(run.scores), ""), {})
+    assert run.rounds, "the walk-through has no autograde"
+    scores = run.rounds[0].get(next(iter(run.rounds[0]), ""), {})   # the first submission
     assert scores and set(scores) == set(run.maximum), "the submission was not graded"
     page = run.feedback.get("student", "")
     assert "Autograder report" in page, "the student did not get the feedback"
@@ -586,3 +708,195 @@ def test_chapter_without_metadata_is_reported_by_name(graded):
     assert f"chapter {chapter} was not assigned: no nbgrader metadata" in log
     assert "nbgrader generate_assignment: exit 0" not in log
     assert f"notebook '{chapter}' has no nbgrader metadata" in log
+
+
+def test_walkthrough_resubmission_is_graded_as_the_new_version(graded):
+    """A second submission, collected with --update, is the one graded and fed back
+    (a plain collect keeps the old one: book/for-instructors.md says so)."""
+    run = _run(graded, "walkthrough")
+    assert len(run.rounds) == 2, f"expected two rounds of autograde in the walk-through, got {len(run.rounds)}"
+    first, second = (r.get(next(iter(r), ""), {}) for r in run.rounds)
+    top = sum(run.maximum.values())
+    assert sum(first.values()) < top, "the first submission (its first answer left as given) should lose points"
+    assert second == run.maximum, f"the resubmission (the instructor's solutions) is graded {second}"
+    assert run.scores.get(next(iter(run.scores), ""), {}) == run.maximum
+    plain = next(entry for entry in run.log if entry.startswith("plain collect of a resubmission"))
+    assert "use --update" in plain, "nbgrader collect without --update no longer refuses a resubmission: " + plain
+    page = run.feedback.get("resubmission", "")
+    assert "Autograder report" in page and "ran longer than the time limit" not in page, (
+        "the student did not get the feedback on the new version")
+
+
+# ---------------------------------------------------------------- 6. what the feedback says
+def _answer_names(source: dict) -> set[str]:
+    from notebook_analysis import defined_names
+    return {n for c in source["cells"] if nbg(c).get("solution") for n in defined_names(src(c))}
+
+
+@pytest.mark.parametrize("chapter", CHAPTERS)
+def test_feedback_calls_only_answers_your_answers_and_quotes_whole_statements(graded, chapter):
+    """Names from read-only and test cells are never "your answers"; a root cause is an
+    answer; the failing statement is quoted whole (a multi-line assert too)."""
+    import ast
+    import textwrap
+
+    run = _run(graded, chapter)
+    answers = _answer_names(run.source)
+    checked = 0
+    for student, nb in run.autograded.items():
+        for grade_id, note in notes(nb).items():
+            checked += 1
+            where = f"{chapter}, submission {student!r}, test {grade_id}"
+            for line in note.splitlines():
+                if line.strip().startswith(("It checks your answer", "This test failed because of")):
+                    part = line.split("This test failed because of")[-1].split(":")[0]
+                    named = set(re.findall(r"`([A-Za-z_]\w*)`", part if "because" in line else line))
+                    assert named and named <= answers, (
+                        f"{where}: {line.strip()!r} calls {sorted(named - answers)} the student's answers, "
+                        f"but no answer cell defines them")
+            quoted = re.search(r"failed at line \d+:\n((?:      .*\n)+)", note)
+            if quoted and not quoted.group(1).rstrip().endswith("..."):
+                code = textwrap.dedent(quoted.group(1))
+                try:
+                    ast.parse(code)
+                except SyntaxError:
+                    pytest.fail(f"{where}: the failing statement is not quoted whole:\n{code}")
+    assert checked, f"{chapter}: no failing test with a note in any submission"
+
+
+def test_knock_on_failure_names_the_root_cause(graded):
+    """An answer cell that raises: a later task's test that needs its names says so."""
+    if FEEDBACK_CHAPTER not in graded:
+        pytest.skip("no chapter graded here")
+    run = _run(graded, FEEDBACK_CHAPTER)
+    probe = run.probes.get("knockon")
+    assert probe, f"{FEEDBACK_CHAPTER}: no test of a later task reads an answer of an earlier one"
+    note = notes(run.autograded["knockon"]).get(probe["test"])
+    assert note, f"{FEEDBACK_CHAPTER}: {probe['test']} does not fail without {probe['name']} (Task {probe['task']})"
+    cause = re.search(r"This test failed because of (.*?)\. Fix that first", note)
+    assert cause and f"`{probe['name']}`" in cause.group(1) and f"(Task {probe['task']}): " in cause.group(1) \
+        and "raised RuntimeError" in cause.group(1), (
+        f"{FEEDBACK_CHAPTER} {probe['test']}: the note does not name {probe['name']} (Task {probe['task']}), "
+        f"whose answer cell raised, as the root cause:\n{note}")
+    page = run.feedback["knockon"]
+    assert "Where to start" in page and f"<code>{probe['name']}</code>" in page
+
+
+def test_wrong_type_says_what_came_and_what_was_expected(graded):
+    if FEEDBACK_CHAPTER not in graded:
+        pytest.skip("no chapter graded here")
+    run = _run(graded, FEEDBACK_CHAPTER)
+    probe = run.probes.get("wrongtype")
+    assert probe, f"{FEEDBACK_CHAPTER}: no test reads an attribute of an answer variable"
+    note = notes(run.autograded["wrongtype"]).get(probe["test"], "")
+    name = probe["name"]
+    # in the note's own words, or in robokin.check's when a check describes the answer
+    said = re.search(rf"Your `{name}` is a list of 3 items; expected: .+"
+                     rf"|{name} is a list of 3 items; expected .+", note)
+    assert f"{name}` is a list of 3 items" in note or f"{name} is a list of 3 items" in note, (
+        f"{FEEDBACK_CHAPTER}: the note does not say what {name} is:\n{note}")
+    assert said, (
+        f"{FEEDBACK_CHAPTER}: the note does not say what {name} should be (document `{name}` in the task "
+        f"statement, in backticks, or in the stub):\n{note}")
+
+
+@pytest.mark.parametrize("chapter", CHAPTERS)
+def test_feedback_renders_formulas_offline(graded, chapter):
+    run = _run(graded, chapter)
+    page = run.feedback["correct"]
+    remote = [url for url in re.findall(r"<script[^>]*\bsrc=[\"']([^\"']+)", page, re.I)
+              if "mathjax" in url.lower() or url.startswith(("http:", "https:", "//"))]
+    assert not remote, f"{chapter}: the feedback page loads scripts from the network: {remote}"
+    assert 'id="robokin-mathjax"' in page and "MathJax" in page, f"{chapter}: no inline MathJax in the feedback"
+    assert "text/x-mathjax-config" not in page, f"{chapter}: MathJax 2 configuration left in the feedback"
+
+
+@pytest.mark.parametrize("chapter", CHAPTERS)
+def test_points_per_test_in_header_and_report(graded, chapter):
+    """A test cell tagged points-N is worth N: in the gradebook, the student edition's header
+    and the report's table."""
+    run = _run(graded, chapter)
+    per_task: dict[int, float] = {}
+    for cell in run.source["cells"]:
+        if nbg(cell).get("grade"):
+            per_task[rk(cell)["task"]] = per_task.get(rk(cell)["task"], 0) + nbg(cell)["points"]
+            assert run.maximum[nbg(cell)["grade_id"]] == nbg(cell)["points"], f"{chapter}: gradebook points"
+    header = next(src(c) for c in run.release["cells"] if nbg(c).get("grade_id") == "robokin-points")
+    report = src(run.autograded["correct"]["cells"][0])
+    for task, points in per_task.items():
+        assert re.search(rf"\| Task {task}: [^|]*\| {points:g} \|", header), (
+            f"{chapter}: the student edition's header does not give Task {task} {points:g} points:\n{header}")
+        assert re.search(rf"\| Task {task}: [^|]*\| {points:g} / {points:g} \|", report), (
+            f"{chapter}: the report does not give Task {task} {points:g} of {points:g} points:\n{report}")
+
+
+@pytest.mark.parametrize("chapter", CHAPTERS)
+def test_student_edition_is_what_the_contract_test_predicts(graded, chapter):
+    """tests/test_student_edition_contracts.py computes the student edition statically: the
+    stubs and the cells left out must be what generate_assignment makes."""
+    from notebook_analysis import stub_source
+
+    run = _run(graded, chapter)
+    stubs = {nbg(c)["grade_id"]: stub_source(src(c), set(rk(c).get("declare", [])))
+             for c in run.source["cells"] if nbg(c).get("solution")}
+    for cell in run.release["cells"]:
+        grade_id = nbg(cell).get("grade_id")
+        if grade_id in stubs:
+            assert src(cell) == stubs[grade_id], f"{chapter} {grade_id}: the stub differs from stub_source"
+    empty = [i for i, c in enumerate(run.release["cells"]) if c["cell_type"] == "markdown" and not src(c).strip()]
+    assert not empty, f"{chapter}: empty markdown cells in the student edition: {empty}"
+    from notebook_analysis import analyse, student_markdown
+    predicted = {}
+    for info, cell in zip(analyse(NOTEBOOKS / f"{chapter}.ipynb", run.source).cells, run.source["cells"]):
+        if info.cell_type == "markdown":
+            predicted[nbg(cell).get("grade_id")] = student_markdown(info)
+    released = {nbg(c).get("grade_id"): src(c) for c in run.release["cells"] if c["cell_type"] == "markdown"}
+    for grade_id, text in predicted.items():
+        assert released.get(grade_id) == text, (
+            f"{chapter} {grade_id}: the student edition's text differs from student_markdown:\n"
+            f"{released.get(grade_id)!r}\n{text!r}")
+
+
+def test_failure_notes_trace_the_root_cause_without_a_kernel():
+    """FailureNotes on a made-up graded notebook: a given value is not "your answer", the
+    earlier answer whose own test failed is the root cause, and the whole assert is quoted."""
+    import nbformat
+
+    sys.path.insert(0, str(ROOT / "tools"))
+    from robokin_nbgrader import FailureNotes
+
+    def code(source, grade_id=None, solution=False, grade=False, task=None, outputs=()):
+        cell = nbformat.v4.new_code_cell(source)
+        if grade_id:
+            cell.metadata["nbgrader"] = {"grade_id": grade_id, "solution": solution, "grade": grade,
+                                         "locked": not solution, "points": 1, "schema_version": 3}
+            cell.metadata["robokin"] = {"task": task}
+        cell.outputs = [nbformat.from_dict(o) for o in outputs]
+        return cell
+
+    def error(ename, count, line):
+        return {"output_type": "error", "ename": ename, "evalue": "", "traceback": [
+            f"Cell In[{count}], line {line}"]}
+
+    nb = nbformat.v4.new_notebook()
+    nb.cells = [
+        nbformat.v4.new_markdown_cell("## Task 1: f"),
+        code("def f(x):\n    return x + 1", "task1_answer1", solution=True, task=1),
+        code("assert f(1) == 2", "task1_test1", grade=True, task=1, outputs=[error("AssertionError", 2, 1)]),
+        nbformat.v4.new_markdown_cell("## Task 2: g"),
+        code("J0 = 2.0\nscale = f(J0)", "cell-given"),
+        code("g = scale * 3", "task2_answer1", solution=True, task=2),
+        code("limit = 9.0\nassert abs(\n    g - limit\n) < 1e-9", "task2_test1", grade=True, task=2),
+    ]
+    nb.cells[2].execution_count = 2
+    nb.cells[6].execution_count = 5
+    failure = nbformat.from_dict(error("AssertionError", 5, 2))
+    report = {"pairs": [], "explained": {}}
+    notes_ = FailureNotes(nb, 6, report)
+    assert notes_.pairs(failure) == []
+    text = "\n".join(notes_.lines(failure, []))
+    assert "      assert abs(\n          g - limit\n      ) < 1e-9" in text, text
+    assert "It checks your answer `g` (Task 2)." in text, text
+    assert "`limit`" not in text and "`J0`" not in text, text      # not the student's
+    assert "This test failed because of `f` (Task 1): its own test task1_test1 failed." in text, text
+    assert [(c["names"], c["tests"]) for c in report["causes"].values()] == [(["f"], ["task2_test1"])]

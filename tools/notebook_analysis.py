@@ -355,8 +355,15 @@ def check_calls(code: str, aliases: dict[str, str]) -> list[tuple[str, str]]:
         return f"{base}.{parts[1]}" if len(parts) == 2 else None
 
     for stmt in tree.body:
+        first = stmt.lineno
+        # comments directly above belong to the statement (a formatter moves a long
+        # trailing ``# deliberately wrong`` there)
+        while first > 1 and lines[first - 2].lstrip().startswith("#"):
+            first -= 1
+        above = "\n".join(lines[first - 1: stmt.lineno - 1])
         text = "\n".join(lines[stmt.lineno - 1: stmt.end_lineno])
-        negative = "diagnosis" in text or re.search(r"\bnot\b", text) is not None
+        negative = ("diagnosis" in text or re.search(r"\bnot\b", text) is not None
+                    or "wrong" in above.lower())
         for node in ast.walk(stmt):
             if not (isinstance(node, ast.Call) and node.args):
                 continue
@@ -660,3 +667,125 @@ def analyse(path: Path, nb: dict | None = None, check_names: dict[str, str] | No
     if not tasks:
         problems.append("no task headings (`## Task k: ...`)")
     return Chapter(path, cells, tasks, problems)
+
+
+# ---------------------------------------------------------------- where a value comes from
+@dataclass(frozen=True)
+class Binding:
+    """The last binding of a name before some cell.
+
+    ``cell`` is the index of the code cell that bound it, ``answer`` whether that
+    cell is an answer cell (the student wrote it), and ``roots`` the names bound
+    by answer cells that the value depends on -- through given cells and other
+    answers, the name itself included when an answer cell bound it.
+    """
+
+    cell: int
+    answer: bool
+    roots: frozenset[str]
+
+
+def trace(cells: list[tuple[str, str]]) -> list[dict[str, Binding]]:
+    """For every cell, the names it reads that an earlier code cell bound, with that binding.
+
+    ``cells`` are ``(kind, source)`` pairs in notebook order, ``kind`` being
+    ``"answer"`` for the student's cells, ``"code"`` for any other code cell and
+    anything else (``"markdown"``) for cells that are not run. A given cell that
+    reads an answer passes the answer on (``J = jacobian(q_answer)`` depends on
+    ``q_answer``); a given cell that reads none makes a clean value.
+    """
+    table: dict[str, Binding] = {}
+    out: list[dict[str, Binding]] = []
+    for index, (kind, code) in enumerate(cells):
+        if kind not in ("answer", "code"):
+            out.append({})
+            continue
+        names = _names(code)
+        reads = {name: table[name] for name in names.free if name in table}
+        out.append(reads)
+        inherited = frozenset().union(*(b.roots for b in reads.values())) if reads else frozenset()
+        answer = kind == "answer"
+        for name in names.defined:
+            table[name] = Binding(index, answer, inherited | {name} if answer else inherited)
+    return out
+
+
+def statement_span(code: str, line: int) -> tuple[int, int]:
+    """First and last line (1-based) of the top-level statement of ``code`` that contains ``line``."""
+    tree = _parse(code)
+    if tree is not None:
+        for stmt in tree.body:
+            if stmt.lineno <= line <= stmt.end_lineno:
+                decorators = getattr(stmt, "decorator_list", None)
+                return (decorators[0].lineno if decorators else stmt.lineno), stmt.end_lineno
+    return line, line
+
+
+def statement_at(code: str, line: int) -> str:
+    """The whole top-level statement of ``code`` that contains ``line`` (1-based); the line if none."""
+    first, last = statement_span(code, line)
+    return "\n".join(code.splitlines()[first - 1: last])
+
+
+# ---------------------------------------------------------------- the student edition, statically
+#: What nbgrader's ``ClearSolutions`` writes for a solution region of Python code.
+CODE_STUB = "# YOUR CODE HERE\nraise NotImplementedError()"
+
+
+def stub_source(code: str, declare: set[str] | None) -> str:
+    """An answer cell as the student edition shows it (``MarkSolutionRegions`` + ``ClearSolutions``)."""
+    plan = stub_plan(code, declare)
+    if plan is None:
+        return CODE_STUB
+    if not plan.regions:
+        return code
+    lines = code.splitlines()
+    out: list[str] = []
+    starts = {first: (last, indent, names) for first, last, indent, names in plan.regions}
+    k = 1
+    while k <= len(lines):
+        if k in starts:
+            last, indent, names = starts[k]
+            out.extend(f"{indent}{name} = None" for name in names)
+            out.extend(f"{indent}{line}" for line in CODE_STUB.splitlines())
+            k = last + 1
+        else:
+            out.append(lines[k - 1])
+            k += 1
+    return "\n".join(out)
+
+
+def clear_solution_text(text: str, stub: str = "") -> str:
+    """``text`` with every ``BEGIN SOLUTION`` ... ``END SOLUTION`` region (the marker lines
+    included) replaced by ``stub``, as nbgrader's ``ClearSolutions`` does in markdown."""
+    out: list[str] = []
+    inside = False
+    for line in text.split("\n"):
+        if "BEGIN SOLUTION" in line:
+            inside = True
+            indent = re.match(r"\s*", line).group(0)
+            out.extend(indent + s for s in stub.split("\n"))
+        elif "END SOLUTION" in line:
+            inside = False
+        elif not inside:
+            out.append(line)
+    return "\n".join(out)
+
+
+def student_markdown(cell: Cell) -> str | None:
+    """The text of a markdown cell in the student edition; None when the cell is left out.
+
+    Solution prose is removed (``MarkSolutionRegions`` marks a whole prose cell, unless it
+    has ``BEGIN SOLUTION``/``END SOLUTION`` markers of its own, e.g. in HTML comments,
+    which then keep the text around them); a cell left empty is left out
+    (``DropSolutionProse``).
+    """
+    if cell.role != "prose":
+        return cell.source
+    text = clear_solution_text(cell.source) if "BEGIN SOLUTION" in cell.source else ""
+    return text if text.strip() else None
+
+
+def removed_in_student_edition(cell: Cell) -> bool:
+    """Cells the student edition leaves out: solution prose with nothing else in it."""
+    return cell.cell_type == "markdown" and student_markdown(cell) is None

@@ -13,6 +13,8 @@ into its pipelines:
     of a solution cell that the student writes, so that ``ClearSolutions`` keeps
     imports, function signatures and docstrings, and the variables later cells
     need (``name = None``); marks the solution prose for removal.
+``DropSolutionProse`` (generate_assignment, after ``ClearSolutions``)
+    Leaves the emptied solution prose out of the student edition.
 ``PointsHeader`` (generate_assignment)
     A read-only cell under the title: points per task and in total.
 ``RestoreMissingCells`` (autograde, replaces ``OverwriteCells``)
@@ -24,10 +26,17 @@ into its pipelines:
     (``tools/robokin_sandbox.py``); a test scores by pass/fail only (its stderr is
     a note, a result it shows no partial credit); a kernel that dies or ignores
     the interrupt is killed, restarted and brought back to where it was (the cells
-    before are run again), so it costs only that cell. When a test cell
-    fails it asks ``robokin.check``, in the student's kernel, about the quantities
-    of that task and writes the answer above the traceback; after the last test it
-    asks about every task.
+    before are run again), so it costs only that cell. When a test cell fails,
+    ``FailureNotes`` writes above the traceback the failing statement, the
+    student's answers it depends on (traced through the read-only cells), the root
+    cause among them, and what ``robokin.check`` (asked in the student's kernel)
+    says about those answers; after the last test it asks about every answer it
+    has a check for (``registered_pairs``).
+``OfflineMathJaxHTMLExporter`` (generate_feedback)
+    nbgrader's HTML exporter with MathJax 3 inlined in the page (from the
+    ``django-static-mathjax`` wheel the book uses) instead of loaded from a CDN:
+    the feedback page is read offline, and ``release_feedback`` hands out the
+    HTML file only.
 ``AutograderReport`` (autograde, after ``SaveAutoGrades``)
     A markdown cell on top of the graded notebook (and so of the feedback): the
     score per task, what ``robokin.check`` found, and what went wrong outside the
@@ -45,10 +54,12 @@ import json
 import os
 import re
 import sys
+import textwrap
 from pathlib import Path
 
 from jupyter_core.utils import run_sync
 from nbclient.exceptions import CellTimeoutError, DeadKernelError
+from nbconvert.exporters import HTMLExporter
 from nbformat.notebooknode import NotebookNode, from_dict
 from nbgrader import utils
 from nbgrader.coursedir import CourseDirectory
@@ -57,9 +68,19 @@ from traitlets import Bool, Unicode
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from notebook_analysis import mark_solution  # noqa: E402
+from notebook_analysis import (  # noqa: E402
+    _check_aliases,
+    defined_names,
+    free_names,
+    level2_headings,
+    mark_solution,
+    statement_at,
+    statement_span,
+    trace,
+)
 from robokin_sandbox import SandboxedKernelManager, bwrap_executable, sandbox_wanted  # noqa: E402
 
+TYPE_PROBE = "type"  # robokin.check.grading.TYPE_PROBE: what a value is, no verdict
 ANSI = re.compile(r"\x1b\[[0-9;]*[A-Za-z]")
 VERDICT_MARK = "ROBOKIN-VERDICTS"
 RESTORED_NOTE = "was missing from the submission"
@@ -120,6 +141,21 @@ class MarkSolutionRegions(NbGraderPreprocessor):
         elif cell.cell_type == "markdown" and role == "prose" and "BEGIN SOLUTION" not in cell.source:
             cell.source = f"{self.begin}\n{cell.source}\n{self.end}"
         return cell, resources
+
+
+class DropSolutionProse(NbGraderPreprocessor):
+    """Leave out of the student edition the solution prose that ``ClearSolutions`` emptied.
+
+    A prose cell with text outside its own ``BEGIN SOLUTION``/``END SOLUTION``
+    markers keeps that text. The cells are read-only and not graded, so the gradebook
+    does not miss them; ``tests/test_student_edition_contracts.py`` predicts the
+    student edition with the same rule (``notebook_analysis.student_markdown``).
+    """
+
+    def preprocess(self, nb, resources):
+        nb.cells = [c for c in nb.cells if not (
+            c.cell_type == "markdown" and _robokin(c).get("role") == "prose" and not c.source.strip())]
+        return nb, resources
 
 
 class PointsHeader(NbGraderPreprocessor):
@@ -326,6 +362,7 @@ class RobokinExecute(Execute):
                 item = (_task_of(cell), pair[0], pair[1])
                 if item not in pairs:
                     pairs.append(item)
+        pairs += [item for item in registered_pairs(nb) if item not in pairs]
         self._report["pairs"] = pairs
         # robokin.check's verdicts on every task: after the last test (the answers are all
         # there), so that a kernel that dies in a later cell does not take them along
@@ -393,41 +430,328 @@ class RobokinExecute(Execute):
         return cell, resources
 
     def _explain(self, cell, error, index) -> None:
-        meta = _robokin(cell)
-        task = _task_of(cell)
-        grade_id = cell.metadata["nbgrader"]["grade_id"]
-        lines = []
-        where = ""
-        traceback = ANSI.sub("", "\n".join(error.get("traceback", [])))
-        hits = re.findall(r"Cell In\[(\d+)\], line (\d+)", traceback)
-        source_lines = cell.source.splitlines()
-        failing = ""
-        for count, line in hits:
-            if str(count) == str(cell.get("execution_count")) and 0 < int(line) <= len(source_lines):
-                failing = source_lines[int(line) - 1].strip()
-                where = f" at line {line}: `{failing}`"
-                break
-        if error.ename == "CellTimeoutError":
-            lines.append(f"✘ Task {task} ({grade_id}) did not finish within the time limit: it was stopped.")
-        else:
-            message = f"{error.ename}: {error.evalue}".strip().rstrip(":")
-            lines.append(f"✘ Task {task} ({grade_id}) failed{where}")
-            lines.append(f"  {message}" if error.evalue else f"  ({error.ename})")
-        reads = meta.get("reads", [])
-        named = [n for n in reads if re.search(rf"\b{re.escape(n)}\b", failing)] or reads
-        if named:
-            lines.append("  It tests " + ", ".join(named) + f" from your answer{'s' if len(named) > 1 else ''}.")
-        verdicts = self._verdicts([tuple(p) for p in meta.get("explain", [])], index) or []
-        for v in verdicts:
-            if v["status"] == "skipped":
-                continue
-            tag = f"  (typical mistake: {v['diagnosis']})" if v["typical"] else ""
-            text = v["message"] if v["status"] in ("correct", "wrong") else f"✘ {v['message']}"
-            lines.append(f"  robokin.check: {text}{tag}")
-        self._report["explained"][grade_id] = lines
+        notes = FailureNotes(self.nb, index, self._report)
+        verdicts = self._verdicts(notes.pairs(error), index) or []
+        lines = notes.lines(error, verdicts)
+        self._report["explained"][cell.metadata["nbgrader"]["grade_id"]] = lines
         note = from_dict({"output_type": "stream", "name": "stdout", "text": "\n".join(lines) + "\n\n"})
         position = cell.outputs.index(error)
         cell.outputs.insert(position, note)
+
+
+# ---------------------------------------------------------------- what a failing test says
+def _cell_kinds(nb) -> list[tuple[str, str]]:
+    """``(kind, source)`` of every cell for ``notebook_analysis.trace``: the student's answer
+    cells are ``"answer"``, other code cells (given, tests, the student's own) ``"code"``."""
+    out = []
+    for cell in nb.cells:
+        if cell.cell_type != "code":
+            out.append(("markdown", ""))
+        else:
+            out.append(("answer" if utils.is_solution(cell) else "code", cell.source))
+    return out
+
+
+def _errors(cell) -> list:
+    return [o for o in cell.get("outputs", []) if o.get("output_type") == "error"]
+
+
+def _identifier_names(expression: str) -> set[str]:
+    return free_names(expression) if expression.strip() else set()
+
+
+def registered_pairs(nb) -> list[tuple[int | None, str, str]]:
+    """``(task, check, name)`` for every exercise check registered in ``robokin.check`` whose
+    quantity has the name of a variable or function that an answer cell binds, in the
+    chapters of checks the notebook uses (imports, or names in its test cells' metadata),
+    unless a test cell's metadata already explains with that check."""
+    try:
+        from nbgrader_metadata import check_names
+        names = check_names()
+    except Exception:  # noqa: BLE001 - feedback is a bonus; grading goes on
+        return []
+    chapters, explained = set(), set()
+    for cell in nb.cells:
+        if cell.cell_type == "code":
+            chapters |= {v for v in _check_aliases(cell.source).values() if v != "*"}
+            explained |= {p[0] for p in _robokin(cell).get("explain", [])}
+    chapters |= {check.split(".")[0] for check in explained}
+    bound: dict[str, int | None] = {}
+    for cell in nb.cells:
+        if cell.cell_type == "code" and utils.is_solution(cell):
+            for name in defined_names(cell.source):
+                bound[name] = _task_of(cell)
+    # a check the chapter already calls on an answer is asked as the chapter calls it (e.g.
+    # through a lambda that fixes default arguments), not on the bare name
+    return [(bound[name], check, name) for check, name in sorted(names.items())
+            if check.split(".")[0] in chapters and name in bound and check not in explained]
+
+
+class FailureNotes:
+    """The note under a failing test: what failed, which of the student's answers it
+    depends on, which of those is the root cause, and what ``robokin.check`` says.
+
+    * the whole failing statement is quoted (a multi-line ``assert`` too);
+    * the names it reads are traced back (``notebook_analysis.trace``) through the
+      read-only cells and the earlier statements of the test cell to the answer
+      cells: only names bound by an answer cell are called "your answer";
+    * among those answers, the ones whose own earlier test failed, whose cell raised,
+      or that ``robokin.check`` found wrong are named as the root cause (the first
+      in the chain: an answer that is wrong only because it uses another wrong one
+      is left out);
+    * ``robokin.check`` is asked about those answers only, and a typical mistake is
+      named only for a check run on the student's value of those very names;
+    * a test that fails with a wrong type (``AttributeError``, ``TypeError``, ...)
+      says what the answer is and what was expected (the stub's docstring, the
+      task statement, or the check's signature).
+
+    ``report`` is the run's shared record (``resources["robokin"]``): it collects what
+    checks found wrong (``"wrong"``) and the root causes (``"causes"``) for the report.
+    """
+
+    max_statement_lines = 12
+    type_errors = ("AttributeError", "TypeError", "IndexError", "KeyError", "ValueError")
+
+    def __init__(self, nb, index: int, report: dict):
+        self.nb = nb
+        self.index = index
+        self.cell = nb.cells[index]
+        self.report = report
+        self.grade_id = self.cell.metadata.get("nbgrader", {}).get("grade_id", "?")
+        self.task = _task_of(self.cell)
+        self._analysed = False
+
+    # -- the static analysis
+    def _failing_line(self, error) -> int | None:
+        traceback = ANSI.sub("", "\n".join(error.get("traceback", [])))
+        count = self.cell.get("execution_count")
+        for number, line in re.findall(r"Cell In\[(\d+)\], line (\d+)", traceback):
+            if str(number) == str(count) and 0 < int(line) <= len(self.cell.source.splitlines()):
+                return int(line)
+        return None
+
+    def analyse(self, error) -> None:
+        if self._analysed:
+            return
+        self._analysed = True
+        self.line = self._failing_line(error)
+        kinds = _cell_kinds(self.nb)[: self.index]
+        self.statement = statement_at(self.cell.source, self.line) if self.line else ""
+        if self.statement:
+            first, _ = statement_span(self.cell.source, self.line)
+            own = [("code", s) for s in _statements("\n".join(self.cell.source.splitlines()[: first - 1]))]
+            reads = trace(kinds + own + [("code", self.statement)])[-1]
+        else:
+            reads = trace(kinds + [("code", self.cell.source)])[-1]
+        student = {n: b for n, b in reads.items() if b.roots}
+        if self.statement and not student:  # the failing line reads nothing of the student's
+            reads = trace(kinds + [("code", self.cell.source)])[-1]
+            student = {n: b for n, b in reads.items() if b.roots}
+        self.yours = {n: b for n, b in student.items() if b.answer and b.cell < self.index}
+        self.derived = {n: b for n, b in student.items() if n not in self.yours}
+        self.roots = set().union(*(b.roots for b in student.values())) if student else set()
+        table = _bindings(kinds)
+        self.answer_cell = {n: table[n].cell for n in self.roots if n in table}
+        self.root_roots = {n: table[n].roots for n in self.roots if n in table}
+        self.causes = self._causes(kinds)
+
+    def _causes(self, kinds) -> dict[str, str]:
+        """``{answer name: why it is suspect}`` for the root causes of this failure (the why
+        reads after "its" or "their": ``"own test task2_test1 failed"``)."""
+        why: dict[str, str] = {}
+        all_reads = trace(kinds)
+        for name in sorted(self.roots):
+            cell = self.answer_cell.get(name)
+            if cell is not None and _errors(self.nb.cells[cell]):
+                error = _errors(self.nb.cells[cell])[0]
+                count = self.nb.cells[cell].get("execution_count")
+                where = f" In [{count}]" if count else ""
+                why[name] = f"answer cell{where} raised {error.get('ename')}"
+                continue
+            failed = []
+            for j in range(cell + 1 if cell is not None else 0, self.index):
+                other = self.nb.cells[j]
+                if other.cell_type == "code" and utils.is_grade(other) and _errors(other):
+                    roots = set().union(*(b.roots for b in all_reads[j].values())) if all_reads[j] else set()
+                    if name in roots:
+                        failed.append(other.metadata["nbgrader"]["grade_id"])
+            if failed:
+                why[name] = f"own test {failed[0]} failed" if len(failed) == 1 else \
+                    f"own tests {', '.join(failed)} failed"
+            elif name in self.report.get("wrong", {}):
+                why[name] = f"value is wrong for robokin.check ({self.report['wrong'][name]})"
+        # the first link of the chain: leave out an answer that uses another suspect one
+        return {n: w for n, w in why.items()
+                if not any(other != n and other in self.root_roots.get(n, ()) for other in why)}
+
+    # -- the questions to the kernel
+    def pairs(self, error) -> list[tuple[str, str]]:
+        """``(check, quantity)`` pairs to evaluate in the kernel: the checks of this test and
+        the registered checks, on the student's answers it depends on; type probes."""
+        self.analyse(error)
+        names = self.roots | set(self.yours)
+        out: list[tuple[str, str]] = []
+        candidates = [tuple(p) for p in _robokin(self.cell).get("explain", [])]
+        candidates += [(check, name) for _, check, name in self.report.get("pairs", [])]
+        for check, quantity in candidates:
+            used = _identifier_names(quantity)
+            if used and used <= names | _BUILTIN_NAMES and (check, quantity) not in out:
+                out.append((check, quantity))
+        if error.get("ename") in self.type_errors:
+            for name in sorted(self.yours):
+                out.append((TYPE_PROBE, name))
+        return out
+
+    # -- the note
+    def lines(self, error, verdicts: list[dict]) -> list[str]:
+        self.analyse(error)
+        out = []
+        if error.get("ename") == "CellTimeoutError":
+            out.append(f"✘ Task {self.task} ({self.grade_id}) did not finish within the time limit: "
+                       "it was stopped.")
+        else:
+            where = f" at line {self.line}:" if self.line else ""
+            out.append(f"✘ Task {self.task} ({self.grade_id}) failed{where}")
+            statement = self.statement.splitlines()
+            if len(statement) > self.max_statement_lines:
+                statement = statement[: self.max_statement_lines] + ["..."]
+            out += [f"      {line}" for line in textwrap.dedent("\n".join(statement)).splitlines()]
+            message = f"{error.get('ename')}: {error.get('evalue', '')}".strip().rstrip(":")
+            out.append(f"  {message}" if error.get("evalue") else f"  ({error.get('ename')})")
+        if self.yours:
+            out.append(f"  It checks your answer{'s' if len(self.yours) > 1 else ''} "
+                       f"{self._named(self.yours)}.")
+        if self.derived:
+            upstream = sorted(set().union(*(b.roots for b in self.derived.values())))
+            given = ", ".join(f"`{n}`" for n in sorted(self.derived))
+            here = [b.cell >= self.index for b in self.derived.values()]
+            where = ("earlier in this test cell" if all(here) else "by read-only cells" if not any(here)
+                     else "by read-only cells and earlier in this test cell")
+            out.append(f"  It also reads {given}, computed {where} from your answer"
+                       f"{'s' if len(upstream) > 1 else ''} {self._named(upstream)}.")
+        for name in sorted(self.yours):
+            missing = f"name '{name}' is not defined"
+            if error.get("ename") == "NameError" and missing in str(error.get("evalue", "")):
+                cell = self.yours[name].cell
+                out.append(f"  `{name}` was never defined: your answer cell of Task "
+                           f"{_task_of(self.nb.cells[cell])} did not finish (see its error above it).")
+        if self.causes:
+            groups: dict[tuple, list[str]] = {}
+            for name, why in sorted(self.causes.items()):
+                groups.setdefault((self._task_of_name(name), why), []).append(name)
+            items = "; ".join(f"{self._named(names)}: {'its' if len(names) == 1 else 'their'} {why}"
+                              for (_, why), names in groups.items())
+            out.append(f"  This test failed because of {items}. Fix that first: this test may then pass.")
+            record = self.report.setdefault("causes", {})
+            for (task, why), names in groups.items():
+                entry = record.setdefault(f"{task}|{why}", {"task": task, "why": why, "names": [], "tests": []})
+                entry["names"] = sorted(set(entry["names"]) | set(names))
+                entry["tests"].append(self.grade_id)
+        checked = {name for v in verdicts if v.get("status") not in ("info", "skipped")
+                   for name in _identifier_names(v["quantity"])}
+        infos: dict[str, list[str]] = {}
+        for v in verdicts:
+            if v.get("status") == "info" and v["quantity"] not in checked:
+                infos.setdefault(v.get("got") or v.get("message", ""), []).append(v["quantity"])
+        for got, names in infos.items():
+            expected = [_expected_from_notebook(self.nb, self.yours[n].cell, n) for n in names if n in self.yours]
+            listed = ", ".join(f"`{n}`" for n in names)
+            text = f"  Your {listed} {'is' if len(names) == 1 else 'are'} {got}"
+            hints = "; ".join(e for e in expected if e)
+            out.append(text + (f"; expected: {hints}" if hints else "."))
+        names = self.roots | set(self.yours)
+        wrong = self.report.setdefault("wrong", {})
+        for v in verdicts:
+            if v.get("status") in ("skipped", "info"):
+                continue
+            used = _identifier_names(v["quantity"])
+            mine = bool(used) and used <= names | _BUILTIN_NAMES
+            tag = f"  (typical mistake: {v['diagnosis']})" if v.get("typical") and mine else ""
+            text = v["message"] if v["status"] in ("correct", "wrong") else f"✘ {v['message']}"
+            out.append(f"  robokin.check: {text}{tag}")
+            if v["status"] in ("wrong", "missing") and v["quantity"].isidentifier():
+                wrong.setdefault(v["quantity"], v.get("diagnosis") or v["status"])
+        return out
+
+    def _task_of_name(self, name: str) -> int | None:
+        cell = self.answer_cell.get(name)
+        return _task_of(self.nb.cells[cell]) if cell is not None else None
+
+    def _named(self, names) -> str:
+        """```a`, `b` (Task 2), `c` (Task 3)``: names with their task, grouped by task."""
+        by_task: dict[int | None, list[str]] = {}
+        for name in sorted(names):
+            task = self._task_of_name(name)
+            if task is None and name in self.yours:
+                task = _task_of(self.nb.cells[self.yours[name].cell])
+            by_task.setdefault(task, []).append(name)
+        parts = []
+        for task, group in sorted(by_task.items(), key=lambda kv: (kv[0] is None, kv[0] or 0)):
+            listed = ", ".join(f"`{n}`" for n in group)
+            parts.append(f"{listed} (Task {task})" if task is not None else listed)
+        return ", ".join(parts)
+
+
+_BUILTIN_NAMES = set(dir(__import__("builtins")))
+
+
+def _statements(code: str) -> list[str]:
+    """The top-level statements of ``code`` (the lines before the failing one), as sources."""
+    import ast
+
+    try:
+        tree = ast.parse(code)
+    except SyntaxError:
+        return [code]
+    lines = code.splitlines()
+    return ["\n".join(lines[s.lineno - 1: s.end_lineno]) for s in tree.body]
+
+
+def _bindings(kinds: list[tuple[str, str]]):
+    """The last binding of every name after ``kinds`` (``notebook_analysis.Binding``)."""
+    marker = "_robokin_every_name_"
+    names = set()
+    for kind, code in kinds:
+        if kind in ("answer", "code"):
+            names |= set(defined_names(code))
+    probe = ", ".join(sorted(names)) or "None"
+    return trace(kinds + [("code", f"{marker} = ({probe},)")])[-1]
+
+
+def _expected_from_notebook(nb, cell_index: int, name: str) -> str:
+    """What the notebook says ``name`` is: the docstring of the function, or the sentence of
+    the task statement above its answer cell that names it in backticks."""
+    import ast
+
+    cell = nb.cells[cell_index]
+    try:
+        tree = ast.parse(cell.source)
+    except SyntaxError:
+        tree = None
+    for node in tree.body if tree else []:
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)) and node.name == name:
+            doc = ast.get_docstring(node) or ""
+            returns = re.search(r"Returns\n-+\n(.*?)(\n\s*\n|\Z)", doc, re.S)
+            text = returns.group(1) if returns else doc.split("\n\n")[0]
+            args = ", ".join(a.arg for a in node.args.args)
+            text = " ".join(text.split())
+            return f"{name}({args})" + (f" returning {text}" if returns else f": {text}" if text else "")
+    mention = re.compile(rf"(?<![\w.]){re.escape(name)}\b")
+    for line in cell.source.splitlines():
+        if "#" in line and mention.search(line[line.index("#"):]) and "YOUR CODE HERE" not in line:
+            comment = " ".join(line[line.index("#") + 1:].split())
+            return f"the notebook says: “{comment[:240]}”"
+    word = re.compile(rf"`[^`]*(?<![\w.]){re.escape(name)}\b[^`]*`")
+    for other in reversed(nb.cells[:cell_index]):
+        if other.cell_type != "markdown":
+            continue
+        text = " ".join(other.source.split())
+        for sentence in re.split(r"(?<=[.!?])\s+", text):
+            if word.search(sentence):
+                return f"the task says: “{sentence[:240]}”"
+        if level2_headings(other.source):
+            break
+    return ""
 
 
 class AutograderReport(NbGraderPreprocessor):
@@ -451,8 +775,9 @@ class AutograderReport(NbGraderPreprocessor):
 
         out = ["## Autograder report", "",
                f"**{_num(total)} of {_num(maximum)} points** from the automatic tests. "
-               "A test scores 0 when it raises an error; the message below the failing test "
-               "says which quantity it checks and, where `robokin.check` recognises it, which typical "
+               "A test scores 0 when it raises an error; the note below a failing test quotes the "
+               "statement that failed, names your answers it depends on (and the earlier answer that "
+               "made it fail, if any) and, where `robokin.check` recognises it, which typical "
                "mistake your answer looks like.", "",
                "| task | points |", "|---|---|"]
         for task in sorted(scores, key=lambda t: (t is None, t or 0)):
@@ -472,6 +797,22 @@ class AutograderReport(NbGraderPreprocessor):
             out += ["", "**What `robokin.check` says about your answers**", "", *findings]
         elif verdicts and all(v["status"] == "correct" for v in verdicts):
             out += ["", f"`robokin.check` finds all {len(verdicts)} answers it can check correct."]
+
+        causes = report.get("causes") or {}
+        if causes:
+            out += ["", "**Where to start**", ""]
+            ordered = sorted(causes.items(), key=lambda kv: (kv[1]["task"] is None, kv[1]["task"] or 0))
+            for _, cause in ordered[: self.max_notes]:
+                task = f" (Task {cause['task']})" if cause["task"] is not None else ""
+                tests = list(dict.fromkeys(cause["tests"]))
+                several = len(cause["names"]) > 1
+                names = ", ".join(f"`{n}`" for n in cause["names"])
+                out.append(f"- {names}{task}: {'their' if several else 'its'} {_md(cause['why'])}; "
+                           f"the failing test{'s' if len(tests) > 1 else ''} {', '.join(tests)} "
+                           f"depend{'' if len(tests) > 1 else 's'} on {'them' if several else 'it'}. "
+                           f"Fix {'them' if several else 'it'} first.")
+            if len(ordered) > self.max_notes:
+                out.append(f"- … and {len(ordered) - self.max_notes} more groups of answers that tests depend on.")
 
         notes = self._incidents(nb)
         if notes:
@@ -579,3 +920,46 @@ def _num(x: float) -> str:
 def _md(text: str) -> str:
     """One line of plain text made safe inside a markdown list item."""
     return " ".join(text.split()).replace("|", "\\|").replace("<", "&lt;")
+
+
+# ---------------------------------------------------------------- generate_feedback
+MATHJAX_CONFIG = """window.MathJax = {
+  tex: {inlineMath: [["$", "$"], ["\\\\(", "\\\\)"]], displayMath: [["$$", "$$"], ["\\\\[", "\\\\]"]],
+        processEscapes: true, processEnvironments: true, tags: "ams"},
+  svg: {fontCache: "global"},
+  options: {enableMenu: false}
+};"""
+#: The CDN script tag of nbconvert's/nbgrader's MathJax 2 macro and its configuration.
+CDN_MATHJAX = re.compile(r'<script[^>]*\bsrc="https?://[^"]*mathjax[^"]*"[^>]*>\s*</script>', re.I)
+MATHJAX2_CONFIG = re.compile(r'<script type="text/x-mathjax-config">.*?</script>', re.S)
+
+
+def mathjax_script() -> str:
+    """MathJax 3 (TeX input, SVG output: no font files) from the ``django-static-mathjax`` wheel."""
+    try:
+        import mathjax  # the wheel the book serves MathJax from (book/_ext/robokin_book.py)
+    except ImportError as exc:  # pragma: no cover - install problem
+        raise RuntimeError("MathJax is missing: `pip install -r requirements.txt` installs "
+                           "django-static-mathjax, the offline MathJax of the book and the feedback") from exc
+    path = Path(mathjax.__file__).resolve().parent / "static" / "mathjax" / "es5" / "tex-svg-full.js"
+    return path.read_text(encoding="utf-8").replace("</script", "<\\/script")
+
+
+class OfflineMathJaxHTMLExporter(HTMLExporter):
+    """HTML with MathJax inlined: formulas render in a feedback page opened without internet."""
+
+    def from_notebook_node(self, nb, resources=None, **kw):
+        output, resources = super().from_notebook_node(nb, resources, **kw)
+        return inline_mathjax(output), resources
+
+
+def inline_mathjax(html: str) -> str:
+    """``html`` with the CDN MathJax (and its MathJax 2 configuration) replaced by MathJax 3 inline."""
+    inline = (f"<script>{MATHJAX_CONFIG}</script>\n"
+              f"<script id=\"robokin-mathjax\">{mathjax_script()}</script>")
+    html = MATHJAX2_CONFIG.sub("", html)
+    html, count = CDN_MATHJAX.subn(lambda _: inline, html, count=1)
+    html = CDN_MATHJAX.sub("", html)
+    if not count:  # a template without the macro: put it at the end of the head
+        html = html.replace("</head>", inline + "\n</head>", 1)
+    return html

@@ -27,10 +27,60 @@ import sys
 from collections.abc import Iterable, Mapping
 from typing import Any
 
-__all__ = ["GENERIC", "verdict", "verdicts", "require", "print_verdicts"]
+__all__ = ["GENERIC", "TYPE_PROBE", "verdict", "verdicts", "require", "print_verdicts", "describe",
+           "expected_form"]
 
 #: Diagnosis codes that say *that* an answer is wrong but name no typical mistake.
 GENERIC = frozenset({"mismatch", "shape", "constant", "symbols", "error"})
+
+#: Pseudo-check of a ``(check, quantity)`` pair: no verdict, only what the value is
+#: (``status`` ``"info"``, ``message`` e.g. ``"res_a is a list of 3 items"``).
+TYPE_PROBE = "type"
+
+
+def describe(value: Any) -> str:
+    """What a value is, in a few words: ``"a NumPy array of shape (6, 3)"``, ``"None"``."""
+    if value is None:
+        return "None"
+    shape = getattr(value, "shape", None)
+    kind = type(value).__name__
+    if callable(value) and shape is None:
+        import inspect
+
+        try:
+            return f"a function {getattr(value, '__name__', kind)}{inspect.signature(value)}"
+        except (TypeError, ValueError):
+            return f"a callable {kind}"
+    if shape is not None and isinstance(shape, tuple):
+        module = type(value).__module__.split(".")[0]
+        prefix = {"numpy": "a NumPy", "sympy": "a sympy"}.get(module, "a")
+        return f"{prefix} {kind} of shape {shape}"
+    if isinstance(value, (list, tuple, dict, set)):
+        return f"a {kind} of {len(value)} item{'s' if len(value) != 1 else ''}"
+    if isinstance(value, (bool, int, float, complex, str)):
+        return f"a {kind} ({value!r})" if len(repr(value)) <= 30 else f"a {kind}"
+    return f"a {kind} object"
+
+
+def expected_form(checker: Any) -> str:
+    """What a check expects as the answer, from its declared signature or variables."""
+    signature = getattr(checker, "signature", "")
+    if signature:
+        return f"a function {signature}"
+    shape = None
+    try:
+        import numpy as np
+
+        shape = np.shape(np.asarray(checker.reference(checker.sample_points()[0]), dtype=float))
+    except Exception:  # noqa: BLE001 - the form is a courtesy, never an error
+        pass
+    value = f"an array of shape {shape}" if shape else "a number" if shape == () else "a value"
+    groups = [g[0] for g in (getattr(checker, "groups", None) or [])]
+    names = groups or [v.name for v in (getattr(checker, "variables", None) or [])]
+    if names and getattr(checker, "at", None) is None:
+        args = ", ".join(names)
+        return f"a function of ({args}) returning {value}, or a sympy expression in {args}"
+    return value
 
 
 def _resolve(check: str):
@@ -51,6 +101,14 @@ def verdict(namespace: Mapping[str, Any], check: str, quantity: str) -> dict[str
     """
     out: dict[str, Any] = {"check": check, "quantity": quantity, "status": "skipped",
                            "diagnosis": None, "typical": False, "message": ""}
+    if check == TYPE_PROBE:
+        try:
+            value = eval(quantity, dict(namespace))  # noqa: S307 - the student's own kernel
+        except Exception as exc:  # noqa: BLE001 - report, never raise
+            out.update(status="info", message=f"{quantity} cannot be evaluated ({type(exc).__name__})")
+        else:
+            out.update(status="info", message=f"{quantity} is {describe(value)}", got=describe(value))
+        return out
     try:
         checker = _resolve(check)
     except Exception as exc:  # noqa: BLE001 - a renamed check must not break grading
@@ -63,14 +121,25 @@ def verdict(namespace: Mapping[str, Any], check: str, quantity: str) -> dict[str
                    "computes it raised, or was not run.")
         return out
     except Exception as exc:  # noqa: BLE001 - report, never raise
-        out.update(status="missing", message=f"{quantity} cannot be evaluated: "
-                   f"{type(exc).__name__}: {exc}")
+        expected = expected_form(checker)
+        got = _parts_described(quantity, namespace)
+        out.update(status="missing", expected=expected, got=got,
+                   message=f"{quantity} cannot be evaluated ({type(exc).__name__}: {exc}): "
+                   f"{got}; expected {quantity} to be {expected}.")
         return out
     try:
         result = checker(value, quiet=True)
     except Exception as exc:  # noqa: BLE001 - report, never raise
-        out.update(status="wrong", diagnosis="error",
-                   message=f"robokin.check.{check} could not check {quantity}: {type(exc).__name__}: {exc}")
+        expected = expected_form(checker)
+        out.update(status="wrong", diagnosis="error", expected=expected, got=describe(value),
+                   message=f"robokin.check.{check} could not check {quantity}: {type(exc).__name__}: {exc}. "
+                   f"{quantity} is {describe(value)}; expected {expected}.")
+        return out
+    if not result.passed and result.diagnosis in ("error", "shape", "constant"):
+        expected = expected_form(checker)
+        out.update(expected=expected, got=describe(value))
+        message = f"{result.message} ({quantity} is {describe(value)}; expected {expected}.)"
+        out.update(status="wrong", diagnosis=result.diagnosis, typical=False, message=message)
         return out
     out.update(
         status="correct" if result.passed else "wrong",
@@ -79,6 +148,18 @@ def verdict(namespace: Mapping[str, Any], check: str, quantity: str) -> dict[str
         message=result.message,
     )
     return out
+
+
+def _parts_described(quantity: str, namespace: Mapping[str, Any]) -> str:
+    """``"res_a is None"``: what the names of an expression hold (those that are defined)."""
+    import ast
+
+    try:
+        names = [n.id for n in ast.walk(ast.parse(quantity, mode="eval")) if isinstance(n, ast.Name)]
+    except SyntaxError:
+        names = []
+    parts = [f"{n} is {describe(namespace[n])}" for n in dict.fromkeys(names) if n in namespace]
+    return "; ".join(parts) or f"{quantity} is not available"
 
 
 def verdicts(namespace: Mapping[str, Any], pairs: Iterable[tuple[str, str]]) -> list[dict[str, Any]]:
