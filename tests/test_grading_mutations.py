@@ -44,8 +44,8 @@ from conftest import ROOT
 
 sys.path.insert(0, str(ROOT / "tools"))
 
-from nbgrader_metadata import chapter_notebooks  # noqa: E402
-from notebook_analysis import defined_names  # noqa: E402
+from nbgrader_metadata import chapter_notebooks
+from notebook_analysis import defined_names
 
 NOTEBOOKS = Path(os.environ.get("ROBOKIN_NBGRADER_NOTEBOOKS", ROOT / "notebooks")).resolve()
 MUTATIONS_DIR = Path(os.environ.get("ROBOKIN_GRADING_MUTATIONS", ROOT / "tests" / "grading_mutations")).resolve()

@@ -214,7 +214,7 @@ def test_no_import_cycles():
             continue
         lines = []
         for module in component:
-            for line, target, name, inside in _imports(module):
+            for line, target, _name, inside in _imports(module):
                 if target in component and target != module and not any(f":{line} " in x for x in lines
                                                                           if module in x):
                     lines.append(f"  {_where(module, line)} imports {target}{' inside a function' if inside else ''}")
@@ -255,7 +255,7 @@ def test_views_modules_import_only_those_below_them():
                                      f"{set(views) ^ set(rank)}")
     problems = []
     for module in views:
-        for line, target, name, _ in _imports(module):
+        for line, target, _name, _ in _imports(module):
             if target in rank and target != module and rank[target] >= rank[module]:
                 problems.append(f"{_where(module, line)}: imports {target}, which comes after it in the views' layers "
                                 f"(VIEWS_ORDER in tests/test_layers.py, the robokin.views docstring)")

@@ -43,9 +43,9 @@ from conftest import ROOT
 
 sys.path.insert(0, str(ROOT / "tools"))
 
-import nbgrader_metadata  # noqa: E402
-import student_edition  # noqa: E402
-from notebook_analysis import free_names, stub_plan  # noqa: E402
+import nbgrader_metadata
+import student_edition
+from notebook_analysis import free_names, stub_plan
 
 pytest.importorskip("nbgrader", reason="nbgrader is not installed: run `make test` (installs requirements.txt)")
 
@@ -211,7 +211,7 @@ def recognised(checker, kind: str, names: set[str]) -> bool:
     put in degrees. Unknown (the check cannot be evaluated this way): kept.
     """
     scope: dict = {}
-    exec(MISTAKE_CODE.split("\n\n\n{name}")[0], scope)  # noqa: S102 - our own code
+    exec(MISTAKE_CODE.split("\n\n\n{name}")[0], scope)
     angles = _angle_args(checker)
     if kind == "degrees_input" and not angles:
         return False
@@ -317,7 +317,7 @@ def wrong_type_candidate(source: dict, chapter: str) -> dict | None:
     return None
 
 
-def chapter_submissions(chapter: str, source: dict, correct: dict, run: "Run") -> dict[str, dict]:
+def chapter_submissions(chapter: str, source: dict, correct: dict, run: Run) -> dict[str, dict]:
     """The knock-on and wrong-type submissions of FEEDBACK_CHAPTER."""
     out = {}
     if chapter != FEEDBACK_CHAPTER:

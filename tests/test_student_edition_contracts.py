@@ -32,8 +32,8 @@ from conftest import ROOT
 
 sys.path.insert(0, str(ROOT / "tools"))
 
-from nbgrader_metadata import chapter_notebooks  # noqa: E402
-from notebook_analysis import (  # noqa: E402
+from nbgrader_metadata import chapter_notebooks
+from notebook_analysis import (
     Binding,
     Chapter,
     analyse,

@@ -18,8 +18,8 @@ import pytest
 from test_views_doubles import scara_like
 
 pytest.importorskip("umsgpack")
-from robokin import models, views  # noqa: E402
-from robokin.views.static_html import pack_commands  # noqa: E402
+from robokin import models, views
+from robokin.views.static_html import pack_commands
 
 Q_UR10 = np.array([0.1, -1.2, 1.5, -0.4, 1.2, 0.3])
 

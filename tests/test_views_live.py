@@ -14,7 +14,7 @@ from test_views_doubles import two_link
 
 pytest.importorskip("meshcat")
 pytest.importorskip("zmq")
-from robokin.views.live import LiveViewer, proxy_url  # noqa: E402
+from robokin.views.live import LiveViewer, proxy_url
 
 
 def _listening(pid):

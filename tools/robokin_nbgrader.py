@@ -60,7 +60,7 @@ from pathlib import Path
 from jupyter_core.utils import run_sync
 from nbclient.exceptions import CellTimeoutError, DeadKernelError
 from nbconvert.exporters import HTMLExporter
-from nbformat.notebooknode import NotebookNode, from_dict
+from nbformat.notebooknode import from_dict
 from nbgrader import utils
 from nbgrader.coursedir import CourseDirectory
 from nbgrader.preprocessors import Execute, NbGraderPreprocessor, OverwriteCells
@@ -68,7 +68,7 @@ from traitlets import Bool, Unicode
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from notebook_analysis import (  # noqa: E402
+from notebook_analysis import (
     _check_aliases,
     defined_names,
     free_names,
@@ -78,7 +78,7 @@ from notebook_analysis import (  # noqa: E402
     statement_span,
     trace,
 )
-from robokin_sandbox import SandboxedKernelManager, bwrap_executable, sandbox_wanted  # noqa: E402
+from robokin_sandbox import SandboxedKernelManager, bwrap_executable, sandbox_wanted
 
 TYPE_PROBE = "type"  # robokin.check.grading.TYPE_PROBE: what a value is, no verdict
 ANSI = re.compile(r"\x1b\[[0-9;]*[A-Za-z]")
@@ -789,7 +789,8 @@ class AutograderReport(NbGraderPreprocessor):
         pairs = report.get("pairs") or []
         findings = []
         for (task, _, _), v in zip(pairs, verdicts):
-            if v["status"] == "wrong" or (v["status"] == "missing" and scores.get(task, [1, 1])[0] < scores.get(task, [1, 1])[1]):
+            lost = scores.get(task, [1, 1])[0] < scores.get(task, [1, 1])[1]
+            if v["status"] == "wrong" or (v["status"] == "missing" and lost):
                 tag = f" *(typical mistake: {v['diagnosis']})*" if v["typical"] else ""
                 text = v["message"] if v["status"] == "wrong" else f"✘ {v['message']}"
                 findings.append(f"- Task {task}: {_md(text)}{tag}")

@@ -31,8 +31,8 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from nbgrader_metadata import chapter_notebooks, check_names, differences  # noqa: E402
-from notebook_analysis import analyse, load_notebook  # noqa: E402
+from nbgrader_metadata import chapter_notebooks, check_names, differences
+from notebook_analysis import analyse, load_notebook
 
 ROOT = Path(__file__).resolve().parent.parent
 DEFAULT_COURSE = ROOT / "_build" / "nbgrader" / "course"

@@ -40,8 +40,8 @@ from robokin.views.record import DEFAULT_HEIGHT
 
 __all__ = ["LiveViewer", "MeshcatUnavailable", "proxy_url", "get_viewer", "close_all"]
 
-_SERVERS: "weakref.WeakSet[LiveViewer]" = weakref.WeakSet()
-_SHARED: "LiveViewer | None" = None
+_SERVERS: weakref.WeakSet[LiveViewer] = weakref.WeakSet()
+_SHARED: LiveViewer | None = None
 
 
 class MeshcatUnavailable(RuntimeError):

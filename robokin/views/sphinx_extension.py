@@ -80,7 +80,7 @@ def externalize_scene_data(outdir: Path) -> int:
             continue
         prefix = os.path.relpath(scenes, page.parent).replace(os.sep, "/")
 
-        def move(match: re.Match) -> str:
+        def move(match: re.Match, prefix: str = prefix) -> str:
             nonlocal moved
             commands = json.loads(match.group(1))
             # a large command (a robot's mesh) gets a file of its own, shared by every scene that has it
