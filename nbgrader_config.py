@@ -40,6 +40,8 @@ from robokin_nbgrader import (  # noqa: E402
     RestoreMissingCells,
     RobokinExecute,
 )
+# Verdicts decided in a grader kernel, outside the student's (issue 21): tools/grading_bridge/.
+from grading_bridge.preprocessors import BridgeReport, BridgedExecute  # noqa: E402
 
 c = get_config()  # noqa: F821 - provided by nbgrader's config loader
 
@@ -80,7 +82,7 @@ c.Autograde.sanitize_preprocessors = [
     CheckCellMetadata,
 ]
 c.Autograde.autograde_preprocessors = [
-    RobokinExecute,
+    BridgedExecute,           # RobokinExecute + grader kernel (for c.BridgedExecute.chapters)
     IgnorePattern,
     ClearMetadataPreprocessor,
     LimitOutput,
@@ -88,8 +90,11 @@ c.Autograde.autograde_preprocessors = [
     AssignLatePenalties,
     CheckCellMetadata,
     AutograderReport,
+    BridgeReport,             # answers for review by hand, answers that are not plain data
 ]
 c.OverwriteCells.add_missing_cells = True
 c.Execute.timeout = int(os.environ.get("ROBOKIN_CELL_TIMEOUT", "120"))   # seconds per cell
 # 3D scenes of the graded notebook as pictures: the feedback page is read offline.
 c.RobokinExecute.viewer = "matplotlib"
+# Chapters whose test cells run in a grader kernel, the answers handed over as data.
+c.BridgedExecute.chapters = ["03_three_rpr"]
