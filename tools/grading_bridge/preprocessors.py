@@ -223,7 +223,9 @@ class BridgedExecute(RobokinExecute):
                 if count and student_count:
                     for output in outputs:
                         if output.get("output_type") == "error":
-                            output["traceback"] = [line.replace(f"Cell In[{count}]", f"Cell In[{student_count}]")
+                            # the student's numbering of the cell ("Cell In[n], line k")
+                            output["traceback"] = [re.sub(rf"(Cell\W*(?:\x1b\[[0-9;]*m)*\s*In\[){count}\]",
+                                                          rf"\g<1>{student_count}]", line)
                                                    for line in output.get("traceback", [])]
                 cell.outputs = outputs
         return cell
