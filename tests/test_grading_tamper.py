@@ -230,6 +230,11 @@ def test_graded_test_outputs_come_from_the_grader_kernel(graded):
             if nbg(cell).get("grade") and cell["cell_type"] == "code":
                 kinds = [o["output_type"] for o in cell["outputs"]]
                 assert "execute_result" not in kinds and "error" in kinds, (student, nbg(cell)["grade_id"], kinds)
+    # the note above a failing test names its line, numbered as in the student's run
+    nb = load(graded.course / "autograded" / "blank" / CHAPTER / f"{CHAPTER}.ipynb")
+    note = next("".join(o["text"]) for c in nb["cells"] if nbg(c).get("grade_id") == "task1_test1"
+                for o in c["outputs"] if o["output_type"] == "stream")
+    assert "failed at line" in note, note
 
 
 # ---------------------------------------------------------------- the codec, without kernels

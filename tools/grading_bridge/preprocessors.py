@@ -169,7 +169,11 @@ class BridgedExecute(RobokinExecute):
             cells = [{"grade_id": c.name, "source": c.source, "test": c.name in grades}
                      for c in source_nb.source_cells
                      if c.cell_type == "code" and c.locked and c.name not in solutions]
-        meta = self._source_metadata(info) or {_grade_id(c): _robokin(c) for c in nb.cells if _grade_id(c)}
+        source = self._source_metadata(info)
+        if source is None:
+            source = {_grade_id(c): (_robokin(c), c.metadata.get("tags", [])) for c in nb.cells if _grade_id(c)}
+        meta = {key: value[0] for key, value in source.items()}
+        _skip_pictures(cells, {key: value[1] for key, value in source.items()})
         # the instructor's robokin metadata replaces the submission's (a student can edit metadata)
         for cell in nb.cells:
             if _grade_id(cell) in meta and meta[_grade_id(cell)]:
@@ -199,7 +203,7 @@ class BridgedExecute(RobokinExecute):
         except Exception as exc:  # noqa: BLE001 - then the submission's metadata is used
             self.log.warning("bridge: no source notebook (%s); using the submission's metadata", exc)
             return None
-        return {_grade_id(c): _robokin(c) for c in source.cells if _grade_id(c)}
+        return {_grade_id(c): (_robokin(c), c.metadata.get("tags", [])) for c in source.cells if _grade_id(c)}
 
     def _start_grader(self) -> None:
         self._grader = _GraderKernel(self.timeout, self.log)
@@ -224,7 +228,7 @@ class BridgedExecute(RobokinExecute):
                     for output in outputs:
                         if output.get("output_type") == "error":
                             # the student's numbering of the cell ("Cell In[n], line k")
-                            output["traceback"] = [re.sub(rf"(Cell\W*(?:\x1b\[[0-9;]*m)*\s*In\[){count}\]",
+                            output["traceback"] = [re.sub(rf"(Cell(?:\x1b\[[0-9;]*m|\s)*In\[){count}\]",
                                                           rf"\g<1>{student_count}]", line)
                                                    for line in output.get("traceback", [])]
                 cell.outputs = outputs
@@ -236,6 +240,8 @@ class BridgedExecute(RobokinExecute):
         while plan["done"] < upto:
             item = plan["cells"][plan["done"]]
             plan["done"] += 1
+            if item.get("skip"):
+                continue
             self._import(free_names(item["source"]), item["grade_id"])
             last = self._grader.run(item["source"])
             self._unstick()
@@ -292,6 +298,23 @@ class BridgedExecute(RobokinExecute):
                 except ValueError:
                     return None
         return None
+
+
+def _skip_pictures(cells: list[dict], tags: dict[str, list[str]]) -> None:
+    """Mark the given cells the grader need not run: the cells after the last test, and
+    pictures and 3D scenes (tagged ``nbval-ignore-output``, book/conventions) that define
+    nothing a later cell reads."""
+    from notebook_analysis import defined_names
+
+    tests = [i for i, item in enumerate(cells) if item["test"]]
+    for item in cells[tests[-1] + 1:] if tests else []:
+        item["skip"] = True   # after the last test: nothing is graded there
+    for index, item in enumerate(cells):
+        if item["test"] or "nbval-ignore-output" not in tags.get(item["grade_id"], []):
+            continue
+        defined = set(defined_names(item["source"]))
+        later = set().union(*(free_names(c["source"]) for c in cells[index + 1:]))
+        item["skip"] = item.get("skip", False) or not (defined & later)
 
 
 class BridgeReport(NbGraderPreprocessor):
