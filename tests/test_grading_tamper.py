@@ -268,6 +268,22 @@ def test_codec_round_trip_and_refusals():
         deep = [deep]
     with pytest.raises(codec.BridgeError):
         codec.decode(deep)
+    # a function crosses as a handle with its signature (robokin.check reads it to call the answer)
+    import inspect
+
+    registry: dict = {}
+
+    def ik(x, y, phi=0.0):
+        return x
+
+    class Proxy:
+        def __call__(self, *args):
+            return None
+
+    proxy = codec.decode(json.loads(json.dumps(codec.encode(ik, registry))), lambda handle, name: Proxy())
+    assert registry == {0: ik} and str(inspect.signature(proxy)) == "(x, y, phi=Ellipsis)"
+    with pytest.raises(codec.BridgeError):
+        codec.decode(codec.encode(ik, {}))   # no proxies where the grader expects data
     opaque = codec.decode(codec.encode(object()))
     assert isinstance(opaque, codec.Untransferable)
     with pytest.raises(codec.BridgeError, match="not plain data"):

@@ -148,8 +148,36 @@ def encode(value, registry=None, depth=0):
     if registry is not None and callable(value) and not isinstance(value, type):
         handle = len(registry)
         registry[handle] = value
-        return {"$callable": [handle, str(getattr(value, "__qualname__", getattr(value, "__name__", "")))[:200]]}
+        return {"$callable": [handle, str(getattr(value, "__qualname__", getattr(value, "__name__", "")))[:200],
+                              _parameters(value)]}
     return {"$opaque": type_name(value)[:200]}
+
+
+def _parameters(function) -> list | None:
+    """``[[name, kind, has default], ...]`` of a function's signature (None if unknown)."""
+    import inspect
+
+    try:
+        signature = inspect.signature(function)
+    except (TypeError, ValueError):
+        return None
+    return [[p.name[:100], int(p.kind), p.default is not p.empty] for p in list(signature.parameters.values())[:50]]
+
+
+def signature_of(parameters):
+    """An ``inspect.Signature`` from :func:`_parameters`' data (None if malformed)."""
+    import inspect
+
+    if not isinstance(parameters, list) or len(parameters) > 50:
+        return None
+    try:
+        return inspect.Signature([
+            inspect.Parameter(name, inspect._ParameterKind(kind), default=... if has_default else inspect.Parameter.empty)
+            for name, kind, has_default in parameters
+            if isinstance(name, str) and name.isidentifier() and isinstance(kind, int) and isinstance(has_default, bool)
+        ])
+    except (TypeError, ValueError):
+        return None
 
 
 def _count(items) -> None:
@@ -262,10 +290,17 @@ def decode(data, make_callable=None, depth=0):
     if tag == "$callable":
         if make_callable is None:
             raise BridgeError("a function cannot be passed here")
-        if not (isinstance(body, list) and len(body) == 2 and isinstance(body[0], int)
+        if not (isinstance(body, list) and len(body) in (2, 3) and isinstance(body[0], int)
                 and isinstance(body[1], str)):
             raise BridgeError("malformed function handle")
-        return make_callable(body[0], body[1][:200])
+        proxy = make_callable(body[0], body[1][:200])
+        signature = signature_of(body[2]) if len(body) == 3 else None
+        if signature is not None:
+            try:
+                proxy.__signature__ = signature
+            except AttributeError:
+                pass
+        return proxy
     if tag == "$opaque":
         return Untransferable(str(body)[:200])
     raise BridgeError(f"unknown kind of data {str(tag)[:40]!r}")

@@ -85,6 +85,9 @@ class _Link:
                 msg = client.get_iopub_msg(timeout=remaining)
             except queue.Empty:
                 continue
+            except BaseException:   # the test cell itself was stopped (time limit) mid-call
+                self.stuck = True
+                raise
             if msg.get("parent_header", {}).get("msg_id") != msg_id:
                 continue
             kind, content = msg["msg_type"], msg["content"]
