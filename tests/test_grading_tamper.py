@@ -13,8 +13,10 @@ student's kernel) scored well with blank or wrong answers; all are graded in one
     display hook: nbgrader reads a test's first result as its score),
   - patches numpy (``np.allclose = lambda *a, **k: True``),
   - forges robokin.check's verdicts (``print_verdicts`` and every check passing),
-  - forges outputs (test cells handed in with a full-marks result, tracebacks hidden);
-* wrong answers (every answer off by 1 %), plain and with numpy and robokin.check patched;
+  - forges outputs (test cells handed in with a full-marks result, tracebacks hidden,
+    every cell reported to nbgrader as a success);
+* wrong answers (every answer off by 1 %, and one a generator: no plain data), plain and
+  with numpy and robokin.check patched;
 * answers that are robokin's own methods (``ik = robot.inverse_kinematics``).
 
 Expected: each tampering submission scores exactly what its untampered answers score
@@ -68,7 +70,8 @@ TAMPER = {
         "_core.CheckResult.passed = property(lambda self: True)\n"),
     "forged_outputs": (
         "get_ipython().showtraceback = lambda *a, **k: None\n"
-        "get_ipython().showsyntaxerror = lambda *a, **k: None\n"),
+        "get_ipython().showsyntaxerror = lambda *a, **k: None\n"
+        "get_ipython().events.register('post_run_cell', lambda result: setattr(result, 'error_in_exec', None))\n"),
 }
 
 #: appended to every answer cell of the "wrong" submission: each answer off by 1 %
@@ -128,6 +131,8 @@ def wrong_submission(correct: dict, source: dict) -> dict:
         names = [n for n in declared.get(nbg(cell).get("grade_id"), []) if n != "classic"]
         if names:
             cell["source"] = src(cell).rstrip() + "\n" + WRONG_CODE.format(names=names)
+        if "modes6" in names:   # and one answer that is no plain data
+            cell["source"] += "\nmodes6 = (mode for mode in modes6)\n"
     return nb
 
 
@@ -205,6 +210,7 @@ def test_tampering_wrong_answers_gains_nothing(graded, kind):
 def test_blank_and_wrong_reports_name_the_answers(graded):
     report = graded.feedback["wrong_forged_check"]
     assert "What `robokin.check` says about your answers" in report, report[:2000]
+    assert "answer `modes6` is not plain data (a generator)" in graded.feedback["wrong"], graded.feedback["wrong"]
 
 
 def test_solutions_score_full_marks_through_the_bridge(graded):
@@ -254,6 +260,12 @@ def test_codec_round_trip_and_refusals():
     assert sp.simplify(back["e"] - value["e"]) == 0 and back["p"].degree() == 3 and np.isnan(back["f"])
     from robokin.models.three_rpr import three_rpr_classic
 
+    from robokin.motion.trajectories import Trajectory
+
+    path = Trajectory(np.zeros((2, 3)), np.ones((2, 3)), np.zeros((2, 3)))
+    back = codec.decode(json.loads(json.dumps(codec.encode([path, np.array([["ok", "failed"]])]))))
+    assert isinstance(back[0], Trajectory) and np.array_equal(back[0][1], path[1])
+    assert back[1].tolist() == [["ok", "failed"]]
     robot = codec.decode(json.loads(json.dumps(codec.encode(three_rpr_classic()))))
     assert np.allclose(robot.base_anchors, three_rpr_classic().base_anchors)
     # untrusted input: no code, no foreign classes, caps

@@ -26,8 +26,11 @@ complex                            ``{"$complex": [re, im]}``
 numpy array / numpy scalar         ``{"$ndarray": [dtype, shape, base64]}`` /
                                    ``{"$npscalar": [dtype, base64]}``
 sympy object                       ``{"$sympy": srepr}``; a Poly ``{"$poly": [srepr, [gens]]}``
-robokin dataclass / model          ``{"$robokin": [module, class, {field: value}]}``
-a function (student's side only)   ``{"$callable": [handle, name]}``
+robokin dataclass / named tuple   ``{"$robokin": [module, class, {field: value}]}``
+/ model (:data:`ROBOKIN_MODELS`)
+numpy array of strings             ``{"$strarray": [shape, [str, ...]]}``
+a function (student's side only)   ``{"$callable": [handle, name, signature]}``
+a proxy handed back (grader only)  ``{"$handle": handle}`` (the student's own function)
 anything else                      ``{"$opaque": type name}`` (not plain data)
 =================================  ==============================================
 """
@@ -59,6 +62,7 @@ DTYPES = frozenset({
 #: (``module.Class``: attribute names passed as keyword arguments of the constructor).
 ROBOKIN_MODELS = {
     "robokin.parallel.planar_3rpr.Planar3RPR": ("base_anchors", "platform_anchors", "stroke", "name"),
+    "robokin.chains.chain.SerialChain": ("elements", "limits", "tool", "frame_names", "name"),
 }
 
 #: sympy names a ``srepr`` text may call, and the names it may use as constants.
@@ -109,6 +113,10 @@ def encode(value, registry=None, depth=0):
         return {"$complex": [encode(value.real), encode(value.imag)]}
     numpy = sys.modules.get("numpy")
     if numpy is not None:
+        if isinstance(value, numpy.ndarray) and value.dtype.kind == "U":
+            if value.size > MAX_ITEMS or value.dtype.itemsize // 4 > MAX_TEXT // 100:
+                raise BridgeError(f"a numpy array of {value.size} strings")
+            return {"$strarray": [list(value.shape), [str(v) for v in value.ravel().tolist()]]}
         if isinstance(value, numpy.ndarray):
             dtype = value.dtype.name
             if dtype not in DTYPES:
@@ -145,6 +153,9 @@ def encode(value, registry=None, depth=0):
         if state is not None:
             return {"$robokin": [module, type(value).__qualname__,
                                  {k: encode(v, registry, depth + 1) for k, v in state.items()}]}
+    handle = getattr(value, "__robokin_handle__", None) if registry is None else None
+    if type(handle) is int:   # the grader hands a student's function back to the student's kernel
+        return {"$handle": handle}
     if registry is not None and callable(value) and not isinstance(value, type):
         handle = len(registry)
         registry[handle] = value
@@ -198,7 +209,13 @@ def _encode_sympy(value, sympy):
     return {"$sympy": _srepr(value, sympy)}
 
 
+def _is_namedtuple(cls) -> bool:
+    return isinstance(cls, type) and issubclass(cls, tuple) and isinstance(getattr(cls, "_fields", None), tuple)
+
+
 def _robokin_state(value):
+    if _is_namedtuple(type(value)):
+        return {name: getattr(value, name) for name in type(value)._fields}
     if dataclasses.is_dataclass(value) and not isinstance(value, type):
         return {f.name: getattr(value, f.name) for f in dataclasses.fields(value) if f.init}
     key = f"{type(value).__module__}.{type(value).__qualname__}"
@@ -208,7 +225,7 @@ def _robokin_state(value):
 
 
 # ---------------------------------------------------------------- decode
-def decode(data, make_callable=None, depth=0):
+def decode(data, make_callable=None, depth=0, handles=None):
     """The value ``data`` (from :func:`encode`) stands for; :class:`BridgeError` if not allowed.
 
     ``make_callable(handle, name)`` makes a proxy of a function; without it a
@@ -230,7 +247,7 @@ def decode(data, make_callable=None, depth=0):
         return data
     if isinstance(data, list):
         _count(data)
-        return [decode(v, make_callable, depth + 1) for v in data]
+        return [decode(v, make_callable, depth + 1, handles) for v in data]
     if not isinstance(data, dict) or len(data) != 1:
         raise BridgeError(f"malformed data ({type(data).__name__})")
     (tag, body), = data.items()
@@ -238,7 +255,7 @@ def decode(data, make_callable=None, depth=0):
         if not isinstance(body, list):
             raise BridgeError("malformed collection")
         _count(body)
-        items = [decode(v, make_callable, depth + 1) for v in body]
+        items = [decode(v, make_callable, depth + 1, handles) for v in body]
         return {"$tuple": tuple, "$set": set, "$frozenset": frozenset}[tag](items)
     if tag == "$dict":
         if not isinstance(body, list):
@@ -253,7 +270,7 @@ def decode(data, make_callable=None, depth=0):
                 hash(key)
             except TypeError as exc:
                 raise BridgeError(f"a dict key of type {type(key).__name__}") from exc
-            out[key] = decode(pair[1], make_callable, depth + 1)
+            out[key] = decode(pair[1], make_callable, depth + 1, handles)
         return out
     if tag == "$float":
         if body not in ("nan", "inf", "-inf"):
@@ -268,6 +285,20 @@ def decode(data, make_callable=None, depth=0):
         return complex(re_part, im_part)
     if tag == "$ndarray":
         return _decode_array(body)
+    if tag == "$strarray":
+        import numpy
+
+        if not (isinstance(body, list) and len(body) == 2 and isinstance(body[0], list)
+                and isinstance(body[1], list) and len(body[1]) <= MAX_ITEMS and len(body[0]) <= 32
+                and all(isinstance(n, int) and not isinstance(n, bool) and n >= 0 for n in body[0])
+                and all(isinstance(v, str) and len(v) <= MAX_TEXT // 100 for v in body[1])):
+            raise BridgeError("malformed array of strings")
+        size = 1
+        for n in body[0]:
+            size *= n
+        if size != len(body[1]):
+            raise BridgeError("malformed array of strings")
+        return numpy.array(body[1], dtype=str).reshape(body[0])
     if tag == "$npscalar":
         if not (isinstance(body, list) and len(body) == 2):
             raise BridgeError("malformed numpy scalar")
@@ -301,6 +332,10 @@ def decode(data, make_callable=None, depth=0):
             except AttributeError:
                 pass
         return proxy
+    if tag == "$handle":
+        if handles is None or type(body) is not int or body not in handles:
+            raise BridgeError("a function handle where none is expected")
+        return handles[body]
     if tag == "$opaque":
         return Untransferable(str(body)[:200])
     raise BridgeError(f"unknown kind of data {str(tag)[:40]!r}")
@@ -343,7 +378,9 @@ def _decode_robokin(body, make_callable, depth):
     except (ImportError, AttributeError) as exc:
         raise BridgeError(f"no robokin class {module_name[:80]}.{class_name[:80]}") from exc
     key = f"{module_name}.{class_name}"
-    if dataclasses.is_dataclass(cls):
+    if _is_namedtuple(cls):
+        allowed = set(cls._fields)
+    elif dataclasses.is_dataclass(cls):
         allowed = {f.name for f in dataclasses.fields(cls) if f.init}
     elif key in ROBOKIN_MODELS:
         allowed = set(ROBOKIN_MODELS[key])
@@ -495,7 +532,7 @@ def call(handle, payload, nonce):
     """Student's kernel: call the function ``handle`` with the encoded arguments."""
     try:
         function = REGISTRY[handle]
-        args, kwargs = decode(json.loads(payload))
+        args, kwargs = decode(json.loads(payload), handles=REGISTRY)
     except Exception as exc:  # noqa: BLE001
         _reply(nonce, {"bridge_error": f"{type(exc).__name__}: {str(exc)[:300]}"})
         return

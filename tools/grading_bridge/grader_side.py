@@ -154,6 +154,11 @@ class Proxy:
         self.__qualname__ = answer
         self.__doc__ = f"the student's `{answer}`, run in the student's kernel"
 
+    @property
+    def __robokin_handle__(self) -> int:
+        """Passed to another of the student's functions, a proxy is handed back as the original."""
+        return self._handle
+
     def __repr__(self) -> str:
         return f"<the student's function {self._answer}>"
 

@@ -152,6 +152,12 @@ class BridgedExecute(RobokinExecute):
             if self._grader is not None:
                 self._grader.stop()
         if self._plan is not None:
+            kinds = {}
+            for status in self._plan["imports"].values():
+                kinds[status.split(":")[0]] = kinds.get(status.split(":")[0], 0) + 1
+            self.log.info("bridge: %s graded in a grader kernel (%d of %d instructor cells run; answers: %s)",
+                          notebook, sum(1 for c in self._plan["cells"][: self._plan["done"]] if not c.get("skip")),
+                          len(self._plan["cells"]), kinds)
             report = resources.setdefault("robokin", {})
             report["review"] = [dict(item, line=delegation.describe(item)) for item in self._plan["review"]]
             report["bridge"] = {"imports": self._plan["imports"], "problems": self._plan["problems"]}
