@@ -96,5 +96,5 @@ c.OverwriteCells.add_missing_cells = True
 c.Execute.timeout = int(os.environ.get("ROBOKIN_CELL_TIMEOUT", "120"))   # seconds per cell
 # 3D scenes of the graded notebook as pictures: the feedback page is read offline.
 c.RobokinExecute.viewer = "matplotlib"
-# Chapters whose test cells run in a grader kernel, the answers handed over as data.
-c.BridgedExecute.chapters = ["03_three_rpr"]
+# Chapters whose test cells run in a grader kernel, the answers handed over as data ("*": all).
+c.BridgedExecute.chapters = ["*"]

@@ -26,6 +26,8 @@ complex                            ``{"$complex": [re, im]}``
 numpy array / numpy scalar         ``{"$ndarray": [dtype, shape, base64]}`` /
                                    ``{"$npscalar": [dtype, base64]}``
 sympy object                       ``{"$sympy": srepr}``; a Poly ``{"$poly": [srepr, [gens]]}``
+a robokin module                   ``{"$module": name}`` (imported on the other side)
+a caught warning                   ``{"$warning": [module, category, message, file, line]}``
 robokin dataclass / named tuple   ``{"$robokin": [module, class, {field: value}]}``
 / model (:data:`ROBOKIN_MODELS`)
 numpy array of strings             ``{"$strarray": [shape, [str, ...]]}``
@@ -44,6 +46,8 @@ import importlib
 import json
 import math
 import sys
+import types
+import warnings
 
 MAX_DEPTH = 24
 MAX_ITEMS = 200_000            # elements of one list/tuple/dict/set
@@ -147,13 +151,21 @@ def encode(value, registry=None, depth=0):
         return _encode_sympy(value, sympy)
     if sympy is not None and isinstance(value, sympy.MatrixBase):
         return {"$sympy": _srepr(value, sympy)}
+    if isinstance(value, types.ModuleType):
+        name = getattr(value, "__name__", "")
+        if isinstance(name, str) and (name == "robokin" or name.startswith("robokin.")):
+            return {"$module": name[:200]}
+    if isinstance(value, warnings.WarningMessage):
+        category = value.category
+        return {"$warning": [str(getattr(category, "__module__", ""))[:200], str(getattr(category, "__qualname__", ""))[:200],
+                             str(value.message)[:2000], str(value.filename)[:500], int(value.lineno or 0)]}
     module = getattr(type(value), "__module__", "") or ""
     if module.startswith("robokin.") or module == "robokin":
         state = _robokin_state(value)
         if state is not None:
             return {"$robokin": [module, type(value).__qualname__,
                                  {k: encode(v, registry, depth + 1) for k, v in state.items()}]}
-    handle = getattr(value, "__robokin_handle__", None) if registry is None else None
+    handle = getattr(value, "__robokin_handle__", None) if callable(value) else None
     if type(handle) is int:   # the grader hands a student's function back to the student's kernel
         return {"$handle": handle}
     if registry is not None and callable(value) and not isinstance(value, type):
@@ -336,6 +348,30 @@ def decode(data, make_callable=None, depth=0, handles=None):
         if handles is None or type(body) is not int or body not in handles:
             raise BridgeError("a function handle where none is expected")
         return handles[body]
+    if tag == "$module":
+        if not (isinstance(body, str) and (body == "robokin" or body.startswith("robokin."))
+                and all(part.isidentifier() for part in body.split("."))):
+            raise BridgeError("not a robokin module")
+        try:
+            return importlib.import_module(body)
+        except ImportError as exc:
+            raise BridgeError(f"no robokin module {body[:80]}") from exc
+    if tag == "$warning":
+        if not (isinstance(body, list) and len(body) == 5 and all(isinstance(v, str) for v in body[:4])
+                and type(body[4]) is int):
+            raise BridgeError("malformed warning")
+        module_name, class_name, message, filename, lineno = body
+        if module_name == "builtins" and class_name.isidentifier():
+            import builtins
+
+            category = getattr(builtins, class_name, None)
+        elif module_name == "robokin.errors" and class_name.isidentifier():
+            category = getattr(importlib.import_module("robokin.errors"), class_name, None)
+        else:
+            category = None
+        if not (isinstance(category, type) and issubclass(category, Warning)):
+            category = UserWarning
+        return warnings.WarningMessage(category(message), category, filename, lineno)
     if tag == "$opaque":
         return Untransferable(str(body)[:200])
     raise BridgeError(f"unknown kind of data {str(tag)[:40]!r}")
@@ -528,11 +564,27 @@ def export(names, nonce):
     _reply(nonce, out)
 
 
+def _grader_function(handle, name):
+    """Student's kernel: a function of the test's, passed to the student's function.
+
+    Calling it asks the grader (through the kernel's input channel) to run the test's
+    function on the (data) arguments; the result comes back as data.
+    """
+    def call_grader(*args, **kwargs):
+        payload = json.dumps(encode([list(args), dict(kwargs)], REGISTRY), allow_nan=False)
+        reply = json.loads(input(f"{MARK}callback {int(handle)} {payload}"))
+        if "value" not in reply:
+            raise RuntimeError(f"the test's function {name} failed: {reply.get('error', '?')}")
+        return decode(reply["value"], _grader_function, handles=REGISTRY)
+    call_grader.__name__ = call_grader.__qualname__ = str(name)[:100] or "test_function"
+    return call_grader
+
+
 def call(handle, payload, nonce):
     """Student's kernel: call the function ``handle`` with the encoded arguments."""
     try:
         function = REGISTRY[handle]
-        args, kwargs = decode(json.loads(payload), handles=REGISTRY)
+        args, kwargs = decode(json.loads(payload), _grader_function, handles=REGISTRY)
     except Exception as exc:  # noqa: BLE001
         _reply(nonce, {"bridge_error": f"{type(exc).__name__}: {str(exc)[:300]}"})
         return

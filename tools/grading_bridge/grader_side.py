@@ -49,17 +49,22 @@ class _Link:
     def __init__(self, connection_info: dict, call_timeout: float) -> None:
         self.client = BlockingKernelClient()
         self.client.load_connection_info(connection_info)
-        self.client.start_channels(shell=True, iopub=True, stdin=False, hb=False, control=False)
+        self.client.start_channels(shell=True, iopub=True, stdin=True, hb=False, control=False)
         self.client.wait_for_ready(timeout=60)
         self.call_timeout = call_timeout
         self.stuck = False        # a call timed out: the student's kernel may still be busy
         self.calls = 0
+        self.callbacks: dict = {}  # the test's functions passed to the student's functions
+        self.in_callback = False
         self.source = (Path(__file__).with_name("codec.py")).read_text(encoding="utf-8")
 
     def request(self, code: str, nonce: str, timeout: float) -> dict:
         """Run ``code`` in the student's kernel; its reply (the last line marked ``nonce``)."""
         if self.stuck:
             raise AnswerError("the student's kernel is still busy with an earlier call that took too long")
+        if self.in_callback:
+            raise AnswerError("a function of the test that the student's function calls cannot call the "
+                              "student's functions in turn")
         reply = self._run(code, nonce, timeout)
         if reply is None:   # the bridge module is missing there (first use, or deleted): install it
             self._run(f"exec(compile({_BOOT!r}, '<robokin bridge boot>', 'exec'), "
@@ -72,7 +77,7 @@ class _Link:
 
     def _run(self, code: str, nonce: str | None, timeout: float) -> dict | None:
         client = self.client
-        msg_id = client.execute(code, silent=True, store_history=False, allow_stdin=False)
+        msg_id = client.execute(code, silent=True, store_history=False, allow_stdin=True)
         deadline = time.monotonic() + timeout
         chunks: list[str] = []
         size = 0
@@ -82,7 +87,8 @@ class _Link:
                 self.stuck = True
                 raise AnswerError(f"the call took longer than {timeout:g} s and was stopped")
             try:
-                msg = client.get_iopub_msg(timeout=remaining)
+                self._answer_input_requests(msg_id)
+                msg = client.get_iopub_msg(timeout=min(remaining, 0.02))
             except queue.Empty:
                 continue
             except BaseException:   # the test cell itself was stopped (time limit) mid-call
@@ -117,6 +123,41 @@ class _Link:
         if not isinstance(data, dict):
             raise AnswerError("the student's kernel sent a malformed reply")
         return data
+
+    def _answer_input_requests(self, msg_id: str) -> None:
+        """The student's function calls a function of the test: run it here, send back the result."""
+        while True:
+            try:
+                msg = self.client.get_stdin_msg(timeout=0)
+            except queue.Empty:
+                return
+            if msg.get("msg_type") != "input_request" or msg.get("parent_header", {}).get("msg_id") != msg_id:
+                continue
+            prompt = str(msg["content"].get("prompt", ""))
+            prefix = f"{codec.MARK}callback "
+            if not prompt.startswith(prefix) or len(prompt) > MAX_REPLY:
+                self.client.input("")      # the student's own input(): no one types here
+                continue
+            self.client.input(json.dumps(self._callback(prompt[len(prefix):]), allow_nan=False))
+
+    def _callback(self, text: str) -> dict:
+        try:
+            handle_text, _, payload = text.partition(" ")
+            function = self.callbacks[int(handle_text)]
+            args, kwargs = codec.decode(json.loads(payload), _make_proxy("an argument"))
+        except Exception as exc:  # noqa: BLE001 - a malformed request from the student's kernel
+            return {"error": f"malformed call ({type(exc).__name__})"}
+        self.in_callback = True
+        try:
+            result = function(*args, **kwargs)
+        except Exception as exc:  # noqa: BLE001 - reported to the student's function as an error
+            return {"error": f"{type(exc).__name__}: {str(exc)[:300]}"}
+        finally:
+            self.in_callback = False
+        try:
+            return {"value": codec.encode(result, self.callbacks)}
+        except codec.BridgeError as exc:
+            return {"error": f"the result cannot be sent: {exc}"}
 
     def _drain_shell(self) -> None:
         while True:
@@ -167,7 +208,7 @@ class Proxy:
         if link is None:
             raise AnswerError("the grader is not connected to the student's kernel")
         try:
-            payload = json.dumps(codec.encode([list(args), dict(kwargs)]), allow_nan=False)
+            payload = json.dumps(codec.encode([list(args), dict(kwargs)], link.callbacks), allow_nan=False)
         except codec.BridgeError as exc:
             raise AnswerError(f"the test's arguments for {self._answer} cannot be sent: {exc}") from None
         nonce = uuid.uuid4().hex
@@ -196,9 +237,15 @@ def _make_proxy(answer: str):
     return make
 
 
-def import_names(namespace: dict, names: list[str], marker: str) -> None:
-    """Bind the student's ``names`` in ``namespace``; print what happened as one JSON line."""
+def import_names(namespace: dict, names: list[str], marker: str, extra: tuple = ()) -> None:
+    """Bind the student's ``names`` in ``namespace``; print what happened as one JSON line.
+
+    ``extra`` names (read by a test, declared by no answer: a side effect of the student's
+    code) are bound only when the grader has no such name, and only when they are data.
+    """
     summary: dict[str, str] = {}
+    extra = [n for n in extra if n not in namespace and n not in names]
+    names = list(names) + extra
     link = _LINK
     if link is None:
         raise AnswerError("the grader is not connected to the student's kernel")
@@ -211,6 +258,8 @@ def import_names(namespace: dict, names: list[str], marker: str) -> None:
         summary["*"] = f"error: {exc}"
     for name in names:
         entry = reply.get(name)
+        if name in extra and not (isinstance(entry, dict) and "value" in entry):
+            continue
         namespace.pop(name, None)
         if not isinstance(entry, dict) or entry.get("missing"):
             summary.setdefault(name, "missing")

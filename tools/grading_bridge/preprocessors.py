@@ -24,6 +24,7 @@ kernel, except what its answers compute when the tests call them.
 
 from __future__ import annotations
 
+import builtins
 import json
 import os
 import re
@@ -42,7 +43,7 @@ from traitlets import Float, List, Unicode
 TOOLS = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(TOOLS))
 
-from notebook_analysis import free_names  # noqa: E402
+from notebook_analysis import defined_names, free_names  # noqa: E402
 from robokin_nbgrader import VERDICT_MARK, RobokinExecute, _robokin, _task_of  # noqa: E402
 
 from grading_bridge import delegation  # noqa: E402
@@ -132,8 +133,8 @@ class _GraderKernel:
 class BridgedExecute(RobokinExecute):
     """``RobokinExecute`` whose test cells and robokin.check verdicts run in a grader kernel."""
 
-    chapters = List(Unicode(), default_value=["03_three_rpr"],
-                    help="Notebooks graded through the bridge (also: notebook metadata "
+    chapters = List(Unicode(), default_value=["*"],
+                    help="Notebooks graded through the bridge, '*' for all (also: notebook metadata "
                          "robokin.grading.bridge = true)").tag(config=True)
     call_timeout = Float(30.0, help="Seconds for one call of a student's function from a test").tag(config=True)
 
@@ -144,7 +145,7 @@ class BridgedExecute(RobokinExecute):
         resources = resources if resources is not None else {}
         notebook = resources.get("nbgrader", {}).get("notebook")
         flagged = bool(nb.metadata.get("robokin", {}).get("grading", {}).get("bridge"))
-        if notebook in self.chapters or flagged:
+        if notebook in self.chapters or "*" in self.chapters or flagged:
             self._plan = self._make_plan(nb, resources)
         try:
             nb, resources = super().preprocess(nb, resources, km=km)
@@ -160,7 +161,8 @@ class BridgedExecute(RobokinExecute):
                           len(self._plan["cells"]), kinds)
             report = resources.setdefault("robokin", {})
             report["review"] = [dict(item, line=delegation.describe(item)) for item in self._plan["review"]]
-            report["bridge"] = {"imports": self._plan["imports"], "problems": self._plan["problems"]}
+            report["bridge"] = {"imports": self._plan["imports"], "problems": self._plan["problems"],
+                                "side_effects": self._plan["side_effects"]}
         return nb, resources
 
     def _make_plan(self, nb, resources) -> dict:
@@ -196,7 +198,7 @@ class BridgedExecute(RobokinExecute):
                    for c in nb.cells if c.cell_type == "code" and utils.is_solution(c)
                    and meta.get(_grade_id(c), {}).get("role") == "answer"]
         return {"cells": cells, "done": 0, "declared": declared, "review": delegation.find(answers, task_checks),
-                "imports": {}, "problems": [], "counts": {}}
+                "imports": {}, "problems": [], "side_effects": {}, "instructor_names": set()}
 
     def _source_metadata(self, info) -> dict | None:
         from nbgrader.coursedir import CourseDirectory
@@ -248,17 +250,26 @@ class BridgedExecute(RobokinExecute):
             plan["done"] += 1
             if item.get("skip"):
                 continue
-            self._import(free_names(item["source"]), item["grade_id"])
+            self._import(free_names(item["source"]), item["grade_id"], extra=item["test"])
             last = self._grader.run(item["source"])
+            plan["instructor_names"].update(defined_names(item["source"]))
             self._unstick()
         return last
 
-    def _import(self, names, where: str) -> None:
+    def _import(self, names, where: str, extra: bool = False) -> None:
         wanted = [n for n in self._plan["declared"] if n in names]
-        if not wanted:
+        # a test that reads a name no answer declares and no instructor cell defines relies on a
+        # side effect of the student's code (e.g. an import in a cell of theirs): taken if it is data
+        others = sorted(n for n in names if n not in self._plan["declared"]
+                        and n not in self._plan["instructor_names"] and not hasattr(builtins, n)) if extra else []
+        if others:
+            self.log.info("bridge: %s reads %s, which no answer declares", where, ", ".join(others))
+            self._plan["side_effects"].setdefault(where, others)
+        if not wanted and not others:
             return
         summary, cell = self._grader.marked(
-            f"_robokin_bridge.import_names(globals(), {wanted!r}, {IMPORT_MARK!r})", IMPORT_MARK)
+            f"_robokin_bridge.import_names(globals(), {wanted!r}, {IMPORT_MARK!r}, {tuple(others)!r})",
+            IMPORT_MARK)
         if summary is None:
             errors = [f"{o.ename}: {o.evalue}" for o in cell.outputs if o.get("output_type") == "error"]
             self._plan["problems"].append(f"answers {', '.join(wanted)} could not be imported before {where}: "
@@ -310,8 +321,6 @@ def _skip_pictures(cells: list[dict], tags: dict[str, list[str]]) -> None:
     """Mark the given cells the grader need not run: the cells after the last test, and
     pictures and 3D scenes (tagged ``nbval-ignore-output``, book/conventions) that define
     nothing a later cell reads."""
-    from notebook_analysis import defined_names
-
     tests = [i for i, item in enumerate(cells) if item["test"]]
     for item in cells[tests[-1] + 1:] if tests else []:
         item["skip"] = True   # after the last test: nothing is graded there
