@@ -9,7 +9,8 @@
     ``metadata.robokin.declare`` of the instructor's source notebook) are
     imported from the student's kernel through the bridge
     (:mod:`grading_bridge.grader_side`): data copied, functions as proxies. A
-    test cell's outputs in the graded notebook are the grader kernel's, so
+    test cell's outputs in the graded notebook are the grader kernel's (the
+    student's own run of it is discarded), so
     ``SaveAutoGrades`` scores what the grader saw; ``robokin.check``'s verdicts
     are computed in the grader kernel too. Answer cells that delegate to
     robokin's own solution are listed for review by hand (:mod:`delegation`).
