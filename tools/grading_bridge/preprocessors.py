@@ -148,8 +148,16 @@ class BridgedExecute(RobokinExecute):
         flagged = bool(nb.metadata.get("robokin", {}).get("grading", {}).get("bridge"))
         if notebook in self.chapters or "*" in self.chapters or flagged:
             self._plan = self._make_plan(nb, resources)
+        calls = None
         try:
             nb, resources = super().preprocess(nb, resources, km=km)
+            if self._grader is not None:
+                try:
+                    status, _ = self._grader.marked(f"print({IMPORT_MARK!r} + __import__('json').dumps("
+                                                    "_robokin_bridge.status()))", IMPORT_MARK)
+                    calls = (status or {}).get("calls")
+                except Exception as exc:  # noqa: BLE001 - a count for the log only
+                    self.log.warning("bridge: no call count (%s)", exc)
         finally:
             if self._grader is not None:
                 self._grader.stop()
@@ -157,9 +165,10 @@ class BridgedExecute(RobokinExecute):
             kinds = {}
             for status in self._plan["imports"].values():
                 kinds[status.split(":")[0]] = kinds.get(status.split(":")[0], 0) + 1
-            self.log.info("bridge: %s graded in a grader kernel (%d of %d instructor cells run; answers: %s)",
+            self.log.info("bridge: %s graded in a grader kernel (%d of %d instructor cells run; answers: %s; "
+                          "%s calls of the student's functions)",
                           notebook, sum(1 for c in self._plan["cells"][: self._plan["done"]] if not c.get("skip")),
-                          len(self._plan["cells"]), kinds)
+                          len(self._plan["cells"]), kinds, calls)
             report = resources.setdefault("robokin", {})
             report["review"] = [dict(item, line=delegation.describe(item)) for item in self._plan["review"]]
             report["bridge"] = {"imports": self._plan["imports"], "problems": self._plan["problems"],
