@@ -17,7 +17,8 @@ student's kernel) scored well with blank or wrong answers; all are graded in one
     every cell reported to nbgrader as a success);
 * wrong answers (every answer off by 1 %, and one a generator: no plain data), plain and
   with numpy and robokin.check patched;
-* answers that are robokin's own methods (``ik = robot.inverse_kinematics``).
+* answers that are robokin's own methods (``ik = robot.inverse_kinematics``);
+* an ``ik`` that never returns when a test calls it (the call is stopped).
 
 Expected: each tampering submission scores exactly what its untampered answers score
 (0 for blank ones), and the report does not say robokin.check finds the answers
@@ -108,6 +109,33 @@ DELEGATE = {
 }
 
 
+#: an ik that never returns when a test calls it through the bridge (its own cell's call returns)
+SLOW_IK = '''
+def _never_for_the_grader(function):
+    import inspect
+    import time
+
+    def ik(pose):
+        if any("robokin grading bridge" in frame.filename for frame in inspect.stack()):
+            time.sleep(10**6)
+        return function(pose)
+    return ik
+
+
+ik = _never_for_the_grader(ik)
+'''
+CALL_TIMEOUT = 3  # seconds per call of a student's function, in this course
+
+
+def slow_submission(correct: dict) -> dict:
+    nb = copy.deepcopy(correct)
+    for cell in nb["cells"]:
+        if nbg(cell).get("grade_id") == "task1_answer1":
+            cell["source"] = src(cell).replace("\n\nrho0 = ", SLOW_IK + "\n\nrho0 = ", 1)
+            assert SLOW_IK in cell["source"]
+    return nb
+
+
 def _first_answer(nb: dict) -> dict:
     return next(c for c in nb["cells"] if nbg(c).get("solution"))
 
@@ -158,13 +186,15 @@ def graded(tmp_path_factory) -> Run:
     started = time.perf_counter()
     student_edition.write_course(course, base / "exchange")
     student_edition.add_source(course, NOTEBOOKS / f"{CHAPTER}.ipynb")
+    with open(course / "nbgrader_config.py", "a", encoding="utf-8") as config:
+        config.write(f"\nc.BridgedExecute.call_timeout = {CALL_TIMEOUT}\n")
     nbgrader(["generate_assignment", CHAPTER], course, run.log)
     run.source = load(course / "source" / CHAPTER / f"{CHAPTER}.ipynb")
     run.release = load(course / "release" / CHAPTER / f"{CHAPTER}.ipynb")
     correct = course_tools.correct_submission(run.release, run.source)
     wrong = wrong_submission(correct, run.source)
     submissions = {"correct": correct, "blank": run.release, "wrong": wrong,
-                   "delegating": delegating_submission(correct)}
+                   "delegating": delegating_submission(correct), "slow": slow_submission(correct)}
     for kind in TAMPER:
         submissions[f"blank_{kind}"] = tampered(run.release, kind)
     submissions["wrong_patched_numpy"] = tampered(wrong, "patched_numpy")
@@ -318,3 +348,14 @@ def test_delegation_finder_on_code():
     assert found["inverse_jacobian"]["through"] == "helper"
     solutions = [(1, "def ik(pose):\n    x, y, phi = pose\n    return np.hypot(x, y)\n", ["ik"])]
     assert delegation.find(solutions, checks) == []
+
+
+def test_a_call_that_never_returns_is_stopped(graded):
+    """The test calling it fails after the time limit per call; the student's kernel is
+    interrupted, and the tests after it are graded as usual."""
+    scores = _scores(graded, "slow")
+    assert scores["task1_test1"] == 0 and scores["task2_test1"] == 1 and scores["task4_test1"] == 1, scores
+    nb = load(graded.course / "autograded" / "slow" / CHAPTER / f"{CHAPTER}.ipynb")
+    errors = [o for c in nb["cells"] if nbg(c).get("grade_id") == "task1_test1"
+              for o in c["outputs"] if o["output_type"] == "error"]
+    assert errors and f"took longer than {CALL_TIMEOUT} s" in errors[0]["evalue"], errors

@@ -267,6 +267,7 @@ class BridgedExecute(RobokinExecute):
         return last
 
     def _import(self, names, where: str, extra: bool = False) -> None:
+        self._unstick()   # a call stopped earlier (in a test or in robokin.check) must not block this one
         wanted = [n for n in self._plan["declared"] if n in names]
         # a test that reads a name no answer declares and no instructor cell defines relies on a
         # side effect of the student's code (e.g. an import in a cell of theirs): taken if it is data
@@ -314,6 +315,7 @@ class BridgedExecute(RobokinExecute):
                 f"globals(), {[list(p) for p in pairs]!r}, {VERDICT_MARK!r})")
         try:
             cell = self._grader.run(code)
+            self._unstick()
         except Exception as exc:  # noqa: BLE001 - feedback is a bonus; grading goes on
             self.log.warning("robokin.check verdicts failed: %s", exc)
             return None
