@@ -43,6 +43,8 @@ from robokin_nbgrader import (  # noqa: E402
     RestoreMissingCells,
     RobokinExecute,
 )
+# Verdicts decided in a grader kernel, outside the student's (issue 21): tools/grading_bridge/.
+from grading_bridge.preprocessors import BridgeReport, BridgedExecute  # noqa: E402
 
 c = get_config()  # noqa: F821 - provided by nbgrader's config loader
 
@@ -84,7 +86,7 @@ c.Autograde.sanitize_preprocessors = [
     CheckCellMetadata,
 ]
 c.Autograde.autograde_preprocessors = [
-    RobokinExecute,
+    BridgedExecute,           # RobokinExecute + grader kernel (for c.BridgedExecute.chapters)
     IgnorePattern,
     ClearMetadataPreprocessor,
     LimitOutput,
@@ -93,6 +95,7 @@ c.Autograde.autograde_preprocessors = [
     CheckCellMetadata,
     AutograderReport,
     GradingIncidents,         # a kernel that died or was killed, tests not run, stderr notes
+    BridgeReport,             # answers for review by hand, answers that are not plain data
 ]
 c.OverwriteCells.add_missing_cells = True
 c.Execute.timeout = int(os.environ.get("ROBOKIN_CELL_TIMEOUT", "120"))   # seconds per cell
@@ -108,3 +111,5 @@ c.RobokinExecute.sandbox = True
 
 # -- generate_feedback: MathJax inlined (the page is read offline, and handed out alone)
 c.GenerateFeedback.exporter_class = OfflineMathJaxHTMLExporter
+# Chapters whose test cells run in a grader kernel, the answers handed over as data ("*": all).
+c.BridgedExecute.chapters = ["*"]

@@ -1,0 +1,361 @@
+"""Tampering submissions gain no points; delegation is flagged (issue 21, the grading bridge).
+
+Chapter 3 is graded through the bridge (``tools/grading_bridge``): its test cells and
+robokin.check's verdicts run in a grader kernel, the answers handed over as data and
+functions as proxies. Each submission below is one the old pipeline (verdicts in the
+student's kernel) scored well with blank or wrong answers; all are graded in one
+``nbgrader autograde`` run:
+
+* blank answers with one line in the first answer cell that
+  - turns test cells into ``pass`` (an IPython input transformer),
+  - drops ``assert`` statements (an AST transformer),
+  - makes every cell show a text result first (a ``pre_run_cell`` hook calling the
+    display hook: nbgrader reads a test's first result as its score),
+  - patches numpy (``np.allclose = lambda *a, **k: True``),
+  - forges robokin.check's verdicts (``print_verdicts`` and every check passing),
+  - forges outputs (test cells handed in with a full-marks result, tracebacks hidden,
+    every cell reported to nbgrader as a success);
+* wrong answers (every answer off by 1 %, and one a generator: no plain data), plain and
+  with numpy and robokin.check patched;
+* answers that are robokin's own methods (``ik = robot.inverse_kinematics``);
+* an ``ik`` that never returns when a test calls it (the call is stopped).
+
+Expected: each tampering submission scores exactly what its untampered answers score
+(0 for blank ones), and the report does not say robokin.check finds the answers
+correct; delegation is named in the report "for review by hand", its score as
+tested; the instructor's solutions score full marks through the bridge.
+"""
+
+from __future__ import annotations
+
+import copy
+import json
+import re
+import time
+from pathlib import Path
+
+import pytest
+
+import test_nbgrader as course_tools
+from test_nbgrader import NOTEBOOKS, Run, load, nbg, nbgrader, read_gradebook, save, src
+
+CHAPTER = "03_three_rpr"
+
+#: code put at the top of the first answer cell, by kind of tampering
+TAMPER = {
+    "input_transformer": (
+        "get_ipython().input_transformers_post.append("
+        "lambda lines: ['pass\\n'] if 'assert' in ''.join(lines) else lines)\n"),
+    "ast_transformer": (
+        "import ast as _ast\n"
+        "class _NoAsserts(_ast.NodeTransformer):\n"
+        "    def visit_Assert(self, node):\n"
+        "        return _ast.Pass()\n"
+        "get_ipython().ast_transformers.append(_NoAsserts())\n"),
+    "display_hook": (
+        "import sys as _sys\n"
+        "get_ipython().events.register('pre_run_cell', lambda info: _sys.displayhook('full marks'))\n"),
+    "patched_numpy": (
+        "import numpy as _np\n"
+        "_np.allclose = lambda *a, **k: True\n"
+        "_np.isclose = lambda *a, **k: _np.True_\n"),
+    "forged_check": (
+        "import json as _json, sys as _sys\n"
+        "import robokin.check.grading as _grading, robokin.check._core as _core\n"
+        "def _all_correct(namespace, pairs, marker='ROBOKIN-VERDICTS'):\n"
+        "    data = [{'check': c, 'quantity': q, 'status': 'correct', 'diagnosis': None,\n"
+        "             'typical': False, 'message': 'correct'} for c, q in pairs]\n"
+        "    _sys.stdout.write(marker + ' ' + _json.dumps(data) + '\\n')\n"
+        "_grading.print_verdicts = _all_correct\n"
+        "_grading.require = lambda *a, **k: None\n"
+        "_core.CheckResult.passed = property(lambda self: True)\n"),
+    "forged_outputs": (
+        "get_ipython().showtraceback = lambda *a, **k: None\n"
+        "get_ipython().showsyntaxerror = lambda *a, **k: None\n"
+        "get_ipython().events.register('post_run_cell', lambda result: setattr(result, 'error_in_exec', None))\n"),
+}
+
+#: appended to every answer cell of the "wrong" submission: each answer off by 1 %
+WRONG_CODE = '''
+
+def _robokin_wrong(value):
+    import numpy as np
+    import sympy as sp
+
+    if callable(value) and not isinstance(value, type):
+        def wrong(*args, **kwargs):
+            return _robokin_wrong(value(*args, **kwargs))
+        return wrong
+    if isinstance(value, np.ndarray) and value.dtype.kind in "fc":
+        return value * 1.01 + 0.01
+    if isinstance(value, float):
+        return value * 1.01 + 0.01
+    if isinstance(value, sp.Poly):
+        return sp.Poly(value.as_expr() + 1, *value.gens)
+    if isinstance(value, sp.Expr) and not isinstance(value, sp.Symbol):
+        return value + 1
+    return value
+
+
+for _name in {names!r}:
+    globals()[_name] = _robokin_wrong(globals()[_name])  # every answer wrong, made by the test
+'''
+
+#: answer cells replaced by robokin's own solutions: grade_id -> (old line pattern, new code)
+DELEGATE = {
+    "task1_answer1": (r"def ik\(pose\):\n(    .*\n)+", "ik = robot.inverse_kinematics\n"),
+    "task3_answer1": (r"def inverse_jacobian\(pose\):\n(    .*\n)+",
+                      "def inverse_jacobian(pose):\n    return robot.jacobian(pose)\n"),
+}
+
+
+#: an ik that never returns when a test calls it through the bridge (its own cell's call returns)
+SLOW_IK = '''
+def _never_for_the_grader(function):
+    import inspect
+    import time
+
+    def ik(pose):
+        if any("robokin grading bridge" in frame.filename for frame in inspect.stack()):
+            time.sleep(10**6)
+        return function(pose)
+    return ik
+
+
+ik = _never_for_the_grader(ik)
+'''
+CALL_TIMEOUT = 3  # seconds per call of a student's function, in this course
+
+
+def slow_submission(correct: dict) -> dict:
+    nb = copy.deepcopy(correct)
+    for cell in nb["cells"]:
+        if nbg(cell).get("grade_id") == "task1_answer1":
+            cell["source"] = src(cell).replace("\n\nrho0 = ", SLOW_IK + "\n\nrho0 = ", 1)
+            assert SLOW_IK in cell["source"]
+    return nb
+
+
+def _first_answer(nb: dict) -> dict:
+    return next(c for c in nb["cells"] if nbg(c).get("solution"))
+
+
+def tampered(base: dict, kind: str) -> dict:
+    nb = copy.deepcopy(base)
+    cell = _first_answer(nb)
+    cell["source"] = TAMPER[kind] + src(cell)
+    if kind == "forged_outputs":   # test cells handed in with a full-marks result
+        for test in (c for c in nb["cells"] if nbg(c).get("grade")):
+            test["outputs"] = [{"output_type": "execute_result", "execution_count": 1, "metadata": {},
+                                "data": {"text/plain": "1.0"}}]
+    return nb
+
+
+def wrong_submission(correct: dict, source: dict) -> dict:
+    declared = {nbg(c)["grade_id"]: c["metadata"]["robokin"].get("declare", []) for c in source["cells"]
+                if nbg(c).get("solution") and c["metadata"].get("robokin", {}).get("role") == "answer"}
+    nb = copy.deepcopy(correct)
+    for cell in nb["cells"]:
+        names = [n for n in declared.get(nbg(cell).get("grade_id"), []) if n != "classic"]
+        if names:
+            cell["source"] = src(cell).rstrip() + "\n" + WRONG_CODE.format(names=names)
+        if "modes6" in names:   # and one answer that is no plain data
+            cell["source"] += "\nmodes6 = (mode for mode in modes6)\n"
+    return nb
+
+
+def delegating_submission(correct: dict) -> dict:
+    nb = copy.deepcopy(correct)
+    for cell in nb["cells"]:
+        change = DELEGATE.get(nbg(cell).get("grade_id"))
+        if change:
+            new, count = re.subn(change[0], change[1], src(cell) + "\n", count=1)
+            assert count == 1, f"{nbg(cell)['grade_id']}: the answer to replace is not there"
+            cell["source"] = new
+    return nb
+
+
+@pytest.fixture(scope="module")
+def graded(tmp_path_factory) -> Run:
+    """Chapter 3 generated, every submission below autograded in one run, feedback generated."""
+    import student_edition
+
+    base = tmp_path_factory.mktemp("tamper")
+    course = base / "course"
+    run = Run(CHAPTER, course)
+    started = time.perf_counter()
+    student_edition.write_course(course, base / "exchange")
+    student_edition.add_source(course, NOTEBOOKS / f"{CHAPTER}.ipynb")
+    with open(course / "nbgrader_config.py", "a", encoding="utf-8") as config:
+        config.write(f"\nc.BridgedExecute.call_timeout = {CALL_TIMEOUT}\n")
+    nbgrader(["generate_assignment", CHAPTER], course, run.log)
+    run.source = load(course / "source" / CHAPTER / f"{CHAPTER}.ipynb")
+    run.release = load(course / "release" / CHAPTER / f"{CHAPTER}.ipynb")
+    correct = course_tools.correct_submission(run.release, run.source)
+    wrong = wrong_submission(correct, run.source)
+    submissions = {"correct": correct, "blank": run.release, "wrong": wrong,
+                   "delegating": delegating_submission(correct), "slow": slow_submission(correct)}
+    for kind in TAMPER:
+        submissions[f"blank_{kind}"] = tampered(run.release, kind)
+    submissions["wrong_patched_numpy"] = tampered(wrong, "patched_numpy")
+    submissions["wrong_forged_check"] = tampered(wrong, "forged_check")
+    for student, nb in submissions.items():
+        save(nb, course / "submitted" / student / CHAPTER / f"{CHAPTER}.ipynb")
+    nbgrader(["autograde", CHAPTER], course, run.log)
+    nbgrader(["generate_feedback", CHAPTER], course, run.log)
+    read_gradebook(course, CHAPTER, run)
+    for student in submissions:
+        graded_nb = course / "autograded" / student / CHAPTER / f"{CHAPTER}.ipynb"
+        run.feedback[student] = "".join(src(load(graded_nb)["cells"][0])) if graded_nb.exists() else ""
+    run.seconds = time.perf_counter() - started
+    print(f"\n[tamper] {len(submissions)} submissions of {CHAPTER} graded in {run.seconds:.0f} s")
+    return run
+
+
+def _scores(run: Run, student: str) -> dict[str, float]:
+    scores = run.scores.get(student)
+    assert scores is not None and set(scores) == set(run.maximum), f"{student} was not graded"
+    return scores
+
+
+@pytest.mark.parametrize("kind", list(TAMPER))
+def test_tampering_a_blank_submission_gains_nothing(graded, kind):
+    scores = _scores(graded, f"blank_{kind}")
+    earned = {k: v for k, v in scores.items() if v}
+    assert not earned, f"{kind}: a blank submission earns {earned}"
+    report = graded.feedback[f"blank_{kind}"]
+    assert "**0 of" in report and "finds all" not in report, report[:2000]
+
+
+@pytest.mark.parametrize("kind", ["patched_numpy", "forged_check"])
+def test_tampering_wrong_answers_gains_nothing(graded, kind):
+    baseline = _scores(graded, "wrong")
+    scores = _scores(graded, f"wrong_{kind}")
+    gained = {k: (baseline[k], v) for k, v in scores.items() if v > baseline[k]}
+    assert not gained, f"{kind}: wrong answers gain points in {gained}"
+    assert sum(baseline.values()) < sum(graded.maximum.values()), "the wrong answers score full marks"
+    assert "finds all" not in graded.feedback[f"wrong_{kind}"]
+
+
+def test_blank_and_wrong_reports_name_the_answers(graded):
+    report = graded.feedback["wrong_forged_check"]
+    assert "What `robokin.check` says about your answers" in report, report[:2000]
+    assert "answer `modes6` is not plain data (a generator)" in graded.feedback["wrong"], graded.feedback["wrong"]
+
+
+def test_solutions_score_full_marks_through_the_bridge(graded):
+    scores = _scores(graded, "correct")
+    assert scores == graded.maximum
+    report = graded.feedback["correct"]
+    assert "finds all" in report and "review by hand" not in report and "could not use" not in report, report
+
+
+def test_delegation_is_flagged_for_review(graded):
+    report = graded.feedback["delegating"]
+    assert "review by hand: `ik` returns robokin's `Planar3RPR.inverse_kinematics`" in report, report
+    assert "review by hand: `inverse_jacobian` calls robokin's `Planar3RPR.jacobian`" in report, report
+    # the score stands as tested: robokin's own methods pass the tests
+    assert _scores(graded, "delegating") == graded.maximum
+
+
+def test_graded_test_outputs_come_from_the_grader_kernel(graded):
+    """The forged full-marks results handed in and the display hook's text are gone from the test cells."""
+    for student in ("blank_forged_outputs", "blank_display_hook"):
+        nb = load(graded.course / "autograded" / student / CHAPTER / f"{CHAPTER}.ipynb")
+        for cell in nb["cells"]:
+            if nbg(cell).get("grade") and cell["cell_type"] == "code":
+                kinds = [o["output_type"] for o in cell["outputs"]]
+                assert "execute_result" not in kinds and "error" in kinds, (student, nbg(cell)["grade_id"], kinds)
+    # the note above a failing test names its line, numbered as in the student's run
+    nb = load(graded.course / "autograded" / "blank" / CHAPTER / f"{CHAPTER}.ipynb")
+    note = next("".join(o["text"]) for c in nb["cells"] if nbg(c).get("grade_id") == "task1_test1"
+                for o in c["outputs"] if o["output_type"] == "stream")
+    assert "failed at line" in note, note
+
+
+# ---------------------------------------------------------------- the codec, without kernels
+def test_codec_round_trip_and_refusals():
+    import numpy as np
+    import sympy as sp
+
+    from grading_bridge import codec
+
+    t = sp.symbols("t", real=True)
+    value = {"a": np.arange(6.0).reshape(2, 3), "b": (1, 2.5, None, "x", True), "c": [np.float64(2.0)],
+             "e": sp.Rational(1, 2) * t**2 + sp.sqrt(3) * sp.cos(t), "p": sp.Poly(t**3 - 1, t),
+             "f": float("nan"), "z": 1 + 2j}
+    back = codec.decode(json.loads(json.dumps(codec.encode(value))))
+    assert np.array_equal(back["a"], value["a"]) and back["a"].dtype == np.float64
+    assert back["b"] == value["b"] and back["c"][0] == 2.0 and back["z"] == 1 + 2j
+    assert sp.simplify(back["e"] - value["e"]) == 0 and back["p"].degree() == 3 and np.isnan(back["f"])
+    from robokin.models.three_rpr import three_rpr_classic
+
+    from robokin.motion.trajectories import Trajectory
+
+    path = Trajectory(np.zeros((2, 3)), np.ones((2, 3)), np.zeros((2, 3)))
+    back = codec.decode(json.loads(json.dumps(codec.encode([path, np.array([["ok", "failed"]])]))))
+    assert isinstance(back[0], Trajectory) and np.array_equal(back[0][1], path[1])
+    assert back[1].tolist() == [["ok", "failed"]]
+    robot = codec.decode(json.loads(json.dumps(codec.encode(three_rpr_classic()))))
+    assert np.allclose(robot.base_anchors, three_rpr_classic().base_anchors)
+    # untrusted input: no code, no foreign classes, caps
+    for bad in ({"$sympy": "__import__('os').system('true')"}, {"$sympy": "Symbol('x').__class__"},
+                {"$robokin": ["os", "system", {}]}, {"$ndarray": ["object", [1], ""]},
+                {"$ndarray": ["float64", [10**9], ""]}, {"$sympy": "Pow(Integer(2), Integer(10000000))"},
+                {"$poly": ["Symbol('x')", ["Integer(1)"]]}, {"$what": 1}, 10**50):
+        with pytest.raises(codec.BridgeError):
+            codec.decode(bad)
+    deep = []
+    for _ in range(100):
+        deep = [deep]
+    with pytest.raises(codec.BridgeError):
+        codec.decode(deep)
+    # a function crosses as a handle with its signature (robokin.check reads it to call the answer)
+    import inspect
+
+    registry: dict = {}
+
+    def ik(x, y, phi=0.0):
+        return x
+
+    class Proxy:
+        def __call__(self, *args):
+            return None
+
+    proxy = codec.decode(json.loads(json.dumps(codec.encode(ik, registry))), lambda handle, name: Proxy())
+    assert registry == {0: ik} and str(inspect.signature(proxy)) == "(x, y, phi=Ellipsis)"
+    with pytest.raises(codec.BridgeError):
+        codec.decode(codec.encode(ik, {}))   # no proxies where the grader expects data
+    opaque = codec.decode(codec.encode(object()))
+    assert isinstance(opaque, codec.Untransferable)
+    with pytest.raises(codec.BridgeError, match="not plain data"):
+        np.asarray(opaque) + 1
+
+
+def test_delegation_finder_on_code():
+    from grading_bridge import delegation
+
+    checks = {1: {"three_rpr.inverse_kinematics"}, 3: {"three_rpr.inverse_jacobian"}}
+    answers = [
+        (1, "ik = robot.inverse_kinematics\nrho0 = ik(POSE0)\n", ["ik", "rho0"]),
+        (3, "def helper(p):\n    return getattr(robot, 'jacobian')(p)\n\n"
+            "def inverse_jacobian(pose):\n    return helper(pose)\n", ["inverse_jacobian"]),
+    ]
+    found = {item["name"]: item for item in delegation.find(answers, checks)}
+    assert set(found) == {"ik", "inverse_jacobian"}
+    assert delegation.describe(found["ik"]) == (
+        "review by hand: `ik` returns robokin's `Planar3RPR.inverse_kinematics` (it is bound to it)")
+    assert found["inverse_jacobian"]["through"] == "helper"
+    solutions = [(1, "def ik(pose):\n    x, y, phi = pose\n    return np.hypot(x, y)\n", ["ik"])]
+    assert delegation.find(solutions, checks) == []
+
+
+def test_a_call_that_never_returns_is_stopped(graded):
+    """The test calling it fails after the time limit per call; the student's kernel is
+    interrupted, and the tests after it are graded as usual."""
+    scores = _scores(graded, "slow")
+    assert scores["task1_test1"] == 0 and scores["task2_test1"] == 1 and scores["task4_test1"] == 1, scores
+    nb = load(graded.course / "autograded" / "slow" / CHAPTER / f"{CHAPTER}.ipynb")
+    errors = [o for c in nb["cells"] if nbg(c).get("grade_id") == "task1_test1"
+              for o in c["outputs"] if o["output_type"] == "error"]
+    assert errors and f"took longer than {CALL_TIMEOUT} s" in errors[0]["evalue"], errors

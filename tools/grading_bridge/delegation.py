@@ -1,0 +1,140 @@
+"""Answers that hand back robokin's own solution of the task (found in the answer cells' code).
+
+An answer that calls -- or simply is -- the robokin function that solves its task
+(``ik = robot.inverse_kinematics``) passes every test, since the tests compare with
+that very function. Such an answer is flagged for review by hand; its score stands
+as tested (the instructor decides).
+
+:data:`REFERENCES` lists, per ``robokin.check`` check, the robokin methods that
+solve the task it checks. A task's reference list is that of the checks its test
+cells explain (``metadata.robokin.explain``). A declared name of an answer cell of
+the task is flagged when its definition -- or a helper it uses that the answer
+cells define and do not declare -- mentions one of those methods (an attribute,
+a name, or a string as in ``getattr(robot, "inverse_kinematics")``).
+"""
+
+from __future__ import annotations
+
+import ast
+from collections.abc import Iterable
+
+#: check -> {robokin method or function name: how the report names it}
+REFERENCES: dict[str, dict[str, str]] = {
+    "three_rpr.inverse_kinematics": {"inverse_kinematics": "Planar3RPR.inverse_kinematics"},
+    "three_rpr.forward_kinematics": {"forward_kinematics": "Planar3RPR.forward_kinematics",
+                                     "orientation_polynomial": "Planar3RPR.orientation_polynomial"},
+    "three_rpr.inverse_jacobian": {"jacobian": "Planar3RPR.jacobian",
+                                   "direct_jacobian": "Planar3RPR.direct_jacobian"},
+}
+
+
+def _mentions(node: ast.AST) -> set[str]:
+    out: set[str] = set()
+    for sub in ast.walk(node):
+        if isinstance(sub, ast.Attribute):
+            out.add(sub.attr)
+        elif isinstance(sub, ast.Name):
+            out.add(sub.id)
+        elif isinstance(sub, ast.alias):
+            out.add(sub.name.rsplit(".", 1)[-1])
+            if sub.asname:
+                out.add(sub.asname)
+        elif isinstance(sub, ast.Constant) and isinstance(sub.value, str) and len(sub.value) < 80:
+            out.add(sub.value)
+    return out
+
+
+def _definitions(code: str) -> dict[str, tuple[ast.AST, bool]]:
+    """Top-level name -> (its defining statement, True when it is bound to an attribute or name)."""
+    try:
+        tree = ast.parse(code)
+    except (SyntaxError, ValueError, RecursionError, MemoryError):
+        return {}
+    out: dict[str, tuple[ast.AST, bool]] = {}
+    for stmt in tree.body:
+        if isinstance(stmt, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
+            out[stmt.name] = (stmt, False)
+        elif isinstance(stmt, (ast.Assign, ast.AnnAssign, ast.AugAssign)):
+            targets = stmt.targets if isinstance(stmt, ast.Assign) else [stmt.target]
+            value = stmt.value
+            bound = isinstance(value, (ast.Attribute, ast.Name)) or (
+                isinstance(value, ast.Call) and isinstance(value.func, ast.Name)
+                and value.func.id == "partial")
+            for target in targets:
+                for sub in ast.walk(target):
+                    if isinstance(sub, ast.Name):
+                        previous = out.get(sub.id)
+                        # a name assigned twice: both statements count
+                        node = stmt if previous is None else ast.Module(body=[previous[0], stmt], type_ignores=[])
+                        out[sub.id] = (node, bound)
+        elif isinstance(stmt, (ast.Import, ast.ImportFrom)):
+            for alias in stmt.names:
+                out[(alias.asname or alias.name).split(".")[0]] = (stmt, True)
+    return out
+
+
+def find(answers: Iterable[tuple[int | None, str, list[str]]],
+         task_checks: dict[int | None, set[str]]) -> list[dict]:
+    """Delegating answers.
+
+    Parameters
+    ----------
+    answers : iterable of (task, code, declared names)
+        The answer cells of the submission, in order.
+    task_checks : dict
+        Task -> the checks its test cells explain.
+
+    Returns
+    -------
+    list of dict
+        ``{"task", "name", "reference", "how", "through"}`` per flagged name.
+    """
+    cells = list(answers)
+    defined: dict[str, tuple[ast.AST, bool]] = {}
+    for _, code, _ in cells:
+        defined.update(_definitions(code))
+    declared = {name for _, _, names in cells for name in names}
+    found: list[dict] = []
+    seen: set[str] = set()
+    for task, code, names in cells:
+        references: dict[str, str] = {}
+        for check in task_checks.get(task, set()):
+            references.update(REFERENCES.get(check, {}))
+        if not references:
+            continue
+        local = _definitions(code)
+        for name in names:
+            if name in seen or name not in local:
+                continue
+            node, bound = local[name]
+            direct = _mentions(node) & set(references)
+            through = None
+            if not direct:   # helpers the answers define and do not declare
+                stack, visited = [n for n in _mentions(node) if n in defined and n not in declared], set()
+                while stack and not direct:
+                    helper = stack.pop()
+                    if helper in visited or helper == name:
+                        continue
+                    visited.add(helper)
+                    mentions = _mentions(defined[helper][0])
+                    hit = mentions & set(references)
+                    if hit:
+                        direct, through = hit, helper
+                    stack += [n for n in mentions if n in defined and n not in declared]
+            if direct:
+                seen.add(name)
+                attr = sorted(direct)[0]
+                found.append({"task": task, "name": name, "reference": references[attr],
+                              "how": "is" if bound and through is None else "calls", "through": through})
+    return found
+
+
+def describe(item: dict) -> str:
+    """The report's line for one flagged answer."""
+    if item["how"] == "is":
+        text = f"`{item['name']}` returns robokin's `{item['reference']}` (it is bound to it)"
+    else:
+        text = f"`{item['name']}` calls robokin's `{item['reference']}`"
+        if item.get("through"):
+            text += f" (through `{item['through']}`)"
+    return f"review by hand: {text}"
