@@ -84,10 +84,11 @@ MUTATIONS = {
             "          for key, s in stats3.items()}",
         ),
         (
-            "own gradient as the objective (gain 1): the null-space runs stall",
-            "METHODS3 = {**METHODS3, 'null space': dict(method='nullspace', objective=joint_limit_gradient)}\n"
-            "runs = {(t, m): solve_ik(cell, TARGETS[t], q0=Q0, max_step=MAX_STEP, restarts=0, polish=False,\n"
-            "                         tol=1e-9, **METHODS3[m]) for t in TARGETS for m in METHODS3}\n"
+            "own gradient as the objective with the gain k = 1: the null-space runs stall",
+            "METHODS3 = {**METHODS3, 'null space': dict(method='nullspace', objective=joint_limit_gradient,\n"
+            "                                           gain=1.0)}\n"
+            "runs = {(t, m): solve_ik_once(cell, TARGETS[t], q0=Q0, max_step=MAX_STEP,\n"
+            "                              tol=1e-9, **METHODS3[m]) for t in TARGETS for m in METHODS3}\n"
             "stats3 = {key: summary(res) for key, res in runs.items()}",
         ),
     ],
@@ -129,9 +130,9 @@ MUTATIONS = {
             "for name, j in CROSS_JOINT.items():\n"
             "    delta = 0.05 * np.eye(6)[j]\n"
             "    for m, opts in CROSS_METHODS.items():\n"
-            "        crossing[name, m] = solve_ik(robot, robot.fk(SINGULAR[name] + delta),\n"
-            "                                     q0=SINGULAR[name] - delta, restarts=0, polish=False,\n"
-            "                                     tol=1e-9, max_iterations=300, **opts)",
+            "        crossing[name, m] = solve_ik_once(robot, robot.fk(SINGULAR[name] + delta),\n"
+            "                                          q0=SINGULAR[name] - delta,\n"
+            "                                          tol=1e-9, max_iterations=300, **opts)",
         ),
     ],
     "task6_test3": [
