@@ -157,7 +157,8 @@ def encode(value, registry=None, depth=0):
             return {"$module": name[:200]}
     if isinstance(value, warnings.WarningMessage):
         category = value.category
-        return {"$warning": [str(getattr(category, "__module__", ""))[:200], str(getattr(category, "__qualname__", ""))[:200],
+        return {"$warning": [str(getattr(category, "__module__", ""))[:200],
+                             str(getattr(category, "__qualname__", ""))[:200],
                              str(value.message)[:2000], str(value.filename)[:500], int(value.lineno or 0)]}
     module = getattr(type(value), "__module__", "") or ""
     if module.startswith("robokin.") or module == "robokin":
@@ -195,7 +196,8 @@ def signature_of(parameters):
         return None
     try:
         return inspect.Signature([
-            inspect.Parameter(name, inspect._ParameterKind(kind), default=... if has_default else inspect.Parameter.empty)
+            inspect.Parameter(name, inspect._ParameterKind(kind),
+                              default=... if has_default else inspect.Parameter.empty)
             for name, kind, has_default in parameters
             if isinstance(name, str) and name.isidentifier() and isinstance(kind, int) and isinstance(has_default, bool)
         ])
@@ -427,7 +429,7 @@ def _decode_robokin(body, make_callable, depth):
     values = {name: decode(value, None, depth + 1) for name, value in fields.items()}
     try:
         return cls(**values)
-    except Exception as exc:  # noqa: BLE001 - the constructor's own validation
+    except Exception as exc:
         raise BridgeError(f"{class_name} could not be rebuilt: {type(exc).__name__}: {exc}") from exc
 
 
@@ -533,7 +535,7 @@ def _sympy_node(node, sympy, budget, depth):
         name = "MutableDenseMatrix"
     try:
         return getattr(sympy, name)(*args, **keywords)
-    except Exception as exc:  # noqa: BLE001 - sympy refuses malformed arguments
+    except Exception as exc:
         raise BridgeError(f"a sympy {name} that cannot be built: {type(exc).__name__}") from exc
 
 
