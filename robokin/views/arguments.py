@@ -25,7 +25,7 @@ from typing import Any
 import numpy as np
 
 from robokin.errors import DomainError, ShapeError, ViewWarning
-from robokin.validation import as_float_array, check_chain, check_positive, check_transform
+from robokin.validation import check_int, as_float_array, check_chain, check_positive, check_transform
 
 __all__ = [
     "MAX_ANIMATION_STEPS",
@@ -419,11 +419,7 @@ def as_height(height: Any, name: str = "height") -> int:
     DomainError
         Outside [100, 4000].
     """
-    if isinstance(height, bool) or not isinstance(height, (int, np.integer)):
-        raise TypeError(f"{name} must be an int (pixels); got {_describe(height)}")
-    if not 100 <= int(height) <= 4000:
-        raise DomainError(f"{name} must be between 100 and 4000 pixels; got {int(height)}")
-    return int(height)
+    return check_int(height, name, 100, 4000)
 
 
 def as_color(color: Any, name: str = "color") -> int:
@@ -447,11 +443,7 @@ def as_color(color: Any, name: str = "color") -> int:
     DomainError
         Outside [0, 0xFFFFFF].
     """
-    if isinstance(color, bool) or not isinstance(color, (int, np.integer)):
-        raise TypeError(f"{name} must be an int 0xRRGGBB; got {_describe(color)}")
-    if not 0 <= int(color) <= 0xFFFFFF:
-        raise DomainError(f"{name} must be in [0, 0xFFFFFF]; got {int(color):#x}")
-    return int(color)
+    return check_int(color, name, 0, 0xFFFFFF)
 
 
 def as_opacity(opacity: Any, name: str = "opacity") -> float:
