@@ -162,7 +162,7 @@ class SerialChain:
         joints = [el for el in elements if el.is_joint]
         if not joints:
             raise ValueError("elements must contain at least one joint element")
-        names = [el.joint for el in joints]
+        names = [el.joint for el in joints if el.joint is not None]
         dup = sorted(name for name, count in Counter(names).items() if count > 1)
         if dup:
             raise ValueError(f"joint names must be unique; repeated: {dup}")
@@ -238,7 +238,7 @@ class SerialChain:
     @property
     def joint_names(self) -> list[str]:
         """Joint names, in order from base to tool."""
-        return [el.joint for el in self._joints]
+        return [el.joint for el in self._joints if el.joint is not None]
 
     @property
     def joint_types(self) -> list[str]:

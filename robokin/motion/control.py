@@ -35,6 +35,7 @@ from typing import Any
 
 import numpy as np
 
+from robokin.chains.protocol import Chain
 from robokin.errors import DomainError, ShapeError
 from robokin.motion._kernels import generic_rank, pose_error_single
 from robokin.validation import (
@@ -179,7 +180,7 @@ class CartesianController:
 
     def __init__(
         self,
-        chain: Any,
+        chain: Chain,
         goal: Any,
         position_gain: Any = 1.0,
         orientation_gain: Any = 1.0,

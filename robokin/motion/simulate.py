@@ -23,6 +23,7 @@ from typing import Any
 
 import numpy as np
 
+from robokin.chains.protocol import Chain
 from robokin.errors import DomainError, ShapeError, SingularityWarning
 from robokin.motion.control import ControlOutput
 from robokin.validation import (
@@ -115,7 +116,7 @@ class SimulationLog:
 
 
 def simulate(
-    chain: Any,
+    chain: Chain,
     controller: Any,
     q0: Any,
     ts: float,

@@ -30,6 +30,7 @@ from typing import Any
 
 import numpy as np
 
+from robokin.chains.protocol import Chain
 from robokin.errors import DomainError, ShapeError, SingularityWarning
 from robokin.motion._kernels import generic_rank
 from robokin.motion.control import SINGULAR_THRESHOLD
@@ -193,7 +194,7 @@ def _per_run(a: np.ndarray, N: int, K: int, name: str) -> np.ndarray:
 
 
 def track_position_batch(
-    chain: Any,
+    chain: Chain,
     q0: Any,
     ts: float,
     positions: Any,

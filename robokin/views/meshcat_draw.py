@@ -35,10 +35,10 @@ from __future__ import annotations
 
 import hashlib
 import re
-from typing import Any
 
 import numpy as np
 
+from robokin.chains.protocol import DrawableChain
 from robokin.views import optional
 from robokin.views.geometry import (
     chain_frames,
@@ -258,7 +258,7 @@ def _segment_pose(a, b):
     return _pose(_rot_y_to(d / L), (a + b) / 2, scale=(1.0, L, 1.0))
 
 
-def chain_transforms(name: str, chain: Any, q: np.ndarray, layout: dict | None = None
+def chain_transforms(name: str, chain: DrawableChain, q: np.ndarray, layout: dict | None = None
                      ) -> list[tuple[str, np.ndarray]]:
     """The pose of every moving node of chain item ``name`` at ``q``.
 

@@ -12,10 +12,10 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
+from robokin.chains.protocol import DrawableChain
 from robokin.errors import DomainError, ShapeError
 from robokin.models.urdf import ROBOT_DESCRIPTIONS, from_urdf, robot_description
 from robokin.models.urdf_meshes import DEFAULT_MESH_BYTES, RobotMeshes, VisualMesh, visual_meshes
@@ -35,7 +35,7 @@ def _sample_qs(chain):
     return [np.clip(np.zeros(n), lo, hi)] + [lo + (hi - lo) * rng.random(n) for _ in range(3)]
 
 
-def robot_meshes(urdf: str | os.PathLike, chain: Any, *, base_link: str | None = None,
+def robot_meshes(urdf: str | os.PathLike, chain: DrawableChain, *, base_link: str | None = None,
                  tip_link: str | None = None, max_bytes: int | None = None) -> RobotMeshes:
     """The visual meshes of a robot, frame by frame in the frames of ``chain``.
 

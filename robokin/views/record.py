@@ -14,6 +14,8 @@ from typing import Any
 
 import numpy as np
 
+from robokin.chains.protocol import DrawableChain
+
 __all__ = ["DEFAULT_HEIGHT", "AnimationItem", "ChainItem", "Item", "PathItem", "PointsItem", "SceneOptions",
            "SceneRecord", "TargetItem"]
 
@@ -48,7 +50,7 @@ class ChainItem:
     """
 
     name: str
-    chain: Any
+    chain: DrawableChain
     q: np.ndarray
     color: int | None = None
     opacity: float = 1.0

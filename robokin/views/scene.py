@@ -20,6 +20,7 @@ from typing import Any
 
 import numpy as np
 
+from robokin.chains.protocol import DrawableChain
 from robokin.errors import DomainError, ShapeError
 from robokin.models.urdf import ROBOT_DESCRIPTIONS
 from robokin.views import arguments
@@ -147,7 +148,7 @@ class Scene(SceneRecord):
         return name
 
     # ---- adding things
-    def add_chain(self, chain: Any, q: Any = None, *, name: str | None = None, color: Any = None,
+    def add_chain(self, chain: DrawableChain, q: Any = None, *, name: str | None = None, color: Any = None,
                   opacity: float = 1.0, frames: bool = False, labels: bool = True, style: str | None = None,
                   meshes: Any = None) -> str:
         """Draw ``chain`` at configuration ``q``.
@@ -217,7 +218,7 @@ class Scene(SceneRecord):
         self.items.append(item)
         return item.name
 
-    def add_ghost(self, chain: Any, q: Any, *, name: str | None = None, color: Any = 0xB0C4DE,
+    def add_ghost(self, chain: DrawableChain, q: Any, *, name: str | None = None, color: Any = 0xB0C4DE,
                   opacity: float = 0.3, style: str | None = None, meshes: Any = None) -> str:
         """A translucent copy of ``chain`` at ``q`` (e.g. another IK solution).
 
@@ -369,8 +370,8 @@ class Scene(SceneRecord):
         self.items.append(item)
         return item.name
 
-    def animate(self, chain: Any, trajectory: Any, dt: float = 0.05, *, times: Any = None, trace: bool = True,
-                name: str | None = None, trace_color: Any = 0xFFFF66, play: bool = True,
+    def animate(self, chain: DrawableChain | str, trajectory: Any, dt: float = 0.05, *, times: Any = None,
+                trace: bool = True, name: str | None = None, trace_color: Any = 0xFFFF66, play: bool = True,
                 loop: bool = False) -> str:
         """Animate a chain along ``trajectory``, one row every ``dt`` seconds.
 
@@ -605,7 +606,7 @@ class Scene(SceneRecord):
         return f"<robokin.views.Scene: {kinds or 'empty'}; {len(self.animations)} animation(s)>"
 
 
-def show(chain: Any = None, q: Any = None, *, targets: Sequence | np.ndarray = (), points: Any = None,
+def show(chain: DrawableChain | None = None, q: Any = None, *, targets: Sequence | np.ndarray = (), points: Any = None,
          path: Any = None, ghosts: Sequence | np.ndarray = (), trajectory: Any = None, dt: float = 0.05,
          frames: bool = False, mode: str | None = None, height: int | None = None, style: str | None = None,
          meshes: Any = None) -> None:

@@ -13,6 +13,7 @@ from typing import Any
 
 import numpy as np
 
+from robokin.chains.protocol import Chain
 from robokin.motion.ik.methods import IKMethod, make_method
 from robokin.motion.ik.problem import (
     IKContext,
@@ -90,7 +91,7 @@ class IKSettings:
 
 
 def parse_settings(
-    chain: Any,
+    chain: Chain,
     target: Any,
     q0: Any,
     method: str | IKMethod,

@@ -16,6 +16,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from robokin.chains.protocol import Chain
 from robokin.motion._kernels import pose_error_single, random_within_limits
 from robokin.motion.ik.methods import IKMethod, StepResult
 from robokin.motion.ik.polish import POLISH_REASONS, polish
@@ -251,7 +252,7 @@ def _solve(settings: IKSettings, T_goal: np.ndarray, q_start: np.ndarray, record
 
 
 def solve_ik(
-    chain: Any,
+    chain: Chain,
     target: Any,
     q0: Any = None,
     method: str | IKMethod = "lm",
@@ -414,7 +415,7 @@ def solve_ik(
 
 
 def solve_ik_once(
-    chain: Any,
+    chain: Chain,
     target: Any,
     q0: Any = None,
     method: str | IKMethod = "lm",
