@@ -351,7 +351,7 @@ def _lengths(l1: Any, l2: Any, l3: Any) -> tuple[float, float, float]:
     total = out[0] + out[1] + out[2]
     if not math.isfinite(total * total):  # the law of cosines squares the lengths
         raise DomainError(f"l1, l2, l3 are too large: their squares overflow float64 (got {out})")
-    return out  # type: ignore[return-value]
+    return out
 
 
 def ar601_leg_ik_batch(

@@ -261,7 +261,7 @@ class CartesianController:
         return self._goal_at(t)
 
     def _goal_at(self, t: float) -> np.ndarray:
-        if self._goal_fn is None:
+        if self._goal is not None:  # a constant goal (None for a function of t)
             return self._goal
         return self._call_goal(t, (3,) if self.position_only else (4, 4))
 

@@ -458,7 +458,7 @@ def plot_scene(scene: SceneRecord, ax: Any = None, *, frames: bool | None = None
             ax.plot(it.points[:, 0], it.points[:, 1], it.points[:, 2], "-", color="0.3", lw=1.2)
             pts.append(it.points)
     for anim in scene.animations:
-        item = scene.item(anim.chain_name)
+        item = scene.chain_item(anim.chain_name)
         if anim.trace:
             F = np.asarray([item.chain.frames(q)[-1] for q in anim.trajectory])
             ax.plot(F[:, 0, 3], F[:, 1, 3], F[:, 2, 3], "--", color="0.4", lw=1)

@@ -249,7 +249,7 @@ class Scene(SceneRecord):
         """
         name = self.add_chain(chain, q, name=self._name(name, "ghost"), color=color, opacity=opacity,
                               style=style, meshes=meshes)
-        self.items[-1].ghost = True
+        self.chain_item(name).ghost = True
         return name
 
     def add_target(self, T: Any, *, name: str | None = None, size: float | None = None,
@@ -433,8 +433,7 @@ class Scene(SceneRecord):
             if existing:
                 item = existing[0]
             else:
-                self.add_chain(chain, Q[0], name=name)
-                item = self.items[-1]
+                item = self.chain_item(self.add_chain(chain, Q[0], name=name))
         Q = as_trajectory(item.chain, trajectory)
         if times is None:
             t = np.arange(Q.shape[0]) * as_time_step(dt)
@@ -473,7 +472,7 @@ class Scene(SceneRecord):
         ShapeError
             ``q`` does not have n entries.
         """
-        item = self.item(name)
+        item = self.chain_item(name)
         item.q = as_configuration(item.chain, q)
         if self._live is not None:
             self._live.send_transforms(chain_transforms(item.name, item.chain, item.q))

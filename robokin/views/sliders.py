@@ -98,7 +98,7 @@ class JointSliders:
         self._revolute = np.array([t == "revolute" for t in chain.joint_types])
         self.widget = None
         self.readout = None
-        self.sliders = []
+        self.sliders: list[Any] = []  # ipywidgets.FloatSlider, one per joint
 
     def _to_slider(self, q):
         return np.where(self._revolute, np.rad2deg(q), q)
@@ -155,7 +155,7 @@ class JointSliders:
             The new readout (:func:`pose_readout` of the end-effector).
         """
         self.q = np.asarray(q, dtype=float)
-        item = self.scene.item(self.name)
+        item = self.scene.chain_item(self.name)
         item.q = self.q
         transforms = chain_transforms(self.name, self.chain, self.q, self._layout())
         if self._viewer is not None:

@@ -164,6 +164,7 @@ def run_attempt(
         converged = position_error <= tol_p and orientation_error <= tol_o
         J = ctx.jacobian(q, T_flange) if history is not None or not converged else None
         if history is not None:
+            assert J is not None  # computed whenever a history is kept
             history.add_point(q, e, J, attempt)
         norm = math.sqrt(position_error * position_error + orientation_error * orientation_error)
         if norm < best_norm or converged:
@@ -174,6 +175,7 @@ def run_attempt(
         if k >= max_iterations:
             reason = "max_iterations"
             break
+        assert J is not None  # computed whenever not converged
         J_task, e_task = (J, e) if rows is None else (J[rows], e[rows])
         if watch.stalled(k, best_norm):
             code = classify_stall(J_task, e_task, q, ctx.lower, ctx.upper, settings.gradient_tolerance)
