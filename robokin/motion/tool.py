@@ -165,7 +165,7 @@ def tool_jacobian(J_ee: Any, R_be: Any, p_et: Any) -> np.ndarray:
     return check_result_finite(out, "the tool Jacobian", J_ee=J, p_et=p)
 
 
-def chain_with_tool(chain: Chain, T_et: Any, *, name: str | None = None) -> Any:
+def chain_with_tool(chain: Chain, T_et: Any, *, name: str | None = None) -> Chain:
     r"""The same robot with its end-effector moved to a tool frame.
 
     Parameters

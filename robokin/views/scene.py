@@ -23,6 +23,7 @@ import numpy as np
 from robokin.chains.protocol import DrawableChain
 from robokin.errors import DomainError, ShapeError
 from robokin.models.urdf import ROBOT_DESCRIPTIONS
+from robokin.models.urdf_meshes import RobotMeshes
 from robokin.views import arguments
 from robokin.views.arguments import (
     as_color,
@@ -150,7 +151,7 @@ class Scene(SceneRecord):
     # ---- adding things
     def add_chain(self, chain: DrawableChain, q: Any = None, *, name: str | None = None, color: Any = None,
                   opacity: float = 1.0, frames: bool = False, labels: bool = True, style: str | None = None,
-                  meshes: Any = None) -> str:
+                  meshes: str | PathLike | RobotMeshes | None = None) -> str:
         """Draw ``chain`` at configuration ``q``.
 
         ``style`` is ``"stick"`` (the default: cylinders between the frame
@@ -219,7 +220,8 @@ class Scene(SceneRecord):
         return item.name
 
     def add_ghost(self, chain: DrawableChain, q: Any, *, name: str | None = None, color: Any = 0xB0C4DE,
-                  opacity: float = 0.3, style: str | None = None, meshes: Any = None) -> str:
+                  opacity: float = 0.3, style: str | None = None,
+                  meshes: str | PathLike | RobotMeshes | None = None) -> str:
         """A translucent copy of ``chain`` at ``q`` (e.g. another IK solution).
 
         Parameters
@@ -608,7 +610,7 @@ class Scene(SceneRecord):
 def show(chain: DrawableChain | None = None, q: Any = None, *, targets: Sequence | np.ndarray = (), points: Any = None,
          path: Any = None, ghosts: Sequence | np.ndarray = (), trajectory: Any = None, dt: float = 0.05,
          frames: bool = False, mode: str | None = None, height: int | None = None, style: str | None = None,
-         meshes: Any = None) -> None:
+         meshes: str | PathLike | RobotMeshes | None = None) -> None:
     """Show a chain (and friends) in one call; returns None.
 
     ``style``/``meshes`` draw the chain with its real meshes, e.g.
