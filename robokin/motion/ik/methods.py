@@ -98,7 +98,7 @@ class StepResult(NamedTuple):
     """
 
     step: np.ndarray
-    damping: Any
+    damping: float | np.ndarray
 
 
 def _mask(ctx: IKContext | None) -> np.ndarray:

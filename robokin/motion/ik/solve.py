@@ -81,7 +81,7 @@ class HistoryRecorder:
         self.jacobian.append(J)
         self.attempt.append(attempt)
 
-    def add_step(self, damping: Any, q: np.ndarray, q_new: np.ndarray) -> None:
+    def add_step(self, damping: float | np.ndarray, q: np.ndarray, q_new: np.ndarray) -> None:
         """The step taken from the last point: its damping and its length ``||q_new - q||``."""
         self.damping.append(float(np.asarray(damping)))
         d = q_new - q
