@@ -2,8 +2,10 @@
 
 Run:  python benchmarks/bench_core.py [--quick]
 
-Targets (UR10 unless noted):
-  single FK <= 8 us, single geometric Jacobian <= 15 us,
+Single-configuration calls are timed in CPU time of this process and divided by the
+yardstick of ``yardstick.py`` (a naive NumPy DH forward kinematics, timed in the same
+run). Targets (UR10 unless noted):
+  single FK <= 0.3 yardstick, single geometric Jacobian <= 0.5 yardstick,
   batched FK <= 0.3 us/config and batched Jacobian <= 1 us/config at N = 100,000,
   symbolic FK + Jacobian of the 7-DOF Baxter derived and simplified <= 20 s.
 """
@@ -15,6 +17,8 @@ import time
 import timeit
 
 import numpy as np
+
+from yardstick import cpu_per_call, yardstick_seconds
 
 from robokin.models import baxter_left, eth_leg, ur10
 
@@ -29,11 +33,17 @@ def main(quick: bool = False) -> list[tuple[str, float, str, float]]:
     robot = ur10()
     q = robot.random_configurations(1, seed=0)[0]
     n_single = 2000 if quick else 20000
-    rows.append(("UR10 fk single", per_call(lambda: robot.fk(q), n_single) * 1e6, "us", 8.0))
-    rows.append(("UR10 fk single check=False",
-                 per_call(lambda: robot.fk(q, check=False), n_single) * 1e6, "us", 8.0))
-    rows.append(("UR10 jacobian single", per_call(lambda: robot.jacobian(q), n_single) * 1e6, "us", 15.0))
-    rows.append(("UR10 frames single", per_call(lambda: robot.frames(q), n_single) * 1e6, "us", float("nan")))
+    yard = yardstick_seconds()
+    rows.append(("yardstick: naive NumPy DH fk (UR10)", yard * 1e6, "us", float("nan")))
+    singles = {
+        "UR10 fk single": (lambda: robot.fk(q), 0.3),
+        "UR10 fk single check=False": (lambda: robot.fk(q, check=False), 0.3),
+        "UR10 jacobian single": (lambda: robot.jacobian(q), 0.5),
+        "UR10 fk_and_jacobian single": (lambda: robot.fk_and_jacobian(q), 0.5),
+        "UR10 frames single": (lambda: robot.frames(q), float("nan")),
+    }
+    for name, (fn, target) in singles.items():
+        rows.append((name, cpu_per_call(fn, n_single) / yard, "yardsticks", target))
     N = 10_000 if quick else 100_000
     Q = robot.random_configurations(N, seed=1)
     rows.append((f"UR10 fk batch N={N}", per_call(lambda: robot.fk(Q), 1, 9) / N * 1e6, "us/config", 0.3))
@@ -46,13 +56,13 @@ def main(quick: bool = False) -> list[tuple[str, float, str, float]]:
                  float("nan")))
     leg = eth_leg()
     ql = leg.random_configurations(1, seed=0)[0]
-    rows.append(("ETH leg jacobian single", per_call(lambda: leg.jacobian(ql), n_single) * 1e6, "us",
+    rows.append(("ETH leg jacobian single", cpu_per_call(lambda: leg.jacobian(ql), n_single) / yard, "yardsticks",
                  float("nan")))
     bax = baxter_left()
     qb = bax.random_configurations(1, seed=0)[0]
-    rows.append(("Baxter fk single", per_call(lambda: bax.fk(qb), n_single) * 1e6, "us", float("nan")))
-    rows.append(("Baxter jacobian single", per_call(lambda: bax.jacobian(qb), n_single) * 1e6, "us",
-                 float("nan")))
+    rows.append(("Baxter fk single", cpu_per_call(lambda: bax.fk(qb), n_single) / yard, "yardsticks", 0.3))
+    rows.append(("Baxter jacobian single", cpu_per_call(lambda: bax.jacobian(qb), n_single) / yard, "yardsticks",
+                 0.5))
     t0 = time.perf_counter()
     fresh = baxter_left()
     s = fresh.symbols()

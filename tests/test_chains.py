@@ -297,6 +297,20 @@ def test_frames_contract(mixed):
             np.testing.assert_allclose(moved, 0.37 * (F[i][:3, :3] @ a), atol=1e-12)
 
 
+def test_fk_and_jacobian_is_one_pass_of_fk_and_jacobian(mixed, leg):
+    for q in np.random.default_rng(3).uniform(-2, 2, (20, mixed.n)):
+        T, J = mixed.fk_and_jacobian(q)
+        np.testing.assert_allclose(T, mixed.fk(q), atol=1e-14)
+        np.testing.assert_array_equal(T, mixed.frames(q)[-1])  # the same running products
+        np.testing.assert_array_equal(J, mixed.jacobian(q))
+    with pytest.raises(ShapeError, match=r"q must have shape \(3,\)"):
+        leg.fk_and_jacobian(np.zeros((2, 3)))
+    with pytest.raises(ShapeError, match="symbols"):
+        leg.fk_and_jacobian(sp.symbols("a b c"))
+    with pytest.raises(DomainError, match="q"):
+        leg.fk_and_jacobian([0.0, np.nan, 0.0])
+
+
 def test_frames_batch_shape(leg):
     Q = np.zeros((5, 3))
     assert leg.frames(Q).shape == (5, 5, 4, 4)

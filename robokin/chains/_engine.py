@@ -99,27 +99,23 @@ class Engine:
         self.offset = np.array(offsets, dtype=float)
         self.trivial_map = bool(np.all(self.sign == 1.0) and np.all(self.offset == 0.0))
         self.E = self.consts[-1]
-        # Single-configuration blocks A_i = C_{i-1} J_i = u P + w Q + R, stacked (n, 3, 16)
-        K = np.zeros((n, 3, 16))
-        for i in range(n):
-            P, Q, R = joint_pqr(int(axes[i]), bool(revolute[i]))
-            C = self.consts[i]
-            K[i, 0] = (C @ P).ravel()
-            K[i, 1] = (C @ Q).ravel()
-            K[i, 2] = (C @ R).ravel()
-        self.K_frames = K
-        # frames variant with one extra constant block E (coefficients [0, 0, 1]) so that a
-        # single prefix scan yields the joint frames and the end-effector
-        Kx = np.zeros((n + 1, 3, 16))
-        Kx[:n] = K
-        Kx[n, 2] = self.E.ravel()
-        self.K_ext = Kx
-        self._cs_template = np.zeros((n + 1, 1, 3))
-        self._cs_template[:, 0, 2] = 1.0
-        Kfk = K.copy()
-        for r in range(3):  # fold E = C_n T_tool into the last block for fk
-            Kfk[n - 1, r] = (K[n - 1, r].reshape(4, 4) @ self.E).ravel()
-        self.K_fk = Kfk
+        # Single configuration: the joint blocks A_i = C_{i-1} J_i = u_i P_i + w_i Q_i + R_i of all
+        # joints come out of ONE product  [u_1..u_n, w_1..w_n, 1] · M  (M: (2n + 1, 16 n), each
+        # block's 16 entries in its own columns), because a Python-level call costs more than the
+        # arithmetic of a 4×4 block.  M_fk folds E = C_n T_tool into the last block (for fk);
+        # M_frames appends E as an extra constant block (for the frames and the Jacobian).
+        blocks = [[(self.consts[i] @ M).ravel() for M in joint_pqr(int(axes[i]), bool(revolute[i]))]
+                  for i in range(n)]
+        self.M_frames = np.zeros((2 * n + 1, 16 * (n + 1)))
+        for i, (P, Q, R) in enumerate(blocks):
+            self.M_frames[i, 16 * i : 16 * i + 16] = P
+            self.M_frames[n + i, 16 * i : 16 * i + 16] = Q
+            self.M_frames[2 * n, 16 * i : 16 * i + 16] = R
+        self.M_frames[2 * n, 16 * n :] = self.E.ravel()
+        self.M_fk = self.M_frames[:, : 16 * n].copy()
+        last = slice(16 * (n - 1), 16 * n)
+        for row in (n - 1, 2 * n - 1, 2 * n):  # the last block's u, w and constant parts, times E
+            self.M_fk[row, last] = (self.M_fk[row, last].reshape(4, 4) @ self.E).ravel()
         # Joint axis in base frame = sign * column axes[i] of the joint frame
         self.same_axis = bool(np.all(self.axes == self.axes[0]) and np.all(self.sign == 1.0))
         self._ar = np.arange(n)
@@ -127,35 +123,35 @@ class Engine:
         self.consts_T = [np.ascontiguousarray(C.T) for C in self.consts]
 
     # ------------------------------------------------------------------ single
-    def _coeffs(self, q: np.ndarray) -> np.ndarray:
-        """(n, 1, 3) rows ``[u, w, 1]``: ``[cos θ, sin θ, 1]`` or ``[d, 0, 1]``."""
+    def _coefficients(self, q: np.ndarray) -> np.ndarray:
+        """(2n + 1,) ``[u_1..u_n, w_1..w_n, 1]``: ``(cos θ, sin θ)`` or ``(d, 0)`` per joint."""
+        n = self.n
         th = q if self.trivial_map else q * self.sign + self.offset
-        cs = np.empty((self.n, 1, 3))
-        np.cos(th, out=cs[:, 0, 0])
-        np.sin(th, out=cs[:, 0, 1])
-        cs[:, 0, 2] = 1.0
+        v = np.empty(2 * n + 1)
+        np.cos(th, out=v[:n])
+        np.sin(th, out=v[n : 2 * n])
+        v[2 * n] = 1.0
         if not self.all_revolute:
             p = self.prismatic_idx
-            cs[p, 0, 0] = th[p]
-            cs[p, 0, 1] = 0.0
-        return cs
+            v[p] = th[p]
+            v[n + p] = 0.0
+        return v
 
     def fk_single(self, q: np.ndarray) -> np.ndarray:
-        A = (self._coeffs(q) @ self.K_fk).reshape(self.n, 4, 4)
+        """(4, 4) end-effector pose: the product ``A_1 A_2 ... A_n`` of the joint blocks."""
         n = self.n
+        A = self._coefficients(q).dot(self.M_fk).reshape(n, 4, 4)
         if n == 1:
-            return A[0].copy()
-        if n >= 4:
-            B = A[0 : n - 1 : 2] @ A[1:n:2]
-            T = B[0]
-            for i in range(1, len(B)):
-                T = T @ B[i]
-            if n % 2:
-                T = T @ A[n - 1]
-            return T
+            return A[0]
+        if n >= 4:  # neighbours in one stacked product, then in order: fewer calls
+            pairs = A[0 : n - 1 : 2] @ A[1:n:2]
+            T = pairs[0]
+            for i in range(1, len(pairs)):
+                T = T.dot(pairs[i])  # ndarray.dot: half the call cost of @ for one 4×4 product
+            return T.dot(A[n - 1]) if n % 2 else T
         T = A[0]
         for i in range(1, n):
-            T = T @ A[i]
+            T = T.dot(A[i])
         return T
 
     def frames_ext(self, q: np.ndarray) -> np.ndarray:
@@ -165,15 +161,7 @@ class Engine:
         (Hillis–Steele): ⌈log2(n + 1)⌉ stacked matmuls instead of n separate ones.
         """
         n = self.n
-        th = q if self.trivial_map else q * self.sign + self.offset
-        cs = self._cs_template.copy()  # rows [., ., 1]; last row [0, 0, 1] selects E
-        np.cos(th, out=cs[:n, 0, 0])
-        np.sin(th, out=cs[:n, 0, 1])
-        if not self.all_revolute:
-            p = self.prismatic_idx
-            cs[p, 0, 0] = th[p]
-            cs[p, 0, 1] = 0.0
-        F = (cs @ self.K_ext).reshape(n + 1, 4, 4)
+        F = self._coefficients(q).dot(self.M_frames).reshape(n + 1, 4, 4)
         d = 1
         while d <= n:
             F[d:] = F[:-d] @ F[d:]
@@ -199,10 +187,21 @@ class Engine:
 
     def jacobian_single(self, q: np.ndarray, upto: int | None = None, point=None) -> np.ndarray:
         """Geometric Jacobian (6, n); ``upto`` = frame index (n+1 = end-effector)."""
-        n = self.n
         if upto == 0:
-            return np.zeros((6, n))
-        Fx = self.frames_ext(q)
+            return np.zeros((6, self.n))
+        return self.jacobian_from_frames(self.frames_ext(q), upto, point)
+
+    def pose_and_jacobian_single(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """End-effector pose (4, 4) and Jacobian (6, n) from one pass over the chain."""
+        F = self.frames_ext(q)
+        return F[self.n], self.jacobian_from_frames(F)
+
+    def jacobian_from_frames(self, Fx: np.ndarray, upto: int | None = None, point=None) -> np.ndarray:
+        """Geometric Jacobian (6, n) from :meth:`frames_ext`'s frames (n + 1, 4, 4).
+
+        Column i is ``[z_i × (p − p_i); z_i]`` (revolute) or ``[z_i; 0]`` (prismatic).
+        """
+        n = self.n
         if upto is None or upto == n + 1:
             m, Tt = n, Fx[n]
         else:
@@ -211,7 +210,7 @@ class Engine:
         F = Fx[:n]
         z = self._axes_from(F)
         d = pt - F[:, :3, 3:4]  # (n, 3, 1)
-        Jv = ((z @ _EPS).reshape(n, 3, 3) @ d).reshape(n, 3)  # z_i × (p − p_i)
+        Jv = (z.dot(_EPS).reshape(n, 3, 3) @ d).reshape(n, 3)  # z_i × (p − p_i)
         J = np.concatenate((Jv.T, z.T))
         if not self.all_revolute:
             p = self.prismatic_idx

@@ -598,6 +598,38 @@ class SerialChain:
             return self._checked(out, "the Jacobian", **inputs)
         return jac(a, upto=k, point=pt)
 
+    def fk_and_jacobian(self, q: Any, *, check: bool = True) -> tuple[np.ndarray, np.ndarray]:
+        r"""End-effector pose and geometric Jacobian at one configuration, from one pass.
+
+        What an inverse-kinematics or control iteration needs: the same results
+        as ``(fk(q), jacobian(q))`` (equal to rounding: the pose comes from the
+        chain's running products, as :meth:`frames` computes it) for about the
+        cost of :meth:`jacobian` alone.
+
+        Parameters
+        ----------
+        q : array_like, shape (n,)
+            Joint configuration in rad / m.
+        check : bool, optional
+            Validate ``q``. ``False`` skips it in hot loops.
+
+        Returns
+        -------
+        T : numpy.ndarray, shape (4, 4)
+            :math:`{}^B\mathbf{T}_E(\mathbf{q})`.
+        J : numpy.ndarray, shape (6, n)
+            Rows ``[v; ω]`` (see :meth:`jacobian`).
+        """
+        kind, a = self._parse_q(q, check)
+        if kind != "single":
+            raise ShapeError(f"q must have shape ({self._n},) (one numeric configuration); "
+                             f"got {'symbols' if kind == 'sym' else f'shape {a.shape}'}")
+        if check and self._overflow_risk(a):
+            with np.errstate(all="ignore"):
+                T, J = self._engine.pose_and_jacobian_single(a)
+            return self._checked(T, "the forward kinematics", q=a), self._checked(J, "the Jacobian", q=a)
+        return self._engine.pose_and_jacobian_single(a)
+
     def position_jacobian(self, q: Any, frame: Frame | None = None, point: Any = None, *, check: bool = True) -> Any:
         r"""Linear-velocity rows of :meth:`jacobian`: :math:`\partial\mathbf{p}/\partial\mathbf{q}`,
         (3, n) or (N, 3, n)."""

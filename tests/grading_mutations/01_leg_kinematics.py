@@ -32,6 +32,7 @@ MUTATIONS = {
         ("distance measured from the hip instead of the beta joint", "gap = np.linalg.norm(r_far - HIP)"),
         ("damped run with a tolerance that calls it converged",
          "far_dls = solve_ik(leg, r_far, q0_ik, method='dls', damping=0.2, restarts=0, tol=0.2)"),
+        ("the damped run taken for the undamped one (no jumps)", "far_pinv = far_dls"),
     ],
     "task4_test5": [
         ("the damped run taken for the undamped one", "far_pinv = far_dls"),

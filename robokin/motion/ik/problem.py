@@ -62,6 +62,7 @@ class IKContext:
         self.full_mask = bool(np.all(self.mask))
         self.rows = np.flatnonzero(self.mask)
         self.p_tool = None if self.tool is None else self.tool[:3, 3].copy()
+        self._fk_and_jacobian = getattr(self.chain, "fk_and_jacobian", None)
 
     def project(self, q: np.ndarray) -> np.ndarray:
         """Bring a configuration (batch) back within the limits: wrap, shift by 2 pi, clamp."""
@@ -75,7 +76,7 @@ class IKContext:
 
     def touches_limit(self, q: np.ndarray) -> bool:
         """Does configuration ``q`` (n,) rest on one of its joint limits?"""
-        return bool(np.any((q <= self.lower) | (q >= self.upper)))
+        return bool(((q <= self.lower) | (q >= self.upper)).any())
 
     def advance(self, q: np.ndarray, dq: np.ndarray) -> tuple[np.ndarray, bool]:
         """``q + dq`` brought within the limits (:meth:`project`), and whether it rests on a limit.
@@ -102,6 +103,20 @@ class IKContext:
         if self.p_tool is not None:
             J = tool_jacobian(J, T_flange[..., :3, :3], self.p_tool)
         return J
+
+    def pose_and_jacobian(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Flange pose, tool pose (each (4, 4)) and tool Jacobian (6, n) of one configuration (n,).
+
+        One pass over the chain when it offers ``fk_and_jacobian`` (a
+        :class:`~robokin.chains.SerialChain` does); else :meth:`pose` and :meth:`jacobian`.
+        """
+        if self._fk_and_jacobian is None:
+            T_flange, T = self.pose(q)
+            return T_flange, T, self.jacobian(q, T_flange)
+        T_flange, J = self._fk_and_jacobian(q, check=False)
+        if self.tool is None or self.p_tool is None:  # both None or neither (__post_init__)
+            return T_flange, T_flange, J
+        return T_flange, T_flange @ self.tool, tool_jacobian(J, T_flange[:3, :3], self.p_tool)
 
     def task_jacobian(self, q: np.ndarray) -> np.ndarray:
         """Rows of the tool Jacobian selected by the mask."""

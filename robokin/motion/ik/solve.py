@@ -159,10 +159,9 @@ def run_attempt(
     on_limit = ctx.touches_limit(q)
     k = 0
     while True:
-        T_flange, T = ctx.pose(q)
+        _, T, J = ctx.pose_and_jacobian(q)
         e, position_error, orientation_error = goal.error(T)
         converged = position_error <= tol_p and orientation_error <= tol_o
-        J = ctx.jacobian(q, T_flange) if history is not None or not converged else None
         if history is not None:
             assert J is not None  # computed whenever a history is kept
             history.add_point(q, e, J, attempt)
@@ -208,8 +207,9 @@ def _polish_best(
 def _result(settings: IKSettings, best: Attempt, iterations: int, attempts: int,
             history: HistoryRecorder | None) -> IKResult:
     mask = settings.ctx.mask
-    position_error = float(np.linalg.norm(best.error[:3] * mask[:3]))
-    orientation_error = float(np.linalg.norm(best.error[3:] * mask[3:]))
+    position, orientation = best.error[:3] * mask[:3], best.error[3:] * mask[3:]
+    position_error = math.sqrt(float(position @ position))
+    orientation_error = math.sqrt(float(orientation @ orientation))
     ok = bool(best.reason == "converged" and position_error <= settings.tol_position
               and orientation_error <= settings.tol_orientation)
     return IKResult(
@@ -292,7 +292,8 @@ def solve_ik(
     ----------
     chain : chain object
         Offers ``n``, ``limits`` (n, 2), ``fk(q, check=False)`` and
-        ``jacobian(q, check=False)``.
+        ``jacobian(q, check=False)``; ``fk_and_jacobian(q, check=False)`` if it
+        has one (a :class:`~robokin.chains.SerialChain` does: one pass per iteration).
     target : array_like, shape (4, 4) or (3,)
         Goal pose ``T_base_goal`` or goal position (m) of the (tool) frame.
     q0 : array_like, shape (n,), optional
@@ -460,7 +461,8 @@ def solve_ik_once(
     ----------
     chain : chain object
         Offers ``n``, ``limits`` (n, 2), ``fk(q, check=False)`` and
-        ``jacobian(q, check=False)``.
+        ``jacobian(q, check=False)``; ``fk_and_jacobian(q, check=False)`` if it
+        has one (a :class:`~robokin.chains.SerialChain` does: one pass per iteration).
     target : array_like, shape (4, 4) or (3,)
         Goal pose ``T_base_goal`` or goal position (m).
     q0 : array_like, shape (n,), optional
