@@ -470,7 +470,7 @@ class Scene(SceneRecord):
         Raises
         ------
         KeyError
-            No item ``name``.
+            No chain item ``name``.
         ShapeError
             ``q`` does not have n entries.
         """
