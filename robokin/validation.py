@@ -19,7 +19,7 @@ from __future__ import annotations
 import math
 import sys
 from collections.abc import Sequence
-from typing import Any
+from typing import Any, TypeVar
 
 import numpy as np
 
@@ -240,8 +240,8 @@ def _as_square_stack(x: Any, n: int, name: str) -> np.ndarray:
     return a
 
 
-def _rotation_defect(R: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Max |R Rᵀ − I| and det(R) per matrix of a (..., 3, 3) stack."""
+def _rotation_defect(R: np.ndarray) -> tuple[Any, Any]:
+    """Max |R Rᵀ − I| and det(R): floats for one (3, 3) matrix, arrays (N,) for a stack."""
     if R.ndim == 2:  # fast path for a single matrix
         (a, b, c), (d, e, f), (g, h, i) = R.tolist()
         err = max(
@@ -253,7 +253,7 @@ def _rotation_defect(R: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
             abs(d * g + e * h + f * i),
         )
         det = a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g)
-        return err, det  # type: ignore[return-value]
+        return err, det
     err = np.abs(R @ np.swapaxes(R, -1, -2) - np.eye(3)).max(axis=(-2, -1))
     det = np.linalg.det(R)
     return err, det
@@ -442,12 +442,12 @@ def check_positive(value: Any, name: str, allow_zero: bool = False, *, scalar: b
             raise DomainError(f"{name} must be {what}; got {v:g}")
         return v
     a = as_float_array(value, name)
-    ok = a >= 0.0 if allow_zero else a > 0.0
-    if not np.all(ok):
+    ok_entries = a >= 0.0 if allow_zero else a > 0.0
+    if not np.all(ok_entries):
         what = "non-negative (>= 0)" if allow_zero else "positive (> 0)"
         if a.ndim == 0:
             raise DomainError(f"{name} must be {what}; got {float(a):g}")
-        idx = tuple(int(i) for i in np.argwhere(~ok)[0])
+        idx = tuple(int(i) for i in np.argwhere(~ok_entries)[0])
         raise DomainError(f"{name} must be {what}; got {a[idx]:g} at index {idx}")
     return float(a) if a.ndim == 0 else a
 
@@ -599,7 +599,10 @@ def check_callable(value: Any, name: str, signature: str = "") -> Any:
     return value
 
 
-def check_chain(chain: Any, name: str = "chain", methods: Sequence[str] = ("fk", "jacobian")) -> Any:
+ChainT = TypeVar("ChainT")
+
+
+def check_chain(chain: ChainT, name: str = "chain", methods: Sequence[str] = ("fk", "jacobian")) -> ChainT:
     """Check that ``chain`` is a kinematic chain: an integer ``n >= 1`` and the given methods.
 
     Parameters

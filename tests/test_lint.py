@@ -1,4 +1,4 @@
-"""The code habits of pyproject.toml's [tool.ruff] hold for the whole tree (``ruff check``)."""
+"""The code habits of pyproject.toml hold for the whole tree: [tool.ruff] (``ruff check``), [tool.mypy] (``mypy``)."""
 
 from __future__ import annotations
 
@@ -17,3 +17,17 @@ def test_ruff_finds_nothing():
     assert proc.returncode == 0, (
         f"ruff check (pyproject.toml [tool.ruff]) finds problems; `.venv/bin/python -m ruff check --fix .` fixes "
         f"some:\n{proc.stdout[-4000:]}{proc.stderr[-1000:]}")
+
+
+def test_mypy_finds_nothing():
+    """``python -m mypy`` (pyproject.toml [tool.mypy]: robokin, numpy's own types) reports no error.
+
+    mypy keeps its cache in ``.mypy_cache``: the first run takes about 10 s of CPU, later runs about 1 s.
+    """
+    pytest.importorskip("mypy", reason="mypy is not installed: run `make test` (installs requirements.txt)")
+    proc = subprocess.run([sys.executable, "-m", "mypy", "--no-color-output", "--no-error-summary"], cwd=ROOT,
+                          capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, (
+        f"mypy (pyproject.toml [tool.mypy]) finds type errors in robokin; run `.venv/bin/python -m mypy` to see "
+        f"them, and fix the code or its annotations (a `# type: ignore[code]` only with a reason):\n"
+        f"{proc.stdout[-4000:]}{proc.stderr[-1000:]}")

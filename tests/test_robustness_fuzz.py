@@ -65,8 +65,8 @@ NOT_ENTRY_POINTS = {
     "motion.SimulationLog", "motion.BatchTrackingLog", "motion.Trajectory", "models.AR601IKResult",
     "parallel.ForwardKinematicsResult", "models.RobotInfo", "check.CheckResult", "check.Diagnosis", "check.Mistake",
     "check.Variable", "check.Check", "chains.Element",
-    # abstract base class of the IK step rules
-    "motion.IKMethod",
+    # abstract base class of the IK step rules; typing protocols of a chain (never called)
+    "motion.IKMethod", "chains.Chain", "chains.DrawableChain",
     # registries and constants
     "motion.METHODS", "motion.REASONS", "check.CHAPTERS",
     # diagnosis builders for check authors (take reference functions, not user input)

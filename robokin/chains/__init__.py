@@ -9,11 +9,14 @@ Tx, Ty, Tz, Rx, Ry, Rz, Fixed
     Elementary transforms (constants, or joints when given a joint name).
 from_dh, from_modified_dh, from_link_table
     Builders from standard DH, modified (Craig) DH and link-transform tables.
+Chain, DrawableChain
+    Typing protocols: what the solvers and the views read from a chain.
 """
 
 from robokin.chains.builders import from_dh, from_link_table, from_modified_dh
 from robokin.chains.chain import SerialChain
 from robokin.chains.elements import Element, Fixed, Rx, Ry, Rz, Tx, Ty, Tz
+from robokin.chains.protocol import Chain, DrawableChain
 
 __all__ = [
     "SerialChain",
@@ -28,4 +31,6 @@ __all__ = [
     "from_dh",
     "from_modified_dh",
     "from_link_table",
+    "Chain",
+    "DrawableChain",
 ]

@@ -221,11 +221,12 @@ class Engine:
         return J
 
     # ------------------------------------------------------------------- batch
-    def _batch_pass(self, Q: np.ndarray, record: str | None, upto: int | None = None):
+    def _batch_pass(self, Q: np.ndarray, record: str | None, upto: int | None = None
+                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Propagate the column layout through the chain.
 
         record: None (final pose only), 'frames' (all frames), 'jac' (p_i, z_i).
-        Returns final Tc (4, 3, N) and the recorded data.
+        Returns final Tc (4, 3, N) and the recorded data (frames, P, Z; empty when not recorded).
         """
         N = Q.shape[0]
         n = self.n
@@ -235,8 +236,9 @@ class Engine:
         C0 = self.consts[0]
         Tc = np.empty((4, 3, N))
         Tc[...] = C0[:3, :].T[:, :, None]
-        frames = None
-        P = Z = None
+        frames: np.ndarray = np.empty(0)
+        P: np.ndarray = np.empty(0)
+        Z: np.ndarray = np.empty(0)
         if record == "frames":
             frames = np.empty((N, n + 2, 4, 4))
             frames[:, 0] = np.eye(4)

@@ -31,13 +31,14 @@ from __future__ import annotations
 import math
 from collections import Counter
 from collections.abc import Callable, Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from robokin._dispatch import is_symbolic
 from robokin.chains._engine import Engine
 from robokin.chains.elements import Element, Fixed, elementary_transform
+from robokin.chains.protocol import Chain, DrawableChain, Frame
 from robokin.errors import DomainError, ShapeError
 from robokin.validation import (
     as_float_array,
@@ -162,7 +163,7 @@ class SerialChain:
         joints = [el for el in elements if el.is_joint]
         if not joints:
             raise ValueError("elements must contain at least one joint element")
-        names = [el.joint for el in joints]
+        names = [el.joint for el in joints if el.joint is not None]
         dup = sorted(name for name, count in Counter(names).items() if count > 1)
         if dup:
             raise ValueError(f"joint names must be unique; repeated: {dup}")
@@ -238,7 +239,7 @@ class SerialChain:
     @property
     def joint_names(self) -> list[str]:
         """Joint names, in order from base to tool."""
-        return [el.joint for el in self._joints]
+        return [el.joint for el in self._joints if el.joint is not None]
 
     @property
     def joint_types(self) -> list[str]:
@@ -452,7 +453,7 @@ class SerialChain:
                               f"overflows (largest constant transform entry {self._max_constant:.3g} m)")
         return check_result_finite(out, what, **inputs)
 
-    def _frame_index(self, frame: Any) -> int:
+    def _frame_index(self, frame: Frame | None) -> int:
         n = self._n
         if frame is None:
             return n + 1
@@ -476,7 +477,7 @@ class SerialChain:
         return k
 
     # ------------------------------------------------------------ kinematics
-    def fk(self, q: Any, frame: Any = None, *, check: bool = True) -> Any:
+    def fk(self, q: Any, frame: Frame | None = None, *, check: bool = True) -> Any:
         r"""Forward kinematics: pose of the end-effector (or of ``frame``) in the base.
 
         Parameters
@@ -522,7 +523,7 @@ class SerialChain:
             return eng.joint_frames_single(a)[k - 1]
         return self._engine.fk_batch(a, upto=k)
 
-    def frame_pose(self, q: Any, frame: Any, *, check: bool = True) -> Any:
+    def frame_pose(self, q: Any, frame: Frame, *, check: bool = True) -> Any:
         """Pose of frame ``frame`` (index or name) in the base: ``fk(q, frame=frame)``."""
         return self.fk(q, frame=frame, check=check)
 
@@ -552,7 +553,7 @@ class SerialChain:
             return self._checked(out, "the frames", q=a)
         return frames(a)
 
-    def jacobian(self, q: Any, frame: Any = None, point: Any = None, *, check: bool = True) -> Any:
+    def jacobian(self, q: Any, frame: Frame | None = None, point: Any = None, *, check: bool = True) -> Any:
         r"""Geometric Jacobian in the base frame, rows ``[v; ω]``.
 
         Parameters
@@ -629,7 +630,7 @@ class SerialChain:
             return self._checked(T, "the forward kinematics", q=a), self._checked(J, "the Jacobian", q=a)
         return self._engine.pose_and_jacobian_single(a)
 
-    def position_jacobian(self, q: Any, frame: Any = None, point: Any = None, *, check: bool = True) -> Any:
+    def position_jacobian(self, q: Any, frame: Frame | None = None, point: Any = None, *, check: bool = True) -> Any:
         r"""Linear-velocity rows of :meth:`jacobian`: :math:`\partial\mathbf{p}/\partial\mathbf{q}`,
         (3, n) or (N, 3, n)."""
         J = self.jacobian(q, frame=frame, point=point, check=check)
@@ -815,7 +816,7 @@ class SerialChain:
         fn.__doc__ = f"Generated from the symbolic result: q (n,) or (N, n) -> {shape} or (N, {r}, {c})."
         return fn
 
-    def lambdify_fk(self, frame: Any = None) -> Callable[[Any], np.ndarray]:
+    def lambdify_fk(self, frame: Frame | None = None) -> Callable[[Any], np.ndarray]:
         """Fast numeric FK generated from the simplified symbolic FK (sympy lambdify, cse).
 
         Returns
@@ -826,7 +827,13 @@ class SerialChain:
         k = self._frame_index(frame)
         return self._lambdify(self._sym_frames()[k], (4, 4))
 
-    def lambdify_jacobian(self, frame: Any = None) -> Callable[[Any], np.ndarray]:
+    def lambdify_jacobian(self, frame: Frame | None = None) -> Callable[[Any], np.ndarray]:
         """Fast numeric Jacobian generated from the symbolic one: (n,) -> (6, n), (N, n) -> (N, 6, n)."""
         k = self._frame_index(frame)
         return self._lambdify(self._sym_jacobian(k), (6, self._n))
+
+
+if TYPE_CHECKING:
+    def _satisfies_the_protocols(chain: SerialChain) -> tuple[Chain, DrawableChain]:
+        """Never called: mypy checks here that a SerialChain is a Chain and a DrawableChain."""
+        return chain, chain

@@ -41,6 +41,7 @@ from typing import Any
 
 import numpy as np
 
+from robokin.chains import SerialChain
 from robokin.errors import DomainError, ShapeError
 from robokin.models.ar601 import ar601_leg
 from robokin.transforms import rotx, roty, rotz
@@ -219,7 +220,7 @@ def _solve_one(
     return sols, branches, "solved", singular, d
 
 
-def _residuals(chain: Any, Q: np.ndarray, T: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _residuals(chain: SerialChain, Q: np.ndarray, T: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     F = chain.fk(Q, check=False).reshape(-1, 4, 4)
     dp = np.linalg.norm(F[:, :3, 3] - T[:3, 3], axis=1)
     Rrel = np.einsum("kji,jl->kil", F[:, :3, :3], T[:3, :3])   # R_FKᵀ R_target
@@ -350,7 +351,7 @@ def _lengths(l1: Any, l2: Any, l3: Any) -> tuple[float, float, float]:
     total = out[0] + out[1] + out[2]
     if not math.isfinite(total * total):  # the law of cosines squares the lengths
         raise DomainError(f"l1, l2, l3 are too large: their squares overflow float64 (got {out})")
-    return out  # type: ignore[return-value]
+    return out
 
 
 def ar601_leg_ik_batch(

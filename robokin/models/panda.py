@@ -39,6 +39,7 @@ q and limits: base and tool transforms are the identity (the flange is
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 
@@ -172,7 +173,7 @@ def panda(description: str = "link_table") -> SerialChain:
     Craig 2005, §3.4 (modified DH); Siciliano et al. 2009, §2.8–2.9 (the
     kinematic chain as a product of link transforms).
     """
-    kw = {"joint_names": _NAMES, "limits": PANDA_LIMITS, "frame_names": _FRAMES, "name": "panda"}
+    kw: dict[str, Any] = {"joint_names": _NAMES, "limits": PANDA_LIMITS, "frame_names": _FRAMES, "name": "panda"}
     if description == "link_table":
         return from_link_table(panda_link_transforms(), ["R"] * 7, **kw)
     if description == "mdh":

@@ -74,29 +74,32 @@ def _tree(path: Path) -> tuple[str, tuple[str, ...], int] | None:
         root = ElementTree.parse(path).getroot()
     except (OSError, ElementTree.ParseError):
         return None
-    links = [el.get("name") for el in root.findall("link") if el.get("name")]
+    links = [name for el in root.findall("link") if (name := el.get("name"))]
     parent: dict[str, tuple[str, bool]] = {}
     children: set[str] = set()
     for joint in root.findall("joint"):
         p, c = joint.find("parent"), joint.find("child")
-        if p is None or c is None or not p.get("link") or not c.get("link"):
+        parent_link = p.get("link") if p is not None else None
+        child_link = c.get("link") if c is not None else None
+        if not parent_link or not child_link:
             continue
-        parent[c.get("link")] = (p.get("link"), joint.get("type") in ("revolute", "continuous", "prismatic"))
-        children.add(p.get("link"))
+        parent[child_link] = (parent_link, joint.get("type") in ("revolute", "continuous", "prismatic"))
+        children.add(parent_link)
     roots = [link for link in links if link not in parent]
     if not roots:
         return None
     depth: dict[str, int] = {}  # movable joints from the root, memoised; iterative walks up
     for link in links:
-        path, up = [], link
+        walk: list[str] = []
+        up = link
         while up not in depth:
-            if up not in parent or len(path) > len(links):  # a root (or a loop: stop)
+            if up not in parent or len(walk) > len(links):  # a root (or a loop: stop)
                 depth[up] = 0
                 break
-            path.append(up)
+            walk.append(up)
             up = parent[up][0]
         count = depth[up]
-        for below in reversed(path):
+        for below in reversed(walk):
             count += parent[below][1]
             depth[below] = count
     leaves = sorted((link for link in links if link not in children and link in parent),

@@ -74,7 +74,8 @@ def ur10(description: str = "dh") -> SerialChain:
         return from_dh(UR10_DH, joint_names=_NAMES, limits=_LIMITS, frame_names=_FRAMES, name="ur10")
     if description == "mdh":
         rows = []
-        prev_a, prev_alpha = 0, 0
+        prev_a: float = 0
+        prev_alpha: float = 0
         for d, off, a, alpha in UR10_DH:
             rows.append([d, off, prev_a, prev_alpha])
             prev_a, prev_alpha = a, alpha

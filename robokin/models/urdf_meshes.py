@@ -261,13 +261,13 @@ class _MeshReader:
 
 
 def _submeshes(reader: _MeshReader, visual: Any, default: tuple[int, int, int, int] | None
-               ) -> tuple[list[tuple[np.ndarray, np.ndarray, tuple[int, int, int, int]]], str | None]:
+               ) -> tuple[list[tuple[np.ndarray, np.ndarray, tuple[int, ...]]], str | None]:
     """``([(vertices, faces, rgba)], None)`` of one ``<visual>`` in its link's frame, or ``([], file)``
     when its mesh file is not read (the reason is in ``reader.problems``)."""
     g = visual.geometry
     T = np.eye(4) if visual.origin is None else np.asarray(visual.origin, dtype=float)
     color = default or _rgba_int(DEFAULT_MESH_COLOR)
-    parts = []
+    parts: list[tuple[np.ndarray, np.ndarray, tuple[int, ...]]] = []
     if g is None:
         return [], None
     if g.mesh is None:
@@ -405,7 +405,7 @@ def _cached(file: str, stamp: tuple[int, int], base_link: str, tip_link: str, ma
         for i, links in enumerate(_rigid_groups(urdf, frame_links)):
             # pose of each link in frame i (constant: the link is rigid with the frame)
             T_frame_root = np.linalg.inv(T_root_base @ G0[i])
-            by_color: dict[tuple[int, int, int, int], tuple[list, list]] = {}
+            by_color: dict[tuple[int, ...], tuple[list, list]] = {}
             for link in links:
                 T = T_frame_root @ poses[link]
                 for visual in link_by_name[link].visuals:
@@ -418,8 +418,8 @@ def _cached(file: str, stamp: tuple[int, int], base_link: str, tip_link: str, ma
                         entry[0].append((V @ T[:3, :3].T + T[:3, 3], F))
                         if link not in entry[1]:
                             entry[1].append(link)
-            for rgba, (parts, owners) in by_color.items():
-                V, F = _merge(trimesh, parts)
+            for rgba, (pieces, owners) in by_color.items():
+                V, F = _merge(trimesh, pieces)
                 if len(F):
                     groups.append((i, rgba, V, F, owners))
     if reader.problems:

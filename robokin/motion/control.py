@@ -35,6 +35,7 @@ from typing import Any
 
 import numpy as np
 
+from robokin.chains.protocol import Chain
 from robokin.errors import DomainError, ShapeError
 from robokin.motion._kernels import generic_rank, pose_error_single
 from robokin.validation import (
@@ -179,7 +180,7 @@ class CartesianController:
 
     def __init__(
         self,
-        chain: Any,
+        chain: Chain,
         goal: Any,
         position_gain: Any = 1.0,
         orientation_gain: Any = 1.0,
@@ -260,7 +261,7 @@ class CartesianController:
         return self._goal_at(t)
 
     def _goal_at(self, t: float) -> np.ndarray:
-        if self._goal_fn is None:
+        if self._goal is not None:  # a constant goal (None for a function of t)
             return self._goal
         return self._call_goal(t, (3,) if self.position_only else (4, 4))
 

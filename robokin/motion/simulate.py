@@ -23,6 +23,7 @@ from typing import Any
 
 import numpy as np
 
+from robokin.chains.protocol import Chain
 from robokin.errors import DomainError, ShapeError, SingularityWarning
 from robokin.motion.control import ControlOutput
 from robokin.validation import (
@@ -115,7 +116,7 @@ class SimulationLog:
 
 
 def simulate(
-    chain: Any,
+    chain: Chain,
     controller: Any,
     q0: Any,
     ts: float,
@@ -268,6 +269,7 @@ def simulate(
             raise ShapeError(f"controller must return a joint velocity of shape ({n},); got shape {qdot.shape}")
         QDc[k] = qdot
         if can_stop and not np.isnan(E[k, 0]):
+            assert tol_p is not None and tol_o is not None  # can_stop: a tolerance was given
             if np.linalg.norm(E[k, :3]) <= tol_p and np.linalg.norm(E[k, 3:]) <= tol_o:
                 reason = "converged"
                 break
@@ -292,14 +294,15 @@ def simulate(
     else:
         threshold = getattr(controller, "singular_threshold", math.nan)
         threshold = float(threshold) if isinstance(threshold, (int, float, np.number)) else math.nan
+    sigma_min, singular = S[:K], F[:K]
     log = SimulationLog(
         t=T_log[:K], q=Q[:K], qdot=QD[:K], qdot_command=QDc[:K], twist=TW[:K], error=E[:K],
-        pose=P[:K], at_limit=L[:K], reason=reason, sigma_min=S[:K], singular=F[:K],
+        pose=P[:K], at_limit=L[:K], reason=reason, sigma_min=sigma_min, singular=singular,
         singular_threshold=threshold,
     )
-    if warn_singular and log.singular.any():
+    if warn_singular and singular.any():
         damped = getattr(controller, "inverse", None) == "dls" and getattr(controller, "damping", 0) > 0
-        warnings.warn(SingularityWarning(singularity_message("simulate", log.t, log.sigma_min, log.singular,
+        warnings.warn(SingularityWarning(singularity_message("simulate", log.t, sigma_min, singular,
                                                              log.qdot_command, threshold, damped=damped)),
                       stacklevel=2)
     return log

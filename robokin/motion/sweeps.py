@@ -30,6 +30,7 @@ from typing import Any
 
 import numpy as np
 
+from robokin.chains.protocol import Chain
 from robokin.errors import DomainError, ShapeError, SingularityWarning
 from robokin.motion._kernels import generic_rank
 from robokin.motion.control import SINGULAR_THRESHOLD
@@ -162,10 +163,11 @@ class BatchTrackingLog:
     task_rank: int | None = None
 
     def __post_init__(self) -> None:
+        rank = self.singular_values.shape[-1] if self.task_rank is None else self.task_rank
         if self.task_rank is None:
-            object.__setattr__(self, "task_rank", self.singular_values.shape[-1])
+            object.__setattr__(self, "task_rank", rank)
         if self.singular is None:
-            s = self.singular_values[..., self.task_rank - 1]
+            s = self.singular_values[..., rank - 1]
             object.__setattr__(self, "singular", s < self.singular_threshold)
 
     @property
@@ -193,7 +195,7 @@ def _per_run(a: np.ndarray, N: int, K: int, name: str) -> np.ndarray:
 
 
 def track_position_batch(
-    chain: Any,
+    chain: Chain,
     q0: Any,
     ts: float,
     positions: Any,
@@ -307,8 +309,8 @@ def track_position_batch(
     if clamp:
         bad = (Q < lower - 1e-12) | (Q > upper + 1e-12)
         if bad.any():
-            r, j = (int(i) for i in np.argwhere(bad)[0])
-            raise DomainError(f"q0 must lie within the joint limits; q0[{r}, {j}] = {Q[r, j]:g} is outside "
+            run, j = (int(i) for i in np.argwhere(bad)[0])
+            raise DomainError(f"q0 must lie within the joint limits; q0[{run}, {j}] = {Q[run, j]:g} is outside "
                               f"[{lower[j]:g}, {upper[j]:g}]")
 
     with np.errstate(all="ignore"):
@@ -346,10 +348,11 @@ def track_position_batch(
         t=t, q=q_log, qdot=qd_log, position=r_log, error=P - r_log,
         singular_values=s_log, at_limit=at_limit, singular_threshold=threshold, task_rank=rank,
     )
-    if warn_singular and log.singular.any():
-        hit = int(log.singular.any(axis=1).sum())
+    singular = log.singular
+    if warn_singular and singular is not None and singular.any():
+        hit = int(singular.any(axis=1).sum())
         warnings.warn(SingularityWarning(singularity_message(
-            "track_position_batch", log.t, log.singular_values[..., rank - 1], log.singular, log.qdot, threshold,
+            "track_position_batch", log.t, log.singular_values[..., rank - 1], singular, log.qdot, threshold,
             damped=inverse == "dls" and lam > 0, runs=f"{hit} of {N} run{'s' if N > 1 else ''}, ")),
             stacklevel=2)
     return log

@@ -22,6 +22,7 @@ from typing import Any
 
 import numpy as np
 
+from robokin.chains.protocol import Chain
 from robokin.errors import ShapeError
 from robokin.transforms import rotation_from_rpy, skew, transform
 from robokin.validation import (
@@ -164,7 +165,7 @@ def tool_jacobian(J_ee: Any, R_be: Any, p_et: Any) -> np.ndarray:
     return check_result_finite(out, "the tool Jacobian", J_ee=J, p_et=p)
 
 
-def chain_with_tool(chain: Any, T_et: Any, *, name: str | None = None) -> Any:
+def chain_with_tool(chain: Chain, T_et: Any, *, name: str | None = None) -> Chain:
     r"""The same robot with its end-effector moved to a tool frame.
 
     Parameters

@@ -82,11 +82,11 @@ def _plane_axes(normal: Any, axes: Any) -> tuple[np.ndarray, np.ndarray]:
         u = A[0] / nu
         w = A[1] - (A[1] @ u) * u
         nw = np.linalg.norm(w)
-        if nw < 1e-9 * max(1.0, np.linalg.norm(A[1])):
+        if nw < 1e-9 * max(1.0, float(np.linalg.norm(A[1]))):
             raise DomainError("axes must span a plane; got parallel (or zero) vectors")
         return u, w / nw
     n = as_vector(normal, 3, "normal")
-    nn = np.linalg.norm(n) if np.abs(n).max() < 1e150 else None
+    nn = float(np.linalg.norm(n)) if np.abs(n).max() < 1e150 else None
     if nn is None:
         n, nn = _unit(n)[0], 1.0
     if nn < 1e-12:

@@ -67,7 +67,7 @@ one point or are parallel (parallel or type-2 singularity, Gosselin & Angeles 19
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, overload
 
 import numpy as np
 
@@ -97,6 +97,14 @@ def _rot(phi: np.ndarray) -> np.ndarray:
 def _cross2(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """z component of the cross product of planar vectors (..., 2)."""
     return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
+
+
+@overload
+def _wrap(phi: float) -> float: ...
+
+
+@overload
+def _wrap(phi: np.ndarray) -> np.ndarray | float: ...
 
 
 def _wrap(phi: np.ndarray | float) -> np.ndarray | float:
@@ -176,7 +184,7 @@ class Planar3RPR:
         for arr, what in ((A, "base_anchors"), (b, "platform_anchors")):
             with np.errstate(all="ignore"):
                 size = float(np.ptp(arr, axis=0).max())
-                area2 = _cross2((arr[1] - arr[0]) / size, (arr[2] - arr[0]) / size) if size > 0 else 0.0
+                area2 = float(_cross2((arr[1] - arr[0]) / size, (arr[2] - arr[0]) / size)) if size > 0 else 0.0
             if not (np.isfinite(size) and size < _MAX_SIZE):
                 raise DomainError(f"{what} are too large: coordinates span {size:.3g} m (at most "
                                   f"{_MAX_SIZE:.0e} m)")
@@ -420,7 +428,7 @@ class Planar3RPR:
         one_plus_t2 = np.array([1.0, 0.0, 1.0])
         for k in range(-3, 4):
             base = np.array([1.0, 1j]) if k >= 0 else np.array([1.0, -1j])
-            term = P.polymul(P.polypow(base, 2 * abs(k)), P.polypow(one_plus_t2, 3 - abs(k)))
+            term: np.ndarray = P.polymul(P.polypow(base, 2 * abs(k)), P.polypow(one_plus_t2, 3 - abs(k)))
             out[: len(term)] += c[k + 3] * term
         return out.real
 
@@ -527,7 +535,8 @@ class Planar3RPR:
                 p = self.base_anchors[0] + u - _rot(np.array(phi)) @ self.platform_anchors[0]
                 pose = self._newton(np.array([p[0], p[1], phi]), rho)
                 poses.append(pose)
-        kept, res = [], []
+        kept: list[np.ndarray] = []
+        res: list[float] = []
         for pose in poses:
             pose = np.array([pose[0], pose[1], _wrap(pose[2])])
             r = float(np.abs(self.inverse_kinematics(pose) - rho).max())

@@ -82,7 +82,8 @@ def main(argv: list[str] | None = None) -> None:
             def listen_on_loopback(port, **kwargs):
                 return listen(port, address=HOST, **kwargs)
 
-            app.listen = listen_on_loopback
+            # MeshCat's bridge calls app.listen(port): bind it to the loopback interface only
+            app.listen = listen_on_loopback  # type: ignore[method-assign,assignment]
             return app
 
     zmqserver.DEFAULT_FILESERVER_PORT = args.port

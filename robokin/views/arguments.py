@@ -24,6 +24,7 @@ from typing import Any
 
 import numpy as np
 
+from robokin.chains.protocol import DrawableChain
 from robokin.errors import DomainError, ShapeError, ViewWarning
 from robokin.validation import check_int, as_float_array, check_chain, check_positive, check_transform
 
@@ -141,7 +142,7 @@ def subsample(rows: np.ndarray, cap: int, name: str, what: str) -> np.ndarray:
     return rows[keep]
 
 
-def as_chain(chain: Any, name: str = "chain") -> Any:
+def as_chain(chain: DrawableChain, name: str = "chain") -> Any:
     """A kinematic chain the views can draw.
 
     Parameters
@@ -165,7 +166,7 @@ def as_chain(chain: Any, name: str = "chain") -> Any:
     return chain
 
 
-def as_configuration(chain: Any, q: Any, name: str = "q") -> np.ndarray:
+def as_configuration(chain: DrawableChain, q: Any, name: str = "q") -> np.ndarray:
     """A joint configuration of ``chain``.
 
     Parameters
@@ -198,7 +199,7 @@ def as_configuration(chain: Any, q: Any, name: str = "q") -> np.ndarray:
     return arr
 
 
-def as_trajectory(chain: Any, trajectory: Any, name: str = "trajectory") -> np.ndarray:
+def as_trajectory(chain: DrawableChain, trajectory: Any, name: str = "trajectory") -> np.ndarray:
     """A joint trajectory of ``chain``.
 
     Parameters

@@ -10,6 +10,7 @@ from typing import Any
 
 import numpy as np
 
+from robokin.chains.protocol import DrawableChain
 from robokin.errors import DomainError
 from robokin.views.record import ChainItem, PathItem, PointsItem, SceneRecord, TargetItem
 
@@ -17,7 +18,7 @@ __all__ = ["chain_frames", "chain_frames_batch", "chain_layout", "mesh_box_point
            "sample_configurations", "scene_bounds", "scene_floor", "scene_points", "scene_scale"]
 
 
-def chain_frames(chain: Any, q: np.ndarray) -> np.ndarray:
+def chain_frames(chain: DrawableChain, q: np.ndarray) -> np.ndarray:
     """The frames of ``chain`` at ``q``, checked.
 
     Parameters
@@ -44,7 +45,7 @@ def chain_frames(chain: Any, q: np.ndarray) -> np.ndarray:
     return F
 
 
-def chain_frames_batch(chain: Any, Q: np.ndarray) -> np.ndarray:
+def chain_frames_batch(chain: DrawableChain, Q: np.ndarray) -> np.ndarray:
     """The frames of ``chain`` at every row of ``Q``.
 
     Parameters
@@ -69,7 +70,7 @@ def chain_frames_batch(chain: Any, Q: np.ndarray) -> np.ndarray:
     return np.stack([chain_frames(chain, q) for q in Q])
 
 
-def sample_configurations(chain: Any, q: np.ndarray) -> list[np.ndarray]:
+def sample_configurations(chain: DrawableChain, q: np.ndarray) -> list[np.ndarray]:
     """``q`` and two fixed pseudo-random configurations within the limits (``[-π, π]`` where infinite).
 
     Parameters
@@ -91,7 +92,7 @@ def sample_configurations(chain: Any, q: np.ndarray) -> list[np.ndarray]:
     return [q] + [lo + (hi - lo) * rng.random(n) for _ in range(2)]
 
 
-def chain_layout(chain: Any, q: np.ndarray) -> dict:
+def chain_layout(chain: DrawableChain, q: np.ndarray) -> dict:
     """Analyse the chain's geometry at ``q``.
 
     Parameters

@@ -31,6 +31,7 @@ import tempfile
 import time
 import weakref
 from collections.abc import Iterable
+from typing import Any
 
 import numpy as np
 
@@ -128,16 +129,18 @@ class LiveViewer:
         try:
             self.process = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=self._log,
                                             stdin=subprocess.PIPE, start_new_session=True)
-            self.process.stdin.write(f"{self.secret}\n".encode())
-            self.process.stdin.close()
+            stdin, stdout = self.process.stdin, self.process.stdout
+            assert stdin is not None and stdout is not None  # both are pipes (PIPE above)
+            stdin.write(f"{self.secret}\n".encode())
+            stdin.close()
         except OSError as exc:
             shutil.rmtree(self._folder, ignore_errors=True)
             raise MeshcatUnavailable(f"cannot start the MeshCat server: {exc}") from exc
         self._finalizer = weakref.finalize(self, _stop, self.process, self._log, self._folder)
-        info = {}
+        info: dict[str, str] = {}
         deadline = time.monotonic() + timeout
         while len(info) < 3:
-            line = self.process.stdout.readline().decode("utf-8", "replace").strip()
+            line = stdout.readline().decode("utf-8", "replace").strip()
             if not line:
                 if self.process.poll() is not None or time.monotonic() > deadline:
                     self._finalizer()
@@ -145,15 +148,15 @@ class LiveViewer:
                 continue
             key, _, value = line.partition("=")
             info[key] = value
-        self.process.stdout.close()
+        stdout.close()
         self.zmq_url = info["zmq_url"]
         self.web_url = info["web_url"]
         self.port = int(info["port"])
         self.pid = self.process.pid
         self._zmq = zmq
         self._context = zmq.Context.instance()
-        self._socket = None
-        self._last = {}           # path -> last matrix sent by send_transforms
+        self._socket: Any = None  # the zmq REQ socket, made by _connect
+        self._last: dict[str, list[float]] = {}  # path -> last matrix (16 floats) sent by send_transforms
         self._connect()
         _SERVERS.add(self)
 

@@ -35,10 +35,10 @@ from __future__ import annotations
 
 import hashlib
 import re
-from typing import Any
 
 import numpy as np
 
+from robokin.chains.protocol import DrawableChain
 from robokin.views import optional
 from robokin.views.geometry import (
     chain_frames,
@@ -159,8 +159,8 @@ def _data_uuid(*chunks):
     for c in chunks:
         h.update(c if isinstance(c, bytes) else repr(c).encode())
         h.update(b"|")
-    h = h.hexdigest()
-    return f"{h[:8]}-{h[8:12]}-{h[12:16]}-{h[16:20]}-{h[20:32]}"
+    d = h.hexdigest()
+    return f"{d[:8]}-{d[8:12]}-{d[12:16]}-{d[16:20]}-{d[20:32]}"
 
 
 def _mesh_object(mesh, color, opacity=1.0):
@@ -258,7 +258,7 @@ def _segment_pose(a, b):
     return _pose(_rot_y_to(d / L), (a + b) / 2, scale=(1.0, L, 1.0))
 
 
-def chain_transforms(name: str, chain: Any, q: np.ndarray, layout: dict | None = None
+def chain_transforms(name: str, chain: DrawableChain, q: np.ndarray, layout: dict | None = None
                      ) -> list[tuple[str, np.ndarray]]:
     """The pose of every moving node of chain item ``name`` at ``q``.
 
@@ -407,7 +407,7 @@ def animation_command(scene: SceneRecord) -> dict | None:
         return None
     entries = []
     for anim in scene.animations:
-        item = scene.item(anim.chain_name)
+        item = scene.chain_item(anim.chain_name)
         F = chain_frames_batch(item.chain, anim.trajectory)
         layout = chain_layout(item.chain, anim.trajectory[0])
         paths = _frame_paths(item.name, item.chain)

@@ -12,10 +12,10 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
+from robokin.chains.protocol import DrawableChain
 from robokin.errors import DomainError, ShapeError
 from robokin.models.urdf import ROBOT_DESCRIPTIONS, from_urdf, robot_description
 from robokin.models.urdf_meshes import DEFAULT_MESH_BYTES, RobotMeshes, VisualMesh, visual_meshes
@@ -35,7 +35,7 @@ def _sample_qs(chain):
     return [np.clip(np.zeros(n), lo, hi)] + [lo + (hi - lo) * rng.random(n) for _ in range(3)]
 
 
-def robot_meshes(urdf: str | os.PathLike, chain: Any, *, base_link: str | None = None,
+def robot_meshes(urdf: str | os.PathLike, chain: DrawableChain, *, base_link: str | None = None,
                  tip_link: str | None = None, max_bytes: int | None = None) -> RobotMeshes:
     """The visual meshes of a robot, frame by frame in the frames of ``chain``.
 
@@ -88,6 +88,9 @@ def robot_meshes(urdf: str | os.PathLike, chain: Any, *, base_link: str | None =
     else:
         raise TypeError(f"urdf must be a robot name or the path of a URDF file; got {type(urdf).__name__} "
                         f"{urdf!r}"[:200])
+    if base_link is None or tip_link is None:
+        raise TypeError("base_link and tip_link must be given (link names of the URDF) for a chain without "
+                        "frame_names")
     meshes = visual_meshes(path, base_link, tip_link,
                            max_bytes=DEFAULT_MESH_BYTES if max_bytes is None else max_bytes)
     ref = from_urdf(path, base_link, tip_link)
@@ -96,21 +99,22 @@ def robot_meshes(urdf: str | os.PathLike, chain: Any, *, base_link: str | None =
         raise DomainError(f"chain has {n} joints but the URDF chain from {base_link!r} to {tip_link!r} has "
                           f"{ref.n}: the meshes cannot be attached to its frames")
     # Z_i = (X G_i(q))^-1 F_i(q), X = F_0 G_0^-1: chain frame i in URDF frame i, constant on a rigid body
-    Zs = []
+    samples = []
     for q in _sample_qs(chain):
         F = np.asarray(chain.frames(q), dtype=float)
         G = np.asarray(ref.frames(q), dtype=float)
         if F.shape != (n + 2, 4, 4):
             raise ShapeError(f"chain.frames(q) must have shape ({n + 2}, 4, 4); got {F.shape}")
         X = F[0] @ np.linalg.inv(G[0])
-        Zs.append(np.linalg.solve(X @ G, F))
-    Zs = np.stack(Zs)
+        samples.append(np.linalg.solve(X @ G, F))
+    Zs = np.stack(samples)
     wobble = np.abs(Zs - Zs[0]).max(axis=(0, 2, 3))
     bad = np.flatnonzero(wobble > _RIGID_TOL)
     if bad.size:
         i = int(bad[0])
+        chain_names = getattr(chain, "frame_names", None)
         raise DomainError(
-            f"chain frame {i} ({list(chain.frame_names)[i] if getattr(chain, 'frame_names', None) else i!r}) "
+            f"chain frame {i} ({list(chain_names)[i] if chain_names else i!r}) "
             f"moves by up to {wobble[i]:.3g} relative to the URDF link {meshes.frame_names[i]!r} it should be "
             f"attached to: the chain does not have the same joints (order, signs, zero positions) as the URDF "
             f"chain from {base_link!r} to {tip_link!r}")

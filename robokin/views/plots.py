@@ -13,6 +13,7 @@ from typing import Any
 
 import numpy as np
 
+from robokin.chains.protocol import DrawableChain
 from robokin.errors import DomainError, ShapeError
 from robokin.views import optional
 from robokin.views.arguments import as_chain, as_numbers
@@ -69,7 +70,7 @@ def _draw_chain(ax, chain, q, alpha=1.0, color=None, frames=False, label=None, t
     return o
 
 
-def plot_chain(chain: Any, q: Any, ax: Any = None, *, frames: bool = False, alpha: float | None = None,
+def plot_chain(chain: DrawableChain, q: Any, ax: Any = None, *, frames: bool = False, alpha: float | None = None,
                labels: Sequence[str] | None = None) -> Any:
     """3D stick figure of ``chain`` at one configuration or at each row of a batch.
 
@@ -457,7 +458,7 @@ def plot_scene(scene: SceneRecord, ax: Any = None, *, frames: bool | None = None
             ax.plot(it.points[:, 0], it.points[:, 1], it.points[:, 2], "-", color="0.3", lw=1.2)
             pts.append(it.points)
     for anim in scene.animations:
-        item = scene.item(anim.chain_name)
+        item = scene.chain_item(anim.chain_name)
         if anim.trace:
             F = np.asarray([item.chain.frames(q)[-1] for q in anim.trajectory])
             ax.plot(F[:, 0, 3], F[:, 1, 3], F[:, 2, 3], "--", color="0.4", lw=1)

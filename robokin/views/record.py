@@ -14,6 +14,8 @@ from typing import Any
 
 import numpy as np
 
+from robokin.chains.protocol import DrawableChain
+
 __all__ = ["DEFAULT_HEIGHT", "AnimationItem", "ChainItem", "Item", "PathItem", "PointsItem", "SceneOptions",
            "SceneRecord", "TargetItem"]
 
@@ -48,7 +50,7 @@ class ChainItem:
     """
 
     name: str
-    chain: Any
+    chain: DrawableChain
     q: np.ndarray
     color: int | None = None
     opacity: float = 1.0
@@ -213,3 +215,26 @@ class SceneRecord:
             if it.name == name:
                 return it
         raise KeyError(f"no item named {name!r} in this scene; names: {[it.name for it in self.items]}")
+
+    def chain_item(self, name: str) -> ChainItem:
+        """The recorded chain item called ``name``.
+
+        Parameters
+        ----------
+        name : str
+            The name of a chain item (as returned by ``add_chain`` or ``add_ghost``).
+
+        Returns
+        -------
+        ChainItem
+
+        Raises
+        ------
+        KeyError
+            There is no chain item of that name; the message lists the chain items' names.
+        """
+        for it in self.items:
+            if it.name == name and isinstance(it, ChainItem):
+                return it
+        raise KeyError(f"no chain item named {name!r} in this scene; chain items: "
+                       f"{[it.name for it in self.items if isinstance(it, ChainItem)]}")

@@ -20,8 +20,10 @@ from typing import Any
 
 import numpy as np
 
+from robokin.chains.protocol import DrawableChain
 from robokin.errors import DomainError, ShapeError
 from robokin.models.urdf import ROBOT_DESCRIPTIONS
+from robokin.models.urdf_meshes import RobotMeshes
 from robokin.views import arguments
 from robokin.views.arguments import (
     as_color,
@@ -147,9 +149,9 @@ class Scene(SceneRecord):
         return name
 
     # ---- adding things
-    def add_chain(self, chain: Any, q: Any = None, *, name: str | None = None, color: Any = None,
+    def add_chain(self, chain: DrawableChain, q: Any = None, *, name: str | None = None, color: Any = None,
                   opacity: float = 1.0, frames: bool = False, labels: bool = True, style: str | None = None,
-                  meshes: Any = None) -> str:
+                  meshes: str | PathLike | RobotMeshes | None = None) -> str:
         """Draw ``chain`` at configuration ``q``.
 
         ``style`` is ``"stick"`` (the default: cylinders between the frame
@@ -217,8 +219,9 @@ class Scene(SceneRecord):
         self.items.append(item)
         return item.name
 
-    def add_ghost(self, chain: Any, q: Any, *, name: str | None = None, color: Any = 0xB0C4DE,
-                  opacity: float = 0.3, style: str | None = None, meshes: Any = None) -> str:
+    def add_ghost(self, chain: DrawableChain, q: Any, *, name: str | None = None, color: Any = 0xB0C4DE,
+                  opacity: float = 0.3, style: str | None = None,
+                  meshes: str | PathLike | RobotMeshes | None = None) -> str:
         """A translucent copy of ``chain`` at ``q`` (e.g. another IK solution).
 
         Parameters
@@ -248,7 +251,7 @@ class Scene(SceneRecord):
         """
         name = self.add_chain(chain, q, name=self._name(name, "ghost"), color=color, opacity=opacity,
                               style=style, meshes=meshes)
-        self.items[-1].ghost = True
+        self.chain_item(name).ghost = True
         return name
 
     def add_target(self, T: Any, *, name: str | None = None, size: float | None = None,
@@ -369,8 +372,8 @@ class Scene(SceneRecord):
         self.items.append(item)
         return item.name
 
-    def animate(self, chain: Any, trajectory: Any, dt: float = 0.05, *, times: Any = None, trace: bool = True,
-                name: str | None = None, trace_color: Any = 0xFFFF66, play: bool = True,
+    def animate(self, chain: DrawableChain | str, trajectory: Any, dt: float = 0.05, *, times: Any = None,
+                trace: bool = True, name: str | None = None, trace_color: Any = 0xFFFF66, play: bool = True,
                 loop: bool = False) -> str:
         """Animate a chain along ``trajectory``, one row every ``dt`` seconds.
 
@@ -432,8 +435,7 @@ class Scene(SceneRecord):
             if existing:
                 item = existing[0]
             else:
-                self.add_chain(chain, Q[0], name=name)
-                item = self.items[-1]
+                item = self.chain_item(self.add_chain(chain, Q[0], name=name))
         Q = as_trajectory(item.chain, trajectory)
         if times is None:
             t = np.arange(Q.shape[0]) * as_time_step(dt)
@@ -468,11 +470,11 @@ class Scene(SceneRecord):
         Raises
         ------
         KeyError
-            No item ``name``.
+            No chain item ``name``.
         ShapeError
             ``q`` does not have n entries.
         """
-        item = self.item(name)
+        item = self.chain_item(name)
         item.q = as_configuration(item.chain, q)
         if self._live is not None:
             self._live.send_transforms(chain_transforms(item.name, item.chain, item.q))
@@ -605,10 +607,10 @@ class Scene(SceneRecord):
         return f"<robokin.views.Scene: {kinds or 'empty'}; {len(self.animations)} animation(s)>"
 
 
-def show(chain: Any = None, q: Any = None, *, targets: Sequence | np.ndarray = (), points: Any = None,
+def show(chain: DrawableChain | None = None, q: Any = None, *, targets: Sequence | np.ndarray = (), points: Any = None,
          path: Any = None, ghosts: Sequence | np.ndarray = (), trajectory: Any = None, dt: float = 0.05,
          frames: bool = False, mode: str | None = None, height: int | None = None, style: str | None = None,
-         meshes: Any = None) -> None:
+         meshes: str | PathLike | RobotMeshes | None = None) -> None:
     """Show a chain (and friends) in one call; returns None.
 
     ``style``/``meshes`` draw the chain with its real meshes, e.g.

@@ -14,6 +14,7 @@ from typing import Any
 
 import numpy as np
 
+from robokin.chains.protocol import Chain
 from robokin.transforms import rpy_from_rotation
 from robokin.views import optional
 from robokin.views.arguments import as_configuration
@@ -84,7 +85,7 @@ class JointSliders:
         A running viewer to draw in; default one started by :meth:`build`.
     """
 
-    def __init__(self, chain: Any, q: Any = None, *, scene: Scene | None = None, name: str = "robot",
+    def __init__(self, chain: Chain, q: Any = None, *, scene: Scene | None = None, name: str = "robot",
                  height: int = DEFAULT_HEIGHT, viewer: LiveViewer | None = None) -> None:
         self.chain = chain
         self.q = as_configuration(chain, q)
@@ -97,7 +98,7 @@ class JointSliders:
         self._revolute = np.array([t == "revolute" for t in chain.joint_types])
         self.widget = None
         self.readout = None
-        self.sliders = []
+        self.sliders: list[Any] = []  # ipywidgets.FloatSlider, one per joint
 
     def _to_slider(self, q):
         return np.where(self._revolute, np.rad2deg(q), q)
@@ -154,7 +155,7 @@ class JointSliders:
             The new readout (:func:`pose_readout` of the end-effector).
         """
         self.q = np.asarray(q, dtype=float)
-        item = self.scene.item(self.name)
+        item = self.scene.chain_item(self.name)
         item.q = self.q
         transforms = chain_transforms(self.name, self.chain, self.q, self._layout())
         if self._viewer is not None:
@@ -183,7 +184,7 @@ class JointSliders:
             self._viewer.close()
 
 
-def joint_sliders(chain: Any, q: Any = None, *, mode: str | None = None,
+def joint_sliders(chain: Chain, q: Any = None, *, mode: str | None = None,
                   height: int = DEFAULT_HEIGHT) -> JointSliders:
     """Show ``chain`` with one slider per joint (live mode).
 

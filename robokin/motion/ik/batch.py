@@ -14,6 +14,7 @@ from typing import Any
 
 import numpy as np
 
+from robokin.chains.protocol import Chain
 from robokin.motion._kernels import pose_error_vector, random_within_limits
 from robokin.motion.ik.methods import IKMethod
 from robokin.motion.ik.polish import polish as polish_rows
@@ -210,7 +211,7 @@ def _restart(settings: IKSettings, rows: AttemptRows, best: TargetBest, ended_ta
 
 
 def solve_ik_batch(
-    chain: Any,
+    chain: Chain,
     targets: Any,
     q0: Any = None,
     method: str | IKMethod = "lm",

@@ -44,6 +44,7 @@ import numpy as np
 
 from robokin.errors import DomainError, ShapeError
 from robokin.motion.ik.objectives import JointLimitDistance, as_objective, objective_limits
+from robokin.motion.ik.problem import IKContext
 from robokin.validation import as_float_array, check_positive
 
 __all__ = [
@@ -97,10 +98,10 @@ class StepResult(NamedTuple):
     """
 
     step: np.ndarray
-    damping: Any
+    damping: float | np.ndarray
 
 
-def _mask(ctx: Any) -> np.ndarray:
+def _mask(ctx: IKContext | None) -> np.ndarray:
     if ctx is None:
         raise TypeError("error_weights on a masked task need the context (ctx) of the solve, for its mask")
     return ctx.mask
@@ -126,7 +127,8 @@ class IKMethod:
     #: (stall_iterations, stall_tolerance) used when the caller gives none.
     default_stall: tuple[int, float] = (10, 0.5)
 
-    def step(self, J: np.ndarray, e: np.ndarray, q: np.ndarray | None = None, ctx: Any = None) -> StepResult:
+    def step(self, J: np.ndarray, e: np.ndarray, q: np.ndarray | None = None, ctx: IKContext | None = None
+             ) -> StepResult:
         """Joint step ``dq`` (n,) or (N, n) and the damping ``lambda`` used, as a :class:`StepResult`."""
         raise NotImplementedError
 
@@ -503,7 +505,7 @@ METHODS: dict[str, type[IKMethod]] = {
 }
 
 
-def make_method(method: Any, options: dict[str, Any]) -> IKMethod:
+def make_method(method: str | IKMethod, options: dict[str, Any]) -> IKMethod:
     """Resolve ``method`` (a name from :data:`METHODS` or an :class:`IKMethod`) with options."""
     if isinstance(method, IKMethod):
         if options:

@@ -203,10 +203,10 @@ class GradientObjective:
         return g
 
 
-_NAMED = {"joint_limits": JointLimitDistance, "manipulability": Manipulability}
+_NAMED: dict[str, Callable[[], Objective]] = {"joint_limits": JointLimitDistance, "manipulability": Manipulability}
 
 
-def as_objective(objective: Any) -> Any:
+def as_objective(objective: Any) -> Objective:
     """Turn ``"joint_limits"``, ``"manipulability"``, an objective object or a
     gradient callable into an objective object."""
     if isinstance(objective, str):

@@ -17,11 +17,10 @@ Vectorised over rows: ``q`` has shape ``(N, n)``.
 
 from __future__ import annotations
 
-from typing import Any
-
 import numpy as np
 
 from robokin.motion._kernels import pose_error_vector
+from robokin.motion.ik.problem import IKContext
 from robokin.motion.ik.settings import REFINE_STALL_TOLERANCE, IKSettings
 from robokin.motion.ik.stall import STALL_REASONS, classify_stall
 
@@ -31,7 +30,7 @@ __all__ = ["polish", "POLISH_REASONS"]
 POLISH_REASONS = (*STALL_REASONS, "max_iterations")
 
 
-def _task(ctx: Any, q: np.ndarray, T_goal: np.ndarray, is_position: bool):
+def _task(ctx: IKContext, q: np.ndarray, T_goal: np.ndarray, is_position: bool):
     T_flange, T = ctx.pose(q)
     e = pose_error_vector(T, T_goal)
     if is_position:

@@ -12,6 +12,7 @@ from typing import Any
 
 import numpy as np
 
+from robokin.chains.protocol import Chain
 from robokin.errors import DomainError, ShapeError
 from robokin.motion._kernels import tool_jacobian, wrap_angles
 from robokin.validation import (
@@ -48,7 +49,7 @@ class IKContext:
         Revolute joints allowed to re-enter their range by ``±2 pi``.
     """
 
-    chain: Any
+    chain: Chain
     n: int
     lower: np.ndarray
     upper: np.ndarray
@@ -113,7 +114,7 @@ class IKContext:
             T_flange, T = self.pose(q)
             return T_flange, T, self.jacobian(q, T_flange)
         T_flange, J = self._fk_and_jacobian(q, check=False)
-        if self.tool is None:
+        if self.tool is None or self.p_tool is None:  # both None or neither (__post_init__)
             return T_flange, T_flange, J
         return T_flange, T_flange @ self.tool, tool_jacobian(J, T_flange[:3, :3], self.p_tool)
 
@@ -124,7 +125,7 @@ class IKContext:
         return J if self.full_mask else J[..., self.rows, :]
 
 
-def _chain_limits(chain: Any) -> tuple[np.ndarray, np.ndarray]:
+def _chain_limits(chain: Chain) -> tuple[np.ndarray, np.ndarray]:
     n = int(chain.n)
     limits = getattr(chain, "limits", None)
     if limits is None:
@@ -230,7 +231,7 @@ def parse_q0(q0: Any, n: int, lower: np.ndarray, upper: np.ndarray, count: int |
     return np.clip(a, lower, upper)
 
 
-def parse_wrap(wrap: Any, chain: Any, n: int) -> tuple[np.ndarray | None, np.ndarray | None]:
+def parse_wrap(wrap: Any, chain: Chain, n: int) -> tuple[np.ndarray | None, np.ndarray | None]:
     """``wrap`` -> (joints wrapped every step, revolute joints that may re-enter by 2 pi).
 
     ``"limits"`` (default): no wrapping, but a revolute joint that would leave
@@ -255,7 +256,7 @@ def parse_wrap(wrap: Any, chain: Any, n: int) -> tuple[np.ndarray | None, np.nda
     return (m if m.any() else None), None
 
 
-def make_context(chain: Any, mask: np.ndarray, tool: Any, wrap: Any) -> IKContext:
+def make_context(chain: Chain, mask: np.ndarray, tool: Any, wrap: Any) -> IKContext:
     check_chain(chain)
     n = int(chain.n)
     lower, upper = _chain_limits(chain)

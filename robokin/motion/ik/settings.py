@@ -9,10 +9,11 @@ so that the iteration loops read only plain, valid values.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, TypedDict
 
 import numpy as np
 
+from robokin.chains.protocol import Chain
 from robokin.motion.ik.methods import IKMethod, make_method
 from robokin.motion.ik.problem import (
     IKContext,
@@ -28,8 +29,17 @@ from robokin.validation import check_chain, check_positive
 
 __all__ = ["DEFAULTS", "REFINE_STALL_TOLERANCE", "IKSettings", "parse_settings"]
 
+class _Defaults(TypedDict):
+    tol: float
+    restarts: int
+    seed: int
+    stall_iterations: int | None
+    stall_tolerance: float | None
+    gradient_tolerance: float
+
+
 #: Default stopping parameters shared by :func:`solve_ik` and :func:`solve_ik_batch`.
-DEFAULTS = {
+DEFAULTS: _Defaults = {
     "tol": 1e-6,
     "restarts": 20,
     "seed": 0,
@@ -81,7 +91,7 @@ class IKSettings:
     tol_orientation: float
     max_iterations: int
     restarts: int
-    seed: int | np.random.Generator | None
+    seed: int | np.integer | np.random.Generator | None
     stall_iterations: int
     stall_tolerance: float
     gradient_tolerance: float
@@ -90,7 +100,7 @@ class IKSettings:
 
 
 def parse_settings(
-    chain: Any,
+    chain: Chain,
     target: Any,
     q0: Any,
     method: str | IKMethod,

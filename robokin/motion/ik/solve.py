@@ -16,6 +16,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from robokin.chains.protocol import Chain
 from robokin.motion._kernels import pose_error_single, random_within_limits
 from robokin.motion.ik.methods import IKMethod, StepResult
 from robokin.motion.ik.polish import POLISH_REASONS, polish
@@ -80,7 +81,7 @@ class HistoryRecorder:
         self.jacobian.append(J)
         self.attempt.append(attempt)
 
-    def add_step(self, damping: Any, q: np.ndarray, q_new: np.ndarray) -> None:
+    def add_step(self, damping: float | np.ndarray, q: np.ndarray, q_new: np.ndarray) -> None:
         """The step taken from the last point: its damping and its length ``||q_new - q||``."""
         self.damping.append(float(np.asarray(damping)))
         d = q_new - q
@@ -162,6 +163,7 @@ def run_attempt(
         e, position_error, orientation_error = goal.error(T)
         converged = position_error <= tol_p and orientation_error <= tol_o
         if history is not None:
+            assert J is not None  # computed whenever a history is kept
             history.add_point(q, e, J, attempt)
         norm = math.sqrt(position_error * position_error + orientation_error * orientation_error)
         if norm < best_norm or converged:
@@ -172,6 +174,7 @@ def run_attempt(
         if k >= max_iterations:
             reason = "max_iterations"
             break
+        assert J is not None  # computed whenever not converged
         J_task, e_task = (J, e) if rows is None else (J[rows], e[rows])
         if watch.stalled(k, best_norm):
             code = classify_stall(J_task, e_task, q, ctx.lower, ctx.upper, settings.gradient_tolerance)
@@ -251,7 +254,7 @@ def _solve(settings: IKSettings, T_goal: np.ndarray, q_start: np.ndarray, record
 
 
 def solve_ik(
-    chain: Any,
+    chain: Chain,
     target: Any,
     q0: Any = None,
     method: str | IKMethod = "lm",
@@ -415,7 +418,7 @@ def solve_ik(
 
 
 def solve_ik_once(
-    chain: Any,
+    chain: Chain,
     target: Any,
     q0: Any = None,
     method: str | IKMethod = "lm",
