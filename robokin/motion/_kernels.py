@@ -45,7 +45,7 @@ def rotation_log_fast(R: np.ndarray) -> np.ndarray:
     near pi the axis from the symmetric part
     ``(R + R^T)/2 = cos(theta) I + (1 - cos(theta)) h h^T`` (the column of its
     largest diagonal entry), its sign from ``vee(R - R^T) = 2 sin(theta) h``
-    (Siciliano et al. 2009, eq. 2.22 and its singular cases; the same maths
+    (Siciliano et al. 2009, §2.5, and its singular cases; the same maths
     as :func:`robokin.transforms.rotation_log`).  At exactly ``theta = pi``
     (``vee = 0``) the sign of ``h`` is undefined; the component of ``h`` of
     largest magnitude (the first of equals) is then made positive.
@@ -91,7 +91,9 @@ def tool_jacobian(J: np.ndarray, R: np.ndarray, p_tool: np.ndarray) -> np.ndarra
     """Move the reference point of a geometric Jacobian by ``p_tool`` (flange coordinates).
 
     ``v_tool = v + omega x r`` with ``r = R p_tool``, so ``J_v' = J_v - [r]x J_w``
-    (Siciliano et al. 2009, eq. 3.40).  ``J`` (..., 6, n), ``R`` (..., 3, 3).
+    (Siciliano et al. 2009, §3.1.2; ``[r]x`` is the skew-symmetric matrix of ``r``,
+    the rigid-body Jacobian of :func:`robokin.motion.tool.rigid_body_jacobian`).
+    ``J`` (..., 6, n), ``R`` (..., 3, 3).
     """
     r = R @ p_tool
     Jw = J[..., 3:, :]

@@ -2,11 +2,11 @@ r"""A tool rigidly attached to the end-effector: its pose, its Jacobian, its cha
 
 A tool frame T fixed to the end-effector frame E is given by the constant
 transform :math:`{}^{E}\mathbf{T}_{T}` (an orientation and an offset written in
-E). Then (Siciliano et al. 2009, §2.9 and §3.1.2, eq. 3.40)
+E). Then (Siciliano et al. 2009, §2.8 for the pose, §3.1.2 for the velocities)
 
 .. math::
     {}^{B}\mathbf{T}_{T} = {}^{B}\mathbf{T}_{E}\,{}^{E}\mathbf{T}_{T}, \qquad
-    \mathbf{J}_T = \begin{bmatrix} \mathbf{I} & -[{}_B\mathbf{r}_{ET}\times] \\
+    \mathbf{J}_T = \begin{bmatrix} \mathbf{I} & -[{}_B\mathbf{r}_{ET}]_\times \\
                                    \mathbf{0} & \mathbf{I} \end{bmatrix} \mathbf{J}_E,
     \qquad {}_B\mathbf{r}_{ET} = {}^{B}\mathbf{R}_{E}\;{}_E\mathbf{r}_{ET},
 
@@ -43,7 +43,7 @@ def transform_from_rpy(rpy: Any, position: Any) -> np.ndarray:
     ----------
     rpy : array_like, shape (3,) or (N, 3)
         ``(roll, pitch, yaw)`` in rad: :math:`\mathbf{R} = \mathbf{R}_z(\psi)\mathbf{R}_y(\vartheta)
-        \mathbf{R}_x(\varphi)` (Siciliano et al. 2009, eq. 2.22).
+        \mathbf{R}_x(\varphi)` (Siciliano et al. 2009, §2.4.2).
     position : array_like, shape (3,) or (N, 3)
         Origin of the new frame in the reference frame (m).
 
@@ -85,7 +85,7 @@ def transform_from_rpy(rpy: Any, position: Any) -> np.ndarray:
 
 
 def rigid_body_jacobian(r: Any) -> np.ndarray:
-    r"""Twist transport matrix from a point E to a point T of the same rigid body.
+    r"""Rigid-body Jacobian: the twist transport from a point E to a point T of one rigid body.
 
     Parameters
     ----------
@@ -97,15 +97,18 @@ def rigid_body_jacobian(r: Any) -> np.ndarray:
     -------
     numpy.ndarray, shape (6, 6) or (N, 6, 6)
         .. math::
-            \mathbf{S}(\mathbf{r}) = \begin{bmatrix} \mathbf{I}_3 & -[\mathbf{r}\times] \\
+            \mathbf{J}_{\mathrm{rb}}(\mathbf{r}) = \begin{bmatrix} \mathbf{I}_3 & -[\mathbf{r}]_\times \\
             \mathbf{0} & \mathbf{I}_3 \end{bmatrix},
             \qquad \begin{bmatrix}\mathbf{v}_T\\ \boldsymbol\omega\end{bmatrix}
-            = \mathbf{S}(\mathbf{r}) \begin{bmatrix}\mathbf{v}_E\\ \boldsymbol\omega\end{bmatrix},
+            = \mathbf{J}_{\mathrm{rb}}(\mathbf{r}) \begin{bmatrix}\mathbf{v}_E\\ \boldsymbol\omega\end{bmatrix},
 
         since :math:`\mathbf{v}_T = \mathbf{v}_E + \boldsymbol\omega\times\mathbf{r}
         = \mathbf{v}_E - \mathbf{r}\times\boldsymbol\omega` (Siciliano et al. 2009,
-        eq. 3.40). With the angular part first, ``[ω; v]``, the same map reads
-        :math:`\begin{bmatrix}\mathbf{I} & \mathbf{0}\\ [\mathbf{r}\times]^\top & \mathbf{I}\end{bmatrix}`.
+        §3.1.2), with :math:`[\mathbf{r}]_\times` the skew-symmetric matrix of
+        :math:`\mathbf{r}` (``skew``). With the angular part first, ``[ω; v]``, the
+        same map reads :math:`\mathbf{S}\,\mathbf{J}_{\mathrm{rb}}\,\mathbf{S} =
+        \begin{bmatrix}\mathbf{I} & \mathbf{0}\\ [\mathbf{r}]_\times^\top & \mathbf{I}\end{bmatrix}`,
+        :math:`\mathbf{S}` the row swap of ``book/conventions.md``.
 
     Raises
     ------

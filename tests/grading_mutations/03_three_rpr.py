@@ -39,12 +39,12 @@ J0 = np.linalg.inv(A0)
 """
 
 _CUBIC_MODES = """
-_R1, _R2, _R3 = rho0**2
+_sq1, _sq2, _sq3 = rho0**2
 _cubic = [
-    0.5 * (_R1 - _R2 + 4 - 2) + (_R3 - _R1),
-    math.sqrt(3) / 2 * (4 - 4 + _R2 - _R1),
-    0.5 * (_R1 - _R2) + _R3 - 3 - _R1,
-    math.sqrt(3) / 2 * (_R2 - _R1),
+    0.5 * (_sq1 - _sq2 + 4 - 2) + (_sq3 - _sq1),
+    math.sqrt(3) / 2 * (4 - 4 + _sq2 - _sq1),
+    0.5 * (_sq1 - _sq2) + _sq3 - 3 - _sq1,
+    math.sqrt(3) / 2 * (_sq2 - _sq1),
 ]
 modes0 = np.column_stack([np.zeros(3), np.zeros(3), 2 * np.arctan(np.sort(np.roots(_cubic).real))])
 """

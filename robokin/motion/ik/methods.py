@@ -138,7 +138,7 @@ class IKMethod:
 
 
 class PseudoInverse(IKMethod):
-    r"""Newton–Raphson with the Moore–Penrose pseudoinverse (Siciliano eq. 3.70, Buss §4).
+    r"""Newton–Raphson with the Moore–Penrose pseudoinverse (Siciliano §3.7.1, Buss §4).
 
     :math:`\Delta q = \alpha J^+ e`, with :math:`J^+ = V\Sigma^+U^T` from the
     SVD; singular values below ``rcond * sigma_max`` are treated as zero.
@@ -165,7 +165,7 @@ class PseudoInverse(IKMethod):
 
 
 class JacobianTranspose(IKMethod):
-    r"""Jacobian transpose (gradient descent on :math:`\tfrac12\|e\|^2`; Siciliano eq. 3.72, Buss §3).
+    r"""Jacobian transpose (gradient descent on :math:`\tfrac12\|e\|^2`; Siciliano §3.7.2, Buss §3).
 
     :math:`\Delta q = \alpha J^T e`.  With ``gain=None`` the step length is
     Buss' choice :math:`\alpha = \frac{\langle e, JJ^Te\rangle}{\langle JJ^Te, JJ^Te\rangle}`,
@@ -198,7 +198,7 @@ class JacobianTranspose(IKMethod):
 
 
 class WeightedPseudoInverse(IKMethod):
-    r"""Weighted pseudoinverse (Siciliano eq. 3.54 with weight matrix W).
+    r"""Weighted pseudoinverse (Siciliano §3.5.1, with weight matrix W).
 
     :math:`J_W^+ = W^{-1}J^T(JW^{-1}J^T)^{-1}` minimises :math:`\dot q^T W \dot q`
     among the solutions of :math:`J\dot q = e`; a large :math:`W_{ii}` makes
@@ -260,7 +260,7 @@ _ADAPTIVE = (None, "manipulability", "singular_value", "error")
 
 
 class DampedLeastSquares(IKMethod):
-    r"""Damped least squares / Levenberg–Marquardt step (Siciliano eq. 3.59, Buss §5).
+    r"""Damped least squares / Levenberg–Marquardt step (Siciliano §3.5.2, eq. 3.59; Buss §5).
 
     .. math:: \Delta q = J^T (JJ^T + \lambda^2 I)^{-1} e
                        = V \,\mathrm{diag}\!\left(\frac{\sigma_i}{\sigma_i^2+\lambda^2}\right) U^T e
@@ -354,10 +354,10 @@ class DampedLeastSquares(IKMethod):
 class NullSpace(IKMethod):
     r"""Pseudoinverse step plus a secondary objective in the null space (Liégeois 1977).
 
-    .. math:: \Delta q = J^+ e + (I - J^+J)\, k\, \nabla H(q)
+    .. math:: \Delta q = J^+ e + N\, k\, \nabla H(q), \qquad N = I - J^+J
 
-    (Siciliano eq. 3.54–3.57).  The projector :math:`I - J^+J = I - V_rV_r^T`
-    comes from the same SVD as :math:`J^+`, so :math:`J(I - J^+J) = 0`: to first
+    (Siciliano §3.5.1).  The null-space projector :math:`N = I - V_rV_r^T`
+    comes from the same SVD as :math:`J^+`, so :math:`JN = 0`: to first
     order the secondary term changes :math:`H` but not the task error.  With a
     non-redundant task (``m = n``) the null space is empty and this reduces to
     ``"pinv"``.
@@ -375,7 +375,7 @@ class NullSpace(IKMethod):
         objective, a plain gradient function and any other objective alike,
         :math:`k = n\,\Delta_{min}^2 / 2` (:math:`\Delta_{min}` the smallest
         finite joint range; 1 if no joint is limited).  With the joint-limit
-        gradient of eq. 3.57 this moves the most constrained joint, before
+        gradient (the distance from the mid-range of §3.5.1) this moves the most constrained joint, before
         projection, half-way to the middle of its range per step; a gradient
         function computing the same :math:`\nabla H` therefore gives the same
         steps as ``"joint_limits"``.  :meth:`resolved_gain` tells the value.
