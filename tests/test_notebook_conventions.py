@@ -300,3 +300,73 @@ def test_no_comments_behind_closing_brackets(path):
              for line in "".join(cell["source"]).splitlines() if dangling.match(line)]
     assert not found, (f"{path.name}: {len(found)} comments behind closing brackets (run "
                        f"tools/format_notebooks.py): {found[:3]}")
+
+
+# ---------------------------------------------------------------- what a graded test may read
+def _trusted_names_problems(path: Path) -> list[str]:
+    """Names a graded test cell reads that the grader kernel does not have.
+
+    The grader kernel (``tools/grading_bridge/``) runs only read-only cells (locked, not
+    solution: given, check and test cells) and imports from the student's kernel only the
+    names answer cells declare (``metadata.robokin.declare``). So a graded test may read
+    only names declared by an earlier answer cell, names defined by an earlier locked
+    non-solution cell, and builtins; anything else (an import in a *Try it yourself* cell,
+    a function defined there) would be taken from the student's kernel, where the
+    student can change it.
+    """
+    import builtins
+    import sys
+
+    sys.path.insert(0, str(ROOT / "tools"))
+    from notebook_analysis import defined_names, free_names
+
+    declared: set[str] = set()
+    read_only: set[str] = set()
+    problems = []
+    for index, cell in enumerate(load(path)["cells"]):
+        if cell["cell_type"] != "code":
+            continue
+        meta = cell.get("metadata", {})
+        nbgrader = meta.get("nbgrader") or {}
+        code = "".join(cell["source"])
+        if nbgrader.get("grade") and nbgrader.get("locked") and not nbgrader.get("solution"):
+            missing = free_names(code) - declared - read_only - set(dir(builtins))
+            if missing:
+                problems.append(f"cell {index} ({nbgrader.get('grade_id')}) reads {sorted(missing)}")
+        if nbgrader.get("solution"):
+            declared |= set((meta.get("robokin") or {}).get("declare", []))
+        elif nbgrader.get("locked"):
+            read_only |= set(defined_names(code))
+    return problems
+
+
+@pytest.mark.parametrize("path", EXERCISES, ids=lambda p: p.stem)
+def test_graded_tests_read_only_declared_answers_and_read_only_cells(path):
+    """A graded test's free names are declared answers of earlier answer cells, names
+    defined by earlier read-only cells (locked, not solution), or builtins: what the
+    grader kernel has. Fix: import in a given cell (or in the test), or make the name an
+    answer (define it in the answer cell; tools/nbgrader_metadata.py then declares it)."""
+    problems = _trusted_names_problems(path)
+    assert not problems, f"{path.name}: graded tests read names the grader kernel lacks: {problems}"
+
+
+def test_trusted_names_rule_finds_a_name_from_a_try_cell(tmp_path):
+    def code(source, nbgrader=None, robokin=None):
+        meta = {}
+        if nbgrader is not None:
+            meta["nbgrader"] = nbgrader
+        if robokin is not None:
+            meta["robokin"] = robokin
+        return {"cell_type": "code", "metadata": meta, "source": source, "outputs": [], "execution_count": 1}
+
+    cells = [
+        code("import numpy as np", {"locked": True, "solution": False, "grade": False}),
+        code("total = 1\nhidden = 2", {"locked": False, "solution": True, "grade": False},
+             {"declare": ["total"], "role": "answer"}),
+        code("from robokin.check import leg"),  # a Try it yourself cell: no nbgrader metadata
+        code("assert np.isclose(total, 1) and leg and hidden and len([])",
+             {"locked": True, "solution": False, "grade": True, "grade_id": "task1_test1"}),
+    ]
+    path = tmp_path / "01_x.ipynb"
+    path.write_text(json.dumps({"cells": cells, "metadata": {}, "nbformat": 4, "nbformat_minor": 5}))
+    assert _trusted_names_problems(path) == ["cell 3 (task1_test1) reads ['hidden', 'leg']"]

@@ -28,6 +28,9 @@ MUTATIONS = {
         ("the circle centred on the hand", "CENTRE = P_START\nref = reference(t)"),
     ],
     "task2_test2": [
+        ("v_des without the chain rule's factor omega",
+         "def v_des(time):\n"
+         "    return RADIUS * np.array([-np.sin(OMEGA * time), np.cos(OMEGA * time), 0.0])"),
         ("omega in degrees per second",
          "reference = lambda time: circle_trajectory(time, CENTRE, RADIUS, normal=[0, 0, 1],"
          " angular_speed=90.0)"),
@@ -40,13 +43,13 @@ MUTATIONS = {
          " position_gain=0.0, feedforward=lambda time: reference(time).velocities),"
          " Q_START, TS, T_END, tol=None)"),
     ],
-    "task3_test2": [
+    "task3_test3": [
         ("errors in metres, not millimetres",
          "drift = {ts: [e / 1e3 for e in pair] for ts, pair in drift.items()}"),
         ("closed-loop column from a P-only law",
          "drift = {ts: [e_open, 20 * e_closed] for ts, (e_open, e_closed) in drift.items()}"),
     ],
-    "task3_test3": [
+    "task3_test2": [
         ("skip_first_step ignored",
          "_euler_loop = euler_loop\n"
          "def euler_loop(kp, q0=Q_START, skip_first_step=False):\n"
@@ -99,13 +102,13 @@ MUTATIONS = {
          "Q_TUT[:, 5] = EXERCISE_LIMITS[5, 0] + (0.2 + np.arange(10) / 10)"
          " * np.ptp(EXERCISE_LIMITS[5])"),
     ],
-    "task5_test3": [
+    "task5_test4": [
         ("damping of 0.02 mm instead of 0.02 m",
          "bad = dict(bad)\n"
          "bad[dls_name] = track_position_batch(arm, starts, TS, p_bad + relative,"
          " ref.velocities, clamp=False, gain=KP, inverse='dls', damping=2e-5)"),
     ],
-    "task5_test4": [
+    "task5_test3": [
         ("the last step taken for the most singular one",
          "k_s = np.full(len(starts), len(t) - 1)\nq_s = b.q[np.arange(len(starts)), k_s]\n"
          "J_s = arm.position_jacobian(q_s)\n"
