@@ -494,7 +494,7 @@ class SerialChain:
         -------
         numpy.ndarray, shape (4, 4) or (N, 4, 4), or sympy.Matrix (4×4)
             :math:`{}^B\mathbf{T}_E(\mathbf{q}) = \prod_k E_k(\mathbf{q})\,\mathbf{T}_{tool}`
-            (Siciliano et al. 2009, eq. 2.63).
+            (Siciliano et al. 2009, §2.8.1).
 
         Raises
         ------

@@ -134,7 +134,7 @@ def _clip_cos(c: float, tol: float) -> float | None:
 def _hip_angles(R_H: np.ndarray, branch: int, tol: float) -> tuple[float, float, float, bool]:
     r"""``(q1, q2, q3, gimbal)`` with ``R_H = Rz(q1) Ry(q2) Rx(q3)``.
 
-    ``q2 = atan2(−r31, ±√(r11² + r21²))`` (Siciliano et al. 2009 eq. 2.22 ff.);
+    ``q2 = atan2(−r31, ±√(r11² + r21²))`` (Siciliano et al. 2009, §2.4.2);
     q1 from the first column, then q3 from what remains,
     ``Rx(q3) = Ry(q2)ᵀ Rz(q1)ᵀ R_H``, so that the product is reproduced exactly
     even close to the gimbal-lock configuration ``q2 = ±π/2``. At gimbal lock

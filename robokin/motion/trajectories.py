@@ -109,7 +109,7 @@ def circle_trajectory(
     angular_speed: float = 1.0,
     phase: float = 0.0,
 ) -> Trajectory:
-    r"""Uniform motion on a circle (Siciliano et al. 2009, eq. 4.37–4.38).
+    r"""Uniform motion on a circle (Siciliano et al. 2009, §4.3.1).
 
     .. math::
         p(t) = c + r(\cos\varphi\, u + \sin\varphi\, v),\quad \varphi = \Omega t + \varphi_0
@@ -212,7 +212,7 @@ def line_trajectory(
     t_start: float = 0.0,
     law: str = "quintic",
 ) -> Trajectory:
-    r"""Straight segment from ``start`` to ``end`` with a smooth timing law (Siciliano eq. 4.34).
+    r"""Straight segment from ``start`` to ``end`` with a smooth timing law (Siciliano et al. 2009, §4.3.2).
 
     .. math::
         p(t) = p_0 + s(\tau)(p_1 - p_0), \quad \tau = (t - t_0)/T
@@ -255,7 +255,7 @@ def via_point_trajectory(
     is the cubic (Hermite) polynomial matching positions and velocities at
     both ends, so positions and velocities are continuous (accelerations jump
     at the via points).  Without given ``velocities`` the intermediate ones
-    follow Siciliano eq. 4.9: the mean of the adjacent segment slopes, or 0
+    follow Siciliano et al. 2009, §4.2.2: the mean of the adjacent segment slopes, or 0
     where the slope changes sign (per coordinate); first and last are 0.
 
     Parameters

@@ -282,7 +282,7 @@ def rotation_from_angle_axis(axis: Any, angle: Any) -> Any:
         R = \cos\theta\, I + \sin\theta\, [h]_\times + (1 - \cos\theta)\, h h^\mathsf{T},
         \qquad h = \frac{\text{axis}}{\|\text{axis}\|}
 
-    (Siciliano et al. 2009, eq. 2.25.)
+    (Siciliano et al. 2009, §2.5.)
 
     Parameters
     ----------

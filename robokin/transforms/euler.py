@@ -72,7 +72,7 @@ def rotation_from_rpy(roll: Any, pitch: Any = None, yaw: Any = None) -> Any:
             s_\psi s_\theta c_\phi - c_\psi s_\phi \\
         -s_\theta & c_\theta s_\phi & c_\theta c_\phi \end{bmatrix}
 
-    (Siciliano et al. 2009, eq. 2.22.)
+    (Siciliano et al. 2009, §2.4.2.)
 
     Parameters
     ----------
@@ -116,7 +116,7 @@ def _rotation_input(R: Any, check: bool) -> np.ndarray:
 def rpy_from_rotation(R: Any, check: bool = True) -> Any:
     r"""Roll–pitch–yaw angles of a rotation matrix (inverse of :func:`rotation_from_rpy`).
 
-    Regular case, pitch in (−π/2, π/2) (Siciliano et al. 2009, eq. 2.23):
+    Regular case, pitch in (−π/2, π/2) (Siciliano et al. 2009, §2.4.2):
 
     .. math::
         \phi = \operatorname{atan2}(r_{32}, r_{33}),\quad
@@ -199,7 +199,7 @@ def rotation_from_zyz(phi: Any, theta: Any = None, psi: Any = None) -> Any:
 def zyz_from_rotation(R: Any, check: bool = True) -> Any:
     r"""ZYZ Euler angles of a rotation matrix (inverse of :func:`rotation_from_zyz`).
 
-    Regular case, θ in (0, π) (Siciliano et al. 2009, eq. 2.19):
+    Regular case, θ in (0, π) (Siciliano et al. 2009, §2.4.1):
 
     .. math::
         \varphi = \operatorname{atan2}(r_{23}, r_{13}),\quad
