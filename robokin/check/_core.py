@@ -719,4 +719,43 @@ class Check:
         return head + ex + (f" {self.hint}" if self.hint else "")
 
 
+@dataclass
+class MatrixArgumentsCheck(Check):
+    """A :class:`Check` whose answer is a function of arrays (matrices, vectors, gains).
+
+    ``arguments(x)`` turns the sampled scalars ``x`` (shape ``(nvars,)``) into the
+    arguments of the student's function, e.g. ``(J, W)``; the answer is called as
+    ``answer(*arguments(x))``. Anything that is not a function fails with a message
+    quoting ``signature``; ``None`` goes to :meth:`Check.evaluate`, which explains it.
+
+    Parameters
+    ----------
+    arguments : callable, optional
+        ``arguments(x) -> tuple`` of the student's function's arguments.
+    signature : str
+        The expected call, e.g. ``"weighted_pinv(J, W) -> (6, 3) array"``.
+    """
+
+    arguments: Callable[[np.ndarray], tuple] | None = None
+    signature: str = ""
+
+    def evaluate(self, answer: Any) -> CheckResult:
+        """Call ``answer(*arguments(x))`` at the sample points and compare (see :meth:`Check.evaluate`)."""
+        if callable(answer) and not isinstance(answer, np.ndarray) and self.arguments is not None:
+            build, student = self.arguments, answer
+
+            def call_with_arguments(x: np.ndarray) -> Any:
+                return student(*build(np.asarray(x, dtype=float)))
+
+            return super().evaluate(call_with_arguments)
+        if answer is not None and not callable(answer):
+            return CheckResult(
+                self.name, False,
+                f"{FAIL} {self.name} should be a Python function {self.signature}; "
+                f"got {type(answer).__name__}.",
+                "constant", 0,
+            )
+        return super().evaluate(answer)
+
+
 # ---------------------------------------------------------------- generic entry points

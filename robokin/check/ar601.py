@@ -60,7 +60,7 @@ __all__ = [
     "knee_angle",
 ]
 
-_CH = "ar601"
+_CHAPTER = "ar601"
 #: Link lengths L1, L2, L3 (m) used by the checks (the model's defaults).
 LENGTHS = (0.3, 0.3, 0.1)
 #: Foot position (m) of the chapter's IK target, in the hip frame B.
@@ -97,7 +97,7 @@ def _fk(q) -> np.ndarray:
 
 
 # ------------------------------------------------------------------ foot transform
-def _elem(kind: str, v: float) -> np.ndarray:
+def _element(kind: str, v: float) -> np.ndarray:
     from robokin.transforms import rotx, roty, rotz
 
     T = np.eye(4)
@@ -112,14 +112,14 @@ def _product(seq: list[tuple[str, Any]], q: np.ndarray, sign: float = -1.0) -> n
     """Product of elementary transforms; ("Rz", i) uses q[i], ("z", k) is Tz(sign·L_k)."""
     out = np.eye(4)
     for kind, arg in seq:
-        out = out @ (_elem("z", sign * LENGTHS[arg]) if kind == "z" else _elem(kind, q[arg]))
+        out = out @ (_element("z", sign * LENGTHS[arg]) if kind == "z" else _element(kind, q[arg]))
     return out
 
 
 _SEQ = [("Rz", 0), ("Ry", 1), ("Rx", 2), ("z", 0), ("Rx", 3), ("z", 1), ("Ry", 4), ("Rx", 5), ("z", 2)]
 
 
-def _fk_mistakes():
+def _forward_kinematics_mistakes():
     def seq_fn(seq, sign=-1.0):
         return lambda x: _product(seq, np.asarray(x, dtype=float), sign)
 
@@ -172,12 +172,12 @@ class _FixedLengthsCheck(Check):
 _Q = [Variable(f"q{i}", "angle", -math.pi / 2, math.pi / 2, aliases=(f"q_{i}", f"theta{i}"))
       for i in range(1, 7)]
 
-foot_transform = exercise(_CH, "foot_transform", _FixedLengthsCheck(
+foot_transform = exercise(_CHAPTER, "foot_transform", _FixedLengthsCheck(
     name="T_BF",
     reference=_fk,
     variables=_Q,
     groups=[("q", list(range(6)))],
-    diagnoses=_fk_mistakes(),
+    diagnoses=_forward_kinematics_mistakes(),
     noun="configurations",
     hint="Build it as R_z(q1) R_y(q2) R_x(q3) T_z(−L1) R_x(q4) T_z(−L2) R_y(q5) R_x(q6) T_z(−L3).",
     doc=(
@@ -229,7 +229,7 @@ def _knee_mistakes():
     ]
 
 
-knee_angle = exercise(_CH, "knee_angle", Check(
+knee_angle = exercise(_CHAPTER, "knee_angle", Check(
     name="knee_angle(d, l1, l2)",
     reference=_knee,
     variables=[Variable("d", "length", 0.12, 0.48), Variable("l1", "length", 0.25, 0.35),

@@ -49,7 +49,7 @@ __all__ = [
 _XYZ = "xyz"
 
 
-def _T(a: np.ndarray) -> np.ndarray:
+def _transposed(a: np.ndarray) -> np.ndarray:
     return np.swapaxes(np.asarray(a), -1, -2)
 
 
@@ -78,7 +78,7 @@ def transpose(kind: str = "matrix") -> Diagnosis:
         ),
     }
     msg = messages.get(kind, "{name} is transposed: its rows and columns are swapped.")
-    return mistake("transpose", lambda ref: (lambda x: _T(ref(x))), msg)
+    return mistake("transpose", lambda ref: (lambda x: _transposed(ref(x))), msg)
 
 
 def inverse_transform() -> Diagnosis:
@@ -97,7 +97,7 @@ def inverse_transform() -> Diagnosis:
     )
 
 
-def _tf(R: np.ndarray, p: np.ndarray) -> np.ndarray:
+def _homogeneous(R: np.ndarray, p: np.ndarray) -> np.ndarray:
     T = np.eye(4)
     T[:3, :3] = R
     T[:3, 3] = p
@@ -114,7 +114,7 @@ def transform_mistakes() -> list[Diagnosis]:
     return [
         mistake(
             "rotation_block_transposed",
-            lambda ref: (lambda x: _tf(ref(x)[:3, :3].T, ref(x)[:3, 3])),
+            lambda ref: (lambda x: _homogeneous(ref(x)[:3, :3].T, ref(x)[:3, 3])),
             "the rotation block of {name} is transposed (Rᵀ instead of R, the rotation the "
             "other way round); its translation column is right.",
         ),
@@ -126,20 +126,20 @@ def transform_mistakes() -> list[Diagnosis]:
         ),
         mistake(
             "translation_rotated",
-            lambda ref: (lambda x: _tf(ref(x)[:3, :3], ref(x)[:3, :3] @ ref(x)[:3, 3])),
+            lambda ref: (lambda x: _homogeneous(ref(x)[:3, :3], ref(x)[:3, :3] @ ref(x)[:3, 3])),
             "the translation column of {name} is multiplied by the rotation (R·p). The "
             "translation is the origin of the second frame written in the first frame; the "
             "joint rotation turns what comes after it, not this offset.",
         ),
         mistake(
             "translation_rotated",
-            lambda ref: (lambda x: _tf(ref(x)[:3, :3], ref(x)[:3, :3].T @ ref(x)[:3, 3])),
+            lambda ref: (lambda x: _homogeneous(ref(x)[:3, :3], ref(x)[:3, :3].T @ ref(x)[:3, 3])),
             "the translation column of {name} is multiplied by Rᵀ. The translation is the "
             "origin of the second frame written in the first frame, with no rotation applied.",
         ),
         mistake(
             "translation_sign",
-            lambda ref: (lambda x: _tf(ref(x)[:3, :3], -ref(x)[:3, 3])),
+            lambda ref: (lambda x: _homogeneous(ref(x)[:3, :3], -ref(x)[:3, 3])),
             "the translation column of {name} has the wrong sign: it is the vector from the "
             "origin of the first frame to the origin of the second.",
         ),
