@@ -221,10 +221,11 @@ def fmt(x: Any, precision: int = 3) -> str:
         a = np.round(raw, precision) + 0.0
     a = np.where(np.isfinite(a) | ~np.isfinite(raw), a, raw)
 
-    def one(v: float) -> str:
-        if abs(v) >= 1e16 and np.isfinite(v):
-            return np.format_float_scientific(v, precision=precision, trim="-")
-        return np.format_float_positional(v, precision=precision, trim="-")
+    def one(v: float | np.floating) -> str:
+        value = float(v)
+        if abs(value) >= 1e16 and math.isfinite(value):
+            return np.format_float_scientific(value, precision=precision, trim="-")
+        return np.format_float_positional(value, precision=precision, trim="-")
 
     if a.ndim == 0:
         return one(float(a))

@@ -28,7 +28,7 @@ from collections.abc import Callable, Iterator, Sequence
 
 import numpy as np
 
-from robokin.check._core import Context, Diagnosis, Mistake, alternatives, fmt, mistake
+from robokin.check._core import Context, Diagnosis, Mistake, RefFn, alternatives, fmt, mistake
 
 __all__ = [
     "transpose",
@@ -205,9 +205,11 @@ def sign_flips(kind: str = "matrix") -> Diagnosis:
     return Diagnosis("sign", variants)
 
 
-def _flip(index: tuple) -> object:
-    def transform(ref):
-        def f(x):
+def _flip(index: tuple) -> Callable[[RefFn], RefFn]:
+    """The mistake "the entries at ``index`` have the wrong sign", as a transform of the reference."""
+
+    def transform(ref: RefFn) -> RefFn:
+        def f(x: np.ndarray) -> np.ndarray:
             a = np.array(ref(x), dtype=float)
             a[index] = -a[index]
             return a

@@ -319,6 +319,21 @@ newton_step = exercise(_CHAPTER, "newton_step", Check(
 ))
 
 
+def _joint_angles(q: object, name: str) -> tuple[np.ndarray | None, str | None, str]:
+    """``q`` as 3 finite joint angles, or ``(None, code, message)`` saying what is wrong with it."""
+    try:
+        if np.asarray(q).dtype.kind == "c":
+            raise TypeError
+        qa = np.array(q, dtype=float).ravel()
+    except (TypeError, ValueError):
+        return None, "error", f"{name} must be 3 numbers (radians); got {type(q).__name__}."
+    if qa.shape != (3,):
+        return None, "shape", f"{name} must be 3 joint angles; got {qa.size} numbers."
+    if not np.all(np.isfinite(qa)):
+        return None, "error", f"{name} contains NaN or infinite values."
+    return qa, None, ""
+
+
 def ik_solution(
     q: object, goal: object = None, *, tol: float = 1e-3, raise_on_fail: bool = False,
     quiet: bool = False,
@@ -331,19 +346,8 @@ def ik_solution(
     name = "q_goal"
     goal = R_GOAL if goal is None else as_vector(goal, 3, "goal")
     tol = check_positive(tol, "tol", scalar=True)
-    code, msg = None, ""
-    try:
-        if np.asarray(q).dtype.kind == "c":
-            raise TypeError
-        qa = np.array(q, dtype=float).ravel()
-    except (TypeError, ValueError):
-        qa, code = None, "error"
-        msg = f"{name} must be 3 numbers (radians); got {type(q).__name__}."
-    if code is None and qa.shape != (3,):
-        code, msg = "shape", f"{name} must be 3 joint angles; got {qa.size} numbers."
-    if code is None and not np.all(np.isfinite(qa)):
-        code, msg = "error", f"{name} contains NaN or infinite values."
-    if code is None:
+    qa, code, msg = _joint_angles(q, name)
+    if qa is not None:
         miss = float(np.linalg.norm(_position(qa) - goal))
         if miss <= tol:
             text = f"{PASS} {name} is correct: r_BF(q) reaches {fmt(goal)} (within {fmt(tol, 6)} m)."
