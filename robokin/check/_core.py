@@ -80,6 +80,33 @@ FAIL = "\u2718"  # ✘
 RefFn = Callable[[np.ndarray], np.ndarray]
 
 
+def report(result: CheckResult, *, raise_on_fail: bool, quiet: bool) -> CheckResult:
+    """Print a check's message (unless ``quiet``); raise it when the answer failed and ``raise_on_fail``.
+
+    Parameters
+    ----------
+    result : CheckResult
+        The verdict of a check.
+    raise_on_fail, quiet : bool
+        As for every check.
+
+    Returns
+    -------
+    CheckResult
+        ``result``.
+
+    Raises
+    ------
+    AssertionError
+        ``raise_on_fail`` and the answer failed (the message is the check's).
+    """
+    if not quiet:
+        show(result.message)
+    if raise_on_fail and not result.passed:
+        raise AssertionError(result.message)
+    return result
+
+
 # ---------------------------------------------------------------- results
 @dataclass(frozen=True, eq=False)
 class CheckResult:
@@ -598,12 +625,7 @@ class Check:
         self, answer: Any, *, raise_on_fail: bool = False, quiet: bool = False
     ) -> CheckResult:
         """Compare ``answer`` with the reference; print and return the result."""
-        result = self.evaluate(answer)
-        if not quiet:
-            show(result.message)
-        if raise_on_fail and not result.passed:
-            raise AssertionError(result.message)
-        return result
+        return report(self.evaluate(answer), raise_on_fail=raise_on_fail, quiet=quiet)
 
     def evaluate(self, answer: Any) -> CheckResult:
         """Like calling the check, but neither prints nor raises.

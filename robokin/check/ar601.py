@@ -43,7 +43,7 @@ from robokin.check._core import (
     CheckResult,
     Variable,
     alternatives,
-    show,
+    report,
     fmt,
 )
 from robokin.check._registry import exercise
@@ -352,14 +352,6 @@ def _verdict(rows: np.ndarray, T: np.ndarray, name: str) -> tuple[bool, str, str
     )
 
 
-def _report(result: CheckResult, quiet: bool, raise_on_fail: bool) -> CheckResult:
-    if not quiet:
-        show(result.message)
-    if raise_on_fail and not result.passed:
-        raise AssertionError(result.message)
-    return result
-
-
 def ik_solution(
     q: Any, T_target: Any = None, *, raise_on_fail: bool = False, quiet: bool = False
 ) -> CheckResult:
@@ -382,8 +374,8 @@ def ik_solution(
             distinct = len({tuple(np.round(np.mod(r + np.pi, 2 * np.pi), 6)) for r in rows})
             text = f"{PASS} {name} is correct: {what} the target foot pose"
             text += "." if distinct == len(rows) else f" ({distinct} of them distinct)."
-            return _report(CheckResult(name, True, text, None, 1), quiet, raise_on_fail)
-    return _report(CheckResult(name, False, f"{FAIL} {msg}", code, 1), quiet, raise_on_fail)
+            return report(CheckResult(name, True, text, None, 1), raise_on_fail=raise_on_fail, quiet=quiet)
+    return report(CheckResult(name, False, f"{FAIL} {msg}", code, 1), raise_on_fail=raise_on_fail, quiet=quiet)
 
 
 def _random_targets(n: int, seed: int) -> np.ndarray:
@@ -400,31 +392,34 @@ def ik_solver(
     the joint limits; every row returned must reproduce its pose. The message
     says how many solutions per pose the function returns (the leg has up to 8).
     """
-    name = "ik(T)"
     samples = check_int(samples, "samples", 1, 10_000)
     seed = seed if seed is None else check_int(seed, "seed", 0)
+    return report(_judge_ik_function(f, "ik(T)", samples, seed), raise_on_fail=raise_on_fail, quiet=quiet)
+
+
+def _judge_ik_function(f: Any, name: str, samples: int, seed: int) -> CheckResult:
+    """The verdict on an IK function at ``samples`` random reachable poses (see :func:`ik_solver`)."""
     if not callable(f):
-        return _report(CheckResult(name, False, f"{FAIL} {name} should be a Python function f(T) "
-                                   f"-> q; got {type(f).__name__}.", "constant", 0), quiet, raise_on_fail)
+        return CheckResult(name, False, f"{FAIL} {name} should be a Python function f(T) "
+                           f"-> q; got {type(f).__name__}.", "constant", 0)
     counts = []
     for k, T in enumerate(_random_targets(samples, seed)):
         try:
             out = f(T.copy())
         except Exception as exc:  # noqa: BLE001 - report the student's error
-            return _report(CheckResult(name, False, f"{FAIL} calling {name} raised "
-                                       f"{type(exc).__name__}: {exc}", "error", k + 1),
-                           quiet, raise_on_fail)
+            return CheckResult(name, False, f"{FAIL} calling {name} raised {type(exc).__name__}: {exc}",
+                               "error", k + 1)
         rows, code, msg = _as_rows(out, "the value returned by ik(T)")
         if rows is None:
-            return _report(CheckResult(name, False, f"{FAIL} {msg}", code, k + 1), quiet, raise_on_fail)
+            return CheckResult(name, False, f"{FAIL} {msg}", code, k + 1)
         passed, code, msg = _verdict(rows, T, f"{name} at pose {k + 1}")
         if not passed:
-            return _report(CheckResult(name, False, f"{FAIL} {msg}", code, k + 1), quiet, raise_on_fail)
+            return CheckResult(name, False, f"{FAIL} {msg}", code, k + 1)
         counts.append(len(rows))
     lo, hi = min(counts), max(counts)
     per = f"{lo}" if lo == hi else f"{lo} to {hi}"
     more = "" if lo >= 8 else "; the leg has up to 8"
     text = (f"{PASS} {name} is correct: every returned solution reproduces its pose "
             f"(checked at {samples} random poses; {per} solution{'s' if hi > 1 else ''} per pose{more}).")
-    return _report(CheckResult(name, True, text, None, samples), quiet, raise_on_fail)
+    return CheckResult(name, True, text, None, samples)
 

@@ -33,7 +33,7 @@ from functools import lru_cache
 import numpy as np
 
 from robokin.check import diagnoses as dg
-from robokin.check._core import PASS, FAIL, Check, CheckResult, Variable, alternatives, fmt, show
+from robokin.check._core import PASS, FAIL, Check, CheckResult, Variable, alternatives, fmt, report, show
 from robokin.check._registry import exercise
 from robokin.validation import as_vector, check_positive
 
@@ -365,12 +365,7 @@ def ik_solution(
                 f"{name} does not reach the goal: r_BF(q) = {fmt(_position(qa))}, "
                 f"{fmt(miss)} m away from {fmt(goal)}."
             )
-    result = CheckResult(name, False, f"{FAIL} {msg}", code, 1)
-    if not quiet:
-        show(result.message)
-    if raise_on_fail:
-        raise AssertionError(result.message)
-    return result
+    return report(CheckResult(name, False, f"{FAIL} {msg}", code, 1), raise_on_fail=raise_on_fail, quiet=quiet)
 
 
 # ------------------------------------------------------------------ tracking control

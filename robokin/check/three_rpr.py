@@ -41,7 +41,7 @@ from robokin.check._core import (
     Variable,
     alternatives,
     fmt,
-    show,
+    report,
 )
 from robokin.check._registry import exercise
 from robokin.errors import DomainError
@@ -230,12 +230,7 @@ def check_poses(poses: Any, rho: Any, robot: Any = None, *, name: str = "pose", 
     if (rho < 0).any():
         raise DomainError(f"rho must be non-negative leg lengths; got {rho.tolist()}")
     tol = check_positive(tol, "tol", scalar=True)
-    result = _judge(poses, rho, robot, name, tol)
-    if not quiet:
-        show(result.message)
-    if raise_on_fail and not result.passed:
-        raise AssertionError(result.message)
-    return result
+    return report(_judge(poses, rho, robot, name, tol), raise_on_fail=raise_on_fail, quiet=quiet)
 
 
 def _judge(poses: Any, rho: np.ndarray, robot, name: str, tol: float, n: int = 1) -> CheckResult:
@@ -309,12 +304,7 @@ class _ForwardKinematicsCheck:
         return _robot().inverse_kinematics(lo + (hi - lo) * rng.random((self.samples, 3)))
 
     def __call__(self, answer: Any, *, raise_on_fail: bool = False, quiet: bool = False) -> CheckResult:
-        result = self.evaluate(answer)
-        if not quiet:
-            show(result.message)
-        if raise_on_fail and not result.passed:
-            raise AssertionError(result.message)
-        return result
+        return report(self.evaluate(answer), raise_on_fail=raise_on_fail, quiet=quiet)
 
     def evaluate(self, answer: Any) -> CheckResult:
         robot = _robot()
