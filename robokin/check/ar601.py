@@ -98,14 +98,12 @@ def _fk(q) -> np.ndarray:
 
 # ------------------------------------------------------------------ foot transform
 def _element(kind: str, v: float) -> np.ndarray:
-    from robokin.transforms import rotx, roty, rotz
+    """The 4×4 elementary transform ``Tz(v)`` (kind "z") or ``Rx/Ry/Rz(v)``."""
+    from robokin.transforms import rotx, roty, rotz, transform, translation
 
-    T = np.eye(4)
     if kind == "z":
-        T[2, 3] = v
-    else:
-        T[:3, :3] = {"Rx": rotx, "Ry": roty, "Rz": rotz}[kind](float(v))
-    return T
+        return translation((0.0, 0.0, v))
+    return transform({"Rx": rotx, "Ry": roty, "Rz": rotz}[kind](float(v)), (0.0, 0.0, 0.0), check=False)
 
 
 def _product(seq: list[tuple[str, Any]], q: np.ndarray, sign: float = -1.0) -> np.ndarray:

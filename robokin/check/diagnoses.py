@@ -29,6 +29,7 @@ from collections.abc import Callable, Iterator, Sequence
 import numpy as np
 
 from robokin.check._core import Context, Diagnosis, Mistake, RefFn, alternatives, fmt, mistake
+from robokin.transforms import transform
 
 __all__ = [
     "transpose",
@@ -98,10 +99,8 @@ def inverse_transform() -> Diagnosis:
 
 
 def _homogeneous(R: np.ndarray, p: np.ndarray) -> np.ndarray:
-    T = np.eye(4)
-    T[:3, :3] = R
-    T[:3, 3] = p
-    return T
+    """[[R, p], [0, 1]] for a mistaken rotation block R (not checked: it may not be a rotation)."""
+    return transform(R, p, check=False)
 
 
 def transform_mistakes() -> list[Diagnosis]:
