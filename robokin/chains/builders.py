@@ -32,6 +32,7 @@ from collections.abc import Sequence
 from typing import Any
 
 from robokin.chains.chain import SerialChain
+from robokin.chains.tables import dh_elements, link_table_elements
 
 __all__ = ["from_dh", "from_modified_dh", "from_link_table"]
 
@@ -73,8 +74,8 @@ def from_dh(
     Frame i of the chain (after joint i) has the origin and z axis of DH frame
     i−1, so the joint axis passes through it.
     """
-    return SerialChain.from_dh(table, joint_names=joint_names, limits=limits, tool=tool, base=base,
-                               frame_names=frame_names, name=name)
+    return SerialChain(dh_elements(table, joint_names, modified=False), limits=limits, tool=tool, base=base,
+                       frame_names=frame_names, name=name)
 
 
 def from_modified_dh(
@@ -104,8 +105,8 @@ def from_modified_dh(
     -----
     Craig 2005, §3.4, eq. (3.6).
     """
-    return SerialChain.from_modified_dh(table, joint_names=joint_names, limits=limits, tool=tool, base=base,
-                                        frame_names=frame_names, name=name)
+    return SerialChain(dh_elements(table, joint_names, modified=True), limits=limits, tool=tool, base=base,
+                       frame_names=frame_names, name=name)
 
 
 def from_link_table(
@@ -140,5 +141,5 @@ def from_link_table(
     DomainError
         A numeric transform that is not homogeneous, or an unknown joint type.
     """
-    return SerialChain.from_link_table(transforms, joint_types, joint_names=joint_names, limits=limits, tool=tool,
-                                       base=base, frame_names=frame_names, name=name)
+    return SerialChain(link_table_elements(transforms, joint_types, joint_names), limits=limits, tool=tool,
+                       base=base, frame_names=frame_names, name=name)

@@ -287,53 +287,21 @@ class SerialChain:
 
     # ------------------------------------------------------------ construction
     @classmethod
-    def from_dh(
-        cls,
-        table: Any,
-        *,
-        joint_names: Sequence[str] | None = None,
-        limits: Any = None,
-        tool: Any = None,
-        base: Any = None,
-        frame_names: Sequence[str] | None = None,
-        name: str = "dh_chain",
-    ) -> SerialChain:
+    def from_dh(cls, table: Any, *, joint_names: Sequence[str] | None = None, **kwargs: Any) -> SerialChain:
         """Build from a standard DH table; see :func:`robokin.chains.from_dh`."""
-        return cls(dh_elements(table, joint_names, modified=False), limits=limits, tool=tool, base=base,
-                   frame_names=frame_names, name=name)
+        return cls(dh_elements(table, joint_names, modified=False), **{"name": "dh_chain", **kwargs})
 
     @classmethod
-    def from_modified_dh(
-        cls,
-        table: Any,
-        *,
-        joint_names: Sequence[str] | None = None,
-        limits: Any = None,
-        tool: Any = None,
-        base: Any = None,
-        frame_names: Sequence[str] | None = None,
-        name: str = "mdh_chain",
-    ) -> SerialChain:
+    def from_modified_dh(cls, table: Any, *, joint_names: Sequence[str] | None = None, **kwargs: Any) -> SerialChain:
         """Build from a modified (Craig) DH table; see :func:`robokin.chains.from_modified_dh`."""
-        return cls(dh_elements(table, joint_names, modified=True), limits=limits, tool=tool, base=base,
-                   frame_names=frame_names, name=name)
+        return cls(dh_elements(table, joint_names, modified=True), **{"name": "mdh_chain", **kwargs})
 
     @classmethod
     def from_link_table(
-        cls,
-        transforms: Any,
-        joint_types: Any,
-        *,
-        joint_names: Sequence[str] | None = None,
-        limits: Any = None,
-        tool: Any = None,
-        base: Any = None,
-        frame_names: Sequence[str] | None = None,
-        name: str = "link_table_chain",
+        cls, transforms: Any, joint_types: Any, *, joint_names: Sequence[str] | None = None, **kwargs: Any
     ) -> SerialChain:
         """Build from fixed link transforms at q = 0; see :func:`robokin.chains.from_link_table`."""
-        return cls(link_table_elements(transforms, joint_types, joint_names), limits=limits, tool=tool, base=base,
-                   frame_names=frame_names, name=name)
+        return cls(link_table_elements(transforms, joint_types, joint_names), **{"name": "link_table_chain", **kwargs})
 
     def subs(self, values: dict) -> SerialChain:
         """Return a copy with link parameters substituted, e.g. ``{l1: 0.5}``.
