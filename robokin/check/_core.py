@@ -68,6 +68,8 @@ __all__ = [
     "Mistake",
     "Diagnosis",
     "Check",
+    "MatrixArgumentsCheck",
+    "report",
     "mistake",
     "alternatives",
     "PASS",
