@@ -73,7 +73,6 @@ from robokin.motion import (
     time_law,
     tool_jacobian,
     track_position_batch,
-    transform_from_rpy,
     via_point_trajectory,
 )
 from robokin.motion.sweeps import BatchTrackingLog
@@ -583,7 +582,7 @@ def motion_specs() -> list[Spec]:
                                                          extra_bad={"rows": lambda c: np.zeros((5, 4))}),
                                                      Rot("R_be"), Arr("p_et", (3,), batch=False)],
              shape=lambda c, v: B(c, 6, 4), batch=True),
-        Spec("motion.transform_from_rpy", transform_from_rpy, [Arr("rpy", (3,)), Arr("position", (3,))],
+        Spec("transforms.transform_from_rpy", tr.transform_from_rpy, [Arr("rpy", (3,)), Arr("position", (3,))],
              shape=lambda c, v: B(c, 4, 4), batch=True),
         Spec("motion.initial_condition_sweep", initial_condition_sweep,
              [Limits("limits", 3, extra_bad={"reversed": lambda c: [[1.0, -1.0]] * 3,

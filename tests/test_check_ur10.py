@@ -120,7 +120,7 @@ def test_samples_are_regular_and_reproducible():
     X2 = ur.weighted_pinv.sample_points()
     np.testing.assert_array_equal(X1, X2)
     for x in X1:
-        s = np.linalg.svd(ur._Jv(x[:6]), compute_uv=False)
+        s = np.linalg.svd(ur._position_jacobian(x[:6]), compute_uv=False)
         assert s[-1] > 0.02
 
 
@@ -129,13 +129,13 @@ def test_references_match_robokin_solvers():
     from robokin.motion import DampedLeastSquares, WeightedPseudoInverse
 
     x = ur.dls_step.sample_points()[0]
-    J, e, lam = ur._dls_args(x)
+    J, e, lam = ur._damped_least_squares_arguments(x)
     dq, _ = DampedLeastSquares(damping=lam).step(J, e, None, None)
-    np.testing.assert_allclose(dq, ur._dls_ref(x), atol=1e-12)
+    np.testing.assert_allclose(dq, ur._damped_least_squares_reference(x), atol=1e-12)
     x = ur.weighted_pinv.sample_points()[0]
-    J, W = ur._wp_args(x)
+    J, W = ur._weighted_pinv_arguments(x)
     dq, _ = WeightedPseudoInverse(weights=np.diag(W)).step(J, e, None, None)
-    np.testing.assert_allclose(dq, ur._wp_ref(x) @ e, atol=1e-12)
+    np.testing.assert_allclose(dq, ur._weighted_pinv_reference(x) @ e, atol=1e-12)
 
 
 def test_registered():

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from test_ik_support import baxter_left, planar_3r, reachable_targets, ur10, within_limits
+from ik_support import baxter_left, planar_3r, reachable_targets, ur10, within_limits
 
 from robokin.errors import DomainError, ShapeError
 from robokin.motion import (

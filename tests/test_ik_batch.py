@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from test_ik_support import baxter_left, reachable_targets, ur10, within_limits
+from ik_support import baxter_left, reachable_targets, ur10, within_limits
 
 from robokin.motion import solve_ik_batch
 

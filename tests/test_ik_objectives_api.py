@@ -8,7 +8,7 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
-from test_ik_support import reachable_targets, ur10
+from ik_support import reachable_targets, ur10
 
 from robokin.chains import SerialChain
 from robokin.motion import (

@@ -50,10 +50,7 @@ PRIVATE_EXCEPTIONS: dict[tuple[str, str, str], str] = {
 
 #: Import cycles known when this test was written, each held by imports inside functions: reason.
 #: A cycle not listed here fails; a listed cycle that is gone fails too (remove it from the list).
-KNOWN_CYCLES: dict[frozenset, str] = {
-    frozenset({"robokin.chains.builders", "robokin.chains.chain"}):
-        "SerialChain's alternative constructors call the builders (imported inside the methods)",
-}
+KNOWN_CYCLES: dict[frozenset, str] = {}
 
 #: The modules of robokin.views, bottom up: each imports only views modules listed before it
 #: (the layers of the robokin.views docstring). ``_server`` runs in its own process and imports none.

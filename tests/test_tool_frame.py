@@ -19,9 +19,8 @@ from robokin.motion.tool import (
     chain_with_tool,
     rigid_body_jacobian,
     tool_jacobian,
-    transform_from_rpy,
 )
-from robokin.transforms import rotx, roty, rotz
+from robokin.transforms import rotx, roty, rotz, transform_from_rpy
 from finite_differences import pose_jacobian
 
 # A tool turned by pi/10 about z_E (rpy = (0, 0, pi/10)) and offset 0.2 m along x_E. (The course reads
@@ -43,6 +42,17 @@ def test_transform_from_rpy_reference(rpy, R_expected):
     assert np.allclose(T[:3, :3], R_expected)
     assert np.allclose(T[:3, 3], [-0.14, -0.85, 0.6])
     assert np.allclose(T[3], [0, 0, 0, 1])
+
+
+def test_transform_from_rpy_old_import_paths():
+    """transform_from_rpy moved to robokin.transforms; chapter 4 imports it from robokin.motion.tool."""
+    import robokin
+    import robokin.motion
+    import robokin.motion.tool
+
+    assert robokin.motion.tool.transform_from_rpy is transform_from_rpy
+    assert robokin.motion.transform_from_rpy is transform_from_rpy
+    assert robokin.transform_from_rpy is transform_from_rpy
 
 
 def test_transform_from_rpy_goal_values():

@@ -11,7 +11,7 @@ import sys
 import numpy as np
 import pytest
 
-from test_views_doubles import scara_like, two_link, zero_length
+from views_doubles import scara_like, two_link, zero_length
 
 umsgpack = pytest.importorskip("umsgpack")
 views = pytest.importorskip("robokin.views")

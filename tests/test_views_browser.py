@@ -8,7 +8,7 @@ import pytest
 
 from conftest import watched_page
 
-from test_views_doubles import two_link
+from views_doubles import two_link
 
 pytestmark = pytest.mark.browser
 

@@ -10,7 +10,7 @@ import time
 import numpy as np
 import pytest
 
-from test_views_doubles import two_link
+from views_doubles import two_link
 
 pytest.importorskip("meshcat")
 pytest.importorskip("zmq")

@@ -3,7 +3,8 @@ r"""Serial kinematic chains described by elementary transforms.
 :class:`SerialChain` holds one representation of a serial robot: a sequence of
 elementary transforms (see :mod:`robokin.chains.elements`). Denavit–Hartenberg
 tables, modified (Craig) DH tables and link-transform tables are translated into
-that sequence by :mod:`robokin.chains.builders`.
+that sequence by :mod:`robokin.chains.tables` (for the builders of
+:mod:`robokin.chains.builders` and the alternative constructors of :class:`SerialChain`).
 
 The same object gives
 
@@ -39,6 +40,7 @@ from robokin._dispatch import is_symbolic
 from robokin.chains._engine import Engine
 from robokin.chains.elements import Element, Fixed, elementary_transform
 from robokin.chains.protocol import Chain, DrawableChain, Frame
+from robokin.chains.tables import dh_elements, link_table_elements
 from robokin.errors import DomainError, ShapeError
 from robokin.validation import (
     as_float_array,
@@ -286,25 +288,21 @@ class SerialChain:
 
     # ------------------------------------------------------------ construction
     @classmethod
-    def from_dh(cls, table: Any, **kwargs: Any) -> SerialChain:
+    def from_dh(cls, table: Any, *, joint_names: Sequence[str] | None = None, **kwargs: Any) -> SerialChain:
         """Build from a standard DH table; see :func:`robokin.chains.from_dh`."""
-        from robokin.chains.builders import from_dh
-
-        return from_dh(table, **kwargs)
+        return cls(dh_elements(table, joint_names, modified=False), **{"name": "dh_chain", **kwargs})
 
     @classmethod
-    def from_modified_dh(cls, table: Any, **kwargs: Any) -> SerialChain:
+    def from_modified_dh(cls, table: Any, *, joint_names: Sequence[str] | None = None, **kwargs: Any) -> SerialChain:
         """Build from a modified (Craig) DH table; see :func:`robokin.chains.from_modified_dh`."""
-        from robokin.chains.builders import from_modified_dh
-
-        return from_modified_dh(table, **kwargs)
+        return cls(dh_elements(table, joint_names, modified=True), **{"name": "mdh_chain", **kwargs})
 
     @classmethod
-    def from_link_table(cls, transforms: Any, joint_types: Any, **kwargs: Any) -> SerialChain:
+    def from_link_table(
+        cls, transforms: Any, joint_types: Any, *, joint_names: Sequence[str] | None = None, **kwargs: Any
+    ) -> SerialChain:
         """Build from fixed link transforms at q = 0; see :func:`robokin.chains.from_link_table`."""
-        from robokin.chains.builders import from_link_table
-
-        return from_link_table(transforms, joint_types, **kwargs)
+        return cls(link_table_elements(transforms, joint_types, joint_names), **{"name": "link_table_chain", **kwargs})
 
     def subs(self, values: dict) -> SerialChain:
         """Return a copy with link parameters substituted, e.g. ``{l1: 0.5}``.

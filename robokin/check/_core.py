@@ -68,6 +68,8 @@ __all__ = [
     "Mistake",
     "Diagnosis",
     "Check",
+    "MatrixArgumentsCheck",
+    "report",
     "mistake",
     "alternatives",
     "PASS",
@@ -78,6 +80,33 @@ PASS = "\u2714"  # ✔
 FAIL = "\u2718"  # ✘
 
 RefFn = Callable[[np.ndarray], np.ndarray]
+
+
+def report(result: CheckResult, *, raise_on_fail: bool, quiet: bool) -> CheckResult:
+    """Print a check's message (unless ``quiet``); raise it when the answer failed and ``raise_on_fail``.
+
+    Parameters
+    ----------
+    result : CheckResult
+        The verdict of a check.
+    raise_on_fail, quiet : bool
+        As for every check.
+
+    Returns
+    -------
+    CheckResult
+        ``result``.
+
+    Raises
+    ------
+    AssertionError
+        ``raise_on_fail`` and the answer failed (the message is the check's).
+    """
+    if not quiet:
+        show(result.message)
+    if raise_on_fail and not result.passed:
+        raise AssertionError(result.message)
+    return result
 
 
 # ---------------------------------------------------------------- results
@@ -221,10 +250,11 @@ def fmt(x: Any, precision: int = 3) -> str:
         a = np.round(raw, precision) + 0.0
     a = np.where(np.isfinite(a) | ~np.isfinite(raw), a, raw)
 
-    def one(v: float) -> str:
-        if abs(v) >= 1e16 and np.isfinite(v):
-            return np.format_float_scientific(v, precision=precision, trim="-")
-        return np.format_float_positional(v, precision=precision, trim="-")
+    def one(v: float | np.floating) -> str:
+        value = float(v)
+        if abs(value) >= 1e16 and math.isfinite(value):
+            return np.format_float_scientific(value, precision=precision, trim="-")
+        return np.format_float_positional(value, precision=precision, trim="-")
 
     if a.ndim == 0:
         return one(float(a))
@@ -597,12 +627,7 @@ class Check:
         self, answer: Any, *, raise_on_fail: bool = False, quiet: bool = False
     ) -> CheckResult:
         """Compare ``answer`` with the reference; print and return the result."""
-        result = self.evaluate(answer)
-        if not quiet:
-            show(result.message)
-        if raise_on_fail and not result.passed:
-            raise AssertionError(result.message)
-        return result
+        return report(self.evaluate(answer), raise_on_fail=raise_on_fail, quiet=quiet)
 
     def evaluate(self, answer: Any) -> CheckResult:
         """Like calling the check, but neither prints nor raises.
@@ -717,6 +742,45 @@ class Check:
         i0 = wrong[0]
         ex = f" For example{where}: entry {_entry(i0)} should be {fmt(R[k][i0])}, yours is {fmt(S[k][i0])}."
         return head + ex + (f" {self.hint}" if self.hint else "")
+
+
+@dataclass
+class MatrixArgumentsCheck(Check):
+    """A :class:`Check` whose answer is a function of arrays (matrices, vectors, gains).
+
+    ``arguments(x)`` turns the sampled scalars ``x`` (shape ``(nvars,)``) into the
+    arguments of the student's function, e.g. ``(J, W)``; the answer is called as
+    ``answer(*arguments(x))``. Anything that is not a function fails with a message
+    quoting ``signature``; ``None`` goes to :meth:`Check.evaluate`, which explains it.
+
+    Parameters
+    ----------
+    arguments : callable, optional
+        ``arguments(x) -> tuple`` of the student's function's arguments.
+    signature : str
+        The expected call, e.g. ``"weighted_pinv(J, W) -> (6, 3) array"``.
+    """
+
+    arguments: Callable[[np.ndarray], tuple] | None = None
+    signature: str = ""
+
+    def evaluate(self, answer: Any) -> CheckResult:
+        """Call ``answer(*arguments(x))`` at the sample points and compare (see :meth:`Check.evaluate`)."""
+        if callable(answer) and not isinstance(answer, np.ndarray) and self.arguments is not None:
+            build, student = self.arguments, answer
+
+            def call_with_arguments(x: np.ndarray) -> Any:
+                return student(*build(np.asarray(x, dtype=float)))
+
+            return super().evaluate(call_with_arguments)
+        if answer is not None and not callable(answer):
+            return CheckResult(
+                self.name, False,
+                f"{FAIL} {self.name} should be a Python function {self.signature}; "
+                f"got {type(answer).__name__}.",
+                "constant", 0,
+            )
+        return super().evaluate(answer)
 
 
 # ---------------------------------------------------------------- generic entry points

@@ -43,7 +43,7 @@ from robokin.check._core import (
     CheckResult,
     Variable,
     alternatives,
-    show,
+    report,
     fmt,
 )
 from robokin.check._registry import exercise
@@ -60,7 +60,7 @@ __all__ = [
     "knee_angle",
 ]
 
-_CH = "ar601"
+_CHAPTER = "ar601"
 #: Link lengths L1, L2, L3 (m) used by the checks (the model's defaults).
 LENGTHS = (0.3, 0.3, 0.1)
 #: Foot position (m) of the chapter's IK target, in the hip frame B.
@@ -97,29 +97,27 @@ def _fk(q) -> np.ndarray:
 
 
 # ------------------------------------------------------------------ foot transform
-def _elem(kind: str, v: float) -> np.ndarray:
-    from robokin.transforms import rotx, roty, rotz
+def _element(kind: str, v: float) -> np.ndarray:
+    """The 4×4 elementary transform ``Tz(v)`` (kind "z") or ``Rx/Ry/Rz(v)``."""
+    from robokin.transforms import rotx, roty, rotz, transform, translation
 
-    T = np.eye(4)
     if kind == "z":
-        T[2, 3] = v
-    else:
-        T[:3, :3] = {"Rx": rotx, "Ry": roty, "Rz": rotz}[kind](float(v))
-    return T
+        return translation((0.0, 0.0, v))
+    return transform({"Rx": rotx, "Ry": roty, "Rz": rotz}[kind](float(v)), (0.0, 0.0, 0.0), check=False)
 
 
 def _product(seq: list[tuple[str, Any]], q: np.ndarray, sign: float = -1.0) -> np.ndarray:
     """Product of elementary transforms; ("Rz", i) uses q[i], ("z", k) is Tz(sign·L_k)."""
     out = np.eye(4)
     for kind, arg in seq:
-        out = out @ (_elem("z", sign * LENGTHS[arg]) if kind == "z" else _elem(kind, q[arg]))
+        out = out @ (_element("z", sign * LENGTHS[arg]) if kind == "z" else _element(kind, q[arg]))
     return out
 
 
 _SEQ = [("Rz", 0), ("Ry", 1), ("Rx", 2), ("z", 0), ("Rx", 3), ("z", 1), ("Ry", 4), ("Rx", 5), ("z", 2)]
 
 
-def _fk_mistakes():
+def _forward_kinematics_mistakes():
     def seq_fn(seq, sign=-1.0):
         return lambda x: _product(seq, np.asarray(x, dtype=float), sign)
 
@@ -172,12 +170,12 @@ class _FixedLengthsCheck(Check):
 _Q = [Variable(f"q{i}", "angle", -math.pi / 2, math.pi / 2, aliases=(f"q_{i}", f"theta{i}"))
       for i in range(1, 7)]
 
-foot_transform = exercise(_CH, "foot_transform", _FixedLengthsCheck(
+foot_transform = exercise(_CHAPTER, "foot_transform", _FixedLengthsCheck(
     name="T_BF",
     reference=_fk,
     variables=_Q,
     groups=[("q", list(range(6)))],
-    diagnoses=_fk_mistakes(),
+    diagnoses=_forward_kinematics_mistakes(),
     noun="configurations",
     hint="Build it as R_z(q1) R_y(q2) R_x(q3) T_z(−L1) R_x(q4) T_z(−L2) R_y(q5) R_x(q6) T_z(−L3).",
     doc=(
@@ -229,7 +227,7 @@ def _knee_mistakes():
     ]
 
 
-knee_angle = exercise(_CH, "knee_angle", Check(
+knee_angle = exercise(_CHAPTER, "knee_angle", Check(
     name="knee_angle(d, l1, l2)",
     reference=_knee,
     variables=[Variable("d", "length", 0.12, 0.48), Variable("l1", "length", 0.25, 0.35),
@@ -352,14 +350,6 @@ def _verdict(rows: np.ndarray, T: np.ndarray, name: str) -> tuple[bool, str, str
     )
 
 
-def _report(result: CheckResult, quiet: bool, raise_on_fail: bool) -> CheckResult:
-    if not quiet:
-        show(result.message)
-    if raise_on_fail and not result.passed:
-        raise AssertionError(result.message)
-    return result
-
-
 def ik_solution(
     q: Any, T_target: Any = None, *, raise_on_fail: bool = False, quiet: bool = False
 ) -> CheckResult:
@@ -382,8 +372,8 @@ def ik_solution(
             distinct = len({tuple(np.round(np.mod(r + np.pi, 2 * np.pi), 6)) for r in rows})
             text = f"{PASS} {name} is correct: {what} the target foot pose"
             text += "." if distinct == len(rows) else f" ({distinct} of them distinct)."
-            return _report(CheckResult(name, True, text, None, 1), quiet, raise_on_fail)
-    return _report(CheckResult(name, False, f"{FAIL} {msg}", code, 1), quiet, raise_on_fail)
+            return report(CheckResult(name, True, text, None, 1), raise_on_fail=raise_on_fail, quiet=quiet)
+    return report(CheckResult(name, False, f"{FAIL} {msg}", code, 1), raise_on_fail=raise_on_fail, quiet=quiet)
 
 
 def _random_targets(n: int, seed: int) -> np.ndarray:
@@ -400,31 +390,34 @@ def ik_solver(
     the joint limits; every row returned must reproduce its pose. The message
     says how many solutions per pose the function returns (the leg has up to 8).
     """
-    name = "ik(T)"
     samples = check_int(samples, "samples", 1, 10_000)
     seed = seed if seed is None else check_int(seed, "seed", 0)
+    return report(_judge_ik_function(f, "ik(T)", samples, seed), raise_on_fail=raise_on_fail, quiet=quiet)
+
+
+def _judge_ik_function(f: Any, name: str, samples: int, seed: int) -> CheckResult:
+    """The verdict on an IK function at ``samples`` random reachable poses (see :func:`ik_solver`)."""
     if not callable(f):
-        return _report(CheckResult(name, False, f"{FAIL} {name} should be a Python function f(T) "
-                                   f"-> q; got {type(f).__name__}.", "constant", 0), quiet, raise_on_fail)
+        return CheckResult(name, False, f"{FAIL} {name} should be a Python function f(T) "
+                           f"-> q; got {type(f).__name__}.", "constant", 0)
     counts = []
     for k, T in enumerate(_random_targets(samples, seed)):
         try:
             out = f(T.copy())
         except Exception as exc:  # noqa: BLE001 - report the student's error
-            return _report(CheckResult(name, False, f"{FAIL} calling {name} raised "
-                                       f"{type(exc).__name__}: {exc}", "error", k + 1),
-                           quiet, raise_on_fail)
+            return CheckResult(name, False, f"{FAIL} calling {name} raised {type(exc).__name__}: {exc}",
+                               "error", k + 1)
         rows, code, msg = _as_rows(out, "the value returned by ik(T)")
         if rows is None:
-            return _report(CheckResult(name, False, f"{FAIL} {msg}", code, k + 1), quiet, raise_on_fail)
+            return CheckResult(name, False, f"{FAIL} {msg}", code, k + 1)
         passed, code, msg = _verdict(rows, T, f"{name} at pose {k + 1}")
         if not passed:
-            return _report(CheckResult(name, False, f"{FAIL} {msg}", code, k + 1), quiet, raise_on_fail)
+            return CheckResult(name, False, f"{FAIL} {msg}", code, k + 1)
         counts.append(len(rows))
     lo, hi = min(counts), max(counts)
     per = f"{lo}" if lo == hi else f"{lo} to {hi}"
     more = "" if lo >= 8 else "; the leg has up to 8"
     text = (f"{PASS} {name} is correct: every returned solution reproduces its pose "
             f"(checked at {samples} random poses; {per} solution{'s' if hi > 1 else ''} per pose{more}).")
-    return _report(CheckResult(name, True, text, None, samples), quiet, raise_on_fail)
+    return CheckResult(name, True, text, None, samples)
 

@@ -53,7 +53,7 @@ __all__ = [
     "Q_START", "P_START", "CENTRE", "RADIUS", "OMEGA", "PERIOD", "TS", "KP", "JOINT2_OFFSET",
 ]
 
-_CH = "baxter"
+_CHAPTER = "baxter"
 _PI = math.pi
 
 #: Joint limits of the left arm (rad), s0 … w2 (URDF).
@@ -124,7 +124,7 @@ def _circle_dot(t, radius=RADIUS, omega=OMEGA, factor=None, phase=0.0, sense=1.0
     return k * np.array([-math.sin(a), sense * math.cos(a), 0.0])
 
 
-circle_position = exercise(_CH, "circle_position", Check(
+circle_position = exercise(_CHAPTER, "circle_position", Check(
     name="r_des(t)",
     reference=lambda x: _circle(x),
     variables=_T,
@@ -167,7 +167,7 @@ circle_position = exercise(_CH, "circle_position", Check(
     doc="Check a function r_des(t) -> c + r [cos ωt, sin ωt, 0] (m), r = 0.05 m, ω = π/2 rad/s.",
 ))
 
-circle_velocity = exercise(_CH, "circle_velocity", Check(
+circle_velocity = exercise(_CHAPTER, "circle_velocity", Check(
     name="v_des(t)",
     reference=lambda x: _circle_dot(x),
     variables=_T,
@@ -245,7 +245,7 @@ def _rate(x, kp=KP, feedforward=True, error_sign=1.0, gain_on_ff=False, inverse=
     return (J.T if inverse == "transpose" else np.linalg.pinv(J)) @ v
 
 
-resolved_rate = exercise(_CH, "resolved_rate", Check(
+resolved_rate = exercise(_CHAPTER, "resolved_rate", Check(
     name="qdot(q, r_des, v_des)",
     reference=_rate,
     variables=[*_Q_REGULAR, *_RDES, *_VDES],
@@ -298,7 +298,7 @@ resolved_rate = exercise(_CH, "resolved_rate", Check(
 
 
 # ------------------------------------------------------------------ forward kinematics
-def _fk_mistakes() -> list:
+def _forward_kinematics_mistakes() -> list:
     return [
         alternatives("missing_joint2_offset", [
             (lambda x: _pose(np.asarray(x) - JOINT2_OFFSET),
@@ -330,12 +330,12 @@ def _fk_mistakes() -> list:
     ]
 
 
-forward_kinematics = exercise(_CH, "forward_kinematics", Check(
+forward_kinematics = exercise(_CHAPTER, "forward_kinematics", Check(
     name="T_BE(q)",
     reference=lambda x: _pose(x),
     variables=_Q_ANY,
     groups=[("q", list(range(7)))],
-    diagnoses=_fk_mistakes(),
+    diagnoses=_forward_kinematics_mistakes(),
     noun="configurations",
     atol=1e-3,
     rtol=0.0,
@@ -368,7 +368,7 @@ def _position_mistakes() -> list:
     ]
 
 
-hand_position_at = exercise(_CH, "hand_position_at", Check(
+hand_position_at = exercise(_CHAPTER, "hand_position_at", Check(
     name="r_hand(q_start)",
     reference=lambda x: _position(x),
     variables=_Q_ANY,

@@ -44,16 +44,26 @@ Usage::
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
-from dataclasses import dataclass
 from functools import lru_cache
 from typing import Any
 
 import numpy as np
 
-from robokin.check._core import FAIL, Check, CheckResult, Variable, alternatives
+from robokin.check._core import Check, MatrixArgumentsCheck, Variable, alternatives
 from robokin.check._registry import exercise
 from robokin.check.diagnoses import inverse_transform, transform_mistakes
+from robokin.transforms import (
+    quaternion_from_rotation,
+    rotation_exp,
+    rotation_from_rpy,
+    rotation_log,
+    rotx,
+    roty,
+    rotz,
+    rpy_from_rotation,
+    skew,
+    transform,
+)
 
 __all__ = [
     "GOAL_POSITION",
@@ -71,7 +81,7 @@ __all__ = [
     "tool_pose",
 ]
 
-_CH = "cartesian"
+_CHAPTER = "cartesian"
 #: Number of joints of the course's arm.
 N_JOINTS = 7
 #: The tool's orientation as the course writes it, (yaw, pitch, roll) in rad, and its offset in metres (frame E).
@@ -92,83 +102,22 @@ def _robot():
     return genova_arm()
 
 
-def _tf(R: np.ndarray, p: Any) -> np.ndarray:
-    T = np.eye(4)
-    T[:3, :3] = R
-    T[:3, 3] = p
-    return T
-
-
-def _rotx(a: float) -> np.ndarray:
-    c, s = math.cos(a), math.sin(a)
-    return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
-
-
-def _roty(a: float) -> np.ndarray:
-    c, s = math.cos(a), math.sin(a)
-    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
-
-
-def _rotz(a: float) -> np.ndarray:
-    c, s = math.cos(a), math.sin(a)
-    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+def _transform(R: np.ndarray, p: Any) -> np.ndarray:
+    """The 4×4 transform [[R, p], [0, 1]] (R a rotation by construction, not checked)."""
+    return transform(R, p, check=False)
 
 
 def _ypr(yaw: float, pitch: float, roll: float) -> np.ndarray:
     """The course's YPR rotation Rz(yaw) Ry(pitch) Rx(roll)."""
-    return _rotz(yaw) @ _roty(pitch) @ _rotx(roll)
-
-
-def _rpy(r: float, p: float, y: float) -> np.ndarray:
-    from robokin.transforms import rotation_from_rpy
-
-    return np.asarray(rotation_from_rpy(r, p, y), dtype=float)
-
-
-def _exp(w: np.ndarray) -> np.ndarray:
-    from robokin.transforms import rotation_exp
-
-    return np.asarray(rotation_exp(w), dtype=float)
-
-
-def _log(R: np.ndarray) -> np.ndarray:
-    from robokin.transforms import rotation_log
-
-    return np.asarray(rotation_log(R, check=False), dtype=float)
-
-
-def _skew(r: np.ndarray) -> np.ndarray:
-    return np.array([[0.0, -r[2], r[1]], [r[2], 0.0, -r[0]], [-r[1], r[0], 0.0]])
+    return rotz(yaw) @ roty(pitch) @ rotx(roll)
 
 
 def _T_ET() -> np.ndarray:
-    return _tf(_ypr(*TOOL_YPR), TOOL_OFFSET)
+    return _transform(_ypr(*TOOL_YPR), TOOL_OFFSET)
 
 
 def _T_BG() -> np.ndarray:
-    return _tf(_ypr(*GOAL_YPR), GOAL_POSITION)
-
-
-@dataclass
-class MatrixArgumentsCheck(Check):
-    """A :class:`~robokin.check.Check` whose answer is a function of arrays.
-
-    ``arguments(x)`` turns the sampled scalars ``x`` into the arguments of the
-    student's function; the answer is called as ``answer(*arguments(x))``.
-    """
-
-    arguments: Callable[[np.ndarray], tuple] | None = None
-    signature: str = ""
-
-    def evaluate(self, answer: Any) -> CheckResult:
-        if callable(answer) and not isinstance(answer, np.ndarray) and self.arguments is not None:
-            build, student = self.arguments, answer
-            return super().evaluate(lambda x: student(*build(np.asarray(x, dtype=float))))
-        if answer is not None and not callable(answer):
-            return CheckResult(self.name, False,
-                               f"{FAIL} {self.name} should be a Python function {self.signature}; "
-                               f"got {type(answer).__name__}.", "constant", 0)
-        return super().evaluate(answer)
+    return _transform(_ypr(*GOAL_YPR), GOAL_POSITION)
 
 
 def _joint_variables() -> list[Variable]:
@@ -197,16 +146,16 @@ def _tool_frame_mistakes():
     R, p = _ypr(*TOOL_YPR), np.array(TOOL_OFFSET)
     R_swapped = _ypr(*TOOL_YPR[::-1])
     return [
-        alternatives("offset_in_cm", [(lambda x: _tf(R, p / 100.0), (
+        alternatives("offset_in_cm", [(lambda x: _transform(R, p / 100.0), (
             "the offset of {name} is 0.002 m: 0.2 was read as centimetres. The robot's link "
             "table and the goal are in metres (the goal is about 1 m from the base), and a 2 mm "
             "tool would barely leave the end-effector: the offset is 0.2 m = 20 cm."
         ))]),
         alternatives("rpy_order", [
-            (lambda x: _tf(R_swapped, p), _SWAPPED_TOOL),
-            (lambda x: _tf(R_swapped, p / 100.0), _SWAPPED_TOOL + " Also, its offset is 0.2 m, not 0.2 cm."),
+            (lambda x: _transform(R_swapped, p), _SWAPPED_TOOL),
+            (lambda x: _transform(R_swapped, p / 100.0), _SWAPPED_TOOL + " Also, its offset is 0.2 m, not 0.2 cm."),
         ]),
-        alternatives("degrees_input", [(lambda x: _tf(_rotx(math.radians(math.pi / 10)), p), (
+        alternatives("degrees_input", [(lambda x: _transform(rotx(math.radians(math.pi / 10)), p), (
             "the rotation of {name} is π/10 DEGREES: pass radians (π/10 rad = 18°)."
         ))]),
         inverse_transform(),
@@ -214,7 +163,7 @@ def _tool_frame_mistakes():
     ]
 
 
-tool_frame = exercise(_CH, "tool_frame", Check(
+tool_frame = exercise(_CHAPTER, "tool_frame", Check(
     name="T_ET",
     reference=lambda x: _T_ET(),
     diagnoses=_tool_frame_mistakes(),
@@ -231,25 +180,25 @@ def _goal_frame_mistakes():
     p = np.array(GOAL_POSITION)
     y, pi_, r = GOAL_YPR
     return [
-        alternatives("rpy_order", [(lambda x: _tf(_ypr(r, pi_, y), p), (
+        alternatives("rpy_order", [(lambda x: _transform(_ypr(r, pi_, y), p), (
             "{name} reads η_G = (−3.02, −0.40, −1.33) as (roll, pitch, yaw): your rotation is "
             "Rz(−1.33) Ry(−0.40) Rx(−3.02), the roll taken for the yaw. The course's triple is "
             "YPR, (yaw, pitch, roll): R_BG = Rz(−3.02) Ry(−0.40) Rx(−1.33), in robokin's "
             "argument order rotation_from_rpy(−1.33, −0.40, −3.02)."
         ))]),
         alternatives("composition_order", [
-            (lambda x: _tf(_rotx(r) @ _roty(pi_) @ _rotz(y), p), (
+            (lambda x: _transform(rotx(r) @ roty(pi_) @ rotz(y), p), (
                 "{name} multiplies the three rotations in the reverse order, Rx(roll) Ry(pitch) "
                 "Rz(yaw). The angles are right, but the product is R = Rz(yaw) Ry(pitch) Rx(roll): "
                 "turn about the fixed x axis first, then y, then z (or z, new y, newest x)."
             )),
-            (lambda x: _tf(_rotx(y) @ _roty(pi_) @ _rotz(r), p), (
+            (lambda x: _transform(rotx(y) @ roty(pi_) @ rotz(r), p), (
                 "{name} is Rx(−3.02) Ry(−0.40) Rz(−1.33): both the order of the angles and the order "
                 "of the product are reversed. The course builds R_BG = Rz(yaw) Ry(pitch) Rx(roll) "
                 "= Rz(−3.02) Ry(−0.40) Rx(−1.33)."
             )),
         ]),
-        alternatives("degrees_input", [(lambda x: _tf(_ypr(*np.radians(GOAL_YPR)), p), (
+        alternatives("degrees_input", [(lambda x: _transform(_ypr(*np.radians(GOAL_YPR)), p), (
             "the angles of {name} were taken as DEGREES: −3.02, −0.40, −1.33 are radians."
         ))]),
         inverse_transform(),
@@ -257,7 +206,7 @@ def _goal_frame_mistakes():
     ]
 
 
-goal_frame = exercise(_CH, "goal_frame", Check(
+goal_frame = exercise(_CHAPTER, "goal_frame", Check(
     name="T_BG",
     reference=lambda x: _T_BG(),
     diagnoses=_goal_frame_mistakes(),
@@ -285,7 +234,7 @@ def _tool_pose_mistakes():
         alternatives("inverse_tool", [(lambda x: fk(x) @ np.linalg.inv(T_et), (
             "{name} uses the inverse tool transform ᵀT_E = (ᴱT_T)⁻¹: ᴮT_T = ᴮT_E ᴱT_T."
         ))]),
-        alternatives("offset_not_rotated", [(lambda x: _tf(fk(x)[:3, :3] @ T_et[:3, :3],
+        alternatives("offset_not_rotated", [(lambda x: _transform(fk(x)[:3, :3] @ T_et[:3, :3],
                                                           fk(x)[:3, 3] + T_et[:3, 3]), (
             "the tool origin in {name} adds the offset ₑr_ET as if it were written in the base "
             "frame. Rotate it first: ᴮr_T = ᴮr_E + ᴮR_E ₑr_ET (that is what ᴮT_E ᴱT_T does)."
@@ -293,7 +242,7 @@ def _tool_pose_mistakes():
     ]
 
 
-tool_pose = exercise(_CH, "tool_pose", Check(
+tool_pose = exercise(_CHAPTER, "tool_pose", Check(
     name="tool_pose(q)",
     reference=lambda x: _robot().fk(np.asarray(x, dtype=float)) @ _T_ET(),
     variables=_Q,
@@ -310,41 +259,37 @@ _ROT = [Variable(n, "angle", -math.pi, math.pi) for n in ("roll", "pitch", "yaw"
 _W = [Variable(f"w_{c}", "other", -1.55, 1.55) for c in "xyz"]   # |w| <= 2.69 rad < pi
 
 
-def _oe_args(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    R = _rpy(*x[:3])
-    return R, _exp(x[3:6]) @ R
+def _orientation_error_arguments(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    R = rotation_from_rpy(*x[:3])
+    return R, rotation_exp(x[3:6]) @ R
 
 
-def _oe_ref(x: np.ndarray) -> np.ndarray:
-    R, Rg = _oe_args(x)
-    return _log(Rg @ R.T)
+def _orientation_error_reference(x: np.ndarray) -> np.ndarray:
+    R, Rg = _orientation_error_arguments(x)
+    return rotation_log(Rg @ R.T, check=False)
 
 
-def _oe_mistakes():
+def _orientation_error_mistakes():
     def tool_frame_err(x):
-        R, Rg = _oe_args(x)
-        return _log(R.T @ Rg)
+        R, Rg = _orientation_error_arguments(x)
+        return rotation_log(R.T @ Rg, check=False)
 
     def tool_frame_other(x):
-        R, Rg = _oe_args(x)
-        return _log(Rg.T @ R)
+        R, Rg = _orientation_error_arguments(x)
+        return rotation_log(Rg.T @ R, check=False)
 
     def rpy_diff(x):
-        from robokin.transforms import rpy_from_rotation
-
-        R, Rg = _oe_args(x)
+        R, Rg = _orientation_error_arguments(x)
         d = np.asarray(rpy_from_rotation(Rg)) - np.asarray(rpy_from_rotation(R))
         return np.pi - np.mod(np.pi - d, 2 * np.pi)
 
     def quat_vec(x):
-        from robokin.transforms import quaternion_from_rotation
-
-        R, Rg = _oe_args(x)
+        R, Rg = _orientation_error_arguments(x)
         qe = np.asarray(quaternion_from_rotation(Rg @ R.T))
         return qe[1:] * (1.0 if qe[0] >= 0 else -1.0)
 
     return [
-        alternatives("sign", [(lambda x: -_oe_ref(x), (
+        alternatives("sign", [(lambda x: -_orientation_error_reference(x), (
             "{name} has the wrong sign: it is the rotation from the goal back to the current "
             "frame. The error is the rotation still to do, θh = log(R_goal Rᵀ), so that "
             "ω = K θh turns the tool TOWARDS the goal (with the opposite sign the loop diverges)."
@@ -360,7 +305,7 @@ def _oe_mistakes():
                 "Use θh = log(R_goal Rᵀ) (base frame)."
             )),
         ]),
-        alternatives("degrees_output", [(lambda x: np.degrees(_oe_ref(x)), (
+        alternatives("degrees_output", [(lambda x: np.degrees(_orientation_error_reference(x)), (
             "{name} gives θ in degrees: keep radians, so that ω = K θh is in rad/s."
         ))]),
         alternatives("rpy_difference", [(rpy_diff, (
@@ -383,14 +328,14 @@ def _oe_mistakes():
     ]
 
 
-orientation_error = exercise(_CH, "orientation_error", MatrixArgumentsCheck(
+orientation_error = exercise(_CHAPTER, "orientation_error", MatrixArgumentsCheck(
     name="orientation_error(R, R_goal)",
-    reference=_oe_ref,
+    reference=_orientation_error_reference,
     variables=[*_ROT, *_W],
     groups=[("x", list(range(6)))],
-    diagnoses=_oe_mistakes(),
+    diagnoses=_orientation_error_mistakes(),
     noun="pairs of rotations",
-    arguments=_oe_args,
+    arguments=_orientation_error_arguments,
     signature="orientation_error(R, R_goal) -> (3,) array",
     atol=1e-7,
     hint="θh = log(R_goal Rᵀ), with θ in [0, π] and h the unit axis, both in the base frame.",
@@ -402,7 +347,7 @@ orientation_error = exercise(_CH, "orientation_error", MatrixArgumentsCheck(
 _P = [Variable(f"p_{c}", "length", -0.3, 0.3) for c in "xyz"]
 
 
-def _tj_args(x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _tool_jacobian_arguments(x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     q = np.asarray(x[:N_JOINTS], dtype=float)
     return _robot().jacobian(q), _robot().fk(q)[:3, :3], np.array(x[N_JOINTS:N_JOINTS + 3])
 
@@ -410,36 +355,36 @@ def _tj_args(x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 def _rigid_body(r: np.ndarray) -> np.ndarray:
     """The rigid-body Jacobian J_rb(r) = [[I, -[r×]], [0, I]] for twists [v; ω]."""
     J_rb = np.eye(6)
-    J_rb[:3, 3:] = -_skew(r)
+    J_rb[:3, 3:] = -skew(r)
     return J_rb
 
 
-def _tj_ref(x: np.ndarray) -> np.ndarray:
-    J, R, p = _tj_args(x)
+def _tool_jacobian_reference(x: np.ndarray) -> np.ndarray:
+    J, R, p = _tool_jacobian_arguments(x)
     return _rigid_body(R @ p) @ J
 
 
-def _tj_mistakes():
+def _tool_jacobian_mistakes():
     def not_rotated(x):
-        J, _R, p = _tj_args(x)
+        J, _R, p = _tool_jacobian_arguments(x)
         return _rigid_body(p) @ J
 
     def plus_skew(x):
-        J, R, p = _tj_args(x)
+        J, R, p = _tool_jacobian_arguments(x)
         return _rigid_body(-(R @ p)) @ J
 
     def angular_first_block(x):
-        J, R, p = _tj_args(x)
+        J, R, p = _tool_jacobian_arguments(x)
         M = np.eye(6)
-        M[3:, :3] = _skew(R @ p).T
+        M[3:, :3] = skew(R @ p).T
         return M @ J
 
     def transposed(x):
-        J, R, p = _tj_args(x)
+        J, R, p = _tool_jacobian_arguments(x)
         return _rigid_body(R @ p).T @ J
 
     def untouched(x):
-        return _tj_args(x)[0]
+        return _tool_jacobian_arguments(x)[0]
 
     return [
         alternatives("offset_not_rotated", [(not_rotated, (
@@ -463,14 +408,14 @@ def _tj_mistakes():
     ]
 
 
-tool_jacobian = exercise(_CH, "tool_jacobian", MatrixArgumentsCheck(
+tool_jacobian = exercise(_CHAPTER, "tool_jacobian", MatrixArgumentsCheck(
     name="tool_jacobian(J_e, R_be, p_et)",
-    reference=_tj_ref,
+    reference=_tool_jacobian_reference,
     variables=[*_Q, *_P],
     groups=[("x", list(range(N_JOINTS + 3)))],
-    diagnoses=_tj_mistakes(),
+    diagnoses=_tool_jacobian_mistakes(),
     noun="configurations and offsets",
-    arguments=_tj_args,
+    arguments=_tool_jacobian_arguments,
     signature="tool_jacobian(J_e, R_be, p_et) -> (6, n) array",
     hint="J_T = [[I, −[r×]], [0, I]] J_E with r = R_be p_et (rows [v; ω]).",
     doc="Check a function tool_jacobian(J_e, R_be, p_et) -> [[I, −[(R_be p_et)×]], [0, I]] J_e (6×n).",
@@ -484,7 +429,7 @@ _GAINS = [Variable("gain_linear", "other", 0.2, 2.0, aliases=("k_l", "kl")),
           Variable("gain_angular", "other", 0.2, 2.0, aliases=("k_a", "ka"))]
 
 
-def _cl_args(x: np.ndarray) -> tuple[np.ndarray, np.ndarray, float, float]:
+def _control_law_arguments(x: np.ndarray) -> tuple[np.ndarray, np.ndarray, float, float]:
     q = np.asarray(x[:N_JOINTS], dtype=float)
     J = _robot().jacobian(q)
     return J, np.array(x[N_JOINTS:N_JOINTS + 6]), float(x[N_JOINTS + 6]), float(x[N_JOINTS + 7])
@@ -494,26 +439,26 @@ def _law(J: np.ndarray, nu: np.ndarray) -> np.ndarray:
     return np.linalg.pinv(J) @ nu
 
 
-def _cl_ref(x: np.ndarray) -> np.ndarray:
-    J, e, kl, ka = _cl_args(x)
+def _control_law_reference(x: np.ndarray) -> np.ndarray:
+    J, e, kl, ka = _control_law_arguments(x)
     return _law(J, np.r_[kl * e[:3], ka * e[3:]])
 
 
-def _cl_mistakes():
+def _control_law_mistakes():
     def swapped_gains(x):
-        J, e, kl, ka = _cl_args(x)
+        J, e, kl, ka = _control_law_arguments(x)
         return _law(J, np.r_[ka * e[:3], kl * e[3:]])
 
     def swapped_blocks(x):
-        J, e, kl, ka = _cl_args(x)
+        J, e, kl, ka = _control_law_arguments(x)
         return _law(J, np.r_[ka * e[3:], kl * e[:3]])
 
     def transpose_law(x):
-        J, e, kl, ka = _cl_args(x)
+        J, e, kl, ka = _control_law_arguments(x)
         return J.T @ np.r_[kl * e[:3], ka * e[3:]]
 
     return [
-        alternatives("error_sign", [(lambda x: -_cl_ref(x), (
+        alternatives("error_sign", [(lambda x: -_control_law_reference(x), (
             "{name} moves away from the goal: the error is e = goal − current and q̇ = +J⁺ K e."
         ))]),
         alternatives("twist_order", [(swapped_blocks, (
@@ -532,14 +477,14 @@ def _cl_mistakes():
     ]
 
 
-control_law = exercise(_CH, "control_law", MatrixArgumentsCheck(
+control_law = exercise(_CHAPTER, "control_law", MatrixArgumentsCheck(
     name="control_law(J, e, gain_linear, gain_angular)",
-    reference=_cl_ref,
+    reference=_control_law_reference,
     variables=[*_Q, *_E, *_GAINS],
     groups=[("x", list(range(N_JOINTS + 8)))],
-    diagnoses=_cl_mistakes(),
+    diagnoses=_control_law_mistakes(),
     noun="configurations, errors and gains",
-    arguments=_cl_args,
+    arguments=_control_law_arguments,
     signature="control_law(J, e, gain_linear, gain_angular) -> (n,) array",
     atol=1e-7,
     hint="q̇ = J⁺ [K_l e_p; K_a e_o] with e = [e_p; e_o] and J (6×n) rows [v; ω].",

@@ -28,7 +28,8 @@ from collections.abc import Callable, Iterator, Sequence
 
 import numpy as np
 
-from robokin.check._core import Context, Diagnosis, Mistake, alternatives, fmt, mistake
+from robokin.check._core import Context, Diagnosis, Mistake, RefFn, alternatives, fmt, mistake
+from robokin.transforms import transform
 
 __all__ = [
     "transpose",
@@ -49,7 +50,7 @@ __all__ = [
 _XYZ = "xyz"
 
 
-def _T(a: np.ndarray) -> np.ndarray:
+def _transposed(a: np.ndarray) -> np.ndarray:
     return np.swapaxes(np.asarray(a), -1, -2)
 
 
@@ -78,7 +79,7 @@ def transpose(kind: str = "matrix") -> Diagnosis:
         ),
     }
     msg = messages.get(kind, "{name} is transposed: its rows and columns are swapped.")
-    return mistake("transpose", lambda ref: (lambda x: _T(ref(x))), msg)
+    return mistake("transpose", lambda ref: (lambda x: _transposed(ref(x))), msg)
 
 
 def inverse_transform() -> Diagnosis:
@@ -97,11 +98,9 @@ def inverse_transform() -> Diagnosis:
     )
 
 
-def _tf(R: np.ndarray, p: np.ndarray) -> np.ndarray:
-    T = np.eye(4)
-    T[:3, :3] = R
-    T[:3, 3] = p
-    return T
+def _homogeneous(R: np.ndarray, p: np.ndarray) -> np.ndarray:
+    """[[R, p], [0, 1]] for a mistaken rotation block R (not checked: it may not be a rotation)."""
+    return transform(R, p, check=False)
 
 
 def transform_mistakes() -> list[Diagnosis]:
@@ -114,7 +113,7 @@ def transform_mistakes() -> list[Diagnosis]:
     return [
         mistake(
             "rotation_block_transposed",
-            lambda ref: (lambda x: _tf(ref(x)[:3, :3].T, ref(x)[:3, 3])),
+            lambda ref: (lambda x: _homogeneous(ref(x)[:3, :3].T, ref(x)[:3, 3])),
             "the rotation block of {name} is transposed (Rᵀ instead of R, the rotation the "
             "other way round); its translation column is right.",
         ),
@@ -126,20 +125,20 @@ def transform_mistakes() -> list[Diagnosis]:
         ),
         mistake(
             "translation_rotated",
-            lambda ref: (lambda x: _tf(ref(x)[:3, :3], ref(x)[:3, :3] @ ref(x)[:3, 3])),
+            lambda ref: (lambda x: _homogeneous(ref(x)[:3, :3], ref(x)[:3, :3] @ ref(x)[:3, 3])),
             "the translation column of {name} is multiplied by the rotation (R·p). The "
             "translation is the origin of the second frame written in the first frame; the "
             "joint rotation turns what comes after it, not this offset.",
         ),
         mistake(
             "translation_rotated",
-            lambda ref: (lambda x: _tf(ref(x)[:3, :3], ref(x)[:3, :3].T @ ref(x)[:3, 3])),
+            lambda ref: (lambda x: _homogeneous(ref(x)[:3, :3], ref(x)[:3, :3].T @ ref(x)[:3, 3])),
             "the translation column of {name} is multiplied by Rᵀ. The translation is the "
             "origin of the second frame written in the first frame, with no rotation applied.",
         ),
         mistake(
             "translation_sign",
-            lambda ref: (lambda x: _tf(ref(x)[:3, :3], -ref(x)[:3, 3])),
+            lambda ref: (lambda x: _homogeneous(ref(x)[:3, :3], -ref(x)[:3, 3])),
             "the translation column of {name} has the wrong sign: it is the vector from the "
             "origin of the first frame to the origin of the second.",
         ),
@@ -205,9 +204,11 @@ def sign_flips(kind: str = "matrix") -> Diagnosis:
     return Diagnosis("sign", variants)
 
 
-def _flip(index: tuple) -> object:
-    def transform(ref):
-        def f(x):
+def _flip(index: tuple) -> Callable[[RefFn], RefFn]:
+    """The mistake "the entries at ``index`` have the wrong sign", as a transform of the reference."""
+
+    def transform(ref: RefFn) -> RefFn:
+        def f(x: np.ndarray) -> np.ndarray:
             a = np.array(ref(x), dtype=float)
             a[index] = -a[index]
             return a

@@ -170,7 +170,7 @@ def verdicts(namespace: Mapping[str, Any], pairs: Iterable[tuple[str, str]]) -> 
 def print_verdicts(namespace: Mapping[str, Any], pairs: Iterable[tuple[str, str]],
                    marker: str = "ROBOKIN-VERDICTS") -> None:
     """Print the verdicts as one JSON line, framed by ``marker`` (read by the autograder)."""
-    data = verdicts(namespace, [tuple(p) for p in pairs])
+    data = verdicts(namespace, [(check, quantity) for check, quantity in pairs])
     sys.stdout.write(f"{marker} {json.dumps(data, ensure_ascii=False)}\n")
     sys.stdout.flush()
 

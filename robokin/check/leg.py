@@ -33,7 +33,7 @@ from functools import lru_cache
 import numpy as np
 
 from robokin.check import diagnoses as dg
-from robokin.check._core import PASS, FAIL, Check, CheckResult, Variable, alternatives, fmt, show
+from robokin.check._core import PASS, FAIL, Check, CheckResult, Variable, alternatives, fmt, report, show
 from robokin.check._registry import exercise
 from robokin.validation import as_vector, check_positive
 
@@ -54,7 +54,7 @@ R_GOAL = np.array([0.2, 0.5, -2.0])
 #: Gain of the tracking controller of task 5 (1/s).
 KP = 10.0
 
-_CH = "leg"
+_CHAPTER = "leg"
 _PI = math.pi
 
 
@@ -120,7 +120,7 @@ def _wrong_axis(key: str, homogeneous: bool):
                 R = _elementary(other, sign * x[0])
                 if not homogeneous:
                     return R
-                H = _relative(i, j, _q_for(key, x[0])).copy()
+                H = _relative(i, j, _configuration_for(key, x[0])).copy()
                 H[:3, :3] = R
                 return H
 
@@ -132,7 +132,7 @@ def _wrong_axis(key: str, homogeneous: bool):
     return alternatives("wrong_axis", items)
 
 
-def _q_for(key: str, angle: float) -> np.ndarray:
+def _configuration_for(key: str, angle: float) -> np.ndarray:
     q = np.zeros(3)
     q[{"B1": 0, "12": 1, "23": 2}[key]] = angle
     return q
@@ -142,7 +142,7 @@ def _rotation_check(key: str) -> Check:
     i, j, var, _ = _JOINTS[key]
     return Check(
         name=f"R_{key}",
-        reference=lambda x: _relative(i, j, _q_for(key, x[0]))[:3, :3],
+        reference=lambda x: _relative(i, j, _configuration_for(key, x[0]))[:3, :3],
         variables=[var],
         diagnoses=[_wrong_axis(key, False), *dg.standard("rotation")],
         noun="angles",
@@ -154,7 +154,7 @@ def _transform_check(key: str) -> Check:
     i, j, var, _ = _JOINTS[key]
     return Check(
         name=f"H_{key}",
-        reference=lambda x: _relative(i, j, _q_for(key, x[0])),
+        reference=lambda x: _relative(i, j, _configuration_for(key, x[0])),
         variables=[var],
         diagnoses=[_wrong_axis(key, True), *dg.standard("transform")],
         noun="angles",
@@ -162,13 +162,13 @@ def _transform_check(key: str) -> Check:
     )
 
 
-rotation_B1 = exercise(_CH, "rotation_B1", _rotation_check("B1"))
-rotation_12 = exercise(_CH, "rotation_12", _rotation_check("12"))
-rotation_23 = exercise(_CH, "rotation_23", _rotation_check("23"))
-transform_B1 = exercise(_CH, "transform_B1", _transform_check("B1"))
-transform_12 = exercise(_CH, "transform_12", _transform_check("12"))
-transform_23 = exercise(_CH, "transform_23", _transform_check("23"))
-transform_3F = exercise(_CH, "transform_3F", Check(
+rotation_B1 = exercise(_CHAPTER, "rotation_B1", _rotation_check("B1"))
+rotation_12 = exercise(_CHAPTER, "rotation_12", _rotation_check("12"))
+rotation_23 = exercise(_CHAPTER, "rotation_23", _rotation_check("23"))
+transform_B1 = exercise(_CHAPTER, "transform_B1", _transform_check("B1"))
+transform_12 = exercise(_CHAPTER, "transform_12", _transform_check("12"))
+transform_23 = exercise(_CHAPTER, "transform_23", _transform_check("23"))
+transform_3F = exercise(_CHAPTER, "transform_3F", Check(
     name="H_3F",
     reference=lambda x: _relative(3, 4, np.zeros(3)),
     diagnoses=dg.standard("transform"),
@@ -186,7 +186,7 @@ def _factor(i: int, j: int):
 _FACTORS = [(nm, _factor(i, j)) for nm, i, j in _FACTOR_FRAMES]
 
 
-transform_BF = exercise(_CH, "transform_BF", Check(
+transform_BF = exercise(_CHAPTER, "transform_BF", Check(
     name="H_BF",
     reference=lambda x: _relative(0, 4, x),
     variables=Q,
@@ -203,7 +203,7 @@ transform_BF = exercise(_CH, "transform_BF", Check(
 # ------------------------------------------------------------------ foot position and Jacobian
 _P_B1 = lambda: _relative(0, 1, np.zeros(3))[:3, 3]  # noqa: E731  (B r_B1 from the model)
 
-foot_position = exercise(_CH, "foot_position", Check(
+foot_position = exercise(_CHAPTER, "foot_position", Check(
     name="r_BF(q)",
     reference=_position,
     variables=Q,
@@ -225,7 +225,7 @@ foot_position = exercise(_CH, "foot_position", Check(
     doc="Check the foot position B r_BF(α, β, γ) (3-vector).",
 ))
 
-foot_jacobian = exercise(_CH, "foot_jacobian", Check(
+foot_jacobian = exercise(_CHAPTER, "foot_jacobian", Check(
     name="J_BF(q)",
     reference=_jacobian,
     variables=Q,
@@ -237,7 +237,7 @@ foot_jacobian = exercise(_CH, "foot_jacobian", Check(
 
 _AT_LIFT = "q = [0°, 60°, −120°]"
 
-foot_jacobian_at = exercise(_CH, "foot_jacobian_at", Check(
+foot_jacobian_at = exercise(_CHAPTER, "foot_jacobian_at", Check(
     name="J_BF",
     reference=_jacobian,
     variables=Q,
@@ -254,7 +254,7 @@ def _lift(x, v=V_LIFT):
     return np.linalg.pinv(_jacobian(x)) @ v
 
 
-lift_velocity = exercise(_CH, "lift_velocity", Check(
+lift_velocity = exercise(_CHAPTER, "lift_velocity", Check(
     name="q̇",
     reference=_lift,
     variables=Q,
@@ -293,7 +293,7 @@ def _newton(x, sign=1.0, use_transpose=False, delta_only=False):
     return sign * step if delta_only else q + sign * step
 
 
-newton_step = exercise(_CH, "newton_step", Check(
+newton_step = exercise(_CHAPTER, "newton_step", Check(
     name="newton_step",
     reference=_newton,
     variables=[*_Q_REGULAR, *_GOAL],
@@ -319,6 +319,21 @@ newton_step = exercise(_CH, "newton_step", Check(
 ))
 
 
+def _joint_angles(q: object, name: str) -> tuple[np.ndarray | None, str | None, str]:
+    """``q`` as 3 finite joint angles, or ``(None, code, message)`` saying what is wrong with it."""
+    try:
+        if np.asarray(q).dtype.kind == "c":
+            raise TypeError
+        qa = np.array(q, dtype=float).ravel()
+    except (TypeError, ValueError):
+        return None, "error", f"{name} must be 3 numbers (radians); got {type(q).__name__}."
+    if qa.shape != (3,):
+        return None, "shape", f"{name} must be 3 joint angles; got {qa.size} numbers."
+    if not np.all(np.isfinite(qa)):
+        return None, "error", f"{name} contains NaN or infinite values."
+    return qa, None, ""
+
+
 def ik_solution(
     q: object, goal: object = None, *, tol: float = 1e-3, raise_on_fail: bool = False,
     quiet: bool = False,
@@ -331,19 +346,8 @@ def ik_solution(
     name = "q_goal"
     goal = R_GOAL if goal is None else as_vector(goal, 3, "goal")
     tol = check_positive(tol, "tol", scalar=True)
-    code, msg = None, ""
-    try:
-        if np.asarray(q).dtype.kind == "c":
-            raise TypeError
-        qa = np.array(q, dtype=float).ravel()
-    except (TypeError, ValueError):
-        qa, code = None, "error"
-        msg = f"{name} must be 3 numbers (radians); got {type(q).__name__}."
-    if code is None and qa.shape != (3,):
-        code, msg = "shape", f"{name} must be 3 joint angles; got {qa.size} numbers."
-    if code is None and not np.all(np.isfinite(qa)):
-        code, msg = "error", f"{name} contains NaN or infinite values."
-    if code is None:
+    qa, code, msg = _joint_angles(q, name)
+    if qa is not None:
         miss = float(np.linalg.norm(_position(qa) - goal))
         if miss <= tol:
             text = f"{PASS} {name} is correct: r_BF(q) reaches {fmt(goal)} (within {fmt(tol, 6)} m)."
@@ -361,12 +365,7 @@ def ik_solution(
                 f"{name} does not reach the goal: r_BF(q) = {fmt(_position(qa))}, "
                 f"{fmt(miss)} m away from {fmt(goal)}."
             )
-    result = CheckResult(name, False, f"{FAIL} {msg}", code, 1)
-    if not quiet:
-        show(result.message)
-    if raise_on_fail:
-        raise AssertionError(result.message)
-    return result
+    return report(CheckResult(name, False, f"{FAIL} {msg}", code, 1), raise_on_fail=raise_on_fail, quiet=quiet)
 
 
 # ------------------------------------------------------------------ tracking control
@@ -382,7 +381,7 @@ def _control(x, kp=KP, feedforward=True, error_sign=1.0, gain_on_ff=False, trans
     return (J.T if transpose else np.linalg.pinv(J)) @ v
 
 
-tracking_controller = exercise(_CH, "tracking_controller", Check(
+tracking_controller = exercise(_CHAPTER, "tracking_controller", Check(
     name="controller",
     reference=_control,
     variables=[*_Q_REGULAR, *_RDES, *_VDES],

@@ -26,18 +26,10 @@ from typing import Any
 
 import numpy as np
 
-from robokin.check._core import FAIL, PASS, CheckResult, show
+from robokin.check._core import FAIL, PASS, CheckResult, report
 from robokin.validation import as_float_array, check_chain, check_positive
 
 __all__ = ["ik_solution", "solution_set"]
-
-
-def _finish(result: CheckResult, raise_on_fail: bool, quiet: bool) -> CheckResult:
-    if not quiet:
-        show(result.message)
-    if raise_on_fail and not result.passed:
-        raise AssertionError(result.message)
-    return result
 
 
 def _as_answer(answer: Any, name: str, width: int) -> tuple[np.ndarray | None, str]:
@@ -105,12 +97,12 @@ def ik_solution(q: Any, chain: Any, target: Any, name: str = "q", *, atol: float
     if a is None or a.ndim != 1:
         code = "not_finite" if "NaN" in problem else "shape"
         text = problem or f"{name} must be one configuration of shape ({n},); got shape {np.shape(q)}"
-        return _finish(CheckResult(name, False, f"{FAIL} {text}.", code), raise_on_fail, quiet)
+        return report(CheckResult(name, False, f"{FAIL} {text}.", code), raise_on_fail=raise_on_fail, quiet=quiet)
     with np.errstate(all="ignore"):
         dp, dr = _pose_error(chain, a, goal)
     if not (np.isfinite(dp) and np.isfinite(dr)):
         text = f"{FAIL} fk({name}) is not finite: {name} holds values too large to be joint values."
-        return _finish(CheckResult(name, False, text, "not_finite", 1), raise_on_fail, quiet)
+        return report(CheckResult(name, False, text, "not_finite", 1), raise_on_fail=raise_on_fail, quiet=quiet)
     if dp <= atol and dr <= atol:
         lim = np.asarray(chain.limits, dtype=float).reshape(n, 2)
         outside = np.flatnonzero((a < lim[:, 0] - 1e-9) | (a > lim[:, 1] + 1e-9))
@@ -118,18 +110,18 @@ def ik_solution(q: Any, chain: Any, target: Any, name: str = "q", *, atol: float
             k = int(outside[0])
             text = (f"{FAIL} {name} reaches the target but joint {k + 1} is outside its limits: "
                     f"{a[k]:.4g} not in [{lim[k, 0]:.4g}, {lim[k, 1]:.4g}].")
-            return _finish(CheckResult(name, False, text, "limits", 1), raise_on_fail, quiet)
+            return report(CheckResult(name, False, text, "limits", 1), raise_on_fail=raise_on_fail, quiet=quiet)
         what = "position" if goal.shape == (3,) else "pose"
-        return _finish(CheckResult(name, True, f"{PASS} {name} reaches the target {what} (error "
-                                   f"{max(dp, dr):.1e}).", None, 1), raise_on_fail, quiet)
+        return report(CheckResult(name, True, f"{PASS} {name} reaches the target {what} (error "
+                                   f"{max(dp, dr):.1e}).", None, 1), raise_on_fail=raise_on_fail, quiet=quiet)
     with np.errstate(all="ignore"):
         dp_deg, dr_deg = _pose_error(chain, np.deg2rad(a), goal)
     if dp_deg <= atol and dr_deg <= atol:
         text = f"{FAIL} {name} is in degrees: np.deg2rad({name}) reaches the target; robokin works in radians."
-        return _finish(CheckResult(name, False, text, "degrees", 1), raise_on_fail, quiet)
+        return report(CheckResult(name, False, text, "degrees", 1), raise_on_fail=raise_on_fail, quiet=quiet)
     miss = f"{dp:.3g} m" + (f" and {np.degrees(dr):.3g}°" if goal.shape == (4, 4) else "")
     text = f"{FAIL} fk({name}) misses the target by {miss} (tolerance {atol:g})."
-    return _finish(CheckResult(name, False, text, "misses_target", 1), raise_on_fail, quiet)
+    return report(CheckResult(name, False, text, "misses_target", 1), raise_on_fail=raise_on_fail, quiet=quiet)
 
 
 def solution_set(solutions: Any, reference: Any, name: str = "solutions", *, atol: float = 1e-6,
@@ -165,7 +157,7 @@ def solution_set(solutions: Any, reference: Any, name: str = "solutions", *, ato
     a, problem = _as_answer(solutions, name, ref.shape[1])
     if a is None:
         code = "not_finite" if "NaN" in problem else "shape"
-        return _finish(CheckResult(name, False, f"{FAIL} {problem}.", code), raise_on_fail, quiet)
+        return report(CheckResult(name, False, f"{FAIL} {problem}.", code), raise_on_fail=raise_on_fail, quiet=quiet)
     a = a[None] if a.ndim == 1 else a
 
     def same(x: np.ndarray, y: np.ndarray) -> bool:
@@ -182,12 +174,12 @@ def solution_set(solutions: Any, reference: Any, name: str = "solutions", *, ato
     if extra:
         text = (f"{FAIL} row {extra[0]} of {name} is not a solution ({len(extra)} such row"
                 f"{'s' if len(extra) > 1 else ''}).")
-        return _finish(CheckResult(name, False, text, "extra", len(a)), raise_on_fail, quiet)
+        return report(CheckResult(name, False, text, "extra", len(a)), raise_on_fail=raise_on_fail, quiet=quiet)
     if duplicate:
         text = f"{FAIL} {name} holds the same solution twice (reference solution {duplicate[0]})."
-        return _finish(CheckResult(name, False, text, "duplicate", len(a)), raise_on_fail, quiet)
+        return report(CheckResult(name, False, text, "duplicate", len(a)), raise_on_fail=raise_on_fail, quiet=quiet)
     if missing:
         text = f"{FAIL} {name} has {len(a)} of the {len(ref)} solutions: {len(missing)} missing."
-        return _finish(CheckResult(name, False, text, "missing", len(a)), raise_on_fail, quiet)
-    return _finish(CheckResult(name, True, f"{PASS} {name}: all {len(ref)} solutions, each once.", None, len(a)),
-                   raise_on_fail, quiet)
+        return report(CheckResult(name, False, text, "missing", len(a)), raise_on_fail=raise_on_fail, quiet=quiet)
+    return report(CheckResult(name, True, f"{PASS} {name}: all {len(ref)} solutions, each once.", None, len(a)),
+                  raise_on_fail=raise_on_fail, quiet=quiet)

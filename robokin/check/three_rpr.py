@@ -41,7 +41,7 @@ from robokin.check._core import (
     Variable,
     alternatives,
     fmt,
-    show,
+    report,
 )
 from robokin.check._registry import exercise
 from robokin.errors import DomainError
@@ -49,7 +49,7 @@ from robokin.validation import as_vector, check_positive
 
 __all__ = ["check_poses", "forward_kinematics", "inverse_jacobian", "inverse_kinematics"]
 
-_CH = "three_rpr"
+_CHAPTER = "three_rpr"
 
 
 @lru_cache(maxsize=1)
@@ -85,13 +85,13 @@ def _legs(x: np.ndarray, *, rotate: Callable[[float], np.ndarray] = _rot, centro
 
 
 # ------------------------------------------------------------------ inverse kinematics
-def _ik_ref(x: np.ndarray) -> np.ndarray:
+def _inverse_kinematics_reference(x: np.ndarray) -> np.ndarray:
     return _robot().inverse_kinematics(x)
 
 
-def _ik_mistakes():
+def _inverse_kinematics_mistakes():
     def squared(x):
-        return _ik_ref(x) ** 2
+        return _inverse_kinematics_reference(x) ** 2
 
     def unrotated(x):
         return np.linalg.norm(_legs(x, rotate=lambda p: np.eye(2))[0], axis=1)
@@ -123,12 +123,12 @@ def _ik_mistakes():
     ]
 
 
-inverse_kinematics = exercise(_CH, "inverse_kinematics", Check(
+inverse_kinematics = exercise(_CHAPTER, "inverse_kinematics", Check(
     name="ik(pose)",
-    reference=_ik_ref,
+    reference=_inverse_kinematics_reference,
     variables=_POSE,
     groups=_GROUP,
-    diagnoses=_ik_mistakes(),
+    diagnoses=_inverse_kinematics_mistakes(),
     noun="poses",
     hint="ρ_i = ‖p + R(φ) b_i − A_i‖ with p = B1 and b = [(0, 0), (1, 0), (1/2, √3/2)].",
     doc="Check a function ik(pose) (or ik(x, y, phi)) -> leg lengths (ρ1, ρ2, ρ3) of the exercise robot.",
@@ -136,11 +136,11 @@ inverse_kinematics = exercise(_CH, "inverse_kinematics", Check(
 
 
 # ------------------------------------------------------------------ inverse Jacobian
-def _jac_ref(x: np.ndarray) -> np.ndarray:
+def _jacobian_reference(x: np.ndarray) -> np.ndarray:
     return _robot().jacobian(x)
 
 
-def _jac_mistakes():
+def _jacobian_mistakes():
     def unnormalised(x):
         d, B = _legs(x)
         arm = B - x[:2]
@@ -152,15 +152,15 @@ def _jac_mistakes():
         return np.column_stack([n, B[:, 0] * n[:, 1] - B[:, 1] * n[:, 0]])
 
     def arm_from_base_anchor(x):
-        A = _jac_ref(x).copy()
+        A = _jacobian_reference(x).copy()
         A[:, 2] = 0.0      # (B_i − A_i) × n_i = 0: the moment arm taken from the base anchor
         return A
 
     def direct(x):
-        return np.linalg.inv(_jac_ref(x))
+        return np.linalg.inv(_jacobian_reference(x))
 
     def flipped(x):
-        A = _jac_ref(x).copy()
+        A = _jacobian_reference(x).copy()
         A[:, 2] = -A[:, 2]
         return A
 
@@ -188,7 +188,7 @@ def _jac_mistakes():
             "{name} is the direct Jacobian A⁻¹ (ẋ = A⁻¹ ρ̇); the question asks for the inverse "
             "Jacobian A with ρ̇ = A ẋ, rows [n_iᵀ, ((B_i − P) × n_i)_z]."
         ))]),
-        alternatives("transpose", [(lambda x: _jac_ref(x).T, (
+        alternatives("transpose", [(lambda x: _jacobian_reference(x).T, (
             "{name} is transposed: row i belongs to leg i, [n_iᵀ, ((B_i − P) × n_i)_z], "
             "so that ρ̇_i = row_i · [ẋ, ẏ, φ̇]."
         ))]),
@@ -196,12 +196,12 @@ def _jac_mistakes():
     ]
 
 
-inverse_jacobian = exercise(_CH, "inverse_jacobian", Check(
+inverse_jacobian = exercise(_CHAPTER, "inverse_jacobian", Check(
     name="A(pose)",
-    reference=_jac_ref,
+    reference=_jacobian_reference,
     variables=_POSE,
     groups=_GROUP,
-    diagnoses=_jac_mistakes(),
+    diagnoses=_jacobian_mistakes(),
     noun="poses",
     hint="Row i is [n_iᵀ, ((B_i − P) × n_i)_z] with n_i = (B_i − A_i)/ρ_i.",
     doc="Check a function A(pose) -> 3×3 inverse Jacobian of the exercise robot (ρ̇ = A ẋ).",
@@ -230,12 +230,7 @@ def check_poses(poses: Any, rho: Any, robot: Any = None, *, name: str = "pose", 
     if (rho < 0).any():
         raise DomainError(f"rho must be non-negative leg lengths; got {rho.tolist()}")
     tol = check_positive(tol, "tol", scalar=True)
-    result = _judge(poses, rho, robot, name, tol)
-    if not quiet:
-        show(result.message)
-    if raise_on_fail and not result.passed:
-        raise AssertionError(result.message)
-    return result
+    return report(_judge(poses, rho, robot, name, tol), raise_on_fail=raise_on_fail, quiet=quiet)
 
 
 def _judge(poses: Any, rho: np.ndarray, robot, name: str, tol: float, n: int = 1) -> CheckResult:
@@ -309,12 +304,7 @@ class _ForwardKinematicsCheck:
         return _robot().inverse_kinematics(lo + (hi - lo) * rng.random((self.samples, 3)))
 
     def __call__(self, answer: Any, *, raise_on_fail: bool = False, quiet: bool = False) -> CheckResult:
-        result = self.evaluate(answer)
-        if not quiet:
-            show(result.message)
-        if raise_on_fail and not result.passed:
-            raise AssertionError(result.message)
-        return result
+        return report(self.evaluate(answer), raise_on_fail=raise_on_fail, quiet=quiet)
 
     def evaluate(self, answer: Any) -> CheckResult:
         robot = _robot()
@@ -340,4 +330,4 @@ class _ForwardKinematicsCheck:
                            f"lengths; you returned {found} of the {total} assembly modes).", None, n)
 
 
-forward_kinematics = exercise(_CH, "forward_kinematics", _ForwardKinematicsCheck())  # type: ignore[arg-type]
+forward_kinematics = exercise(_CHAPTER, "forward_kinematics", _ForwardKinematicsCheck())  # type: ignore[arg-type]

@@ -41,19 +41,18 @@ Usage::
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from dataclasses import dataclass
 from functools import lru_cache
 from typing import Any
 
 import numpy as np
 
-from robokin.check._core import Check, CheckResult, Variable, alternatives
+from robokin.check._core import CheckResult, MatrixArgumentsCheck, Variable, alternatives
 from robokin.check._registry import exercise
 
 __all__ = ["weighted_pinv", "dls_step", "nullspace_projector", "ik_position", "N_JOINTS", "WORK_LIMITS"]
 
-_CH = "ur10"
+_CHAPTER = "ur10"
 #: Number of joints of the UR10.
 N_JOINTS = 6
 #: The working joint limits of chapter 2's work cell (rad), one row ``[lower, upper]`` per joint.
@@ -74,7 +73,7 @@ def _robot():
     return ur10()
 
 
-def _Jv(q: np.ndarray) -> np.ndarray:
+def _position_jacobian(q: np.ndarray) -> np.ndarray:
     """Position Jacobian (3×6, m/rad) of the UR10 flange at ``q``."""
     return _robot().position_jacobian(np.asarray(q, dtype=float))
 
@@ -95,47 +94,13 @@ _E = [Variable(f"e_{c}", "length", -0.1, 0.1) for c in "xyz"]
 _LAM = [Variable("damping", "length", 0.01, 0.5, aliases=("lambda", "lam"))]
 
 
-@dataclass
-class MatrixArgumentsCheck(Check):
-    """A :class:`~robokin.check.Check` whose answer is a function of matrices.
-
-    ``arguments(x)`` turns the sampled scalars ``x`` into the arguments of the
-    student's function (e.g. ``(J, W)``); the answer is called as
-    ``answer(*arguments(x))``. Arrays and other non-callables are passed to the
-    generic check unchanged (which then explains that a function is expected).
-    """
-
-    arguments: Callable[[np.ndarray], tuple] | None = None
-    signature: str = ""
-
-    def evaluate(self, answer: Any) -> CheckResult:
-        if callable(answer) and not isinstance(answer, np.ndarray) and self.arguments is not None:
-            build = self.arguments
-            student = answer
-
-            def wrapped(x):
-                return student(*build(np.asarray(x, dtype=float)))
-
-            return super().evaluate(wrapped)
-        if answer is not None and not callable(answer):
-            from robokin.check._core import FAIL
-
-            return CheckResult(
-                self.name, False,
-                f"{FAIL} {self.name} should be a Python function {self.signature}; "
-                f"got {type(answer).__name__}.",
-                "constant", 0,
-            )
-        return super().evaluate(answer)
-
-
 def _group(nvar: int) -> list[tuple[str, list[int]]]:
     return [("x", list(range(nvar)))]
 
 
 # ------------------------------------------------------------------ weighted pseudoinverse
-def _wp_args(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    return _Jv(x[:6]), np.diag(x[6:12])
+def _weighted_pinv_arguments(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    return _position_jacobian(x[:6]), np.diag(x[6:12])
 
 
 def _weighted(J: np.ndarray, W: np.ndarray) -> np.ndarray:
@@ -143,29 +108,29 @@ def _weighted(J: np.ndarray, W: np.ndarray) -> np.ndarray:
     return Wi @ J.T @ np.linalg.inv(J @ Wi @ J.T)
 
 
-def _wp_ref(x: np.ndarray) -> np.ndarray:
-    return _weighted(*_wp_args(x))
+def _weighted_pinv_reference(x: np.ndarray) -> np.ndarray:
+    return _weighted(*_weighted_pinv_arguments(x))
 
 
-def _wp_mistakes():
+def _weighted_pinv_mistakes():
     def w_not_inverted(x):
-        J, W = _wp_args(x)
+        J, W = _weighted_pinv_arguments(x)
         return W @ J.T @ np.linalg.inv(J @ W @ J.T)
 
     def after_pinv(x):
-        J, W = _wp_args(x)
+        J, W = _weighted_pinv_arguments(x)
         return np.linalg.inv(W) @ np.linalg.pinv(J)
 
     def w_times_pinv(x):
-        J, W = _wp_args(x)
+        J, W = _weighted_pinv_arguments(x)
         return W @ np.linalg.pinv(J)
 
     def plain(x):
-        J, _ = _wp_args(x)
+        J, _ = _weighted_pinv_arguments(x)
         return np.linalg.pinv(J)
 
     def sqrt_w(x):
-        J, W = _wp_args(x)
+        J, W = _weighted_pinv_arguments(x)
         Wi = np.diag(1.0 / np.sqrt(np.diag(W)))
         return Wi @ J.T @ np.linalg.inv(J @ Wi @ J.T)
 
@@ -197,14 +162,14 @@ def _wp_mistakes():
     ]
 
 
-weighted_pinv = exercise(_CH, "weighted_pinv", MatrixArgumentsCheck(
+weighted_pinv = exercise(_CHAPTER, "weighted_pinv", MatrixArgumentsCheck(
     name="weighted_pinv(J, W)",
-    reference=_wp_ref,
+    reference=_weighted_pinv_reference,
     variables=[*_Q, *_W],
     groups=_group(12),
-    diagnoses=_wp_mistakes(),
+    diagnoses=_weighted_pinv_mistakes(),
     noun="configurations and weights",
-    arguments=_wp_args,
+    arguments=_weighted_pinv_arguments,
     signature="weighted_pinv(J, W) -> (n, m) array",
     hint="Check J @ answer == I (3×3) and that a larger w_i makes row i smaller.",
     doc="Check a function weighted_pinv(J, W) -> W⁻¹ Jᵀ (J W⁻¹ Jᵀ)⁻¹ (J: 3×6, W: 6×6 diagonal).",
@@ -212,41 +177,41 @@ weighted_pinv = exercise(_CH, "weighted_pinv", MatrixArgumentsCheck(
 
 
 # ------------------------------------------------------------------ damped least squares
-def _dls_args(x: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
-    return _Jv(x[:6]), np.array(x[6:9]), float(x[9])
+def _damped_least_squares_arguments(x: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
+    return _position_jacobian(x[:6]), np.array(x[6:9]), float(x[9])
 
 
 def _dls(J: np.ndarray, e: np.ndarray, lam2: float) -> np.ndarray:
     return J.T @ np.linalg.solve(J @ J.T + lam2 * np.eye(J.shape[0]), e)
 
 
-def _dls_ref(x: np.ndarray) -> np.ndarray:
-    J, e, lam = _dls_args(x)
+def _damped_least_squares_reference(x: np.ndarray) -> np.ndarray:
+    J, e, lam = _damped_least_squares_arguments(x)
     return _dls(J, e, lam**2)
 
 
-def _dls_mistakes():
+def _damped_least_squares_mistakes():
     def not_squared(x):
-        J, e, lam = _dls_args(x)
+        J, e, lam = _damped_least_squares_arguments(x)
         return _dls(J, e, lam)
 
     def undamped(x):
-        J, e, _ = _dls_args(x)
+        J, e, _ = _damped_least_squares_arguments(x)
         return np.linalg.pinv(J) @ e
 
     def minus(x):
-        J, e, lam = _dls_args(x)
+        J, e, lam = _damped_least_squares_arguments(x)
         return _dls(J, e, -(lam**2))
 
     def sign(x):
-        return -_dls_ref(x)
+        return -_damped_least_squares_reference(x)
 
     def transpose_only(x):
-        J, e, _ = _dls_args(x)
+        J, e, _ = _damped_least_squares_arguments(x)
         return J.T @ e
 
     def squared_twice(x):
-        J, e, lam = _dls_args(x)
+        J, e, lam = _damped_least_squares_arguments(x)
         return _dls(J, e, lam**4)
 
     return [
@@ -275,14 +240,14 @@ def _dls_mistakes():
     ]
 
 
-dls_step = exercise(_CH, "dls_step", MatrixArgumentsCheck(
+dls_step = exercise(_CHAPTER, "dls_step", MatrixArgumentsCheck(
     name="dls_step(J, e, damping)",
-    reference=_dls_ref,
+    reference=_damped_least_squares_reference,
     variables=[*_Q, *_E, *_LAM],
     groups=_group(10),
-    diagnoses=_dls_mistakes(),
+    diagnoses=_damped_least_squares_mistakes(),
     noun="configurations, errors and dampings",
-    arguments=_dls_args,
+    arguments=_damped_least_squares_arguments,
     signature="dls_step(J, e, damping) -> (n,) array",
     hint="The step is J^T (J J^T + λ² I)⁻¹ e; λ = damping.",
     doc="Check a function dls_step(J, e, damping) -> Jᵀ (J Jᵀ + λ² I)⁻¹ e.",
@@ -290,26 +255,26 @@ dls_step = exercise(_CH, "dls_step", MatrixArgumentsCheck(
 
 
 # ------------------------------------------------------------------ null-space projector
-def _ns_args(x: np.ndarray) -> tuple[np.ndarray]:
-    return (_Jv(x[:6]),)
+def _nullspace_projector_arguments(x: np.ndarray) -> tuple[np.ndarray]:
+    return (_position_jacobian(x[:6]),)
 
 
-def _ns_ref(x: np.ndarray) -> np.ndarray:
-    (J,) = _ns_args(x)
+def _nullspace_projector_reference(x: np.ndarray) -> np.ndarray:
+    (J,) = _nullspace_projector_arguments(x)
     return np.eye(J.shape[1]) - np.linalg.pinv(J) @ J
 
 
-def _ns_mistakes():
+def _nullspace_projector_mistakes():
     def range_projector(x):
-        (J,) = _ns_args(x)
+        (J,) = _nullspace_projector_arguments(x)
         return np.linalg.pinv(J) @ J
 
     def transpose_for_pinv(x):
-        (J,) = _ns_args(x)
+        (J,) = _nullspace_projector_arguments(x)
         return np.eye(J.shape[1]) - J.T @ J
 
     def negated(x):
-        return -_ns_ref(x)
+        return -_nullspace_projector_reference(x)
 
     return [
         alternatives("range_projector", [(range_projector, (
@@ -324,14 +289,14 @@ def _ns_mistakes():
     ]
 
 
-nullspace_projector = exercise(_CH, "nullspace_projector", MatrixArgumentsCheck(
+nullspace_projector = exercise(_CHAPTER, "nullspace_projector", MatrixArgumentsCheck(
     name="nullspace_projector(J)",
-    reference=_ns_ref,
+    reference=_nullspace_projector_reference,
     variables=_Q,
     groups=_group(6),
-    diagnoses=_ns_mistakes(),
+    diagnoses=_nullspace_projector_mistakes(),
     noun="configurations",
-    arguments=_ns_args,
+    arguments=_nullspace_projector_arguments,
     signature="nullspace_projector(J) -> (n, n) array",
     hint="The projector N = I − J⁺J is n×n (n = 6 joints) and satisfies J P = 0, P P = P.",
     doc="Check a function nullspace_projector(J) -> I − J⁺ J (n×n).",
@@ -460,7 +425,7 @@ _Q0 = [
 _DQ = [Variable(f"dq{i}", "other", -0.9, 0.9) for i in range(1, N_JOINTS + 1)]
 _BUDGET = [Variable("max_iterations", "other", 1.0, 12.999)]
 
-ik_position = exercise(_CH, "ik_position", LoopCheck(
+ik_position = exercise(_CHAPTER, "ik_position", LoopCheck(
     name="ik_position(chain, p_goal, q0, step, ...)",
     reference=_loop_ref,
     variables=[*_Q0, *_DQ, *_BUDGET],

@@ -7,6 +7,7 @@ import math
 import numpy as np
 
 from robokin.chains import Rz, SerialChain, Tx, Ty, Tz, from_link_table, from_modified_dh
+from robokin.transforms import transform_from_rpy
 
 __all__ = ["baxter_left", "baxter_left_urdf", "BAXTER_LEFT_LIMITS", "BAXTER_LEFT_URDF"]
 
@@ -41,19 +42,6 @@ BAXTER_LEFT_URDF = [
     ("left_hand", (0.0, 0.0, 0.11355), (0.0, 0.0, 0.0)),
     ("left_endpoint", (0.0, 0.0, 0.05), (0.0, 0.0, 0.0)),
 ]
-
-
-def urdf_origin(xyz, rpy) -> np.ndarray:
-    """4×4 transform of a URDF ``<origin xyz rpy>``: ``Trans(xyz) Rz(yaw) Ry(pitch) Rx(roll)``."""
-    r, p, y = rpy
-    cr, sr, cp, spp, cy, sy = math.cos(r), math.sin(r), math.cos(p), math.sin(p), math.cos(y), math.sin(y)
-    Rzm = np.array([[cy, -sy, 0], [sy, cy, 0], [0, 0, 1]])
-    Rym = np.array([[cp, 0, spp], [0, 1, 0], [-spp, 0, cp]])
-    Rxm = np.array([[1, 0, 0], [0, cr, -sr], [0, sr, cr]])
-    T = np.eye(4)
-    T[:3, :3] = Rzm @ Rym @ Rxm
-    T[:3, 3] = xyz
-    return T
 
 
 def baxter_left(base: str = "torso", end: str = "hand") -> SerialChain:
@@ -158,7 +146,7 @@ def baxter_left_urdf(end: str = "hand") -> SerialChain:
     """
     if end not in ("hand", "gripper"):
         raise ValueError(f"end must be 'hand' or 'gripper'; got {end!r}")
-    origins = [urdf_origin(xyz, rpy) for _, xyz, rpy in BAXTER_LEFT_URDF]
+    origins = [transform_from_rpy(rpy, xyz) for _, xyz, rpy in BAXTER_LEFT_URDF]
     mount = origins[0]
     transforms = origins[1:8]
     last = origins[8] if end == "hand" else origins[8] @ origins[9]

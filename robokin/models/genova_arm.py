@@ -51,6 +51,7 @@ from typing import Any
 import numpy as np
 
 from robokin.chains import SerialChain, from_link_table
+from robokin.transforms import transform
 
 __all__ = [
     "GENOVA_ARM_JOINT_TYPES",
@@ -112,13 +113,7 @@ def genova_arm_link_transforms() -> list[np.ndarray]:
         (metres); the joint motion :math:`\mathbf{R}_z(q_i)` or
         :math:`\mathbf{T}_z(q_i)` follows each of them.
     """
-    mats = []
-    for R, p in zip(GENOVA_ARM_ROTATIONS, GENOVA_ARM_OFFSETS):
-        T = np.eye(4)
-        T[:3, :3] = np.array(R, dtype=float)
-        T[:3, 3] = p
-        mats.append(T)
-    return mats
+    return [transform(R, p) for R, p in zip(GENOVA_ARM_ROTATIONS, GENOVA_ARM_OFFSETS)]
 
 
 def genova_arm(*, limits: Any = None) -> SerialChain:

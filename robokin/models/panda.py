@@ -45,6 +45,7 @@ import numpy as np
 
 from robokin.chains import Rz, SerialChain, from_link_table, from_modified_dh
 from robokin.chains.elements import Fixed
+from robokin.transforms import rotx, transform, transform_from_rpy, translation
 
 __all__ = [
     "PANDA_FLANGE",
@@ -103,17 +104,6 @@ _NAMES = [f"joint{i}" for i in range(1, 8)]
 _FRAMES = ["base"] + [f"link{i}" for i in range(1, 8)] + ["flange"]
 
 
-def _rx(a: float) -> np.ndarray:
-    c, s = math.cos(a), math.sin(a)
-    return np.array([[1.0, 0.0, 0.0, 0.0], [0.0, c, -s, 0.0], [0.0, s, c, 0.0], [0.0, 0.0, 0.0, 1.0]])
-
-
-def _trans(x: float, y: float, z: float) -> np.ndarray:
-    T = np.eye(4)
-    T[:3, 3] = (x, y, z)
-    return T
-
-
 def panda_link_transforms() -> list[np.ndarray]:
     r"""The geometric model: :math:`{}^{i-1}\mathbf{T}_i(0)`, i = 1..7, and the flange.
 
@@ -125,21 +115,9 @@ def panda_link_transforms() -> list[np.ndarray]:
         :math:`\mathbf{R}_z(q_i)` follows it; it commutes with :math:`\mathbf{T}_z(d_i)`),
         then :math:`{}^{7}\mathbf{T}_F = \mathbf{T}_z(0.107)`.
     """
-    mats = [_rx(alpha) @ _trans(a, 0.0, d) for d, _, a, alpha in PANDA_MDH]
-    mats.append(_trans(0.0, 0.0, PANDA_FLANGE))
+    mats = [transform(rotx(alpha), (0.0, 0.0, 0.0)) @ translation((a, 0.0, d)) for d, _, a, alpha in PANDA_MDH]
+    mats.append(translation((0.0, 0.0, PANDA_FLANGE)))
     return mats
-
-
-def _urdf_origin(xyz, rpy) -> np.ndarray:
-    r, p, y = rpy
-    cr, sr, cp, sp_, cy, sy = math.cos(r), math.sin(r), math.cos(p), math.sin(p), math.cos(y), math.sin(y)
-    R = (np.array([[cy, -sy, 0], [sy, cy, 0], [0, 0, 1]])
-         @ np.array([[cp, 0, sp_], [0, 1, 0], [-sp_, 0, cp]])
-         @ np.array([[1, 0, 0], [0, cr, -sr], [0, sr, cr]]))
-    T = np.eye(4)
-    T[:3, :3] = R
-    T[:3, 3] = xyz
-    return T
 
 
 def panda(description: str = "link_table") -> SerialChain:
@@ -177,11 +155,11 @@ def panda(description: str = "link_table") -> SerialChain:
     if description == "link_table":
         return from_link_table(panda_link_transforms(), ["R"] * 7, **kw)
     if description == "mdh":
-        return from_modified_dh(PANDA_MDH, tool=_trans(0.0, 0.0, PANDA_FLANGE), **kw)
+        return from_modified_dh(PANDA_MDH, tool=translation((0.0, 0.0, PANDA_FLANGE)), **kw)
     if description == "urdf":
         els = []
         for i, (xyz, rpy) in enumerate(PANDA_URDF):
-            els.append(Fixed(_urdf_origin(xyz, rpy)))
+            els.append(Fixed(transform_from_rpy(rpy, xyz)))
             if i < 7:
                 els.append(Rz(_NAMES[i]))
         return SerialChain(els, limits=PANDA_LIMITS, frame_names=_FRAMES, name="panda")

@@ -29,7 +29,8 @@ from robokin.motion.control import CartesianController, ControlOutput
 from robokin.motion.pose_error import pose_error
 from robokin.motion.simulate import SimulationLog, simulate
 from robokin.motion.sweeps import BatchTrackingLog, initial_condition_sweep, track_position_batch
-from robokin.motion.tool import chain_with_tool, rigid_body_jacobian, tool_jacobian, transform_from_rpy
+from robokin.motion.tool import chain_with_tool, rigid_body_jacobian, tool_jacobian
+from robokin.transforms import transform_from_rpy as transform_from_rpy  # documented in robokin.transforms
 from robokin.motion.trajectories import (
     Trajectory,
     circle_trajectory,
@@ -42,7 +43,6 @@ __all__ = [
     "chain_with_tool",
     "rigid_body_jacobian",
     "tool_jacobian",
-    "transform_from_rpy",
     "initial_condition_sweep",
     "track_position_batch",
     "BatchTrackingLog",

@@ -15,6 +15,7 @@ from robokin.transforms.euler import (
     rotation_from_rpy,
     rotation_from_zyz,
     rpy_from_rotation,
+    transform_from_rpy,
     zyz_from_rotation,
 )
 from robokin.transforms.homogeneous import (
@@ -49,6 +50,7 @@ __all__ = [
     "transform_point",
     "rotation_from_rpy",
     "rpy_from_rotation",
+    "transform_from_rpy",
     "rotation_from_zyz",
     "zyz_from_rotation",
     "rotation_exp",

@@ -32,9 +32,10 @@ import numpy as np
 
 from robokin._dispatch import is_symbolic, scalar_input, stack_matrix, to_sympy, trig
 from robokin.errors import ShapeError
+from robokin.transforms.homogeneous import transform
 from robokin.validation import as_float_array, check_rotation_matrix
 
-__all__ = ["rotation_from_rpy", "rpy_from_rotation", "rotation_from_zyz", "zyz_from_rotation"]
+__all__ = ["rotation_from_rpy", "rpy_from_rotation", "transform_from_rpy", "rotation_from_zyz", "zyz_from_rotation"]
 
 _SINGULAR_TOL = 1e-8
 
@@ -102,6 +103,54 @@ def rotation_from_rpy(roll: Any, pitch: Any = None, yaw: Any = None) -> Any:
             [-sp, cp * sr, cp * cr],
         ]
     )
+
+
+def transform_from_rpy(rpy: Any, position: Any) -> np.ndarray:
+    r"""Homogeneous transform from roll–pitch–yaw angles and a position.
+
+    Parameters
+    ----------
+    rpy : array_like, shape (3,) or (N, 3)
+        ``(roll, pitch, yaw)`` in rad: :math:`\mathbf{R} = \mathbf{R}_z(\psi)\mathbf{R}_y(\vartheta)
+        \mathbf{R}_x(\varphi)` (Siciliano et al. 2009, §2.4.2).
+    position : array_like, shape (3,) or (N, 3)
+        Origin of the new frame in the reference frame (m).
+
+    Returns
+    -------
+    numpy.ndarray, shape (4, 4) or (N, 4, 4)
+        :math:`\begin{bmatrix}\mathbf{R} & \mathbf{p}\\ \mathbf{0}^\top & 1\end{bmatrix}`,
+        e.g. a tool frame :math:`{}^{E}\mathbf{T}_{T}` or a goal frame
+        :math:`{}^{B}\mathbf{T}_{G}`.
+
+    Raises
+    ------
+    ShapeError
+        ``rpy`` or ``position`` not of shape (3,) / (N, 3), or different N.
+    DomainError
+        NaN or infinite entries.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> (transform_from_rpy([0.0, 0.0, np.pi / 2], [0.2, 0.0, 0.0]).round(3) + 0.0)[:3]  # + 0.0: no -0.
+    array([[ 0. , -1. ,  0. ,  0.2],
+           [ 1. ,  0. ,  0. ,  0. ],
+           [ 0. ,  0. ,  1. ,  0. ]])
+    """
+    a = as_float_array(rpy, "rpy")
+    p = as_float_array(position, "position")
+    if a.shape[-1:] != (3,) or a.ndim > 2:
+        raise ShapeError(f"rpy must have shape (3,) or (N, 3) (roll, pitch, yaw in rad); got shape {a.shape}")
+    if p.shape[-1:] != (3,) or p.ndim > 2:
+        raise ShapeError(f"position must have shape (3,) or (N, 3) (metres); got shape {p.shape}")
+    try:
+        lead = np.broadcast_shapes(a.shape[:-1], p.shape[:-1])
+    except ValueError:
+        raise ShapeError(f"rpy and position must have the same number of rows; got shapes "
+                         f"{a.shape} and {p.shape}") from None
+    R = rotation_from_rpy(np.broadcast_to(a, lead + (3,)))
+    return transform(R, np.broadcast_to(p, lead + (3,)), check=False)
 
 
 def _rotation_input(R: Any, check: bool) -> np.ndarray:
