@@ -234,7 +234,7 @@ from robokin.check._registry import exercise
 
 __all__ = ["tool_position", "tool_jacobian"]
 
-_CH = "{name}"
+_CHAPTER = "{name}"
 
 
 @lru_cache(maxsize=1)
@@ -244,7 +244,7 @@ def _arm():
     return planar_two_link()
 
 
-tool_position = exercise(_CH, "tool_position", Check(
+tool_position = exercise(_CHAPTER, "tool_position", Check(
     name="tool_position",
     reference=lambda x: np.asarray(_arm().fk(x))[:2, 3],
     variables=[Variable("q1"), Variable("q2")],
@@ -254,7 +254,7 @@ tool_position = exercise(_CH, "tool_position", Check(
     doc="Check tool_position(q): the tool position (x, y) in m of the two-link arm, shape (2,).",
 ))
 
-tool_jacobian = exercise(_CH, "tool_jacobian", Check(
+tool_jacobian = exercise(_CHAPTER, "tool_jacobian", Check(
     name="tool_jacobian",
     reference=lambda x: np.asarray(_arm().position_jacobian(x))[:2],
     variables=[Variable("q1"), Variable("q2")],
