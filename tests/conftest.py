@@ -171,25 +171,42 @@ def _close_browser_pages():
             context.close()
 
 
-def pytest_sessionfinish(session, exitstatus):
-    """Fail the run if a kernel, server or browser started by the tests survived them."""
+def _stop_survivors() -> list[str]:
+    """The processes this one started that still run 10 s later, killed; their descriptions."""
     try:
         import psutil
     except ImportError:  # pragma: no cover
-        return
+        return []
     me = psutil.Process()
     deadline = time.monotonic() + 10.0
     children = me.children(recursive=True)
     while children and time.monotonic() < deadline:
         time.sleep(0.25)
         children = [c for c in me.children(recursive=True) if c.is_running() and c.status() != psutil.STATUS_ZOMBIE]
-    if children:
-        names = ", ".join(f"{c.pid}:{' '.join(c.cmdline()[:3])}" for c in children)
+    names = [f"{c.pid}:{' '.join(c.cmdline()[:3])}" for c in children]
+    for child in children:
+        child.kill()
+    return names
+
+
+def pytest_sessionfinish(session, exitstatus):
+    """Fail the run if a kernel, server or browser started by the tests survived them.
+
+    Under pytest-xdist each worker looks at the processes it started and hands the
+    survivors to the controller (tests/parallel_plan.py), which reports them here.
+    """
+    config = session.config
+    if hasattr(config, "workerinput"):
+        config.workeroutput["robokin_survivors"] = _stop_survivors()
+        return
+    if config.pluginmanager.hasplugin("dsession"):   # the controller: its children are the workers
+        survivors = list(getattr(config, "robokin_worker_survivors", []))
+    else:
+        survivors = _stop_survivors()
+    if survivors:
         session.config.pluginmanager.get_plugin("terminalreporter").write_line(
-            f"ERROR: processes started by the tests are still running: {names}", red=True
+            f"ERROR: processes started by the tests are still running: {', '.join(survivors)}", red=True
         )
-        for child in children:
-            child.kill()
         session.exitstatus = 1
 
 
@@ -198,6 +215,7 @@ from parallel_plan import (  # noqa: E402,F401 - pytest hooks and a fixture of t
     pytest_collection_modifyitems,
     pytest_configure,
     pytest_configure_node,
+    pytest_testnodedown,
 )
 
 # Hypothesis profiles. The default one (100 examples per property) is the CI budget;

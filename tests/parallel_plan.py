@@ -96,6 +96,15 @@ def pytest_configure_node(node):
     node.workerinput["robokin_dist"] = node.config.option.dist
 
 
+@pytest.hookimpl(optionalhook=True)
+def pytest_testnodedown(node, error):
+    """(pytest-xdist, in the controller) keep the processes a worker's tests left running;
+    ``pytest_sessionfinish`` in conftest.py reports them and fails the run."""
+    survivors = getattr(node, "workeroutput", {}).get("robokin_survivors", [])
+    node.config.robokin_worker_survivors = [*getattr(node.config, "robokin_worker_survivors", []),
+                                            *(f"{survivor} (in {node.gateway.id})" for survivor in survivors)]
+
+
 def pytest_configure(config):
     if hasattr(config, "workerinput"):
         config.robokin_run_id = config.workerinput["testrunuid"]
