@@ -49,18 +49,21 @@ CACHE_KEY = "robokin/unit-durations"
 LONG = 1.0
 #: Expected seconds of the long units, for a run without recorded durations (fresh
 #: clone); a unit is a group name or a test's node id. First matching pattern wins.
+#: Relative sizes as measured in one run (2 workers, loaded machine: 1406 s wall):
+#: the nbgrader and tamper modules about 850 s each, the other machines 160 s, the
+#: scaffolded chapter 130 s, the trust suite and the instructor book build 70 s each.
 ESTIMATES = [
     (r"^nbgrader$", 300.0),
-    (r"^module:tests/test_grading_tamper\.py$", 220.0),
-    (r"^module:tests/test_nbgrader\.py$", 140.0),
+    (r"^module:tests/test_nbgrader\.py$", 220.0),
+    (r"^module:tests/test_grading_tamper\.py$", 210.0),
     (r"test_notebooks_other_machines\.py", 120.0),
-    (r"^module:tests/test_grading_trust\.py$", 60.0),
     (r"^module:tests/test_new_chapter\.py$", 60.0),
-    (r"test_grading_mutations\.py", 30.0),
-    (r"^nbval:", 25.0),
-    (r"test_reexecution\.py", 20.0),
-    (r"test_live_jupyter\.py", 20.0),
-    (r"test_book\.py::test_(book_builds|student_edition)", 25.0),
+    (r"^module:tests/test_grading_trust\.py$", 40.0),
+    (r"test_book\.py::test_(book_builds|student_edition)", 35.0),
+    (r"test_grading_mutations\.py", 10.0),
+    (r"^nbval:", 10.0),
+    (r"test_reexecution\.py", 8.0),
+    (r"test_live_jupyter\.py", 15.0),
     (r"test_book\.py::test_page_in_browser", 8.0),
     (r"test_views_(browser|mesh)\.py", 3.0),
 ]
