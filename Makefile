@@ -3,7 +3,9 @@
 #   make book    build the book (creates .venv and installs everything on first use)
 #   make book EDITION=student   the student edition of the book (no solutions) in _build/student/
 #   make student the student edition of every chapter and the nbgrader course (_build/nbgrader/)
-#   make test    run the complete test suite (same set-up on first use)
+#   make test    run the complete test suite on two cores (same set-up on first use)
+#   make quick   the fast inner loop: unit, property and fuzz tests only (< 1 min);
+#                no notebooks, book, browser or nbgrader (CONTRIBUTING.md)
 #   make lab     open the notebooks in JupyterLab with live 3D views
 #   make execute re-run every notebook in a fresh kernel and store its outputs (stream
 #                outputs merged, so that an unchanged notebook stores unchanged bytes);
@@ -33,7 +35,7 @@ else
 $(error EDITION must be 'instructor' or 'student', not '$(EDITION)')
 endif
 
-.PHONY: book student test lab execute chapter bench clean distclean check-python
+.PHONY: book student test quick lab execute chapter bench clean distclean check-python
 
 # The Python that builds the venv (or, once it exists, the venv's own) must be >= 3.11.
 check-python:
@@ -75,9 +77,17 @@ student: $(STAMP)
 	@$(BIN)/python tools/student_edition.py || { \
 	  echo "ERROR [student]: see the messages above."; exit 1; }
 
+# Two pytest-xdist workers by default (tests/parallel_plan.py); `make test PYTEST_ARGS=-n0`
+# runs everything in one process.
+PYTEST_ARGS ?=
 test: $(STAMP)
-	@$(BIN)/python -m pytest || { \
+	@$(BIN)/python -m pytest $(PYTEST_ARGS) || { \
 	  echo "ERROR [test]: some tests failed (see the summary above)."; exit 1; }
+
+QUICK := not notebooks and not book and not browser and not nbgrader and not other_machines
+quick: $(STAMP)
+	@$(BIN)/python -m pytest tests -q -m "$(QUICK)" $(PYTEST_ARGS) || { \
+	  echo "ERROR [quick]: some tests failed (see above); make test runs everything."; exit 1; }
 
 lab: $(STAMP)
 	ROBOKIN_VIEWER=live $(BIN)/jupyter lab notebooks/

@@ -1,7 +1,14 @@
-"""Shared fixtures: the built book, a headless Chromium, and a process-leak guard."""
+"""Shared fixtures: the built book, a headless Chromium, and a process-leak guard.
+
+The suite runs on two workers (pytest-xdist, ``--dist loadgroup``) unless ``-n`` says
+otherwise; ``tests/parallel_plan.py`` sets that up, keeps what must share one process
+together (the cells of a notebook under nbval, a module's expensive fixtures) and
+starts the longest parts first.
+"""
 
 from __future__ import annotations
 
+import fcntl
 import os
 import shutil
 import subprocess
@@ -75,16 +82,53 @@ def build_book(edition: str = "instructor") -> Path:
     return EDITION_HTML[edition]
 
 
-@pytest.fixture(scope="session")
-def built_book() -> Path:
-    """The instructor edition (the default ``make book``), built once per test session."""
-    return build_book("instructor")
+def build_book_once(edition: str, run_id: str) -> Path:
+    """``build_book(edition)`` once per test run, whichever worker asks first.
+
+    The workers of one run (pytest-xdist) share the built book: the first to ask
+    builds it while holding a lock, the others wait for the lock and use its result
+    (or fail with its failure). ``run_id`` names the run; a book built by an earlier
+    run is built again.
+    """
+    BUILD_DIR.mkdir(parents=True, exist_ok=True)
+    record = BUILD_DIR / f".book-{edition}.test-run"
+    with open(BUILD_DIR / f".book-{edition}.lock", "a") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        try:
+            recorded = record.read_text().split("\n", 2) if record.is_file() else []
+            if recorded[:1] == [run_id]:
+                if recorded[1:2] != ["built"]:
+                    pytest.fail(f"jupyter-book build ({edition} edition) failed in another worker of this run:\n"
+                                + (recorded[2] if len(recorded) > 2 else ""))
+                return EDITION_HTML[edition]
+            record.unlink(missing_ok=True)
+            try:
+                html = build_book(edition)
+            except BaseException as failure:
+                record.write_text(f"{run_id}\nfailed\n{failure}")
+                raise
+            record.write_text(f"{run_id}\nbuilt\n")
+            return html
+        finally:
+            fcntl.flock(lock, fcntl.LOCK_UN)
 
 
 @pytest.fixture(scope="session")
-def built_student_book() -> Path:
+def suite_run_id(pytestconfig) -> str:
+    """One name for this test run, the same in every pytest-xdist worker (tests/parallel_plan.py)."""
+    return pytestconfig.robokin_run_id
+
+
+@pytest.fixture(scope="session")
+def built_book(suite_run_id) -> Path:
+    """The instructor edition (the default ``make book``), built once per test run."""
+    return build_book_once("instructor", suite_run_id)
+
+
+@pytest.fixture(scope="session")
+def built_student_book(suite_run_id) -> Path:
     """The student edition (``make book EDITION=student``): no solutions in the HTML."""
-    return build_book("student")
+    return build_book_once("student", suite_run_id)
 
 
 @pytest.fixture(scope="session")
@@ -102,33 +146,77 @@ def browser():
         _skip_or_fail("playwright is not installed: run `make test`, which installs requirements.txt")
     with sync_playwright() as playwright:
         instance = playwright.chromium.launch(executable_path=executable, headless=True, args=CHROMIUM_ARGS)
+        _BROWSERS.append(instance)
         try:
             yield instance
         finally:
+            _BROWSERS.remove(instance)
             instance.close()
 
 
-def pytest_sessionfinish(session, exitstatus):
-    """Fail the run if a kernel, server or browser started by the tests survived them."""
+#: The Chromium instances the ``browser`` fixture launched in this process (one per worker).
+_BROWSERS: list = []
+
+
+@pytest.fixture(autouse=True)
+def _close_browser_pages():
+    """Close every tab a test opened in the session's Chromium when the test ends.
+
+    A tab left open with a live WebGL scene keeps Chromium's GPU process drawing
+    (about 40 % of a core) for the rest of the run.
+    """
+    yield
+    for instance in _BROWSERS:
+        for context in list(instance.contexts):
+            context.close()
+
+
+def _stop_survivors() -> list[str]:
+    """The processes this one started that still run 10 s later, killed; their descriptions."""
     try:
         import psutil
     except ImportError:  # pragma: no cover
-        return
+        return []
     me = psutil.Process()
     deadline = time.monotonic() + 10.0
     children = me.children(recursive=True)
     while children and time.monotonic() < deadline:
         time.sleep(0.25)
         children = [c for c in me.children(recursive=True) if c.is_running() and c.status() != psutil.STATUS_ZOMBIE]
-    if children:
-        names = ", ".join(f"{c.pid}:{' '.join(c.cmdline()[:3])}" for c in children)
+    names = [f"{c.pid}:{' '.join(c.cmdline()[:3])}" for c in children]
+    for child in children:
+        child.kill()
+    return names
+
+
+def pytest_sessionfinish(session, exitstatus):
+    """Fail the run if a kernel, server or browser started by the tests survived them.
+
+    Under pytest-xdist each worker looks at the processes it started and hands the
+    survivors to the controller (tests/parallel_plan.py), which reports them here.
+    """
+    config = session.config
+    if hasattr(config, "workerinput"):
+        config.workeroutput["robokin_survivors"] = _stop_survivors()
+        return
+    if config.pluginmanager.hasplugin("dsession"):   # the controller: its children are the workers
+        survivors = list(getattr(config, "robokin_worker_survivors", []))
+    else:
+        survivors = _stop_survivors()
+    if survivors:
         session.config.pluginmanager.get_plugin("terminalreporter").write_line(
-            f"ERROR: processes started by the tests are still running: {names}", red=True
+            f"ERROR: processes started by the tests are still running: {', '.join(survivors)}", red=True
         )
-        for child in children:
-            child.kill()
         session.exitstatus = 1
 
+
+from parallel_plan import (  # noqa: E402,F401 - pytest hooks and a fixture of the parallel run
+    pytest_cmdline_main,
+    pytest_collection_modifyitems,
+    pytest_configure,
+    pytest_configure_node,
+    pytest_testnodedown,
+)
 
 # Hypothesis profiles. The default one (100 examples per property) is the CI budget;
 # `pytest --hypothesis-profile=long` runs ten times as many, with fresh random examples

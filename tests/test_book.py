@@ -16,6 +16,7 @@ from urllib.parse import unquote, urlparse
 import pytest
 import yaml
 
+from browser_waits import next_frames, poll_until
 from conftest import EDITION_HTML, ROOT
 
 pytestmark = pytest.mark.book
@@ -139,7 +140,7 @@ def _check_layout(tab, page: str, edition: str) -> None:
     Screenshots go to _build/screenshots/<edition>/."""
     for width in WIDTHS:
         tab.set_viewport_size({"width": width, "height": 900})
-        tab.wait_for_timeout(300)
+        next_frames(tab)
         folder = SCREENSHOTS / edition
         folder.mkdir(parents=True, exist_ok=True)
         tab.screenshot(path=str(folder / f"{page.replace('/', '_')}-{width}.png"))
@@ -269,8 +270,9 @@ def test_page_in_browser(edition_book, browser, page):
             scene.scroll_into_view_if_needed()
             canvas = scene.locator("canvas").first
             canvas.wait_for(state="visible", timeout=20_000)
-            tab.wait_for_timeout(500)  # let the viewer draw a few frames
-            differing, total = _count_differing_pixels(canvas.screenshot())
+            # screenshots taken again until the viewer has drawn the scene (at most 20 s)
+            differing, total = poll_until(lambda shoot=canvas.screenshot: _count_differing_pixels(shoot()),
+                                          lambda counts: counts[0] > 0.002 * counts[1])
             assert differing > 0.002 * total, f"{page}: scene {index} looks blank ({differing}/{total} pixels drawn)"
             if scene.get_attribute("data-animated") == "true":
                 assert scene.get_by_text("play", exact=False).count() > 0, f"{page}: scene {index} has no play control"

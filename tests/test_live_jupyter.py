@@ -32,6 +32,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from browser_waits import poll_until
 from conftest import _skip_or_fail, chromium_path
 
 pytestmark = pytest.mark.browser
@@ -242,10 +243,15 @@ def _settled(frame, quiet=0.4, timeout=10.0):
     pytest.fail(f"the MeshCat viewer kept receiving messages for {timeout:.0f} s")
 
 
+def _links(a):
+    """Pixels of the robot's (orange) links."""
+    return (a[..., 0] > 180) & (a[..., 1] > 100) & (a[..., 1] < 190) & (a[..., 2] < 80)
+
+
 def _shot(locator, path):
     """Screenshot of ``locator`` saved to ``path``; returns the pixels, which must show the robot."""
     a = _pixels(locator.screenshot(path=str(path)))
-    orange = (a[..., 0] > 180) & (a[..., 1] > 100) & (a[..., 1] < 190) & (a[..., 2] < 80)   # links
+    orange = _links(a)
     assert orange.sum() > 100, f"no robot links in the live scene (see {path})"
     return a
 
@@ -318,7 +324,8 @@ def test_live_scene_and_sliders_in_jupyterlab(tmp_path, browser):
                 g.updateMatrixWorld(true);
                 const e = g.matrixWorld.elements; return [e[4], e[5], e[6]]; }""")
             assert np.allclose(normal, [0, 1, 0], atol=1e-6), f"the grid is not horizontal: normal {normal}"
-        page.wait_for_timeout(500)                       # one more render after the last command
+        # until the scene shows the robot (one more render after the last command)
+        poll_until(lambda: _pixels(iframes.nth(0).screenshot()), lambda a: _links(a).sum() > 100)
         _shot(iframes.nth(0), shots / "robokin-lab-show.png")
 
         # ---- cell 2: one slider per joint under the second scene
@@ -359,7 +366,9 @@ def test_live_scene_and_sliders_in_jupyterlab(tmp_path, browser):
         _settled(frames[1], quiet=0.3)
         t_many = time.perf_counter() - t0
         assert sliders.first.locator(".widget-readout").inner_text().strip() == target
-        page.wait_for_timeout(300)
+        # until the moved robot is drawn
+        poll_until(lambda: _pixels(iframes.nth(1).screenshot()),
+                   lambda a: (np.abs(a - before).sum(axis=-1) > 60).sum() > 200)
         after = _shot(iframes.nth(1), shots / "robokin-lab-sliders-after.png")
         changed = (np.abs(after - before).sum(axis=-1) > 60).sum()
         assert changed > 200, f"the scene did not move ({changed} pixels changed)"

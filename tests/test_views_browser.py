@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from browser_waits import pixels, poll_until
 from conftest import watched_page
 
 from views_doubles import two_link
@@ -42,18 +43,20 @@ def test_static_scene_renders_in_chromium(tmp_path, browser):
     pg.goto(page.as_uri())
     pg.wait_for_selector(".robokin-scene canvas", state="attached", timeout=20_000)
     pg.wait_for_function("document.querySelectorAll('.robokin-scene canvas').length == 2", timeout=20_000)
-    pg.wait_for_timeout(1500)
     # the viewer script was loaded once for both scenes
     assert pg.evaluate("document.querySelectorAll('script[src$=\"main.min.js\"]').length") == 1
     canvases = pg.query_selector_all(".robokin-scene canvas")
-    shot_robot = canvases[0].screenshot()
-    shot_empty = canvases[1].screenshot()
-    import io
 
-    from PIL import Image
-    a = np.asarray(Image.open(io.BytesIO(shot_robot)).convert("RGB"), dtype=int)
-    b = np.asarray(Image.open(io.BytesIO(shot_empty)).convert("RGB"), dtype=int)
-    orange = (a[..., 0] > 180) & (a[..., 1] > 100) & (a[..., 1] < 190) & (a[..., 2] < 80)   # links
+    def links(a):
+        return (a[..., 0] > 180) & (a[..., 1] > 100) & (a[..., 1] < 190) & (a[..., 2] < 80)
+
+    def drawn(shots):
+        a, b = shots
+        return links(a).sum() > 200 and (np.abs(a - b).sum(axis=-1) > 60).sum() > 1000
+
+    # screenshots of both scenes, taken again until the robot is drawn (at most 20 s)
+    a, b = poll_until(lambda: [pixels(c.screenshot()) for c in canvases[:2]], drawn)
+    orange = links(a)
     assert orange.sum() > 200, "robot links not drawn"
     assert (np.abs(a - b).sum(axis=-1) > 60).sum() > 1000, "scene looks like the empty background"
     # animation controls (dat.gui): play / pause / reset and the time slider
@@ -153,12 +156,13 @@ def test_point_cloud_renders_in_chromium(tmp_path, browser):
     pg, errors = watched_page(browser, 800, 900)
     pg.goto(page.as_uri())
     pg.wait_for_function("document.querySelectorAll('.robokin-scene canvas').length == 2", timeout=20_000)
-    pg.wait_for_timeout(1500)
-    import io
+    canvases = pg.query_selector_all(".robokin-scene canvas")
 
-    from PIL import Image
-    shots = [np.asarray(Image.open(io.BytesIO(c.screenshot())).convert("RGB"), dtype=int)
-             for c in pg.query_selector_all(".robokin-scene canvas")]
-    red = (shots[0][..., 0] > 150) & (shots[0][..., 1] < 80) & (shots[0][..., 2] < 80)
+    def reds(a):
+        return (a[..., 0] > 150) & (a[..., 1] < 80) & (a[..., 2] < 80)
+
+    # screenshots taken again until the cloud is drawn (at most 20 s)
+    shots = poll_until(lambda: [pixels(c.screenshot()) for c in canvases], lambda s: reds(s[0]).sum() > 2000)
+    red = reds(shots[0])
     assert red.sum() > 2000, "point cloud not drawn"
     assert not errors, errors

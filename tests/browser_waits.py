@@ -1,0 +1,49 @@
+"""Waiting for a page in headless Chromium by a condition, not by a fixed sleep.
+
+A fixed sleep is either too short on a loaded machine (a flaky test) or too long
+everywhere else (a slow suite). These helpers poll until what the test is about to
+assert holds, and return at once when it does; on timeout they return what they
+saw last, so that the test's own assertion fails with its own message.
+"""
+
+from __future__ import annotations
+
+import io
+import time
+from collections.abc import Callable
+from typing import TypeVar
+
+import numpy as np
+
+T = TypeVar("T")
+
+#: Seconds a scene may take to draw before the test looks at it for the last time.
+DRAW_TIMEOUT = 20.0
+#: Seconds between two looks (a screenshot of a canvas takes about 50 ms).
+POLL = 0.1
+
+
+def pixels(png: bytes) -> np.ndarray:
+    """RGB pixels of a PNG screenshot, as integers, shape (height, width, 3)."""
+    from PIL import Image
+
+    return np.asarray(Image.open(io.BytesIO(png)).convert("RGB"), dtype=int)
+
+
+def poll_until(look: Callable[[], T], done: Callable[[T], bool], timeout: float = DRAW_TIMEOUT) -> T:
+    """Call ``look()`` until ``done(result)`` holds or ``timeout`` seconds passed; the last result."""
+    deadline = time.monotonic() + timeout
+    while True:
+        seen = look()
+        if done(seen) or time.monotonic() >= deadline:
+            return seen
+        time.sleep(POLL)
+
+
+def next_frames(tab, count: int = 2) -> None:
+    """Wait until the page has rendered ``count`` more animation frames (layout and paint
+    after a change of the viewport are done)."""
+    tab.evaluate("""(count) => new Promise(resolve => {
+        const step = left => left ? requestAnimationFrame(() => step(left - 1)) : resolve();
+        step(count);
+    })""", count)

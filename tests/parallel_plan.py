@@ -1,0 +1,244 @@
+"""How the suite uses both cores: pytest-xdist workers, groups, longest parts first.
+
+``tests/conftest.py`` imports the hooks below (its fixture ``suite_run_id`` reads
+``config.robokin_run_id``, the same in every worker of a run). What they do:
+
+* **Two workers by default.** ``pytest`` (and ``make test``) runs on two worker
+  processes with ``--dist loadgroup``, as if ``-n 2 --dist loadgroup`` had been
+  given. ``-n 0`` (or ``-p no:xdist``) runs everything in one process, ``-n 4``
+  on four workers. This is set here, not in ``addopts``: ``-p no:xdist`` would
+  reject an ``-n`` in ``addopts``, and ``pytest notebooks/NB.ipynb`` (which does not
+  load this conftest, so its cells would not be grouped) runs in one process. A
+  pytest started by a test (a scaffolded chapter's suite, the notebooks under other
+  BLAS kernels) runs in one process too: the outer run already uses the cores.
+* **Markers** ``notebooks``, ``nbgrader``, ``book`` and ``browser`` are added from what a
+  test uses (the fast loop, ``make quick``, deselects them).
+* **Groups** (``xdist_group``; one group runs in one worker, in collection order):
+  the cells of one notebook under nbval (``nbval:<stem>``: its kernel lives in the
+  worker, cell after cell), and the tests of a module with module- or class-scoped
+  fixtures (``module:<path>``: the fixture is built once, not once per worker). A
+  test that already has an ``xdist_group`` mark keeps it.
+* **Longest first.** A work unit is a group or a single test. Units that took (or
+  are expected to take) a second or more run first, longest first, so that the two
+  workers finish together; the durations of the last run are kept in pytest's cache
+  (``.pytest_cache``, key ``robokin/unit-durations``), the estimates below serve a
+  fresh clone. Shorter tests keep their order and follow.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import uuid
+from collections import defaultdict
+
+import pytest
+
+try:
+    from _pytest.nodeid import NodeId, coerce_node_id
+except ImportError:  # pytest < 9.2 keeps the node id in item._nodeid
+    NodeId = coerce_node_id = None
+
+#: Workers when ``-n`` is not given. Measured on the 2-core machine the timings in
+#: the README come from; ``-n auto`` uses one per core.
+DEFAULT_WORKERS = 2
+#: Set in the environment of a run; a pytest started by one of its tests sees it.
+NESTED = "ROBOKIN_TESTS_RUNNING"
+CACHE_KEY = "robokin/unit-durations"
+#: Units shorter than this (seconds) keep their collection order, after the long ones.
+LONG = 1.0
+#: Expected seconds of the long units, for a run without recorded durations (fresh
+#: clone); a unit is a group name or a test's node id. First matching pattern wins.
+#: Relative sizes as measured in one run (2 workers, loaded machine: 1406 s wall):
+#: the nbgrader and tamper modules about 850 s each, the other machines 160 s, the
+#: scaffolded chapter 130 s, the trust suite and the instructor book build 70 s each.
+ESTIMATES = [
+    (r"^nbgrader$", 300.0),
+    (r"^module:tests/test_nbgrader\.py$", 220.0),
+    (r"^module:tests/test_grading_tamper\.py$", 210.0),
+    (r"test_notebooks_other_machines\.py", 120.0),
+    (r"^module:tests/test_new_chapter\.py$", 60.0),
+    (r"^module:tests/test_grading_trust\.py$", 40.0),
+    (r"test_book\.py::test_(book_builds|student_edition)", 35.0),
+    (r"test_grading_mutations\.py", 10.0),
+    (r"^nbval:", 10.0),
+    (r"test_reexecution\.py", 8.0),
+    (r"test_live_jupyter\.py", 15.0),
+    (r"test_book\.py::test_page_in_browser", 8.0),
+    (r"test_views_(browser|mesh)\.py", 3.0),
+]
+
+
+def _xdist_active(config) -> bool:
+    return config.pluginmanager.hasplugin("xdist")
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_cmdline_main(config):
+    """``-n 2 --dist loadgroup --no-loadscope-reorder`` unless the command line says otherwise."""
+    if hasattr(config, "workerinput"):
+        # a worker parses the command line again, without what was set here: the
+        # controller passes its --dist on (pytest_configure_node below)
+        config.option.loadgroup = config.workerinput.get("robokin_dist") == "loadgroup"
+        return
+    if not _xdist_active(config) or os.environ.get(NESTED):
+        return
+    option = config.option
+    if option.usepdb or option.collectonly:
+        return
+    if option.numprocesses is None and not option.tx:
+        option.numprocesses = DEFAULT_WORKERS
+    if option.dist == "no":
+        option.dist = "loadgroup"
+    option.loadscopereorder = False   # our order: longest first (below)
+
+
+@pytest.hookimpl(optionalhook=True)
+def pytest_configure_node(node):
+    """(pytest-xdist, in the controller) tell a new worker how tests are distributed."""
+    node.workerinput["robokin_dist"] = node.config.option.dist
+
+
+@pytest.hookimpl(optionalhook=True)
+def pytest_testnodedown(node, error):
+    """(pytest-xdist, in the controller) keep the processes a worker's tests left running;
+    ``pytest_sessionfinish`` in conftest.py reports them and fails the run."""
+    survivors = getattr(node, "workeroutput", {}).get("robokin_survivors", [])
+    node.config.robokin_worker_survivors = [*getattr(node.config, "robokin_worker_survivors", []),
+                                            *(f"{survivor} (in {node.gateway.id})" for survivor in survivors)]
+
+
+def pytest_configure(config):
+    if hasattr(config, "workerinput"):
+        config.robokin_run_id = config.workerinput["testrunuid"]
+        return
+    config.robokin_run_id = uuid.uuid4().hex
+    os.environ[NESTED] = config.robokin_run_id
+    config.pluginmanager.register(DurationRecorder(config), "robokin-duration-recorder")
+
+
+def _group_names(item) -> list[str]:
+    names = set()
+    for mark in item.iter_markers("xdist_group"):
+        names.add(str(mark.args[0] if mark.args else mark.kwargs.get("name", "default")))
+    return sorted(names)
+
+
+def _is_nbval_cell(item) -> bool:
+    return type(item).__module__.split(".")[0] == "nbval"
+
+
+def _has_module_fixture(item) -> bool:
+    info = getattr(item, "_fixtureinfo", None)
+    if info is None:
+        return False
+    return any(defs and defs[-1].scope in ("module", "class", "package")
+               for defs in info.name2fixturedefs.values())
+
+
+#: Test modules that execute notebooks (``notebooks``) or run nbgrader (``nbgrader``).
+NOTEBOOK_MODULES = ("test_grading_mutations.py", "test_reexecution.py", "test_new_chapter.py")
+NBGRADER_MODULES = ("test_nbgrader.py", "test_grading_trust.py", "test_grading_tamper.py")
+
+
+def _assign_markers(item) -> None:
+    """The markers ``make quick`` deselects, from what a test uses (see CONTRIBUTING.md)."""
+    names = set(getattr(item, "fixturenames", ()))
+    if _is_nbval_cell(item) or item.path.name in NOTEBOOK_MODULES:
+        item.add_marker(pytest.mark.notebooks)
+    if item.path.name in NBGRADER_MODULES or "nbgrader" in _group_names(item):
+        item.add_marker(pytest.mark.nbgrader)
+    if names & {"built_book", "built_student_book", "edition_book"}:
+        item.add_marker(pytest.mark.book)
+    if "browser" in names:
+        item.add_marker(pytest.mark.browser)
+
+
+def _assign_groups(items) -> None:
+    for item in items:
+        _assign_markers(item)
+        if _group_names(item):
+            continue
+        if _is_nbval_cell(item):
+            item.add_marker(pytest.mark.xdist_group(f"nbval:{item.path.stem}"))
+        elif _has_module_fixture(item):
+            module = item.nodeid.split("::", 1)[0]
+            item.add_marker(pytest.mark.xdist_group(f"module:{module}"))
+
+
+def unit_of(item) -> str:
+    """The work unit of a test: its group (as xdist names it), or its node id."""
+    names = _group_names(item)
+    return "_".join(names) if names else item.nodeid
+
+
+def _estimate(unit: str) -> float:
+    for pattern, seconds in ESTIMATES:
+        if re.search(pattern, unit):
+            return seconds
+    return 0.0
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_collection_modifyitems(session, config, items):
+    """Group what must share a worker, then put the long units first, longest first."""
+    _assign_groups(items)
+    cache = getattr(config, "cache", None)
+    recorded = cache.get(CACHE_KEY, {}) if cache is not None else {}
+    units: dict[str, list] = {}
+    for item in items:
+        units.setdefault(unit_of(item), []).append(item)
+    config.robokin_units = {item.nodeid: unit for unit, members in units.items() for item in members}
+
+    def seconds(unit: str) -> float:
+        return float(recorded.get(unit, _estimate(unit)))
+
+    long_units = sorted((u for u in units if seconds(u) >= LONG), key=seconds, reverse=True)
+    short_units = [u for u in units if seconds(u) < LONG]
+    items[:] = [item for unit in long_units + short_units for item in units[unit]]
+    if getattr(config.option, "loadgroup", False):
+        for item in items:
+            if _group_names(item):
+                _name_group_in_node_id(item, unit_of(item))
+
+
+def _name_group_in_node_id(item, group: str) -> None:
+    """``<node id>@<group>``: how an xdist worker tells the controller a test's group.
+
+    pytest-xdist 3.8 does this itself by setting ``item._nodeid``, which pytest 9.2
+    no longer reads (the node id is ``item._id``, a ``NodeId``): without this, every
+    test of a group would be scheduled on its own and a notebook's cells would be
+    spread over both workers.
+    """
+    nodeid = f"{item.nodeid}@{group}"
+    if isinstance(getattr(item, "_id", None), NodeId):
+        item._id = coerce_node_id(nodeid)
+    else:
+        item._nodeid = nodeid
+    assert item.nodeid == nodeid, f"could not add the xdist group to the node id of {item.nodeid}"
+
+
+class DurationRecorder:
+    """Adds up the seconds of each work unit in this run; stores them in pytest's cache."""
+
+    def __init__(self, config):
+        self.config = config
+        self.seconds: dict[str, float] = defaultdict(float)
+
+    def _unit(self, nodeid: str) -> str:
+        known = getattr(self.config, "robokin_units", {})
+        if nodeid in known:                       # one process: collected here
+            return known[nodeid]
+        if nodeid.rfind("@") > nodeid.rfind("]"):  # from an xdist worker: node id @ group
+            return nodeid.rsplit("@", 1)[1]
+        return nodeid
+
+    def pytest_runtest_logreport(self, report):
+        self.seconds[self._unit(report.nodeid)] += report.duration
+
+    def pytest_sessionfinish(self, session):
+        if getattr(self.config, "cache", None) is None or not self.seconds:
+            return
+        stored = self.config.cache.get(CACHE_KEY, {})
+        stored.update({unit: round(value, 2) for unit, value in self.seconds.items()})
+        self.config.cache.set(CACHE_KEY, stored)
