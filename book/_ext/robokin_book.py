@@ -34,6 +34,7 @@ import importlib
 import json
 import os
 import shutil
+import sys
 from pathlib import Path
 
 from sphinx.application import Sphinx
@@ -41,6 +42,11 @@ from sphinx.util import logging
 from sphinx.util.nodes import make_refnode
 
 logger = logging.getLogger(__name__)
+
+# One rule for what the student edition keeps of a markdown cell, shared with nbgrader's
+# edition (tools/robokin_nbgrader.py) and its tests: tools/notebook_analysis.py.
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "tools"))
+from notebook_analysis import clear_solution_text  # noqa: E402
 
 #: MathJax components copied into the built book (paths relative to ``es5/``).
 MATHJAX_PARTS = (
@@ -194,7 +200,9 @@ def student_notebook(text: str) -> str | None:
     """The notebook ``text`` without its solutions (None if it is not a notebook).
 
     Removed: code cells tagged ``solution``; every cell from a ``{solution-start}``
-    directive to its ``{solution-end}``; the outputs of ``check`` cells (they print
+    directive to its ``{solution-end}`` (of a markdown cell with ``BEGIN SOLUTION`` /
+    ``END SOLUTION`` markers of its own, e.g. in HTML comments, only the text between
+    them, as in nbgrader's student edition); the outputs of ``check`` cells (they print
     the computed answers). Kept: the problem, hints, figures, the check cells'
     code, the *Try it yourself* cells.
     """
@@ -213,6 +221,12 @@ def student_notebook(text: str) -> str | None:
         ends = cell["cell_type"] == "markdown" and "{solution-end}" in source
         if starts:
             in_solution = True
+        if cell["cell_type"] == "markdown" and "BEGIN SOLUTION" in source:
+            kept = clear_solution_text(source)  # the text around the cell's own markers
+            in_solution = in_solution and not ends
+            if kept.strip():
+                cells.append(dict(cell, source=kept))
+            continue
         drop = in_solution or "solution" in tags
         if ends:
             in_solution = False
