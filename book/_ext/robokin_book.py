@@ -357,6 +357,10 @@ def resolve_short_python_names(app: Sphinx, env, node, contnode):
 def setup(app: Sphinx) -> dict:
     app.add_config_value("robokin_edition", os.environ.get("ROBOKIN_EDITION", "instructor") or "instructor",
                          "env", [str])
+    # A change of this extension (e.g. of what the student edition removes) changes how every
+    # page is read: as a config value ("env"), its digest makes Sphinx read every page again.
+    app.add_config_value("robokin_extension_digest", hashlib.sha256(Path(__file__).read_bytes()).hexdigest(),
+                         "env", [str])
     app.connect("config-inited", configure_edition, priority=50)
     app.connect("missing-reference", resolve_short_python_names)
     app.connect("config-inited", nitpick_pairs_as_tuples)
