@@ -361,3 +361,52 @@ def test_a_call_that_never_returns_is_stopped(graded):
     errors = [o for c in nb["cells"] if nbg(c).get("grade_id") == "task1_test1"
               for o in c["outputs"] if o["output_type"] == "error"]
     assert errors and f"took longer than {CALL_TIMEOUT} s" in errors[0]["evalue"], errors
+
+
+def _answers_and_checks(nb: dict) -> tuple[list, dict]:
+    """What the bridge hands to ``delegation.find`` for a chapter (as ``BridgedExecute._make_plan``)."""
+    meta = [c.get("metadata", {}).get("robokin", {}) for c in nb["cells"]]
+    checks: dict = {}
+    for entry in meta:
+        if entry.get("role") == "test":
+            for check, expression in entry.get("explain", []):
+                checks.setdefault(entry.get("task"), {}).setdefault(check, set()).add(expression)
+    answers = [(entry.get("task"), src(cell), entry.get("declare", [])) for cell, entry in zip(nb["cells"], meta)
+               if entry.get("role") == "answer"]
+    return answers, checks
+
+
+#: chapters whose graded tasks all ask for robokin's own tools (nothing to flag there)
+NO_DELEGATION = {"04_cartesian_control": "its tool and goal frames are built with transform_from_rpy, "
+                                         "as the chapter teaches"}
+
+
+@pytest.mark.parametrize("chapter", sorted(p.stem for p in NOTEBOOKS.glob("0[1-9]_*.ipynb")))
+def test_delegation_is_flagged_in_every_chapter(chapter):
+    """For every check with robokin references that a chapter's tests explain, an answer
+    bound to robokin's solution is flagged; the instructor's solutions are not."""
+    from grading_bridge import delegation
+
+    answers, checks = _answers_and_checks(load(NOTEBOOKS / f"{chapter}.ipynb"))
+    assert delegation.find(answers, checks) == [], f"{chapter}: the solutions are flagged"
+    tried = 0
+    for task, by_check in checks.items():
+        for check, expressions in by_check.items():
+            references = delegation.REFERENCES.get(check)
+            names = set().union(*(delegation._names(e) or set() for e in expressions))
+            target = next(((i, n) for i, (t, _, declared) in enumerate(answers) if t == task
+                           for n in declared if n in names), None)
+            if not references or target is None:
+                continue
+            index, name = target
+            attr, how = next(iter(references.items()))
+            changed = list(answers)
+            code = changed[index][1] + f"\n\n{name} = robokin_object.{attr}\n"
+            changed[index] = (task, code, changed[index][2])
+            found = [item for item in delegation.find(changed, checks) if item["name"] == name]
+            assert found and found[0]["reference"] == how, (chapter, check, name, found)
+            tried += 1
+    if chapter in NO_DELEGATION:
+        assert tried == 0, f"{chapter}: NO_DELEGATION is out of date"
+    else:
+        assert tried, f"{chapter}: no graded task has robokin references (delegation.REFERENCES)"

@@ -169,6 +169,12 @@ class BridgedExecute(RobokinExecute):
                           "%s calls of the student's functions)",
                           notebook, sum(1 for c in self._plan["cells"][: self._plan["done"]] if not c.get("skip")),
                           len(self._plan["cells"]), kinds, calls)
+            flagged = {item["name"] for item in self._plan["review"]}
+            for name, status in self._plan["imports"].items():   # an answer that IS a robokin function
+                if status.startswith("function of ") and name not in flagged:
+                    self._plan["review"].append({"task": self._plan["tasks"].get(name), "name": name,
+                                                 "reference": status[len("function of "):], "how": "runtime",
+                                                 "through": None})
             report = resources.setdefault("robokin", {})
             report["review"] = [dict(item, line=delegation.describe(item)) for item in self._plan["review"]]
             report["bridge"] = {"imports": self._plan["imports"], "problems": self._plan["problems"],
@@ -200,14 +206,17 @@ class BridgedExecute(RobokinExecute):
         for entry in meta.values():
             if entry.get("role") == "answer":
                 declared += [n for n in entry.get("declare", []) if n not in declared]
-        task_checks: dict = {}
+        task_checks: dict = {}   # task -> check -> the expressions it checks
         for entry in meta.values():
             if entry.get("role") == "test":
-                task_checks.setdefault(entry.get("task"), set()).update(p[0] for p in entry.get("explain", []))
+                for check, expression in entry.get("explain", []):
+                    task_checks.setdefault(entry.get("task"), {}).setdefault(check, set()).add(expression)
         answers = [(_task_of(c), c.source, meta.get(_grade_id(c), {}).get("declare", []))
                    for c in nb.cells if c.cell_type == "code" and utils.is_solution(c)
                    and meta.get(_grade_id(c), {}).get("role") == "answer"]
+        tasks = {name: task for task, _, names in answers for name in names}
         return {"cells": cells, "done": 0, "declared": declared, "review": delegation.find(answers, task_checks),
+                "tasks": tasks,
                 "imports": {}, "problems": [], "side_effects": {}, "instructor_names": set()}
 
     def _source_metadata(self, info) -> dict | None:
