@@ -172,6 +172,12 @@ class _Link:
         deadline = time.monotonic() + self.call_timeout
         try:
             codec.send_frame(session, {"call": handle, "args": arguments})
+        except codec.BridgeError as exc:   # nothing was sent: the session goes on
+            raise AnswerError(f"the test's arguments for {answer} cannot be sent: {exc}") from None
+        except OSError as exc:
+            self.release()
+            raise AnswerError(f"{answer}: the call channel broke ({type(exc).__name__})") from None
+        try:
             while True:
                 remaining = deadline - time.monotonic()
                 if remaining <= 0:
@@ -194,6 +200,8 @@ class _Link:
         except OSError as exc:
             self.release()
             raise AnswerError(f"{answer}: the call channel broke ({type(exc).__name__})") from None
+        except AnswerError:
+            raise
         except BaseException:   # the test cell itself was stopped (time limit) mid-call
             self.stuck = True
             raise
