@@ -549,26 +549,35 @@ MARK = "\x1eROBOKIN-BRIDGE "
 
 
 def _reply(nonce: str, payload) -> None:
+    """Student's kernel: ``payload`` as a marked stdout line (``grader_side._Link.request``)."""
     sys.stdout.write(f"\n{MARK}{nonce} {json.dumps(payload, allow_nan=False)}\n")
     sys.stdout.flush()
 
 
-def export(names, nonce):
-    """Student's kernel: print the declared ``names`` of ``__main__`` as encoded data."""
+def _export_entry(name) -> dict:
+    """Student's kernel: the declared answer ``name`` of ``__main__``, encoded (or why not)."""
     namespace = sys.modules["__main__"].__dict__
-    out = {}
-    for name in names:
-        if name not in namespace:
-            out[name] = {"missing": True}
-            continue
+    if name not in namespace:
+        return {"missing": True}
+    try:
+        return {"value": encode(namespace[name], REGISTRY)}
+    except BridgeError as exc:
+        return {"error": str(exc)[:300], "type": type_name(namespace[name])[:200]}
+    except Exception as exc:  # noqa: BLE001 - an answer whose encoding fails is reported
+        return {"error": f"{type(exc).__name__}: {str(exc)[:200]}", "type": type_name(namespace[name])[:200]}
+
+
+def _send_export(channel, names) -> None:
+    """Student's kernel: one frame per name (``{"name", "entry"}``), then ``{"done": true}``."""
+    for name in names if isinstance(names, list) else []:
+        entry = _export_entry(name)
         try:
-            out[name] = {"value": encode(namespace[name], REGISTRY)}
-        except BridgeError as exc:
-            out[name] = {"error": str(exc)[:300], "type": type_name(namespace[name])[:200]}
-        except Exception as exc:  # noqa: BLE001 - an answer whose encoding fails is reported
-            out[name] = {"error": f"{type(exc).__name__}: {str(exc)[:200]}",
-                         "type": type_name(namespace[name])[:200]}
-    _reply(nonce, out)
+            send_frame(channel, {"name": str(name), "entry": entry})
+        except BridgeError as exc:   # larger than a frame: reported, not sent
+            value = sys.modules["__main__"].__dict__.get(name)
+            send_frame(channel, {"name": str(name), "entry": {"error": str(exc)[:300],
+                                                              "type": type_name(value)[:200]}})
+    send_frame(channel, {"done": True})
 
 
 def _grader_function(handle, name):
@@ -591,15 +600,60 @@ def _grader_function(handle, name):
     return call_grader
 
 
+#: Characters of a call's stdout (and of its stderr) handed to the grader, who shows them under the test.
+MAX_OUTPUT = 100_000
+
+
+class _Capture:
+    """A text stream that keeps the first :data:`MAX_OUTPUT` characters written to it."""
+
+    def __init__(self) -> None:
+        self.parts: list[str] = []
+        self.size = 0
+
+    def write(self, text) -> int:
+        text = str(text)
+        if self.size < MAX_OUTPUT:
+            self.parts.append(text[: MAX_OUTPUT - self.size])
+            self.size += len(self.parts[-1])
+        return len(text)
+
+    def flush(self) -> None:
+        pass
+
+    def isatty(self) -> bool:
+        return False
+
+    def text(self) -> str:
+        return "".join(self.parts)
+
+
 def _call(handle, arguments) -> dict:
-    """Student's kernel: call the function ``handle`` with the encoded arguments; the reply."""
+    """Student's kernel: call the function ``handle`` with the encoded arguments; the reply.
+
+    What the function prints (to ``sys.stdout``, ``sys.stderr``: prints, warnings,
+    logging) goes with the reply, and the grader shows it under the test, as it
+    would be shown had the test run in this kernel.
+    """
+    import contextlib
+
     try:
         function = REGISTRY[handle]
         args, kwargs = decode(arguments, _grader_function, handles=REGISTRY)
     except Exception as exc:  # noqa: BLE001
         return {"bridge_error": f"{type(exc).__name__}: {str(exc)[:300]}"}
+    stdout, stderr = _Capture(), _Capture()
+    reply = _run_captured(function, args, kwargs, stdout, stderr, contextlib)
+    for name, stream in (("stdout", stdout), ("stderr", stderr)):
+        if stream.size:
+            reply[name] = stream.text()
+    return reply
+
+
+def _run_captured(function, args, kwargs, stdout, stderr, contextlib) -> dict:
     try:
-        result = function(*args, **kwargs)
+        with contextlib.redirect_stdout(stdout), contextlib.redirect_stderr(stderr):
+            result = function(*args, **kwargs)
     except BaseException as exc:  # noqa: BLE001 - the student's function raised
         return {"raised": type(exc).__name__[:100], "message": str(exc)[:500]}
     try:
@@ -655,7 +709,9 @@ def serve(path, token):
     """Student's kernel: answer the grader's calls over a Unix socket until the grader closes it.
 
     One execute request of the grader's starts this; the kernel is busy until the
-    grader ends the session (it closes the socket). Each call is one frame each way
+    grader ends the session (it closes the socket). The grader asks for the declared
+    answers (``{"export": names}``: one frame per name back) and calls the student's
+    functions (``{"call": handle, "args": ...}``). Each call is one frame each way
     instead of one execute request, so a call costs a fraction of a millisecond. The
     grader stops a call that takes too long by interrupting the kernel; the
     interrupted call replies ``raised KeyboardInterrupt`` and the session goes on
@@ -671,9 +727,12 @@ def serve(path, token):
         CHANNEL = channel
         while True:
             message = receive_frame(channel)
-            if not isinstance(message, dict) or "call" not in message:
+            if isinstance(message, dict) and "export" in message:
+                _send_export(channel, message["export"])
+            elif isinstance(message, dict) and "call" in message:
+                send_frame(channel, _call(message["call"], message.get("args")))
+            else:
                 return
-            send_frame(channel, _call(message["call"], message.get("args")))
     except (OSError, BridgeError, KeyboardInterrupt):
         return   # the grader closed the channel, or gave up on a call
     finally:
