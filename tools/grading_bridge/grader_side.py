@@ -41,8 +41,11 @@ from . import codec
 
 #: Characters of output accepted from the student's kernel for one request.
 MAX_REPLY = 64_000_000
-#: Seconds to wait for the student's kernel to open or end a call session.
+#: Seconds to wait at most for the student's kernel to open a call session (and at most
+#: the time limit per call), and to end one: short, as the waits run in a grader cell,
+#: whose own time limit may be as short as 10 s.
 SESSION_TIMEOUT = 10.0
+RELEASE_TIMEOUT = 3.0
 
 _BOOT = """
 import sys, types
@@ -96,9 +99,10 @@ class _Link:
         if self.session is not None:
             return self.session
         for attempt in range(2):
-            code = f"__import__('sys').modules['_robokin_bridge'].serve({self.path!r}, {self.token!r})"
+            token = f"{self.token}-{secrets.token_hex(4)}"   # this request's: a late one is turned away
+            code = f"__import__('sys').modules['_robokin_bridge'].serve({self.path!r}, {token!r})"
             self.serve_id = self.client.execute(code, silent=True, store_history=False, allow_stdin=False)
-            session = self._accept(self.serve_id)
+            session = self._accept(self.serve_id, token)
             if session is not None:
                 self.session = session
                 return session
@@ -107,9 +111,9 @@ class _Link:
         raise AnswerError("the student's kernel did not open the call channel (the bridge was tampered "
                           "with, or its kernel is busy)")
 
-    def _accept(self, msg_id: str) -> socket.socket | None:
+    def _accept(self, msg_id: str, token: str) -> socket.socket | None:
         """The student's kernel's connection, or None if its request ended without one."""
-        deadline = time.monotonic() + max(self.call_timeout, SESSION_TIMEOUT)
+        deadline = time.monotonic() + min(self.call_timeout, SESSION_TIMEOUT)
         self.listener.settimeout(0.002)
         while time.monotonic() < deadline:
             try:
@@ -126,9 +130,14 @@ class _Link:
                 hello = codec.receive_frame(session)
             except (OSError, codec.BridgeError):
                 hello = None
-            if isinstance(hello, dict) and hello.get("hello") == self.token:
+            if isinstance(hello, dict) and hello.get("hello") == token:
+                try:
+                    codec.send_frame(session, {"welcome": token})
+                except OSError:
+                    session.close()
+                    continue
                 return session
-            session.close()
+            session.close()   # a request the grader gave up on earlier: it ends
         self.stuck = True
         raise AnswerError("the student's kernel did not open the call channel in time (it is busy)")
 
@@ -157,8 +166,9 @@ class _Link:
         if session is None:
             return
         session.close()
-        if not self._idle(self.serve_id, SESSION_TIMEOUT):
-            self.stuck = True   # its kernel is still in a call: the autograder interrupts it
+        self.stuck = True   # until the student's kernel is seen idle (else the autograder interrupts it)
+        if self._idle(self.serve_id, RELEASE_TIMEOUT):
+            self.stuck = False
 
     def call(self, handle: int, arguments, answer: str):
         """Call the student's function ``handle`` with encoded arguments; its reply (a dict)."""
@@ -248,7 +258,7 @@ class _Link:
         session, self.session = self.session, None
         if session is not None:
             session.close()
-            self._idle(self.serve_id, SESSION_TIMEOUT)
+            self._idle(self.serve_id, RELEASE_TIMEOUT)
         self.stuck = False
 
     # ------------------------------------------------------------ execute requests
