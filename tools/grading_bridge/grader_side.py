@@ -466,7 +466,8 @@ def import_names(namespace: dict, names: list[str], marker: str, extra: tuple = 
     """Bind the student's ``names`` in ``namespace``; print what happened as one JSON line.
 
     ``extra`` names (read by a test, declared by no answer: a side effect of the student's
-    code) are bound only when the grader has no such name, and only when they are data.
+    code) are bound only when the grader has no such name, and only when they can be
+    handed over (data, or a function as a proxy).
     """
     summary: dict[str, str] = {}
     extra = [n for n in extra if n not in namespace and n not in names]

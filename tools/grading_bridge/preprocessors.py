@@ -285,7 +285,7 @@ class BridgedExecute(RobokinExecute):
         self._unstick()   # a call stopped earlier (in a test or in robokin.check) must not block this one
         wanted = [n for n in self._plan["declared"] if n in names]
         # a test that reads a name no answer declares and no instructor cell defines relies on a
-        # side effect of the student's code (e.g. an import in a cell of theirs): taken if it is data
+        # side effect of the student's code (e.g. an import in a cell of theirs): taken if it can be handed over
         others = sorted(n for n in names if n not in self._plan["declared"]
                         and n not in self._plan["instructor_names"] and not hasattr(builtins, n)) if extra else []
         if others:
