@@ -110,9 +110,8 @@ c.RobokinExecute.sandbox = True
 
 # -- generate_feedback: MathJax inlined (the page is read offline, and handed out alone)
 c.GenerateFeedback.exporter_class = OfflineMathJaxHTMLExporter
-# Chapters whose test cells run in a grader kernel, the answers handed over as data ("*": all).
-# Opt-in for now: every call of a student's function crosses between two kernels (~9 ms), which
-# makes autograde 2-3 times slower and can push a correct test past the cell time limit
-# (chapter 3's root scan calls the student's F(phi) ~2,500 times). tests/test_grading_tamper.py
-# grades chapter 3 with it on. book/for-instructors.md, "Where the verdicts are decided".
-c.BridgedExecute.chapters = []
+# Chapters whose test cells run in a grader kernel, the answers handed over as data ("*": all;
+# book/for-instructors.md, "Where the verdicts are decided"). A call of a student's function
+# from a test goes over a socket to a call server in the student's kernel (a fraction of a
+# millisecond; tools/grading_bridge/benchmark.py measures it).
+c.BridgedExecute.chapters = ["*"]

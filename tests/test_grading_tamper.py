@@ -4,7 +4,8 @@ Chapter 3 is graded through the bridge (``tools/grading_bridge``): its test cell
 robokin.check's verdicts run in a grader kernel, the answers handed over as data and
 functions as proxies. Each submission below is one the old pipeline (verdicts in the
 student's kernel) scored well with blank or wrong answers; all are graded in one
-``nbgrader autograde`` run:
+``nbgrader autograde`` run, chapter 3's run of tests/grading_course.py (with the
+submissions of test_nbgrader.py and test_grading_trust.py):
 
 * blank answers with one line in the first answer cell that
   - turns test cells into ``pass`` (an IPython input transformer),
@@ -31,12 +32,13 @@ from __future__ import annotations
 import copy
 import json
 import re
-import time
 
 import pytest
 
-import test_nbgrader as course_tools
-from test_nbgrader import NOTEBOOKS, Run, load, nbg, nbgrader, read_gradebook, save, src
+import grading_course
+from test_nbgrader import NOTEBOOKS, Run, load, nbg, src
+
+pytestmark = grading_course.xdist_group_mark()   # the graded courses are built once, in one worker
 
 CHAPTER = "03_three_rpr"
 
@@ -174,42 +176,36 @@ def delegating_submission(correct: dict) -> dict:
     return nb
 
 
-@pytest.fixture(scope="module")
-def graded(tmp_path_factory) -> Run:
-    """Chapter 3 generated, every submission below autograded in one run, feedback generated."""
-    import student_edition
-
-    base = tmp_path_factory.mktemp("tamper")
-    course = base / "course"
-    run = Run(CHAPTER, course)
-    started = time.perf_counter()
-    student_edition.write_course(course, base / "exchange")
-    student_edition.add_source(course, NOTEBOOKS / f"{CHAPTER}.ipynb")
-    with open(course / "nbgrader_config.py", "a", encoding="utf-8") as config:
-        # the bridge is opt-in (nbgrader_config.py): this course turns it on for every chapter
-        config.write(f"\nc.BridgedExecute.chapters = ['*']\nc.BridgedExecute.call_timeout = {CALL_TIMEOUT}\n")
-    nbgrader(["generate_assignment", CHAPTER], course, run.log)
-    run.source = load(course / "source" / CHAPTER / f"{CHAPTER}.ipynb")
-    run.release = load(course / "release" / CHAPTER / f"{CHAPTER}.ipynb")
-    correct = course_tools.correct_submission(run.release, run.source)
+def submissions(run: Run, correct: dict, course) -> dict[str, dict]:
+    """This file's submissions of chapter 3 (its solutions are test_nbgrader.py's ``correct``)."""
     wrong = wrong_submission(correct, run.source)
-    submissions = {"correct": correct, "blank": run.release, "wrong": wrong,
-                   "delegating": delegating_submission(correct), "slow": slow_submission(correct)}
+    out = {"blank": run.release, "wrong": wrong, "delegating": delegating_submission(correct),
+           "slow": slow_submission(correct)}
     for kind in TAMPER:
-        submissions[f"blank_{kind}"] = tampered(run.release, kind)
-    submissions["wrong_patched_numpy"] = tampered(wrong, "patched_numpy")
-    submissions["wrong_forged_check"] = tampered(wrong, "forged_check")
-    for student, nb in submissions.items():
-        save(nb, course / "submitted" / student / CHAPTER / f"{CHAPTER}.ipynb")
-    nbgrader(["autograde", CHAPTER], course, run.log)
-    nbgrader(["generate_feedback", CHAPTER], course, run.log)
-    read_gradebook(course, CHAPTER, run)
-    for student in submissions:
-        graded_nb = course / "autograded" / student / CHAPTER / f"{CHAPTER}.ipynb"
-        run.feedback[student] = "".join(src(load(graded_nb)["cells"][0])) if graded_nb.exists() else ""
-    run.seconds = time.perf_counter() - started
-    print(f"\n[tamper] {len(submissions)} submissions of {CHAPTER} graded in {run.seconds:.0f} s")
-    return run
+        out[f"blank_{kind}"] = tampered(run.release, kind)
+    out["wrong_patched_numpy"] = tampered(wrong, "patched_numpy")
+    out["wrong_forged_check"] = tampered(wrong, "forged_check")
+    return out
+
+
+#: graded in chapter 3's one autograde run (tests/grading_course.py), with a short time
+#: limit per call of a student's function
+SUITE = grading_course.Suite("tamper", submissions,
+                             options=[f"--BridgedExecute.call_timeout={CALL_TIMEOUT}"])
+
+
+@pytest.fixture(scope="session")
+def graded(request, tmp_path_factory) -> Run:
+    """Chapter 3: every submission below (and the solutions) autograded in chapter 3's one run;
+    ``feedback`` is the report on top of each graded notebook."""
+    run = grading_course.graded_courses(request, tmp_path_factory)[CHAPTER]
+    if run.error:
+        pytest.fail(run.fail_message())
+    students = ["correct", *SUITE.students]
+    reports = {s: "".join(src(run.autograded[s]["cells"][0])) if run.autograded.get(s) else "" for s in students}
+    print(f"\n[tamper] {len(students)} submissions of {CHAPTER}, graded with the others of the chapter "
+          f"in {run.seconds:.0f} s")
+    return grading_course.view(run, students, feedback=reports)
 
 
 def _scores(run: Run, student: str) -> dict[str, float]:
@@ -361,3 +357,90 @@ def test_a_call_that_never_returns_is_stopped(graded):
     errors = [o for c in nb["cells"] if nbg(c).get("grade_id") == "task1_test1"
               for o in c["outputs"] if o["output_type"] == "error"]
     assert errors and f"took longer than {CALL_TIMEOUT} s" in errors[0]["evalue"], errors
+
+
+def _answers_and_checks(nb: dict) -> tuple[list, dict]:
+    """What the bridge hands to ``delegation.find`` for a chapter (as ``BridgedExecute._make_plan``)."""
+    meta = [c.get("metadata", {}).get("robokin", {}) for c in nb["cells"]]
+    checks: dict = {}
+    for entry in meta:
+        if entry.get("role") == "test":
+            for check, expression in entry.get("explain", []):
+                checks.setdefault(entry.get("task"), {}).setdefault(check, set()).add(expression)
+    answers = [(entry.get("task"), src(cell), entry.get("declare", [])) for cell, entry in zip(nb["cells"], meta)
+               if entry.get("role") == "answer"]
+    return answers, checks
+
+
+#: chapters whose graded tasks all ask for robokin's own tools (nothing to flag there)
+NO_DELEGATION = {"04_cartesian_control": "its tool and goal frames are built with transform_from_rpy, "
+                                         "as the chapter teaches"}
+
+
+@pytest.mark.parametrize("chapter", sorted(p.stem for p in NOTEBOOKS.glob("0[1-9]_*.ipynb")))
+def test_delegation_is_flagged_in_every_chapter(chapter):
+    """For every check with robokin references that a chapter's tests explain, an answer
+    bound to robokin's solution is flagged; the instructor's solutions are not."""
+    from grading_bridge import delegation
+
+    answers, checks = _answers_and_checks(load(NOTEBOOKS / f"{chapter}.ipynb"))
+    assert delegation.find(answers, checks) == [], f"{chapter}: the solutions are flagged"
+    tried = 0
+    for task, by_check in checks.items():
+        for check, expressions in by_check.items():
+            references = delegation.REFERENCES.get(check)
+            names = set().union(*(delegation._names(e) or set() for e in expressions))
+            target = next(((i, n) for i, (t, _, declared) in enumerate(answers) if t == task
+                           for n in declared if n in names), None)
+            if not references or target is None:
+                continue
+            index, name = target
+            attr, how = next(iter(references.items()))
+            changed = list(answers)
+            code = changed[index][1] + f"\n\n{name} = robokin_object.{attr}\n"
+            changed[index] = (task, code, changed[index][2])
+            found = [item for item in delegation.find(changed, checks) if item["name"] == name]
+            assert found and found[0]["reference"] == how, (chapter, check, name, found)
+            tried += 1
+    if chapter in NO_DELEGATION:
+        assert tried == 0, f"{chapter}: NO_DELEGATION is out of date"
+    else:
+        assert tried, f"{chapter}: no graded task has robokin references (delegation.REFERENCES)"
+
+
+def test_call_channel_calls_calls_back_and_stops_a_call_that_never_returns(tmp_path):
+    """The bridge's call channel with a student's kernel in the sandbox (as autograde starts it):
+    a call returns data, a function of the test is called back, a call that never returns is
+    stopped after the time limit per call, and after the interrupt the next call works."""
+    import shutil
+
+    import numpy as np
+    from jupyter_core.utils import run_sync
+
+    from grading_bridge import benchmark, grader_side
+
+    sandboxed = shutil.which("bwrap") is not None
+    manager, client = benchmark._start_kernel(sandboxed, str(tmp_path))
+    try:
+        client.execute_interactive("import time\n\ndef slow(x):\n    time.sleep(10**6)\n\n"
+                                   "def twice(f, x):\n    return 2 * f(x)\n", timeout=60)
+        grader_side.connect(manager.get_connection_info(), 2.0)
+        namespace: dict = {}
+        grader_side.import_names(namespace, ["scalar", "matrix", "slow", "twice"], "imported: ")
+        assert namespace["scalar"](0.3) == np.sin(0.3) - 0.5
+        assert np.array_equal(namespace["matrix"]([0.0, 1.0]), np.outer(np.cos([0.0, 1.0]), np.sin([0.0, 1.0])))
+        assert namespace["twice"](lambda x: x + 1, 2) == 6   # the test's function, called back
+        with pytest.raises(grader_side.AnswerError, match="took longer than 2 s"):
+            namespace["slow"](1)
+        assert grader_side.status(release=False)["stuck"]
+        interrupt = manager.interrupt_kernel
+        run_sync(interrupt)() if sandboxed else interrupt()
+        grader_side.unstick()
+        assert namespace["scalar"](0.0) == -0.5
+        assert grader_side.status()["calls"] == 5 and not grader_side.status()["stuck"]
+        reply = client.execute_interactive("x = 1", timeout=30)   # the student's kernel is free again
+        assert reply["content"]["status"] == "ok"
+    finally:
+        grader_side.disconnect()
+        client.stop_channels()
+        benchmark._stop(manager)

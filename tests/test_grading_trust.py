@@ -2,7 +2,9 @@
 
 Crafted submissions of chapter 3 go through the course's own pipeline (the course
 built as in tests/test_nbgrader.py, then ``nbgrader autograde``,
-``generate_feedback`` and ``export``), all graded in ONE autograde run:
+``generate_feedback`` and ``export``), all graded in ONE autograde run, chapter 3's
+run of tests/grading_course.py (with the submissions of test_nbgrader.py and
+test_grading_tamper.py):
 
 benign (the instructor's solutions, plus ...) -- each keeps full marks:
     ``noisy``   answers that log (``logging.warning``), warn (``RuntimeWarning``),
@@ -41,20 +43,19 @@ from conftest import ROOT
 from test_nbgrader import (
     NOTEBOOKS,
     Run,
-    correct_submission,
     load,
     nbg,
     nbgrader,
-    read_gradebook,
     rk,
-    save,
     src,
 )
 
 sys.path.insert(0, str(ROOT / "tools"))
 
-import student_edition
+import grading_course
 from robokin_sandbox import PACKAGE, SWITCH, sandbox_arguments, sandbox_wanted
+
+pytestmark = grading_course.xdist_group_mark()   # the graded courses are built once, in one worker
 
 CHAPTER = "03_three_rpr"
 TIMEOUT = 10          # seconds per cell: the hang is killed after it (+ nbclient's 4 s for the interrupt)
@@ -190,50 +191,49 @@ def _digest(path: Path) -> str:
     return hashlib.sha256(path.read_bytes()).hexdigest()
 
 
-@pytest.fixture(scope="module")
-def trusted(tmp_path_factory) -> Run:
-    """Chapter 3, four crafted submissions, one autograde run, feedback and export."""
-    _require_bwrap()
-    base = tmp_path_factory.mktemp("trust")
-    course = base / "course"
-    run = Run(CHAPTER, course)
-    started = time.perf_counter()
+def _before(run: Run, course: Path) -> None:
     for target in _outside_targets(course):   # left by an earlier run that escaped
         target.unlink(missing_ok=True)
-    student_edition.write_course(course, base / "exchange")
-    student_edition.add_source(course, NOTEBOOKS / f"{CHAPTER}.ipynb")
-    nbgrader(["generate_assignment", CHAPTER], course, run.log)
-    run.source = load(course / "source" / CHAPTER / f"{CHAPTER}.ipynb")
-    run.release = load(course / "release" / CHAPTER / f"{CHAPTER}.ipynb")
-    correct = correct_submission(run.release, run.source)
-    for student, nb in submissions(correct, course).items():
-        save(nb, course / "submitted" / student / CHAPTER / f"{CHAPTER}.ipynb")
-
     # without bwrap on PATH autograde refuses to grade, naming the package
     no_bwrap = nbgrader(["autograde", CHAPTER, "--student", "noisy"], course, run.log, check=False,
                         PATH=str(Path(sys.executable).parent))
     run.refused = (no_bwrap.returncode, no_bwrap.stdout + no_bwrap.stderr)
 
-    nbgrader(["autograde", CHAPTER], course, run.log, ROBOKIN_CELL_TIMEOUT=str(TIMEOUT),
-             JUPYTERHUB_API_TOKEN=TOKEN)
+
+def _after(run: Run, course: Path) -> None:
     run.gradebook_digest = _digest(course / "gradebook.db")
     alive = course / "autograded" / "escape" / CHAPTER / "alive.txt"
     run.alive_before = alive.read_text() if alive.exists() else None
     time.sleep(3 * ATTACK_DELAY)   # a process left behind would rewrite the gradebook by now
     run.alive_after = alive.read_text() if alive.exists() else None
     run.gradebook_after = _digest(course / "gradebook.db")
-    nbgrader(["generate_feedback", CHAPTER], course, run.log)
+
+
+def _export(run: Run, course: Path, base: Path) -> None:
     nbgrader(["export", "--to", str(base / "grades.csv")], course, run.log)
     with open(base / "grades.csv", newline="") as f:
-        run.exported = {row["student_id"]: float(row["raw_score"]) for row in csv.DictReader(f)}
-    read_gradebook(course, CHAPTER, run)
-    for student in submissions(correct, course):
-        page = course / "feedback" / student / CHAPTER / f"{CHAPTER}.html"
-        run.feedback[student] = page.read_text(encoding="utf-8") if page.exists() else ""
-    run.seconds = time.perf_counter() - started
-    print(f"\n[grading trust] {len(run.feedback)} submissions of {CHAPTER} in {run.seconds:.0f} s: "
-          + " | ".join(line for line in run.log if line.startswith("$")))
-    return run
+        run.exported = {row["student_id"]: float(row["raw_score"]) for row in csv.DictReader(f)
+                        if row["assignment"] == CHAPTER}
+
+
+#: this file's submissions, graded in chapter 3's one autograde run (tests/grading_course.py),
+#: with a time limit of TIMEOUT s per cell and a secret in the grader's environment
+SUITE = grading_course.Suite(
+    "trust", lambda run, correct, course: submissions(correct, course),
+    environment={"ROBOKIN_CELL_TIMEOUT": str(TIMEOUT), "JUPYTERHUB_API_TOKEN": TOKEN},
+    before=_before, after=_after, finally_=_export)
+
+
+@pytest.fixture(scope="session")
+def trusted(request, tmp_path_factory) -> Run:
+    """Chapter 3, four crafted submissions, graded in chapter 3's one autograde run, feedback and export."""
+    _require_bwrap()
+    run = grading_course.graded_courses(request, tmp_path_factory)[CHAPTER]
+    if run.error:
+        pytest.fail(run.fail_message())
+    print(f"\n[grading trust] {len(SUITE.students)} submissions of {CHAPTER}, graded with the others "
+          f"of the chapter in {run.seconds:.0f} s")
+    return grading_course.view(run, SUITE.students)
 
 
 def _report(page: str) -> str:
@@ -264,9 +264,15 @@ def test_a_number_shown_by_a_hook_sets_no_score(trusted):
     """nbgrader reads a test's first result as partial credit: the hook shows 0.0 under every cell."""
     _full_marks(trusted, "noisy")
     nb = load(trusted.course / "autograded" / "noisy" / CHAPTER / f"{CHAPTER}.ipynb")
-    shown = [o for c in nb["cells"] if nbg(c).get("grade") for o in c.get("outputs", [])
-             if src({"source": o.get("data", {}).get("text/plain", "")}) == "0.0"]
-    assert shown, "the hook showed no number under the tests (the test tests nothing)"
+
+    def shown(cell) -> bool:
+        return any(src({"source": o.get("data", {}).get("text/plain", "")}) == "0.0" for o in cell.get("outputs", []))
+
+    assert any(shown(c) for c in nb["cells"] if not nbg(c).get("grade")), (
+        "the hook showed no number under the student's cells (the test tests nothing)")
+    # the tests ran in the grader kernel (book/for-instructors.md, "Where the verdicts are
+    # decided"): what the student's hook showed there is not under them
+    assert not any(shown(c) for c in nb["cells"] if nbg(c).get("grade"))
 
 
 def test_kernel_that_dies_in_an_ungraded_cell(trusted):

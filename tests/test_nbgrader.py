@@ -2,7 +2,9 @@
 
 Everything goes through nbgrader's real command-line tools and its sqlite
 gradebook, in temporary course directories (one per chapter, so that chapters
-are graded two at a time without sharing a database):
+are graded two at a time without sharing a database), with ONE autograde run per
+chapter that also grades the submissions of test_grading_tamper.py and
+test_grading_trust.py (chapter 3; tests/grading_course.py):
 
 1. ``generate_assignment`` makes the student edition: no line of the instructor's
    solution code is left, the stubs compile, outputs are cleared;
@@ -43,11 +45,13 @@ from conftest import ROOT
 
 sys.path.insert(0, str(ROOT / "tools"))
 
+import grading_course
 import nbgrader_metadata
 import student_edition
 from notebook_analysis import free_names, stub_plan
 
 pytest.importorskip("nbgrader", reason="nbgrader is not installed: run `make test` (installs requirements.txt)")
+pytestmark = grading_course.xdist_group_mark()   # the graded courses are built once, in one worker
 
 NOTEBOOKS = Path(os.environ.get("ROBOKIN_NBGRADER_NOTEBOOKS", ROOT / "notebooks")).resolve()
 CHAPTERS = [p.stem for p in nbgrader_metadata.chapter_notebooks(NOTEBOOKS.parent, NOTEBOOKS.name)]
@@ -364,6 +368,7 @@ class Run:
     autograded: dict[str, dict] = field(default_factory=dict)            # student -> graded notebook
     rounds: list[dict[str, dict[str, float]]] = field(default_factory=list)  # scores after each autograde
     probes: dict[str, dict] = field(default_factory=dict)                # student -> what was changed
+    own: list[str] = field(default_factory=list)                         # this file's students
     log: list[str] = field(default_factory=list)
     error: str | None = None
     seconds: float = 0.0
@@ -386,8 +391,12 @@ def read_gradebook(course: Path, chapter: str, run: Run) -> None:
                 run.scores[submission.student.id] = {g.name: g.score for g in notebook.grades}
 
 
-def run_chapter(chapter: str, base: Path) -> Run:
-    """generate_assignment, three submissions, autograde, generate_feedback."""
+def run_chapter(chapter: str, base: Path, suites=()) -> Run:
+    """generate_assignment, the submissions, ONE autograde, generate_feedback.
+
+    ``suites`` (tests/grading_course.py) add submissions of other test files to
+    this chapter's run, with the environment and options their tests need.
+    """
     started = time.perf_counter()
     course = base / chapter / "course"
     run = Run(chapter, course)
@@ -404,9 +413,25 @@ def run_chapter(chapter: str, base: Path) -> Run:
             run.mistake = candidates[0]
             submissions["mistake"] = mistaken_submission(correct, run.mistake)
         submissions.update(chapter_submissions(chapter, run.source, correct, run))
+        run.own = list(submissions)
+        environment, options = {}, []
+        for suite in suites:
+            extra = suite.submissions(run, correct, course)
+            clash = {s for s in extra if s in submissions and extra[s] != submissions[s]}
+            assert not clash, f"{suite.name}: students {clash} are taken by another file's submissions"
+            suite.students = list(extra)
+            submissions.update(extra)
+            environment.update(suite.environment)
+            options += suite.options
         for student, nb in submissions.items():
             save(nb, course / "submitted" / student / chapter / f"{chapter}.ipynb")
-        nbgrader(["autograde", chapter], course, run.log)
+        for suite in suites:
+            if suite.before:
+                suite.before(run, course)
+        nbgrader(["autograde", chapter, *options], course, run.log, **environment)
+        for suite in suites:
+            if suite.after:
+                suite.after(run, course)
         nbgrader(["generate_feedback", chapter], course, run.log)
         read_gradebook(course, chapter, run)
         for student in submissions:
@@ -414,8 +439,11 @@ def run_chapter(chapter: str, base: Path) -> Run:
             run.feedback[student] = page.read_text(encoding="utf-8") if page.exists() else ""
             graded_nb = course / "autograded" / student / chapter / f"{chapter}.ipynb"
             run.autograded[student] = load(graded_nb) if graded_nb.exists() else {}
+        for suite in suites:
+            if suite.finally_:
+                suite.finally_(run, course, base / chapter)
     except Exception as exc:  # noqa: BLE001 - reported by the tests that need it
-        run.error = str(exc)
+        run.error = f"{type(exc).__name__}: {exc}"
     run.seconds = time.perf_counter() - started
     return run
 
@@ -508,22 +536,42 @@ def run_unmarked(base: Path) -> Run:
     return run
 
 
-@pytest.fixture(scope="module")
-def graded(tmp_path_factory) -> dict[str, Run]:
-    """Every chapter generated, submitted three times, autograded and given feedback."""
-    base = tmp_path_factory.mktemp("nbgrader")
+def grade_everything(base: Path, full: bool = True, suites=()) -> dict[str, Run]:
+    """Every chapter (or chapter 3 alone, ``full=False``) generated, submitted, autograded
+    once and given feedback, with the submissions of ``suites``; the walk-through and the
+    chapter without metadata (``full``)."""
     started = time.perf_counter()
-    jobs = {chapter: (run_chapter, chapter) for chapter in CHAPTERS}
-    jobs["walkthrough"] = (run_walkthrough,)
-    jobs["unmarked"] = (run_unmarked,)
+    chapters = CHAPTERS if full else [c for c in CHAPTERS if c == grading_course.CHAPTER3]
+    jobs = {chapter: (run_chapter, chapter) for chapter in chapters}
+    if full:
+        jobs["walkthrough"] = (run_walkthrough,)
+        jobs["unmarked"] = (run_unmarked,)
     # the slow chapters first, so that the two workers finish together
-    order = sorted(jobs, key=lambda k: {"01_leg_kinematics": 0, "05_baxter_circle": 1, "walkthrough": 2}.get(k, 5))
+    order = sorted(jobs, key=lambda k: {"03_three_rpr": -1 if suites else 5, "01_leg_kinematics": 0,
+                                        "05_baxter_circle": 1, "walkthrough": 2}.get(k, 5))
+
+    def job(key):
+        function, *args = jobs[key]
+        if key == grading_course.CHAPTER3:
+            return function(*args, base, suites)
+        return function(*args, base)
+
     with ThreadPoolExecutor(max_workers=WORKERS) as pool:
-        futures = {k: pool.submit(jobs[k][0], *(jobs[k][1:] + (base,))) for k in order}
+        futures = {k: pool.submit(job, k) for k in order}
         runs = {k: f.result() for k, f in futures.items()}
     summary = ", ".join(f"{k} {r.seconds:.0f} s" for k, r in runs.items())
-    print(f"\n[nbgrader] {len(runs)} jobs in {time.perf_counter() - started:.0f} s on {WORKERS} workers: {summary}")
+    print(f"\n[nbgrader] {len(runs)} jobs in {time.perf_counter() - started:.0f} s on {WORKERS} workers "
+          f"(chapter 3 with {', '.join(s.name for s in suites) or 'no other suite'}): {summary}")
     return runs
+
+
+@pytest.fixture(scope="session")
+def graded(request, tmp_path_factory) -> dict[str, Run]:
+    """Every chapter generated, submitted, autograded and given feedback (tests/grading_course.py);
+    each chapter's run as this file sees it: its own submissions only."""
+    runs = grading_course.graded_courses(request, tmp_path_factory)
+    return {key: grading_course.view(run, run.own) if getattr(run, "own", None) else run
+            for key, run in runs.items()}
 
 
 def _run(graded, chapter) -> Run:

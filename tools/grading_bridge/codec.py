@@ -31,7 +31,7 @@ a caught warning                   ``{"$warning": [module, category, message, fi
 robokin dataclass / named tuple   ``{"$robokin": [module, class, {field: value}]}``
 / model (:data:`ROBOKIN_MODELS`)
 numpy array of strings             ``{"$strarray": [shape, [str, ...]]}``
-a function (student's side only)   ``{"$callable": [handle, name, signature]}``
+a function (student's side only)   ``{"$callable": [handle, name, signature, module]}``
 a proxy handed back (grader only)  ``{"$handle": handle}`` (the student's own function)
 anything else                      ``{"$opaque": type name}`` (not plain data)
 =================================  ==============================================
@@ -173,7 +173,7 @@ def encode(value, registry=None, depth=0):
         handle = len(registry)
         registry[handle] = value
         return {"$callable": [handle, str(getattr(value, "__qualname__", getattr(value, "__name__", "")))[:200],
-                              _parameters(value)]}
+                              _parameters(value), str(getattr(value, "__module__", "") or "")[:200]]}
     return {"$opaque": type_name(value)[:200]}
 
 
@@ -335,11 +335,16 @@ def decode(data, make_callable=None, depth=0, handles=None):
     if tag == "$callable":
         if make_callable is None:
             raise BridgeError("a function cannot be passed here")
-        if not (isinstance(body, list) and len(body) in (2, 3) and isinstance(body[0], int)
+        if not (isinstance(body, list) and len(body) in (2, 3, 4) and isinstance(body[0], int)
                 and isinstance(body[1], str)):
             raise BridgeError("malformed function handle")
         proxy = make_callable(body[0], body[1][:200])
-        signature = signature_of(body[2]) if len(body) == 3 else None
+        if len(body) == 4 and isinstance(body[3], str):
+            try:   # where the function says it comes from (a claim of the student's kernel)
+                proxy.__robokin_module__ = body[3][:200]
+            except AttributeError:
+                pass
+        signature = signature_of(body[2]) if len(body) >= 3 else None
         if signature is not None:
             try:
                 proxy.__signature__ = signature
@@ -544,61 +549,205 @@ MARK = "\x1eROBOKIN-BRIDGE "
 
 
 def _reply(nonce: str, payload) -> None:
+    """Student's kernel: ``payload`` as a marked stdout line (``grader_side._Link.request``)."""
     sys.stdout.write(f"\n{MARK}{nonce} {json.dumps(payload, allow_nan=False)}\n")
     sys.stdout.flush()
 
 
-def export(names, nonce):
-    """Student's kernel: print the declared ``names`` of ``__main__`` as encoded data."""
+def _export_entry(name) -> dict:
+    """Student's kernel: the declared answer ``name`` of ``__main__``, encoded (or why not)."""
     namespace = sys.modules["__main__"].__dict__
-    out = {}
-    for name in names:
-        if name not in namespace:
-            out[name] = {"missing": True}
-            continue
+    if name not in namespace:
+        return {"missing": True}
+    try:
+        return {"value": encode(namespace[name], REGISTRY)}
+    except BridgeError as exc:
+        return {"error": str(exc)[:300], "type": type_name(namespace[name])[:200]}
+    except Exception as exc:  # noqa: BLE001 - an answer whose encoding fails is reported
+        return {"error": f"{type(exc).__name__}: {str(exc)[:200]}", "type": type_name(namespace[name])[:200]}
+
+
+def _send_export(channel, names) -> None:
+    """Student's kernel: one frame per name (``{"name", "entry"}``), then ``{"done": true}``."""
+    for name in names if isinstance(names, list) else []:
+        entry = _export_entry(name)
         try:
-            out[name] = {"value": encode(namespace[name], REGISTRY)}
-        except BridgeError as exc:
-            out[name] = {"error": str(exc)[:300], "type": type_name(namespace[name])[:200]}
-        except Exception as exc:  # noqa: BLE001 - an answer whose encoding fails is reported
-            out[name] = {"error": f"{type(exc).__name__}: {str(exc)[:200]}",
-                         "type": type_name(namespace[name])[:200]}
-    _reply(nonce, out)
+            send_frame(channel, {"name": str(name), "entry": entry})
+        except BridgeError as exc:   # larger than a frame: reported, not sent
+            value = sys.modules["__main__"].__dict__.get(name)
+            send_frame(channel, {"name": str(name), "entry": {"error": str(exc)[:300],
+                                                              "type": type_name(value)[:200]}})
+    send_frame(channel, {"done": True})
 
 
 def _grader_function(handle, name):
     """Student's kernel: a function of the test's, passed to the student's function.
 
-    Calling it asks the grader (through the kernel's input channel) to run the test's
+    Calling it asks the grader (over the call channel, :func:`serve`) to run the test's
     function on the (data) arguments; the result comes back as data.
     """
     def call_grader(*args, **kwargs):
-        payload = json.dumps(encode([list(args), dict(kwargs)], REGISTRY), allow_nan=False)
-        reply = json.loads(input(f"{MARK}callback {int(handle)} {payload}"))
-        if "value" not in reply:
-            raise RuntimeError(f"the test's function {name} failed: {reply.get('error', '?')}")
+        channel = CHANNEL
+        if channel is None:
+            raise RuntimeError(f"the test's function {name} can be called only while the test runs")
+        send_frame(channel, {"callback": int(handle), "args": encode([list(args), dict(kwargs)], REGISTRY)})
+        reply = receive_frame(channel)
+        if not isinstance(reply, dict) or "value" not in reply:
+            error = reply.get("error", "?") if isinstance(reply, dict) else "no reply"
+            raise RuntimeError(f"the test's function {name} failed: {error}")
         return decode(reply["value"], _grader_function, handles=REGISTRY)
     call_grader.__name__ = call_grader.__qualname__ = str(name)[:100] or "test_function"
     return call_grader
 
 
-def call(handle, payload, nonce):
-    """Student's kernel: call the function ``handle`` with the encoded arguments."""
+#: Characters of a call's stdout (and of its stderr) handed to the grader, who shows them under the test.
+MAX_OUTPUT = 100_000
+
+
+class _Capture:
+    """A text stream that keeps the first :data:`MAX_OUTPUT` characters written to it."""
+
+    def __init__(self) -> None:
+        self.parts: list[str] = []
+        self.size = 0
+
+    def write(self, text) -> int:
+        text = str(text)
+        if self.size < MAX_OUTPUT:
+            self.parts.append(text[: MAX_OUTPUT - self.size])
+            self.size += len(self.parts[-1])
+        return len(text)
+
+    def flush(self) -> None:
+        pass
+
+    def isatty(self) -> bool:
+        return False
+
+    def text(self) -> str:
+        return "".join(self.parts)
+
+
+def _call(handle, arguments) -> dict:
+    """Student's kernel: call the function ``handle`` with the encoded arguments; the reply.
+
+    What the function prints (to ``sys.stdout``, ``sys.stderr``: prints, warnings,
+    logging) goes with the reply, and the grader shows it under the test, as it
+    would be shown had the test run in this kernel.
+    """
+    import contextlib
+
     try:
         function = REGISTRY[handle]
-        args, kwargs = decode(json.loads(payload), _grader_function, handles=REGISTRY)
+        args, kwargs = decode(arguments, _grader_function, handles=REGISTRY)
     except Exception as exc:  # noqa: BLE001
-        _reply(nonce, {"bridge_error": f"{type(exc).__name__}: {str(exc)[:300]}"})
-        return
-    try:
-        result = function(*args, **kwargs)
-    except BaseException as exc:  # noqa: BLE001 - the student's function raised
-        _reply(nonce, {"raised": type(exc).__name__[:100], "message": str(exc)[:500]})
-        return
-    try:
-        _reply(nonce, {"value": encode(result, REGISTRY)})
-    except BridgeError as exc:
-        _reply(nonce, {"not_data": str(exc)[:300], "type": type_name(result)[:200]})
+        return {"bridge_error": f"{type(exc).__name__}: {str(exc)[:300]}"}
+    stdout, stderr = _Capture(), _Capture()
+    reply = _run_captured(function, args, kwargs, stdout, stderr, contextlib)
+    for name, stream in (("stdout", stdout), ("stderr", stderr)):
+        if stream.size:
+            reply[name] = stream.text()
+    return reply
 
+
+def _run_captured(function, args, kwargs, stdout, stderr, contextlib) -> dict:
+    try:
+        with contextlib.redirect_stdout(stdout), contextlib.redirect_stderr(stderr):
+            result = function(*args, **kwargs)
+    except BaseException as exc:  # noqa: BLE001 - the student's function raised
+        return {"raised": type(exc).__name__[:100], "message": str(exc)[:500]}
+    try:
+        return {"value": encode(result, REGISTRY)}
+    except BridgeError as exc:
+        return {"not_data": str(exc)[:300], "type": type_name(result)[:200]}
+    except Exception as exc:  # noqa: BLE001 - an encoding that fails is the answer's problem
+        return {"not_data": f"{type(exc).__name__}: {str(exc)[:200]}", "type": type_name(result)[:200]}
+
+
+# ---------------------------------------------------------------- the call channel
+#: Bytes of one frame the grader accepts from the student's kernel.
+MAX_FRAME = 64_000_000
+_HEADER = 4   # a frame: its length (4 bytes, big-endian), then that many bytes of JSON
+
+
+def send_frame(sock, payload) -> None:
+    """Send ``payload`` (JSON-able) as one frame."""
+    data = json.dumps(payload, allow_nan=False, separators=(",", ":")).encode()
+    if len(data) > MAX_FRAME:
+        raise BridgeError(f"a message of {len(data)} bytes (at most {MAX_FRAME})")
+    sock.sendall(len(data).to_bytes(_HEADER, "big") + data)
+
+
+def _receive_exactly(sock, size: int) -> bytes | None:
+    buffer = bytearray()
+    while len(buffer) < size:
+        chunk = sock.recv(min(size - len(buffer), 1 << 20))
+        if not chunk:
+            return None
+        buffer += chunk
+    return bytes(buffer)
+
+
+def receive_frame(sock):
+    """One frame's JSON value; None when the other side closed. ``BridgeError`` if malformed."""
+    header = _receive_exactly(sock, _HEADER)
+    if header is None:
+        return None
+    size = int.from_bytes(header, "big")
+    if size > MAX_FRAME:
+        raise BridgeError(f"a message of {size} bytes (at most {MAX_FRAME})")
+    data = _receive_exactly(sock, size)
+    if data is None:
+        return None
+    try:
+        return json.loads(data)
+    except ValueError as exc:
+        raise BridgeError("a malformed message") from exc
+
+
+def serve(path, token):
+    """Student's kernel: answer the grader's calls over a Unix socket until the grader closes it.
+
+    One execute request of the grader's starts this; the kernel is busy until the
+    grader ends the session (it closes the socket). The grader asks for the declared
+    answers (``{"export": names}``: one frame per name back) and calls the student's
+    functions (``{"call": handle, "args": ...}``). Each call is one frame each way
+    instead of one execute request, so a call costs a fraction of a millisecond. The
+    grader stops a call that takes too long by interrupting the kernel; the
+    interrupted call replies ``raised KeyboardInterrupt`` and the session goes on
+    until the grader closes it.
+    """
+    import socket
+
+    global CHANNEL
+    channel = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+    try:
+        channel.connect(path)
+        send_frame(channel, {"hello": token})
+        # a request the grader gave up on (it ran late) is not welcome: it ends here
+        channel.settimeout(WELCOME_TIMEOUT)
+        if receive_frame(channel) != {"welcome": token}:
+            return
+        channel.settimeout(None)
+        CHANNEL = channel
+        while True:
+            message = receive_frame(channel)
+            if isinstance(message, dict) and "export" in message:
+                _send_export(channel, message["export"])
+            elif isinstance(message, dict) and "call" in message:
+                send_frame(channel, _call(message["call"], message.get("args")))
+            else:
+                return
+    except (OSError, BridgeError, KeyboardInterrupt):
+        return   # the grader closed the channel, or gave up on a call
+    finally:
+        CHANNEL = None
+        channel.close()
+
+
+CHANNEL = None
+#: Seconds a call server waits for the grader to welcome it (a request left over from a
+#: session the grader gave up on is then not served).
+WELCOME_TIMEOUT = 5.0
 
 REGISTRY: dict = {}

@@ -3,7 +3,9 @@
 An answer that calls -- or simply is -- the robokin function that solves its task
 (``ik = robot.inverse_kinematics``) passes every test, since the tests compare with
 that very function. Such an answer is flagged for review by hand; its score stands
-as tested (the instructor decides).
+as tested (the instructor decides). Besides this static look at the answer cells,
+the bridge flags at run time a declared answer that *is* a robokin function (its
+proxy reports the function's module: :mod:`grading_bridge.preprocessors`).
 
 :data:`REFERENCES` lists, per ``robokin.check`` check, the robokin methods that
 solve the task it checks. A task's reference list is that of the checks its test
@@ -18,14 +20,39 @@ from __future__ import annotations
 import ast
 from collections.abc import Iterable
 
-#: check -> {robokin method or function name: how the report names it}
-REFERENCES: dict[str, dict[str, str]] = {
-    "three_rpr.inverse_kinematics": {"inverse_kinematics": "Planar3RPR.inverse_kinematics"},
-    "three_rpr.forward_kinematics": {"forward_kinematics": "Planar3RPR.forward_kinematics",
-                                     "orientation_polynomial": "Planar3RPR.orientation_polynomial"},
-    "three_rpr.inverse_jacobian": {"jacobian": "Planar3RPR.jacobian",
-                                   "direct_jacobian": "Planar3RPR.direct_jacobian"},
-}
+#: check -> {robokin method or function name: how the report names it}.
+#:
+#: Only tasks whose point is to write the function robokin already has are listed.
+#: Where a chapter asks for robokin's own tools (chapter 1's Jacobian and IK through
+#: ``position_jacobian`` and ``solve_ik``, chapter 4's frames through
+#: ``transform_from_rpy``, chapter 6's ``T_sym`` through ``ar601_leg(...).fk`` and its
+#: task 4 through ``ar601_leg_ik``), calling them is the answer, not a delegation.
+REFERENCES: dict[str, dict[str, str]] = {}
+
+_IK = {"solve_ik": "robokin.motion.solve_ik", "solve_ik_once": "robokin.motion.solve_ik_once",
+       "solve_ik_batch": "robokin.motion.solve_ik_batch"}
+# chapter 1, the ETH leg: the frames written by hand
+for _key in ("rotation_B1", "rotation_12", "rotation_23", "transform_B1", "transform_12", "transform_23",
+             "transform_3F", "transform_BF", "foot_position"):
+    REFERENCES[f"leg.{_key}"] = {"eth_leg": "robokin.models.eth_leg (its fk/frames)",
+                                 "frames": "SerialChain.frames"}
+# chapter 2, the UR10: the IK loop (robokin has no weighted pseudo-inverse, DLS step or
+# null-space projector of its own to hand back)
+REFERENCES["ur10.ik_position"] = dict(_IK)
+# chapter 3, the 3-RPR
+REFERENCES["three_rpr.inverse_kinematics"] = {"inverse_kinematics": "Planar3RPR.inverse_kinematics"}
+REFERENCES["three_rpr.forward_kinematics"] = {"forward_kinematics": "Planar3RPR.forward_kinematics",
+                                              "orientation_polynomial": "Planar3RPR.orientation_polynomial"}
+REFERENCES["three_rpr.inverse_jacobian"] = {"jacobian": "Planar3RPR.jacobian",
+                                            "direct_jacobian": "Planar3RPR.direct_jacobian"}
+# chapter 5, Baxter: one command of the resolved-rate law
+REFERENCES["baxter.resolved_rate"] = {"CartesianController": "robokin.motion.CartesianController",
+                                      "simulate": "robokin.motion.simulate",
+                                      "track_position_batch": "robokin.motion.track_position_batch"}
+# chapter 6, the AR-601 leg: the knee angle and the IK solver written by hand
+REFERENCES["ar601.knee_angle"] = {"ar601_leg_ik": "robokin.models.ar601_leg_ik"}
+REFERENCES["ar601.ik_solver"] = {"ar601_leg_ik": "robokin.models.ar601_leg_ik",
+                                 "ar601_leg_ik_batch": "robokin.models.ar601_leg_ik_batch", **_IK}
 
 
 def _mentions(node: ast.AST) -> set[str]:
@@ -73,8 +100,17 @@ def _definitions(code: str) -> dict[str, tuple[ast.AST, bool]]:
     return out
 
 
+def _names(expression: str) -> set[str] | None:
+    """The names an explained expression reads (None if it cannot be parsed)."""
+    try:
+        tree = ast.parse(expression, mode="eval")
+    except (SyntaxError, ValueError, RecursionError, MemoryError):
+        return None
+    return {node.id for node in ast.walk(tree) if isinstance(node, ast.Name)}
+
+
 def find(answers: Iterable[tuple[int | None, str, list[str]]],
-         task_checks: dict[int | None, set[str]]) -> list[dict]:
+         task_checks: dict[int | None, set[str] | dict[str, set[str]]]) -> list[dict]:
     """Delegating answers.
 
     Parameters
@@ -82,7 +118,9 @@ def find(answers: Iterable[tuple[int | None, str, list[str]]],
     answers : iterable of (task, code, declared names)
         The answer cells of the submission, in order.
     task_checks : dict
-        Task -> the checks its test cells explain.
+        Task -> the checks its test cells explain: a set of check names, or a dict
+        check -> the expressions it checks (``metadata.robokin.explain``); then only
+        the names those expressions read are looked at (the answers the check tests).
 
     Returns
     -------
@@ -98,13 +136,20 @@ def find(answers: Iterable[tuple[int | None, str, list[str]]],
     seen: set[str] = set()
     for task, code, names in cells:
         references: dict[str, str] = {}
-        for check in task_checks.get(task, set()):
-            references.update(REFERENCES.get(check, {}))
+        tested: set[str] | None = set()
+        checks = task_checks.get(task, set())
+        for check in checks:
+            if check not in REFERENCES:
+                continue
+            references.update(REFERENCES[check])
+            for expression in (checks[check] if isinstance(checks, dict) else [None]):
+                read = None if expression is None else _names(expression)
+                tested = None if tested is None or read is None else tested | read
         if not references:
             continue
         local = _definitions(code)
         for name in names:
-            if name in seen or name not in local:
+            if name in seen or name not in local or (tested is not None and name not in tested):
                 continue
             node, bound = local[name]
             direct = _mentions(node) & set(references)
@@ -131,7 +176,9 @@ def find(answers: Iterable[tuple[int | None, str, list[str]]],
 
 def describe(item: dict) -> str:
     """The report's line for one flagged answer."""
-    if item["how"] == "is":
+    if item["how"] == "runtime":
+        text = f"`{item['name']}` is robokin's `{item['reference']}` (seen when the grader took the answer)"
+    elif item["how"] == "is":
         text = f"`{item['name']}` returns robokin's `{item['reference']}` (it is bound to it)"
     else:
         text = f"`{item['name']}` calls robokin's `{item['reference']}`"

@@ -8,7 +8,13 @@ an answer cell declares and binds them in the grader's namespace:
 * plain data (see :mod:`grading_bridge.codec`) is copied;
 * a function becomes a :class:`Proxy`: calling it sends the (data) arguments to
   the student's kernel, runs the student's function there and returns the (data)
-  result, within a time limit per call;
+  result, within a time limit per call. Calls travel over a **call channel**: a
+  Unix socket the grader listens on, in a folder the student's kernel can reach
+  (inside the bubblewrap sandbox: the kernel's private runtime folder, bound into
+  it), which one execute request in the student's kernel connects to
+  (:func:`codec.serve`). A call is then one frame each way (a fraction of a
+  millisecond) instead of one execute request (~9 ms). The session ends (the
+  socket is closed) before the student's kernel runs anything else;
 * anything else becomes a :class:`codec.Untransferable`, whose use fails with
   "answer `x` is not plain data (a <type>)".
 
@@ -18,10 +24,15 @@ Everything the student's kernel sends back is decoded by :func:`codec.decode`
 
 from __future__ import annotations
 
+import atexit
 import json
+import os
 import queue
+import secrets
+import shutil
+import socket
+import tempfile
 import time
-import uuid
 from pathlib import Path
 
 from jupyter_client import BlockingKernelClient
@@ -30,6 +41,11 @@ from . import codec
 
 #: Characters of output accepted from the student's kernel for one request.
 MAX_REPLY = 64_000_000
+#: Seconds to wait at most for the student's kernel to open a call session (and at most
+#: the time limit per call), and to end one: short, as the waits run in a grader cell,
+#: whose own time limit may be as short as 10 s.
+SESSION_TIMEOUT = 10.0
+RELEASE_TIMEOUT = 3.0
 
 _BOOT = """
 import sys, types
@@ -57,18 +73,213 @@ class _Link:
         self.callbacks: dict = {}  # the test's functions passed to the student's functions
         self.in_callback = False
         self.source = (Path(__file__).with_name("codec.py")).read_text(encoding="utf-8")
+        self._listen(connection_info)
+        self.session: socket.socket | None = None   # the call channel, while a session is open
+        self.serve_id: str | None = None            # the execute request that serves it
 
-    def request(self, code: str, nonce: str, timeout: float) -> dict:
-        """Run ``code`` in the student's kernel; its reply (the last line marked ``nonce``)."""
+    # ------------------------------------------------------------ the call channel
+    def _listen(self, connection_info: dict) -> None:
+        """A Unix socket for the call channel, in a folder the student's kernel reaches."""
+        if connection_info.get("transport") == "ipc":
+            # the sandboxed kernel's runtime folder (robokin_sandbox), bound into the sandbox
+            folder, self._own_folder = os.path.dirname(str(connection_info["ip"])), None
+        else:
+            folder = self._own_folder = tempfile.mkdtemp(prefix="robokin-bridge-")
+            atexit.register(shutil.rmtree, folder, True)
+        self.token = secrets.token_hex(16)
+        self.path = os.path.join(folder, f"bridge-{secrets.token_hex(6)}.sock")
+        self.listener = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+        self.listener.bind(self.path)
+        os.chmod(self.path, 0o600)
+        self.listener.listen(1)
+        atexit.register(_remove, self.path)
+
+    def _open(self) -> socket.socket:
+        """The call channel: a session served by one execute request in the student's kernel."""
+        if self.session is not None:
+            return self.session
+        for attempt in range(2):
+            token = f"{self.token}-{secrets.token_hex(4)}"   # this request's: a late one is turned away
+            code = f"__import__('sys').modules['_robokin_bridge'].serve({self.path!r}, {token!r})"
+            self.serve_id = self.client.execute(code, silent=True, store_history=False, allow_stdin=False)
+            session = self._accept(self.serve_id, token)
+            if session is not None:
+                self.session = session
+                return session
+            if attempt == 0:   # the bridge module is missing there (first use, restart, deleted)
+                self._install()
+        raise AnswerError("the student's kernel did not open the call channel (the bridge was tampered "
+                          "with, or its kernel is busy)")
+
+    def _accept(self, msg_id: str, token: str) -> socket.socket | None:
+        """The student's kernel's connection, or None if its request ended without one."""
+        deadline = time.monotonic() + min(self.call_timeout, SESSION_TIMEOUT)
+        self.listener.settimeout(0.002)
+        while time.monotonic() < deadline:
+            try:
+                session, _ = self.listener.accept()
+            except TimeoutError:
+                if self._idle(msg_id, 0):
+                    return None
+                continue
+            except BaseException:
+                self.stuck = True
+                raise
+            session.settimeout(SESSION_TIMEOUT)
+            try:
+                hello = codec.receive_frame(session)
+            except (OSError, codec.BridgeError):
+                hello = None
+            if isinstance(hello, dict) and hello.get("hello") == token:
+                try:
+                    codec.send_frame(session, {"welcome": token})
+                except OSError:
+                    session.close()
+                    continue
+                return session
+            session.close()   # a request the grader gave up on earlier: it ends
+        self.stuck = True
+        raise AnswerError("the student's kernel did not open the call channel in time (it is busy)")
+
+    def _idle(self, msg_id: str, timeout: float) -> bool:
+        """Whether the student's kernel finished request ``msg_id`` within ``timeout`` s (iopub read)."""
+        deadline = time.monotonic() + timeout
+        while True:
+            try:
+                msg = self.client.get_iopub_msg(timeout=max(0.0, min(deadline - time.monotonic(), 0.05)))
+            except queue.Empty:
+                if time.monotonic() >= deadline:
+                    return False
+                continue
+            if (msg.get("parent_header", {}).get("msg_id") == msg_id and msg["msg_type"] == "status"
+                    and msg["content"].get("execution_state") == "idle"):
+                self._drain_shell()
+                return True
+
+    def _install(self) -> None:
+        self._run(f"exec(compile({_BOOT!r}, '<robokin bridge boot>', 'exec'), "
+                  f"{{'SOURCE': {self.source!r}}})", None, max(self.call_timeout, SESSION_TIMEOUT))
+
+    def release(self) -> None:
+        """End the call session, so that the student's kernel can run other requests."""
+        session, self.session = self.session, None
+        if session is None:
+            return
+        session.close()
+        self.stuck = True   # until the student's kernel is seen idle (else the autograder interrupts it)
+        if self._idle(self.serve_id, RELEASE_TIMEOUT):
+            self.stuck = False
+
+    def call(self, handle: int, arguments, answer: str):
+        """Call the student's function ``handle`` with encoded arguments; its reply (a dict)."""
         if self.stuck:
             raise AnswerError("the student's kernel is still busy with an earlier call that took too long")
         if self.in_callback:
             raise AnswerError("a function of the test that the student's function calls cannot call the "
                               "student's functions in turn")
+        session = self._open()
+        deadline = time.monotonic() + self.call_timeout
+        try:
+            codec.send_frame(session, {"call": handle, "args": arguments})
+        except codec.BridgeError as exc:   # nothing was sent: the session goes on
+            raise AnswerError(f"the test's arguments for {answer} cannot be sent: {exc}") from None
+        except OSError as exc:
+            self.release()
+            raise AnswerError(f"{answer}: the call channel broke ({type(exc).__name__})") from None
+        try:
+            while True:
+                remaining = deadline - time.monotonic()
+                if remaining <= 0:
+                    raise TimeoutError
+                session.settimeout(remaining)
+                message = codec.receive_frame(session)
+                if not isinstance(message, dict):
+                    self.release()
+                    raise AnswerError(f"{answer}: the student's kernel closed the call channel "
+                                      "(its kernel died, or the bridge was tampered with)")
+                if "callback" not in message:
+                    _show_output(message)
+                    return message
+                codec.send_frame(session, self._callback(message.get("callback"), message.get("args")))
+        except TimeoutError:
+            self.stuck = True
+            raise AnswerError(f"the call took longer than {self.call_timeout:g} s and was stopped") from None
+        except codec.BridgeError as exc:
+            self.stuck = True
+            raise AnswerError(f"{answer}: the student's kernel sent a malformed reply ({exc})") from None
+        except OSError as exc:
+            self.release()
+            raise AnswerError(f"{answer}: the call channel broke ({type(exc).__name__})") from None
+        except AnswerError:
+            raise
+        except BaseException:   # the test cell itself was stopped (time limit) mid-call
+            self.stuck = True
+            raise
+
+    def export(self, names: list[str]) -> dict:
+        """The student's kernel's encoded answers ``names`` (``{name: entry}``), over the channel."""
+        if self.stuck:
+            raise AnswerError("the student's kernel is still busy with an earlier call that took too long")
+        session = self._open()
+        deadline = time.monotonic() + max(self.call_timeout, 60.0)
+        out: dict = {}
+        try:
+            codec.send_frame(session, {"export": list(names)})
+            while True:
+                remaining = deadline - time.monotonic()
+                if remaining <= 0:
+                    raise TimeoutError
+                session.settimeout(remaining)
+                message = codec.receive_frame(session)
+                if not isinstance(message, dict):
+                    self.release()
+                    raise AnswerError("the student's kernel closed the call channel")
+                if message.get("done"):
+                    return out
+                if message.get("name") in names and isinstance(message.get("entry"), dict):
+                    out[message["name"]] = message["entry"]
+        except TimeoutError:
+            self.stuck = True
+            raise AnswerError("the student's kernel took too long to hand over the answers") from None
+        except codec.BridgeError as exc:
+            self.stuck = True
+            raise AnswerError(f"the student's kernel sent a malformed reply ({exc})") from None
+        except OSError as exc:
+            self.release()
+            raise AnswerError(f"the call channel broke ({type(exc).__name__})") from None
+        except AnswerError:
+            raise
+        except BaseException:
+            self.stuck = True
+            raise
+
+    def unstick(self) -> None:
+        """After the autograder interrupted the student's kernel: end the session, forget the call."""
+        session, self.session = self.session, None
+        if session is not None:
+            session.close()
+            self._idle(self.serve_id, RELEASE_TIMEOUT)
+        self.stuck = False
+
+    # ------------------------------------------------------------ execute requests
+    def request(self, code: str, nonce: str, timeout: float) -> dict:
+        """Run ``code`` in the student's kernel; its reply (the last line marked ``nonce``).
+
+        One execute request per reply, read from the kernel's stdout: how the bridge
+        called the student's functions before the call channel (milliseconds per call);
+        kept for ``tools/grading_bridge/benchmark.py``'s comparison.
+        """
+        if self.stuck:
+            raise AnswerError("the student's kernel is still busy with an earlier call that took too long")
+        if self.in_callback:
+            raise AnswerError("a function of the test that the student's function calls cannot call the "
+                              "student's functions in turn")
+        self.release()
+        if self.stuck:
+            raise AnswerError("the student's kernel is still busy with an earlier call that took too long")
         reply = self._run(code, nonce, timeout)
         if reply is None:   # the bridge module is missing there (first use, or deleted): install it
-            self._run(f"exec(compile({_BOOT!r}, '<robokin bridge boot>', 'exec'), "
-                      f"{{'SOURCE': {self.source!r}}})", None, timeout)
+            self._install()
             reply = self._run(code, nonce, timeout)
         if reply is None:
             raise AnswerError("the student's kernel did not answer the grader (its output was redirected "
@@ -77,7 +288,7 @@ class _Link:
 
     def _run(self, code: str, nonce: str | None, timeout: float) -> dict | None:
         client = self.client
-        msg_id = client.execute(code, silent=True, store_history=False, allow_stdin=True)
+        msg_id = client.execute(code, silent=True, store_history=False, allow_stdin=False)
         deadline = time.monotonic() + timeout
         chunks: list[str] = []
         size = 0
@@ -87,7 +298,6 @@ class _Link:
                 self.stuck = True
                 raise AnswerError(f"the call took longer than {timeout:g} s and was stopped")
             try:
-                self._answer_input_requests(msg_id)
                 msg = client.get_iopub_msg(timeout=min(remaining, 0.02))
             except queue.Empty:
                 continue
@@ -124,27 +334,11 @@ class _Link:
             raise AnswerError("the student's kernel sent a malformed reply")
         return data
 
-    def _answer_input_requests(self, msg_id: str) -> None:
-        """The student's function calls a function of the test: run it here, send back the result."""
-        while True:
-            try:
-                msg = self.client.get_stdin_msg(timeout=0)
-            except queue.Empty:
-                return
-            if msg.get("msg_type") != "input_request" or msg.get("parent_header", {}).get("msg_id") != msg_id:
-                continue
-            prompt = str(msg["content"].get("prompt", ""))
-            prefix = f"{codec.MARK}callback "
-            if not prompt.startswith(prefix) or len(prompt) > MAX_REPLY:
-                self.client.input("")      # the student's own input(): no one types here
-                continue
-            self.client.input(json.dumps(self._callback(prompt[len(prefix):]), allow_nan=False))
-
-    def _callback(self, text: str) -> dict:
+    def _callback(self, handle, arguments) -> dict:
+        """The student's function calls a function of the test: run it here; the reply."""
         try:
-            handle_text, _, payload = text.partition(" ")
-            function = self.callbacks[int(handle_text)]
-            args, kwargs = codec.decode(json.loads(payload), _make_proxy("an argument"))
+            function = self.callbacks[handle]
+            args, kwargs = codec.decode(arguments, _make_proxy("an argument"))
         except Exception as exc:  # noqa: BLE001 - a malformed request from the student's kernel
             return {"error": f"malformed call ({type(exc).__name__})"}
         self.in_callback = True
@@ -176,14 +370,48 @@ def connect(connection_info: dict, call_timeout: float = 30.0) -> None:
     _LINK = _Link(connection_info, call_timeout)
 
 
+def disconnect() -> None:
+    """Close the link (end the session, stop listening, stop the kernel client's channels)."""
+    global _LINK
+    link, _LINK = _LINK, None
+    if link is None:
+        return
+    link.release()
+    link.listener.close()
+    _remove(link.path)
+    link.client.stop_channels()
+
+
 def unstick() -> None:
     """The autograder interrupted the student's kernel after a call timed out."""
     if _LINK is not None:
-        _LINK.stuck = False
+        _LINK.unstick()
 
 
-def status() -> dict:
+def status(release: bool = True) -> dict:
+    """``{"stuck", "calls"}``; first ends the call session (the student's kernel runs on)."""
+    if _LINK is not None and release:
+        _LINK.release()
     return {"stuck": bool(_LINK and _LINK.stuck), "calls": _LINK.calls if _LINK else 0}
+
+
+def _show_output(reply: dict) -> None:
+    """What the student's function printed during the call, shown here (under the test)."""
+    import sys
+
+    for name in ("stdout", "stderr"):
+        text = reply.get(name)
+        if isinstance(text, str) and text:
+            stream = getattr(sys, name)
+            stream.write(text[: codec.MAX_OUTPUT])
+            stream.flush()
+
+
+def _remove(path: str) -> None:
+    try:
+        os.remove(path)
+    except OSError:
+        pass
 
 
 class Proxy:
@@ -208,14 +436,11 @@ class Proxy:
         if link is None:
             raise AnswerError("the grader is not connected to the student's kernel")
         try:
-            payload = json.dumps(codec.encode([list(args), dict(kwargs)], link.callbacks), allow_nan=False)
+            arguments = codec.encode([list(args), dict(kwargs)], link.callbacks)
         except codec.BridgeError as exc:
             raise AnswerError(f"the test's arguments for {self._answer} cannot be sent: {exc}") from None
-        nonce = uuid.uuid4().hex
-        code = (f"__import__('sys').modules['_robokin_bridge'].call({self._handle}, "
-                f"{payload!r}, {nonce!r})")
         link.calls += 1
-        reply = link.request(code, nonce, link.call_timeout)
+        reply = link.call(self._handle, arguments, self._answer)
         if "value" in reply:
             try:
                 return codec.decode(reply["value"], _make_proxy(self._answer))
@@ -241,7 +466,8 @@ def import_names(namespace: dict, names: list[str], marker: str, extra: tuple = 
     """Bind the student's ``names`` in ``namespace``; print what happened as one JSON line.
 
     ``extra`` names (read by a test, declared by no answer: a side effect of the student's
-    code) are bound only when the grader has no such name, and only when they are data.
+    code) are bound only when the grader has no such name, and only when they can be
+    handed over (data, or a function as a proxy).
     """
     summary: dict[str, str] = {}
     extra = [n for n in extra if n not in namespace and n not in names]
@@ -249,10 +475,8 @@ def import_names(namespace: dict, names: list[str], marker: str, extra: tuple = 
     link = _LINK
     if link is None:
         raise AnswerError("the grader is not connected to the student's kernel")
-    nonce = uuid.uuid4().hex
-    code = f"__import__('sys').modules['_robokin_bridge'].export({list(names)!r}, {nonce!r})"
     try:
-        reply = link.request(code, nonce, max(link.call_timeout, 60.0))
+        reply = link.export(names)
     except AnswerError as exc:
         reply = {}
         summary["*"] = f"error: {exc}"
@@ -274,8 +498,12 @@ def import_names(namespace: dict, names: list[str], marker: str, extra: tuple = 
             if isinstance(value, codec.Untransferable):
                 object.__setattr__(value, "_name", name)
                 summary[name] = f"not plain data: {value._what}"
+            elif isinstance(value, Proxy):
+                module = str(getattr(value, "__robokin_module__", ""))
+                robokin = module == "robokin" or module.startswith("robokin.")
+                summary[name] = f"function of {module}.{value._name}" if robokin else "function"
             else:
-                summary[name] = "function" if isinstance(value, Proxy) else "data"
+                summary[name] = "data"
             namespace[name] = value
         else:
             what = str(entry.get("type", "?"))[:200]

@@ -29,6 +29,7 @@ import builtins
 import json
 import os
 import re
+import secrets
 import shutil
 import sys
 import tempfile
@@ -143,6 +144,11 @@ class BridgedExecute(RobokinExecute):
     def preprocess(self, nb, resources=None, km=None):
         self._grader = None
         self._plan = None
+        # marks of the grader's own output lines, unknown to the student's code (whose output
+        # during a call is shown in the grader kernel, under the test that called it)
+        nonce = secrets.token_hex(8)
+        self._import_mark = f"{IMPORT_MARK.rstrip()}-{nonce} "
+        self._verdict_mark = f"{VERDICT_MARK}-{nonce}"
         resources = resources if resources is not None else {}
         notebook = resources.get("nbgrader", {}).get("notebook")
         flagged = bool(nb.metadata.get("robokin", {}).get("grading", {}).get("bridge"))
@@ -153,8 +159,8 @@ class BridgedExecute(RobokinExecute):
             nb, resources = super().preprocess(nb, resources, km=km)
             if self._grader is not None:
                 try:
-                    status, _ = self._grader.marked(f"print({IMPORT_MARK!r} + __import__('json').dumps("
-                                                    "_robokin_bridge.status()))", IMPORT_MARK)
+                    status, _ = self._grader.marked(f"print({self._import_mark!r} + __import__('json').dumps("
+                                                    "_robokin_bridge.status()))", self._import_mark)
                     calls = (status or {}).get("calls")
                 except Exception as exc:  # noqa: BLE001 - a count for the log only
                     self.log.warning("bridge: no call count (%s)", exc)
@@ -169,6 +175,12 @@ class BridgedExecute(RobokinExecute):
                           "%s calls of the student's functions)",
                           notebook, sum(1 for c in self._plan["cells"][: self._plan["done"]] if not c.get("skip")),
                           len(self._plan["cells"]), kinds, calls)
+            flagged = {item["name"] for item in self._plan["review"]}
+            for name, status in self._plan["imports"].items():   # an answer that IS a robokin function
+                if status.startswith("function of ") and name not in flagged:
+                    self._plan["review"].append({"task": self._plan["tasks"].get(name), "name": name,
+                                                 "reference": status[len("function of "):], "how": "runtime",
+                                                 "through": None})
             report = resources.setdefault("robokin", {})
             report["review"] = [dict(item, line=delegation.describe(item)) for item in self._plan["review"]]
             report["bridge"] = {"imports": self._plan["imports"], "problems": self._plan["problems"],
@@ -200,14 +212,17 @@ class BridgedExecute(RobokinExecute):
         for entry in meta.values():
             if entry.get("role") == "answer":
                 declared += [n for n in entry.get("declare", []) if n not in declared]
-        task_checks: dict = {}
+        task_checks: dict = {}   # task -> check -> the expressions it checks
         for entry in meta.values():
             if entry.get("role") == "test":
-                task_checks.setdefault(entry.get("task"), set()).update(p[0] for p in entry.get("explain", []))
+                for check, expression in entry.get("explain", []):
+                    task_checks.setdefault(entry.get("task"), {}).setdefault(check, set()).add(expression)
         answers = [(_task_of(c), c.source, meta.get(_grade_id(c), {}).get("declare", []))
                    for c in nb.cells if c.cell_type == "code" and utils.is_solution(c)
                    and meta.get(_grade_id(c), {}).get("role") == "answer"]
+        tasks = {name: task for task, _, names in answers for name in names}
         return {"cells": cells, "done": 0, "declared": declared, "review": delegation.find(answers, task_checks),
+                "tasks": tasks,
                 "imports": {}, "problems": [], "side_effects": {}, "instructor_names": set()}
 
     def _source_metadata(self, info) -> dict | None:
@@ -270,7 +285,7 @@ class BridgedExecute(RobokinExecute):
         self._unstick()   # a call stopped earlier (in a test or in robokin.check) must not block this one
         wanted = [n for n in self._plan["declared"] if n in names]
         # a test that reads a name no answer declares and no instructor cell defines relies on a
-        # side effect of the student's code (e.g. an import in a cell of theirs): taken if it is data
+        # side effect of the student's code (e.g. an import in a cell of theirs): taken if it can be handed over
         others = sorted(n for n in names if n not in self._plan["declared"]
                         and n not in self._plan["instructor_names"] and not hasattr(builtins, n)) if extra else []
         if others:
@@ -279,8 +294,8 @@ class BridgedExecute(RobokinExecute):
         if not wanted and not others:
             return
         summary, cell = self._grader.marked(
-            f"_robokin_bridge.import_names(globals(), {wanted!r}, {IMPORT_MARK!r}, {tuple(others)!r})",
-            IMPORT_MARK)
+            f"_robokin_bridge.import_names(globals(), {wanted!r}, {self._import_mark!r}, {tuple(others)!r})",
+            self._import_mark)
         if summary is None:
             errors = [f"{o.ename}: {o.evalue}" for o in cell.outputs if o.get("output_type") == "error"]
             self._plan["problems"].append(f"answers {', '.join(wanted)} could not be imported before {where}: "
@@ -292,8 +307,8 @@ class BridgedExecute(RobokinExecute):
 
     def _unstick(self) -> None:
         """A call of a student's function timed out: interrupt the student's kernel."""
-        status, _ = self._grader.marked(f"print({IMPORT_MARK!r} + __import__('json').dumps("
-                                        "_robokin_bridge.status()))", IMPORT_MARK)
+        status, _ = self._grader.marked(f"print({self._import_mark!r} + __import__('json').dumps("
+                                        "_robokin_bridge.status()))", self._import_mark)
         if status and status.get("stuck"):
             self.log.warning("bridge: a call of the student's function timed out; interrupting its kernel")
             from jupyter_core.utils import run_sync
@@ -312,7 +327,7 @@ class BridgedExecute(RobokinExecute):
             names |= free_names(str(expression))
         self._import(names, "robokin.check")
         code = (f"__import__('robokin.check.grading', fromlist=['_']).print_verdicts("
-                f"globals(), {[list(p) for p in pairs]!r}, {VERDICT_MARK!r})")
+                f"globals(), {[list(p) for p in pairs]!r}, {self._verdict_mark!r})")
         try:
             cell = self._grader.run(code)
             self._unstick()
@@ -321,9 +336,9 @@ class BridgedExecute(RobokinExecute):
             return None
         text = "".join(o.get("text", "") for o in cell.outputs if o.get("output_type") == "stream")
         for line in text.splitlines():
-            if line.startswith(VERDICT_MARK):
+            if line.startswith(self._verdict_mark + " "):
                 try:
-                    return json.loads(line[len(VERDICT_MARK):])
+                    return json.loads(line[len(self._verdict_mark):])
                 except ValueError:
                     return None
         return None

@@ -1,0 +1,99 @@
+"""The graded courses the nbgrader suites share: one ``nbgrader autograde`` run per assignment.
+
+Three test files grade submissions through the course's own pipeline:
+``test_nbgrader.py`` (every chapter: blank, solutions, a typical mistake, ...),
+``test_grading_tamper.py`` (chapter 3: tampering, delegation, a call that never
+returns) and ``test_grading_trust.py`` (chapter 3: benign noise, a crash, a hang,
+an escape from the sandbox). Instead of a course and an autograde run each, they
+share one course per chapter (a gradebook of its own, so that two chapters are
+graded at a time), with one student per submission and ONE ``nbgrader autograde``
+per assignment: chapter 3's run grades the submissions of all three files.
+
+:func:`graded_courses` builds them once per pytest process (session-wide: the
+tests that use them are in one pytest-xdist group, :data:`XDIST_GROUP`), for the
+files selected in the session: every chapter when ``test_nbgrader.py`` is
+selected, chapter 3 alone otherwise. Each file sees its own submissions only
+(:func:`view`).
+
+A file that adds submissions to chapter 3 gives a :class:`Suite`: its
+submissions, the environment and options its autograde run needs, and what it
+does before and after the run. The options of the suites hold for every
+submission of that run (the solutions and the typical mistake too): a time
+limit per cell of ``ROBOKIN_CELL_TIMEOUT`` s (the trust suite's hang) and per
+call of a student's function (the tamper suite's never-returning call).
+"""
+
+from __future__ import annotations
+
+import copy
+import importlib.util
+import threading
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import pytest
+
+CHAPTER3 = "03_three_rpr"
+XDIST_GROUP = "nbgrader"
+
+#: test files that add submissions to chapter 3's run (module name -> attribute with its Suite)
+SUITES = ("test_grading_tamper", "test_grading_trust")
+
+
+def xdist_group_mark() -> list:
+    """``pytestmark`` of a file that uses the shared courses: one xdist group (no mark without xdist)."""
+    if importlib.util.find_spec("xdist") is None:
+        return []
+    return [pytest.mark.xdist_group(XDIST_GROUP)]
+
+
+@dataclass
+class Suite:
+    """What a test file adds to chapter 3's autograde run."""
+
+    name: str
+    #: (run, correct submission, course) -> {student: notebook}
+    submissions: Callable[..., dict[str, dict]]
+    environment: dict[str, str] = field(default_factory=dict)
+    options: list[str] = field(default_factory=list)
+    before: Callable | None = None      # (run, course) -> None, before autograde
+    after: Callable | None = None       # (run, course) -> None, right after autograde
+    finally_: Callable | None = None    # (run, course, base) -> None, after generate_feedback
+    students: list[str] = field(default_factory=list)   # filled when the course is built
+
+
+_LOCK = threading.Lock()
+_RUNS: dict | None = None
+
+
+def selected_files(request) -> set[str]:
+    """The stems of the test files with a test selected in this session."""
+    return {Path(str(item.fspath)).stem for item in request.session.items}
+
+
+def graded_courses(request, tmp_path_factory) -> dict:
+    """``{chapter or job: Run}``, built once per process (see the module's docstring)."""
+    global _RUNS
+    with _LOCK:
+        if _RUNS is None:
+            import test_nbgrader
+
+            files = selected_files(request)
+            suites = [importlib.import_module(name).SUITE for name in SUITES if name in files]
+            _RUNS = test_nbgrader.grade_everything(tmp_path_factory.mktemp("nbgrader"),
+                                                   full="test_nbgrader" in files, suites=suites)
+        return _RUNS
+
+
+def view(run, students, **replace):
+    """A copy of ``run`` whose per-student results hold ``students`` only."""
+    out = copy.copy(run)
+    keep = set(students)
+    for name in ("scores", "feedback", "autograded", "exported"):
+        value = getattr(run, name, None)
+        if isinstance(value, dict):
+            setattr(out, name, {k: v for k, v in value.items() if k in keep})
+    for name, value in replace.items():
+        setattr(out, name, value)
+    return out
