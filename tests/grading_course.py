@@ -4,20 +4,23 @@ Three test files grade submissions through the course's own pipeline:
 ``test_nbgrader.py`` (every chapter: blank, solutions, a typical mistake, ...),
 ``test_grading_tamper.py`` (chapter 3: tampering, delegation, a call that never
 returns) and ``test_grading_trust.py`` (chapter 3: benign noise, a crash, a hang,
-an escape from the sandbox). Instead of a course and an autograde run each, they
+an escape from the sandbox; every other chapter: benign noise). Instead of a course and an autograde run each, they
 share one course per chapter (a gradebook of its own, so that two chapters are
 graded at a time), with one student per submission and ONE ``nbgrader autograde``
-per assignment: chapter 3's run grades the submissions of all three files.
+per assignment: chapter 3's run grades the submissions of all three files, every
+other chapter's run those of test_nbgrader.py and test_grading_trust.py.
 
 :func:`graded_courses` builds them once per pytest process (session-wide: the
 tests that use them are in one pytest-xdist group, :data:`XDIST_GROUP`), for the
 files selected in the session: every chapter when ``test_nbgrader.py`` is
-selected, chapter 3 alone otherwise. Each file sees its own submissions only
-(:func:`view`).
+selected or a selected file's suite joins a chapter other than 3, chapter 3 alone
+otherwise (the walk-through and the chapter without metadata with
+``test_nbgrader.py`` only). Each file sees its own submissions only (:func:`view`).
 
-A file that adds submissions to chapter 3 gives a :class:`Suite`: its
-submissions, the environment and options its autograde run needs, and what it
-does before and after the run. The options of the suites hold for every
+A file that adds submissions to a chapter's run gives a :class:`Suite` per kind
+of run it joins (``SUITE``, or a tuple ``SUITES``): the chapters it joins
+(chapter 3 unless told), its submissions, the environment and options its
+autograde run needs, and what it does before and after the run. The options of the suites hold for every
 submission of that run (the solutions and the typical mistake too): a time
 limit per cell of ``ROBOKIN_CELL_TIMEOUT`` s (the trust suite's hang) and per
 call of a student's function (the tamper suite's never-returning call).
@@ -37,7 +40,7 @@ import pytest
 CHAPTER3 = "03_three_rpr"
 XDIST_GROUP = "nbgrader"
 
-#: test files that add submissions to chapter 3's run (module name -> attribute with its Suite)
+#: test files that add submissions to the chapters' runs (their ``SUITES``, or ``SUITE``)
 SUITES = ("test_grading_tamper", "test_grading_trust")
 
 
@@ -50,7 +53,7 @@ def xdist_group_mark() -> list:
 
 @dataclass
 class Suite:
-    """What a test file adds to chapter 3's autograde run."""
+    """What a test file adds to the autograde run of each chapter it joins (chapter 3 unless told)."""
 
     name: str
     #: (run, correct submission, course) -> {student: notebook}
@@ -61,6 +64,14 @@ class Suite:
     after: Callable | None = None       # (run, course) -> None, right after autograde
     finally_: Callable | None = None    # (run, course, base) -> None, after generate_feedback
     students: list[str] = field(default_factory=list)   # filled when the course is built
+    #: chapter -> does this suite join that chapter's run
+    joins: Callable[[str], bool] = lambda chapter: chapter == CHAPTER3
+
+
+def module_suites(name: str) -> tuple[Suite, ...]:
+    """The suites of the test module ``name``: its ``SUITES``, or its ``SUITE``."""
+    module = importlib.import_module(name)
+    return tuple(getattr(module, "SUITES", None) or (module.SUITE,))
 
 
 _LOCK = threading.Lock()
@@ -80,9 +91,12 @@ def graded_courses(request, tmp_path_factory) -> dict:
             import test_nbgrader
 
             files = selected_files(request)
-            suites = [importlib.import_module(name).SUITE for name in SUITES if name in files]
-            _RUNS = test_nbgrader.grade_everything(tmp_path_factory.mktemp("nbgrader"),
-                                                   full="test_nbgrader" in files, suites=suites)
+            suites = [suite for name in SUITES if name in files for suite in module_suites(name)]
+            full = "test_nbgrader" in files
+            chapters = [c for c in test_nbgrader.CHAPTERS
+                        if full or c == CHAPTER3 or any(s.joins(c) for s in suites)]
+            _RUNS = test_nbgrader.grade_everything(tmp_path_factory.mktemp("nbgrader"), full=full,
+                                                   suites=suites, chapters=chapters)
         return _RUNS
 
 

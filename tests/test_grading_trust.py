@@ -14,6 +14,11 @@ benign (the instructor's solutions, plus ...) -- each keeps full marks:
     ``crash``   ``os._exit(1)`` in the ungraded *Try it yourself* cell;
     ``hang``    a loop that ignores SIGINT there (the kernel is killed at the time limit);
                 in both the kernel is restarted and the cells before are run again;
+benign, every other chapter (in that chapter's one autograde run, with test_nbgrader.py's):
+    ``noisy``   the instructor's solutions, made talkative by one function
+                (:func:`talkative`): every answer cell logs and prints to stderr once,
+                and wraps each function it declares in one that logs, warns, prints to
+                stderr and calls a helper of its own on every call;
 sandbox:
     ``escape``  the solutions, and a *Try it yourself* cell that writes outside its
                 folder, reads the instructor's source notebook, the repository's
@@ -41,6 +46,7 @@ import pytest
 
 from conftest import ROOT
 from test_nbgrader import (
+    CHAPTERS,
     NOTEBOOKS,
     Run,
     load,
@@ -182,6 +188,56 @@ def submissions(correct: dict, course: Path) -> dict[str, dict]:
     }
 
 
+#: appended to every answer cell of a chapter's ``noisy`` submission (:func:`talkative`)
+TALKATIVE = """
+
+import functools
+import logging
+import sys
+import warnings
+
+
+def _my_identity(value):  # a helper of my own
+    return value
+
+
+def _talkative(function):
+    @functools.wraps(function)
+    def talking(*args, **kwargs):
+        logging.warning("noisy: %s called", function.__name__)
+        warnings.warn(f"noisy: {{function.__name__}} warns", RuntimeWarning, stacklevel=2)
+        print(f"noisy: debugging {{function.__name__}}", file=sys.stderr)
+        return _my_identity(function(*args, **kwargs))
+
+    return talking
+
+
+{wraps}print("noisy: cell {grade_id} ran", file=sys.stderr)
+logging.warning("noisy: cell %s logged", {grade_id!r})
+"""
+
+
+def declared_functions(cell: dict) -> list[str]:
+    """The functions an answer cell of the instructor's source declares (``def`` at its top level)."""
+    import ast
+
+    declared = set(rk(cell).get("declare", []))
+    return [node.name for node in ast.parse(src(cell)).body
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)) and node.name in declared]
+
+
+def talkative(correct: dict, source: dict) -> dict:
+    """``correct`` with every answer cell made talkative (:data:`TALKATIVE`)."""
+    nb = json.loads(json.dumps(correct))
+    functions = {nbg(c)["grade_id"]: declared_functions(c) for c in source["cells"] if nbg(c).get("solution")}
+    for cell in nb["cells"]:
+        grade_id = nbg(cell).get("grade_id")
+        if grade_id in functions:
+            wraps = "".join(f"{name} = _talkative({name})\n" for name in functions[grade_id])
+            cell["source"] = src(cell).rstrip() + "\n" + TALKATIVE.format(wraps=wraps, grade_id=grade_id)
+    return nb
+
+
 def _outside_targets(course: Path) -> list[Path]:
     return [course / "escaped.txt", course / "submitted" / "noisy" / "escaped.txt", ROOT / "escaped.txt",
             Path.home() / "robokin-escaped.txt", Path("/tmp/robokin-escaped.txt")]
@@ -222,6 +278,13 @@ SUITE = grading_course.Suite(
     "trust", lambda run, correct, course: submissions(correct, course),
     environment={"ROBOKIN_CELL_TIMEOUT": str(TIMEOUT), "JUPYTERHUB_API_TOKEN": TOKEN},
     before=_before, after=_after, finally_=_export)
+
+
+#: the ``noisy`` submission of every other chapter, graded in that chapter's one autograde run
+NOISY_SUITE = grading_course.Suite(
+    "trust-noisy", lambda run, correct, course: {"noisy": talkative(correct, run.source)},
+    joins=lambda chapter: chapter != CHAPTER)
+SUITES = (SUITE, NOISY_SUITE)
 
 
 @pytest.fixture(scope="session")
@@ -273,6 +336,32 @@ def test_a_number_shown_by_a_hook_sets_no_score(trusted):
     # the tests ran in the grader kernel (book/for-instructors.md, "Where the verdicts are
     # decided"): what the student's hook showed there is not under them
     assert not any(shown(c) for c in nb["cells"] if nbg(c).get("grade"))
+
+
+#: report sections that name something as wrong (tools/robokin_nbgrader.py, tools/grading_bridge)
+WRONG = ("What `robokin.check` says", "Where to start", "Notes on running your notebook",
+         "For review by hand", "Answers the grader could not use", "Not run")
+
+
+@pytest.mark.parametrize("chapter", [c for c in CHAPTERS if c != CHAPTER])
+def test_talkative_solutions_keep_full_marks(request, tmp_path_factory, chapter):
+    """Every chapter's solutions, logging, warning and printing to stderr in every answer and call."""
+    _require_bwrap()
+    run = grading_course.graded_courses(request, tmp_path_factory)[chapter]
+    if run.error:
+        pytest.fail(run.fail_message())
+    run = grading_course.view(run, NOISY_SUITE.students)
+    _full_marks(run, "noisy")
+    page = run.feedback["noisy"]
+    report = _report(page)
+    top = run.source["metadata"]["robokin"]["grading"]["points"]
+    assert sum(run.maximum.values()) == top and f"{top:g} of {top:g} points" in report
+    named = [w for w in WRONG if w.replace("`", "") in report.replace("`", "")]
+    assert not named, f"{chapter}: the report of correct work names {named}:\n{report[:3000]}"
+    assert "noisy: cell" in page, "the answer cells' stderr is not shown (the test tests nothing)"
+    if any(declared_functions(c) for c in run.source["cells"] if nbg(c).get("solution")):
+        assert "noisy: debugging" in page or "noisy: debugging" in json.dumps(run.autograded["noisy"]), (
+            f"{chapter}: no talkative function was called (the test tests nothing)")
 
 
 def test_kernel_that_dies_in_an_ungraded_cell(trusted):

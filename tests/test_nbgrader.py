@@ -536,12 +536,13 @@ def run_unmarked(base: Path) -> Run:
     return run
 
 
-def grade_everything(base: Path, full: bool = True, suites=()) -> dict[str, Run]:
-    """Every chapter (or chapter 3 alone, ``full=False``) generated, submitted, autograded
-    once and given feedback, with the submissions of ``suites``; the walk-through and the
-    chapter without metadata (``full``)."""
+def grade_everything(base: Path, full: bool = True, suites=(), chapters=None) -> dict[str, Run]:
+    """Every chapter (or ``chapters``; chapter 3 alone when ``full=False``) generated, submitted,
+    autograded once and given feedback, each with the submissions of the ``suites`` that join
+    it (tests/grading_course.py); the walk-through and the chapter without metadata (``full``)."""
     started = time.perf_counter()
-    chapters = CHAPTERS if full else [c for c in CHAPTERS if c == grading_course.CHAPTER3]
+    if chapters is None:
+        chapters = CHAPTERS if full else [c for c in CHAPTERS if c == grading_course.CHAPTER3]
     jobs = {chapter: (run_chapter, chapter) for chapter in chapters}
     if full:
         jobs["walkthrough"] = (run_walkthrough,)
@@ -552,8 +553,8 @@ def grade_everything(base: Path, full: bool = True, suites=()) -> dict[str, Run]
 
     def job(key):
         function, *args = jobs[key]
-        if key == grading_course.CHAPTER3:
-            return function(*args, base, suites)
+        if key in chapters:
+            return function(*args, base, [s for s in suites if s.joins(key)])
         return function(*args, base)
 
     with ThreadPoolExecutor(max_workers=WORKERS) as pool:
