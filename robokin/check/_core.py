@@ -155,7 +155,16 @@ class CheckResult:
 
 
 class AnswerError(Exception):
-    """The answer cannot be evaluated; carries a diagnosis code and a message."""
+    """The answer cannot be evaluated (wrong type or shape, symbols left, it raised).
+
+    Parameters
+    ----------
+    code : str
+        Diagnosis code reported in :attr:`CheckResult.diagnosis` (``"shape"``,
+        ``"symbols"``, ``"error"``, ...).
+    message : str
+        What a student reads: what was expected and what came in.
+    """
 
     def __init__(self, code: str, message: str):
         super().__init__(message)
@@ -210,6 +219,23 @@ class Variable:
 
 
 def as_variables(variables: Any) -> list[Variable]:
+    """The inputs of a check as :class:`Variable` objects.
+
+    Parameters
+    ----------
+    variables : None, str, Variable, sympy Symbol or an iterable of them
+        Names (``"alpha"``), symbols or ready :class:`Variable` objects.
+
+    Returns
+    -------
+    list of Variable
+        In the given order; empty for ``None``.
+
+    Raises
+    ------
+    TypeError
+        An entry is none of the above.
+    """
     if variables is None:
         return []
     if isinstance(variables, (str, Variable)) or not isinstance(variables, Iterable):
@@ -295,6 +321,25 @@ def _is_sympy(x: Any) -> bool:
 
 
 def to_float_array(out: Any, what: str) -> np.ndarray:
+    """A student's value (number, array, nested list, sympy expression or matrix) as floats.
+
+    Parameters
+    ----------
+    out : object
+        The value an answer produced.
+    what : str
+        Its name, for the message.
+
+    Returns
+    -------
+    numpy.ndarray
+        Float array of the value's shape (0-d for a number).
+
+    Raises
+    ------
+    AnswerError
+        Symbols left after substitution, complex or non-numeric entries.
+    """
     sp = _sympy()
     if sp is not None and _is_sympy(out):
         try:
@@ -426,6 +471,33 @@ def _function_evaluator(
 
 
 def evaluator(answer: Any, variables: list[Variable], groups, name: str) -> _Evaluator:
+    """A callable ``values (N, len(variables)) -> answers (N, ...)`` for any form of answer.
+
+    Parameters
+    ----------
+    answer : sympy expression or matrix, function or array_like
+        A sympy answer is lambdified in ``variables``; a function is called with
+        the variables (as one argument per variable or per group of ``groups``);
+        an array is a constant.
+    variables : list of Variable
+        The check's inputs.
+    groups : list of (str, list of int)
+        Named groups of variable indices: the arguments of a function answer
+        when it takes one argument per group (else one per variable).
+    name : str
+        Name of the answer, for messages.
+
+    Returns
+    -------
+    _Evaluator
+        The evaluating function and the answer's form (``"sympy"``,
+        ``"function"`` or ``"constant"``).
+
+    Raises
+    ------
+    AnswerError
+        ``answer`` is None or cannot be evaluated.
+    """
     if answer is None:
         raise AnswerError("error", f"{name} is None: did you forget to return or assign it?")
     if _is_sympy(answer):
@@ -441,9 +513,15 @@ def evaluator(answer: Any, variables: list[Variable], groups, name: str) -> _Eva
 class Mistake:
     """One typical mistake: the reference transformed into the mistaken answer.
 
-    ``transform(reference)`` returns the function ``values -> array`` a student
-    making this mistake would have written; ``message`` explains it (``{name}``
-    is replaced by the name of the check).
+    Attributes
+    ----------
+    code : str
+        Diagnosis code (e.g. ``"transpose"``).
+    transform : callable
+        ``transform(reference)`` returns the function ``values (N, nvars) -> array``
+        a student making this mistake would have written.
+    message : str
+        The explanation; ``{name}`` is replaced by the name of the check.
     """
 
     code: str
@@ -453,7 +531,21 @@ class Mistake:
 
 @dataclass
 class Context:
-    """What a diagnosis may look at."""
+    """What a diagnosis may look at.
+
+    Attributes
+    ----------
+    check : Check
+        The check being run.
+    reference : callable
+        ``values (N, nvars) -> reference answers (N, ...)``.
+    X : numpy.ndarray, shape (N, nvars)
+        The sample points.
+    R, S : numpy.ndarray, shape (N, ...)
+        Reference and student values at ``X``.
+    form : str
+        Form of the student's answer (``"sympy"``, ``"function"``, ``"constant"``).
+    """
 
     check: Check
     reference: RefFn
@@ -465,7 +557,16 @@ class Context:
 
 @dataclass(frozen=True)
 class Diagnosis:
-    """A family of mistakes: ``variants(ctx)`` yields :class:`Mistake` objects."""
+    """A family of mistakes.
+
+    Attributes
+    ----------
+    code : str
+        Diagnosis code of the family.
+    variants : callable
+        ``variants(ctx: Context)`` yields the :class:`Mistake` objects to compare
+        the student's values with.
+    """
 
     code: str
     variants: Callable[[Context], Iterable[Mistake]]

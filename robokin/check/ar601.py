@@ -355,8 +355,21 @@ def ik_solution(
 ) -> CheckResult:
     """Check joint angles that should put the foot at ``T_target`` (default :data:`T_GOAL`).
 
-    ``q`` is one solution (6,) or several (k, 6); every row must reproduce the
-    pose within 1e-6 m and 1e-6 rad. Any of the (up to 8) solutions is accepted.
+    Any of the (up to 8) solutions is accepted.
+
+    Parameters
+    ----------
+    q : array_like, shape (6,) or (k, 6)
+        One solution or several (rad); every row must reproduce the pose within
+        1e-6 m and 1e-6 rad.
+    T_target : array_like, shape (4, 4), optional
+        Foot pose in the pelvis frame (default :data:`T_GOAL`).
+    raise_on_fail, quiet : bool, optional
+        Raise ``AssertionError`` on failure; print nothing.
+
+    Returns
+    -------
+    CheckResult
     """
     name = "q"
     T = T_GOAL if T_target is None else check_transform(T_target, name="T_target")
@@ -389,6 +402,21 @@ def ik_solver(
     The poses are the forward kinematics of seeded random configurations within
     the joint limits; every row returned must reproduce its pose. The message
     says how many solutions per pose the function returns (the leg has up to 8).
+
+    Parameters
+    ----------
+    f : callable
+        ``f(T)`` with ``T`` (4, 4) returning joint angles (6,) or (k, 6), rad.
+    samples : int, optional
+        Number of random poses.
+    seed : int, optional
+        Seed of the poses.
+    raise_on_fail, quiet : bool, optional
+        Raise ``AssertionError`` on failure; print nothing.
+
+    Returns
+    -------
+    CheckResult
     """
     samples = check_int(samples, "samples", 1, 10_000)
     seed = seed if seed is None else check_int(seed, "seed", 0)

@@ -63,7 +63,18 @@ def describe(value: Any) -> str:
 
 
 def expected_form(checker: Any) -> str:
-    """What a check expects as the answer, from its declared signature or variables."""
+    """What a check expects as the answer, in words, from its declared signature or variables.
+
+    Parameters
+    ----------
+    checker : Check
+        A check of :mod:`robokin.check`.
+
+    Returns
+    -------
+    str
+        E.g. ``"a function ik(T)"`` or ``"an array of shape (3, 3)"``.
+    """
     signature = getattr(checker, "signature", "")
     if signature:
         return f"a function {signature}"
@@ -163,13 +174,36 @@ def _parts_described(quantity: str, namespace: Mapping[str, Any]) -> str:
 
 
 def verdicts(namespace: Mapping[str, Any], pairs: Iterable[tuple[str, str]]) -> list[dict[str, Any]]:
-    """:func:`verdict` for every ``(check, quantity)`` pair, in order."""
+    """:func:`verdict` for every ``(check, quantity)`` pair, in order.
+
+    Parameters
+    ----------
+    namespace : mapping
+        The notebook's names (``globals()`` of the kernel running the test).
+    pairs : iterable of (str, str)
+        ``(check name, quantity expression)``, e.g. ``("leg.rotation_B1", "R_B1")``.
+
+    Returns
+    -------
+    list of dict
+        One verdict per pair (see :func:`verdict`).
+    """
     return [verdict(namespace, check, quantity) for check, quantity in pairs]
 
 
 def print_verdicts(namespace: Mapping[str, Any], pairs: Iterable[tuple[str, str]],
                    marker: str = "ROBOKIN-VERDICTS") -> None:
-    """Print the verdicts as one JSON line, framed by ``marker`` (read by the autograder)."""
+    """Print the verdicts as one JSON line, framed by ``marker`` (read by the autograder).
+
+    Parameters
+    ----------
+    namespace : mapping
+        The notebook's names.
+    pairs : iterable of (str, str)
+        ``(check name, quantity expression)`` pairs (see :func:`verdicts`).
+    marker : str, optional
+        The line's first word.
+    """
     data = verdicts(namespace, [(check, quantity) for check, quantity in pairs])
     sys.stdout.write(f"{marker} {json.dumps(data, ensure_ascii=False)}\n")
     sys.stdout.flush()
@@ -181,6 +215,18 @@ def require(check: str, answer: Any) -> None:
     ``require("leg.rotation_B1", R_B1)`` in a test cell fails with e.g.
     ``AssertionError: ✘ R_B1 is transposed: ...`` -- the message a student sees in
     nbgrader's feedback.
+
+    Parameters
+    ----------
+    check : str
+        Name of the check, ``"<chapter module>.<check>"``.
+    answer : object
+        The student's answer, in any form the check accepts.
+
+    Raises
+    ------
+    AssertionError
+        The answer does not pass; the message is the check's.
     """
     result = _resolve(check)(answer, quiet=True)
     if not result.passed:

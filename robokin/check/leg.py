@@ -340,8 +340,22 @@ def ik_solution(
 ) -> CheckResult:
     """Check a solution of the inverse kinematics: ``r_BF(q)`` must reach ``goal``.
 
-    Any solution is accepted (the goal of task 4 has two). ``goal`` defaults to
-    :data:`R_GOAL`; ``tol`` is the allowed foot-position error in metres.
+    Any solution is accepted (the goal of task 4 has two).
+
+    Parameters
+    ----------
+    q : array_like, shape (3,)
+        Joint angles (α, β, γ) in rad.
+    goal : array_like, shape (3,), optional
+        Foot position in the base frame, m (default :data:`R_GOAL`).
+    tol : float, optional
+        Allowed foot-position error, m.
+    raise_on_fail, quiet : bool, optional
+        Raise ``AssertionError`` on failure; print nothing.
+
+    Returns
+    -------
+    CheckResult
     """
     name = "q_goal"
     goal = R_GOAL if goal is None else as_vector(goal, 3, "goal")

@@ -218,6 +218,25 @@ def check_poses(poses: Any, rho: Any, robot: Any = None, *, name: str = "pose", 
     """Check that each row of ``poses`` (3,) or (k, 3) is an assembly mode for the leg lengths ``rho``.
 
     A pose is accepted when its leg lengths match ``rho`` within ``tol`` metres.
+
+    Parameters
+    ----------
+    poses : array_like, shape (3,) or (k, 3)
+        Platform poses ``(x [m], y [m], φ [rad])``.
+    rho : array_like, shape (3,)
+        Leg lengths, m.
+    robot : Planar3RPR, optional
+        The robot (default the chapter's).
+    name : str, optional
+        Name of the answer, for the message.
+    tol : float, optional
+        Allowed leg-length error, m.
+    quiet, raise_on_fail : bool, optional
+        Print nothing; raise ``AssertionError`` on failure.
+
+    Returns
+    -------
+    CheckResult
     """
     from robokin.parallel import Planar3RPR
 

@@ -392,8 +392,12 @@ def _loop_mistakes():
 
 @dataclass
 class LoopCheck(MatrixArgumentsCheck):
-    """Check of an IK loop ``f(chain, p_goal, q0, step, max_step, tol, max_iterations)``
-    returning ``(q, converged, iterations)``; compared packed as one vector."""
+    """Check of an IK loop ``f(chain, p_goal, q0, step, max_step, tol, max_iterations)``.
+
+    The loop returns ``(q, converged, iterations)``: ``q`` (6,) rad, a bool and an
+    int; the three are packed into one vector (6 + 2,) and compared with the
+    reference loop's on the check's sample arguments (see :class:`MatrixArgumentsCheck`).
+    """
 
     def evaluate(self, answer: Any) -> CheckResult:
         if callable(answer) and not isinstance(answer, np.ndarray):
