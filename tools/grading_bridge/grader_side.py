@@ -188,15 +188,8 @@ class _Link:
             raise AnswerError(f"{answer}: the call channel broke ({type(exc).__name__})") from None
         try:
             while True:
-                remaining = deadline - time.monotonic()
-                if remaining <= 0:
-                    raise TimeoutError
-                session.settimeout(remaining)
-                message = codec.receive_frame(session)
-                if not isinstance(message, dict):
-                    self.release()
-                    raise AnswerError(f"{answer}: the student's kernel closed the call channel "
-                                      "(its kernel died, or the bridge was tampered with)")
+                message = self._next_message(session, deadline, f"{answer}: the student's kernel closed the "
+                                             "call channel (its kernel died, or the bridge was tampered with)")
                 if "callback" not in message:
                     _show_output(message)
                     return message
@@ -216,6 +209,22 @@ class _Link:
             self.stuck = True
             raise
 
+    def _next_message(self, session, deadline: float, closed: str) -> dict:
+        """The next message of the session, waiting until ``deadline`` at most.
+
+        Raises ``TimeoutError`` past the deadline; ``AnswerError(closed)`` (the session
+        released) when the student's side closed the channel or sent no dict.
+        """
+        remaining = deadline - time.monotonic()
+        if remaining <= 0:
+            raise TimeoutError
+        session.settimeout(remaining)
+        message = codec.receive_frame(session)
+        if not isinstance(message, dict):
+            self.release()
+            raise AnswerError(closed)
+        return message
+
     def export(self, names: list[str]) -> dict:
         """The student's kernel's encoded answers ``names`` (``{name: entry}``), over the channel."""
         if self.stuck:
@@ -226,14 +235,7 @@ class _Link:
         try:
             codec.send_frame(session, {"export": list(names)})
             while True:
-                remaining = deadline - time.monotonic()
-                if remaining <= 0:
-                    raise TimeoutError
-                session.settimeout(remaining)
-                message = codec.receive_frame(session)
-                if not isinstance(message, dict):
-                    self.release()
-                    raise AnswerError("the student's kernel closed the call channel")
+                message = self._next_message(session, deadline, "the student's kernel closed the call channel")
                 if message.get("done"):
                     return out
                 if message.get("name") in names and isinstance(message.get("entry"), dict):
