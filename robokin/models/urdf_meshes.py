@@ -15,7 +15,13 @@ colour, and decimated with quadric edge collapse (`fast-simplification
 <https://github.com/pyvista/fast-simplification>`_) to a total of about
 ``max_bytes`` of float32 vertices and uint32 triangle indices, so that a static
 page that shows the robot stays small. Results are cached: a robot's meshes are
-read once per process. A mesh file that cannot be read is skipped with one
+read once per process. For the robots the book draws
+(:data:`~robokin.models.mesh_store.STORED_ROBOTS`: UR10, Baxter, Panda, Kinova, at the
+default budget) the result is stored in the package (``robokin/models/mesh_data``,
+written by ``python tools/build_meshes.py``) and read from there when the installed
+URDF and mesh files are the ones it was computed from (:mod:`robokin.models.mesh_store`);
+that takes milliseconds instead of seconds and imports neither trimesh nor the URDF
+parser. A mesh file that cannot be read is skipped with one
 :class:`~robokin.errors.MeshWarning` naming it; the frames it belongs to are
 listed in :attr:`RobotMeshes.unreadable` (the views draw them as a stick figure).
 
@@ -36,12 +42,16 @@ from typing import Any
 import numpy as np
 
 from robokin.errors import DomainError, MeshWarning, URDFNotFoundError
+from robokin.chains import SerialChain
 from robokin.models.urdf import from_urdf, parse_urdf, quiet_yourdfpy
-from robokin.models.mesh_files import MeshRoot, allowed_roots, resolve_mesh_file
+from robokin.models.mesh_files import MeshRoot, allowed_roots, known_packages, resolve_mesh_file
+from robokin.models.mesh_store import (BUILD_COMMAND, STORED_ROBOTS, MeshRecord, StaleMeshData, chain_arrays,
+                                       read_record, record_chain, stored_robot)
 from robokin.models.urdf_tree import chain_path, link_tree, name_list, root_poses
 
-__all__ = ["visual_meshes", "VisualMesh", "RobotMeshes", "DEFAULT_MESH_BYTES", "DEFAULT_MESH_COLOR",
-           "MAX_MESH_FILE_BYTES", "MAX_SOURCE_TRIANGLES"]
+__all__ = ["visual_meshes", "visual_chain", "VisualMesh", "RobotMeshes", "DEFAULT_MESH_BYTES",
+           "DEFAULT_MESH_COLOR", "MAX_MESH_FILE_BYTES", "MAX_SOURCE_TRIANGLES", "packaged_meshes", "record_meshes",
+           "mesh_record"]
 
 #: Default budget (bytes of float32 vertices + uint32 indices) of all meshes of one robot.
 DEFAULT_MESH_BYTES = 150_000
@@ -225,6 +235,7 @@ class _MeshReader:
         self.trimesh, self.urdf_file, self.roots = trimesh, urdf_file, roots
         self.triangles = 0                     # triangles read so far (all files)
         self.problems: dict[str, str] = {}     # mesh name -> why it was not read
+        self.files: list[Path] = []            # the files read (for the digests of stored meshes)
 
     def read(self, name: str) -> list[Any] | None:
         """The triangle meshes of file ``name``, or None (the reason is in :attr:`problems`)."""
@@ -257,6 +268,7 @@ class _MeshReader:
                                    f"(robokin.models.urdf_meshes.MAX_SOURCE_TRIANGLES)")
             return None
         self.triangles += count
+        self.files.append(path)
         return meshes
 
 
@@ -380,10 +392,10 @@ def _decimate(fast_simplification: Any, V: np.ndarray, F: np.ndarray, target: in
     return V, F
 
 
-# ------------------------------------------------------------------ public
-@lru_cache(maxsize=32)
-def _cached(file: str, stamp: tuple[int, int], base_link: str, tip_link: str, max_bytes: int,
-            mesh_roots: tuple[str, ...]) -> RobotMeshes:
+# ------------------------------------------------------------------ computing, or reading the stored result
+def _compute(file: str, base_link: str, tip_link: str, max_bytes: int, mesh_roots: tuple[str, ...]
+             ) -> tuple[RobotMeshes, SerialChain, list[Path]]:
+    """The meshes read and decimated, the chain ``from_urdf(file, base_link, tip_link)``, the files read."""
     trimesh, fast_simplification = _import_mesh_libraries()
     chain = from_urdf(file, base_link, tip_link)  # validates the file and the links
     where = f"URDF file {file!r}"
@@ -427,7 +439,7 @@ def _cached(file: str, stamp: tuple[int, int], base_link: str, tip_link: str, ma
         warnings.warn(MeshWarning(
             f"{where}: {len(listed)} visual mesh file(s) not drawn: {name_list(listed, limit=5, sep='; ')}. "
             f"The chain frames {name_list([frame_links[i] for i, u in enumerate(unreadable) if u])} are drawn "
-            f"as a stick figure."), stacklevel=3)
+            f"as a stick figure."), stacklevel=4)
 
     faces = [len(F) for _, _, _, F, _ in groups]
     weights = [_area(V, F) ** 0.75 for _, _, V, F, _ in groups]
@@ -451,8 +463,85 @@ def _cached(file: str, stamp: tuple[int, int], base_link: str, tip_link: str, ma
         for m in ms:
             m.vertices.setflags(write=False)
             m.faces.setflags(write=False)
-    return RobotMeshes(tuple(chain.frame_names), tuple(tuple(ms) for ms in frames),
-                       tuple(tuple(u) for u in unreadable), file, original)
+    meshes = RobotMeshes(tuple(chain.frame_names), tuple(tuple(ms) for ms in frames),
+                         tuple(tuple(u) for u in unreadable), file, original)
+    return meshes, chain, [Path(file), *reader.files]
+
+
+def _stored(file: str, base_link: str, tip_link: str, max_bytes: int, mesh_roots: tuple[str, ...]
+            ) -> MeshRecord | None:
+    """The stored record of a packaged robot's chain at the default budget; None for any other call,
+    and (with a MeshWarning) when the stored file is missing or stale."""
+    robot = None if mesh_roots or max_bytes != DEFAULT_MESH_BYTES else stored_robot(Path(file), base_link, tip_link)
+    if robot is None:
+        return None
+    try:
+        return read_record(robot, max_bytes)
+    except StaleMeshData as exc:
+        warnings.warn(MeshWarning(
+            f"{exc}: computing them from the mesh files instead (a few seconds per process). "
+            f"Rebuild the stored meshes with `{BUILD_COMMAND}` (in a robokin source tree)."), stacklevel=4)
+        return None
+
+
+def record_meshes(record: MeshRecord, file: str) -> RobotMeshes:
+    """The :class:`RobotMeshes` of a stored record (``file``: the URDF file, for ``source``)."""
+    frames: list[list[VisualMesh]] = [[] for _ in record.frame_names]
+    for i, V, F, color, opacity, links in record.meshes:
+        frames[i].append(VisualMesh(V, F, color, opacity, links))
+    return RobotMeshes(record.frame_names, tuple(tuple(ms) for ms in frames),
+                       tuple(() for _ in record.frame_names), file, record.original_triangles)
+
+
+def mesh_record(meshes: RobotMeshes, chain: SerialChain, robot: str, max_bytes: int) -> MeshRecord:
+    """The record to store for the computed ``meshes`` of ``robot`` and its URDF ``chain``."""
+    if any(meshes.unreadable):
+        raise ValueError(f"{robot}: mesh files were not read ({meshes.unreadable}); they cannot be stored")
+    rows = tuple((i, m.vertices, m.faces, m.color, m.opacity, m.links)
+                 for i, ms in enumerate(meshes.frames) for m in ms)
+    return MeshRecord(robot, max_bytes, meshes.frame_names, rows, meshes.original_triangles, chain_arrays(chain))
+
+
+@lru_cache(maxsize=32)
+def _cached(file: str, stamp: tuple[int, int], base_link: str, tip_link: str, max_bytes: int,
+            mesh_roots: tuple[str, ...]) -> tuple[RobotMeshes, MeshRecord | None]:
+    record = _stored(file, base_link, tip_link, max_bytes, mesh_roots)
+    if record is not None:
+        return record_meshes(record, file), record
+    return _compute(file, base_link, tip_link, max_bytes, mesh_roots)[0], None
+
+
+def packaged_meshes(robot: str, max_bytes: int = DEFAULT_MESH_BYTES
+                    ) -> tuple[RobotMeshes, SerialChain, list[Path]]:
+    """The meshes of a robot of :data:`~robokin.models.mesh_store.STORED_ROBOTS`, computed afresh.
+
+    What ``python tools/build_meshes.py`` stores, and what the test of the stored
+    files compares them with. The stored files are not read.
+
+    Parameters
+    ----------
+    robot : str
+        A name of :data:`~robokin.models.mesh_store.STORED_ROBOTS`.
+    max_bytes : int, optional
+        The budget (default :data:`DEFAULT_MESH_BYTES`, the one stored).
+
+    Returns
+    -------
+    meshes : RobotMeshes
+        As :func:`visual_meshes` computes them.
+    chain : SerialChain
+        ``from_urdf(file, base_link, tip_link)``.
+    files : list of pathlib.Path
+        The URDF file and the mesh files read (their digests are stored).
+    """
+    if robot not in STORED_ROBOTS:
+        raise DomainError(f"robot must be one of {sorted(STORED_ROBOTS)}; got {robot!r}")
+    relative, base_link, tip_link = STORED_ROBOTS[robot]
+    roots = known_packages()
+    if not roots:
+        raise ImportError(f"the meshes of {robot!r} need example-robot-data, which is not installed: {_INSTALL}")
+    file = (roots[0].folder / "robots" / relative).resolve()
+    return _compute(str(file), base_link, tip_link, max_bytes, ())
 
 
 def visual_meshes(path: str | os.PathLike, base_link: str, tip_link: str, *,
@@ -491,7 +580,10 @@ def visual_meshes(path: str | os.PathLike, base_link: str, tip_link: str, *,
         the chain -- the frames of ``chain.frames(q)``: visuals of the frame's
         link and of the links fixed to it, one mesh per colour. Colours: the
         mesh file's own (a ``.dae`` material), else the URDF ``<material>``,
-        else grey. Cached per file, links and budget.
+        else grey. Cached per file, links and budget; for the robots of
+        :data:`~robokin.models.mesh_store.STORED_ROBOTS` at the default budget and
+        without ``mesh_roots``, read from the files stored in the package (the
+        same arrays, a test checks).
 
     Raises
     ------
@@ -510,6 +602,10 @@ def visual_meshes(path: str | os.PathLike, base_link: str, tip_link: str, *,
         :data:`MAX_MESH_FILE_BYTES` (16 MB), or past :data:`MAX_SOURCE_TRIANGLES`
         (10⁶ triangles for the whole robot, before decimation). They are skipped,
         named with the reason, and their frames listed in ``result.unreadable``.
+        Also when the stored meshes of a packaged robot are missing or were
+        computed from other files than the installed example-robot-data's: the
+        warning names the file and ``python tools/build_meshes.py``, and the
+        meshes are computed from the mesh files instead (never a stale mesh).
 
     Notes
     -----
@@ -547,4 +643,30 @@ def visual_meshes(path: str | os.PathLike, base_link: str, tip_link: str, *,
         if not Path(r).is_dir():
             raise DomainError(f"mesh_roots: {r!r} is not a folder")
     st = file.stat()
-    return _cached(str(file), (st.st_mtime_ns, st.st_size), base_link, tip_link, int(max_bytes), roots)
+    return _cached(str(file), (st.st_mtime_ns, st.st_size), base_link, tip_link, int(max_bytes), roots)[0]
+
+
+def visual_chain(path: str | os.PathLike, base_link: str, tip_link: str) -> SerialChain:
+    """The chain ``from_urdf(path, base_link, tip_link)`` whose frames :func:`visual_meshes` uses.
+
+    For a robot whose meshes are stored in the package
+    (:data:`~robokin.models.mesh_store.STORED_ROBOTS`, unchanged source files) it
+    is rebuilt from the stored elements (identical to ``from_urdf``'s, a test
+    checks) without importing the URDF parser; otherwise it is ``from_urdf``'s.
+
+    Parameters
+    ----------
+    path, base_link, tip_link
+        As for :func:`visual_meshes` (call that first: it checks them).
+
+    Returns
+    -------
+    SerialChain
+    """
+    file = Path(os.fsdecode(os.fspath(path))).resolve()
+    if file.is_file():
+        st = file.stat()
+        record = _cached(str(file), (st.st_mtime_ns, st.st_size), base_link, tip_link, DEFAULT_MESH_BYTES, ())[1]
+        if record is not None:
+            return record_chain(record)
+    return from_urdf(path, base_link, tip_link)

@@ -17,8 +17,8 @@ import numpy as np
 
 from robokin.chains.protocol import DrawableChain
 from robokin.errors import DomainError, ShapeError
-from robokin.models.urdf import ROBOT_DESCRIPTIONS, from_urdf, robot_description
-from robokin.models.urdf_meshes import DEFAULT_MESH_BYTES, RobotMeshes, VisualMesh, visual_meshes
+from robokin.models.urdf import ROBOT_DESCRIPTIONS, robot_description
+from robokin.models.urdf_meshes import DEFAULT_MESH_BYTES, RobotMeshes, VisualMesh, visual_chain, visual_meshes
 
 __all__ = ["robot_meshes"]
 
@@ -93,7 +93,7 @@ def robot_meshes(urdf: str | os.PathLike, chain: DrawableChain, *, base_link: st
                         "frame_names")
     meshes = visual_meshes(path, base_link, tip_link,
                            max_bytes=DEFAULT_MESH_BYTES if max_bytes is None else max_bytes)
-    ref = from_urdf(path, base_link, tip_link)
+    ref = visual_chain(path, base_link, tip_link)  # from_urdf's chain (stored for the packaged robots)
     n = int(chain.n)
     if n != ref.n:
         raise DomainError(f"chain has {n} joints but the URDF chain from {base_link!r} to {tip_link!r} has "
