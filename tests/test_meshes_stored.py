@@ -192,3 +192,13 @@ def test_package_data_ships_the_stored_files():
     assert '"models/mesh_data/*.npz"' in text
     for robot in STORED_ROBOTS:
         assert zipfile.is_zipfile(data_file(robot, DEFAULT_MESH_BYTES))
+
+
+def test_a_copy_of_a_packaged_urdf_is_not_stored(fresh, tmp_path):
+    """Another file (the "your robot" path) goes through from_urdf and the full pipeline, never the store."""
+    _, chain, files = fresh["ur10"]
+    copy = tmp_path / "ur10_robot.urdf"
+    shutil.copyfile(files[0], copy)
+    _, base, tip = STORED_ROBOTS["ur10"]
+    assert stored_robot(copy.resolve(), base, tip) is None
+    assert repr(visual_chain(copy, base, tip).elements) == repr(chain.elements)

@@ -118,7 +118,7 @@ def test_mesh_commands_are_deterministic_and_shared_between_scenes():
         return scene.commands()
 
     first = pack_commands(build(q0))
-    urdf_meshes._cached.cache_clear()                          # read and decimate the files again
+    urdf_meshes._cached.cache_clear()                          # read the meshes again (stored: test_meshes_stored)
     assert pack_commands(build(q0)) == first                   # identical bytes
     a, b = _mesh_commands(build(q0)), _mesh_commands(build(q1))
     assert len(a) >= 7

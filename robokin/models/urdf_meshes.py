@@ -504,11 +504,11 @@ def mesh_record(meshes: RobotMeshes, chain: SerialChain, robot: str, max_bytes: 
 
 @lru_cache(maxsize=32)
 def _cached(file: str, stamp: tuple[int, int], base_link: str, tip_link: str, max_bytes: int,
-            mesh_roots: tuple[str, ...]) -> tuple[RobotMeshes, MeshRecord | None]:
+            mesh_roots: tuple[str, ...]) -> RobotMeshes:
     record = _stored(file, base_link, tip_link, max_bytes, mesh_roots)
     if record is not None:
-        return record_meshes(record, file), record
-    return _compute(file, base_link, tip_link, max_bytes, mesh_roots)[0], None
+        return record_meshes(record, file)
+    return _compute(file, base_link, tip_link, max_bytes, mesh_roots)[0]
 
 
 def packaged_meshes(robot: str, max_bytes: int = DEFAULT_MESH_BYTES
@@ -643,7 +643,7 @@ def visual_meshes(path: str | os.PathLike, base_link: str, tip_link: str, *,
         if not Path(r).is_dir():
             raise DomainError(f"mesh_roots: {r!r} is not a folder")
     st = file.stat()
-    return _cached(str(file), (st.st_mtime_ns, st.st_size), base_link, tip_link, int(max_bytes), roots)[0]
+    return _cached(str(file), (st.st_mtime_ns, st.st_size), base_link, tip_link, int(max_bytes), roots)
 
 
 def visual_chain(path: str | os.PathLike, base_link: str, tip_link: str) -> SerialChain:
@@ -664,9 +664,11 @@ def visual_chain(path: str | os.PathLike, base_link: str, tip_link: str) -> Seri
     SerialChain
     """
     file = Path(os.fsdecode(os.fspath(path))).resolve()
-    if file.is_file():
-        st = file.stat()
-        record = _cached(str(file), (st.st_mtime_ns, st.st_size), base_link, tip_link, DEFAULT_MESH_BYTES, ())[1]
-        if record is not None:
-            return record_chain(record)
-    return from_urdf(path, base_link, tip_link)
+    robot = stored_robot(file, base_link, tip_link) if file.is_file() else None
+    record = None
+    if robot is not None:
+        try:
+            record = read_record(robot, DEFAULT_MESH_BYTES)
+        except StaleMeshData:
+            record = None  # visual_meshes warned (MeshWarning) and read the mesh files; read the URDF too
+    return from_urdf(path, base_link, tip_link) if record is None else record_chain(record)
