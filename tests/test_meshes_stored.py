@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import importlib.metadata
 import json
+import os
+import platform
 import shutil
 import subprocess
 import sys
@@ -202,3 +204,27 @@ def test_a_copy_of_a_packaged_urdf_is_not_stored(fresh, tmp_path):
     _, base, tip = STORED_ROBOTS["ur10"]
     assert stored_robot(copy.resolve(), base, tip) is None
     assert repr(visual_chain(copy, base, tip).elements) == repr(chain.elements)
+
+
+@pytest.mark.other_machines
+@pytest.mark.skipif(platform.machine().lower() not in ("x86_64", "amd64"), reason="OpenBLAS kernel names of x86-64")
+def test_stored_meshes_equal_a_computation_with_another_blas_kernel(tmp_path):
+    """The pipeline rounds the vertices to a grid before decimating (urdf_meshes._snap), so a CPU whose
+    BLAS rounds the transforms differently (here OpenBLAS's baseline Prescott kernel) gives the same
+    meshes: the stored files are right on every machine, not only on the one that wrote them."""
+    script = """
+import numpy as np
+from robokin.models.mesh_store import STORED_ROBOTS, read_record
+from robokin.models.urdf_meshes import DEFAULT_MESH_BYTES, packaged_meshes
+for robot in STORED_ROBOTS:
+    meshes = packaged_meshes(robot)[0]
+    now = [(i, m.vertices, m.faces) for i, ms in enumerate(meshes.frames) for m in ms]
+    then = read_record(robot, DEFAULT_MESH_BYTES).meshes
+    same = len(now) == len(then) and all(a[0] == b[0] and np.array_equal(a[1], b[1]) and np.array_equal(a[2], b[2])
+                                         for a, b in zip(now, then))
+    print(robot, same)
+"""
+    env = {**os.environ, "OPENBLAS_CORETYPE": "Prescott", "OPENBLAS_NUM_THREADS": "1"}
+    out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, check=True, cwd=ROOT,
+                         env=env)
+    assert out.stdout.split() == [w for robot in STORED_ROBOTS for w in (robot, "True")], out.stdout + out.stderr

@@ -69,6 +69,7 @@ MAX_SOURCE_TRIANGLES = 1_000_000
 
 _INSTALL = "pip install 'robokin[robots]'"
 _MIN_FACES = 16  # a colour group keeps at least this many triangles (when it has them)
+_GRID = 2.0 ** 0.5 * 1e7  # vertices are rounded to 1/_GRID m before decimation (_snap)
 
 
 # ------------------------------------------------------------------ results
@@ -312,6 +313,24 @@ def _rgba_int(color: int) -> tuple[int, int, int, int]:
 
 
 # ------------------------------------------------------------------ decimation
+def _snap(V: np.ndarray) -> np.ndarray:
+    """Vertices rounded to a grid of step ``1 / _GRID`` m (71 nm) before merging and decimating.
+
+    The transforms before this point (trimesh's scene graph, the link poses, the
+    matrix products) go through BLAS, whose last bits differ between CPU kernels
+    (``OPENBLAS_CORETYPE``), and decimation turns a one-ulp difference into another
+    triangulation. Rounding to a fixed grid (far below what a picture shows; the
+    result is float32 anyway) removes those bits, so that the result is the same on
+    every machine and the stored meshes (:mod:`robokin.models.mesh_store`) equal a
+    fresh computation anywhere. The step is irrational (``√2·10⁷`` steps per metre)
+    so that no float32 (STL) or decimal (URDF) coordinate lies on a rounding
+    midpoint, where an ulp decides: with a power-of-two step, half the float32
+    coordinates of an STL file do. What is left is a coordinate within an ulp of a
+    midpoint by chance, about one in 10⁹.
+    """
+    return np.round(np.asarray(V, dtype=float) * _GRID) / _GRID
+
+
 def _merge(trimesh: Any, parts: list[tuple[np.ndarray, np.ndarray]]) -> tuple[np.ndarray, np.ndarray]:
     Vs, Fs, offset = [], [], 0
     for V, F in parts:
@@ -427,7 +446,7 @@ def _compute(file: str, base_link: str, tip_link: str, max_bytes: int, mesh_root
                     for V, F, rgba in parts:
                         original += len(F)
                         entry = by_color.setdefault(rgba, ([], []))
-                        entry[0].append((V @ T[:3, :3].T + T[:3, 3], F))
+                        entry[0].append((_snap(V @ T[:3, :3].T + T[:3, 3]), F))
                         if link not in entry[1]:
                             entry[1].append(link)
             for rgba, (pieces, owners) in by_color.items():
