@@ -600,7 +600,7 @@ def visual_meshes(path: str | os.PathLike, base_link: str, tip_link: str, *,
         link and of the links fixed to it, one mesh per colour. Colours: the
         mesh file's own (a ``.dae`` material), else the URDF ``<material>``,
         else grey. Cached per file, links and budget; for the robots of
-        :data:`~robokin.models.mesh_store.STORED_ROBOTS` at the default budget and
+        ``robokin.models.mesh_store.STORED_ROBOTS`` at the default budget and
         without ``mesh_roots``, read from the files stored in the package (the
         same arrays, a test checks).
 
