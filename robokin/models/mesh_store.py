@@ -26,6 +26,7 @@ it does not compute meshes.
 from __future__ import annotations
 
 import hashlib
+import zipfile
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
@@ -207,8 +208,14 @@ def write_record(record: MeshRecord, sources: list[Path]) -> Path:
     }
     path = data_file(record.robot, record.max_bytes)
     path.parent.mkdir(parents=True, exist_ok=True)
-    with open(path, "wb") as out:  # np.savez_compressed(path) would add ".npz" to another suffix
-        np.savez_compressed(out, **arrays)
+    # what np.savez_compressed writes, with a fixed date on every member: the same meshes give
+    # the same bytes, so a rebuild that changes nothing shows no change in git
+    with zipfile.ZipFile(path, "w", compression=zipfile.ZIP_DEFLATED) as archive:
+        for name, value in arrays.items():
+            member = zipfile.ZipInfo(f"{name}.npy", date_time=(1980, 1, 1, 0, 0, 0))
+            member.compress_type = zipfile.ZIP_DEFLATED
+            with archive.open(member, "w", force_zip64=True) as out:
+                np.lib.format.write_array(out, np.asanyarray(value), allow_pickle=False)
     return path
 
 
