@@ -3,9 +3,10 @@
 In a temporary copy of the repository: ``tools/new_chapter.py`` creates chapter
 ``scara``; then the parts of ``make test`` that concern a chapter run on it there:
 nbval (stored outputs equal a fresh run), the notebook conventions, the table of
-contents, the robustness suite's coverage of its new check, the contracts of its
+contents, the robustness suite's coverage of its new check, its grading mutations
+(the graded test rejects the scaffold's wrong answer), the contracts of its
 student edition, and nbgrader (student edition, blank = 0, solution = full marks,
-the typical mistake diagnosed).
+the typical mistake diagnosed). They run in ONE pytest process (``CHAPTER_TESTS``).
 """
 
 from __future__ import annotations
