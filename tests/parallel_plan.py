@@ -58,6 +58,8 @@ ESTIMATES = [
     (r"test_grading_mutations\.py", 15.0),
     (r"test_live_jupyter\.py", 20.0),
     (r"test_untrusted_urdf\.py::test_deep_child_first_chain", 13.0),
+    (r"^module:tests/test_meshes_stored\.py$", 14.0),
+    (r"test_meshes_stored\.py::test_stored_meshes_equal_a_computation_with_another", 11.0),
     (r"^nbval:", 8.0),
     (r"test_reexecution\.py", 7.0),
     (r"test_lint\.py::test_mypy", 9.0),   # no .mypy_cache yet in a fresh clone
