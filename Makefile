@@ -1,6 +1,8 @@
 # robokin workbook — set-up, book, tests.
 #
-#   make book    build the book (creates .venv and installs everything on first use)
+#   make book    build the book (creates .venv and installs everything on first use) from
+#                the outputs stored in the notebooks: it executes nothing (make execute
+#                computes them; nbval in make test fails when one differs from a fresh run)
 #   make book EDITION=student   the student edition of the book (no solutions) in _build/student/
 #   make student the student edition of every chapter and the nbgrader course (_build/nbgrader/)
 #   make test    run the complete test suite on two cores (same set-up on first use)
@@ -22,8 +24,9 @@ STAMP  := $(VENV)/.installed
 HTML   := _build/html
 
 # EDITION=instructor (default): the book with collapsed solutions, in _build/html.
-# EDITION=student: the same pages without solutions (stored outputs, nothing executed),
-# in _build/student/_build/html.
+# EDITION=student: the same pages without solutions, in _build/student/_build/html.
+# Neither edition executes a notebook (_config.yml, execute_notebooks: "off"): executing
+# them again would compute the outputs `make execute` stored and nbval checks.
 EDITION ?= instructor
 ifeq ($(EDITION),student)
 BOOK_HTML := _build/student/_build/html
@@ -58,13 +61,12 @@ $(STAMP): requirements.txt constraints.txt pyproject.toml | check-python
 	@touch $(STAMP)
 
 book: $(STAMP)
-	@echo "== Building the $(EDITION) edition of the book (notebooks are executed only when their code changed) =="
+	@echo "== Building the $(EDITION) edition of the book from the notebooks' stored outputs (make execute computes them) =="
 	@rm -f $(BOOK_HTML)/.complete
 	@ROBOKIN_EDITION=$(EDITION) $(BIN)/jupyter-book build . -W -n --keep-going $(BOOK_OPTS) || { \
 	  rm -rf $(BOOK_HTML); \
 	  echo "ERROR [book]: the build failed; $(BOOK_HTML) was removed so that no half-built book is left."; \
-	  echo "Fix: read the first error above (a notebook cell that raised, a broken reference, a warning);"; \
-	  echo "     the log of a failed notebook is in $(BOOK_HTML)/reports/ during the build."; exit 1; }
+	  echo "Fix: read the first error above (a broken reference or citation, a warning)."; exit 1; }
 	@touch $(BOOK_HTML)/.complete
 	@echo ""
 	@echo "The book ($(EDITION) edition) is ready. Open this file in your browser:"

@@ -3,15 +3,17 @@
 In a temporary copy of the repository: ``tools/new_chapter.py`` creates chapter
 ``scara``; then the parts of ``make test`` that concern a chapter run on it there:
 nbval (stored outputs equal a fresh run), the notebook conventions, the table of
-contents, the robustness suite's coverage of its new check, the contracts of its
+contents, the robustness suite's coverage of its new check, its grading mutations
+(the graded test rejects the scaffold's wrong answer), the contracts of its
 student edition, and nbgrader (student edition, blank = 0, solution = full marks,
-the typical mistake diagnosed).
+the typical mistake diagnosed). They run in ONE pytest process (``CHAPTER_TESTS``).
 """
 
 from __future__ import annotations
 
 import json
 import os
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -45,12 +47,6 @@ def new_chapter(tmp_path_factory) -> Path:
     return copy
 
 
-def _pytest(copy: Path, *args: str, env: dict | None = None) -> subprocess.CompletedProcess:
-    environ = dict(os.environ, PYTHONPATH=str(copy), **(env or {}))
-    return subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", *args], cwd=copy,
-                          env=environ, capture_output=True, text=True, timeout=900)
-
-
 def test_scaffold_writes_every_place_of_a_chapter(new_chapter):
     nb = new_chapter / "notebooks" / "07_scara.ipynb"
     assert nb.is_file() and (new_chapter / "robokin" / "check" / "scara.py").is_file()
@@ -67,20 +63,98 @@ def test_scaffold_writes_every_place_of_a_chapter(new_chapter):
     assert again.returncode != 0 and "exists already" in again.stderr
 
 
-def test_new_chapter_passes_the_chapter_tests(new_chapter):
-    proc = _pytest(new_chapter, "notebooks/07_scara.ipynb", "tests/test_notebook_conventions.py",
-                   "tests/test_check_solutions.py", "-k", "scara or solution or set or there_are",
-                   "tests/test_book.py::test_every_notebook_is_in_the_toc")
-    assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-2000:]
-    proc = _pytest(new_chapter, "tests/test_robustness_fuzz.py", "-k", "scara or every_public_entry_point")
-    assert proc.returncode == 0, proc.stdout[-3000:]
+#: What runs in the copy, per file (or test): the pytest ``-k`` expression of its tests
+#: there (None: all of them). One pytest process runs them all (``-k`` of the union,
+#: each part restricted to its own file); ``ROBOKIN_NBGRADER_NOTEBOOKS`` (read by the
+#: nbgrader and mutation tests only) names a folder holding the new chapter alone.
+CHAPTER_TESTS = {
+    "notebooks/07_scara.ipynb": None,   # nbval: stored outputs equal a fresh run
+    "tests/test_notebook_conventions.py": "scara or solution or set or there_are",
+    "tests/test_check_solutions.py": None,
+    "tests/test_book.py::test_every_notebook_is_in_the_toc": None,
+    "tests/test_robustness_fuzz.py": "scara or every_public_entry_point",
+    "tests/test_grading_mutations.py": "scara",
+    "tests/test_nbgrader.py": "scara or metadata",
+}
+NBGRADER_PART = "tests/test_nbgrader.py"
 
 
-def test_new_chapter_is_graded_by_nbgrader(new_chapter, tmp_path):
-    only = tmp_path / "notebooks"
+def _keyword(selection: str) -> str:
+    """The ``-k`` term that keeps a test of ``selection`` (a file, a file's test) and no other."""
+    return selection.rsplit("::", 1)[1] if "::" in selection else selection.rsplit("/", 1)[1]
+
+
+def selection_expression(selections: dict[str, str | None]) -> str:
+    """One ``-k`` expression: per file, the tests its own expression selects."""
+    terms = [_keyword(selection) if expression is None else f"({_keyword(selection)} and ({expression}))"
+             for selection, expression in selections.items()]
+    return " or ".join(terms)
+
+
+@pytest.fixture(scope="module")
+def chapter_suite(new_chapter, tmp_path_factory) -> dict[str, dict[str, str]]:
+    """Run the chapter's part of the suite in the copy, in one pytest process.
+
+    Returns ``{selection: {node id: outcome}}`` (``PASSED``, ``FAILED``, ``ERROR``,
+    ``SKIPPED``, ...: pytest's ``-rA`` summary) and, under ``"log"``, the end of its output.
+    """
+    only = tmp_path_factory.mktemp("new_chapter_alone") / "notebooks"
     only.mkdir()
     (only / "07_scara.ipynb").write_bytes((new_chapter / "notebooks" / "07_scara.ipynb").read_bytes())
-    proc = _pytest(new_chapter, "tests/test_nbgrader.py", "-k", "scara or metadata",
-                   env={"ROBOKIN_NBGRADER_NOTEBOOKS": str(only)})
-    assert proc.returncode == 0, proc.stdout[-4000:] + proc.stderr[-2000:]
-    assert " passed" in proc.stdout and " failed" not in proc.stdout
+    environ = dict(os.environ, PYTHONPATH=str(new_chapter), ROBOKIN_NBGRADER_NOTEBOOKS=str(only))
+    files = list(dict.fromkeys(selection.split("::", 1)[0] for selection in CHAPTER_TESTS))
+    proc = subprocess.run([sys.executable, "-m", "pytest", "-q", "-rA", "--color=no", "-p", "no:cacheprovider",
+                           *files, "-k", selection_expression(CHAPTER_TESTS)],
+                          cwd=new_chapter, env=environ, capture_output=True, text=True, timeout=1800)
+    log = proc.stdout[-4000:] + proc.stderr[-2000:]
+    assert proc.returncode in (0, 1), f"pytest could not run the chapter's tests (exit {proc.returncode}):\n{log}"
+    outcomes: dict[str, dict[str, str]] = {selection: {} for selection in CHAPTER_TESTS}
+    for line in proc.stdout.splitlines():
+        match = SUMMARY_LINE.match(line) or SKIPPED_LINE.match(line)
+        if match is None:
+            continue
+        outcome, node, detail = match.groups()
+        owner = next((s for s in CHAPTER_TESTS if node == s or node.startswith((s + "::", s + "["))), None)
+        if owner is None:   # a skipped test's line names its file (and line), so does a collection error
+            owner = next((s for s in CHAPTER_TESTS if s.split("::", 1)[0] == node), None)
+            node = line
+        if owner is None and outcome == "SKIPPED":   # skipped where a shared fixture decided (conftest.py)
+            continue
+        assert owner is not None, f"a test ran that no selection asked for: {node}\n{log}"
+        if not _problems({node: outcomes[owner].get(node, "")}):   # a failure stays: PASSED, then ERROR
+            outcomes[owner][node] = f"{outcome} {detail or ''}".strip()
+    assert any(outcomes.values()), f"no test result in the output:\n{log}"
+    assert proc.returncode == 0 or any(_problems(found) for found in outcomes.values()), (
+        f"pytest failed (exit {proc.returncode}) but no failed test was read from its summary:\n{log}")
+    outcomes["log"] = {"": log}
+    return outcomes
+
+
+#: A line of pytest's ``-rA`` summary: outcome, node id (a collection error: the file), message.
+SUMMARY_LINE = re.compile(r"^(PASSED|FAILED|ERROR|XFAIL|XPASS) (.+?)(?: - (.*))?$")
+#: ``SKIPPED [count] file:line: reason``.
+SKIPPED_LINE = re.compile(r"^(SKIPPED) \[\d+\] ([^:]+):\d+: (.*)$")
+
+
+def _problems(outcomes: dict[str, str]) -> list[str]:
+    return [f"{node}: {outcome[:500]}" for node, outcome in outcomes.items()
+            if outcome.startswith(("FAILED", "ERROR"))]
+
+
+def test_new_chapter_passes_the_chapter_tests(chapter_suite):
+    log = chapter_suite["log"][""]
+    for selection in CHAPTER_TESTS:
+        if selection == NBGRADER_PART:
+            continue
+        outcomes = chapter_suite[selection]
+        assert outcomes, f"no test of {selection} ran on the new chapter:\n{log}"
+        problems = _problems(outcomes)
+        assert not problems, f"{selection} on the new chapter:\n" + "\n".join(problems) + f"\n{log}"
+
+
+def test_new_chapter_is_graded_by_nbgrader(chapter_suite):
+    outcomes = chapter_suite[NBGRADER_PART]
+    log = chapter_suite["log"][""]
+    assert any(outcome.startswith("PASSED") for outcome in outcomes.values()), f"no nbgrader test passed:\n{log}"
+    problems = _problems(outcomes)
+    assert not problems, "nbgrader on the new chapter:\n" + "\n".join(problems) + f"\n{log}"

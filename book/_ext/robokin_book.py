@@ -6,10 +6,10 @@
   the components the book needs (core, TeX input with its extensions, CommonHTML
   output and its fonts — about 0.7 MB instead of the 1.2 MB all-in-one bundle)
   into ``_build/html/_static/mathjax/`` and points Sphinx at them.
-* **Fresh outputs after a package change.**  The execution cache re-runs a
-  notebook only when its code cells change, not when ``robokin`` does; the
-  extension therefore empties the cache when the package's source changed since
-  the last successful build, so the book never shows outputs of an older robokin.
+* **Stored outputs.**  Neither edition executes a notebook (``_config.yml``:
+  ``execute_notebooks: "off"``): the pages show the outputs stored in the
+  notebooks, which ``make execute`` computes and nbval (``make test``) proves equal
+  to a fresh run with the current robokin.
 * **Collapsed solutions.**  Code cells tagged ``solution`` are rendered inside a
   closed ``<details>`` block by ``_static/solutions.js`` (shipped from
   ``book/_static``), so a student sees the task first and opens the worked
@@ -18,8 +18,8 @@
   EDITION=student``) the solutions are not in the HTML at all: before a chapter
   notebook is parsed, its ``solution`` cells, the text between
   ``{solution-start}`` and ``{solution-end}`` and the printouts of its ``check``
-  cells are taken out. Notebooks are not executed (their stored outputs are
-  used), so the edition is built from exactly the pages of the instructor edition.
+  cells are taken out. Like the instructor edition it uses the stored outputs,
+  so it is built from exactly the pages of the instructor edition.
 * **Exercises numbered per chapter.**  sphinx-exercise numbers exercises through
   the whole book (Exercise 25 in Chapter 5); the numbers are rewritten as
   *chapter.k* (Exercise 5.2), the chapter taken from the notebook's name
@@ -38,15 +38,12 @@ import sys
 from pathlib import Path
 
 from sphinx.application import Sphinx
-from sphinx.util import logging
 from sphinx.util.nodes import make_refnode
-
-logger = logging.getLogger(__name__)
 
 # One rule for what the student edition keeps of a markdown cell, shared with nbgrader's
 # edition (tools/robokin_nbgrader.py) and its tests: tools/notebook_analysis.py.
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "tools"))
-from notebook_analysis import clear_solution_text  # noqa: E402
+from notebook_analysis import clear_solution_text
 
 #: MathJax components copied into the built book (paths relative to ``es5/``).
 MATHJAX_PARTS = (
@@ -75,57 +72,6 @@ def mathjax_source() -> Path:
     if not (root / "startup.js").is_file():  # pragma: no cover - broken install
         raise RuntimeError(f"MathJax files not found under {root}")
     return root
-
-
-CACHE_STAMP = "robokin-source.sha256"
-
-
-def package_digest() -> str:
-    """SHA-256 of every ``.py`` file of the installed robokin package (path and text)."""
-    import robokin
-
-    root = Path(robokin.__file__).resolve().parent
-    digest = hashlib.sha256()
-    for path in sorted(root.rglob("*.py")):
-        digest.update(path.relative_to(root).as_posix().encode())
-        digest.update(path.read_bytes())
-    return digest.hexdigest()
-
-
-def _cache_dir(app: Sphinx, config) -> Path | None:
-    path = getattr(config, "nb_execution_cache_path", "") or ""
-    return (Path(app.confdir) / path) if path else None
-
-
-def invalidate_stale_cache(app: Sphinx, config) -> None:
-    """Re-execute every notebook when robokin's source changed since the last build.
-
-    Empties the execution cache and drops Sphinx's saved environment (otherwise an
-    incremental build would not even re-read the notebooks).
-    """
-    if config.robokin_edition == "student":  # executes nothing, shares the cache with the other edition
-        return
-    cache = _cache_dir(app, config)
-    if cache is None:
-        return
-    stamp = cache / CACHE_STAMP
-    if stamp.is_file() and stamp.read_text().strip() == package_digest():
-        return
-    environment = Path(app.doctreedir) / "environment.pickle"
-    if cache.is_dir() or environment.is_file():
-        logger.info("[robokin] robokin changed since the last build: re-executing every notebook")
-    if cache.is_dir():
-        shutil.rmtree(cache)
-    environment.unlink(missing_ok=True)
-
-
-def stamp_cache(app: Sphinx, exception: Exception | None) -> None:
-    """Record which robokin source the cached notebook outputs were computed with."""
-    cache = _cache_dir(app, app.config)
-    if app.config.robokin_edition == "student":
-        return
-    if exception is None and cache is not None and cache.is_dir():
-        (cache / CACHE_STAMP).write_text(package_digest() + "\n")
 
 
 def configure_mathjax(app: Sphinx, config) -> None:
@@ -185,7 +131,7 @@ EDITIONS = ("instructor", "student")
 
 
 def configure_edition(app: Sphinx, config) -> None:
-    """The student edition uses the notebooks' stored outputs and says what it is."""
+    """The student edition says what it is, and never executes a notebook (whatever ``_config.yml`` says)."""
     if config.robokin_edition not in EDITIONS:
         raise ValueError(f"robokin_edition (ROBOKIN_EDITION) must be one of {EDITIONS}, "
                          f"not {config.robokin_edition!r}")
@@ -368,8 +314,6 @@ def setup(app: Sphinx) -> dict:
     # Run after myst-parser has added its own MathJax options.
     app.connect("config-inited", configure_mathjax, priority=900)
     app.connect("build-finished", copy_mathjax)
-    app.connect("config-inited", invalidate_stale_cache, priority=100)
-    app.connect("build-finished", stamp_cache)
     app.connect("html-page-context", deduplicate_scripts, priority=900)
     # After Sphinx has assigned the book-wide figure numbers (priority 500).
     app.connect("env-get-updated", number_exercises_per_chapter, priority=900)
