@@ -3,12 +3,18 @@
 Three test files grade submissions through the course's own pipeline:
 ``test_nbgrader.py`` (every chapter: blank, solutions, a typical mistake, ...),
 ``test_grading_tamper.py`` (chapter 3: tampering, delegation, a call that never
-returns) and ``test_grading_trust.py`` (chapter 3: benign noise, a crash, a hang,
-an escape from the sandbox; every other chapter: benign noise). Instead of a course and an autograde run each, they
+returns) and ``test_grading_trust.py`` (every chapter: correct work that is noisy or
+written another way, ending with a crash or a hang; chapter 3: an escape from the
+sandbox). Instead of a course and an autograde run each, they
 share one course per chapter (a gradebook of its own, so that two chapters are
 graded at a time), with one student per submission and ONE ``nbgrader autograde``
 per assignment: chapter 3's run grades the submissions of all three files, every
-other chapter's run those of test_nbgrader.py and test_grading_trust.py.
+other chapter's run those of test_nbgrader.py and test_grading_trust.py -- seven
+autograde runs in all (and the walk-through's two), as few as nbgrader allows
+(one per assignment and gradebook). Chapter 3's run, the longest (about 20
+submissions), starts first; splitting it over two courses would add a course and a
+second grading of the solutions for no shorter wall time, since the thread pool's
+other worker grades the other chapters meanwhile.
 
 :func:`graded_courses` builds them once per pytest process (session-wide: the
 tests that use them are in one pytest-xdist group, :data:`XDIST_GROUP`), for the
@@ -22,8 +28,9 @@ of run it joins (``SUITE``, or a tuple ``SUITES``): the chapters it joins
 (chapter 3 unless told), its submissions, the environment and options its
 autograde run needs, and what it does before and after the run. The options of the suites hold for every
 submission of that run (the solutions and the typical mistake too): a time
-limit per cell of ``ROBOKIN_CELL_TIMEOUT`` s (the trust suite's hang) and per
-call of a student's function (the tamper suite's never-returning call).
+limit per cell of ``ROBOKIN_CELL_TIMEOUT`` s (the trust suite's hangs: 10 s in
+chapter 3's run, 30 s in the others, whose talkative submissions have longer cells)
+and per call of a student's function (the tamper suite's never-returning call).
 """
 
 from __future__ import annotations

@@ -258,7 +258,9 @@ def bad_submission(correct: dict) -> tuple[dict, dict]:
     if tried:
         tried[0]["source"] = 'raise ValueError("my own experiment went wrong")\n' + src(tried[0])
         what["raises"] = tried[0]
-    answers[-1]["source"] = src(answers[-1]) + "\nwhile True:  # never ends\n    pass\n"
+    # it sleeps: to the grader the same endless cell as a busy loop, interrupted at the time
+    # limit, but the wait costs no CPU
+    answers[-1]["source"] = src(answers[-1]) + "\nimport time\n\nwhile True:  # never ends\n    time.sleep(0.5)\n"
     cells.remove(tests[0])
     return nb, what
 

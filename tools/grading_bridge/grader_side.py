@@ -46,6 +46,8 @@ MAX_REPLY = 64_000_000
 #: whose own time limit may be as short as 10 s.
 SESSION_TIMEOUT = 10.0
 RELEASE_TIMEOUT = 3.0
+#: how an answer that was not called begins (the student's kernel still ran a call stopped earlier)
+NOT_CALLED = "not called"
 
 _BOOT = """
 import sys, types
@@ -69,6 +71,7 @@ class _Link:
         self.client.wait_for_ready(timeout=60)
         self.call_timeout = call_timeout
         self.stuck = False        # a call timed out: the student's kernel may still be busy
+        self.stopped: str | None = None   # the answer whose call was stopped at the time limit
         self.calls = 0
         self.callbacks: dict = {}  # the test's functions passed to the student's functions
         self.in_callback = False
@@ -168,12 +171,24 @@ class _Link:
         session.close()
         self.stuck = True   # until the student's kernel is seen idle (else the autograder interrupts it)
         if self._idle(self.serve_id, RELEASE_TIMEOUT):
-            self.stuck = False
+            self.stuck, self.stopped = False, None
+
+    def _busy(self) -> AnswerError:
+        """The error of a request made before the student's kernel is free again.
+
+        After a call stopped at the time limit, the grader does not call the student's
+        functions again until the autograder has interrupted that kernel (after the
+        test cell or robokin.check's verdicts): the error says which call was stopped.
+        """
+        if self.stopped is not None:
+            return AnswerError(f"{NOT_CALLED}: an earlier call of {self.stopped} took longer than "
+                               f"{self.call_timeout:g} s and was stopped")
+        return AnswerError(f"{NOT_CALLED}: the student's kernel had not finished an earlier request in time")
 
     def call(self, handle: int, arguments, answer: str):
         """Call the student's function ``handle`` with encoded arguments; its reply (a dict)."""
         if self.stuck:
-            raise AnswerError("the student's kernel is still busy with an earlier call that took too long")
+            raise self._busy()
         if self.in_callback:
             raise AnswerError("a function of the test that the student's function calls cannot call the "
                               "student's functions in turn")
@@ -195,7 +210,7 @@ class _Link:
                     return message
                 codec.send_frame(session, self._callback(message.get("callback"), message.get("args")))
         except TimeoutError:
-            self.stuck = True
+            self.stuck, self.stopped = True, answer
             raise AnswerError(f"the call took longer than {self.call_timeout:g} s and was stopped") from None
         except codec.BridgeError as exc:
             self.stuck = True
@@ -228,7 +243,7 @@ class _Link:
     def export(self, names: list[str]) -> dict:
         """The student's kernel's encoded answers ``names`` (``{name: entry}``), over the channel."""
         if self.stuck:
-            raise AnswerError("the student's kernel is still busy with an earlier call that took too long")
+            raise self._busy()
         session = self._open()
         deadline = time.monotonic() + max(self.call_timeout, 60.0)
         out: dict = {}
@@ -261,7 +276,7 @@ class _Link:
         if session is not None:
             session.close()
             self._idle(self.serve_id, RELEASE_TIMEOUT)
-        self.stuck = False
+        self.stuck, self.stopped = False, None
 
     # ------------------------------------------------------------ execute requests
     def request(self, code: str, nonce: str, timeout: float) -> dict:
@@ -272,13 +287,13 @@ class _Link:
         kept for ``tools/grading_bridge/benchmark.py``'s comparison.
         """
         if self.stuck:
-            raise AnswerError("the student's kernel is still busy with an earlier call that took too long")
+            raise self._busy()
         if self.in_callback:
             raise AnswerError("a function of the test that the student's function calls cannot call the "
                               "student's functions in turn")
         self.release()
         if self.stuck:
-            raise AnswerError("the student's kernel is still busy with an earlier call that took too long")
+            raise self._busy()
         reply = self._run(code, nonce, timeout)
         if reply is None:   # the bridge module is missing there (first use, or deleted): install it
             self._install()
