@@ -229,8 +229,8 @@ class RobokinExecute(Execute):
       killed), is restarted and the cells before are run again: only that cell is lost.
       If that fails, the cells after it are not run and their tests score 0 with the
       reason. After the last test (nothing graded follows) it is not restarted: the
-      cells after it are not run, and no score changes. The report names the incident (``resources['robokin']['incidents']``,
-      written by ``GradingIncidents``).
+      cells after it are not run, and no score changes. The report names the
+      incident (``resources['robokin']['incidents']``, written by ``GradingIncidents``).
     """
 
     viewer = Unicode("matplotlib", help="ROBOKIN_VIEWER of the grading kernel (how 3D scenes are shown)"
