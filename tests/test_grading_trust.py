@@ -614,3 +614,33 @@ def test_when_the_kernel_cannot_be_restarted_grading_stops_there():
     Manager.restart_kernel = None   # must not be called
     execute._kernel_lost(crash, 0, DeadKernelError("Kernel died"))
     assert execute._stopped is not None and not execute._stopped["replayed"]
+
+
+def test_after_the_last_test_a_lost_kernel_is_not_restarted():
+    """_kernel_lost after the last test: no restart, no replay; the report says nothing graded was lost."""
+    from nbclient.exceptions import DeadKernelError
+    from nbformat.v4 import new_code_cell, new_notebook
+    from robokin_nbgrader import GradingIncidents, RobokinExecute
+
+    class Manager:
+        stopped = False
+
+        async def restart_kernel(self, now=False):
+            raise AssertionError("the kernel must not be restarted: nothing graded comes after the cell")
+
+        async def shutdown_kernel(self, now=False):
+            Manager.stopped = now
+
+    test = new_code_cell("assert x == 1", metadata={"nbgrader": {
+        "grade": True, "solution": False, "points": 1, "grade_id": "task1_test1", "schema_version": 3}})
+    crash, after = new_code_cell("import os\nos._exit(1)"), new_code_cell("print('a plot')")
+    execute = RobokinExecute()
+    execute.nb, execute.km = new_notebook(cells=[test, crash, after]), Manager()
+    execute._report, execute._replays, execute._stopped, execute._last_code = {"incidents": []}, 0, None, 0
+    execute._kernel_lost(crash, 1, DeadKernelError("Kernel died"))
+    incident = execute._stopped
+    assert Manager.stopped and incident["nothing_after"] and not incident["replayed"] and not incident["tests_lost"]
+    assert execute.preprocess_cell(after, {}, 2)[0].outputs == []   # not run
+    nb, _ = GradingIncidents().preprocess(new_notebook(cells=[]), {"robokin": {"incidents": [incident]}})
+    assert "No test comes after it, so grading stopped there: the cells after it were not run, and no " \
+        "points were lost" in nb.cells[0].source
