@@ -46,6 +46,9 @@ MAX_REPLY = 64_000_000
 #: whose own time limit may be as short as 10 s.
 SESSION_TIMEOUT = 10.0
 RELEASE_TIMEOUT = 3.0
+#: Seconds more for a kernel whose session ended normally to go idle (:func:`status`); with
+#: RELEASE_TIMEOUT, within the shortest time limit of a grader cell (10 s)
+SETTLE_TIMEOUT = 5.0
 #: how an answer that was not called begins (the student's kernel still ran a call stopped earlier)
 NOT_CALLED = "not called"
 
@@ -406,10 +409,21 @@ def unstick() -> None:
 
 
 def status(release: bool = True) -> dict:
-    """``{"stuck", "calls"}``; first ends the call session (the student's kernel runs on)."""
-    if _LINK is not None and release:
-        _LINK.release()
-    return {"stuck": bool(_LINK and _LINK.stuck), "calls": _LINK.calls if _LINK else 0}
+    """``{"stuck", "calls"}``; first ends the call session (the student's kernel runs on).
+
+    ``stuck`` tells the autograder to interrupt the student's kernel: after a call stopped
+    at the time limit, or when that kernel is still busy. A session that ended normally
+    may take a while to end there (a student's function that printed thousands of lines):
+    the kernel is then given :data:`SETTLE_TIMEOUT` s more to go idle, as an interrupt
+    sent to a kernel about to go idle would stop the next cell it runs.
+    """
+    link = _LINK
+    if link is not None and release:
+        link.release()
+        if link.stuck and link.stopped is None and link.serve_id is not None \
+                and link._idle(link.serve_id, SETTLE_TIMEOUT):
+            link.stuck = False
+    return {"stuck": bool(link and link.stuck), "calls": link.calls if link else 0}
 
 
 def _show_output(reply: dict) -> None:
