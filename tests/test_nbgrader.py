@@ -3,8 +3,10 @@
 Everything goes through nbgrader's real command-line tools and its sqlite
 gradebook, in temporary course directories (one per chapter, so that chapters
 are graded two at a time without sharing a database), with ONE autograde run per
-chapter that also grades the submissions of test_grading_tamper.py and
-test_grading_trust.py (chapter 3; tests/grading_course.py):
+chapter that also grades the submissions of test_grading_trust.py (every chapter)
+and test_grading_tamper.py (chapter 3; tests/grading_course.py). The student
+edition handed in unchanged (``unanswered``) is also the tamper suite's blank
+submission, graded once:
 
 1. ``generate_assignment`` makes the student edition: no line of the instructor's
    solution code is left, the stubs compile, outputs are cleared;
