@@ -39,7 +39,7 @@ import pytest
 import grading_course
 from test_nbgrader import NOTEBOOKS, Run, load, nbg, src
 
-pytestmark = grading_course.xdist_group_mark()   # the graded courses are built once, in one worker
+pytestmark = grading_course.xdist_group_mark()   # chapter 3's part of the graded courses (one xdist group)
 
 CHAPTER = "03_three_rpr"
 

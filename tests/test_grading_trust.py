@@ -72,7 +72,8 @@ import grading_course
 from benign_variants import CRASH, HANG, VARIANTS, last_try_cell, with_incident, written_another_way
 from robokin_sandbox import PACKAGE, SWITCH, sandbox_arguments, sandbox_wanted
 
-pytestmark = grading_course.xdist_group_mark()   # the graded courses are built once, in one worker
+# The tests that read a run are marked with its part of the graded courses (one xdist group each):
+# grading_course.reads(CHAPTER) for chapter 3's, chapter_params for the others.
 
 CHAPTER = "03_three_rpr"
 TIMEOUT = 10          # seconds per cell: the hang is killed after it (+ nbclient's 4 s for the interrupt)
@@ -335,6 +336,7 @@ def _full_marks(run: Run, student: str) -> None:
 
 
 # ---------------------------------------------------------------- benign submissions
+@grading_course.reads(CHAPTER)
 def test_logging_warnings_and_stderr_keep_full_marks(trusted):
     _full_marks(trusted, "noisy")
     page = trusted.feedback["noisy"]
@@ -343,6 +345,7 @@ def test_logging_warnings_and_stderr_keep_full_marks(trusted):
     assert "not counted as a failure" in _report(page)
 
 
+@grading_course.reads(CHAPTER)
 def test_a_number_shown_by_a_hook_sets_no_score(trusted):
     """nbgrader reads a test's first result as partial credit: the hook shows 0.0 under every cell."""
     _full_marks(trusted, "noisy")
@@ -363,7 +366,7 @@ WRONG = ("What `robokin.check` says", "Where to start", "Notes on running your n
          "For review by hand", "Answers the grader could not use", "Not run")
 
 
-@pytest.mark.parametrize("chapter", [c for c in CHAPTERS if c != CHAPTER])
+@pytest.mark.parametrize("chapter", grading_course.chapter_params(c for c in CHAPTERS if c != CHAPTER))
 def test_talkative_solutions_keep_full_marks(request, tmp_path_factory, chapter):
     """Every chapter's solutions, logging, warning and printing to stderr in every answer and call."""
     _require_bwrap()
@@ -402,7 +405,7 @@ def _kernel_died_in_the_last_try_cell(run: Run, student: str, report: str) -> No
         assert "restarted" not in report, report[:3000]
 
 
-@pytest.mark.parametrize("chapter", CHAPTERS)
+@pytest.mark.parametrize("chapter", grading_course.chapter_params(CHAPTERS))
 def test_correct_answers_written_another_way_keep_full_marks(request, tmp_path_factory, chapter):
     """Every chapter's solutions with answers computed by another valid method, other
     intermediate names (tests/benign_variants.py), ending with a hang in the last ungraded cell."""
@@ -426,11 +429,13 @@ def test_correct_answers_written_another_way_keep_full_marks(request, tmp_path_f
         assert "ran longer than the time limit and was stopped" in report, report[:3000]
 
 
+@grading_course.reads(CHAPTER)
 def test_kernel_that_dies_in_an_ungraded_cell(trusted):
     _full_marks(trusted, "noisy")
     _kernel_died_in_the_last_try_cell(trusted, "noisy", _report(trusted.feedback["noisy"]))
 
 
+@grading_course.reads(CHAPTER)
 def test_kernel_that_ignores_the_interrupt_is_killed(trusted):
     _full_marks(trusted, "hang")
     report = _report(trusted.feedback["hang"])
@@ -468,12 +473,14 @@ def test_tests_after_a_lost_kernel_score_zero_and_say_why():
 
 
 # ---------------------------------------------------------------- the sandbox
+@grading_course.reads(CHAPTER)
 def test_without_bwrap_autograde_refuses_and_names_the_package(trusted):
     code, output = trusted.refused
     assert code != 0
     assert f"install the Debian/Ubuntu package '{PACKAGE}'" in output and SWITCH in output
 
 
+@grading_course.reads(CHAPTER)
 def test_nothing_is_written_outside_the_submission_folder(trusted):
     for target in _outside_targets(trusted.course):
         assert not target.exists(), f"the submission wrote {target}"
@@ -488,11 +495,13 @@ def test_nothing_is_written_outside_the_submission_folder(trusted):
         assert f"WRITE-BLOCKED {target}" in page, f"{target}: the write was not refused"
 
 
+@grading_course.reads(CHAPTER)
 def test_the_graders_environment_is_not_passed_on(trusted):
     page = trusted.feedback["escape"]
     assert "TOKEN absent" in page and TOKEN not in page
 
 
+@grading_course.reads(CHAPTER)
 def test_the_instructors_files_are_not_readable(trusted):
     page = trusted.feedback["escape"]
     assert "SECRET-READ" not in page and page.count("SECRET-BLOCKED") == 3
@@ -507,6 +516,7 @@ def test_the_instructors_files_are_not_readable(trusted):
     _full_marks(trusted, "escape")
 
 
+@grading_course.reads(CHAPTER)
 def test_a_process_left_behind_dies_with_the_kernel(trusted):
     assert trusted.alive_before is not None, "the detached process never ran (the test tests nothing)"
     assert trusted.alive_after == trusted.alive_before, "a process started by the submission outlived grading"
