@@ -3,35 +3,47 @@
 Three test files grade submissions through the course's own pipeline:
 ``test_nbgrader.py`` (every chapter: blank, solutions, a typical mistake, ...),
 ``test_grading_tamper.py`` (chapter 3: tampering, delegation, a call that never
-returns) and ``test_grading_trust.py`` (chapter 3: benign noise, a crash, a hang,
-an escape from the sandbox; every other chapter: benign noise). Instead of a course and an autograde run each, they
+returns) and ``test_grading_trust.py`` (every chapter: correct work that is noisy or
+written another way, ending with a crash or a hang; chapter 3: an escape from the
+sandbox). Instead of a course and an autograde run each, they
 share one course per chapter (a gradebook of its own, so that two chapters are
 graded at a time), with one student per submission and ONE ``nbgrader autograde``
 per assignment: chapter 3's run grades the submissions of all three files, every
-other chapter's run those of test_nbgrader.py and test_grading_trust.py.
+other chapter's run those of test_nbgrader.py and test_grading_trust.py -- seven
+autograde runs in all (and the walk-through's two), as few as nbgrader allows
+(one per assignment and gradebook). Chapter 3's run, the longest (17
+submissions), starts first in its part; splitting it over two courses would add a
+course and a second grading of the solutions for no shorter wall time, since the
+thread pool's other thread grades the other jobs of the part meanwhile.
 
-:func:`graded_courses` builds them once per pytest process (session-wide: the
-tests that use them are in one pytest-xdist group, :data:`XDIST_GROUP`), for the
-files selected in the session: every chapter when ``test_nbgrader.py`` is
-selected or a selected file's suite joins a chapter other than 3, chapter 3 alone
-otherwise (the walk-through and the chapter without metadata with
-``test_nbgrader.py`` only). Each file sees its own submissions only (:func:`view`).
+:func:`graded_courses` grades them once per pytest process, for the files
+selected in the session: every chapter when ``test_nbgrader.py`` is selected or a
+selected file's suite joins a chapter other than 3, chapter 3 alone otherwise (the
+walk-through and the chapter without metadata with ``test_nbgrader.py`` only). The
+jobs come in two parts, one pytest-xdist group each (``nbgrader:3``: chapter 3, the
+walk-through, the chapter without metadata and chapter 5; ``nbgrader:others``), so
+that under xdist the two workers grade at once, each only the part its tests read
+(:class:`Courses` grades a part when one of its runs is first read; without xdist,
+all parts at once, in one thread pool). Each file sees its own submissions only
+(:func:`view`).
 
 A file that adds submissions to a chapter's run gives a :class:`Suite` per kind
 of run it joins (``SUITE``, or a tuple ``SUITES``): the chapters it joins
 (chapter 3 unless told), its submissions, the environment and options its
 autograde run needs, and what it does before and after the run. The options of the suites hold for every
 submission of that run (the solutions and the typical mistake too): a time
-limit per cell of ``ROBOKIN_CELL_TIMEOUT`` s (the trust suite's hang) and per
-call of a student's function (the tamper suite's never-returning call).
+limit per cell of ``ROBOKIN_CELL_TIMEOUT`` s (the trust suite's hangs: 10 s in
+chapter 3's run, 30 s in the others, whose talkative submissions have longer cells)
+and per call of a student's function (the tamper suite's never-returning call).
 """
 
 from __future__ import annotations
 
 import copy
 import importlib.util
+import os
 import threading
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -44,11 +56,48 @@ XDIST_GROUP = "nbgrader"
 SUITES = ("test_grading_tamper", "test_grading_trust")
 
 
-def xdist_group_mark() -> list:
-    """``pytestmark`` of a file that uses the shared courses: one xdist group (no mark without xdist)."""
+#: The graded courses come in two parts, one pytest-xdist group each, so that the two workers
+#: grade at once (tests/parallel_plan.py runs the groups "nbgrader:<part>" first): chapter 3
+#: (the longest run), the walk-through, the chapter without metadata and chapter 5; every
+#: other chapter. Which part a job is in changes only where it is graded, not what.
+PART_3 = f"{XDIST_GROUP}:3"
+PART_OTHERS = f"{XDIST_GROUP}:others"
+PART_3_JOBS = (CHAPTER3, "walkthrough", "unmarked", "05_baxter_circle")
+
+
+def part_of(key: str) -> str:
+    """The part (xdist group) in which the job ``key`` (a chapter, "walkthrough", "unmarked") is graded."""
+    return PART_3 if key in PART_3_JOBS else PART_OTHERS
+
+
+def part_mark(part: str) -> list:
+    """The xdist mark of the part ``part`` (none without xdist)."""
     if importlib.util.find_spec("xdist") is None:
         return []
-    return [pytest.mark.xdist_group(XDIST_GROUP)]
+    return [pytest.mark.xdist_group(part)]
+
+
+def xdist_group_mark(key: str = CHAPTER3) -> list:
+    """The xdist mark of a test that reads the job ``key``'s run (none without xdist)."""
+    return part_mark(part_of(key))
+
+
+def reads(key: str):
+    """Decorator: the test reads the run of the job ``key`` (it gets that part's xdist group).
+
+    A test has one group or none: a file whose tests read runs of both parts marks them
+    one by one (this, or :func:`chapter_params`), not with a module-wide ``pytestmark``.
+    """
+    def mark(test):
+        for group in xdist_group_mark(key):
+            test = group(test)
+        return test
+    return mark
+
+
+def chapter_params(chapters) -> list:
+    """``chapters`` as parameters, each marked with its part's xdist group."""
+    return [pytest.param(chapter, marks=xdist_group_mark(chapter)) for chapter in chapters]
 
 
 @dataclass
@@ -75,7 +124,8 @@ def module_suites(name: str) -> tuple[Suite, ...]:
 
 
 _LOCK = threading.Lock()
-_RUNS: dict | None = None
+_RUNS: dict = {}                 # job -> Run, for the parts built in this process
+_BUILT: set[str] = set()         # the parts built in this process
 
 
 def selected_files(request) -> set[str]:
@@ -83,21 +133,52 @@ def selected_files(request) -> set[str]:
     return {Path(str(item.fspath)).stem for item in request.session.items}
 
 
-def graded_courses(request, tmp_path_factory) -> dict:
-    """``{chapter or job: Run}``, built once per process (see the module's docstring)."""
-    global _RUNS
-    with _LOCK:
-        if _RUNS is None:
-            import test_nbgrader
+class Courses(Mapping):
+    """``{chapter or job: Run}`` for the jobs of this session; a part is graded when one of its
+    jobs is first read (all parts at once outside pytest-xdist, where one pool grades them all)."""
 
-            files = selected_files(request)
-            suites = [suite for name in SUITES if name in files for suite in module_suites(name)]
-            full = "test_nbgrader" in files
-            chapters = [c for c in test_nbgrader.CHAPTERS
-                        if full or c == CHAPTER3 or any(s.joins(c) for s in suites)]
-            _RUNS = test_nbgrader.grade_everything(tmp_path_factory.mktemp("nbgrader"), full=full,
-                                                   suites=suites, chapters=chapters)
-        return _RUNS
+    def __init__(self, request, tmp_path_factory) -> None:
+        import test_nbgrader
+
+        files = selected_files(request)
+        self.suites = [suite for name in SUITES if name in files for suite in module_suites(name)]
+        self.full = "test_nbgrader" in files
+        self.chapters = [c for c in test_nbgrader.CHAPTERS
+                         if self.full or c == CHAPTER3 or any(s.joins(c) for s in self.suites)]
+        self.jobs = [*self.chapters, *(("walkthrough", "unmarked") if self.full else ())]
+        self.factory = tmp_path_factory
+
+    def _build(self, parts: set[str]) -> None:
+        import test_nbgrader
+
+        with _LOCK:
+            parts -= _BUILT
+            if not parts:
+                return
+            chapters = [c for c in self.chapters if part_of(c) in parts]
+            extras = self.full and PART_3 in parts
+            _RUNS.update(test_nbgrader.grade_everything(self.factory.mktemp("nbgrader"), full=extras,
+                                                        suites=self.suites, chapters=chapters))
+            _BUILT.update(parts)
+
+    def __getitem__(self, key: str):
+        if key not in self.jobs:
+            raise KeyError(key)
+        if key not in _RUNS:
+            under_xdist = bool(os.environ.get("PYTEST_XDIST_WORKER"))
+            self._build({part_of(key)} if under_xdist else {part_of(job) for job in self.jobs})
+        return _RUNS[key]
+
+    def __iter__(self):
+        return iter(self.jobs)
+
+    def __len__(self) -> int:
+        return len(self.jobs)
+
+
+def graded_courses(request, tmp_path_factory) -> Courses:
+    """The graded courses of this session (see the module's docstring and :class:`Courses`)."""
+    return Courses(request, tmp_path_factory)
 
 
 def view(run, students, **replace):

@@ -19,7 +19,8 @@ submissions of test_nbgrader.py and test_grading_trust.py):
 * wrong answers (every answer off by 1 %, and one a generator: no plain data), plain and
   with numpy and robokin.check patched;
 * answers that are robokin's own methods (``ik = robot.inverse_kinematics``);
-* an ``ik`` that never returns when a test calls it (the call is stopped).
+* an ``ik`` that never returns when a test calls it (the call is stopped; robokin.check's
+  summary says so, and checks every other answer on its own).
 
 Expected: each tampering submission scores exactly what its untampered answers score
 (0 for blank ones), and the report does not say robokin.check finds the answers
@@ -38,7 +39,7 @@ import pytest
 import grading_course
 from test_nbgrader import NOTEBOOKS, Run, load, nbg, src
 
-pytestmark = grading_course.xdist_group_mark()   # the graded courses are built once, in one worker
+pytestmark = grading_course.xdist_group_mark()   # chapter 3's part of the graded courses (one xdist group)
 
 CHAPTER = "03_three_rpr"
 
@@ -179,7 +180,8 @@ def delegating_submission(correct: dict) -> dict:
 def submissions(run: Run, correct: dict, course) -> dict[str, dict]:
     """This file's submissions of chapter 3 (its solutions are test_nbgrader.py's ``correct``)."""
     wrong = wrong_submission(correct, run.source)
-    out = {"blank": run.release, "wrong": wrong, "delegating": delegating_submission(correct),
+    # the student edition handed in unchanged is test_nbgrader.py's "unanswered": graded once, read here
+    out = {"unanswered": run.release, "wrong": wrong, "delegating": delegating_submission(correct),
            "slow": slow_submission(correct)}
     for kind in TAMPER:
         out[f"blank_{kind}"] = tampered(run.release, kind)
@@ -263,7 +265,7 @@ def test_graded_test_outputs_come_from_the_grader_kernel(graded):
                 kinds = [o["output_type"] for o in cell["outputs"]]
                 assert "execute_result" not in kinds and "error" in kinds, (student, nbg(cell)["grade_id"], kinds)
     # the note above a failing test names its line, numbered as in the student's run
-    nb = load(graded.course / "autograded" / "blank" / CHAPTER / f"{CHAPTER}.ipynb")
+    nb = load(graded.course / "autograded" / "unanswered" / CHAPTER / f"{CHAPTER}.ipynb")
     note = next("".join(o["text"]) for c in nb["cells"] if nbg(c).get("grade_id") == "task1_test1"
                 for o in c["outputs"] if o["output_type"] == "stream")
     assert "failed at line" in note, note
@@ -357,6 +359,14 @@ def test_a_call_that_never_returns_is_stopped(graded):
     errors = [o for c in nb["cells"] if nbg(c).get("grade_id") == "task1_test1"
               for o in c["outputs"] if o["output_type"] == "error"]
     assert errors and f"took longer than {CALL_TIMEOUT} s" in errors[0]["evalue"], errors
+    # robokin.check's summary: ik's call was stopped at the limit; every other answer is checked
+    # on its own (after the interrupt), none is reported as not called or as failing for ik's call
+    report = graded.feedback["slow"]
+    summary = report.split("What `robokin.check` says about your answers", 1)[-1].split("**Where to start**")[0]
+    assert f"Calling ik(pose) raised AnswerError: the call took longer than {CALL_TIMEOUT} s and was stopped" \
+        in summary, report
+    assert "still busy" not in report and "not called" not in report, report
+    assert "ik(pose)" in summary and "A(pose)" not in summary and "fk(rho)" not in summary, summary
 
 
 def _answers_and_checks(nb: dict) -> tuple[list, dict]:

@@ -1,32 +1,42 @@
 """Grading an instructor can trust (book/for-instructors.md, "What grading guarantees").
 
-Crafted submissions of chapter 3 go through the course's own pipeline (the course
-built as in tests/test_nbgrader.py, then ``nbgrader autograde``,
-``generate_feedback`` and ``export``), all graded in ONE autograde run, chapter 3's
-run of tests/grading_course.py (with the submissions of test_nbgrader.py and
-test_grading_tamper.py):
+Crafted submissions go through the course's own pipeline (the course built as in
+tests/test_nbgrader.py, then ``nbgrader autograde``, ``generate_feedback`` and
+``export``), each in its chapter's ONE autograde run (tests/grading_course.py), with
+the submissions of test_nbgrader.py (and, for chapter 3, of test_grading_tamper.py):
 
-benign (the instructor's solutions, plus ...) -- each keeps full marks:
+benign, chapter 3 (the instructor's solutions, plus ...) -- each keeps full marks:
     ``noisy``   answers that log (``logging.warning``), warn (``RuntimeWarning``),
                 print to stderr and use helpers of their own, called by the tests,
                 and a post-run hook that shows a number (``0.0``) under every cell,
-                which nbgrader would take for partial credit;
-    ``crash``   ``os._exit(1)`` in the ungraded *Try it yourself* cell;
-    ``hang``    a loop that ignores SIGINT there (the kernel is killed at the time limit);
-                in both the kernel is restarted and the cells before are run again;
-benign, every other chapter (in that chapter's one autograde run, with test_nbgrader.py's):
+                which nbgrader would take for partial credit; and ``os._exit(1)`` at
+                the end of the ungraded *Try it yourself* cell (the kernel dies);
+    ``hang``    answers written another way (tests/benign_variants.py: other
+                intermediate names, another valid method), and a loop that ignores
+                SIGINT at the end of that cell (the kernel is killed at the time limit);
+                in both no test comes after that cell: grading stops there, with no
+                restart, and the report names the incident;
+benign, every other chapter (in that chapter's one autograde run):
     ``noisy``   the instructor's solutions, made talkative by one function
                 (:func:`talkative`): every answer cell logs and prints to stderr once,
                 and wraps each function it declares in one that logs, warns, prints to
-                stderr and calls a helper of its own on every call;
+                stderr and calls a helper of its own on every call; its kernel dies
+                (``os._exit``) at the end of the last *Try it yourself* cell -- where
+                tests follow (chapters 4 and 5), the kernel is restarted and the cells
+                before are run again, elsewhere grading stops there;
+    ``another`` answers written another way (tests/benign_variants.py), and a cell that
+                never ends at the end of the last *Try it yourself* cell (interrupted at
+                the time limit, ``OTHER_TIMEOUT`` s in these runs; the notebook goes on);
 sandbox:
     ``escape``  the solutions, and a *Try it yourself* cell that writes outside its
                 folder, reads the instructor's source notebook, the repository's
                 notebook and the gradebook and prints what it got, and leaves a
                 detached process behind that keeps trying to rewrite ``gradebook.db``.
 
-The sandbox needs ``bwrap`` (Debian package ``bubblewrap``): without it the tests
-skip locally and fail on CI (``CI=true``), which installs it (``.ci/run``).
+The hangs sleep: waiting for the time limit costs no CPU, and to the grader they are
+the same incidents as busy loops. The sandbox needs ``bwrap`` (Debian package
+``bubblewrap``): without it the tests skip locally and fail on CI (``CI=true``), which
+installs it (``.ci/run``).
 """
 
 from __future__ import annotations
@@ -59,12 +69,15 @@ from test_nbgrader import (
 sys.path.insert(0, str(ROOT / "tools"))
 
 import grading_course
+from benign_variants import CRASH, HANG, VARIANTS, last_try_cell, with_incident, written_another_way
 from robokin_sandbox import PACKAGE, SWITCH, sandbox_arguments, sandbox_wanted
 
-pytestmark = grading_course.xdist_group_mark()   # the graded courses are built once, in one worker
+# The tests that read a run are marked with its part of the graded courses (one xdist group each):
+# grading_course.reads(CHAPTER) for chapter 3's, chapter_params for the others.
 
 CHAPTER = "03_three_rpr"
 TIMEOUT = 10          # seconds per cell: the hang is killed after it (+ nbclient's 4 s for the interrupt)
+OTHER_TIMEOUT = 30    # seconds per cell in the other chapters' runs (their longest cells, with a margin)
 TOKEN = "robokin-test-token-4f1c"   # a secret in the grader's environment
 ATTACK_DELAY = 1.0    # the escape's detached process tries every ATTACK_DELAY seconds
 
@@ -108,13 +121,14 @@ def _show_zero(result):  # shows 0.0 as the result of every cell that runs after
 get_ipython().events.register("post_run_cell", _show_zero)
 '''
 
-CRASH = 'import os\n\nos._exit(1)  # my experiment killed the kernel\n'
-
-HANG = '''import signal
+#: a cell that never ends and ignores the interrupt (it sleeps: the wait for the time limit costs no
+#: CPU, and to the grader it is the same incident as a busy loop: the kernel is killed at the limit)
+HANG_IGNORING_SIGINT = '''import signal
+import time
 
 signal.signal(signal.SIGINT, signal.SIG_IGN)
 while True:  # my experiment never ends, and ignores the interrupt
-    pass
+    time.sleep(0.5)
 '''
 
 ESCAPE = '''import os
@@ -181,9 +195,8 @@ def submissions(correct: dict, course: Path) -> dict[str, dict]:
                  str(gradebook)],
         gradebook=str(gradebook), delay=ATTACK_DELAY)
     return {
-        "noisy": _with_answer_code(correct, "task1_answer1", NOISY + HOOKED),
-        "crash": _with_try_cell(correct, CRASH),
-        "hang": _with_try_cell(correct, HANG),
+        "noisy": with_incident(_with_answer_code(correct, "task1_answer1", NOISY + HOOKED), CRASH),
+        "hang": with_incident(written_another_way(correct, CHAPTER), HANG_IGNORING_SIGINT),
         "escape": _with_try_cell(correct, escape),
     }
 
@@ -280,9 +293,17 @@ SUITE = grading_course.Suite(
     before=_before, after=_after, finally_=_export)
 
 
-#: the ``noisy`` submission of every other chapter, graded in that chapter's one autograde run
+def benign_submissions(run: Run, correct: dict) -> dict[str, dict]:
+    """Every other chapter's benign submissions: talkative and crashing, written another way and hanging."""
+    return {"noisy": with_incident(talkative(correct, run.source), CRASH),
+            "another": with_incident(written_another_way(correct, run.chapter), HANG)}
+
+
+#: the benign submissions of every other chapter, graded in that chapter's one autograde run,
+#: with a time limit of OTHER_TIMEOUT s per cell (the hang waits that long)
 NOISY_SUITE = grading_course.Suite(
-    "trust-noisy", lambda run, correct, course: {"noisy": talkative(correct, run.source)},
+    "trust-benign", lambda run, correct, course: benign_submissions(run, correct),
+    environment={"ROBOKIN_CELL_TIMEOUT": str(OTHER_TIMEOUT)},
     joins=lambda chapter: chapter != CHAPTER)
 SUITES = (SUITE, NOISY_SUITE)
 
@@ -315,6 +336,7 @@ def _full_marks(run: Run, student: str) -> None:
 
 
 # ---------------------------------------------------------------- benign submissions
+@grading_course.reads(CHAPTER)
 def test_logging_warnings_and_stderr_keep_full_marks(trusted):
     _full_marks(trusted, "noisy")
     page = trusted.feedback["noisy"]
@@ -323,6 +345,7 @@ def test_logging_warnings_and_stderr_keep_full_marks(trusted):
     assert "not counted as a failure" in _report(page)
 
 
+@grading_course.reads(CHAPTER)
 def test_a_number_shown_by_a_hook_sets_no_score(trusted):
     """nbgrader reads a test's first result as partial credit: the hook shows 0.0 under every cell."""
     _full_marks(trusted, "noisy")
@@ -343,7 +366,7 @@ WRONG = ("What `robokin.check` says", "Where to start", "Notes on running your n
          "For review by hand", "Answers the grader could not use", "Not run")
 
 
-@pytest.mark.parametrize("chapter", [c for c in CHAPTERS if c != CHAPTER])
+@pytest.mark.parametrize("chapter", grading_course.chapter_params(c for c in CHAPTERS if c != CHAPTER))
 def test_talkative_solutions_keep_full_marks(request, tmp_path_factory, chapter):
     """Every chapter's solutions, logging, warning and printing to stderr in every answer and call."""
     _require_bwrap()
@@ -362,20 +385,65 @@ def test_talkative_solutions_keep_full_marks(request, tmp_path_factory, chapter)
     if any(declared_functions(c) for c in run.source["cells"] if nbg(c).get("solution")):
         assert "noisy: debugging" in page or "noisy: debugging" in json.dumps(run.autograded["noisy"]), (
             f"{chapter}: no talkative function was called (the test tests nothing)")
+    # ... and its kernel dies in its last ungraded cell (benign_variants.CRASH)
+    _kernel_died_in_the_last_try_cell(run, "noisy", report)
 
 
+def _tests_after_the_last_try_cell(source: dict) -> bool:
+    """Whether a test cell comes after the chapter's last ungraded (Try it yourself) cell."""
+    cells = [c for c in source["cells"] if c["cell_type"] == "code"]
+    last = cells.index(last_try_cell(source))
+    return any(nbg(c).get("grade") for c in cells[last + 1:])
+
+
+def _kernel_died_in_the_last_try_cell(run: Run, student: str, report: str) -> None:
+    assert "The kernel stopped" in report and "the kernel died" in report and "os._exit" in report, report[:3000]
+    if _tests_after_the_last_try_cell(run.source):   # restarted, the notebook went on: its tests ran
+        assert "The kernel was restarted and the cells before it were run again" in report, report[:3000]
+    else:   # nothing graded after it: grading stops there, with no restart and no replay
+        assert "No test comes after it, so grading stopped there" in report, report[:3000]
+        assert "restarted" not in report, report[:3000]
+
+
+@pytest.mark.parametrize("chapter", grading_course.chapter_params(CHAPTERS))
+def test_correct_answers_written_another_way_keep_full_marks(request, tmp_path_factory, chapter):
+    """Every chapter's solutions with answers computed by another valid method, other
+    intermediate names (tests/benign_variants.py), ending with a hang in the last ungraded cell."""
+    _require_bwrap()
+    run = grading_course.graded_courses(request, tmp_path_factory)[chapter]
+    if run.error:
+        pytest.fail(run.fail_message())
+    student = "hang" if chapter == CHAPTER else "another"
+    run = grading_course.view(run, [student])
+    _full_marks(run, student)
+    report = _report(run.feedback[student])
+    named = [w for w in WRONG if w.replace("`", "") in report.replace("`", "")
+             and w != "Notes on running your notebook"]
+    assert not named, f"{chapter}: the report of correct work names {named}:\n{report[:3000]}"
+    graded = json.dumps(run.autograded[student])
+    for what, code in VARIANTS[chapter].values():
+        assert code.strip().splitlines()[0] in graded, f"{chapter}: the variant ({what}) is not in the notebook"
+    if chapter == CHAPTER:   # ignores the interrupt: killed at the time limit
+        assert "ignored the interrupt" in report and "killed" in report
+    else:                    # interrupted at the time limit, the notebook runs on
+        assert "ran longer than the time limit and was stopped" in report, report[:3000]
+
+
+@grading_course.reads(CHAPTER)
 def test_kernel_that_dies_in_an_ungraded_cell(trusted):
-    _full_marks(trusted, "crash")
-    report = _report(trusted.feedback["crash"])
-    assert "The kernel stopped" in report and "the kernel died" in report and "os._exit" in report
-    assert "The kernel was restarted and the cells before it were run again" in report
+    _full_marks(trusted, "noisy")
+    _kernel_died_in_the_last_try_cell(trusted, "noisy", _report(trusted.feedback["noisy"]))
 
 
+@grading_course.reads(CHAPTER)
 def test_kernel_that_ignores_the_interrupt_is_killed(trusted):
     _full_marks(trusted, "hang")
     report = _report(trusted.feedback["hang"])
     assert "The kernel stopped" in report and "ignored the interrupt" in report and "killed" in report
-    assert "The kernel was restarted and the cells before it were run again" in report
+    if _tests_after_the_last_try_cell(trusted.source):
+        assert "The kernel was restarted and the cells before it were run again" in report
+    else:
+        assert "No test comes after it, so grading stopped there" in report and "restarted" not in report
 
 
 def test_tests_after_a_lost_kernel_score_zero_and_say_why():
@@ -405,12 +473,14 @@ def test_tests_after_a_lost_kernel_score_zero_and_say_why():
 
 
 # ---------------------------------------------------------------- the sandbox
+@grading_course.reads(CHAPTER)
 def test_without_bwrap_autograde_refuses_and_names_the_package(trusted):
     code, output = trusted.refused
     assert code != 0
     assert f"install the Debian/Ubuntu package '{PACKAGE}'" in output and SWITCH in output
 
 
+@grading_course.reads(CHAPTER)
 def test_nothing_is_written_outside_the_submission_folder(trusted):
     for target in _outside_targets(trusted.course):
         assert not target.exists(), f"the submission wrote {target}"
@@ -425,11 +495,13 @@ def test_nothing_is_written_outside_the_submission_folder(trusted):
         assert f"WRITE-BLOCKED {target}" in page, f"{target}: the write was not refused"
 
 
+@grading_course.reads(CHAPTER)
 def test_the_graders_environment_is_not_passed_on(trusted):
     page = trusted.feedback["escape"]
     assert "TOKEN absent" in page and TOKEN not in page
 
 
+@grading_course.reads(CHAPTER)
 def test_the_instructors_files_are_not_readable(trusted):
     page = trusted.feedback["escape"]
     assert "SECRET-READ" not in page and page.count("SECRET-BLOCKED") == 3
@@ -444,6 +516,7 @@ def test_the_instructors_files_are_not_readable(trusted):
     _full_marks(trusted, "escape")
 
 
+@grading_course.reads(CHAPTER)
 def test_a_process_left_behind_dies_with_the_kernel(trusted):
     assert trusted.alive_before is not None, "the detached process never ran (the test tests nothing)"
     assert trusted.alive_after == trusted.alive_before, "a process started by the submission outlived grading"
@@ -551,3 +624,33 @@ def test_when_the_kernel_cannot_be_restarted_grading_stops_there():
     Manager.restart_kernel = None   # must not be called
     execute._kernel_lost(crash, 0, DeadKernelError("Kernel died"))
     assert execute._stopped is not None and not execute._stopped["replayed"]
+
+
+def test_after_the_last_test_a_lost_kernel_is_not_restarted():
+    """_kernel_lost after the last test: no restart, no replay; the report says nothing graded was lost."""
+    from nbclient.exceptions import DeadKernelError
+    from nbformat.v4 import new_code_cell, new_notebook
+    from robokin_nbgrader import GradingIncidents, RobokinExecute
+
+    class Manager:
+        stopped = False
+
+        async def restart_kernel(self, now=False):
+            raise AssertionError("the kernel must not be restarted: nothing graded comes after the cell")
+
+        async def shutdown_kernel(self, now=False):
+            Manager.stopped = now
+
+    test = new_code_cell("assert x == 1", metadata={"nbgrader": {
+        "grade": True, "solution": False, "points": 1, "grade_id": "task1_test1", "schema_version": 3}})
+    crash, after = new_code_cell("import os\nos._exit(1)"), new_code_cell("print('a plot')")
+    execute = RobokinExecute()
+    execute.nb, execute.km = new_notebook(cells=[test, crash, after]), Manager()
+    execute._report, execute._replays, execute._stopped, execute._last_code = {"incidents": []}, 0, None, 0
+    execute._kernel_lost(crash, 1, DeadKernelError("Kernel died"))
+    incident = execute._stopped
+    assert Manager.stopped and incident["nothing_after"] and not incident["replayed"] and not incident["tests_lost"]
+    assert execute.preprocess_cell(after, {}, 2)[0].outputs == []   # not run
+    nb, _ = GradingIncidents().preprocess(new_notebook(cells=[]), {"robokin": {"incidents": [incident]}})
+    assert "No test comes after it, so grading stopped there: the cells after it were not run, and no " \
+        "points were lost" in nb.cells[0].source

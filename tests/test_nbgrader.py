@@ -3,8 +3,10 @@
 Everything goes through nbgrader's real command-line tools and its sqlite
 gradebook, in temporary course directories (one per chapter, so that chapters
 are graded two at a time without sharing a database), with ONE autograde run per
-chapter that also grades the submissions of test_grading_tamper.py and
-test_grading_trust.py (chapter 3; tests/grading_course.py):
+chapter that also grades the submissions of test_grading_trust.py (every chapter)
+and test_grading_tamper.py (chapter 3; tests/grading_course.py). The student
+edition handed in unchanged (``unanswered``) is also the tamper suite's blank
+submission, graded once:
 
 1. ``generate_assignment`` makes the student edition: no line of the instructor's
    solution code is left, the stubs compile, outputs are cleared;
@@ -35,6 +37,7 @@ import shutil
 import subprocess
 import sys
 import time
+from collections.abc import Mapping
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -51,7 +54,8 @@ import student_edition
 from notebook_analysis import free_names, stub_plan
 
 pytest.importorskip("nbgrader", reason="nbgrader is not installed: run `make test` (installs requirements.txt)")
-pytestmark = grading_course.xdist_group_mark()   # the graded courses are built once, in one worker
+# The graded courses are built in two parts, one xdist group each (tests/grading_course.py):
+# each test that reads a run is marked with its part (grading_course.reads, chapter_params).
 
 NOTEBOOKS = Path(os.environ.get("ROBOKIN_NBGRADER_NOTEBOOKS", ROOT / "notebooks")).resolve()
 CHAPTERS = [p.stem for p in nbgrader_metadata.chapter_notebooks(NOTEBOOKS.parent, NOTEBOOKS.name)]
@@ -258,7 +262,9 @@ def bad_submission(correct: dict) -> tuple[dict, dict]:
     if tried:
         tried[0]["source"] = 'raise ValueError("my own experiment went wrong")\n' + src(tried[0])
         what["raises"] = tried[0]
-    answers[-1]["source"] = src(answers[-1]) + "\nwhile True:  # never ends\n    pass\n"
+    # it sleeps: to the grader the same endless cell as a busy loop, interrupted at the time
+    # limit, but the wait costs no CPU
+    answers[-1]["source"] = src(answers[-1]) + "\nimport time\n\nwhile True:  # never ends\n    time.sleep(0.5)\n"
     cells.remove(tests[0])
     return nb, what
 
@@ -570,9 +576,24 @@ def grade_everything(base: Path, full: bool = True, suites=(), chapters=None) ->
 def graded(request, tmp_path_factory) -> dict[str, Run]:
     """Every chapter generated, submitted, autograded and given feedback (tests/grading_course.py);
     each chapter's run as this file sees it: its own submissions only."""
-    runs = grading_course.graded_courses(request, tmp_path_factory)
-    return {key: grading_course.view(run, run.own) if getattr(run, "own", None) else run
-            for key, run in runs.items()}
+    return _OwnView(grading_course.graded_courses(request, tmp_path_factory))
+
+
+class _OwnView(Mapping):
+    """Each run of ``courses`` as this file sees it (read, and so graded, when first asked for)."""
+
+    def __init__(self, courses) -> None:
+        self.courses = courses
+
+    def __getitem__(self, key: str) -> Run:
+        run = self.courses[key]
+        return grading_course.view(run, run.own) if getattr(run, "own", None) else run
+
+    def __iter__(self):
+        return iter(self.courses)
+
+    def __len__(self) -> int:
+        return len(self.courses)
 
 
 def _run(graded, chapter) -> Run:
@@ -665,7 +686,7 @@ def solution_lines(source: dict) -> list[str]:
     return out
 
 
-@pytest.mark.parametrize("chapter", CHAPTERS)
+@pytest.mark.parametrize("chapter", grading_course.chapter_params(CHAPTERS))
 def test_student_edition_has_no_solutions(graded, chapter):
     run = _run(graded, chapter)
     release = run.release
@@ -692,6 +713,7 @@ def test_student_edition_has_no_solutions(graded, chapter):
     assert f"**{points} points**" in header
 
 
+@grading_course.reads("02_ur10_ik")
 def test_functions_keep_their_signatures(graded):
     run = _run(graded, "02_ur10_ik") if "02_ur10_ik" in graded else pytest.skip("chapter 2 is not there")
     stub = next(src(c) for c in run.release["cells"] if "def weighted_pinv" in src(c))
@@ -700,7 +722,7 @@ def test_functions_keep_their_signatures(graded):
 
 
 # ---------------------------------------------------------------- 2.-4. grading
-@pytest.mark.parametrize("chapter", CHAPTERS)
+@pytest.mark.parametrize("chapter", grading_course.chapter_params(CHAPTERS))
 def test_unanswered_scores_zero(graded, chapter):
     run = _run(graded, chapter)
     scores = run.scores.get("unanswered")
@@ -710,7 +732,7 @@ def test_unanswered_scores_zero(graded, chapter):
     assert "Autograder report" in run.feedback["unanswered"]
 
 
-@pytest.mark.parametrize("chapter", CHAPTERS)
+@pytest.mark.parametrize("chapter", grading_course.chapter_params(CHAPTERS))
 def test_correct_answers_score_full_marks(graded, chapter):
     run = _run(graded, chapter)
     scores = run.scores["correct"]
@@ -722,7 +744,7 @@ def test_correct_answers_score_full_marks(graded, chapter):
     assert "Notes on running your notebook" not in page, f"{chapter}: the correct notebook has errors"
 
 
-@pytest.mark.parametrize("chapter", CHAPTERS)
+@pytest.mark.parametrize("chapter", grading_course.chapter_params(CHAPTERS))
 def test_typical_mistake_scores_partial_marks_and_is_named(graded, chapter):
     run = _run(graded, chapter)
     mistake = run.mistake
@@ -737,6 +759,7 @@ def test_typical_mistake_scores_partial_marks_and_is_named(graded, chapter):
 
 
 # ---------------------------------------------------------------- 5. the walk-through and bad input
+@grading_course.reads("walkthrough")
 def test_walkthrough_with_a_bad_submission(graded):
     run = _run(graded, "walkthrough")
     assert run.rounds, "the walk-through has no autograde"
@@ -750,6 +773,7 @@ def test_walkthrough_with_a_bad_submission(graded):
     assert scores[run.mistake["deleted"]] == run.maximum[run.mistake["deleted"]], "the restored test did not run"
 
 
+@grading_course.reads("unmarked")
 def test_chapter_without_metadata_is_reported_by_name(graded):
     run = graded["unmarked"]
     log = "\n".join(run.log)
@@ -759,6 +783,7 @@ def test_chapter_without_metadata_is_reported_by_name(graded):
     assert f"notebook '{chapter}' has no nbgrader metadata" in log
 
 
+@grading_course.reads("walkthrough")
 def test_walkthrough_resubmission_is_graded_as_the_new_version(graded):
     """A second submission, collected with --update, is the one graded and fed back
     (a plain collect keeps the old one: book/for-instructors.md says so)."""
@@ -782,7 +807,7 @@ def _answer_names(source: dict) -> set[str]:
     return {n for c in source["cells"] if nbg(c).get("solution") for n in defined_names(src(c))}
 
 
-@pytest.mark.parametrize("chapter", CHAPTERS)
+@pytest.mark.parametrize("chapter", grading_course.chapter_params(CHAPTERS))
 def test_feedback_calls_only_answers_your_answers_and_quotes_whole_statements(graded, chapter):
     """Names from read-only and test cells are never "your answers"; a root cause is an
     answer; the failing statement is quoted whole (a multi-line assert too)."""
@@ -813,6 +838,7 @@ def test_feedback_calls_only_answers_your_answers_and_quotes_whole_statements(gr
     assert checked, f"{chapter}: no failing test with a note in any submission"
 
 
+@grading_course.reads(FEEDBACK_CHAPTER)
 def test_knock_on_failure_names_the_root_cause(graded):
     """An answer cell that raises: a later task's test that needs its names says so."""
     if FEEDBACK_CHAPTER not in graded:
@@ -831,6 +857,7 @@ def test_knock_on_failure_names_the_root_cause(graded):
     assert "Where to start" in page and f"<code>{probe['name']}</code>" in page
 
 
+@grading_course.reads(FEEDBACK_CHAPTER)
 def test_wrong_type_says_what_came_and_what_was_expected(graded):
     if FEEDBACK_CHAPTER not in graded:
         pytest.skip("no chapter graded here")
@@ -849,7 +876,7 @@ def test_wrong_type_says_what_came_and_what_was_expected(graded):
         f"statement, in backticks, or in the stub):\n{note}")
 
 
-@pytest.mark.parametrize("chapter", CHAPTERS)
+@pytest.mark.parametrize("chapter", grading_course.chapter_params(CHAPTERS))
 def test_feedback_renders_formulas_offline(graded, chapter):
     run = _run(graded, chapter)
     page = run.feedback["correct"]
@@ -860,7 +887,7 @@ def test_feedback_renders_formulas_offline(graded, chapter):
     assert "text/x-mathjax-config" not in page, f"{chapter}: MathJax 2 configuration left in the feedback"
 
 
-@pytest.mark.parametrize("chapter", CHAPTERS)
+@pytest.mark.parametrize("chapter", grading_course.chapter_params(CHAPTERS))
 def test_points_per_test_in_header_and_report(graded, chapter):
     """A test cell tagged points-N is worth N: in the gradebook, the student edition's header
     and the report's table."""
@@ -879,7 +906,7 @@ def test_points_per_test_in_header_and_report(graded, chapter):
             f"{chapter}: the report does not give Task {task} {points:g} of {points:g} points:\n{report}")
 
 
-@pytest.mark.parametrize("chapter", CHAPTERS)
+@pytest.mark.parametrize("chapter", grading_course.chapter_params(CHAPTERS))
 def test_student_edition_is_what_the_contract_test_predicts(graded, chapter):
     """tests/test_student_edition_contracts.py computes the student edition statically: the
     stubs and the cells left out must be what generate_assignment makes."""

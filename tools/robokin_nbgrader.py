@@ -26,7 +26,8 @@ into its pipelines:
     (``tools/robokin_sandbox.py``); a test scores by pass/fail only (its stderr is
     a note, a result it shows no partial credit); a kernel that dies or ignores
     the interrupt is killed, restarted and brought back to where it was (the cells
-    before are run again), so it costs only that cell. When a test cell fails,
+    before are run again), so it costs only that cell (after the last test, grading
+    just stops there: nothing graded is left to run). When a test cell fails,
     ``FailureNotes`` writes above the traceback the failing statement, the
     student's answers it depends on (traced through the read-only cells), the root
     cause among them, and what ``robokin.check`` (asked in the student's kernel)
@@ -227,8 +228,9 @@ class RobokinExecute(Execute):
     - A kernel that dies, or ignores the interrupt after the time limit (it is then
       killed), is restarted and the cells before are run again: only that cell is lost.
       If that fails, the cells after it are not run and their tests score 0 with the
-      reason. The report names the incident (``resources['robokin']['incidents']``,
-      written by ``GradingIncidents``).
+      reason. After the last test (nothing graded follows) it is not restarted: the
+      cells after it are not run, and no score changes. The report names the
+      incident (``resources['robokin']['incidents']``, written by ``GradingIncidents``).
     """
 
     viewer = Unicode("matplotlib", help="ROBOKIN_VIEWER of the grading kernel (how 3D scenes are shown)"
@@ -277,7 +279,9 @@ class RobokinExecute(Execute):
         The kernel is killed and restarted, and the code cells before this one are run
         again (their outputs are kept from the first run), so that the notebook goes on
         and loses only this cell. If that fails too, grading stops here: the cells after
-        it are not run (``_not_run``).
+        it are not run (``_not_run``). When nothing graded comes after the cell (no test,
+        and robokin.check's verdicts are taken), grading stops there at once: restarting
+        the kernel and running the notebook again would change no score.
         """
         hung = isinstance(exc, CellTimeoutError)
         if hung:
@@ -294,9 +298,11 @@ class RobokinExecute(Execute):
         cell.setdefault("outputs", []).append(from_dict(output))
         later = [c for c in self.nb.cells[index + 1:] if c.cell_type == "code" and utils.is_grade(c)]
         incident = {"kind": "hang" if hung else "died", "label": _label(cell), "graded": utils.is_grade(cell),
-                    "tests_lost": len(later), "replayed": False}
+                    "tests_lost": len(later), "replayed": False,
+                    # nothing graded after it (no test, robokin.check's verdicts taken): no restart
+                    "nothing_after": not later and index > self._last_code}
         self._report["incidents"].append(incident)
-        if not self._replays and self._restart_and_replay(index):
+        if not incident["nothing_after"] and not self._replays and self._restart_and_replay(index):
             incident["replayed"], incident["tests_lost"] = True, 0
             self._replays += 1
             return
@@ -874,6 +880,9 @@ class GradingIncidents(NbGraderPreprocessor):
                 if item.get("replayed"):
                     after = ("The kernel was restarted and the cells before it were run again, so the "
                              "notebook went on: only this cell's work is lost.")
+                elif item.get("nothing_after"):
+                    after = ("No test comes after it, so grading stopped there: the cells after it were "
+                             "not run, and no points were lost. Everything before it was graded.")
                 else:
                     count = item["tests_lost"]
                     lost = ("no test came after it, so no points were lost" if not count else

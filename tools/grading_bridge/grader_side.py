@@ -46,6 +46,11 @@ MAX_REPLY = 64_000_000
 #: whose own time limit may be as short as 10 s.
 SESSION_TIMEOUT = 10.0
 RELEASE_TIMEOUT = 3.0
+#: Seconds more for a kernel whose session ended normally to go idle (:func:`status`); with
+#: RELEASE_TIMEOUT, within the shortest time limit of a grader cell (10 s)
+SETTLE_TIMEOUT = 5.0
+#: how an answer that was not called begins (the student's kernel still ran a call stopped earlier)
+NOT_CALLED = "not called"
 
 _BOOT = """
 import sys, types
@@ -69,6 +74,7 @@ class _Link:
         self.client.wait_for_ready(timeout=60)
         self.call_timeout = call_timeout
         self.stuck = False        # a call timed out: the student's kernel may still be busy
+        self.stopped: str | None = None   # the answer whose call was stopped at the time limit
         self.calls = 0
         self.callbacks: dict = {}  # the test's functions passed to the student's functions
         self.in_callback = False
@@ -168,12 +174,24 @@ class _Link:
         session.close()
         self.stuck = True   # until the student's kernel is seen idle (else the autograder interrupts it)
         if self._idle(self.serve_id, RELEASE_TIMEOUT):
-            self.stuck = False
+            self.stuck, self.stopped = False, None
+
+    def _busy(self) -> AnswerError:
+        """The error of a request made before the student's kernel is free again.
+
+        After a call stopped at the time limit, the grader does not call the student's
+        functions again until the autograder has interrupted that kernel (after the
+        test cell or robokin.check's verdicts): the error says which call was stopped.
+        """
+        if self.stopped is not None:
+            return AnswerError(f"{NOT_CALLED}: an earlier call of {self.stopped} took longer than "
+                               f"{self.call_timeout:g} s and was stopped")
+        return AnswerError(f"{NOT_CALLED}: the student's kernel had not finished an earlier request in time")
 
     def call(self, handle: int, arguments, answer: str):
         """Call the student's function ``handle`` with encoded arguments; its reply (a dict)."""
         if self.stuck:
-            raise AnswerError("the student's kernel is still busy with an earlier call that took too long")
+            raise self._busy()
         if self.in_callback:
             raise AnswerError("a function of the test that the student's function calls cannot call the "
                               "student's functions in turn")
@@ -195,7 +213,7 @@ class _Link:
                     return message
                 codec.send_frame(session, self._callback(message.get("callback"), message.get("args")))
         except TimeoutError:
-            self.stuck = True
+            self.stuck, self.stopped = True, answer
             raise AnswerError(f"the call took longer than {self.call_timeout:g} s and was stopped") from None
         except codec.BridgeError as exc:
             self.stuck = True
@@ -228,7 +246,7 @@ class _Link:
     def export(self, names: list[str]) -> dict:
         """The student's kernel's encoded answers ``names`` (``{name: entry}``), over the channel."""
         if self.stuck:
-            raise AnswerError("the student's kernel is still busy with an earlier call that took too long")
+            raise self._busy()
         session = self._open()
         deadline = time.monotonic() + max(self.call_timeout, 60.0)
         out: dict = {}
@@ -261,7 +279,7 @@ class _Link:
         if session is not None:
             session.close()
             self._idle(self.serve_id, RELEASE_TIMEOUT)
-        self.stuck = False
+        self.stuck, self.stopped = False, None
 
     # ------------------------------------------------------------ execute requests
     def request(self, code: str, nonce: str, timeout: float) -> dict:
@@ -272,13 +290,13 @@ class _Link:
         kept for ``tools/grading_bridge/benchmark.py``'s comparison.
         """
         if self.stuck:
-            raise AnswerError("the student's kernel is still busy with an earlier call that took too long")
+            raise self._busy()
         if self.in_callback:
             raise AnswerError("a function of the test that the student's function calls cannot call the "
                               "student's functions in turn")
         self.release()
         if self.stuck:
-            raise AnswerError("the student's kernel is still busy with an earlier call that took too long")
+            raise self._busy()
         reply = self._run(code, nonce, timeout)
         if reply is None:   # the bridge module is missing there (first use, or deleted): install it
             self._install()
@@ -391,10 +409,21 @@ def unstick() -> None:
 
 
 def status(release: bool = True) -> dict:
-    """``{"stuck", "calls"}``; first ends the call session (the student's kernel runs on)."""
-    if _LINK is not None and release:
-        _LINK.release()
-    return {"stuck": bool(_LINK and _LINK.stuck), "calls": _LINK.calls if _LINK else 0}
+    """``{"stuck", "calls"}``; first ends the call session (the student's kernel runs on).
+
+    ``stuck`` tells the autograder to interrupt the student's kernel: after a call stopped
+    at the time limit, or when that kernel is still busy. A session that ended normally
+    may take a while to end there (a student's function that printed thousands of lines):
+    the kernel is then given :data:`SETTLE_TIMEOUT` s more to go idle, as an interrupt
+    sent to a kernel about to go idle would stop the next cell it runs.
+    """
+    link = _LINK
+    if link is not None and release:
+        link.release()
+        if link.stuck and link.stopped is None and link.serve_id is not None \
+                and link._idle(link.serve_id, SETTLE_TIMEOUT):
+            link.stuck = False
+    return {"stuck": bool(link and link.stuck), "calls": link.calls if link else 0}
 
 
 def _show_output(reply: dict) -> None:

@@ -49,6 +49,7 @@ from notebook_analysis import defined_names, free_names  # noqa: E402
 from robokin_nbgrader import VERDICT_MARK, RobokinExecute, _robokin, _task_of  # noqa: E402
 
 from grading_bridge import delegation  # noqa: E402
+from grading_bridge.grader_side import NOT_CALLED  # noqa: E402
 
 IMPORT_MARK = "ROBOKIN-BRIDGE-IMPORT "
 #: Modules the grader kernel imports before any student code runs.
@@ -317,9 +318,28 @@ class BridgedExecute(RobokinExecute):
             self._grader.run("_robokin_bridge.unstick()")
 
     def _verdicts(self, pairs, index):
-        """robokin.check's verdicts, computed in the grader kernel on the imported answers."""
+        """robokin.check's verdicts, computed in the grader kernel on the imported answers.
+
+        A call of the student's function that is stopped at the time limit leaves the
+        student's kernel running it until it is interrupted: the checks after it in the
+        same run could not call any answer (``grader_side.NOT_CALLED``). Those are run
+        again after the interrupt, so that each answer's verdict is its own.
+        """
         if self._plan is None:
             return super()._verdicts(pairs, index)
+        verdicts = self._verdicts_once(pairs)
+        for _ in range(len(pairs)):   # each round checks at least one more answer
+            again = [i for i, v in enumerate(verdicts or []) if NOT_CALLED in str(v.get("message", ""))]
+            if not again:
+                break
+            redone = self._verdicts_once([pairs[i] for i in again])
+            if redone is None or len(redone) != len(again):
+                break
+            for i, verdict in zip(again, redone):
+                verdicts[i] = verdict
+        return verdicts
+
+    def _verdicts_once(self, pairs):
         if not pairs:
             return []
         names = set()

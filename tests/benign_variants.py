@@ -1,0 +1,183 @@
+"""Correct answers written another way, per chapter (issue 21: "however it is written").
+
+tests/test_grading_trust.py grades, for every chapter, the instructor's solutions
+with some answers re-computed by another valid method -- genuinely different code,
+with other intermediate names -- and expects full marks: a grader that compares
+*how* an answer is computed, instead of *what* it computes, would fail them.
+
+:data:`VARIANTS` maps ``chapter -> {grade_id: (what, code)}``: ``code`` is appended
+to that answer cell of the solutions (it redefines the cell's answers, so the tests
+read the variant), ``what`` says in a few words how it differs. Each chapter has at
+least one variant that is another method (``np.linalg.solve`` instead of an inverse,
+a cross product instead of components written out, a closed form instead of a library
+call, another finite-difference stencil), not only other names.
+
+:data:`CRASH` and :data:`HANG` are the incidents the trust suite puts in a chapter's
+last ungraded (*Try it yourself*) cell, after its code: a kernel that dies, and a cell that never ends
+(it sleeps, so that waiting for the time limit costs no CPU; interrupted at the limit).
+"""
+
+from __future__ import annotations
+
+import copy
+
+#: ``os._exit`` in an ungraded cell: the kernel dies
+CRASH = "import os\n\nos._exit(1)  # my experiment killed the kernel\n"
+
+#: a cell that never ends (it sleeps: waiting for the time limit costs no CPU)
+HANG = "import time\n\nwhile True:  # my experiment never ends\n    time.sleep(0.5)\n"
+
+VARIANTS: dict[str, dict[str, tuple[str, str]]] = {
+    "01_leg_kinematics": {
+        "task3_answer1": ("the Jacobian column by column (sp.diff), the rates by least squares", '''
+
+# written another way: the Jacobian one column per joint, the rates by least squares
+columns = [sp.diff(r_BF, joint) for joint in q_sym]
+J_sym = sp.Matrix.hstack(*columns)
+dq_cmd = np.linalg.lstsq(J_lift, v_cmd, rcond=None)[0]
+'''),
+    },
+    "02_ur10_ik": {
+        "task2_answer1": ("the weighted pseudoinverse by two linear solves, no inverse", '''
+
+def weighted_pinv(J, W):  # written another way: X = W^-1 J^T, then X (J X)^-1 by solving
+    X = np.linalg.solve(W, J.T)
+    return np.linalg.solve((J @ X).T, X.T).T
+'''),
+        "task2_answer2": ("the damped step as a least-squares problem [J; lambda I] dq = [e; 0]", '''
+
+def dls_step(J, e, damping):  # written another way: min |J dq - e|^2 + damping^2 |dq|^2
+    stacked = np.vstack([J, damping * np.eye(J.shape[1])])
+    target = np.concatenate([e, np.zeros(J.shape[1])])
+    return np.linalg.lstsq(stacked, target, rcond=None)[0]
+'''),
+        "task2_answer3": ("the null-space projector from the SVD: V_0 V_0^T", '''
+
+def nullspace_projector(J):  # written another way: the right singular vectors of sigma = 0
+    _, sigma, Vt = np.linalg.svd(J)
+    rank = int(np.sum(sigma > sigma.max() * max(J.shape) * np.finfo(float).eps))
+    kernel = Vt[rank:]
+    return kernel.T @ kernel
+'''),
+    },
+    "03_three_rpr": {
+        "task1_answer1": ("leg lengths one leg at a time with hypot", '''
+
+def ik(pose):  # written another way: leg by leg, the platform point rotated by hand
+    x, y, phi = pose
+    c, s = np.cos(phi), np.sin(phi)
+    lengths = [np.hypot(x + c * bx - s * by - ax, y + s * bx + c * by - ay)
+               for (ax, ay), (bx, by) in zip(A_anchor, b_anchor)]
+    return np.array(lengths)
+
+
+rho0 = ik(POSE0)
+'''),
+        "task3_answer1": ("the moment column by a 3D cross product", '''
+
+def inverse_jacobian(pose):  # written another way: rows [u_i, (R b_i x u_i)_z], np.cross
+    x, y, phi = pose
+    rotated = b_anchor @ rot(phi).T
+    legs = np.array([x, y]) + rotated - A_anchor
+    units = legs / np.linalg.norm(legs, axis=1, keepdims=True)
+    flat = np.zeros((len(legs), 1))
+    moments = np.cross(np.hstack([rotated, flat]), np.hstack([units, flat]))[:, 2]
+    return np.column_stack([units, moments])
+
+
+A0 = inverse_jacobian(POSE0)
+J0 = np.linalg.inv(A0)
+'''),
+    },
+    "04_cartesian_control": {
+        "task1_answer1": ("Rz Ry Rx multiplied out by hand instead of transform_from_rpy", '''
+
+def transform_from_ypr(ypr, position):  # written another way: the three rotations by hand
+    yaw, pitch, roll = ypr
+    cz, sz, cy, sy, cx, sx = (np.cos(yaw), np.sin(yaw), np.cos(pitch), np.sin(pitch),
+                              np.cos(roll), np.sin(roll))
+    about_z = np.array([[cz, -sz, 0.0], [sz, cz, 0.0], [0.0, 0.0, 1.0]])
+    about_y = np.array([[cy, 0.0, sy], [0.0, 1.0, 0.0], [-sy, 0.0, cy]])
+    about_x = np.array([[1.0, 0.0, 0.0], [0.0, cx, -sx], [0.0, sx, cx]])
+    pose = np.eye(4)
+    pose[:3, :3] = about_z @ about_y @ about_x
+    pose[:3, 3] = position
+    return pose
+
+
+T_ET = transform_from_ypr(TOOL_YPR, TOOL_OFFSET)
+tool_arm = chain_with_tool(arm, T_ET, name="genova_arm+tool")
+T_BT0 = tool_arm.fk(Q0)
+'''),
+    },
+    "05_baxter_circle": {
+        "task1_answer2": ("a fourth-order central difference stencil", '''
+
+def jv_fd(q, h=1e-4):  # written another way: the five-point stencil, error O(h^4)
+    def hand(dq):
+        return arm.fk(q + dq)[:3, 3]
+
+    return np.column_stack([
+        (hand(-2 * step) - 8 * hand(-step) + 8 * hand(step) - hand(2 * step)) / (12 * h)
+        for step in h * np.eye(7)
+    ])
+'''),
+        "task2_answer1": ("the circle's velocity as omega x (r - centre)", '''
+
+def v_des(time):  # written another way: the velocity of a point turning about z
+    offset = RADIUS * np.array([np.cos(OMEGA * time), np.sin(OMEGA * time), 0.0])
+    return np.cross([0.0, 0.0, OMEGA], offset)
+'''),
+    },
+    "06_ar601_leg_ik": {
+        "task3_answer1": ("the knee from the interior angle (pi - arccos), the ankle point "
+                          "by a homogeneous product", '''
+
+def ankle_point(T, L3_=L3):  # written another way: the point (0, 0, L3) of the foot frame
+    return (T @ np.array([0.0, 0.0, L3_, 1.0]))[:3]
+
+
+def knee_angle(d, l1_=L1, l2_=L2):  # written another way: pi minus the interior angle
+    interior = np.arccos((l1_**2 + l2_**2 - d**2) / (2 * l1_ * l2_))
+    return np.pi - interior
+
+
+d_goal = float(np.sqrt(np.sum(ankle_point(T_goal) ** 2)))
+'''),
+    },
+}
+
+
+def _grade_id(cell: dict) -> str | None:
+    return cell.get("metadata", {}).get("nbgrader", {}).get("grade_id")
+
+
+def _source(cell: dict) -> str:
+    text = cell.get("source", "")
+    return "".join(text) if isinstance(text, list) else text
+
+
+def written_another_way(correct: dict, chapter: str) -> dict:
+    """``correct`` (the solutions) with the answers of :data:`VARIANTS` [chapter] re-computed."""
+    nb = copy.deepcopy(correct)
+    missing = set(VARIANTS[chapter])
+    for cell in nb["cells"]:
+        variant = VARIANTS[chapter].get(_grade_id(cell))
+        if variant:
+            cell["source"] = _source(cell).rstrip() + "\n" + variant[1]
+            missing.discard(_grade_id(cell))
+    assert not missing, f"{chapter}: no answer cells {sorted(missing)} for the variants"
+    return nb
+
+
+def last_try_cell(nb: dict) -> dict:
+    """The last ungraded code cell a student may edit (a *Try it yourself* cell: no nbgrader metadata)."""
+    return [c for c in nb["cells"] if c["cell_type"] == "code" and "nbgrader" not in c.get("metadata", {})][-1]
+
+
+def with_incident(nb: dict, code: str) -> dict:
+    """``nb`` with ``code`` at the end of its last ungraded (*Try it yourself*) cell."""
+    nb = copy.deepcopy(nb)
+    cell = last_try_cell(nb)
+    cell["source"] = _source(cell).rstrip() + "\n\n" + code
+    return nb
