@@ -30,7 +30,7 @@ carries, besides the pose, the *moment* of every joint axis (Lynch & Park
 whose top-left 6×6 part is the adjoint map :math:`\mathrm{Ad}_T` (rows
 ``[v; ω]``). :math:`X(C_{i-1}J_i)` is again linear in ``(cos θ, sin θ, 1)``,
 so the blocks come from one product, and the running products :math:`X_i =
-X(T_i)` of the joint frames give the spatial Jacobian (Lynch & Park eq. 5.11) as
+X(T_i)` of the joint frames give the space Jacobian (Lynch & Park 2017, §5.1.1) as
 one column of each: :math:`\mathrm{Ad}_{T_i}[0; e_k] = [p_i \times z_i;\, z_i]`
 (revolute about axis k), :math:`\mathrm{Ad}_{T_i}[e_k; 0] = [z_i; 0]`
 (prismatic). The geometric Jacobian of the end-effector point :math:`p_E`
@@ -118,7 +118,10 @@ def screw_form(B: np.ndarray, R0: np.ndarray, p0: np.ndarray, constant: bool) ->
 _SHIFT = np.zeros((3, 36))
 for _r, _c, _k, _v in [(0, 4, 2, 1), (0, 5, 1, -1), (1, 3, 2, -1), (1, 5, 0, 1), (2, 3, 1, 1), (2, 4, 0, -1)]:
     _SHIFT[_k, _r * 6 + _c] = _v  # -[p][r, c - 3] = coefficient of p_k
-_I6 = np.eye(6).ravel()
+#: The same map applied to a 7×7 form's last column (p, 0, 0, 0, 1): rows 0-2 as _SHIFT, row 6 the identity.
+_SHIFT_X = np.zeros((7, 36))
+_SHIFT_X[:3] = _SHIFT
+_SHIFT_X[6] = np.eye(6).ravel()
 #: Flat indices of the pose (4, 4) inside X(T) (7, 7): rows 0-2 of columns 0-2 and 6, then (0, 0, 0, 1).
 _POSE_IN_X = np.array([0, 1, 2, 6, 7, 8, 9, 13, 14, 15, 16, 20, 42, 43, 44, 48])
 
@@ -146,7 +149,8 @@ class Engine:
         self.prismatic_idx = np.flatnonzero(~self.revolute)
         self.sign = np.array(signs, dtype=float)
         self.offset = np.array(offsets, dtype=float)
-        self.trivial_map = bool(np.all(self.sign == 1.0) and np.all(self.offset == 0.0))
+        self.unit_sign = bool(np.all(self.sign == 1.0))
+        self.trivial_map = self.unit_sign and bool(np.all(self.offset == 0.0))
         self.E = self.consts[-1]
         # Single configuration: the joint blocks A_i = C_{i-1} J_i = u_i P_i + w_i Q_i + R_i of all
         # joints come out of ONE product  [u_1..u_n, w_1..w_n, 1] · M  (M: (2n + 1, 16 n), each
@@ -177,6 +181,7 @@ class Engine:
         self.screw_column = np.where(self.revolute, 3 + self.axes, self.axes)
         # every screw in the same column with sign +1: the Jacobian gathers one column by a slice
         self.same_axis = bool(np.all(self.screw_column == self.screw_column[0]) and np.all(self.sign == 1.0))
+        self.first_screw_column = int(self.screw_column[0])
         self._ar = np.arange(n)
         self.const_is_identity = [bool(np.array_equal(C, np.eye(4))) for C in self.consts]
         self.consts_T = [np.ascontiguousarray(C.T) for C in self.consts]
@@ -185,7 +190,10 @@ class Engine:
     def _coefficients(self, q: np.ndarray) -> np.ndarray:
         """(2n + 1,) ``[u_1..u_n, w_1..w_n, 1]``: ``(cos θ, sin θ)`` or ``(d, 0)`` per joint."""
         n = self.n
-        th = q if self.trivial_map else q * self.sign + self.offset
+        if self.trivial_map:
+            th = q
+        else:
+            th = q + self.offset if self.unit_sign else q * self.sign + self.offset
         v = np.empty(2 * n + 1)
         np.cos(th, out=v[:n])
         np.sin(th, out=v[n : 2 * n])
@@ -234,7 +242,7 @@ class Engine:
         frames = np.empty((n + 1, 7, 7))
         frames[0] = X[0]
         for i in range(1, n + 1):
-            np.dot(frames[i - 1], X[i], out=frames[i])
+            frames[i - 1].dot(X[i], out=frames[i])
         return frames
 
     def jacobian_from_screws(self, frames: np.ndarray, upto: int | None = None, point=None) -> np.ndarray:
@@ -249,12 +257,15 @@ class Engine:
             m, Xt = n, frames[n]
         else:
             m, Xt = upto, frames[upto - 1]
-        p = Xt[:3, 6] if point is None else Xt[:3, :3] @ point + Xt[:3, 6]
+        if point is None:  # p = Xt[:3, 6]
+            shift = Xt[:, 6].dot(_SHIFT_X)
+        else:
+            shift = (Xt[:3, :3] @ point + Xt[:3, 6]).dot(_SHIFT) + _SHIFT_X[6]
         if self.same_axis:
-            screws = frames[:n, :6, int(self.screw_column[0])]  # (n, 6)
+            screws = frames[:n, :6, self.first_screw_column]  # (n, 6)
         else:
             screws = frames[self._ar, :6, self.screw_column] * self.sign[:, None]
-        J = (p.dot(_SHIFT) + _I6).reshape(6, 6).dot(screws.T)
+        J = shift.reshape(6, 6).dot(screws.T)
         if m < n:
             J[:, m:] = 0.0
         return J

@@ -488,7 +488,7 @@ class LevenbergMarquardt(IKMethod):
     def step(self, J, e, q=None, ctx=None):
         n = J.shape[-1]
         if J.ndim == 2 and self.error_weights is None:  # single configuration: lean path
-            lam2 = 0.5 * self.error_damping * e.dot(e) + self.bias
+            lam2 = 0.5 * self.error_damping * float(e.dot(e)) + self.bias
             Jt = J.T
             A = Jt.dot(J)
             A += lam2 * _identity(n)

@@ -62,10 +62,12 @@ class IKContext:
     shift: np.ndarray | None = None
 
     def __post_init__(self) -> None:
-        self.full_mask = bool(np.all(self.mask))
-        self.rows = np.flatnonzero(self.mask)
+        self.full_mask = bool(self.mask.all())
+        self.rows = self.mask.nonzero()[0]
         self.p_tool = None if self.tool is None else self.tool[:3, 3].copy()
         self._fk_and_jacobian = getattr(self.chain, "fk_and_jacobian", None)
+        # the limits as (lower, upper) pairs of plain floats: one configuration is checked in Python
+        self._bounds = list(zip(self.lower.tolist(), self.upper.tolist()))
 
     def project(self, q: np.ndarray) -> np.ndarray:
         """Bring a configuration (batch) back within the limits: wrap, shift by 2 pi, clamp."""
@@ -79,7 +81,7 @@ class IKContext:
 
     def touches_limit(self, q: np.ndarray) -> bool:
         """Does configuration ``q`` (n,) rest on one of its joint limits?"""
-        return bool(((q <= self.lower) | (q >= self.upper)).any())
+        return any(x <= lo or x >= hi for x, (lo, hi) in zip(q.tolist(), self._bounds))
 
     def advance(self, q: np.ndarray, dq: np.ndarray) -> tuple[np.ndarray, bool]:
         """``q + dq`` brought within the limits (:meth:`project`), and whether it rests on a limit.
@@ -88,7 +90,7 @@ class IKContext:
         (and no wrapping) is returned as is and reported off the limits.
         """
         q_new = q + dq
-        if self.wrap is not None or ((q_new < self.lower) | (q_new > self.upper)).any():
+        if self.wrap is not None or any(x < lo or x > hi for x, (lo, hi) in zip(q_new.tolist(), self._bounds)):
             q_new = self.project(q_new)
             return q_new, self.touches_limit(q_new)
         return q_new, False
@@ -288,15 +290,19 @@ def parse_q0(q0: Any, n: int, lower: np.ndarray, upper: np.ndarray, count: int |
     return np.clip(a, lower, upper)
 
 
-def parse_wrap(wrap: Any, chain: Chain, n: int) -> tuple[np.ndarray | None, np.ndarray | None]:
+def parse_wrap(wrap: Any, chain: Chain, n: int, revolute: np.ndarray | None = None
+               ) -> tuple[np.ndarray | None, np.ndarray | None]:
     """``wrap`` -> (joints wrapped every step, revolute joints that may re-enter by 2 pi).
 
     ``"limits"`` (default): no wrapping, but a revolute joint that would leave
     its range re-enters it by ``±2 pi`` when that lands inside (same pose);
     ``True``: every revolute joint wrapped into (-pi, pi] each step;
     ``False``/``None``: plain clamping; booleans (n,): those joints wrapped.
+    ``revolute`` (n,) bool: the chain's revolute joints, if the caller has them
+    (default: :func:`chain_data`).
     """
-    revolute = chain_data(chain).revolute
+    if revolute is None:  # (n,) bool, the revolute joints
+        revolute = chain_data(chain).revolute
     if isinstance(wrap, str):
         if wrap != "limits":
             raise ValueError(f"wrap must be True, False, 'limits' or booleans of shape ({n},); got {wrap!r}")
@@ -325,7 +331,7 @@ def make_context(chain: Chain, mask: np.ndarray, tool: Any, wrap: Any) -> IKCont
         _check_distance(T_tool[:3, 3], "tool")
         if np.allclose(T_tool, np.eye(4), rtol=0, atol=0):
             T_tool = None
-    wrap_mask, shift_mask = parse_wrap(wrap, chain, n)
+    wrap_mask, shift_mask = parse_wrap(wrap, chain, n, data.revolute)
     return IKContext(chain, n, lower, upper, mask, T_tool, wrap_mask, shift_mask)
 
 

@@ -43,12 +43,12 @@ class Goal:
 
     def __init__(self, T_goal: np.ndarray, settings: IKSettings) -> None:
         self.T = T_goal
-        self.R = T_goal[:3, :3]
+        self.R = np.ascontiguousarray(T_goal[:3, :3])
         self.position = T_goal[:3, 3].tolist()
         self.is_position = settings.is_position
         mask = settings.ctx.mask
-        self.mask_position = [float(x) for x in mask[:3]]
-        self.mask_orientation = [float(x) for x in mask[3:]]
+        self.mask_position = [float(x) for x in mask[:3].tolist()]
+        self.mask_orientation = [float(x) for x in mask[3:].tolist()]
 
     def error(self, T: np.ndarray) -> tuple[np.ndarray, float, float]:
         """Error ``[p_goal - p; theta h]`` (6,) of pose ``T`` and its masked position and orientation norms."""
