@@ -124,6 +124,7 @@ _SHIFT_X[:3] = _SHIFT
 _SHIFT_X[6] = np.eye(6).ravel()
 #: Flat indices of the pose (4, 4) inside X(T) (7, 7): rows 0-2 of columns 0-2 and 6, then (0, 0, 0, 1).
 _POSE_IN_X = np.array([0, 1, 2, 6, 7, 8, 9, 13, 14, 15, 16, 20, 42, 43, 44, 48])
+_IDENTITY_FLAT = np.eye(4).ravel()
 
 
 class Engine:
@@ -223,14 +224,15 @@ class Engine:
 
     def joint_frames_single(self, q: np.ndarray) -> np.ndarray:
         """(n + 1, 4, 4) poses of the joint frames 1..n and of the end-effector."""
-        return self.screw_frames(q).reshape(self.n + 1, 49)[:, _POSE_IN_X].reshape(self.n + 1, 4, 4)
+        return self.screw_frames(q).reshape(self.n + 1, 49).take(_POSE_IN_X, axis=1).reshape(self.n + 1, 4, 4)
 
     def frames_single(self, q: np.ndarray) -> np.ndarray:
         """(n + 2, 4, 4): the base (identity), the joint frames 1..n and the end-effector."""
-        out = np.empty((self.n + 2, 4, 4))
-        out[0] = np.eye(4)
-        out[1:] = self.joint_frames_single(q)
-        return out
+        n = self.n
+        out = np.empty((n + 2, 16))
+        out[0] = _IDENTITY_FLAT
+        self.screw_frames(q).reshape(n + 1, 49).take(_POSE_IN_X, axis=1, out=out[1:])
+        return out.reshape(n + 2, 4, 4)
 
     def screw_frames(self, q: np.ndarray) -> np.ndarray:
         """(n + 1, 7, 7): :math:`X(T_i)` of the joint frames 1..n and of the end-effector.
