@@ -18,6 +18,26 @@ between joints). A joint element about axis k satisfies
 with constant :math:`P_i, Q_i, R_i`, so all joint blocks of one configuration
 come from one ``cos`` and one ``sin`` call and one small matrix product.
 
+The single-configuration Jacobian uses the same blocks in a 7×7 form that
+carries, besides the pose, the *moment* of every joint axis (Lynch & Park
+2017, §3.3.2 and §5.1.1): for a pose :math:`T = (R, p)`
+
+.. math::
+
+    X(T) = \begin{bmatrix} R & [p]R & p \\ 0 & R & 0 \\ 0 & 0 & 1 \end{bmatrix},
+    \qquad X(T_1 T_2) = X(T_1)\, X(T_2),
+
+whose top-left 6×6 part is the adjoint map :math:`\mathrm{Ad}_T` (rows
+``[v; ω]``). :math:`X(C_{i-1}J_i)` is again linear in ``(cos θ, sin θ, 1)``,
+so the blocks come from one product, and the running products :math:`X_i =
+X(T_i)` of the joint frames give the space Jacobian (Lynch & Park 2017, §5.1.1) as
+one column of each: :math:`\mathrm{Ad}_{T_i}[0; e_k] = [p_i \times z_i;\, z_i]`
+(revolute about axis k), :math:`\mathrm{Ad}_{T_i}[e_k; 0] = [z_i; 0]`
+(prismatic). The geometric Jacobian of the end-effector point :math:`p_E`
+follows by moving the reference point, :math:`J_v = J_{s,v} - [p_E] J_ω`, i.e.
+:math:`z_i \times (p_E - p_i)` (Siciliano et al. 2009, eq. 3.30), with no
+per-joint cross product.
+
 Batches use a column layout ``Tc[j, r, N]`` (column ``j``, row ``r`` of the
 top 3×4 part of ``T``): a revolute joint mixes two columns, a prismatic joint
 adds to column 3, and a constant block is one BLAS product ``C^T @ Tc``.
@@ -30,13 +50,6 @@ import numpy as np
 
 # (a, b) column pair mixed by a rotation about axis k: R[a,a]=R[b,b]=c, R[b,a]=s, R[a,b]=-s
 _PAIR = {0: (1, 2), 1: (2, 0), 2: (0, 1)}
-
-# Levi-Civita tensor arranged so that (z @ _EPS).reshape(-1, 3, 3) = skew(z)
-_EPS = np.zeros((3, 9))
-for _i, _j, _k, _v in [(0, 1, 2, 1), (1, 2, 0, 1), (2, 0, 1, 1), (0, 2, 1, -1), (2, 1, 0, -1), (1, 0, 2, -1)]:
-    # skew(z)[i, k] = eps_ijk z_j
-    _EPS[_j, _i * 3 + _k] = _v
-
 
 def _cos_sin(theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     r"""cos and sin of a large array via the half-angle tangent.
@@ -74,6 +87,46 @@ def joint_pqr(axis: int, revolute: bool) -> tuple[np.ndarray, np.ndarray, np.nda
     return P, Q, R
 
 
+def _skew(p: np.ndarray) -> np.ndarray:
+    """(3, 3) matrix ``[p]`` with ``[p] x = p × x``."""
+    return np.array([[0.0, -p[2], p[1]], [p[2], 0.0, -p[0]], [-p[1], p[0], 0.0]])
+
+
+def screw_form(B: np.ndarray, R0: np.ndarray, p0: np.ndarray, constant: bool) -> np.ndarray:
+    """(7, 7) part of :math:`X(A)` contributed by the (4, 4) part ``B`` of ``A = u P + w Q + R``.
+
+    ``R0``, ``p0``: rotation and translation of the constant part ``R``. A
+    revolute block has ``P``, ``Q`` without translation, a prismatic one
+    without rotation, so :math:`[p]R` has no product of two variable parts and
+    is linear: the part of ``B`` is :math:`[p_B] R_0 + [p_0] R_B` (and
+    :math:`[p_0] R_0` for the constant part).
+    """
+    RB, pB = B[:3, :3], B[:3, 3]
+    X = np.zeros((7, 7))
+    X[:3, :3] = X[3:6, 3:6] = RB
+    X[:3, 6] = pB
+    if constant:
+        X[:3, 3:6] = _skew(p0) @ R0
+        X[6, 6] = 1.0
+    else:
+        X[:3, 3:6] = _skew(pB) @ R0 + _skew(p0) @ RB
+    return X
+
+
+#: Rows of the constant map p -> [[I, -[p]], [0, I]] (flattened 6×6): the shift of a Jacobian's
+#: reference point from the base origin to p (v' = v + ω × p = v - [p] ω).
+_SHIFT = np.zeros((3, 36))
+for _r, _c, _k, _v in [(0, 4, 2, 1), (0, 5, 1, -1), (1, 3, 2, -1), (1, 5, 0, 1), (2, 3, 1, 1), (2, 4, 0, -1)]:
+    _SHIFT[_k, _r * 6 + _c] = _v  # -[p][r, c - 3] = coefficient of p_k
+#: The same map applied to a 7×7 form's last column (p, 0, 0, 0, 1): rows 0-2 as _SHIFT, row 6 the identity.
+_SHIFT_X = np.zeros((7, 36))
+_SHIFT_X[:3] = _SHIFT
+_SHIFT_X[6] = np.eye(6).ravel()
+#: Flat indices of the pose (4, 4) inside X(T) (7, 7): rows 0-2 of columns 0-2 and 6, then (0, 0, 0, 1).
+_POSE_IN_X = np.array([0, 1, 2, 6, 7, 8, 9, 13, 14, 15, 16, 20, 42, 43, 44, 48])
+_IDENTITY_FLAT = np.eye(4).ravel()
+
+
 class Engine:
     """Compiled numeric form of a chain (constant blocks and joint data).
 
@@ -97,27 +150,39 @@ class Engine:
         self.prismatic_idx = np.flatnonzero(~self.revolute)
         self.sign = np.array(signs, dtype=float)
         self.offset = np.array(offsets, dtype=float)
-        self.trivial_map = bool(np.all(self.sign == 1.0) and np.all(self.offset == 0.0))
+        self.unit_sign = bool(np.all(self.sign == 1.0))
+        self.trivial_map = self.unit_sign and bool(np.all(self.offset == 0.0))
         self.E = self.consts[-1]
         # Single configuration: the joint blocks A_i = C_{i-1} J_i = u_i P_i + w_i Q_i + R_i of all
         # joints come out of ONE product  [u_1..u_n, w_1..w_n, 1] · M  (M: (2n + 1, 16 n), each
         # block's 16 entries in its own columns), because a Python-level call costs more than the
-        # arithmetic of a 4×4 block.  M_fk folds E = C_n T_tool into the last block (for fk);
-        # M_frames appends E as an extra constant block (for the frames and the Jacobian).
+        # arithmetic of a 4×4 block.  M_fk folds E = C_n T_tool into the last block (for fk).
         blocks = [[(self.consts[i] @ M).ravel() for M in joint_pqr(int(axes[i]), bool(revolute[i]))]
                   for i in range(n)]
-        self.M_frames = np.zeros((2 * n + 1, 16 * (n + 1)))
+        self.M_fk = np.zeros((2 * n + 1, 16 * n))
         for i, (P, Q, R) in enumerate(blocks):
-            self.M_frames[i, 16 * i : 16 * i + 16] = P
-            self.M_frames[n + i, 16 * i : 16 * i + 16] = Q
-            self.M_frames[2 * n, 16 * i : 16 * i + 16] = R
-        self.M_frames[2 * n, 16 * n :] = self.E.ravel()
-        self.M_fk = self.M_frames[:, : 16 * n].copy()
+            self.M_fk[i, 16 * i : 16 * i + 16] = P
+            self.M_fk[n + i, 16 * i : 16 * i + 16] = Q
+            self.M_fk[2 * n, 16 * i : 16 * i + 16] = R
         last = slice(16 * (n - 1), 16 * n)
         for row in (n - 1, 2 * n - 1, 2 * n):  # the last block's u, w and constant parts, times E
             self.M_fk[row, last] = (self.M_fk[row, last].reshape(4, 4) @ self.E).ravel()
-        # Joint axis in base frame = sign * column axes[i] of the joint frame
-        self.same_axis = bool(np.all(self.axes == self.axes[0]) and np.all(self.sign == 1.0))
+        # The same blocks in the 7×7 form X(A) (see the module docstring), with E as an extra block
+        # (for the frames and the Jacobian).
+        self.M_screw = np.zeros((2 * n + 1, 49 * (n + 1)))
+        for i, (P, Q, R) in enumerate(blocks):
+            R4, P4, Q4 = R.reshape(4, 4), P.reshape(4, 4), Q.reshape(4, 4)
+            R0, p0 = R4[:3, :3], R4[:3, 3]
+            cols = slice(49 * i, 49 * i + 49)
+            self.M_screw[i, cols] = screw_form(P4, R0, p0, False).ravel()
+            self.M_screw[n + i, cols] = screw_form(Q4, R0, p0, False).ravel()
+            self.M_screw[2 * n, cols] = screw_form(R4, R0, p0, True).ravel()
+        self.M_screw[2 * n, 49 * n :] = screw_form(self.E, self.E[:3, :3], self.E[:3, 3], True).ravel()
+        # Column of X_i holding joint i's screw [p_i × z_i; z_i] (revolute) or [z_i; 0] (prismatic)
+        self.screw_column = np.where(self.revolute, 3 + self.axes, self.axes)
+        # every screw in the same column with sign +1: the Jacobian gathers one column by a slice
+        self.same_axis = bool(np.all(self.screw_column == self.screw_column[0]) and np.all(self.sign == 1.0))
+        self.first_screw_column = int(self.screw_column[0])
         self._ar = np.arange(n)
         self.const_is_identity = [bool(np.array_equal(C, np.eye(4))) for C in self.consts]
         self.consts_T = [np.ascontiguousarray(C.T) for C in self.consts]
@@ -126,7 +191,10 @@ class Engine:
     def _coefficients(self, q: np.ndarray) -> np.ndarray:
         """(2n + 1,) ``[u_1..u_n, w_1..w_n, 1]``: ``(cos θ, sin θ)`` or ``(d, 0)`` per joint."""
         n = self.n
-        th = q if self.trivial_map else q * self.sign + self.offset
+        if self.trivial_map:
+            th = q
+        else:
+            th = q + self.offset if self.unit_sign else q * self.sign + self.offset
         v = np.empty(2 * n + 1)
         np.cos(th, out=v[:n])
         np.sin(th, out=v[n : 2 * n])
@@ -154,71 +222,66 @@ class Engine:
             T = T.dot(A[i])
         return T
 
-    def frames_ext(self, q: np.ndarray) -> np.ndarray:
-        """(n + 1, 4, 4): joint frames 1..n and the end-effector, in the base frame.
-
-        Prefix products of the blocks ``A_1, ..., A_n, E`` by a log-depth scan
-        (Hillis–Steele): ⌈log2(n + 1)⌉ stacked matmuls instead of n separate ones.
-        """
-        n = self.n
-        F = self._coefficients(q).dot(self.M_frames).reshape(n + 1, 4, 4)
-        d = 1
-        while d <= n:
-            F[d:] = F[:-d] @ F[d:]
-            d *= 2
-        return F
-
     def joint_frames_single(self, q: np.ndarray) -> np.ndarray:
-        """(n, 4, 4) poses of the joint frames 1..n."""
-        return self.frames_ext(q)[: self.n]
+        """(n + 1, 4, 4) poses of the joint frames 1..n and of the end-effector."""
+        return self.screw_frames(q).reshape(self.n + 1, 49).take(_POSE_IN_X, axis=1).reshape(self.n + 1, 4, 4)
 
     def frames_single(self, q: np.ndarray) -> np.ndarray:
-        out = np.empty((self.n + 2, 4, 4))
-        out[0] = np.eye(4)
-        out[1:] = self.frames_ext(q)
-        return out
+        """(n + 2, 4, 4): the base (identity), the joint frames 1..n and the end-effector."""
+        n = self.n
+        out = np.empty((n + 2, 16))
+        out[0] = _IDENTITY_FLAT
+        self.screw_frames(q).reshape(n + 1, 49).take(_POSE_IN_X, axis=1, out=out[1:])
+        return out.reshape(n + 2, 4, 4)
 
-    def _axes_from(self, F: np.ndarray) -> np.ndarray:
-        """Joint axes in base coordinates from stacked joint frames (..., n, 4, 4)."""
+    def screw_frames(self, q: np.ndarray) -> np.ndarray:
+        """(n + 1, 7, 7): :math:`X(T_i)` of the joint frames 1..n and of the end-effector.
+
+        The running products of the blocks ``X(A_1), ..., X(A_n), X(E)``, in order.
+        """
+        n = self.n
+        X = self._coefficients(q).dot(self.M_screw).reshape(n + 1, 7, 7)
+        frames = np.empty((n + 1, 7, 7))
+        frames[0] = X[0]
+        for i in range(1, n + 1):
+            frames[i - 1].dot(X[i], out=frames[i])
+        return frames
+
+    def jacobian_from_screws(self, frames: np.ndarray, upto: int | None = None, point=None) -> np.ndarray:
+        """Geometric Jacobian (6, n) from :meth:`screw_frames`' (n + 1, 7, 7).
+
+        Column i is joint i's screw in the base frame, ``[p_i × z_i; z_i]``
+        (revolute) or ``[z_i; 0]`` (prismatic), with its reference point moved
+        from the base origin to the target point p: ``v - [p] ω``.
+        """
+        n = self.n
+        if upto is None or upto == n + 1:
+            m, Xt = n, frames[n]
+        else:
+            m, Xt = upto, frames[upto - 1]
+        if point is None:  # p = Xt[:3, 6]
+            shift = Xt[:, 6].dot(_SHIFT_X)
+        else:
+            shift = (Xt[:3, :3] @ point + Xt[:3, 6]).dot(_SHIFT) + _SHIFT_X[6]
         if self.same_axis:
-            return F[..., :3, int(self.axes[0])]
-        z = F[..., self._ar, :3, self.axes]
-        return z * self.sign[:, None]
+            screws = frames[:n, :6, self.first_screw_column]  # (n, 6)
+        else:
+            screws = frames[self._ar, :6, self.screw_column] * self.sign[:, None]
+        J = shift.reshape(6, 6).dot(screws.T)
+        if m < n:
+            J[:, m:] = 0.0
+        return J
 
     def jacobian_single(self, q: np.ndarray, upto: int | None = None, point=None) -> np.ndarray:
         """Geometric Jacobian (6, n); ``upto`` = frame index (n+1 = end-effector)."""
         if upto == 0:
             return np.zeros((6, self.n))
-        return self.jacobian_from_frames(self.frames_ext(q), upto, point)
+        return self.jacobian_from_screws(self.screw_frames(q), upto, point)
 
     def pose_and_jacobian_single(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """End-effector pose (4, 4) and Jacobian (6, n) from one pass over the chain."""
-        F = self.frames_ext(q)
-        return F[self.n], self.jacobian_from_frames(F)
-
-    def jacobian_from_frames(self, Fx: np.ndarray, upto: int | None = None, point=None) -> np.ndarray:
-        """Geometric Jacobian (6, n) from :meth:`frames_ext`'s frames (n + 1, 4, 4).
-
-        Column i is ``[z_i × (p − p_i); z_i]`` (revolute) or ``[z_i; 0]`` (prismatic).
-        """
-        n = self.n
-        if upto is None or upto == n + 1:
-            m, Tt = n, Fx[n]
-        else:
-            m, Tt = upto, Fx[upto - 1]
-        pt = Tt[:3, 3:4] if point is None else Tt[:3, :3] @ point[:, None] + Tt[:3, 3:4]
-        F = Fx[:n]
-        z = self._axes_from(F)
-        d = pt - F[:, :3, 3:4]  # (n, 3, 1)
-        Jv = (z.dot(_EPS).reshape(n, 3, 3) @ d).reshape(n, 3)  # z_i × (p − p_i)
-        J = np.concatenate((Jv.T, z.T))
-        if not self.all_revolute:
-            p = self.prismatic_idx
-            J[:3, p] = z[p].T
-            J[3:, p] = 0.0
-        if m < n:
-            J[:, m:] = 0.0
-        return J
+        frames = self.screw_frames(q)
+        return frames[self.n].take(_POSE_IN_X).reshape(4, 4), self.jacobian_from_screws(frames)
 
     # ------------------------------------------------------------------- batch
     def _batch_pass(self, Q: np.ndarray, record: str | None, upto: int | None = None

@@ -502,6 +502,8 @@ class SerialChain:
             ``q`` has NaN/inf entries, or ``frame`` is out of range.
         """
         kind, a = self._parse_q(q, check)
+        if kind == "single" and frame is None and not (check and self._overflow_risk(a)):
+            return self._engine.fk_single(a)  # the common call, in as few steps as possible
         k = self._n + 1 if frame is None else self._frame_index(frame)
         if kind == "sym":
             return self._symbolic_subs(self._sym_frames()[k], a)
@@ -584,6 +586,8 @@ class SerialChain:
             (identical, and simpler to print).
         """
         kind, a = self._parse_q(q, check)
+        if kind == "single" and frame is None and point is None and not (check and self._overflow_risk(a)):
+            return self._engine.jacobian_single(a)  # the common call, in as few steps as possible
         k = self._n + 1 if frame is None else self._frame_index(frame)
         if kind == "sym":
             return self._symbolic_subs(self._sym_jacobian(k, point), a)

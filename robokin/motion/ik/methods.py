@@ -69,6 +69,18 @@ def _matvec(A: np.ndarray, x: np.ndarray) -> np.ndarray:
     return (A @ x[..., None])[..., 0]
 
 
+_IDENTITY: dict[int, np.ndarray] = {}
+
+
+def _identity(n: int) -> np.ndarray:
+    """The (n, n) identity, made once per size (read-only)."""
+    eye = _IDENTITY.get(n)
+    if eye is None:
+        eye = _IDENTITY[n] = np.eye(n)
+        eye.setflags(write=False)
+    return eye
+
+
 def _solve(A: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.linalg.solve(A, b[..., None])[..., 0]
 
@@ -476,10 +488,11 @@ class LevenbergMarquardt(IKMethod):
     def step(self, J, e, q=None, ctx=None):
         n = J.shape[-1]
         if J.ndim == 2 and self.error_weights is None:  # single configuration: lean path
-            lam2 = 0.5 * self.error_damping * float(e @ e) + self.bias
-            A = J.T @ J
-            A.flat[:: n + 1] += lam2
-            return StepResult(np.linalg.solve(A, J.T @ e), math.sqrt(lam2))
+            lam2 = 0.5 * self.error_damping * float(e.dot(e)) + self.bias
+            Jt = J.T
+            A = Jt.dot(J)
+            A += lam2 * _identity(n)
+            return StepResult(np.linalg.solve(A, Jt.dot(e)), math.sqrt(lam2))
         if self.error_weights is None:
             We_e = e
             JtWe = _T(J)

@@ -7,11 +7,14 @@ chain with ``check=False``.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, NamedTuple
+from weakref import WeakKeyDictionary
 
 import numpy as np
 
+from robokin.chains.chain import SerialChain
 from robokin.chains.protocol import Chain
 from robokin.errors import DomainError, ShapeError
 from robokin.motion._kernels import tool_jacobian, wrap_angles
@@ -24,7 +27,7 @@ from robokin.validation import (
     check_transform,
 )
 
-__all__ = ["IKContext", "make_context", "parse_target", "parse_tolerance", "parse_q0"]
+__all__ = ["IKContext", "make_context", "chain_data", "parse_target", "parse_tolerance", "parse_q0"]
 
 
 @dataclass(eq=False)
@@ -59,10 +62,12 @@ class IKContext:
     shift: np.ndarray | None = None
 
     def __post_init__(self) -> None:
-        self.full_mask = bool(np.all(self.mask))
-        self.rows = np.flatnonzero(self.mask)
+        self.full_mask = bool(self.mask.all())
+        self.rows = self.mask.nonzero()[0]
         self.p_tool = None if self.tool is None else self.tool[:3, 3].copy()
         self._fk_and_jacobian = getattr(self.chain, "fk_and_jacobian", None)
+        # the limits as (lower, upper) pairs of plain floats: one configuration is checked in Python
+        self._bounds = list(zip(self.lower.tolist(), self.upper.tolist()))
 
     def project(self, q: np.ndarray) -> np.ndarray:
         """Bring a configuration (batch) back within the limits: wrap, shift by 2 pi, clamp."""
@@ -76,7 +81,7 @@ class IKContext:
 
     def touches_limit(self, q: np.ndarray) -> bool:
         """Does configuration ``q`` (n,) rest on one of its joint limits?"""
-        return bool(((q <= self.lower) | (q >= self.upper)).any())
+        return any(x <= lo or x >= hi for x, (lo, hi) in zip(q.tolist(), self._bounds))
 
     def advance(self, q: np.ndarray, dq: np.ndarray) -> tuple[np.ndarray, bool]:
         """``q + dq`` brought within the limits (:meth:`project`), and whether it rests on a limit.
@@ -85,7 +90,7 @@ class IKContext:
         (and no wrapping) is returned as is and reported off the limits.
         """
         q_new = q + dq
-        if self.wrap is not None or ((q_new < self.lower) | (q_new > self.upper)).any():
+        if self.wrap is not None or any(x < lo or x > hi for x, (lo, hi) in zip(q_new.tolist(), self._bounds)):
             q_new = self.project(q_new)
             return q_new, self.touches_limit(q_new)
         return q_new, False
@@ -125,6 +130,44 @@ class IKContext:
         return J if self.full_mask else J[..., self.rows, :]
 
 
+class _ChainData(NamedTuple):
+    """What a solve needs to know about a chain besides its kinematics (read-only arrays)."""
+
+    limits: Any  # the chain's limits object these were computed from
+    lower: np.ndarray
+    upper: np.ndarray
+    revolute: np.ndarray
+    middle: np.ndarray
+
+
+#: :class:`_ChainData` of the SerialChains solved so far: their limits are a read-only array and
+#: their joints fixed, so limits, joint types and the default initial guess are read once per chain.
+_CHAIN_DATA: WeakKeyDictionary[Any, _ChainData] = WeakKeyDictionary()
+
+
+def chain_data(chain: Chain) -> _ChainData:
+    """Joint limits ``(lower, upper)``, revolute joints (n,) and the middle of the limits of ``chain``.
+
+    Computed once per :class:`~robokin.chains.SerialChain` (cached while its
+    limits stay the same read-only array); every call for other chains.
+    """
+    limits = getattr(chain, "limits", None)
+    cached = _CHAIN_DATA.get(chain) if isinstance(chain, SerialChain) else None
+    if cached is not None and cached.limits is limits:
+        return cached
+    n = int(chain.n)
+    lower, upper = _chain_limits(chain)
+    types = getattr(chain, "joint_types", None) or ("revolute",) * n
+    revolute = np.array([t == "revolute" for t in types], dtype=bool)
+    middle = np.clip(np.where(np.isfinite(lower) & np.isfinite(upper), 0.5 * (lower + upper), 0.0), lower, upper)
+    for a in (lower, upper, revolute, middle):
+        a.setflags(write=False)
+    data = _ChainData(limits, lower, upper, revolute, middle)
+    if isinstance(chain, SerialChain) and isinstance(limits, np.ndarray) and not limits.flags.writeable:
+        _CHAIN_DATA[chain] = data
+    return data
+
+
 def _chain_limits(chain: Chain) -> tuple[np.ndarray, np.ndarray]:
     n = int(chain.n)
     limits = getattr(chain, "limits", None)
@@ -154,6 +197,8 @@ def parse_target(target: Any, batched: bool) -> tuple[np.ndarray, bool]:
     """
     name = "targets" if batched else "target"
     a = as_float_array(target, name)
+    if not batched and a.shape == (4, 4):
+        return _check_pose(a, name), False
     _check_distance(a[..., :3, 3] if a.ndim >= 2 and a.shape[-2:] == (4, 4) else a, name)
     if batched:
         if a.ndim == 2 and a.shape[1] == 3:
@@ -173,14 +218,24 @@ def parse_target(target: Any, batched: bool) -> tuple[np.ndarray, bool]:
 
 
 def _check_pose(T: np.ndarray, name: str, tol: float = 1e-6) -> np.ndarray:
-    """Fast check of one finite (4, 4) transform; falls back to check_transform for the message."""
-    R = T[:3, :3]
-    (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = R.tolist()
+    """Fast check of one finite (4, 4) transform (plain floats); falls back to check_transform for the message.
+
+    Checks what :func:`~robokin.validation.check_transform` checks (bottom row
+    ``[0, 0, 0, 1]``, :math:`|RR^T - I| \\le` ``tol`` entry by entry, det R > 0)
+    and the distance limit :data:`MAX_DISTANCE`.
+    """
+    (r00, r01, r02, px), (r10, r11, r12, py), (r20, r21, r22, pz), (b0, b1, b2, b3) = T.tolist()
+    if max(abs(px), abs(py), abs(pz)) > MAX_DISTANCE:
+        _check_distance(T[:3, 3], name)
     det = r00 * (r11 * r22 - r12 * r21) - r01 * (r10 * r22 - r12 * r20) + r02 * (r10 * r21 - r11 * r20)
-    b0, b1, b2, b3 = T[3].tolist()
     ok = (
         abs(b0) <= tol and abs(b1) <= tol and abs(b2) <= tol and abs(b3 - 1.0) <= tol
-        and float(np.abs(R @ R.T - np.eye(3)).max()) <= tol
+        and abs(r00 * r00 + r01 * r01 + r02 * r02 - 1.0) <= tol
+        and abs(r10 * r10 + r11 * r11 + r12 * r12 - 1.0) <= tol
+        and abs(r20 * r20 + r21 * r21 + r22 * r22 - 1.0) <= tol
+        and abs(r00 * r10 + r01 * r11 + r02 * r12) <= tol
+        and abs(r00 * r20 + r01 * r21 + r02 * r22) <= tol
+        and abs(r10 * r20 + r11 * r21 + r12 * r22) <= tol
         and det > 0.0
     )
     return T if ok else check_transform(T, name=name)
@@ -205,6 +260,8 @@ def parse_mask(mask: Any, is_position: bool) -> np.ndarray:
 
 def parse_tolerance(tol: Any) -> tuple[float, float]:
     """``tol`` as ``(position (m), orientation (rad))``; a scalar sets both."""
+    if type(tol) is float and 0.0 < tol < math.inf:  # the usual case, a positive float
+        return tol, tol
     if np.ndim(tol) == 0:
         t = check_positive(tol, "tol", scalar=True)
         return t, t
@@ -213,12 +270,14 @@ def parse_tolerance(tol: Any) -> tuple[float, float]:
     return float(t[0]), float(t[1])
 
 
-def parse_q0(q0: Any, n: int, lower: np.ndarray, upper: np.ndarray, count: int | None) -> np.ndarray:
-    """Initial guess(es): ``None`` -> middle of the limits (0 for unlimited joints)."""
+def parse_q0(q0: Any, n: int, lower: np.ndarray, upper: np.ndarray, count: int | None,
+             middle: np.ndarray | None = None) -> np.ndarray:
+    """Initial guess(es): ``None`` -> middle of the limits (0 for unlimited joints; ``middle`` if given)."""
     if q0 is None:
-        mid = np.where(np.isfinite(lower) & np.isfinite(upper), 0.5 * (lower + upper), 0.0)
-        mid = np.clip(mid, lower, upper)
-        return mid.copy() if count is None else np.tile(mid, (count, 1))
+        if middle is None:
+            middle = np.clip(np.where(np.isfinite(lower) & np.isfinite(upper), 0.5 * (lower + upper), 0.0),
+                             lower, upper)
+        return middle.copy() if count is None else np.tile(middle, (count, 1))
     name = "q0"
     a = as_float_array(q0, name)
     if count is None:
@@ -231,16 +290,19 @@ def parse_q0(q0: Any, n: int, lower: np.ndarray, upper: np.ndarray, count: int |
     return np.clip(a, lower, upper)
 
 
-def parse_wrap(wrap: Any, chain: Chain, n: int) -> tuple[np.ndarray | None, np.ndarray | None]:
+def parse_wrap(wrap: Any, chain: Chain, n: int, revolute: np.ndarray | None = None
+               ) -> tuple[np.ndarray | None, np.ndarray | None]:
     """``wrap`` -> (joints wrapped every step, revolute joints that may re-enter by 2 pi).
 
     ``"limits"`` (default): no wrapping, but a revolute joint that would leave
     its range re-enters it by ``±2 pi`` when that lands inside (same pose);
     ``True``: every revolute joint wrapped into (-pi, pi] each step;
     ``False``/``None``: plain clamping; booleans (n,): those joints wrapped.
+    ``revolute`` (n,) bool: the chain's revolute joints, if the caller has them
+    (default: :func:`chain_data`).
     """
-    types = getattr(chain, "joint_types", None) or ("revolute",) * n
-    revolute = np.array([t == "revolute" for t in types], dtype=bool)
+    if revolute is None:  # (n,) bool, the revolute joints
+        revolute = chain_data(chain).revolute
     if isinstance(wrap, str):
         if wrap != "limits":
             raise ValueError(f"wrap must be True, False, 'limits' or booleans of shape ({n},); got {wrap!r}")
@@ -259,7 +321,8 @@ def parse_wrap(wrap: Any, chain: Chain, n: int) -> tuple[np.ndarray | None, np.n
 def make_context(chain: Chain, mask: np.ndarray, tool: Any, wrap: Any) -> IKContext:
     check_chain(chain)
     n = int(chain.n)
-    lower, upper = _chain_limits(chain)
+    data = chain_data(chain)
+    lower, upper = data.lower, data.upper
     T_tool = None
     if tool is not None:
         T_tool = check_transform(tool, name="tool")
@@ -268,7 +331,7 @@ def make_context(chain: Chain, mask: np.ndarray, tool: Any, wrap: Any) -> IKCont
         _check_distance(T_tool[:3, 3], "tool")
         if np.allclose(T_tool, np.eye(4), rtol=0, atol=0):
             T_tool = None
-    wrap_mask, shift_mask = parse_wrap(wrap, chain, n)
+    wrap_mask, shift_mask = parse_wrap(wrap, chain, n, data.revolute)
     return IKContext(chain, n, lower, upper, mask, T_tool, wrap_mask, shift_mask)
 
 

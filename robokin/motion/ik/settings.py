@@ -17,6 +17,7 @@ from robokin.chains.protocol import Chain
 from robokin.motion.ik.methods import IKMethod, make_method
 from robokin.motion.ik.problem import (
     IKContext,
+    chain_data,
     check_nonnegative_int,
     make_context,
     parse_mask,
@@ -141,7 +142,8 @@ def parse_settings(
     gradient_tolerance = check_positive(gradient_tolerance, "gradient_tolerance", scalar=True)
     if max_step is not None:
         max_step = check_positive(max_step, "max_step", scalar=True)
-    q_start = parse_q0(q0, ctx.n, ctx.lower, ctx.upper, T_goal.shape[0] if batched else None)
+    q_start = parse_q0(q0, ctx.n, ctx.lower, ctx.upper, T_goal.shape[0] if batched else None,
+                       chain_data(chain).middle)
     if seed is not None and not isinstance(seed, (np.random.Generator, int, np.integer)):
         raise TypeError(f"seed must be an int, a numpy Generator or None; got {type(seed).__name__}")
     settings = IKSettings(
