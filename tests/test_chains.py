@@ -21,6 +21,7 @@ from robokin.chains import (
     from_link_table,
     from_modified_dh,
 )
+from robokin.chains import _engine as engine_module
 from robokin.errors import DomainError, ShapeError
 
 # --------------------------------------------------------------------------- helpers
@@ -649,3 +650,37 @@ def test_engine_half_angle_cos_sin_accuracy():
     np.testing.assert_allclose(c, np.cos(th), atol=1e-14, rtol=0)
     np.testing.assert_allclose(s, np.sin(th), atol=1e-14, rtol=0)
     assert c[-9] == 1.0 and s[-9] == 0.0
+
+
+# ---------------------------------------------------------------- long chains: memory linear in n
+def _long_chain_elements(n: int, seed: int = 0) -> list:
+    rng = np.random.default_rng(seed)
+    kinds = [Rx, Ry, Rz, Tx]
+    out = []
+    for i in range(n):
+        out += [Tz(0.1 * rng.random()), kinds[i % 4](f"q{i}", offset=0.1 * i if i % 3 else 0.0), Ty(0.05)]
+    return out
+
+
+@pytest.mark.parametrize("n", [engine_module.DENSE_JOINTS + 1, 40])
+def test_long_chain_blocks_equal_the_dense_product(n, monkeypatch):
+    """Above DENSE_JOINTS joints the engine adds the stacked block parts instead of one product
+    with an n² matrix: the same frames, pose and Jacobian as the dense form."""
+    elements = _long_chain_elements(n)
+    q = np.random.default_rng(n).uniform(-1.0, 1.0, n)
+    stacked = SerialChain(elements)
+    results = (stacked.fk(q), stacked.jacobian(q), stacked.frames(q), *stacked.fk_and_jacobian(q))
+    monkeypatch.setattr(engine_module, "DENSE_JOINTS", 10 * n)
+    dense = SerialChain(elements)
+    expected = (dense.fk(q), dense.jacobian(q), dense.frames(q), *dense.fk_and_jacobian(q))
+    for got, want in zip(results, expected):
+        np.testing.assert_allclose(got, want, rtol=0, atol=1e-12)
+
+
+def test_engine_of_a_3000_joint_chain_holds_no_quadratic_array():
+    chain = SerialChain(_long_chain_elements(3000))
+    q = np.zeros(3000)
+    assert chain.fk(q).shape == (4, 4)
+    engine = chain._engine  # the compiled chain (private: this tests its memory)
+    biggest = max(value.nbytes for value in vars(engine).values() if isinstance(value, np.ndarray))
+    assert biggest < 3 * 3001 * 49 * 8 + 1, f"an engine array of {biggest / 1e6:.0f} MB for 3,000 joints"

@@ -48,6 +48,23 @@ from __future__ import annotations
 
 import numpy as np
 
+#: Chains with at most this many joints keep their blocks in one dense matrix (:class:`Engine`).
+DENSE_JOINTS = 32
+
+
+def _block_diagonal(parts: np.ndarray, n: int) -> np.ndarray:
+    """(2n + 1, k m): the stacked parts (3, k, m) = (P, Q, R) of k blocks of m entries (k = n, or
+    n + 1 with a constant last block) laid out so that ``[u_1..u_n, w_1..w_n, 1] · M`` gives every
+    block u_i P_i + w_i Q_i + R_i, each in its own m columns."""
+    _, k, m = parts.shape
+    M = np.zeros((2 * n + 1, k * m))
+    for i in range(n):
+        M[i, m * i : m * i + m] = parts[0, i]
+        M[n + i, m * i : m * i + m] = parts[1, i]
+    M[2 * n] = parts[2].ravel()
+    return M
+
+
 # (a, b) column pair mixed by a rotation about axis k: R[a,a]=R[b,b]=c, R[b,a]=s, R[a,b]=-s
 _PAIR = {0: (1, 2), 1: (2, 0), 2: (0, 1)}
 
@@ -153,31 +170,31 @@ class Engine:
         self.unit_sign = bool(np.all(self.sign == 1.0))
         self.trivial_map = self.unit_sign and bool(np.all(self.offset == 0.0))
         self.E = self.consts[-1]
-        # Single configuration: the joint blocks A_i = C_{i-1} J_i = u_i P_i + w_i Q_i + R_i of all
-        # joints come out of ONE product  [u_1..u_n, w_1..w_n, 1] · M  (M: (2n + 1, 16 n), each
-        # block's 16 entries in its own columns), because a Python-level call costs more than the
-        # arithmetic of a 4×4 block.  M_fk folds E = C_n T_tool into the last block (for fk).
+        # Single configuration: the joint blocks A_i = C_{i-1} J_i = u_i P_i + w_i Q_i + R_i
         blocks = [[(self.consts[i] @ M).ravel() for M in joint_pqr(int(axes[i]), bool(revolute[i]))]
                   for i in range(n)]
-        self.M_fk = np.zeros((2 * n + 1, 16 * n))
+        # fk: the blocks' P, Q, R parts stacked, (3, n, 16); E folded into the last block
+        self.fk_parts = np.array(blocks, dtype=float).reshape(n, 3, 16).transpose(1, 0, 2).copy()
+        for part in self.fk_parts[:, n - 1 :] if n else ():
+            part[0] = (part[0].reshape(4, 4) @ self.E).ravel()
+        # frames and Jacobian: the same blocks in the 7×7 form X(A) (see the module docstring), with
+        # X(E) as an extra constant block, (3, n + 1, 49)
+        self.screw_parts = np.zeros((3, n + 1, 49))
         for i, (P, Q, R) in enumerate(blocks):
-            self.M_fk[i, 16 * i : 16 * i + 16] = P
-            self.M_fk[n + i, 16 * i : 16 * i + 16] = Q
-            self.M_fk[2 * n, 16 * i : 16 * i + 16] = R
-        last = slice(16 * (n - 1), 16 * n)
-        for row in (n - 1, 2 * n - 1, 2 * n):  # the last block's u, w and constant parts, times E
-            self.M_fk[row, last] = (self.M_fk[row, last].reshape(4, 4) @ self.E).ravel()
-        # The same blocks in the 7×7 form X(A) (see the module docstring), with E as an extra block
-        # (for the frames and the Jacobian).
-        self.M_screw = np.zeros((2 * n + 1, 49 * (n + 1)))
-        for i, (P, Q, R) in enumerate(blocks):
-            R4, P4, Q4 = R.reshape(4, 4), P.reshape(4, 4), Q.reshape(4, 4)
+            R4 = R.reshape(4, 4)
             R0, p0 = R4[:3, :3], R4[:3, 3]
-            cols = slice(49 * i, 49 * i + 49)
-            self.M_screw[i, cols] = screw_form(P4, R0, p0, False).ravel()
-            self.M_screw[n + i, cols] = screw_form(Q4, R0, p0, False).ravel()
-            self.M_screw[2 * n, cols] = screw_form(R4, R0, p0, True).ravel()
-        self.M_screw[2 * n, 49 * n :] = screw_form(self.E, self.E[:3, :3], self.E[:3, 3], True).ravel()
+            self.screw_parts[0, i] = screw_form(P.reshape(4, 4), R0, p0, False).ravel()
+            self.screw_parts[1, i] = screw_form(Q.reshape(4, 4), R0, p0, False).ravel()
+            self.screw_parts[2, i] = screw_form(R4, R0, p0, True).ravel()
+        self.screw_parts[2, n] = screw_form(self.E, self.E[:3, :3], self.E[:3, 3], True).ravel()
+        # Up to DENSE_JOINTS joints, all blocks of a configuration come out of ONE product
+        # [u_1..u_n, w_1..w_n, 1] · M (M: (2n + 1, 16 n), each block's entries in its own columns),
+        # because a Python-level call costs more than the arithmetic of a block; M grows as n², so
+        # longer chains add the stacked parts instead, u_i P_i + w_i Q_i + R_i (linear in n).
+        self.dense = n <= DENSE_JOINTS
+        if self.dense:
+            self.M_fk = _block_diagonal(self.fk_parts, n)
+            self.M_screw = _block_diagonal(self.screw_parts, n)
         # Column of X_i holding joint i's screw [p_i × z_i; z_i] (revolute) or [z_i; 0] (prismatic)
         self.screw_column = np.where(self.revolute, 3 + self.axes, self.axes)
         # every screw in the same column with sign +1: the Jacobian gathers one column by a slice
@@ -205,10 +222,20 @@ class Engine:
             v[n + p] = 0.0
         return v
 
+    def _blocks(self, v: np.ndarray, M: np.ndarray) -> np.ndarray:
+        """The joint blocks ``u_i P_i + w_i Q_i + R_i`` (flat) from the coefficients ``v``: one
+        product with the dense ``M``, or the stacked parts ``M`` = (P, Q, R) of a long chain."""
+        if self.dense:
+            return v.dot(M)
+        n, (P, Q, R) = self.n, M
+        out = R.copy()
+        out[:n] += v[:n, None] * P[:n] + v[n : 2 * n, None] * Q[:n]
+        return out
+
     def fk_single(self, q: np.ndarray) -> np.ndarray:
         """(4, 4) end-effector pose: the product ``A_1 A_2 ... A_n`` of the joint blocks."""
         n = self.n
-        A = self._coefficients(q).dot(self.M_fk).reshape(n, 4, 4)
+        A = self._blocks(self._coefficients(q), self.M_fk if self.dense else self.fk_parts).reshape(n, 4, 4)
         if n == 1:
             return A[0]
         if n >= 4:  # neighbours in one stacked product, then in order: fewer calls
@@ -240,7 +267,7 @@ class Engine:
         The running products of the blocks ``X(A_1), ..., X(A_n), X(E)``, in order.
         """
         n = self.n
-        X = self._coefficients(q).dot(self.M_screw).reshape(n + 1, 7, 7)
+        X = self._blocks(self._coefficients(q), self.M_screw if self.dense else self.screw_parts).reshape(n + 1, 7, 7)
         frames = np.empty((n + 1, 7, 7))
         frames[0] = X[0]
         for i in range(1, n + 1):
