@@ -319,28 +319,28 @@ def track_position_batch(
     qd_log = np.empty((N, K, n))
     r_log = np.empty((N, K, 3))
     s_log = np.empty((N, K, min(3, n)))
-    for k in range(K):
-        r = chain.fk(Q, check=False)[:, :3, 3]
-        J = chain.position_jacobian(Q, check=False)
-        U, s, Vt = np.linalg.svd(J, full_matrices=False)  # (N,3,3), (N,3), (N,3,n)
-        if inverse == "pinv":
-            inv_s = np.where(s > rcond * s[:, :1], 1.0 / np.where(s > 0, s, 1.0), 0.0)
-        else:
-            inv_s = s / (s**2 + lam * lam) if lam > 0 else np.where(
-                s > rcond * s[:, :1], 1.0 / np.where(s > 0, s, 1.0), 0.0)
-        with np.errstate(all="ignore"):
+    damped = inverse == "dls" and lam > 0
+    # One errstate for the whole loop (entering it costs as much as a small array operation):
+    # an overflow (references near 1e308) is caught below, by an error that names the inputs.
+    with np.errstate(all="ignore"):
+        for k in range(K):
+            r = chain.fk(Q, check=False)[:, :3, 3]
+            J = chain.position_jacobian(Q, check=False)
+            U, s, Vt = np.linalg.svd(J, full_matrices=False)  # (N,3,3), (N,3), (N,3,n)
+            if damped:
+                inv_s = s / (s**2 + lam * lam)  # σ / (σ² + λ²)
+            else:
+                inv_s = np.where(s > rcond * s[:, :1], 1.0 / s, 0.0)  # 1/σ, 0 below the cut-off
             v_cmd = V[:, k] + gain * (P[:, k] - r)
-        with np.errstate(all="ignore"):
             y = np.einsum("nji,nj->ni", U, v_cmd) * inv_s  # Σ^# Uᵀ v
-            qdot = np.einsum("nij,ni->nj", Vt, y)           # V y
-        q_log[:, k], qd_log[:, k], r_log[:, k], s_log[:, k] = Q, qdot, r, s
-        if k < K - 1:
-            with np.errstate(all="ignore"):
+            qdot = np.einsum("nij,ni->nj", Vt, y)  # V y
+            q_log[:, k], qd_log[:, k], r_log[:, k], s_log[:, k] = Q, qdot, r, s
+            if k < K - 1:
                 Q = Q + ts * qdot
-            if not np.isfinite(Q).all():  # references near 1e308: the step overflowed
-                check_result_finite(Q, "the joint step ts * qdot", positions=P, velocities=V, gain=gain)
-            if clamp:
-                Q = np.minimum(np.maximum(Q, lower), upper)
+                if not np.isfinite(Q).all():  # references near 1e308: the step overflowed
+                    check_result_finite(Q, "the joint step ts * qdot", positions=P, velocities=V, gain=gain)
+                if clamp:
+                    Q = np.minimum(np.maximum(Q, lower), upper)
     check_result_finite(qd_log, "the joint velocities", positions=P, velocities=V, gain=gain)
     at_limit = (q_log <= lower) | (q_log >= upper)
     rank = generic_rank(lambda Q_: chain.position_jacobian(Q_, check=False), lower, upper)
