@@ -241,6 +241,18 @@ def _rates_and_singular_values(
     return rates, s
 
 
+def _positions_and_jacobians(chain: Chain, Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """End-effector positions (N, 3) and position Jacobians (N, 3, n) at ``Q`` (N, n).
+
+    A single run (N = 1) goes through the single-configuration kinematics: a batch of
+    one costs several times as much (the batch code is built for many rows).
+    """
+    if Q.shape[0] == 1:
+        q = Q[0]
+        return chain.fk(q, check=False)[None, :3, 3], chain.position_jacobian(q, check=False)[None]
+    return chain.fk(Q, check=False)[:, :3, 3], chain.position_jacobian(Q, check=False)
+
+
 def _per_run(a: np.ndarray, N: int, K: int, name: str) -> np.ndarray:
     if a.shape == (K, 3):
         return np.broadcast_to(a, (N, K, 3))
@@ -383,8 +395,7 @@ def track_position_batch(
     # an overflow (references near 1e308) is caught below, by an error that names the inputs.
     with np.errstate(all="ignore"):
         for k in range(K):
-            r = chain.fk(Q, check=False)[:, :3, 3]
-            J = chain.position_jacobian(Q, check=False)
+            r, J = _positions_and_jacobians(chain, Q)
             v_cmd = V[:, k] + gain * (P[:, k] - r)
             qdot, s = _rates_and_singular_values(J, v_cmd, rcond, dls_damping, gram)
             q_log[:, k], qd_log[:, k], r_log[:, k], s_log[:, k] = Q, qdot, r, s
