@@ -210,7 +210,7 @@ def _rates_and_singular_values(
     :math:`g = 1/\sigma^2` or :math:`1/(\sigma^2 + \lambda^2)`: from the
     eigen-decomposition of the 3×3 matrix :math:`\mathbf J\mathbf J^T`, about half the
     cost of the SVD of J for a batch. Its rounding error grows as the condition number
-    squared, so the runs whose J is worse conditioned than :data:`GRAM_MAX_CONDITION`
+    squared, so the runs whose J is worse conditioned than ``GRAM_MAX_CONDITION``
     (near a singularity) take the SVD of J instead.
     """
 
@@ -291,8 +291,12 @@ def track_position_batch(
     inverse :math:`\mathbf J_v^T(\mathbf J_v\mathbf J_v^T + \lambda^2\mathbf I)^{-1}`
     (Siciliano et al. 2009, eq. 3.59 and 3.70), both from the singular value
     decomposition :math:`\mathbf J_v = \mathbf U\boldsymbol\Sigma\mathbf V^T`
-    (which also gives the singular values that are logged); see
-    :func:`_rates_and_singular_values` for how it is computed.
+    (which also gives the singular values that are logged). For a spatial arm
+    the step is computed from the eigen-decomposition
+    :math:`\mathbf J_v\mathbf J_v^T = \mathbf U\boldsymbol\Sigma^2\mathbf U^T`
+    (the same :math:`\mathbf U` and :math:`\boldsymbol\Sigma`, at half the cost), and
+    from the SVD of :math:`\mathbf J_v` itself where :math:`\mathbf J_v` is worse
+    conditioned than ``sigma_max / sigma_min = 100`` (near a singularity).
 
     Parameters
     ----------
