@@ -241,15 +241,18 @@ def _rates_and_singular_values(
     return rates, s
 
 
-def _positions_and_jacobians(chain: Chain, Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """End-effector positions (N, 3) and position Jacobians (N, 3, n) at ``Q`` (N, n).
+#: Up to this many runs the kinematics are evaluated one configuration at a time: the
+#: batch code is built for many rows, and a batch of a few rows costs more than a few
+#: single-configuration calls (about 5 of them).
+SINGLE_CONFIGURATION_RUNS = 4
 
-    A single run (N = 1) goes through the single-configuration kinematics: a batch of
-    one costs several times as much (the batch code is built for many rows).
-    """
-    if Q.shape[0] == 1:
-        q = Q[0]
-        return chain.fk(q, check=False)[None, :3, 3], chain.position_jacobian(q, check=False)[None]
+
+def _positions_and_jacobians(chain: Chain, Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """End-effector positions (N, 3) and position Jacobians (N, 3, n) at ``Q`` (N, n)."""
+    if Q.shape[0] <= SINGLE_CONFIGURATION_RUNS:
+        r = np.array([chain.fk(q, check=False)[:3, 3] for q in Q])
+        J = np.array([chain.position_jacobian(q, check=False) for q in Q])
+        return r, J
     return chain.fk(Q, check=False)[:, :3, 3], chain.position_jacobian(Q, check=False)
 
 
