@@ -249,7 +249,7 @@ SINGLE_CONFIGURATION_RUNS = 4
 
 def _positions_and_jacobians(chain: Chain, Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """End-effector positions (N, 3) and position Jacobians (N, 3, n) at ``Q`` (N, n)."""
-    if Q.shape[0] <= SINGLE_CONFIGURATION_RUNS:
+    if 0 < Q.shape[0] <= SINGLE_CONFIGURATION_RUNS:  # (no runs: the batch code gives the empty shapes)
         r = np.array([chain.fk(q, check=False)[:3, 3] for q in Q])
         J = np.array([chain.position_jacobian(q, check=False) for q in Q])
         return r, J
