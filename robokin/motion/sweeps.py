@@ -304,8 +304,10 @@ def track_position_batch(
     Parameters
     ----------
     chain : SerialChain
-        Offers ``n``, ``limits``, batched ``fk(Q, check=False)`` and
-        ``position_jacobian(Q, check=False)``.
+        Offers ``n``, ``limits``, ``fk(q, check=False)`` and
+        ``position_jacobian(q, check=False)`` for one configuration (n,) and
+        for a batch (N, n) (up to 4 runs are evaluated one configuration at a
+        time, more as a batch).
     q0 : array_like, shape (n,) or (N, n)
         Start configuration(s), within the joint limits when ``clamp``.
     ts : float
