@@ -163,3 +163,27 @@ def test_track_bad_input(kwargs, err, text):
     with pytest.raises(err, match=text):
         track_position_batch(ARM, args.pop("q0"), args.pop("ts"), args.pop("positions"), args.pop("velocities"),
                              **args)
+
+
+@pytest.mark.parametrize("damping", [None, 0.02])
+def test_gram_path_equals_the_svd_of_j_also_near_singularities(damping):
+    """The step from the eigen-decomposition of J Jᵀ equals V Σ# Uᵀ v from the SVD of J,
+    for well-conditioned rows and (through the SVD fallback) ill-conditioned ones."""
+    from robokin.motion.sweeps import GRAM_MAX_CONDITION, _rates_and_singular_values
+
+    rng = np.random.default_rng(3)
+    Q = ARM.random_configurations(40, seed=3)
+    Q[:10, 5] = 1e-9 * rng.standard_normal(10)  # wrist W1 at zero: J_v (nearly) rank-deficient
+    Q[10:15, 3] = 1e-6  # elbow E1 stretched
+    J = ARM.position_jacobian(Q)
+    v = rng.standard_normal((40, 3))
+    gram_rates, gram_s = _rates_and_singular_values(J, v, 1e-8, damping, True)
+    svd_rates, svd_s = _rates_and_singular_values(J, v, 1e-8, damping, False)
+    assert np.allclose(gram_s, np.linalg.svd(J, compute_uv=False), rtol=0, atol=1e-14)
+    assert np.allclose(gram_s, svd_s, rtol=0, atol=1e-14)
+    ill = svd_s[:, 2] * GRAM_MAX_CONDITION < svd_s[:, 0]
+    assert ill.any() and not ill.all()  # both paths are exercised
+    assert np.array_equal(gram_rates[ill], svd_rates[ill])  # the SVD itself there
+    scale = np.linalg.norm(svd_rates, axis=1, keepdims=True)
+    assert np.allclose(gram_rates, svd_rates, rtol=0, atol=1e-12 * scale.max())
+    assert np.all(np.abs(gram_rates - svd_rates) <= 1e-12 * scale)

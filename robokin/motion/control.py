@@ -83,6 +83,10 @@ class ControlOutput:
         ``sigma_min`` is below the controller's ``singular_threshold``: the
         configuration is (close to) singular and the pseudoinverse asks for
         joint rates up to ``|twist| / sigma_min``.
+    pose : ndarray, shape (4, 4), or None
+        Pose of the controlled frame at this step (the frame of ``error``), when
+        the controller computed it; :func:`~robokin.motion.simulate` logs it
+        instead of computing it again. None (default) when not reported.
     """
 
     qdot: np.ndarray
@@ -90,6 +94,7 @@ class ControlOutput:
     error: np.ndarray
     sigma_min: float = float("nan")
     singular: bool = False
+    pose: np.ndarray | None = None
 
 
 def _pinv_and_singular_values(J: np.ndarray, rcond: float) -> tuple[np.ndarray, np.ndarray]:
@@ -100,7 +105,7 @@ def _pinv_and_singular_values(J: np.ndarray, rcond: float) -> tuple[np.ndarray, 
     """
     u, s, vt = np.linalg.svd(J, full_matrices=False)
     sv = s.copy()
-    large = s > rcond * np.max(s, initial=0.0)
+    large = s > rcond * s[0]  # s[0]: the largest singular value (svd sorts them)
     s = np.divide(1, s, where=large, out=s)
     s[~large] = 0
     return np.matmul(vt.T, np.multiply(s[:, None], u.T)), sv
@@ -277,12 +282,15 @@ class CartesianController:
         """Geometric Jacobian (6, n) of the (tool) frame at ``q`` (n,)."""
         return self._jacobian(as_vector(q, self.n, "q"))
 
-    def _jacobian(self, q: np.ndarray) -> np.ndarray:
+    def _jacobian(self, q: np.ndarray, T_flange: np.ndarray | None = None) -> np.ndarray:
+        """Jacobian of the controlled frame; ``T_flange``: the chain's ``fk(q)`` if already known."""
         J = self.chain.jacobian(q, check=False)
         if self.tool is not None:
             from robokin.motion._kernels import tool_jacobian
 
-            J = tool_jacobian(J, self.chain.fk(q, check=False)[:3, :3], self.tool[:3, 3])
+            if T_flange is None:
+                T_flange = self.chain.fk(q, check=False)
+            J = tool_jacobian(J, T_flange[:3, :3], self.tool[:3, 3])
         return J
 
     def error(self, q: Any, t: float = 0.0) -> np.ndarray:
@@ -290,7 +298,9 @@ class CartesianController:
         return self._error(as_vector(q, self.n, "q"), as_scalar(t, "t"))
 
     def _error(self, q: np.ndarray, t: float) -> np.ndarray:
-        T = self._pose(q)
+        return self._error_at_pose(self._pose(q), t)
+
+    def _error_at_pose(self, T: np.ndarray, t: float) -> np.ndarray:
         g = self._goal_at(t)
         if self.position_only:
             e = np.zeros(6)
@@ -304,8 +314,9 @@ class CartesianController:
         Returns
         -------
         ControlOutput
-            ``qdot``, ``twist``, ``error`` and the singularity measure
-            ``sigma_min`` / flag ``singular`` of this step.
+            ``qdot``, ``twist``, ``error``, the singularity measure
+            ``sigma_min`` / flag ``singular`` and the ``pose`` of the controlled
+            frame of this step.
 
         Raises
         ------
@@ -316,7 +327,9 @@ class CartesianController:
         """
         t = as_scalar(t, "t")
         q = as_vector(q, self.n, "q")
-        e = self._error(q, t)
+        T_flange = self.chain.fk(q, check=False)
+        T = T_flange if self.tool is None else T_flange @ self.tool  # self._pose(q)
+        e = self._error_at_pose(T, t)
         twist = np.zeros(6)
         with np.errstate(all="ignore"):
             twist[:3] = self.Kp @ e[:3]
@@ -337,7 +350,7 @@ class CartesianController:
         total = sum(twist.tolist())
         if total - total != 0.0:  # a goal near 1e308 m: the twist overflowed
             check_result_finite(twist, "the commanded twist", goal=self._goal_at(t))
-        J = self._jacobian(q)
+        J = self._jacobian(q, T_flange)
         rows = slice(0, 3) if self.position_only else slice(0, 6)
         Jt, nu = J[rows], twist[rows]
         if self.inverse == "dls" and self.damping > 0:
@@ -351,7 +364,7 @@ class CartesianController:
         r = self.task_rank
         sigma_min = float(s[r - 1]) if s.size >= r else 0.0
         return ControlOutput(qdot=qdot, twist=twist, error=e, sigma_min=sigma_min,
-                             singular=bool(sigma_min < self.singular_threshold))
+                             singular=bool(sigma_min < self.singular_threshold), pose=T)
 
     def __repr__(self) -> str:
         kp = np.diag(self.Kp) if np.allclose(self.Kp, np.diag(np.diag(self.Kp))) else self.Kp

@@ -61,9 +61,10 @@ class SimulationLog:
     error : ndarray, shape (K, 6)
         Pose error ``[e_P; e_O]`` (NaN if the controller gives none).
     pose : ndarray, shape (K, 4, 4)
-        Pose of the controlled frame: the controller's ``pose(q)`` when it has
-        one (the tool frame of a :class:`CartesianController` with ``tool=``),
-        else the chain's end-effector ``fk(q)``; the same frame as ``error``.
+        Pose of the controlled frame: the ``pose`` the controller reports in its
+        :class:`ControlOutput`, else its ``pose(q)`` when it has one (the tool
+        frame of a :class:`CartesianController` with ``tool=``), else the
+        chain's end-effector ``fk(q)``; the same frame as ``error``.
     at_limit : ndarray of bool, shape (K, n)
         Joints resting on a limit.
     reason : str
@@ -252,9 +253,10 @@ def simulate(
         t = k * ts
         T_log[k] = t
         Q[k] = q
-        P[k] = controlled_pose(q)
         L[k] = (q <= lower) | (q >= upper)
         out = controller(t, q)
+        pose = out.pose if isinstance(out, ControlOutput) else None  # reported: no second FK
+        P[k] = controlled_pose(q) if pose is None else pose
         if isinstance(out, ControlOutput) or hasattr(out, "qdot"):
             qdot = as_float_array(out.qdot, "controller(t, q).qdot")
             if getattr(out, "twist", None) is not None:

@@ -186,6 +186,76 @@ class BatchTrackingLog:
         return np.prod(self.singular_values, axis=-1)
 
 
+#: Largest condition number sigma_max / sigma_min of J_v for which a step goes through the
+#: eigen-decomposition of J_v J_v^T: its rounding error grows as the condition number
+#: squared, so at most about 1e4 * eps relative here; worse-conditioned rows use the SVD.
+GRAM_MAX_CONDITION = 100.0
+
+
+def _rates_and_singular_values(
+    J: np.ndarray, v: np.ndarray, rcond: float, damping: float | None, gram: bool
+) -> tuple[np.ndarray, np.ndarray]:
+    r"""Joint rates :math:`\mathbf J^{\#}\mathbf v` and the singular values of each J.
+
+    ``J`` (N, 3, n), ``v`` (N, 3) -> rates (N, n) and singular values (N, min(3, n)),
+    largest first. :math:`\mathbf J^{\#} = \mathbf V\boldsymbol\Sigma^{\#}\mathbf U^T`
+    with :math:`\sigma^{\#} = 1/\sigma` (pseudoinverse; 0 for :math:`\sigma` below
+    ``rcond`` times the largest) or :math:`\sigma/(\sigma^2 + \lambda^2)` (damped least
+    squares, ``damping`` :math:`\lambda`; None for the pseudoinverse).
+
+    With ``gram`` (J of full row rank 3 at a generic configuration), since
+    :math:`\mathbf J\mathbf J^T = \mathbf U\boldsymbol\Sigma^2\mathbf U^T` and
+    :math:`\mathbf V = \mathbf J^T\mathbf U\boldsymbol\Sigma^{-1}`, the same rates are
+    :math:`\mathbf J^T\mathbf U\,g(\boldsymbol\Sigma^2)\,\mathbf U^T\mathbf v` with
+    :math:`g = 1/\sigma^2` or :math:`1/(\sigma^2 + \lambda^2)`: from the
+    eigen-decomposition of the 3×3 matrix :math:`\mathbf J\mathbf J^T`, about half the
+    cost of the SVD of J for a batch. Its rounding error grows as the condition number
+    squared, so the runs whose J is worse conditioned than ``GRAM_MAX_CONDITION``
+    (near a singularity) take the SVD of J instead.
+    """
+
+    def from_svd(J: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        U, s, Vt = np.linalg.svd(J, full_matrices=False)  # (N,3,3), (N,3), (N,3,n)
+        if damping is not None:
+            inv_s = s / (s**2 + damping * damping)  # σ / (σ² + λ²)
+        else:
+            inv_s = np.where(s > rcond * s[:, :1], 1.0 / s, 0.0)  # 1/σ, 0 below the cut-off
+        y = np.einsum("nji,nj->ni", U, v) * inv_s  # Σ^# Uᵀ v
+        return np.einsum("nij,ni->nj", Vt, y), s  # V y
+
+    if not gram:
+        return from_svd(J, v)
+    Jt = np.swapaxes(J, 1, 2)
+    w, U = np.linalg.eigh(J @ Jt)  # σ² in ascending order, U
+    w, U = w[:, ::-1], U[:, :, ::-1]  # largest first, as the SVD
+    s = np.sqrt(np.maximum(w, 0.0))
+    if damping is not None:
+        g = 1.0 / (w + damping * damping)  # 1 / (σ² + λ²)
+    else:
+        g = np.where(s > rcond * s[:, :1], 1.0 / w, 0.0)  # 1/σ², 0 below the cut-off
+    y = np.einsum("nji,nj->ni", U, v) * g  # g(Σ²) Uᵀ v
+    rates = np.einsum("nij,nj->ni", Jt, np.einsum("nij,nj->ni", U, y))  # Jᵀ U y
+    ill = s[:, 2] * GRAM_MAX_CONDITION < s[:, 0]
+    if ill.any():
+        rates[ill], s[ill] = from_svd(J[ill], v[ill])
+    return rates, s
+
+
+#: Up to this many runs the kinematics are evaluated one configuration at a time: the
+#: batch code is built for many rows, and a batch of a few rows costs more than a few
+#: single-configuration calls (about 5 of them).
+SINGLE_CONFIGURATION_RUNS = 4
+
+
+def _positions_and_jacobians(chain: Chain, Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """End-effector positions (N, 3) and position Jacobians (N, 3, n) at ``Q`` (N, n)."""
+    if 0 < Q.shape[0] <= SINGLE_CONFIGURATION_RUNS:  # (no runs: the batch code gives the empty shapes)
+        r = np.array([chain.fk(q, check=False)[:3, 3] for q in Q])
+        J = np.array([chain.position_jacobian(q, check=False) for q in Q])
+        return r, J
+    return chain.fk(Q, check=False)[:, :3, 3], chain.position_jacobian(Q, check=False)
+
+
 def _per_run(a: np.ndarray, N: int, K: int, name: str) -> np.ndarray:
     if a.shape == (K, 3):
         return np.broadcast_to(a, (N, K, 3))
@@ -222,14 +292,22 @@ def track_position_batch(
     :math:`\mathbf V\boldsymbol\Sigma^{+}\mathbf U^T` (singular values below
     ``rcond`` times the largest set to zero) or the damped least-squares
     inverse :math:`\mathbf J_v^T(\mathbf J_v\mathbf J_v^T + \lambda^2\mathbf I)^{-1}`
-    (Siciliano et al. 2009, eq. 3.59 and 3.70), both from one SVD per step
-    (which also gives the singular values that are logged).
+    (Siciliano et al. 2009, eq. 3.59 and 3.70), both from the singular value
+    decomposition :math:`\mathbf J_v = \mathbf U\boldsymbol\Sigma\mathbf V^T`
+    (which also gives the singular values that are logged). For a spatial arm
+    the step is computed from the eigen-decomposition
+    :math:`\mathbf J_v\mathbf J_v^T = \mathbf U\boldsymbol\Sigma^2\mathbf U^T`
+    (the same :math:`\mathbf U` and :math:`\boldsymbol\Sigma`, at half the cost), and
+    from the SVD of :math:`\mathbf J_v` itself where :math:`\mathbf J_v` is worse
+    conditioned than ``sigma_max / sigma_min = 100`` (near a singularity).
 
     Parameters
     ----------
     chain : SerialChain
-        Offers ``n``, ``limits``, batched ``fk(Q, check=False)`` and
-        ``position_jacobian(Q, check=False)``.
+        Offers ``n``, ``limits``, ``fk(q, check=False)`` and
+        ``position_jacobian(q, check=False)`` for one configuration (n,) and
+        for a batch (N, n) (up to 4 runs are evaluated one configuration at a
+        time, more as a batch).
     q0 : array_like, shape (n,) or (N, n)
         Start configuration(s), within the joint limits when ``clamp``.
     ts : float
@@ -319,31 +397,25 @@ def track_position_batch(
     qd_log = np.empty((N, K, n))
     r_log = np.empty((N, K, 3))
     s_log = np.empty((N, K, min(3, n)))
-    for k in range(K):
-        r = chain.fk(Q, check=False)[:, :3, 3]
-        J = chain.position_jacobian(Q, check=False)
-        U, s, Vt = np.linalg.svd(J, full_matrices=False)  # (N,3,3), (N,3), (N,3,n)
-        if inverse == "pinv":
-            inv_s = np.where(s > rcond * s[:, :1], 1.0 / np.where(s > 0, s, 1.0), 0.0)
-        else:
-            inv_s = s / (s**2 + lam * lam) if lam > 0 else np.where(
-                s > rcond * s[:, :1], 1.0 / np.where(s > 0, s, 1.0), 0.0)
-        with np.errstate(all="ignore"):
+    dls_damping = lam if inverse == "dls" and lam > 0 else None  # None: the pseudoinverse
+    rank = generic_rank(lambda Q_: chain.position_jacobian(Q_, check=False), lower, upper)
+    gram = rank == 3  # J_v J_v^T invertible at a generic configuration
+    # One errstate for the whole loop (entering it costs as much as a small array operation):
+    # an overflow (references near 1e308) is caught below, by an error that names the inputs.
+    with np.errstate(all="ignore"):
+        for k in range(K):
+            r, J = _positions_and_jacobians(chain, Q)
             v_cmd = V[:, k] + gain * (P[:, k] - r)
-        with np.errstate(all="ignore"):
-            y = np.einsum("nji,nj->ni", U, v_cmd) * inv_s  # Σ^# Uᵀ v
-            qdot = np.einsum("nij,ni->nj", Vt, y)           # V y
-        q_log[:, k], qd_log[:, k], r_log[:, k], s_log[:, k] = Q, qdot, r, s
-        if k < K - 1:
-            with np.errstate(all="ignore"):
+            qdot, s = _rates_and_singular_values(J, v_cmd, rcond, dls_damping, gram)
+            q_log[:, k], qd_log[:, k], r_log[:, k], s_log[:, k] = Q, qdot, r, s
+            if k < K - 1:
                 Q = Q + ts * qdot
-            if not np.isfinite(Q).all():  # references near 1e308: the step overflowed
-                check_result_finite(Q, "the joint step ts * qdot", positions=P, velocities=V, gain=gain)
-            if clamp:
-                Q = np.minimum(np.maximum(Q, lower), upper)
+                if not np.isfinite(Q).all():  # references near 1e308: the step overflowed
+                    check_result_finite(Q, "the joint step ts * qdot", positions=P, velocities=V, gain=gain)
+                if clamp:
+                    Q = np.minimum(np.maximum(Q, lower), upper)
     check_result_finite(qd_log, "the joint velocities", positions=P, velocities=V, gain=gain)
     at_limit = (q_log <= lower) | (q_log >= upper)
-    rank = generic_rank(lambda Q_: chain.position_jacobian(Q_, check=False), lower, upper)
     log = BatchTrackingLog(
         t=t, q=q_log, qdot=qd_log, position=r_log, error=P - r_log,
         singular_values=s_log, at_limit=at_limit, singular_threshold=threshold, task_rank=rank,
@@ -353,6 +425,6 @@ def track_position_batch(
         hit = int(singular.any(axis=1).sum())
         warnings.warn(SingularityWarning(singularity_message(
             "track_position_batch", log.t, log.singular_values[..., rank - 1], singular, log.qdot, threshold,
-            damped=inverse == "dls" and lam > 0, runs=f"{hit} of {N} run{'s' if N > 1 else ''}, ")),
+            damped=dls_damping is not None, runs=f"{hit} of {N} run{'s' if N > 1 else ''}, ")),
             stacklevel=2)
     return log

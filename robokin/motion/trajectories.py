@@ -15,6 +15,7 @@ and §4.3 (operational-space paths: segment and circle, timing laws).
 
 from __future__ import annotations
 
+import functools
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -86,6 +87,18 @@ def _plane_axes(normal: Any, axes: Any) -> tuple[np.ndarray, np.ndarray]:
             raise DomainError("axes must span a plane; got parallel (or zero) vectors")
         return u, w / nw
     n = as_vector(normal, 3, "normal")
+    return _axes_about(n.tobytes())
+
+
+@functools.lru_cache(maxsize=64)
+def _axes_about(normal_bytes: bytes) -> tuple[np.ndarray, np.ndarray]:
+    """In-plane axes (u, v) with u x v = n for the (validated) normal n, given by its bytes.
+
+    Cached: a controller that evaluates a trajectory once per time step asks for the
+    same plane at every step. The key is the exact bits of n (so 0.0 and -0.0 differ),
+    and the arrays returned are read-only (they are shared between calls).
+    """
+    n = np.frombuffer(normal_bytes)
     nn = float(np.linalg.norm(n)) if np.abs(n).max() < 1e150 else None
     if nn is None:
         n, nn = _unit(n)[0], 1.0
@@ -96,7 +109,10 @@ def _plane_axes(normal: Any, axes: Any) -> tuple[np.ndarray, np.ndarray]:
     e = np.eye(3)[int(np.argmin(np.abs(n)))]
     u = e - (e @ n) * n
     u /= np.linalg.norm(u)
-    return u, np.cross(n, u)
+    (n0, n1, n2), (u0, u1, u2) = n.tolist(), u.tolist()
+    v = np.array((n1 * u2 - n2 * u1, n2 * u0 - n0 * u2, n0 * u1 - n1 * u0))  # n × u
+    u.flags.writeable = v.flags.writeable = False
+    return u, v
 
 
 def circle_trajectory(
