@@ -47,3 +47,18 @@ def next_frames(tab, count: int = 2) -> None:
         const step = left => left ? requestAnimationFrame(() => step(left - 1)) : resolve();
         step(count);
     })""", count)
+
+
+def wait_drawn(tab, timeout: float = DRAW_TIMEOUT) -> None:
+    """Wait until every static scene on the page (``robokin.views.static_html``) has its
+    MeshCat viewer, fed with all its commands, and that viewer has drawn them.
+
+    A condition in the page instead of screenshots taken again and again; the test's
+    screenshot assertions follow (on timeout they report what is missing)."""
+    from playwright.sync_api import TimeoutError as PlaywrightTimeout
+
+    try:
+        tab.wait_for_function("""() => Array.from(document.querySelectorAll('.robokin-scene'))
+            .every(box => box.robokinViewer && !box.robokinViewer.needs_render)""", timeout=timeout * 1000)
+    except PlaywrightTimeout:
+        pass

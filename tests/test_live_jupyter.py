@@ -40,7 +40,8 @@ pytestmark = pytest.mark.browser
 JUPYTER_LAB = Path(sys.executable).with_name("jupyter-lab")
 READOUT = ".jp-OutputArea-output .widget-html code"                    # the end-effector pose line
 SLIDER_VALUE = ".jp-OutputArea-output .widget-slider .widget-readout"   # the first slider's value
-#: Screenshots go to the test's tmp_path, or to this directory (e.g. ROBOKIN_SHOTS=/tmp) to look at them.
+#: Screenshots go to the test's tmp_path, or to this directory (e.g. ROBOKIN_SHOTS=/tmp) to look at them
+#: (the whole page as JPEG: evidence for a reader, cheaper to encode; the asserted scenes as PNG).
 SHOTS_DIR = os.environ.get("ROBOKIN_SHOTS")
 
 CELLS = [
@@ -336,7 +337,7 @@ def test_live_scene_and_sliders_in_jupyterlab(tmp_path, browser):
         readout.wait_for(state="visible", timeout=10_000)
         text_before = readout.inner_text()
         assert text_before.startswith("end-effector: p = ("), text_before
-        page.screenshot(path=str(shots / "robokin-lab-page.png"), full_page=True)
+        page.screenshot(path=str(shots / "robokin-lab-page.jpg"), full_page=True, type="jpeg", quality=85)
         before = _shot(iframes.nth(1), shots / "robokin-lab-sliders-before.png")
         timings["scenes drawn"] = time.perf_counter() - t_start
 
@@ -377,7 +378,7 @@ def test_live_scene_and_sliders_in_jupyterlab(tmp_path, browser):
         timings["1 key -> scene update"] = t_one
         timings["1 key -> pose readout"] = t_readout
         timings["19 keys -> scene settled (incl. 0.3 s quiet)"] = t_many
-        page.screenshot(path=str(shots / "robokin-lab-page-after.png"), full_page=True)
+        page.screenshot(path=str(shots / "robokin-lab-page-after.jpg"), full_page=True, type="jpeg", quality=85)
         assert not errors, errors
     finally:
         if context is not None:

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from browser_waits import pixels, poll_until
+from browser_waits import pixels, poll_until, wait_drawn
 from conftest import watched_page
 
 from views_doubles import two_link
@@ -54,7 +54,8 @@ def test_static_scene_renders_in_chromium(tmp_path, browser):
         a, b = shots
         return links(a).sum() > 200 and (np.abs(a - b).sum(axis=-1) > 60).sum() > 1000
 
-    # screenshots of both scenes, taken again until the robot is drawn (at most 20 s)
+    wait_drawn(pg)
+    # screenshots of both scenes, taken again only while the robot is not drawn yet (at most 20 s)
     a, b = poll_until(lambda: [pixels(c.screenshot()) for c in canvases[:2]], drawn)
     orange = links(a)
     assert orange.sum() > 200, "robot links not drawn"
@@ -161,7 +162,8 @@ def test_point_cloud_renders_in_chromium(tmp_path, browser):
     def reds(a):
         return (a[..., 0] > 150) & (a[..., 1] < 80) & (a[..., 2] < 80)
 
-    # screenshots taken again until the cloud is drawn (at most 20 s)
+    wait_drawn(pg)
+    # screenshots taken again only while the cloud is not drawn yet (at most 20 s)
     shots = poll_until(lambda: [pixels(c.screenshot()) for c in canvases], lambda s: reds(s[0]).sum() > 2000)
     red = reds(shots[0])
     assert red.sum() > 2000, "point cloud not drawn"

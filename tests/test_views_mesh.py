@@ -11,6 +11,7 @@ import warnings
 import numpy as np
 import pytest
 
+from browser_waits import poll_until
 from conftest import watched_page
 
 from robokin import models
@@ -263,7 +264,9 @@ def test_static_mesh_scene_renders_in_chromium(tmp_path, browser):
     pg, errors = watched_page(browser, 800, 900)
     pg.goto(page.as_uri())
     pg.wait_for_function("document.querySelectorAll('.robokin-scene canvas').length == 2", timeout=20_000)
-    pg.wait_for_timeout(1000)
+    # both viewers have been fed every command and have drawn them (not a fixed sleep)
+    pg.wait_for_function("""() => Array.from(document.querySelectorAll('.robokin-scene'))
+        .every(box => box.robokinViewer && !box.robokinViewer.needs_render)""", timeout=20_000)
     # the meshes arrived as indexed geometry (uint32 indices decoded by the viewer)
     indexed = pg.evaluate("""() => { var n = 0;
         document.querySelector('.robokin-scene').robokinViewer.scene.traverse(function (o) {
@@ -271,8 +274,13 @@ def test_static_mesh_scene_renders_in_chromium(tmp_path, browser):
         return n; }""")
     assert indexed == sum(len(ms) for ms in scene.item("robot").meshes.frames)
     canvases = pg.query_selector_all(".robokin-scene canvas")
-    a, b = _rgb(canvases[0].screenshot()), _rgb(canvases[1].screenshot())
-    white = (a.min(axis=-1) > 200) & (np.ptp(a, axis=-1) < 30)       # the Panda is white
+
+    def robot_pixels(a):
+        return (a.min(axis=-1) > 200) & (np.ptp(a, axis=-1) < 30)     # the Panda is white
+
+    # screenshots taken again only while the robot is not drawn yet (at most 20 s)
+    a, b = poll_until(lambda: [_rgb(c.screenshot()) for c in canvases[:2]], lambda s: robot_pixels(s[0]).sum() > 2000)
+    white = robot_pixels(a)
     assert white.sum() > 2000, "no robot drawn"
     assert (np.abs(a - b).sum(axis=-1) > 60).sum() > 5000, "scene looks like the empty background"
     assert not errors, errors
