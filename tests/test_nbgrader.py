@@ -61,7 +61,9 @@ NOTEBOOKS = Path(os.environ.get("ROBOKIN_NBGRADER_NOTEBOOKS", ROOT / "notebooks"
 CHAPTERS = [p.stem for p in nbgrader_metadata.chapter_notebooks(NOTEBOOKS.parent, NOTEBOOKS.name)]
 WALKTHROUGH_CHAPTER = "03_three_rpr"
 HIDDEN_TESTS = re.compile(r"### BEGIN HIDDEN TESTS\n.*?### END HIDDEN TESTS\n?", re.S)
-WORKERS = 2
+#: autograde runs at a time in one pytest process: three, as much of a run is waiting (a hang
+#: until its time limit, a call stopped at the call limit, kernel starts), not computing
+WORKERS = 3
 TIMEOUT_FOR_BAD_SUBMISSION = 10  # seconds per cell, for the submission that runs forever
 
 #: Typical mistakes made from a correct answer: (kind, diagnoses of a check that
@@ -553,7 +555,7 @@ def grade_everything(base: Path, full: bool = True, suites=(), chapters=None) ->
     if full:
         jobs["walkthrough"] = (run_walkthrough,)
         jobs["unmarked"] = (run_unmarked,)
-    # the slow chapters first, so that the two workers finish together
+    # the slow chapters first, so that the workers finish together
     order = sorted(jobs, key=lambda k: {"03_three_rpr": -1 if suites else 5, "01_leg_kinematics": 0,
                                         "05_baxter_circle": 1, "walkthrough": 2}.get(k, 5))
 
