@@ -592,64 +592,80 @@ def test_hidden_folder_inside_a_readable_one_is_covered(tmp_path):
         assert flag in args
 
 
+class _FakeKernelManager:
+    """What ``RobokinExecute._kernel_lost`` asks of the kernel manager; ``restart`` is what a restart does."""
+
+    def __init__(self, restart):
+        self.stopped, self.restarts, self._restart = False, 0, restart
+
+    async def restart_kernel(self, now=False):
+        self.restarts += 1
+        self._restart()
+
+    async def shutdown_kernel(self, now=False):
+        self.stopped = now
+
+
+def _graded_test_cell():
+    from nbformat.v4 import new_code_cell
+
+    return new_code_cell("assert x == 1", metadata={"nbgrader": {
+        "grade": True, "solution": False, "points": 1, "grade_id": "task1_test1", "schema_version": 3}})
+
+
+def _execute(cells, manager, replays=0, **state):
+    """A RobokinExecute on ``cells`` with ``manager``, as autograde sets it up before the cells run."""
+    from nbformat.v4 import new_notebook
+    from robokin_nbgrader import RobokinExecute
+
+    execute = RobokinExecute()
+    execute.nb, execute.km = new_notebook(cells=cells), manager
+    execute._report, execute._replays, execute._stopped = {"incidents": []}, replays, None
+    for name, value in state.items():
+        setattr(execute, name, value)
+    return execute
+
+
+def _refuse(message):
+    def restart():
+        raise RuntimeError(message)
+    return restart
+
+
 def test_when_the_kernel_cannot_be_restarted_grading_stops_there():
     """_kernel_lost: restart fails -> the kernel is stopped and the cells after it are not run."""
     from nbclient.exceptions import DeadKernelError
-    from nbformat.v4 import new_code_cell, new_notebook
-    from robokin_nbgrader import NOT_RUN, RobokinExecute
+    from nbformat.v4 import new_code_cell
+    from robokin_nbgrader import NOT_RUN
 
-    class Manager:
-        stopped = False
-
-        async def restart_kernel(self, now=False):
-            raise RuntimeError("no more kernels")
-
-        async def shutdown_kernel(self, now=False):
-            Manager.stopped = now
-
-    crash = new_code_cell("import os\nos._exit(1)")
-    test = new_code_cell("assert x == 1", metadata={"nbgrader": {
-        "grade": True, "solution": False, "points": 1, "grade_id": "task1_test1", "schema_version": 3}})
-    execute = RobokinExecute()
-    execute.nb, execute.km = new_notebook(cells=[crash, test]), Manager()
-    execute._report, execute._replays, execute._stopped = {"incidents": []}, 0, None
+    crash, test = new_code_cell("import os\nos._exit(1)"), _graded_test_cell()
+    manager = _FakeKernelManager(_refuse("no more kernels"))
+    execute = _execute([crash, test], manager)
     execute._kernel_lost(crash, 0, DeadKernelError("Kernel died"))
-    assert Manager.stopped and execute._stopped["tests_lost"] == 1 and not execute._stopped["replayed"]
+    assert manager.stopped and execute._stopped["tests_lost"] == 1 and not execute._stopped["replayed"]
     execute.preprocess_cell(test, {}, 1)
     assert test.outputs[0]["ename"] == NOT_RUN
     # a second lost kernel in the same notebook: no second restart, grading stops there
-    execute = RobokinExecute()
-    execute.nb, execute.km = new_notebook(cells=[crash, test]), Manager()
-    execute._report, execute._replays, execute._stopped = {"incidents": []}, 1, None
-    Manager.restart_kernel = None   # must not be called
+    manager = _FakeKernelManager(_refuse("a second restart must not happen"))
+    execute = _execute([crash, test], manager, replays=1)
     execute._kernel_lost(crash, 0, DeadKernelError("Kernel died"))
-    assert execute._stopped is not None and not execute._stopped["replayed"]
+    assert execute._stopped is not None and not execute._stopped["replayed"] and manager.restarts == 0
 
 
 def test_after_the_last_test_a_lost_kernel_is_not_restarted():
     """_kernel_lost after the last test: no restart, no replay; the report says nothing graded was lost."""
     from nbclient.exceptions import DeadKernelError
     from nbformat.v4 import new_code_cell, new_notebook
-    from robokin_nbgrader import GradingIncidents, RobokinExecute
+    from robokin_nbgrader import GradingIncidents
 
-    class Manager:
-        stopped = False
-
-        async def restart_kernel(self, now=False):
-            raise AssertionError("the kernel must not be restarted: nothing graded comes after the cell")
-
-        async def shutdown_kernel(self, now=False):
-            Manager.stopped = now
-
-    test = new_code_cell("assert x == 1", metadata={"nbgrader": {
-        "grade": True, "solution": False, "points": 1, "grade_id": "task1_test1", "schema_version": 3}})
+    test = _graded_test_cell()
     crash, after = new_code_cell("import os\nos._exit(1)"), new_code_cell("print('a plot')")
-    execute = RobokinExecute()
-    execute.nb, execute.km = new_notebook(cells=[test, crash, after]), Manager()
-    execute._report, execute._replays, execute._stopped, execute._last_code = {"incidents": []}, 0, None, 0
+    manager = _FakeKernelManager(_refuse("the kernel must not be restarted: nothing graded comes after the cell"))
+    execute = _execute([test, crash, after], manager, _last_code=0)
     execute._kernel_lost(crash, 1, DeadKernelError("Kernel died"))
     incident = execute._stopped
-    assert Manager.stopped and incident["nothing_after"] and not incident["replayed"] and not incident["tests_lost"]
+    assert manager.stopped and manager.restarts == 0
+    assert incident["nothing_after"] and not incident["replayed"] and not incident["tests_lost"]
     assert execute.preprocess_cell(after, {}, 2)[0].outputs == []   # not run
     nb, _ = GradingIncidents().preprocess(new_notebook(cells=[]), {"robokin": {"incidents": [incident]}})
     assert "No test comes after it, so grading stopped there: the cells after it were not run, and no " \
