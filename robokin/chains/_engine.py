@@ -175,8 +175,9 @@ class Engine:
                   for i in range(n)]
         # fk: the blocks' P, Q, R parts stacked, (3, n, 16); E folded into the last block
         self.fk_parts = np.array(blocks, dtype=float).reshape(n, 3, 16).transpose(1, 0, 2).copy()
-        for part in self.fk_parts[:, n - 1 :] if n else ():
-            part[0] = (part[0].reshape(4, 4) @ self.E).ravel()
+        if n:
+            for part in self.fk_parts[:, n - 1]:  # the last block's P, Q and R, each times E
+                part[:] = (part.reshape(4, 4) @ self.E).ravel()
         # frames and Jacobian: the same blocks in the 7×7 form X(A) (see the module docstring), with
         # X(E) as an extra constant block, (3, n + 1, 49)
         self.screw_parts = np.zeros((3, n + 1, 49))
