@@ -65,8 +65,20 @@ PART_OTHERS = f"{XDIST_GROUP}:others"
 PART_3_JOBS = (CHAPTER3, "walkthrough", "unmarked", "05_baxter_circle")
 
 
+#: Separates a chapter and a suite in the key of a course of the suite's own (see :class:`Suite`).
+OWN = "+"
+
+
+def own_course_key(chapter: str, suite: str) -> str:
+    """The job key of the course in which ``suite`` grades ``chapter`` on its own, e.g. "03_three_rpr+tamper"."""
+    return f"{chapter}{OWN}{suite}"
+
+
 def part_of(key: str) -> str:
-    """The part (xdist group) in which the job ``key`` (a chapter, "walkthrough", "unmarked") is graded."""
+    """The part (xdist group) in which the job ``key`` (a chapter, "walkthrough", "unmarked", or a
+    suite's own course, "<chapter>+<suite>") is graded: a suite's own course is a part of its own."""
+    if OWN in key:
+        return f"{XDIST_GROUP}:{key.split(OWN, 1)[1]}"
     return PART_3 if key in PART_3_JOBS else PART_OTHERS
 
 
@@ -115,6 +127,15 @@ class Suite:
     students: list[str] = field(default_factory=list)   # filled when the course is built
     #: chapter -> does this suite join that chapter's run
     joins: Callable[[str], bool] = lambda chapter: chapter == CHAPTER3
+    #: graded in a course of its own (job "<chapter>+<name>", an xdist part of its own) with the
+    #: chapter's unanswered and correct submissions, instead of in the chapter's shared run: for a
+    #: suite whose waits (time limits reached on purpose) would make the shared run the suite's
+    #: longest unit; its options and environment then hold for its own submissions only
+    own_course: bool = False
+
+    def key(self, chapter: str) -> str:
+        """The job whose run holds this suite's submissions of ``chapter``."""
+        return own_course_key(chapter, self.name) if self.own_course else chapter
 
 
 def module_suites(name: str) -> tuple[Suite, ...]:
@@ -143,9 +164,11 @@ class Courses(Mapping):
         files = selected_files(request)
         self.suites = [suite for name in SUITES if name in files for suite in module_suites(name)]
         self.full = "test_nbgrader" in files
-        self.chapters = [c for c in test_nbgrader.CHAPTERS
-                         if self.full or c == CHAPTER3 or any(s.joins(c) for s in self.suites)]
-        self.jobs = [*self.chapters, *(("walkthrough", "unmarked") if self.full else ())]
+        shared = [s for s in self.suites if not s.own_course]
+        self.chapters = [c for c in test_nbgrader.CHAPTERS if self.full or any(s.joins(c) for s in shared)]
+        own = [suite.key(c) for suite in self.suites if suite.own_course
+               for c in test_nbgrader.CHAPTERS if suite.joins(c)]
+        self.jobs = [*self.chapters, *own, *(("walkthrough", "unmarked") if self.full else ())]
         self.factory = tmp_path_factory
 
     def _build(self, parts: set[str]) -> None:
@@ -156,9 +179,10 @@ class Courses(Mapping):
             if not parts:
                 return
             chapters = [c for c in self.chapters if part_of(c) in parts]
+            own = [key for key in self.jobs if OWN in key and part_of(key) in parts]
             extras = self.full and PART_3 in parts
             _RUNS.update(test_nbgrader.grade_everything(self.factory.mktemp("nbgrader"), full=extras,
-                                                        suites=self.suites, chapters=chapters))
+                                                        suites=self.suites, chapters=chapters, own=own))
             _BUILT.update(parts)
 
     def __getitem__(self, key: str):

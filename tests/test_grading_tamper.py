@@ -39,7 +39,9 @@ import pytest
 import grading_course
 from test_nbgrader import NOTEBOOKS, Run, load, nbg, src
 
-pytestmark = grading_course.xdist_group_mark()   # chapter 3's part of the graded courses (one xdist group)
+# this file's course of chapter 3 is a part of the graded courses of its own (one xdist group):
+# its never-returning call waits the call limit in every test, in parallel with the other parts
+pytestmark = grading_course.xdist_group_mark(grading_course.own_course_key(grading_course.CHAPTER3, "tamper"))
 
 CHAPTER = "03_three_rpr"
 
@@ -180,7 +182,7 @@ def delegating_submission(correct: dict) -> dict:
 def submissions(run: Run, correct: dict, course) -> dict[str, dict]:
     """This file's submissions of chapter 3 (its solutions are test_nbgrader.py's ``correct``)."""
     wrong = wrong_submission(correct, run.source)
-    # the student edition handed in unchanged is test_nbgrader.py's "unanswered": graded once, read here
+    # the student edition handed in unchanged is the course's "unanswered" (run_chapter's), read here
     out = {"unanswered": run.release, "wrong": wrong, "delegating": delegating_submission(correct),
            "slow": slow_submission(correct)}
     for kind in TAMPER:
@@ -190,23 +192,22 @@ def submissions(run: Run, correct: dict, course) -> dict[str, dict]:
     return out
 
 
-#: graded in chapter 3's one autograde run (tests/grading_course.py), with a short time
-#: limit per call of a student's function
+#: graded in a course of chapter 3 of its own (tests/grading_course.py), with the unanswered and
+#: correct submissions, and with a short time limit per call of a student's function
 SUITE = grading_course.Suite("tamper", submissions,
-                             options=[f"--BridgedExecute.call_timeout={CALL_TIMEOUT}"])
+                             options=[f"--BridgedExecute.call_timeout={CALL_TIMEOUT}"], own_course=True)
 
 
 @pytest.fixture(scope="session")
 def graded(request, tmp_path_factory) -> Run:
-    """Chapter 3: every submission below (and the solutions) autograded in chapter 3's one run;
-    ``feedback`` is the report on top of each graded notebook."""
-    run = grading_course.graded_courses(request, tmp_path_factory)[CHAPTER]
+    """Chapter 3: every submission below (and the solutions) autograded in this file's course
+    (one autograde run); ``feedback`` is the report on top of each graded notebook."""
+    run = grading_course.graded_courses(request, tmp_path_factory)[SUITE.key(CHAPTER)]
     if run.error:
         pytest.fail(run.fail_message())
     students = ["correct", *SUITE.students]
     reports = {s: "".join(src(run.autograded[s]["cells"][0])) if run.autograded.get(s) else "" for s in students}
-    print(f"\n[tamper] {len(students)} submissions of {CHAPTER}, graded with the others of the chapter "
-          f"in {run.seconds:.0f} s")
+    print(f"\n[tamper] {len(students)} submissions of {CHAPTER}, graded in this file's course in {run.seconds:.0f} s")
     return grading_course.view(run, students, feedback=reports)
 
 

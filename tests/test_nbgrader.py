@@ -399,28 +399,33 @@ def read_gradebook(course: Path, chapter: str, run: Run) -> None:
                 run.scores[submission.student.id] = {g.name: g.score for g in notebook.grades}
 
 
-def run_chapter(chapter: str, base: Path, suites=()) -> Run:
+def run_chapter(chapter: str, base: Path, suites=(), key: str | None = None) -> Run:
     """generate_assignment, the submissions, ONE autograde, generate_feedback.
 
     ``suites`` (tests/grading_course.py) add submissions of other test files to
-    this chapter's run, with the environment and options their tests need.
+    this chapter's run, with the environment and options their tests need. With
+    ``key`` (a suite's own course, "<chapter>+<suite>"), the course is graded in
+    a folder of that name, with the unanswered and correct submissions only
+    besides the suites'.
     """
     started = time.perf_counter()
-    course = base / chapter / "course"
+    folder = base / (key or chapter)
+    course = folder / "course"
     run = Run(chapter, course)
     try:
-        student_edition.write_course(course, base / chapter / "exchange")
+        student_edition.write_course(course, folder / "exchange")
         student_edition.add_source(course, NOTEBOOKS / f"{chapter}.ipynb")
         nbgrader(["generate_assignment", chapter], course, run.log)
         run.source = load(course / "source" / chapter / f"{chapter}.ipynb")
         run.release = load(course / "release" / chapter / f"{chapter}.ipynb")
         correct = correct_submission(run.release, run.source)
         submissions = {"unanswered": run.release, "correct": correct}
-        candidates = mistake_candidates(run.source)
+        candidates = mistake_candidates(run.source) if key is None else []
         if candidates:
             run.mistake = candidates[0]
             submissions["mistake"] = mistaken_submission(correct, run.mistake)
-        submissions.update(chapter_submissions(chapter, run.source, correct, run))
+        if key is None:
+            submissions.update(chapter_submissions(chapter, run.source, correct, run))
         run.own = list(submissions)
         environment, options = {}, []
         for suite in suites:
@@ -449,7 +454,7 @@ def run_chapter(chapter: str, base: Path, suites=()) -> Run:
             run.autograded[student] = load(graded_nb) if graded_nb.exists() else {}
         for suite in suites:
             if suite.finally_:
-                suite.finally_(run, course, base / chapter)
+                suite.finally_(run, course, folder)
     except Exception as exc:  # noqa: BLE001 - reported by the tests that need it
         run.error = f"{type(exc).__name__}: {exc}"
     run.seconds = time.perf_counter() - started
@@ -544,14 +549,19 @@ def run_unmarked(base: Path) -> Run:
     return run
 
 
-def grade_everything(base: Path, full: bool = True, suites=(), chapters=None) -> dict[str, Run]:
+def grade_everything(base: Path, full: bool = True, suites=(), chapters=None, own=()) -> dict[str, Run]:
     """Every chapter (or ``chapters``; chapter 3 alone when ``full=False``) generated, submitted,
     autograded once and given feedback, each with the submissions of the ``suites`` that join
-    it (tests/grading_course.py); the walk-through and the chapter without metadata (``full``)."""
+    it (tests/grading_course.py); the walk-through and the chapter without metadata (``full``);
+    ``own``: the keys "<chapter>+<suite>" of the suites graded in a course of their own."""
     started = time.perf_counter()
     if chapters is None:
         chapters = CHAPTERS if full else [c for c in CHAPTERS if c == grading_course.CHAPTER3]
+    shared = [s for s in suites if not s.own_course]
     jobs = {chapter: (run_chapter, chapter) for chapter in chapters}
+    for key in own:
+        chapter, name = key.split(grading_course.OWN, 1)
+        jobs[key] = (run_chapter, chapter, [s for s in suites if s.name == name and s.joins(chapter)], key)
     if full:
         jobs["walkthrough"] = (run_walkthrough,)
         jobs["unmarked"] = (run_unmarked,)
@@ -561,8 +571,11 @@ def grade_everything(base: Path, full: bool = True, suites=(), chapters=None) ->
 
     def job(key):
         function, *args = jobs[key]
+        if key in own:
+            chapter, own_suites, own_key = args
+            return function(chapter, base, own_suites, own_key)
         if key in chapters:
-            return function(*args, base, [s for s in suites if s.joins(key)])
+            return function(*args, base, [s for s in shared if s.joins(key)])
         return function(*args, base)
 
     with ThreadPoolExecutor(max_workers=WORKERS) as pool:
