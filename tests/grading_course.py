@@ -8,21 +8,20 @@ written another way, ending with a crash or a hang; chapter 3: an escape from th
 sandbox). Instead of a course and an autograde run each, they
 share one course per chapter (a gradebook of its own, so that two chapters are
 graded at a time), with one student per submission and ONE ``nbgrader autograde``
-per assignment: chapter 3's run grades the submissions of all three files, every
-other chapter's run those of test_nbgrader.py and test_grading_trust.py -- seven
-autograde runs in all (and the walk-through's two), as few as nbgrader allows
-(one per assignment and gradebook). Chapter 3's run, the longest (17
-submissions), starts first in its part; splitting it over two courses would add a
-course and a second grading of the solutions for no shorter wall time, since the
-thread pool's other thread grades the other jobs of the part meanwhile.
+per assignment: chapter 3's run grades the submissions of test_nbgrader.py and
+test_grading_trust.py, every other chapter's run those of the same two files; the
+tamper suite (test_grading_tamper.py) grades chapter 3 in a course of its own
+(:attr:`Suite.own_course`: its never-returning call waits the call limit in every
+test, so it runs as a part of its own beside the others) -- eight autograde runs in
+all (and the walk-through's two).
 
 :func:`graded_courses` grades them once per pytest process, for the files
 selected in the session: every chapter when ``test_nbgrader.py`` is selected or a
 selected file's suite joins a chapter other than 3, chapter 3 alone otherwise (the
 walk-through and the chapter without metadata with ``test_nbgrader.py`` only). The
-jobs come in two parts, one pytest-xdist group each (``nbgrader:3``: chapter 3, the
-walk-through, the chapter without metadata and chapter 5; ``nbgrader:others``), so
-that under xdist the two workers grade at once, each only the part its tests read
+jobs come in three parts, one pytest-xdist group each (``nbgrader:3``: chapter 3, the
+walk-through, the chapter without metadata and chapter 5; ``nbgrader:tamper``: the
+tamper suite's course; ``nbgrader:others``), so that under xdist the workers grade at once, each only the part its tests read
 (:class:`Courses` grades a part when one of its runs is first read; without xdist,
 all parts at once, in one thread pool). Each file sees its own submissions only
 (:func:`view`).
