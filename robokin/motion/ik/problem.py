@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from operator import ge, gt, le, lt
 from typing import Any, NamedTuple
 from weakref import WeakKeyDictionary
 
@@ -66,8 +67,9 @@ class IKContext:
         self.rows = self.mask.nonzero()[0]
         self.p_tool = None if self.tool is None else self.tool[:3, 3].copy()
         self._fk_and_jacobian = getattr(self.chain, "fk_and_jacobian", None)
-        # the limits as (lower, upper) pairs of plain floats: one configuration is checked in Python
-        self._bounds = list(zip(self.lower.tolist(), self.upper.tolist()))
+        # the limits as plain floats: one configuration is checked in Python (map: no per-joint bytecode)
+        self._lower_list = self.lower.tolist()
+        self._upper_list = self.upper.tolist()
 
     def project(self, q: np.ndarray) -> np.ndarray:
         """Bring a configuration (batch) back within the limits: wrap, shift by 2 pi, clamp."""
@@ -81,7 +83,8 @@ class IKContext:
 
     def touches_limit(self, q: np.ndarray) -> bool:
         """Does configuration ``q`` (n,) rest on one of its joint limits?"""
-        return any(x <= lo or x >= hi for x, (lo, hi) in zip(q.tolist(), self._bounds))
+        x = q.tolist()
+        return any(map(le, x, self._lower_list)) or any(map(ge, x, self._upper_list))
 
     def advance(self, q: np.ndarray, dq: np.ndarray) -> tuple[np.ndarray, bool]:
         """``q + dq`` brought within the limits (:meth:`project`), and whether it rests on a limit.
@@ -90,7 +93,8 @@ class IKContext:
         (and no wrapping) is returned as is and reported off the limits.
         """
         q_new = q + dq
-        if self.wrap is not None or any(x < lo or x > hi for x, (lo, hi) in zip(q_new.tolist(), self._bounds)):
+        x = q_new.tolist()
+        if self.wrap is not None or any(map(lt, x, self._lower_list)) or any(map(gt, x, self._upper_list)):
             q_new = self.project(q_new)
             return q_new, self.touches_limit(q_new)
         return q_new, False
