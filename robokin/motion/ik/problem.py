@@ -211,6 +211,8 @@ def parse_target(target: Any, batched: bool) -> tuple[np.ndarray, bool]:
     Returns ``(T_goal, is_position)``.
     """
     name = "targets" if batched else "target"
+    if not batched and type(target) is np.ndarray and target.dtype == np.float64 and target.shape == (4, 4):
+        return _check_pose(target, name), False  # the usual call: one float64 pose, checked in plain floats
     a = as_float_array(target, name)
     if not batched and a.shape == (4, 4):
         return _check_pose(a, name), False
@@ -233,14 +235,17 @@ def parse_target(target: Any, batched: bool) -> tuple[np.ndarray, bool]:
 
 
 def _check_pose(T: np.ndarray, name: str, tol: float = 1e-6) -> np.ndarray:
-    """Fast check of one finite (4, 4) transform (plain floats); falls back to check_transform for the message.
+    """Fast check of one float64 (4, 4) transform (plain floats); falls back to the full checks for the message.
 
-    Checks what :func:`~robokin.validation.check_transform` checks (bottom row
+    Checks what :func:`~robokin.validation.as_float_array` and
+    :func:`~robokin.validation.check_transform` check (finite entries, bottom row
     ``[0, 0, 0, 1]``, :math:`|RR^T - I| \\le` ``tol`` entry by entry, det R > 0)
-    and the distance limit :data:`MAX_DISTANCE`.
+    and the distance limit :data:`MAX_DISTANCE`: every test below fails for NaN
+    or infinite entries.
     """
     (r00, r01, r02, px), (r10, r11, r12, py), (r20, r21, r22, pz), (b0, b1, b2, b3) = T.tolist()
-    if max(abs(px), abs(py), abs(pz)) > MAX_DISTANCE:
+    if not (abs(px) <= MAX_DISTANCE and abs(py) <= MAX_DISTANCE and abs(pz) <= MAX_DISTANCE):
+        as_float_array(T, name)  # NaN or infinite: the message names the entry
         _check_distance(T[:3, 3], name)
     det = r00 * (r11 * r22 - r12 * r21) - r01 * (r10 * r22 - r12 * r20) + r02 * (r10 * r21 - r11 * r20)
     ok = (
@@ -253,7 +258,10 @@ def _check_pose(T: np.ndarray, name: str, tol: float = 1e-6) -> np.ndarray:
         and abs(r10 * r20 + r11 * r21 + r12 * r22) <= tol
         and det > 0.0
     )
-    return T if ok else check_transform(T, name=name)
+    if ok:
+        return T
+    as_float_array(T, name)  # NaN or infinite: the message names the entry
+    return check_transform(T, name=name)
 
 
 def parse_mask(mask: Any, is_position: bool) -> np.ndarray:
