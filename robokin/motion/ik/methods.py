@@ -493,7 +493,7 @@ class LevenbergMarquardt(IKMethod):
             lam2 = 0.5 * self.error_damping * float(e.dot(e)) + self.bias
             Jt = J.T
             A = Jt.dot(J)
-            A.flat[:: n + 1] += lam2  # the diagonal: A = J^T J + lam2 I
+            A.ravel()[:: n + 1] += lam2  # the diagonal (ravel: a view of A): A = J^T J + lam2 I
             return StepResult(_solve_spd(A, Jt.dot(e)), math.sqrt(lam2))
         if self.error_weights is None:
             We_e = e
