@@ -501,16 +501,3 @@ def test_property_success_implies_tolerance(w, method):
     target = chain.fk(np.clip(q, -6.28, 6.28))
     res = solve_ik(chain, target, method=method, max_iterations=6, restarts=0, polish=False, tol=1e-7)
     assert res.success == (res.position_error <= 1e-7 and res.orientation_error <= 1e-7)
-
-
-@pytest.mark.parametrize("n", [2, 6, 7])
-def test_lm_solve_kernel_equals_numpy_solve_bit_for_bit(n):
-    """The LM step's direct call of np.linalg.solve's kernel gives np.linalg.solve's result exactly."""
-    from robokin.motion.ik.methods import _solve_spd
-
-    rng = np.random.default_rng(n)
-    for _ in range(50):
-        J = rng.normal(size=(6, n))
-        A = J.T @ J + 1e-7 * np.eye(n)
-        b = rng.normal(size=n)
-        assert np.array_equal(_solve_spd(A, b), np.linalg.solve(A, b))

@@ -41,7 +41,6 @@ import math
 from typing import Any, NamedTuple
 
 import numpy as np
-from numpy.linalg import _umath_linalg  # np.linalg.solve's kernel (see _solve_spd)
 
 from robokin.errors import DomainError, ShapeError
 from robokin.motion.ik.objectives import JointLimitDistance, as_objective, objective_limits
@@ -72,19 +71,6 @@ def _matvec(A: np.ndarray, x: np.ndarray) -> np.ndarray:
 
 def _solve(A: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.linalg.solve(A, b[..., None])[..., 0]
-
-
-def _solve_spd(A: np.ndarray, b: np.ndarray) -> np.ndarray:
-    r"""``x`` (n,) with ``A x = b`` for one symmetric positive-definite ``A`` (n, n), ``b`` (n,).
-
-    ``np.linalg.solve(A, b)`` bit for bit (the same LAPACK ``gesv`` kernel) without the
-    wrapper's type checks and floating-point error-state set-up, which cost about 2.5 µs
-    of the 3.4 µs of a 6×6 call: the one place an IK iteration spends that much on call
-    overhead. The wrapper's only other service, raising ``LinAlgError`` for a singular
-    matrix, is not needed: the LM matrix :math:`J^TJ + \lambda^2 I` with
-    :math:`\lambda^2 \ge \bar w > 0` is positive definite.
-    """
-    return _umath_linalg.solve1(A, b)
 
 
 def _svd_pinv_apply(J: np.ndarray, e: np.ndarray, rcond: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -494,7 +480,7 @@ class LevenbergMarquardt(IKMethod):
             Jt = J.T
             A = Jt.dot(J)
             A.ravel()[:: n + 1] += lam2  # the diagonal (ravel: a view of A): A = J^T J + lam2 I
-            return StepResult(_solve_spd(A, Jt.dot(e)), math.sqrt(lam2))
+            return StepResult(np.linalg.solve(A, Jt.dot(e)), math.sqrt(lam2))
         if self.error_weights is None:
             We_e = e
             JtWe = _T(J)
