@@ -69,18 +69,6 @@ def _matvec(A: np.ndarray, x: np.ndarray) -> np.ndarray:
     return (A @ x[..., None])[..., 0]
 
 
-_IDENTITY: dict[int, np.ndarray] = {}
-
-
-def _identity(n: int) -> np.ndarray:
-    """The (n, n) identity, made once per size (read-only)."""
-    eye = _IDENTITY.get(n)
-    if eye is None:
-        eye = _IDENTITY[n] = np.eye(n)
-        eye.setflags(write=False)
-    return eye
-
-
 def _solve(A: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.linalg.solve(A, b[..., None])[..., 0]
 
@@ -491,7 +479,7 @@ class LevenbergMarquardt(IKMethod):
             lam2 = 0.5 * self.error_damping * float(e.dot(e)) + self.bias
             Jt = J.T
             A = Jt.dot(J)
-            A += lam2 * _identity(n)
+            A.ravel()[:: n + 1] += lam2  # the diagonal (ravel: a view of A): A = J^T J + lam2 I
             return StepResult(np.linalg.solve(A, Jt.dot(e)), math.sqrt(lam2))
         if self.error_weights is None:
             We_e = e

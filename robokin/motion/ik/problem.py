@@ -8,7 +8,9 @@ chain with ``check=False``.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
+from operator import ge, gt, le, lt
 from typing import Any, NamedTuple
 from weakref import WeakKeyDictionary
 
@@ -65,9 +67,20 @@ class IKContext:
         self.full_mask = bool(self.mask.all())
         self.rows = self.mask.nonzero()[0]
         self.p_tool = None if self.tool is None else self.tool[:3, 3].copy()
-        self._fk_and_jacobian = getattr(self.chain, "fk_and_jacobian", None)
-        # the limits as (lower, upper) pairs of plain floats: one configuration is checked in Python
-        self._bounds = list(zip(self.lower.tolist(), self.upper.tolist()))
+        # one pass over the chain per iteration (see pose_and_jacobian); of a SerialChain, the pass of
+        # its engine: what fk_and_jacobian(q, check=False) runs after its argument test, which the
+        # loop's q, always a float64 array (n,), passes
+        fk_and_jacobian = getattr(self.chain, "fk_and_jacobian", None)
+        self._fk_and_jacobian: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]] | None
+        if type(self.chain) is SerialChain:
+            self._fk_and_jacobian = self.chain._engine.pose_and_jacobian_single
+        elif fk_and_jacobian is not None:
+            self._fk_and_jacobian = lambda q: fk_and_jacobian(q, check=False)
+        else:
+            self._fk_and_jacobian = None
+        # the limits as plain floats: one configuration is checked in Python (map: no per-joint bytecode)
+        self._lower_list = self.lower.tolist()
+        self._upper_list = self.upper.tolist()
 
     def project(self, q: np.ndarray) -> np.ndarray:
         """Bring a configuration (batch) back within the limits: wrap, shift by 2 pi, clamp."""
@@ -81,7 +94,8 @@ class IKContext:
 
     def touches_limit(self, q: np.ndarray) -> bool:
         """Does configuration ``q`` (n,) rest on one of its joint limits?"""
-        return any(x <= lo or x >= hi for x, (lo, hi) in zip(q.tolist(), self._bounds))
+        x = q.tolist()
+        return any(map(le, x, self._lower_list)) or any(map(ge, x, self._upper_list))
 
     def advance(self, q: np.ndarray, dq: np.ndarray) -> tuple[np.ndarray, bool]:
         """``q + dq`` brought within the limits (:meth:`project`), and whether it rests on a limit.
@@ -90,7 +104,8 @@ class IKContext:
         (and no wrapping) is returned as is and reported off the limits.
         """
         q_new = q + dq
-        if self.wrap is not None or any(x < lo or x > hi for x, (lo, hi) in zip(q_new.tolist(), self._bounds)):
+        x = q_new.tolist()
+        if self.wrap is not None or any(map(lt, x, self._lower_list)) or any(map(gt, x, self._upper_list)):
             q_new = self.project(q_new)
             return q_new, self.touches_limit(q_new)
         return q_new, False
@@ -118,7 +133,7 @@ class IKContext:
         if self._fk_and_jacobian is None:
             T_flange, T = self.pose(q)
             return T_flange, T, self.jacobian(q, T_flange)
-        T_flange, J = self._fk_and_jacobian(q, check=False)
+        T_flange, J = self._fk_and_jacobian(q)
         if self.tool is None or self.p_tool is None:  # both None or neither (__post_init__)
             return T_flange, T_flange, J
         return T_flange, T_flange @ self.tool, tool_jacobian(J, T_flange[:3, :3], self.p_tool)
@@ -196,6 +211,8 @@ def parse_target(target: Any, batched: bool) -> tuple[np.ndarray, bool]:
     Returns ``(T_goal, is_position)``.
     """
     name = "targets" if batched else "target"
+    if not batched and type(target) is np.ndarray and target.dtype == np.float64 and target.shape == (4, 4):
+        return _check_pose(target, name), False  # the usual call: one float64 pose, checked in plain floats
     a = as_float_array(target, name)
     if not batched and a.shape == (4, 4):
         return _check_pose(a, name), False
@@ -218,14 +235,17 @@ def parse_target(target: Any, batched: bool) -> tuple[np.ndarray, bool]:
 
 
 def _check_pose(T: np.ndarray, name: str, tol: float = 1e-6) -> np.ndarray:
-    """Fast check of one finite (4, 4) transform (plain floats); falls back to check_transform for the message.
+    """Fast check of one float64 (4, 4) transform (plain floats); falls back to the full checks for the message.
 
-    Checks what :func:`~robokin.validation.check_transform` checks (bottom row
+    Checks what :func:`~robokin.validation.as_float_array` and
+    :func:`~robokin.validation.check_transform` check (finite entries, bottom row
     ``[0, 0, 0, 1]``, :math:`|RR^T - I| \\le` ``tol`` entry by entry, det R > 0)
-    and the distance limit :data:`MAX_DISTANCE`.
+    and the distance limit :data:`MAX_DISTANCE`: every test below fails for NaN
+    or infinite entries.
     """
     (r00, r01, r02, px), (r10, r11, r12, py), (r20, r21, r22, pz), (b0, b1, b2, b3) = T.tolist()
-    if max(abs(px), abs(py), abs(pz)) > MAX_DISTANCE:
+    if not (abs(px) <= MAX_DISTANCE and abs(py) <= MAX_DISTANCE and abs(pz) <= MAX_DISTANCE):
+        as_float_array(T, name)  # NaN or infinite: the message names the entry
         _check_distance(T[:3, 3], name)
     det = r00 * (r11 * r22 - r12 * r21) - r01 * (r10 * r22 - r12 * r20) + r02 * (r10 * r21 - r11 * r20)
     ok = (
@@ -238,7 +258,10 @@ def _check_pose(T: np.ndarray, name: str, tol: float = 1e-6) -> np.ndarray:
         and abs(r10 * r20 + r11 * r21 + r12 * r22) <= tol
         and det > 0.0
     )
-    return T if ok else check_transform(T, name=name)
+    if ok:
+        return T
+    as_float_array(T, name)  # NaN or infinite: the message names the entry
+    return check_transform(T, name=name)
 
 
 def parse_mask(mask: Any, is_position: bool) -> np.ndarray:

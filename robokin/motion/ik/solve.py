@@ -46,9 +46,8 @@ class Goal:
         self.R = np.ascontiguousarray(T_goal[:3, :3])
         self.position = T_goal[:3, 3].tolist()
         self.is_position = settings.is_position
-        mask = settings.ctx.mask
-        self.mask_position = [float(x) for x in mask[:3].tolist()]
-        self.mask_orientation = [float(x) for x in mask[3:].tolist()]
+        mask = settings.ctx.mask.astype(float).tolist()
+        self.mask_position, self.mask_orientation = mask[:3], mask[3:]
 
     def error(self, T: np.ndarray) -> tuple[np.ndarray, float, float]:
         """Error ``[p_goal - p; theta h]`` (6,) of pose ``T`` and its masked position and orientation norms."""
@@ -207,20 +206,23 @@ def _polish_best(
 
 def _result(settings: IKSettings, best: Attempt, iterations: int, attempts: int,
             history: HistoryRecorder | None) -> IKResult:
-    mask = settings.ctx.mask
-    position, orientation = best.error[:3] * mask[:3], best.error[3:] * mask[3:]
-    position_error = math.sqrt(float(position @ position))
-    orientation_error = math.sqrt(float(orientation @ orientation))
+    ctx, e = settings.ctx, best.error
+    if ctx.full_mask:  # the mask would multiply every component by 1
+        position, orientation = e[:3], e[3:]
+    else:
+        position, orientation = e[:3] * ctx.mask[:3], e[3:] * ctx.mask[3:]
+    position_error = math.sqrt(float(position.dot(position)))
+    orientation_error = math.sqrt(float(orientation.dot(orientation)))
     ok = bool(best.reason == "converged" and position_error <= settings.tol_position
               and orientation_error <= settings.tol_orientation)
     return IKResult(
-        q=np.array(best.q, copy=True),
+        q=best.q.copy(),
         success=ok,
         iterations=iterations,
         reason=best.reason,
         position_error=position_error,
         orientation_error=orientation_error,
-        errors=np.array(best.error, copy=True),
+        errors=e.copy(),
         attempts=attempts,
         history=None if history is None else history.history(settings.ctx),
         method=settings.method.name,
