@@ -21,9 +21,10 @@ selected file's suite joins a chapter other than 3, chapter 3 alone otherwise (t
 walk-through and the chapter without metadata with ``test_nbgrader.py`` only). The
 jobs come in three parts, one pytest-xdist group each (``nbgrader:3``: chapter 3, the
 walk-through, the chapter without metadata and chapter 5; ``nbgrader:tamper``: the
-tamper suite's course; ``nbgrader:others``), so that under xdist the workers grade at once, each only the part its tests read
-(:class:`Courses` grades a part when one of its runs is first read; without xdist,
-all parts at once, in one thread pool). Each file sees its own submissions only
+tamper suite's course; ``nbgrader:others``), so that under xdist the workers grade
+at once, each only the part its tests read (:class:`Courses` grades a part when one
+of its runs is first read; without xdist, all parts at once, in one thread pool).
+Each file sees its own submissions only
 (:func:`view`).
 
 A file that adds submissions to a chapter's run gives a :class:`Suite` per kind
