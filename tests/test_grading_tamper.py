@@ -39,10 +39,6 @@ import pytest
 import grading_course
 from test_nbgrader import NOTEBOOKS, Run, load, nbg, src
 
-# this file's course of chapter 3 is a part of the graded courses of its own (one xdist group):
-# its never-returning call waits the call limit in every test, in parallel with the other parts
-pytestmark = grading_course.xdist_group_mark(grading_course.own_course_key(grading_course.CHAPTER3, "tamper"))
-
 CHAPTER = "03_three_rpr"
 
 #: code put at the top of the first answer cell, by kind of tampering
@@ -196,6 +192,9 @@ def submissions(run: Run, correct: dict, course) -> dict[str, dict]:
 #: correct submissions, and with a short time limit per call of a student's function
 SUITE = grading_course.Suite("tamper", submissions,
                              options=[f"--BridgedExecute.call_timeout={CALL_TIMEOUT}"], own_course=True)
+# this file's course of chapter 3 is a part of the graded courses of its own (one xdist group):
+# its never-returning call waits the call limit in every test, in parallel with the other parts
+pytestmark = grading_course.xdist_group_mark(SUITE.key(CHAPTER))
 
 
 @pytest.fixture(scope="session")

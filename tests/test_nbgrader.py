@@ -40,6 +40,7 @@ import time
 from collections.abc import Mapping
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
+from functools import partial
 from pathlib import Path
 
 import pytest
@@ -420,11 +421,11 @@ def run_chapter(chapter: str, base: Path, suites=(), key: str | None = None) -> 
         run.release = load(course / "release" / chapter / f"{chapter}.ipynb")
         correct = correct_submission(run.release, run.source)
         submissions = {"unanswered": run.release, "correct": correct}
-        candidates = mistake_candidates(run.source) if key is None else []
-        if candidates:
-            run.mistake = candidates[0]
-            submissions["mistake"] = mistaken_submission(correct, run.mistake)
-        if key is None:
+        if key is None:   # the chapter's shared run: its typical mistake and probes too
+            candidates = mistake_candidates(run.source)
+            if candidates:
+                run.mistake = candidates[0]
+                submissions["mistake"] = mistaken_submission(correct, run.mistake)
             submissions.update(chapter_submissions(chapter, run.source, correct, run))
         run.own = list(submissions)
         environment, options = {}, []
@@ -558,28 +559,20 @@ def grade_everything(base: Path, full: bool = True, suites=(), chapters=None, ow
     if chapters is None:
         chapters = CHAPTERS if full else [c for c in CHAPTERS if c == grading_course.CHAPTER3]
     shared = [s for s in suites if not s.own_course]
-    jobs = {chapter: (run_chapter, chapter) for chapter in chapters}
+    jobs = {chapter: partial(run_chapter, chapter, base, [s for s in shared if s.joins(chapter)])
+            for chapter in chapters}
     for key in own:
         chapter, name = key.split(grading_course.OWN, 1)
-        jobs[key] = (run_chapter, chapter, [s for s in suites if s.name == name and s.joins(chapter)], key)
+        jobs[key] = partial(run_chapter, chapter, base, [s for s in suites if s.name == name], key)
     if full:
-        jobs["walkthrough"] = (run_walkthrough,)
-        jobs["unmarked"] = (run_unmarked,)
+        jobs["walkthrough"] = partial(run_walkthrough, base)
+        jobs["unmarked"] = partial(run_unmarked, base)
     # the slow chapters first, so that the workers finish together
     order = sorted(jobs, key=lambda k: {"03_three_rpr": -1 if suites else 5, "01_leg_kinematics": 0,
                                         "05_baxter_circle": 1, "walkthrough": 2}.get(k, 5))
 
-    def job(key):
-        function, *args = jobs[key]
-        if key in own:
-            chapter, own_suites, own_key = args
-            return function(chapter, base, own_suites, own_key)
-        if key in chapters:
-            return function(*args, base, [s for s in shared if s.joins(key)])
-        return function(*args, base)
-
     with ThreadPoolExecutor(max_workers=WORKERS) as pool:
-        futures = {k: pool.submit(job, k) for k in order}
+        futures = {k: pool.submit(jobs[k]) for k in order}
         runs = {k: f.result() for k, f in futures.items()}
     summary = ", ".join(f"{k} {r.seconds:.0f} s" for k, r in runs.items())
     print(f"\n[nbgrader] {len(runs)} jobs in {time.perf_counter() - started:.0f} s on {WORKERS} workers "

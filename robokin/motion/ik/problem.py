@@ -8,7 +8,6 @@ chain with ``check=False``.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from dataclasses import dataclass
 from operator import ge, gt, le, lt
 from typing import Any, NamedTuple
@@ -67,17 +66,7 @@ class IKContext:
         self.full_mask = bool(self.mask.all())
         self.rows = self.mask.nonzero()[0]
         self.p_tool = None if self.tool is None else self.tool[:3, 3].copy()
-        # one pass over the chain per iteration (see pose_and_jacobian); of a SerialChain, the pass of
-        # its engine: what fk_and_jacobian(q, check=False) runs after its argument test, which the
-        # loop's q, always a float64 array (n,), passes
-        fk_and_jacobian = getattr(self.chain, "fk_and_jacobian", None)
-        self._fk_and_jacobian: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]] | None
-        if type(self.chain) is SerialChain:
-            self._fk_and_jacobian = self.chain._engine.pose_and_jacobian_single
-        elif fk_and_jacobian is not None:
-            self._fk_and_jacobian = lambda q: fk_and_jacobian(q, check=False)
-        else:
-            self._fk_and_jacobian = None
+        self._fk_and_jacobian = getattr(self.chain, "fk_and_jacobian", None)
         # the limits as plain floats: one configuration is checked in Python (map: no per-joint bytecode)
         self._lower_list = self.lower.tolist()
         self._upper_list = self.upper.tolist()
@@ -133,7 +122,7 @@ class IKContext:
         if self._fk_and_jacobian is None:
             T_flange, T = self.pose(q)
             return T_flange, T, self.jacobian(q, T_flange)
-        T_flange, J = self._fk_and_jacobian(q)
+        T_flange, J = self._fk_and_jacobian(q, check=False)
         if self.tool is None or self.p_tool is None:  # both None or neither (__post_init__)
             return T_flange, T_flange, J
         return T_flange, T_flange @ self.tool, tool_jacobian(J, T_flange[:3, :3], self.p_tool)
