@@ -82,6 +82,13 @@ student: $(STAMP)
 # Two pytest-xdist workers by default (tests/parallel_plan.py); `make test PYTEST_ARGS=-n0`
 # runs everything in one process.
 PYTEST_ARGS ?=
+
+# The tests write Python's bytecode caches (__pycache__, git-ignored; `make clean` removes
+# them) even where the environment sets PYTHONDONTWRITEBYTECODE, as many containers and CI
+# images do: a run starts some 300 Python processes (notebook and grading kernels, nbgrader
+# commands, pytest workers), and without the caches every one of them compiles robokin,
+# tools/ and the rewritten test modules again (collection alone: 5.6 instead of 3.4 s of CPU).
+test quick execute: export PYTHONDONTWRITEBYTECODE :=
 test: $(STAMP)
 	@$(BIN)/python -m pytest $(PYTEST_ARGS) || { \
 	  echo "ERROR [test]: some tests failed (see the summary above)."; exit 1; }
@@ -114,6 +121,7 @@ bench: $(STAMP)
 
 clean:
 	rm -rf _build .pytest_cache .hypothesis
+	find robokin tools tests book notebooks -name __pycache__ -type d -prune -exec rm -rf {} +
 
 distclean: clean
 	rm -rf $(VENV)
