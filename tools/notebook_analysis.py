@@ -304,6 +304,13 @@ def free_names(code: str) -> set[str]:
 # ---------------------------------------------------------------- calls of robokin.check
 def _check_aliases(code: str) -> dict[str, str]:
     """Local names of check modules: ``{"check_ur10": "ur10", "check": "*"}``."""
+    return dict(_check_aliases_of(code))
+
+
+@functools.lru_cache(maxsize=8192)
+def _check_aliases_of(code: str) -> dict[str, str]:
+    """:func:`_check_aliases`, memoised per source string (autograde asks for every cell of every
+    submission): read-only."""
     tree = _parse(code)
     out: dict[str, str] = {}
     if tree is None:

@@ -51,6 +51,7 @@ The cell roles come from ``tools/nbgrader_metadata.py`` (``metadata.robokin``).
 
 from __future__ import annotations
 
+import functools
 import json
 import os
 import re
@@ -539,14 +540,22 @@ def _identifier_names(expression: str) -> set[str]:
     return free_names(expression) if expression.strip() else set()
 
 
+@functools.cache
+def _check_names() -> dict[str, str]:
+    """``nbgrader_metadata.check_names()``, read once per process (robokin.check's registry does not
+    change while a command runs; autograde asks for it for every submission): read-only."""
+    from nbgrader_metadata import check_names
+
+    return check_names()
+
+
 def registered_pairs(nb) -> list[tuple[int | None, str, str]]:
     """``(task, check, name)`` for every exercise check registered in ``robokin.check`` whose
     quantity has the name of a variable or function that an answer cell binds, in the
     chapters of checks the notebook uses (imports, or names in its test cells' metadata),
     unless a test cell's metadata already explains with that check."""
     try:
-        from nbgrader_metadata import check_names
-        names = check_names()
+        names = _check_names()
     except Exception:  # noqa: BLE001 - feedback is a bonus; grading goes on
         return []
     chapters, explained = set(), set()
