@@ -37,7 +37,15 @@ into its pipelines:
     nbgrader's HTML exporter with MathJax 3 inlined in the page (from the
     ``django-static-mathjax`` wheel the book uses) instead of loaded from a CDN:
     the feedback page is read offline, and ``release_feedback`` hands out the
-    HTML file only.
+    HTML file only. The page is nbconvert's, byte for byte, made with less CPU
+    (code highlighting memoised per process).
+``RobokinCheckCellMetadata`` (every pipeline, replaces ``CheckCellMetadata``)
+    nbgrader's check of the cells' nbgrader metadata, with nbgrader's schema
+    checked once per process instead of once per cell (the same verdicts).
+
+A new gradebook records the revision of nbgrader's gradebook schema: it is read
+here in the process (``alembic_head``), not by running ``alembic heads`` as a
+program of its own as nbgrader does.
 ``AutograderReport`` (autograde, after ``SaveAutoGrades``)
     A markdown cell on top of the graded notebook (and so of the feedback): the
     score per task, what ``robokin.check`` found, and what went wrong outside the
@@ -1068,7 +1076,7 @@ class OfflineMathJaxHTMLExporter(HTMLExporter):
         ``tests/test_nbgrader.py`` compares them), with its code highlighting memoised
         (:class:`MemoisedHighlight`), and its two searches for JupyterLab's cells left out when the
         page has no ``jp-Notebook`` (the classic template of nbgrader's feedback): each walks the
-        whole parsed page, a tenth of the time of ``generate_feedback``."""
+        whole parsed page (the three searches took a tenth of the time of ``generate_feedback``)."""
         langinfo = nb.metadata.get("language_info", {})
         lexer = langinfo.get("pygments_lexer", langinfo.get("name", None))
         highlight_code = self.filters.get("highlight_code", MemoisedHighlight(pygments_lexer=lexer, parent=self))
