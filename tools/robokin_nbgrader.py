@@ -71,6 +71,7 @@ from pathlib import Path
 
 import jsonschema
 from bs4 import BeautifulSoup
+from jinja2 import pass_context
 from jupyter_core.utils import run_sync
 from nbclient.exceptions import CellTimeoutError, DeadKernelError
 from nbconvert.exporters import HTMLExporter, TemplateExporter
@@ -1067,6 +1068,21 @@ class MemoisedHighlight(Highlight2HTML):
 class OfflineMathJaxHTMLExporter(HTMLExporter):
     """HTML with MathJax inlined: formulas render in a feedback page opened without internet."""
 
+    _markdown: dict[tuple, str] = {}
+
+    @pass_context
+    def markdown2html(self, context, source):
+        """nbconvert's markdown filter, memoised per process: the text cells are the same on every
+        student's page (the key is all the filter reads: the text, the cell's attachments, the
+        notebook's folder and the exporter's options)."""
+        key = (source, json.dumps(context.get("cell", {}).get("attachments", {}), sort_keys=True),
+               context.get("resources", {}).get("metadata", {}).get("path", ""), self.embed_images,
+               self.anchor_link_text, self.exclude_anchor_links,
+               json.dumps(self.lexer_options, sort_keys=True, default=repr))
+        if key not in self._markdown:
+            self._markdown[key] = super().markdown2html(context, source)
+        return self._markdown[key]
+
     def from_notebook_node(self, nb, resources=None, **kw):
         output, resources = self._html_page(nb, resources, **kw)
         return inline_mathjax(output), resources
@@ -1074,9 +1090,10 @@ class OfflineMathJaxHTMLExporter(HTMLExporter):
     def _html_page(self, nb, resources=None, **kw):
         """``HTMLExporter.from_notebook_node`` of nbconvert 7.17 (the same page, byte for byte:
         ``tests/test_nbgrader.py`` compares them), with its code highlighting memoised
-        (:class:`MemoisedHighlight`), and its two searches for JupyterLab's cells left out when the
-        page has no ``jp-Notebook`` (the classic template of nbgrader's feedback): each walks the
-        whole parsed page (the three searches took a tenth of the time of ``generate_feedback``)."""
+        (:class:`MemoisedHighlight`; the markdown too, :meth:`markdown2html`), and its two searches
+        for JupyterLab's cells left out when the page has no ``jp-Notebook`` (the classic template
+        of nbgrader's feedback): each walks the whole parsed page (the three searches took a tenth
+        of the time of ``generate_feedback``)."""
         langinfo = nb.metadata.get("language_info", {})
         lexer = langinfo.get("pygments_lexer", langinfo.get("name", None))
         highlight_code = self.filters.get("highlight_code", MemoisedHighlight(pygments_lexer=lexer, parent=self))
