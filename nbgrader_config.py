@@ -12,7 +12,6 @@ from pathlib import Path
 from nbconvert.preprocessors import ClearMetadataPreprocessor
 from nbgrader.preprocessors import (
     AssignLatePenalties,
-    CheckCellMetadata,
     ClearHiddenTests,
     ClearMarkScheme,
     ClearOutput,
@@ -41,6 +40,7 @@ from robokin_nbgrader import (  # noqa: E402
     PointsHeader,
     RequireGradingMetadata,
     RestoreMissingCells,
+    RobokinCheckCellMetadata,
 )
 # Verdicts decided in a grader kernel, outside the student's (issue 21): tools/grading_bridge/.
 from grading_bridge.preprocessors import BridgeReport, BridgedExecute  # noqa: E402
@@ -63,13 +63,13 @@ c.GenerateAssignment.preprocessors = [
     ClearSolutions,
     DropSolutionProse,        # the emptied solution prose is left out
     ClearOutput,
-    CheckCellMetadata,
+    RobokinCheckCellMetadata,   # nbgrader's CheckCellMetadata, its schema checked once
     ComputeChecksums,
     SaveCells,
     ClearHiddenTests,
     ClearMarkScheme,
     ComputeChecksums,
-    CheckCellMetadata,
+    RobokinCheckCellMetadata,
 ]
 # Solution prose is read-only text that is not a graded answer: nbgrader allows
 # solution regions there only with enforce_metadata off; they become empty.
@@ -82,7 +82,7 @@ c.Autograde.sanitize_preprocessors = [
     DeduplicateIds,
     OverwriteKernelspec,
     RestoreMissingCells,
-    CheckCellMetadata,
+    RobokinCheckCellMetadata,
 ]
 c.Autograde.autograde_preprocessors = [
     BridgedExecute,           # RobokinExecute + grader kernel (for c.BridgedExecute.chapters)
@@ -91,7 +91,7 @@ c.Autograde.autograde_preprocessors = [
     LimitOutput,
     SaveAutoGrades,
     AssignLatePenalties,
-    CheckCellMetadata,
+    RobokinCheckCellMetadata,
     AutograderReport,
     GradingIncidents,         # a kernel that died or was killed, tests not run, stderr notes
     BridgeReport,             # answers for review by hand, answers that are not plain data

@@ -895,6 +895,33 @@ def test_feedback_renders_formulas_offline(graded, chapter):
     assert "text/x-mathjax-config" not in page, f"{chapter}: MathJax 2 configuration left in the feedback"
 
 
+@pytest.mark.parametrize("template", ["classic", "lab"])
+def test_feedback_exporter_writes_nbconvert_page(template):
+    """The feedback exporter's page is nbconvert's HTMLExporter page, byte for byte, with MathJax
+    inlined: its memoised highlighting and the searches it leaves out change nothing (twice, so
+    that the second page is highlighted from the memo; "lab" has the JupyterLab cells)."""
+    import nbformat
+    from nbconvert.exporters import HTMLExporter
+    from robokin_nbgrader import OfflineMathJaxHTMLExporter, inline_mathjax
+
+    pixel = ("iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAfFcSJAAAADUlEQVR42mNk+M9QDwADhgGAWjR9awAAAABJRU5ErkJggg==")
+    nb = nbformat.v4.new_notebook(metadata={"language_info": {"name": "python", "pygments_lexer": "ipython3"}})
+    nb.cells = [
+        nbformat.v4.new_markdown_cell("## Task 1: a formula $T_{BA} = T_{AB}^{-1}$ and `code` <b>bold</b> &amp;"),
+        nbformat.v4.new_code_cell("import numpy as np\n\ndef f(q):\n    return np.sin(q) @ q  # a comment\n",
+                                  outputs=[nbformat.v4.new_output("display_data", {"image/png": pixel}),
+                                           nbformat.v4.new_output("stream", name="stdout", text="<x> & 'y'\n"),
+                                           nbformat.v4.new_output("error", ename="ValueError", evalue="bad",
+                                                                  traceback=["\x1b[31mValueError\x1b[0m: bad"])]),
+        nbformat.v4.new_code_cell("%%bash\necho hi", metadata={"magics_language": "bash"}),
+    ]
+    for _ in range(2):
+        ours = OfflineMathJaxHTMLExporter(template_name=template).from_notebook_node(copy.deepcopy(nb))[0]
+        plain = HTMLExporter(template_name=template).from_notebook_node(copy.deepcopy(nb))[0]
+        assert ours == inline_mathjax(plain)
+    assert ("tabindex=\"0\"" in plain) == (template == "lab") and 'alt="No description' in plain
+
+
 @pytest.mark.parametrize("chapter", grading_course.chapter_params(CHAPTERS))
 def test_points_per_test_in_header_and_report(graded, chapter):
     """A test cell tagged points-N is worth N: in the gradebook, the student edition's header

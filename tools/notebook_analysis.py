@@ -22,6 +22,7 @@ Nothing here executes a notebook or imports robokin: the analysis is static (the
 from __future__ import annotations
 
 import ast
+import functools
 import json
 import re
 from dataclasses import dataclass, field
@@ -278,7 +279,10 @@ def _parse(code: str) -> ast.Module | None:
         return None
 
 
+@functools.lru_cache(maxsize=8192)
 def _names(code: str) -> _Names:
+    """The names ``code`` reads and binds; memoised per source string (autograde traces the same
+    cells for every failing test of every submission), so the result is read-only: copy it."""
     visitor = _Names()
     tree = _parse(code)
     if tree is not None:
@@ -289,17 +293,24 @@ def _names(code: str) -> _Names:
 
 def defined_names(code: str) -> list[str]:
     """Module-level names the code binds, in order of first binding."""
-    return _names(code).defined
+    return list(_names(code).defined)
 
 
 def free_names(code: str) -> set[str]:
     """Names the code reads before binding them: what it takes from earlier cells."""
-    return _names(code).free
+    return set(_names(code).free)
 
 
 # ---------------------------------------------------------------- calls of robokin.check
 def _check_aliases(code: str) -> dict[str, str]:
     """Local names of check modules: ``{"check_ur10": "ur10", "check": "*"}``."""
+    return dict(_check_aliases_of(code))
+
+
+@functools.lru_cache(maxsize=8192)
+def _check_aliases_of(code: str) -> dict[str, str]:
+    """:func:`_check_aliases`, memoised per source string (autograde asks for every cell of every
+    submission): read-only."""
     tree = _parse(code)
     out: dict[str, str] = {}
     if tree is None:

@@ -37,7 +37,15 @@ into its pipelines:
     nbgrader's HTML exporter with MathJax 3 inlined in the page (from the
     ``django-static-mathjax`` wheel the book uses) instead of loaded from a CDN:
     the feedback page is read offline, and ``release_feedback`` hands out the
-    HTML file only.
+    HTML file only. The page is nbconvert's, byte for byte, made with less CPU
+    (code highlighting memoised per process).
+``RobokinCheckCellMetadata`` (every pipeline, replaces ``CheckCellMetadata``)
+    nbgrader's check of the cells' nbgrader metadata, with nbgrader's schema
+    checked once per process instead of once per cell (the same verdicts).
+
+A new gradebook records the revision of nbgrader's gradebook schema: it is read
+here in the process (``alembic_head``), not by running ``alembic heads`` as a
+program of its own as nbgrader does.
 ``AutograderReport`` (autograde, after ``SaveAutoGrades``)
     A markdown cell on top of the graded notebook (and so of the feedback): the
     score per task, what ``robokin.check`` found, and what went wrong outside the
@@ -51,20 +59,32 @@ The cell roles come from ``tools/nbgrader_metadata.py`` (``metadata.robokin``).
 
 from __future__ import annotations
 
+import functools
 import json
 import os
 import re
 import sys
 import textwrap
+import traceback
+from html import unescape
 from pathlib import Path
 
+import jsonschema
+from bs4 import BeautifulSoup
+from jinja2 import pass_context
 from jupyter_core.utils import run_sync
 from nbclient.exceptions import CellTimeoutError, DeadKernelError
-from nbconvert.exporters import HTMLExporter
+from nbconvert.exporters import HTMLExporter, TemplateExporter
+from nbconvert.filters.highlight import Highlight2HTML
+from nbconvert.filters.widgetsdatatypefilter import WidgetsDataTypeFilter
 from nbformat.notebooknode import from_dict
+from nbgrader import api as nbgrader_api
 from nbgrader import utils
 from nbgrader.coursedir import CourseDirectory
-from nbgrader.preprocessors import Execute, NbGraderPreprocessor, OverwriteCells
+from nbgrader.dbutil import ALEMBIC_DIR
+from nbgrader.nbgraderformat import MetadataValidator, ValidationError
+from nbgrader.nbgraderformat.common import BaseMetadataValidator
+from nbgrader.preprocessors import CheckCellMetadata, Execute, NbGraderPreprocessor, OverwriteCells
 from traitlets import Bool, Unicode
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -110,6 +130,73 @@ def _first_line(text: str, width: int = 60) -> str:
         if line and not line.startswith("#"):
             return line if len(line) <= width else line[: width - 1] + "…"
     return text.strip().splitlines()[0][:width] if text.strip() else ""
+
+
+# ---------------------------------------------------------------- every pipeline
+_NBGRADER_ALEMBIC_VERSION = nbgrader_api.get_alembic_version
+
+
+def alembic_head() -> str:
+    """The revision of nbgrader's gradebook schema, which a new gradebook records: what nbgrader's
+    ``get_alembic_version`` reads from ``alembic heads``, run as a program -- a Python process of
+    its own, 0.9 s of CPU for every new course -- read here from nbgrader's migration scripts in
+    this process (0.08 s). With other than one head, nbgrader's own function answers."""
+    from alembic.config import Config
+    from alembic.script import ScriptDirectory
+
+    config = Config()
+    config.set_main_option("script_location", ALEMBIC_DIR)
+    heads = ScriptDirectory.from_config(config).get_heads()
+    return heads[0] if len(heads) == 1 else _NBGRADER_ALEMBIC_VERSION()
+
+
+# a new gradebook (the course's first nbgrader command) asks for it
+nbgrader_api.get_alembic_version = alembic_head
+
+
+class _SchemaCheckedOnce(BaseMetadataValidator):
+    """nbgrader's per-cell check of the metadata against its schema, with the schema itself checked
+    once per process: ``jsonschema.validate``, which nbgrader calls for every cell, first checks
+    nbgrader's own (constant) schema against the JSON meta-schema -- nine tenths of the time
+    ``CheckCellMetadata`` takes. A cell's metadata is then validated as ``jsonschema.validate``
+    does it (the same best-matching error); a cell without metadata, or of another schema version
+    (an error), goes to nbgrader's own code."""
+
+    _validators: dict[int, object] = {}
+
+    def validate_cell(self, cell) -> None:
+        meta = cell.metadata.get("nbgrader")
+        if meta is None or meta.get("schema_version", 0) != self.schema_version:
+            return super().validate_cell(cell)
+        validator = self._validators.get(self.schema_version)
+        if validator is None:
+            cls = jsonschema.validators.validator_for(self.schema)
+            cls.check_schema(self.schema)
+            validator = self._validators[self.schema_version] = cls(self.schema)
+        error = jsonschema.exceptions.best_match(validator.iter_errors(meta))
+        if error is not None:
+            raise error
+        return None
+
+
+class _MetadataValidator(MetadataValidator, _SchemaCheckedOnce):
+    """nbgrader's metadata validator (its checks beyond the schema included), the schema
+    checked once per process (:class:`_SchemaCheckedOnce` comes between it and its base)."""
+
+
+class RobokinCheckCellMetadata(CheckCellMetadata):
+    """nbgrader's ``CheckCellMetadata`` (the same verdicts, errors and messages), with the schema
+    checked once per process instead of once per cell (:class:`_SchemaCheckedOnce`)."""
+
+    def preprocess(self, nb, resources):
+        try:
+            _MetadataValidator().validate_nb(nb)
+        except ValidationError:
+            self.log.error(traceback.format_exc())
+            msg = "Notebook failed to validate; the nbgrader metadata may be corrupted."
+            self.log.error(msg)
+            raise ValidationError(msg)  # noqa: B904 - as nbgrader's CheckCellMetadata raises it
+        return nb, resources
 
 
 # ---------------------------------------------------------------- generate_assignment
@@ -466,14 +553,22 @@ def _identifier_names(expression: str) -> set[str]:
     return free_names(expression) if expression.strip() else set()
 
 
+@functools.cache
+def _check_names() -> dict[str, str]:
+    """``nbgrader_metadata.check_names()``, read once per process (robokin.check's registry does not
+    change while a command runs; autograde asks for it for every submission): read-only."""
+    from nbgrader_metadata import check_names
+
+    return check_names()
+
+
 def registered_pairs(nb) -> list[tuple[int | None, str, str]]:
     """``(task, check, name)`` for every exercise check registered in ``robokin.check`` whose
     quantity has the name of a variable or function that an answer cell binds, in the
     chapters of checks the notebook uses (imports, or names in its test cells' metadata),
     unless a test cell's metadata already explains with that check."""
     try:
-        from nbgrader_metadata import check_names
-        names = check_names()
+        names = _check_names()
     except Exception:  # noqa: BLE001 - feedback is a bonus; grading goes on
         return []
     chapters, explained = set(), set()
@@ -944,6 +1039,7 @@ CDN_MATHJAX = re.compile(r'<script[^>]*\bsrc="https?://[^"]*mathjax[^"]*"[^>]*>\
 MATHJAX2_CONFIG = re.compile(r'<script type="text/x-mathjax-config">.*?</script>', re.S)
 
 
+@functools.cache
 def mathjax_script() -> str:
     """MathJax 3 (TeX input, SVG output: no font files) from the ``django-static-mathjax`` wheel."""
     try:
@@ -955,12 +1051,72 @@ def mathjax_script() -> str:
     return path.read_text(encoding="utf-8").replace("</script", "<\\/script")
 
 
+class MemoisedHighlight(Highlight2HTML):
+    """nbconvert's code highlighting (pygments), memoised per process: ``generate_feedback`` renders
+    the same given and test cells for every student, and highlighting is a sixth of its time."""
+
+    _pages: dict[tuple, str] = {}
+
+    def __call__(self, source, language=None, metadata=None):
+        key = (source, language or self.pygments_lexer, (metadata or {}).get("magics_language"),
+               json.dumps(self.extra_formatter_options, sort_keys=True, default=repr))
+        if key not in self._pages:
+            self._pages[key] = super().__call__(source, language, metadata)
+        return self._pages[key]
+
+
 class OfflineMathJaxHTMLExporter(HTMLExporter):
     """HTML with MathJax inlined: formulas render in a feedback page opened without internet."""
 
+    _markdown: dict[tuple, str] = {}
+
+    @pass_context
+    def markdown2html(self, context, source):
+        """nbconvert's markdown filter, memoised per process: the text cells are the same on every
+        student's page (the key is all the filter reads: the text, the cell's attachments, the
+        notebook's folder and the exporter's options)."""
+        key = (source, json.dumps(context.get("cell", {}).get("attachments", {}), sort_keys=True),
+               context.get("resources", {}).get("metadata", {}).get("path", ""), self.embed_images,
+               self.anchor_link_text, self.exclude_anchor_links,
+               json.dumps(self.lexer_options, sort_keys=True, default=repr))
+        if key not in self._markdown:
+            self._markdown[key] = super().markdown2html(context, source)
+        return self._markdown[key]
+
     def from_notebook_node(self, nb, resources=None, **kw):
-        output, resources = super().from_notebook_node(nb, resources, **kw)
+        output, resources = self._html_page(nb, resources, **kw)
         return inline_mathjax(output), resources
+
+    def _html_page(self, nb, resources=None, **kw):
+        """``HTMLExporter.from_notebook_node`` of nbconvert 7.17 (the same page, byte for byte:
+        ``tests/test_nbgrader.py`` compares them), with its code highlighting memoised
+        (:class:`MemoisedHighlight`; the markdown too, :meth:`markdown2html`), and its two searches
+        for JupyterLab's cells left out when the page has no ``jp-Notebook`` (the classic template
+        of nbgrader's feedback): each walks the whole parsed page (the three searches took a tenth
+        of the time of ``generate_feedback``)."""
+        langinfo = nb.metadata.get("language_info", {})
+        lexer = langinfo.get("pygments_lexer", langinfo.get("name", None))
+        highlight_code = self.filters.get("highlight_code", MemoisedHighlight(pygments_lexer=lexer, parent=self))
+        resources = self._init_resources(resources)
+        filter_data_type = WidgetsDataTypeFilter(notebook_metadata=self._nb_metadata, parent=self,
+                                                 resources=resources)
+        self.register_filter("highlight_code", highlight_code)
+        self.register_filter("filter_data_type", filter_data_type)
+        html, resources = TemplateExporter.from_notebook_node(self, nb, resources, **kw)
+        soup = BeautifulSoup(html, features="html.parser")
+        missing_alt = 0
+        for elem in soup.select("img:not([alt])"):
+            elem.attrs["alt"] = "No description has been provided for this image"
+            missing_alt += 1
+        if missing_alt:
+            self.log.warning("Alternative text is missing on %s image(s).", missing_alt)
+        # a class name in the page's markup, its character references decoded, or in no element
+        if "jp-Notebook" in unescape(html):
+            for elem in soup.select(".jp-Notebook div.jp-Cell-inputWrapper"):
+                elem.attrs["tabindex"] = "0"
+            for elem in soup.select(".jp-Notebook div.jp-OutputArea-output"):
+                elem.attrs["tabindex"] = "0"
+        return str(soup), resources
 
 
 def inline_mathjax(html: str) -> str:
