@@ -898,8 +898,8 @@ def test_feedback_renders_formulas_offline(graded, chapter):
 @pytest.mark.parametrize("template", ["classic", "lab"])
 def test_feedback_exporter_writes_nbconvert_page(template):
     """The feedback exporter's page is nbconvert's HTMLExporter page, byte for byte, with MathJax
-    inlined: its memoised highlighting and the searches it leaves out change nothing (twice, so
-    that the second page is highlighted from the memo; "lab" has the JupyterLab cells)."""
+    inlined: its memoised highlighting and markdown change nothing (twice, so that the second page
+    is made from the memo; "lab" has the JupyterLab cells)."""
     import nbformat
     from nbconvert.exporters import HTMLExporter
     from robokin_nbgrader import OfflineMathJaxHTMLExporter, inline_mathjax

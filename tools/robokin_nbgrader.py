@@ -38,14 +38,10 @@ into its pipelines:
     ``django-static-mathjax`` wheel the book uses) instead of loaded from a CDN:
     the feedback page is read offline, and ``release_feedback`` hands out the
     HTML file only. The page is nbconvert's, byte for byte, made with less CPU
-    (code highlighting memoised per process).
+    (code highlighting and markdown memoised per process).
 ``RobokinCheckCellMetadata`` (every pipeline, replaces ``CheckCellMetadata``)
     nbgrader's check of the cells' nbgrader metadata, with nbgrader's schema
     checked once per process instead of once per cell (the same verdicts).
-
-A new gradebook records the revision of nbgrader's gradebook schema: it is read
-here in the process (``alembic_head``), not by running ``alembic heads`` as a
-program of its own as nbgrader does.
 ``AutograderReport`` (autograde, after ``SaveAutoGrades``)
     A markdown cell on top of the graded notebook (and so of the feedback): the
     score per task, what ``robokin.check`` found, and what went wrong outside the
@@ -53,6 +49,10 @@ program of its own as nbgrader does.
 ``GradingIncidents`` (autograde, after ``AutograderReport``)
     Adds to the report what happened to the kernel (died, killed), the tests not
     run because of it, and the tests whose code wrote to stderr.
+
+A new gradebook records the revision of nbgrader's gradebook schema: it is read
+here in the process (``alembic_head``), not by running ``alembic heads`` as a
+program of its own as nbgrader does.
 
 The cell roles come from ``tools/nbgrader_metadata.py`` (``metadata.robokin``).
 """
@@ -66,17 +66,14 @@ import re
 import sys
 import textwrap
 import traceback
-from html import unescape
 from pathlib import Path
 
 import jsonschema
-from bs4 import BeautifulSoup
 from jinja2 import pass_context
 from jupyter_core.utils import run_sync
 from nbclient.exceptions import CellTimeoutError, DeadKernelError
-from nbconvert.exporters import HTMLExporter, TemplateExporter
+from nbconvert.exporters import HTMLExporter
 from nbconvert.filters.highlight import Highlight2HTML
-from nbconvert.filters.widgetsdatatypefilter import WidgetsDataTypeFilter
 from nbformat.notebooknode import from_dict
 from nbgrader import api as nbgrader_api
 from nbgrader import utils
@@ -1084,39 +1081,17 @@ class OfflineMathJaxHTMLExporter(HTMLExporter):
         return self._markdown[key]
 
     def from_notebook_node(self, nb, resources=None, **kw):
-        output, resources = self._html_page(nb, resources, **kw)
-        return inline_mathjax(output), resources
-
-    def _html_page(self, nb, resources=None, **kw):
-        """``HTMLExporter.from_notebook_node`` of nbconvert 7.17 (the same page, byte for byte:
-        ``tests/test_nbgrader.py`` compares them), with its code highlighting memoised
-        (:class:`MemoisedHighlight`; the markdown too, :meth:`markdown2html`), and its two searches
-        for JupyterLab's cells left out when the page has no ``jp-Notebook`` (the classic template
-        of nbgrader's feedback): each walks the whole parsed page (the three searches took a tenth
-        of the time of ``generate_feedback``)."""
+        """nbconvert's page (its own ``from_notebook_node``) with MathJax inlined; its code
+        highlighting memoised (:class:`MemoisedHighlight`): ``HTMLExporter`` highlights with the
+        ``highlight_code`` filter configured in ``filters`` when there is one."""
         langinfo = nb.metadata.get("language_info", {})
-        lexer = langinfo.get("pygments_lexer", langinfo.get("name", None))
-        highlight_code = self.filters.get("highlight_code", MemoisedHighlight(pygments_lexer=lexer, parent=self))
-        resources = self._init_resources(resources)
-        filter_data_type = WidgetsDataTypeFilter(notebook_metadata=self._nb_metadata, parent=self,
-                                                 resources=resources)
-        self.register_filter("highlight_code", highlight_code)
-        self.register_filter("filter_data_type", filter_data_type)
-        html, resources = TemplateExporter.from_notebook_node(self, nb, resources, **kw)
-        soup = BeautifulSoup(html, features="html.parser")
-        missing_alt = 0
-        for elem in soup.select("img:not([alt])"):
-            elem.attrs["alt"] = "No description has been provided for this image"
-            missing_alt += 1
-        if missing_alt:
-            self.log.warning("Alternative text is missing on %s image(s).", missing_alt)
-        # a class name in the page's markup, its character references decoded, or in no element
-        if "jp-Notebook" in unescape(html):
-            for elem in soup.select(".jp-Notebook div.jp-Cell-inputWrapper"):
-                elem.attrs["tabindex"] = "0"
-            for elem in soup.select(".jp-Notebook div.jp-OutputArea-output"):
-                elem.attrs["tabindex"] = "0"
-        return str(soup), resources
+        lexer = langinfo.get("pygments_lexer", langinfo.get("name", None)) or "ipython3"
+        current = self.filters.get("highlight_code")
+        if current is None or (isinstance(current, MemoisedHighlight) and current.pygments_lexer != lexer):
+            # a new filters dict rebuilds the exporter's template environment: once per lexer
+            self.filters = {**self.filters, "highlight_code": MemoisedHighlight(pygments_lexer=lexer, parent=self)}
+        output, resources = super().from_notebook_node(nb, resources, **kw)
+        return inline_mathjax(output), resources
 
 
 def inline_mathjax(html: str) -> str:
