@@ -18,6 +18,8 @@ jupyter_client would have started it (``exec`` of the command after ``--``).
 Standard library only, no ``site``: it starts in a few milliseconds.
 """
 
+from __future__ import annotations
+
 import json
 import os
 import signal
