@@ -174,6 +174,10 @@ def test_a_forked_kernel_is_what_a_new_one_is(kernels):
         assert seen["forked"][key] == seen["new"][key], key
     assert seen["forked"]["backend"] == "module://matplotlib_inline.backend_inline"
     assert seen["forked"]["own_session"]
+    # a stream a module kept when imported (sympy: `from sys import stdout`) shows under the cell
+    for kernel in (forked, new):
+        cell = kernel.run("import sympy.strategies.core\nsympy.strategies.core.stdout.write('kept stream\\n')")
+        assert _stdout(cell) == "kept stream\n"
 
 
 def test_a_cell_past_its_time_limit_is_interrupted(kernels):

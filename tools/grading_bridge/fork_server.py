@@ -42,7 +42,9 @@ the one it imported the modules with, and the launcher then starts the kernel as
 a new process, saying so on stderr), ``sys.argv``, ``sys.path`` and ``__main__``
 of ``python -m ipykernel_launcher`` in its folder, its own session and process
 group, the default signal handlers, a freshly seeded ``numpy.random`` (``random``
-reseeds itself after a fork), and the matplotlib backend a new kernel picks (the
+reseeds itself after a fork), ipykernel's streams wherever a module kept
+``sys.stdout`` or ``sys.stderr`` when imported (:class:`_CurrentStream`), and the
+matplotlib backend a new kernel picks (the
 server imports matplotlib with the ``MPLBACKEND`` that ipykernel sets before any
 user code: the kernel's own, or the inline backend).
 
@@ -60,7 +62,6 @@ process, as before (with a warning in the log when the server could not start).
 from __future__ import annotations
 
 import atexit
-import contextlib
 import ctypes
 import importlib
 import json
@@ -307,9 +308,12 @@ def serve(path_at_start: list[str]) -> None:
     try:
         if not os.environ.get("MPLBACKEND"):   # as ipykernel sets it before any user code
             os.environ["MPLBACKEND"] = INLINE_BACKEND
-        with contextlib.redirect_stdout(sys.stderr):   # stdout is for the report below
+        sys.stdout, sys.stderr = _CurrentStream("stdout"), _CurrentStream("stderr")
+        try:
             for name in ("ipykernel.kernelapp", *preload):
                 importlib.import_module(name)
+        finally:
+            sys.stdout, sys.stderr = sys.__stdout__, sys.__stderr__
         os.environ.clear()
         os.environ.update(environment)
         if threading.active_count() != 1:
@@ -323,6 +327,24 @@ def serve(path_at_start: list[str]) -> None:
         os._exit(1)
     print(json.dumps({"pid": os.getpid(), "threads": _thread_count()}), flush=True)
     _Server(listener, environment, path_at_start).run()
+
+
+class _CurrentStream:
+    """``sys.stdout`` or ``sys.stderr`` while the server imports the modules.
+
+    A module that keeps the stream it finds when imported (sympy's ``from sys import
+    stdout``) would keep, in a new kernel, ipykernel's stream, which shows what it
+    writes under the cell. Kept in the server, this stand-in writes in a forked
+    kernel where the kernel's ``sys.stdout``/``sys.stderr`` write (ipykernel's
+    streams); in the server, to its stderr (its stdout is for its report).
+    """
+
+    def __init__(self, name: str) -> None:
+        self._name = name
+
+    def __getattr__(self, attribute):
+        stream = getattr(sys, self._name)
+        return getattr(sys.__stderr__ if stream is self else stream, attribute)
 
 
 class _Server:
