@@ -56,6 +56,7 @@ ESTIMATES = [
     (r"^module:tests/test_new_chapter\.py$", 60.0),
     (r"test_book\.py::test_book_builds", 20.0),
     (r"test_grading_mutations\.py", 15.0),
+    (r"^module:tests/test_grading_fork_server\.py$", 15.0),
     (r"test_live_jupyter\.py", 20.0),
     (r"test_untrusted_urdf\.py::test_deep_child_first_chain", 13.0),
     (r"^module:tests/test_meshes_stored\.py$", 14.0),

@@ -4,6 +4,8 @@
 ``grader_side``   in the grader's kernel: answers imported as data, functions as proxies
 ``delegation``    answers that hand back robokin's own solution, for review by hand
 ``preprocessors`` nbgrader's autograde pipeline: ``BridgedExecute``, ``BridgeReport``
+``fork_server``   grader kernels forked from a warm process (imports paid once per autograde)
+``fork_launcher`` the command jupyter_client runs for a forked grader kernel (standard library only)
 
 This file imports nothing: the grader's kernel imports ``grader_side`` alone.
 """

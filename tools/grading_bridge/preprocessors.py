@@ -14,6 +14,10 @@
     ``SaveAutoGrades`` scores what the grader saw; ``robokin.check``'s verdicts
     are computed in the grader kernel too. Answer cells that delegate to
     robokin's own solution are listed for review by hand (:mod:`delegation`).
+    Each grader kernel is a new process, forked from a warm process that imported
+    ipykernel and ``PRELOAD`` once per autograde run (:mod:`fork_server`;
+    ``c.BridgedExecute.fork_server = False``: started anew, as a kernel spec's
+    command, each time).
 ``BridgeReport`` (after ``AutograderReport``)
     Adds to the report on top of the graded notebook: answers for review by hand
     and answers that could not be handed over as data.
@@ -40,7 +44,7 @@ from nbclient import NotebookClient
 from nbformat.notebooknode import from_dict
 from nbgrader import utils
 from nbgrader.preprocessors import NbGraderPreprocessor
-from traitlets import Float, List, Unicode
+from traitlets import Bool, Float, List, Unicode
 
 TOOLS = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(TOOLS))
@@ -48,7 +52,7 @@ sys.path.insert(0, str(TOOLS))
 from notebook_analysis import defined_names, free_names  # noqa: E402
 from robokin_nbgrader import VERDICT_MARK, RobokinExecute, _robokin, _task_of  # noqa: E402
 
-from grading_bridge import delegation  # noqa: E402
+from grading_bridge import delegation, fork_server  # noqa: E402
 from grading_bridge.grader_side import NOT_CALLED  # noqa: E402
 
 IMPORT_MARK = "ROBOKIN-BRIDGE-IMPORT "
@@ -62,20 +66,29 @@ def _grade_id(cell) -> str | None:
     return cell.get("metadata", {}).get("nbgrader", {}).get("grade_id")
 
 
-class _GraderKernel:
-    """A kernel of the grader's, in a private empty folder; runs instructor cells only."""
+class GraderKernel:
+    """A kernel of the grader's, in a private empty folder; runs instructor cells only.
 
-    def __init__(self, timeout: int, log) -> None:
+    With a ``server`` (:class:`fork_server.ForkServer`) the kernel is forked from it,
+    otherwise started as a new process.
+    """
+
+    def __init__(self, timeout: int, log, server: fork_server.ForkServer | None = None) -> None:
         self.folder = tempfile.mkdtemp(prefix="robokin-grader-")
         self.nb = nbformat.v4.new_notebook()
+        self.server = server
+        manager = {"kernel_manager_class": fork_server.ForkedKernelManager} if server is not None else {}
         self.client = NotebookClient(self.nb, timeout=timeout, interrupt_on_timeout=True, allow_errors=True,
                                      kernel_name="python3", record_timing=False, log=log,
-                                     resources={"metadata": {"path": self.folder}})
+                                     resources={"metadata": {"path": self.folder}}, **manager)
         self.started = False
 
-    def start(self, student_connection: dict, call_timeout: float) -> None:
+    def start_kernel(self) -> None:
+        """Start the kernel (forked, or a new process) and its client; remove its connection file."""
         client = self.client
         client.km = client.create_kernel_manager()
+        if self.server is not None:
+            client.km.fork_server = self.server
         client.start_new_kernel(cwd=self.folder)
         client.start_new_kernel_client()
         self.started = True
@@ -85,6 +98,9 @@ class _GraderKernel:
             os.remove(client.km.connection_file)
         except OSError:
             pass
+
+    def start(self, student_connection: dict, call_timeout: float) -> None:
+        self.start_kernel()
         info = {k: (v.decode() if isinstance(v, bytes) else v) for k, v in student_connection.items()
                 if k in ("transport", "ip", "shell_port", "iopub_port", "stdin_port", "control_port",
                          "hb_port", "key", "signature_scheme")}
@@ -140,6 +156,9 @@ class BridgedExecute(RobokinExecute):
                     help="Notebooks graded through the bridge, '*' for all (also: notebook metadata "
                          "robokin.grading.bridge = true)").tag(config=True)
     call_timeout = Float(30.0, help="Seconds for one call of a student's function from a test").tag(config=True)
+    fork_server = Bool(True, help="fork each grader kernel from a warm process that imported ipykernel and "
+                       "PRELOAD once per autograde run (grading_bridge.fork_server); False: start each as a new "
+                       "process").tag(config=True)
 
     # ------------------------------------------------------------ set-up
     def preprocess(self, nb, resources=None, km=None):
@@ -240,7 +259,8 @@ class BridgedExecute(RobokinExecute):
         return {_grade_id(c): (_robokin(c), c.metadata.get("tags", [])) for c in source.cells if _grade_id(c)}
 
     def _start_grader(self) -> None:
-        self._grader = _GraderKernel(self.timeout, self.log)
+        server = fork_server.shared_server(PRELOAD, self.log) if self.fork_server else None
+        self._grader = GraderKernel(self.timeout, self.log, server)
         self._grader.start(self.km.get_connection_info(), self.call_timeout)
 
     # ------------------------------------------------------------ running
