@@ -44,6 +44,7 @@ from conftest import ROOT
 
 sys.path.insert(0, str(ROOT / "tools"))
 
+from kernel_sockets import AsyncPrivateSocketsKernelManager
 from nbgrader_metadata import chapter_notebooks
 from notebook_analysis import defined_names
 
@@ -118,6 +119,7 @@ def run_with_mutations(chapter: str, nb: dict, mutations: dict) -> list[str]:
 
     notebook = nbformat.reads(json.dumps(nb), as_version=4)   # sources as strings
     client = NotebookClient(notebook, timeout=CELL_TIMEOUT, kernel_name="python3",
+                            kernel_manager_class=AsyncPrivateSocketsKernelManager,   # no TCP port race
                             resources={"metadata": {"path": str(NOTEBOOKS)}})
     problems: list[str] = []
 

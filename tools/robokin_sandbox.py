@@ -41,10 +41,10 @@ import os
 import shutil
 import subprocess
 import sys
-import tempfile
 from pathlib import Path
 
 from jupyter_client.manager import AsyncKernelManager
+from kernel_sockets import PrivateSocketsMixin
 from traitlets import List, Unicode
 
 PACKAGE = "bubblewrap"
@@ -167,34 +167,32 @@ def sandbox_arguments(*, writable: Path, runtime: Path, hidden: list[Path], read
     return args + ["--"]
 
 
-class SandboxedKernelManager(AsyncKernelManager):
-    """An ``AsyncKernelManager`` whose kernel runs in bwrap and talks over ipc sockets."""
+class SandboxedKernelManager(PrivateSocketsMixin, AsyncKernelManager):
+    """An ``AsyncKernelManager`` whose kernel runs in bwrap and talks over ipc sockets.
+
+    The sockets and the connection file are in a private folder
+    (:class:`kernel_sockets.PrivateSocketsMixin`), bound into the sandbox.
+    """
 
     writable = Unicode(help="the only folder the kernel can write (and read, of the course)").tag(config=True)
     hidden = List(Unicode(), help="folders the kernel must not see (course, exchange, repository)"
                   ).tag(config=True)
     readable = List(Unicode(), help="extra read-only folders (besides the system and Python)").tag(config=True)
 
-    _runtime: Path | None = None
-
     async def _async_pre_start_kernel(self, **kw):
         if not self.writable:
             raise ValueError("SandboxedKernelManager.writable: the submission folder is not set")
         self._bwrap = bwrap_executable()
-        if self._runtime is None:   # kept across restarts: the connection file stays valid
-            self._runtime = Path(tempfile.mkdtemp(prefix="robokin-kernel-", dir="/tmp" if os.path.isdir("/tmp")
-                                                  else None))
-            self.transport = "ipc"
-            self.connection_file = str(self._runtime / "kernel.json")
-            self.ip = str(self._runtime / "socket")
         kw["cwd"] = self.writable
-        return await super()._async_pre_start_kernel(**kw)
+        return await super()._async_pre_start_kernel(**kw)   # the private socket folder (PrivateSocketsMixin)
+
+    pre_start_kernel = _async_pre_start_kernel
 
     def format_kernel_cmd(self, extra_arguments=None):
         cmd = super().format_kernel_cmd(extra_arguments)
         home = os.environ.get("HOME", "/home/grader") or "/home/grader"
         readable = [*python_folders(), *package_folders(), *(Path(p) for p in self.readable)]
-        prefix = sandbox_arguments(writable=Path(self.writable).resolve(), runtime=self._runtime,
+        prefix = sandbox_arguments(writable=Path(self.writable).resolve(), runtime=self.socket_folder,
                                    hidden=[Path(p).resolve() for p in self.hidden], readable=readable,
                                    home=home, bwrap=self._bwrap)
         return prefix + cmd
@@ -210,10 +208,4 @@ class SandboxedKernelManager(AsyncKernelManager):
 
     interrupt_kernel = _async_interrupt_kernel
 
-    async def _async_cleanup_resources(self, restart=False):
-        await super()._async_cleanup_resources(restart=restart)
-        if not restart and self._runtime is not None:
-            shutil.rmtree(self._runtime, ignore_errors=True)
-            self._runtime = None
-
-    cleanup_resources = _async_cleanup_resources
+    cleanup_resources = PrivateSocketsMixin._async_cleanup_resources

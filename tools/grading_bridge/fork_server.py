@@ -81,6 +81,7 @@ import traceback
 from pathlib import Path
 
 from jupyter_client.manager import AsyncKernelManager
+from kernel_sockets import PrivateSocketsMixin
 from traitlets import Any
 
 LAUNCHER = Path(__file__).resolve().with_name("fork_launcher.py")
@@ -95,6 +96,8 @@ REQUEST_TIMEOUT = 10.0
 #: (``IPKernelApp.init_gui_pylab``); matplotlib reads it when it is imported.
 INLINE_BACKEND = "module://matplotlib_inline.backend_inline"
 PR_SET_PDEATHSIG = 1
+#: The server's own modules (and their submodules): a forked kernel drops them, a new one never had them.
+SERVER_MODULES = ("grading_bridge", "kernel_sockets")
 _BOOT = ("import sys; _path = list(sys.path); sys.path.insert(0, {tools!r}); "
          "from grading_bridge import fork_server; fork_server.serve(_path)")
 
@@ -197,12 +200,16 @@ class ForkServer:
         shutil.rmtree(self.folder, ignore_errors=True)
 
 
-class ForkedKernelManager(AsyncKernelManager):
+class ForkedKernelManager(PrivateSocketsMixin, AsyncKernelManager):
     """A kernel manager whose kernel is forked by ``fork_server`` (a :class:`ForkServer`).
 
     Only the command changes: jupyter_client launches the fork launcher instead of
-    the kernel, and manages it as it would the kernel.
+    the kernel, and manages it as it would the kernel. Its sockets are files in a
+    private folder (``kernel_sockets``: no TCP port another process can be handed too).
     """
+
+    pre_start_kernel = PrivateSocketsMixin._async_pre_start_kernel
+    cleanup_resources = PrivateSocketsMixin._async_cleanup_resources
 
     fork_server = Any(None, allow_none=True, help="the ForkServer that forks the kernel (None: a new process)")
 
@@ -500,7 +507,7 @@ class _Server:
             os.environ.clear()
             os.environ.update(request["env"])
             sys.path[:] = [os.getcwd(), *self.path_at_start[1:]]
-            for name in [n for n in sys.modules if n == "grading_bridge" or n.startswith("grading_bridge.")]:
+            for name in [n for n in sys.modules if n.partition(".")[0] in SERVER_MODULES]:
                 del sys.modules[name]
             if "numpy.random" in sys.modules:   # a new kernel's numpy.random is seeded afresh
                 sys.modules["numpy.random"].seed()

@@ -49,6 +49,7 @@ from traitlets import Bool, Float, List, Unicode
 TOOLS = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(TOOLS))
 
+from kernel_sockets import AsyncPrivateSocketsKernelManager  # noqa: E402
 from notebook_analysis import defined_names, free_names  # noqa: E402
 from robokin_nbgrader import VERDICT_MARK, RobokinExecute, _robokin, _task_of  # noqa: E402
 
@@ -70,17 +71,18 @@ class GraderKernel:
     """A kernel of the grader's, in a private empty folder; runs instructor cells only.
 
     With a ``server`` (:class:`fork_server.ForkServer`) the kernel is forked from it,
-    otherwise started as a new process.
+    otherwise started as a new process. Either way its sockets are files in a
+    private folder (``kernel_sockets``), not TCP ports.
     """
 
     def __init__(self, timeout: int, log, server: fork_server.ForkServer | None = None) -> None:
         self.folder = tempfile.mkdtemp(prefix="robokin-grader-")
         self.nb = nbformat.v4.new_notebook()
         self.server = server
-        manager = {"kernel_manager_class": fork_server.ForkedKernelManager} if server is not None else {}
+        manager = fork_server.ForkedKernelManager if server is not None else AsyncPrivateSocketsKernelManager
         self.client = NotebookClient(self.nb, timeout=timeout, interrupt_on_timeout=True, allow_errors=True,
                                      kernel_name="python3", record_timing=False, log=log,
-                                     resources={"metadata": {"path": self.folder}}, **manager)
+                                     resources={"metadata": {"path": self.folder}}, kernel_manager_class=manager)
         self.started = False
 
     def start_kernel(self) -> None:

@@ -1,0 +1,89 @@
+"""The kernels of the suite talk over sockets in a private folder, not TCP ports (tools/kernel_sockets.py).
+
+Two processes that start kernels at the same moment can be handed the same free TCP
+port by jupyter_client, and one kernel then dies before its first cell (a CI run of
+the other-machines test lost the tour's kernel to it). These tests check that the
+managers the suite uses put a kernel's connection file and sockets in a folder of
+its own (so no two kernels can ask for one address), keep it across a restart and
+remove it at shutdown, and that nbval builds its kernels with that manager.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import sys
+from pathlib import Path
+
+import nbval.kernel
+import pytest
+
+from conftest import ROOT
+
+sys.path.insert(0, str(ROOT / "tools"))
+
+import kernel_sockets
+from kernel_sockets import AsyncPrivateSocketsKernelManager, PrivateSocketsKernelManager
+
+pytestmark = [pytest.mark.notebooks,
+              pytest.mark.skipif(not kernel_sockets.AVAILABLE, reason="ipc sockets are POSIX only")]
+
+
+def assert_private_sockets(manager) -> Path:
+    folder = manager.socket_folder
+    assert folder is not None and folder.is_dir()
+    assert folder.stat().st_mode & 0o077 == 0, "the socket folder is open to other users"
+    assert manager.transport == "ipc"
+    assert Path(manager.connection_file).parent == folder
+    assert Path(manager.ip).parent == folder
+    sockets = sorted(p.name for p in folder.iterdir() if p.is_socket())
+    assert sockets == [f"socket-{i}" for i in range(1, 6)], sockets
+    return folder
+
+
+def test_a_kernel_has_its_sockets_in_its_own_folder_kept_across_a_restart(tmp_path):
+    manager = PrivateSocketsKernelManager(kernel_name="python3")
+    manager.start_kernel(cwd=str(tmp_path))
+    client = manager.client()
+    client.start_channels()
+    try:
+        client.wait_for_ready(timeout=60)
+        folder = assert_private_sockets(manager)
+        assert client.execute_interactive("x = 6 * 7", timeout=60)["content"]["status"] == "ok"
+        manager.restart_kernel(now=True)
+        client.wait_for_ready(timeout=60)
+        assert assert_private_sockets(manager) == folder
+        reply = client.execute_interactive("assert 'x' not in globals()", timeout=60)
+        assert reply["content"]["status"] == "ok", "the restarted kernel is not a new one"
+    finally:
+        client.stop_channels()
+        manager.shutdown_kernel(now=True)
+    assert not folder.exists(), "the socket folder outlives the kernel"
+    assert manager.socket_folder is None
+    assert list(tmp_path.iterdir()) == [], "sockets were made in the kernel's working folder"
+
+
+def test_the_async_manager_too():
+    async def run():
+        manager = AsyncPrivateSocketsKernelManager(kernel_name="python3")
+        await manager.start_kernel()
+        client = manager.client()
+        client.start_channels()
+        try:
+            await client.wait_for_ready(timeout=60)
+            folder = assert_private_sockets(manager)
+        finally:
+            client.stop_channels()
+            await manager.shutdown_kernel(now=True)
+        assert not folder.exists()
+
+    asyncio.run(run())
+
+
+def test_nbval_starts_its_kernels_with_private_sockets():
+    """The repository's conftest.py points nbval's manager at the one with private sockets."""
+    assert nbval.kernel.KernelManager is PrivateSocketsKernelManager
+    kernel = nbval.kernel.RunningKernel(nbval.kernel.CURRENT_ENV_KERNEL_NAME, cwd=str(ROOT / "notebooks"))
+    try:
+        assert_private_sockets(kernel.km)
+    finally:
+        kernel.stop()

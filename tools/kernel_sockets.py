@@ -1,0 +1,84 @@
+"""Kernels whose sockets are files in a private folder (ZMQ's ``ipc`` transport), not TCP ports.
+
+jupyter_client gives a new kernel its five TCP ports by binding port 0 and closing
+the socket again; the kernel binds those ports about a second later, once Python
+and ipykernel are imported. A process that starts a kernel in that second can be
+handed the same free port, and one of the two kernels then dies before it answers
+("Address already in use", seen by its client as "Kernel died before replying to
+kernel_info"; jupyter/jupyter_client#154, jupyter/nbconvert#1066). ``make test``
+starts kernels in several processes at once (two pytest workers, three nbval runs
+for other machines, the grader's kernels), so the race is a matter of time: one
+kernel in about 80 died of it when ten started together on the 2-core machine.
+
+With the ``ipc`` transport each socket is a file named after a folder made for
+this kernel alone (``tempfile.mkdtemp``), so no two kernels can ask for the same
+address, and no other user of the machine can connect (the folder is ``0700``).
+The folder is kept across restarts (the connection file stays valid) and removed
+when the kernel is shut down. Windows has no ``ipc`` sockets: there the managers
+below are jupyter_client's own (TCP).
+
+Used for the kernels nbval starts (``conftest.py`` at the repository's root), the
+grader's kernels (``grading_bridge``) and the sandboxed student kernel
+(``robokin_sandbox``, which binds the folder into the sandbox).
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import tempfile
+from pathlib import Path
+
+from jupyter_client.manager import AsyncKernelManager, KernelManager
+from jupyter_core.utils import run_sync
+
+#: Whether this system has ZMQ ``ipc`` sockets (Unix domain sockets).
+AVAILABLE = os.name == "posix"
+
+
+def new_socket_folder() -> Path:
+    """A new private folder (mode 0700) for one kernel's connection file and sockets.
+
+    Under ``/tmp`` when it exists: a Unix socket's path has at most 107 bytes
+    (103 on macOS), and ``$TMPDIR`` can be long.
+    """
+    return Path(tempfile.mkdtemp(prefix="robokin-kernel-", dir="/tmp" if os.path.isdir("/tmp") else None))
+
+
+class PrivateSocketsMixin:
+    """For a jupyter_client kernel manager: the kernel's sockets are ipc files in a private folder.
+
+    ``socket_folder`` is the folder (None before the first start and after
+    shutdown); it holds ``kernel.json`` (the connection file) and the sockets
+    ``socket-1`` ... ``socket-5``.
+    """
+
+    socket_folder: Path | None = None
+
+    async def _async_pre_start_kernel(self, **kw):
+        if AVAILABLE and self.socket_folder is None:   # kept across restarts
+            self.socket_folder = new_socket_folder()
+            self.transport = "ipc"
+            self.connection_file = str(self.socket_folder / "kernel.json")
+            self.ip = str(self.socket_folder / "socket")
+        return await super()._async_pre_start_kernel(**kw)
+
+    async def _async_cleanup_resources(self, restart: bool = False) -> None:
+        await super()._async_cleanup_resources(restart=restart)
+        if not restart and self.socket_folder is not None:
+            shutil.rmtree(self.socket_folder, ignore_errors=True)
+            self.socket_folder = None
+
+
+class PrivateSocketsKernelManager(PrivateSocketsMixin, KernelManager):
+    """jupyter_client's ``KernelManager`` with the kernel's sockets in a private folder."""
+
+    pre_start_kernel = run_sync(PrivateSocketsMixin._async_pre_start_kernel)
+    cleanup_resources = run_sync(PrivateSocketsMixin._async_cleanup_resources)
+
+
+class AsyncPrivateSocketsKernelManager(PrivateSocketsMixin, AsyncKernelManager):
+    """jupyter_client's ``AsyncKernelManager`` with the kernel's sockets in a private folder."""
+
+    pre_start_kernel = PrivateSocketsMixin._async_pre_start_kernel
+    cleanup_resources = PrivateSocketsMixin._async_cleanup_resources
