@@ -11,6 +11,7 @@ remove it at shutdown, and that nbval builds its kernels with that manager.
 from __future__ import annotations
 
 import asyncio
+import concurrent.futures
 import sys
 from pathlib import Path
 
@@ -76,7 +77,9 @@ def test_the_async_manager_too():
             await manager.shutdown_kernel(now=True)
         assert not folder.exists()
 
-    asyncio.run(run())
+    # in a thread of its own: an earlier test of this worker may have left an event loop running here
+    with concurrent.futures.ThreadPoolExecutor(1) as pool:
+        pool.submit(asyncio.run, run()).result(timeout=120)
 
 
 def test_nbval_starts_its_kernels_with_private_sockets():
