@@ -1,6 +1,6 @@
 """The real user path: JupyterLab -> kernel -> live MeshCat iframe + ipywidgets joint sliders.
 
-A JupyterLab server is started on 127.0.0.1 (free port, token, temporary root,
+A JupyterLab server is started on 127.0.0.1 (a port it picks, token, temporary root,
 config, data, runtime and settings directories, the virtualenv's own
 ``jupyter-lab``), a two-cell notebook is opened in headless Chromium and run:
 
@@ -22,7 +22,6 @@ import json
 import os
 import secrets
 import signal
-import socket
 import subprocess
 import sys
 import time
@@ -64,12 +63,6 @@ def _require_jupyterlab():
             _skip_or_fail(f"{module} is not installed: pip install 'robokin[views]' psutil")
 
 
-def _free_port():
-    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
 def _notebook():
     cells = [{"cell_type": "code", "execution_count": None, "id": f"cell{k}", "metadata": {},
               "outputs": [], "source": src} for k, src in enumerate(CELLS)]
@@ -108,12 +101,12 @@ class Lab:
                    JUPYTERLAB_WORKSPACES_DIR=str(dirs["workspaces"]),
                    PATH=f"{JUPYTER_LAB.parent}{os.pathsep}{env.get('PATH', '')}",
                    PYDEVD_DISABLE_FILE_VALIDATION="1")
-        self.port = _free_port()
+        self.runtime = dirs["runtime"]
+        self.port = self.base = None   # the server picks a free port (--port=0): wait_ready reads it
         self.token = secrets.token_hex(16)
-        self.base = f"http://127.0.0.1:{self.port}"
         self.log = (tmp / "jupyter-lab.log").open("wb")
         self.proc = subprocess.Popen(
-            [str(JUPYTER_LAB), "--no-browser", "--ip=127.0.0.1", f"--port={self.port}", "--port-retries=0",
+            [str(JUPYTER_LAB), "--no-browser", "--ip=127.0.0.1", "--port=0", "--port-retries=0",
              f"--ServerApp.root_dir={self.root}", f"--IdentityProvider.token={self.token}",
              "--LabApp.expose_app_in_browser=True", "--ServerApp.terminals_enabled=False",
              "--LabApp.extension_manager=readonly", *(["--allow-root"] if os.geteuid() == 0 else [])],
@@ -130,14 +123,24 @@ class Lab:
         return json.loads(body) if body else None
 
     def wait_ready(self, timeout=30.0):
+        """Wait until the server answers, reading its port from its runtime file first.
+
+        The server binds a port the system gives it (``--port=0``) and names it in
+        ``jpserver-<pid>.json``: a port chosen by the test and bound by the server
+        seconds later could be taken by another process in between.
+        """
         deadline = time.monotonic() + timeout
+        info = self.runtime / f"jpserver-{self.proc.pid}.json"
         while time.monotonic() < deadline:
             if self.proc.poll() is not None:
                 pytest.fail(f"jupyter-lab exited with {self.proc.returncode}:\n{self.tail()}")
             try:
+                if self.base is None:
+                    self.port = json.loads(info.read_text())["port"]
+                    self.base = f"http://127.0.0.1:{self.port}"
                 self.api("GET", "/api/status", timeout=1.0)
                 return
-            except (OSError, urllib.error.URLError):
+            except (OSError, urllib.error.URLError, ValueError, KeyError):   # no (complete) file yet
                 time.sleep(0.1)
         pytest.fail(f"jupyter-lab did not answer within {timeout:.0f} s:\n{self.tail()}")
 
