@@ -49,6 +49,8 @@ def main(quick: bool = False) -> list[tuple[str, float, str, float]]:
     rows.append((f"UR10 fk batch N={N}", per_call(lambda: robot.fk(Q), 1, 9) / N * 1e6, "us/config", 0.3))
     rows.append((f"UR10 jacobian batch N={N}",
                  per_call(lambda: robot.jacobian(Q), 1, 9) / N * 1e6, "us/config", 1.0))
+    rows.append((f"UR10 fk_and_jacobian batch N={N}",
+                 per_call(lambda: robot.fk_and_jacobian(Q), 1, 9) / N * 1e6, "us/config", float("nan")))
     rows.append((f"UR10 frames batch N={N}",
                  per_call(lambda: robot.frames(Q), 1, 5) / N * 1e6, "us/config", float("nan")))
     f = robot.lambdify_fk()

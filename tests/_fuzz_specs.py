@@ -252,7 +252,7 @@ def chain_method_specs() -> list[Spec]:
              {"frame": Frame(), "point": Arr("point", (3,), batch=False, optional=True)},
              shape=lambda c, v: B(c, 6, n(c)), batch=True, setup=pick_chain),
         Spec("SerialChain.fk_and_jacobian", _method("fk_and_jacobian"), [self_arg(), Q()],
-             shape=lambda c, v: ((4, 4), (6, n(c))), setup=pick_chain),
+             shape=lambda c, v: (B(c, 4, 4), B(c, 6, n(c))), batch=True, setup=pick_chain),
         Spec("SerialChain.position_jacobian", _method("position_jacobian"), [self_arg(), Q()],
              {"point": Arr("point", (3,), batch=False, optional=True)}, shape=lambda c, v: B(c, 3, n(c)), batch=True,
              setup=pick_chain),

@@ -299,13 +299,18 @@ def test_frames_contract(mixed):
 
 
 def test_fk_and_jacobian_is_one_pass_of_fk_and_jacobian(mixed, leg):
-    for q in np.random.default_rng(3).uniform(-2, 2, (20, mixed.n)):
+    Q = np.random.default_rng(3).uniform(-2, 2, (20, mixed.n))
+    for q in Q:
         T, J = mixed.fk_and_jacobian(q)
         np.testing.assert_allclose(T, mixed.fk(q), atol=1e-14)
         np.testing.assert_array_equal(T, mixed.frames(q)[-1])  # the same running products
         np.testing.assert_array_equal(J, mixed.jacobian(q))
-    with pytest.raises(ShapeError, match=r"q must have shape \(3,\)"):
-        leg.fk_and_jacobian(np.zeros((2, 3)))
+    # a batch: the pose the batched Jacobian passes on its way, to the last bit
+    T, J = mixed.fk_and_jacobian(Q)
+    np.testing.assert_array_equal(T, mixed.fk(Q))
+    np.testing.assert_array_equal(J, mixed.jacobian(Q))
+    with pytest.raises(ShapeError, match=r"q must have shape \(3,\) or \(N, 3\)"):
+        leg.fk_and_jacobian(np.zeros((2, 4)))
     with pytest.raises(ShapeError, match="symbols"):
         leg.fk_and_jacobian(sp.symbols("a b c"))
     with pytest.raises(DomainError, match="q"):

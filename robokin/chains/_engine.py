@@ -386,6 +386,15 @@ class Engine:
             out[s : s + self.CHUNK, :3, :] = Tc.transpose(2, 1, 0)
         return out
 
+    def pose_and_jacobian_batch(self, Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """End-effector poses (N, 4, 4) and Jacobians (N, 6, n) from one pass over the chain.
+
+        The same numbers as :meth:`fk_batch` and :meth:`jacobian_batch` (the same operations).
+        """
+        poses = np.empty((Q.shape[0], 4, 4))
+        poses[:, 3, :] = (0.0, 0.0, 0.0, 1.0)
+        return poses, self.jacobian_batch(Q, poses=poses)
+
     def frames_batch(self, Q: np.ndarray) -> np.ndarray:
         N = Q.shape[0]
         out = np.empty((N, self.n + 2, 4, 4))
@@ -394,7 +403,10 @@ class Engine:
             out[s : s + self.CHUNK] = frames
         return out
 
-    def jacobian_batch(self, Q: np.ndarray, upto: int | None = None, point=None) -> np.ndarray:
+    def jacobian_batch(self, Q: np.ndarray, upto: int | None = None, point=None,
+                       poses: np.ndarray | None = None) -> np.ndarray:
+        """Geometric Jacobians (N, 6, n); with ``poses`` (N, 4, 4, end-effector only), also
+        the poses of the frame, written there from the same pass (as :meth:`fk_batch` gives them)."""
         N = Q.shape[0]
         n = self.n
         out = np.zeros((N, 6, n))
@@ -403,6 +415,8 @@ class Engine:
         m = n if (upto is None or upto == n + 1) else upto
         for s in range(0, N, self.CHUNK):
             Tc, _, P, Z = self._batch_pass(Q[s : s + self.CHUNK], "jac", upto)
+            if poses is not None:
+                poses[s : s + self.CHUNK, :3, :] = Tc.transpose(2, 1, 0)
             if point is None:
                 pt = Tc[3]  # (3, chunk)
             else:

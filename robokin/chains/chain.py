@@ -601,36 +601,40 @@ class SerialChain:
         return jac(a, upto=k, point=pt)
 
     def fk_and_jacobian(self, q: Any, *, check: bool = True) -> tuple[np.ndarray, np.ndarray]:
-        r"""End-effector pose and geometric Jacobian at one configuration, from one pass.
+        r"""End-effector pose and geometric Jacobian, from one pass over the chain.
 
         What an inverse-kinematics or control iteration needs: the same results
-        as ``(fk(q), jacobian(q))`` (equal to rounding: the pose comes from the
-        chain's running products, as :meth:`frames` computes it) for about the
-        cost of :meth:`jacobian` alone.
+        as ``(fk(q), jacobian(q))`` for about the cost of :meth:`jacobian` alone.
+        For one configuration they are equal to rounding (the pose comes from the
+        chain's running products, as :meth:`frames` computes it); for a batch,
+        equal to the last bit (the batched code computes the pose on its way to
+        the Jacobian).
 
         Parameters
         ----------
-        q : array_like, shape (n,)
-            Joint configuration in rad / m.
+        q : array_like, shape (n,) or (N, n)
+            Joint configuration(s) in rad / m.
         check : bool, optional
             Validate ``q``. ``False`` skips it in hot loops.
 
         Returns
         -------
-        T : numpy.ndarray, shape (4, 4)
+        T : numpy.ndarray, shape (4, 4) or (N, 4, 4)
             :math:`{}^B\mathbf{T}_E(\mathbf{q})`.
-        J : numpy.ndarray, shape (6, n)
+        J : numpy.ndarray, shape (6, n) or (N, 6, n)
             Rows ``[v; ω]`` (see :meth:`jacobian`).
         """
         kind, a = self._parse_q(q, check)
-        if kind != "single":
-            raise ShapeError(f"q must have shape ({self._n},) (one numeric configuration); "
-                             f"got {'symbols' if kind == 'sym' else f'shape {a.shape}'}")
+        if kind == "sym":
+            raise ShapeError(f"q must have shape ({self._n},) or (N, {self._n}) (numeric configurations); "
+                             "got symbols (fk and jacobian take symbols)")
+        engine = self._engine
+        pose_and_jacobian = engine.pose_and_jacobian_single if kind == "single" else engine.pose_and_jacobian_batch
         if check and self._overflow_risk(a):
             with np.errstate(all="ignore"):
-                T, J = self._engine.pose_and_jacobian_single(a)
+                T, J = pose_and_jacobian(a)
             return self._checked(T, "the forward kinematics", q=a), self._checked(J, "the Jacobian", q=a)
-        return self._engine.pose_and_jacobian_single(a)
+        return pose_and_jacobian(a)
 
     def position_jacobian(self, q: Any, frame: Frame | None = None, point: Any = None, *, check: bool = True) -> Any:
         r"""Linear-velocity rows of :meth:`jacobian`: :math:`\partial\mathbf{p}/\partial\mathbf{q}`,

@@ -101,3 +101,9 @@ class Chain(DrawableChain, Protocol):
                           check: bool = True) -> NDArray[np.float64]:
         """The linear-velocity rows of :meth:`jacobian`, shape (3, n) or (N, 3, n)."""
         ...
+
+    def fk_and_jacobian(self, q: ArrayLike, *, check: bool = True
+                        ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """:meth:`fk` and :meth:`jacobian` of the end-effector from one pass, shapes (4, 4) and
+        (6, n), or (N, 4, 4) and (N, 6, n)."""
+        ...

@@ -253,7 +253,8 @@ def _positions_and_jacobians(chain: Chain, Q: np.ndarray) -> tuple[np.ndarray, n
         r = np.array([chain.fk(q, check=False)[:3, 3] for q in Q])
         J = np.array([chain.position_jacobian(q, check=False) for q in Q])
         return r, J
-    return chain.fk(Q, check=False)[:, :3, 3], chain.position_jacobian(Q, check=False)
+    T, J = chain.fk_and_jacobian(Q, check=False)  # one pass: the same numbers as fk and jacobian
+    return T[:, :3, 3], J[:, :3, :]
 
 
 def _per_run(a: np.ndarray, N: int, K: int, name: str) -> np.ndarray:
@@ -305,9 +306,9 @@ def track_position_batch(
     ----------
     chain : SerialChain
         Offers ``n``, ``limits``, ``fk(q, check=False)`` and
-        ``position_jacobian(q, check=False)`` for one configuration (n,) and
-        for a batch (N, n) (up to 4 runs are evaluated one configuration at a
-        time, more as a batch).
+        ``position_jacobian(q, check=False)`` for one configuration (n,), and
+        ``fk_and_jacobian(Q, check=False)`` for a batch (N, n) (up to 4 runs
+        are evaluated one configuration at a time, more as a batch).
     q0 : array_like, shape (n,) or (N, n)
         Start configuration(s), within the joint limits when ``clamp``.
     ts : float
