@@ -409,6 +409,14 @@ def test_ar601_zero_pose_and_frames():
     assert "sin(q3 + q4)" in str(leg.fk(leg.symbols())) or "cos(q3 + q4)" in str(leg.fk(leg.symbols()))
 
 
+def test_ar601_symbolic_foot_position_is_simplified_already():
+    """Chapter 6 takes the foot position from the symbolic fk as it is: sp.simplify changes nothing."""
+    q = sp.symbols("q1:7", real=True)
+    lengths = sp.symbols("L1 L2 L3", positive=True)
+    p = ar601_leg(*lengths).fk(list(q))[:3, 3]
+    assert sp.Matrix([sp.simplify(e) for e in p]) == p
+
+
 def test_ur10_symbolic_exact_and_readable():
     ur = model("ur10")
     T = ur.fk(ur.symbols())
