@@ -43,8 +43,7 @@ import subprocess
 import sys
 from pathlib import Path
 
-from jupyter_client.manager import AsyncKernelManager
-from kernel_sockets import PrivateSocketsMixin
+from kernel_sockets import AsyncPrivateSocketsKernelManager
 from traitlets import List, Unicode
 
 PACKAGE = "bubblewrap"
@@ -167,11 +166,11 @@ def sandbox_arguments(*, writable: Path, runtime: Path, hidden: list[Path], read
     return args + ["--"]
 
 
-class SandboxedKernelManager(PrivateSocketsMixin, AsyncKernelManager):
+class SandboxedKernelManager(AsyncPrivateSocketsKernelManager):
     """An ``AsyncKernelManager`` whose kernel runs in bwrap and talks over ipc sockets.
 
     The sockets and the connection file are in a private folder
-    (:class:`kernel_sockets.PrivateSocketsMixin`), bound into the sandbox.
+    (:class:`kernel_sockets.AsyncPrivateSocketsKernelManager`), bound into the sandbox.
     """
 
     writable = Unicode(help="the only folder the kernel can write (and read, of the course)").tag(config=True)
@@ -184,7 +183,7 @@ class SandboxedKernelManager(PrivateSocketsMixin, AsyncKernelManager):
             raise ValueError("SandboxedKernelManager.writable: the submission folder is not set")
         self._bwrap = bwrap_executable()
         kw["cwd"] = self.writable
-        return await super()._async_pre_start_kernel(**kw)   # the private socket folder (PrivateSocketsMixin)
+        return await super()._async_pre_start_kernel(**kw)   # makes the private socket folder
 
     pre_start_kernel = _async_pre_start_kernel
 
@@ -207,5 +206,3 @@ class SandboxedKernelManager(PrivateSocketsMixin, AsyncKernelManager):
         self.session.send(self._control_socket, msg)
 
     interrupt_kernel = _async_interrupt_kernel
-
-    cleanup_resources = PrivateSocketsMixin._async_cleanup_resources

@@ -80,8 +80,7 @@ import time
 import traceback
 from pathlib import Path
 
-from jupyter_client.manager import AsyncKernelManager
-from kernel_sockets import PrivateSocketsMixin
+from kernel_sockets import AsyncPrivateSocketsKernelManager
 from traitlets import Any
 
 LAUNCHER = Path(__file__).resolve().with_name("fork_launcher.py")
@@ -200,16 +199,13 @@ class ForkServer:
         shutil.rmtree(self.folder, ignore_errors=True)
 
 
-class ForkedKernelManager(PrivateSocketsMixin, AsyncKernelManager):
+class ForkedKernelManager(AsyncPrivateSocketsKernelManager):
     """A kernel manager whose kernel is forked by ``fork_server`` (a :class:`ForkServer`).
 
     Only the command changes: jupyter_client launches the fork launcher instead of
     the kernel, and manages it as it would the kernel. Its sockets are files in a
     private folder (``kernel_sockets``: no TCP port another process can be handed too).
     """
-
-    pre_start_kernel = PrivateSocketsMixin._async_pre_start_kernel
-    cleanup_resources = PrivateSocketsMixin._async_cleanup_resources
 
     fork_server = Any(None, allow_none=True, help="the ForkServer that forks the kernel (None: a new process)")
 
