@@ -418,6 +418,37 @@ def test_delegation_is_flagged_in_every_chapter(chapter):
         assert tried, f"{chapter}: no graded task has robokin references (delegation.REFERENCES)"
 
 
+def test_answers_are_handed_over_after_cells_that_printed_thousands_of_lines(tmp_path):
+    """The grader's link learns that its request ended from the shell channel, not from iopub:
+    iopub carries every output of the student's cells, which the link does not read between
+    two tests, and ZeroMQ drops new messages for a reader some 2,000 behind -- the ``idle`` of
+    the link's own request among them (a talkative submission then lost its answers)."""
+    import shutil
+    import time
+
+    from grading_bridge import benchmark, grader_side
+
+    manager, client = benchmark._start_kernel(shutil.which("bwrap") is not None, str(tmp_path))
+    try:
+        grader_side.connect(manager.get_connection_info(), 5.0)
+        for round_ in range(2):   # the first import installs the bridge, the second reuses it
+            client.execute_interactive(
+                f"import sys\nanswer = {round_} + 0.5\nfor i in range(3000):\n"
+                "    print('a talkative line', i, file=sys.stderr, flush=True)\n",
+                timeout=120, output_hook=lambda msg: None)
+            namespace: dict = {}
+            started = time.monotonic()
+            grader_side.import_names(namespace, ["answer", "scalar"], "imported: ")
+            assert namespace.get("answer") == round_ + 0.5, namespace
+            assert namespace["scalar"](0.0) == -0.5
+            assert time.monotonic() - started < 4.0   # not a wait for a status that never comes
+            assert not grader_side.status()["stuck"]
+    finally:
+        grader_side.disconnect()
+        client.stop_channels()
+        benchmark._stop(manager)
+
+
 def test_call_channel_calls_calls_back_and_stops_a_call_that_never_returns(tmp_path):
     """The bridge's call channel with a student's kernel in the sandbox (as autograde starts it):
     a call returns data, a function of the test is called back, a call that never returns is

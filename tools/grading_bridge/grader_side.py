@@ -148,18 +148,25 @@ class _Link:
         raise AnswerError("the student's kernel did not open the call channel in time (it is busy)")
 
     def _idle(self, msg_id: str, timeout: float) -> bool:
-        """Whether the student's kernel finished request ``msg_id`` within ``timeout`` s (iopub read)."""
+        """Whether the student's kernel finished request ``msg_id`` within ``timeout`` s.
+
+        Read from the kernel's reply on the shell channel, which carries the replies to
+        this client's own requests only. Not from the ``idle`` status on iopub: iopub
+        carries every output of every cell of the student's kernel, which this client
+        reads only while it waits for a request of its own; past about 2,000 unread
+        messages (ZeroMQ's high-water marks of 1,000 at each end) new ones are dropped
+        for this client, the ``idle`` of its request among them (a talkative notebook's
+        cells print that much between two tests).
+        """
         deadline = time.monotonic() + timeout
         while True:
             try:
-                msg = self.client.get_iopub_msg(timeout=max(0.0, min(deadline - time.monotonic(), 0.05)))
+                msg = self.client.get_shell_msg(timeout=max(0.0, min(deadline - time.monotonic(), 0.05)))
             except queue.Empty:
                 if time.monotonic() >= deadline:
                     return False
                 continue
-            if (msg.get("parent_header", {}).get("msg_id") == msg_id and msg["msg_type"] == "status"
-                    and msg["content"].get("execution_state") == "idle"):
-                self._drain_shell()
+            if msg.get("parent_header", {}).get("msg_id") == msg_id and msg["msg_type"] == "execute_reply":
                 return True
 
     def _install(self) -> None:
@@ -307,8 +314,20 @@ class _Link:
         return reply
 
     def _run(self, code: str, nonce: str | None, timeout: float) -> dict | None:
+        """Run ``code`` in the student's kernel; with a ``nonce``, its reply read from stdout."""
         client = self.client
+        self._drain_iopub()   # the student's cells' outputs since the last request (see _idle)
         msg_id = client.execute(code, silent=True, store_history=False, allow_stdin=False)
+        if nonce is None:   # installing the bridge: only its end matters
+            try:
+                ended = self._idle(msg_id, timeout)
+            except BaseException:   # the test cell itself was stopped (time limit) meanwhile
+                self.stuck = True
+                raise
+            if not ended:
+                self.stuck = True
+                raise AnswerError(f"the call took longer than {timeout:g} s and was stopped")
+            return None
         deadline = time.monotonic() + timeout
         chunks: list[str] = []
         size = 0
@@ -337,8 +356,6 @@ class _Link:
             elif kind == "status" and content.get("execution_state") == "idle":
                 break
         self._drain_shell()
-        if nonce is None:
-            return None
         prefix = f"{codec.MARK}{nonce} "
         found = None
         for line in "".join(chunks).split("\n"):
@@ -372,6 +389,13 @@ class _Link:
             return {"value": codec.encode(result, self.callbacks)}
         except codec.BridgeError as exc:
             return {"error": f"the result cannot be sent: {exc}"}
+
+    def _drain_iopub(self) -> None:
+        while True:
+            try:
+                self.client.get_iopub_msg(timeout=0)
+            except queue.Empty:
+                return
 
     def _drain_shell(self) -> None:
         while True:
