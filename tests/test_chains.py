@@ -689,3 +689,50 @@ def test_engine_of_a_3000_joint_chain_holds_no_quadratic_array():
     engine = chain._engine  # the compiled chain (private: this tests its memory)
     biggest = max(value.nbytes for value in vars(engine).values() if isinstance(value, np.ndarray))
     assert biggest < 3 * 3001 * 49 * 8 + 1, f"an engine array of {biggest / 1e6:.0f} MB for 3,000 joints"
+
+
+# ----------------------------------------------------------- the engine's workspaces
+def _single_results(chain: SerialChain, q: np.ndarray) -> list[np.ndarray]:
+    return [chain.fk(q), chain.jacobian(q), *chain.fk_and_jacobian(q), chain.frames(q),
+            *(chain.fk(q, frame=k) for k in range(chain.n + 2)),
+            chain.jacobian(q, frame=chain.n, point=[0.1, 0.2, 0.3])]
+
+
+@pytest.mark.parametrize("n", [1, 2, 3, 7])
+def test_single_results_are_never_the_workspace(mixed, n):
+    """One configuration is evaluated in arrays the engine keeps (its workspace): what a call
+    returns must not change when the next call writes there."""
+    chain = mixed if n == 7 else SerialChain(_long_chain_elements(n))
+    q1, q2 = chain.random_configurations(2, seed=n)
+    first = _single_results(chain, q1)
+    kept = [result.copy() for result in first]
+    _single_results(chain, q2)
+    for result, copy in zip(first, kept):
+        assert np.array_equal(result, copy)
+
+
+def test_threads_evaluate_one_chain_at_once(mixed):
+    """Each thread has a workspace of its own: results computed at the same time in four
+    threads are those of one thread alone."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    Q = mixed.random_configurations(400, seed=3)
+
+    def evaluate(rows):
+        return [(mixed.fk(q), mixed.jacobian(q), *mixed.fk_and_jacobian(q)) for q in rows]
+
+    expected = evaluate(Q)
+    with ThreadPoolExecutor(max_workers=4) as pool:
+        parts = list(pool.map(evaluate, np.array_split(Q, 4)))
+    got = [item for part in parts for item in part]
+    assert all(np.array_equal(a, b) for want, have in zip(expected, got) for a, b in zip(want, have))
+
+
+def test_a_chain_pickles_and_copies_after_use(mixed):
+    import copy
+    import pickle
+
+    q = mixed.random_configurations(1, seed=4)[0]
+    before = _single_results(mixed, q)
+    for other in (pickle.loads(pickle.dumps(mixed)), copy.deepcopy(mixed)):
+        assert all(np.array_equal(a, b) for a, b in zip(before, _single_results(other, q)))

@@ -38,6 +38,11 @@ follows by moving the reference point, :math:`J_v = J_{s,v} - [p_E] J_ω`, i.e.
 :math:`z_i \times (p_E - p_i)` (Siciliano et al. 2009, eq. 3.30), with no
 per-joint cross product.
 
+One configuration costs a dozen small numpy calls, and at this size the call, not the
+arithmetic, is the cost (a 7×7 product takes about 0.3 µs, and so does making the
+views it reads and writes): each engine keeps, per thread, a :class:`Workspace` of
+the arrays an evaluation writes into and of the views it needs, made once.
+
 Batches use a column layout ``Tc[j, r, N]`` (column ``j``, row ``r`` of the
 top 3×4 part of ``T``): a revolute joint mixes two columns, a prismatic joint
 adds to column 3, and a constant block is one BLAS product ``C^T @ Tc``.
@@ -45,6 +50,8 @@ The loops run over joints, never over configurations.
 """
 
 from __future__ import annotations
+
+import threading
 
 import numpy as np
 
@@ -144,6 +151,50 @@ _POSE_IN_X = np.array([0, 1, 2, 6, 7, 8, 9, 13, 14, 15, 16, 20, 42, 43, 44, 48])
 _IDENTITY_FLAT = np.eye(4).ravel()
 
 
+class Workspace:
+    """The arrays one single-configuration evaluation of an :class:`Engine` writes into.
+
+    With the views of them it reads and writes, made once (per engine and thread:
+    :meth:`Engine.workspace`), so that an evaluation is only the numpy calls that
+    compute (``out=``). What an engine method returns is never one of these arrays,
+    except :meth:`Engine.screw_frames`' frames (valid until the next evaluation).
+    """
+
+    def __init__(self, engine: Engine) -> None:
+        n = engine.n
+        #: [u_1..u_n, w_1..w_n, 1]: (cos θ, sin θ) or (d, 0) per joint (:meth:`Engine.coefficients`)
+        self.coefficients = np.empty(2 * n + 1)
+        self.coefficients[2 * n] = 1.0
+        self.cos, self.sin = self.coefficients[:n], self.coefficients[n : 2 * n]
+        self.angles = np.empty(n)   # sign * q + offset, unless that is q
+        # fk: the blocks A_1..A_n (E folded into A_n); neighbours multiplied in one stacked product
+        self.fk_blocks = np.empty((n, 4, 4))
+        self.fk_out = self.fk_blocks.reshape(16 * n) if engine.dense else self.fk_blocks.reshape(n, 16)
+        pairs = n // 2
+        self.fk_pairs = np.empty((pairs, 4, 4))
+        self.fk_left, self.fk_right = self.fk_blocks[0 : 2 * pairs : 2], self.fk_blocks[1 : 2 * pairs : 2]
+        factors = [*self.fk_pairs, *([self.fk_blocks[n - 1]] if n % 2 else [])]
+        self.fk_first, self.fk_rest = factors[0], tuple(factors[1:])
+        # frames: the blocks X(A_1)..X(A_n), X(E) and their running products X(T_1)..X(T_n), X(T_E)
+        self.screw_blocks = np.empty((n + 1, 7, 7))
+        self.screw_out = self.screw_blocks.reshape(49 * (n + 1)) if engine.dense else self.screw_blocks.reshape(
+            n + 1, 49)
+        self.frames = np.empty((n + 1, 7, 7))
+        self.first_frame, self.first_block = self.frames[0], self.screw_blocks[0]
+        self.steps = list(zip(self.frames[:-1], self.screw_blocks[1:], self.frames[1:]))
+        # Jacobian: the shift of the reference point (from X(T_E)'s last column) and the screws
+        self.frames_flat = self.frames.reshape(49 * (n + 1))
+        self.end_flat = self.frames[n].reshape(49)
+        self.end_column = self.frames[n][:, 6]
+        self.shift = np.empty(36)
+        self.shift_matrix = self.shift.reshape(6, 6)
+        if engine.same_axis:   # every screw in one column of its frame: a view
+            self.screws_T = self.frames[:n, :6, engine.first_screw_column].T
+        else:                  # gathered into screws (Engine.end_effector_jacobian)
+            self.screws = np.empty((n, 6))
+            self.screws_T = self.screws.T
+
+
 class Engine:
     """Compiled numeric form of a chain (constant blocks and joint data).
 
@@ -201,54 +252,68 @@ class Engine:
         # every screw in the same column with sign +1: the Jacobian gathers one column by a slice
         self.same_axis = bool(np.all(self.screw_column == self.screw_column[0]) and np.all(self.sign == 1.0))
         self.first_screw_column = int(self.screw_column[0])
-        self._ar = np.arange(n)
+        #: flat indices of the screws in the frames (n + 1, 7, 7): joint i's rows 0-5 of its column
+        self.screw_index = (49 * np.arange(n)[:, None] + 7 * np.arange(6) + self.screw_column[:, None])
+        self.sign_column = self.sign[:, None]
+        self._local = threading.local()   # this engine's workspaces, one per thread
         self.const_is_identity = [bool(np.array_equal(C, np.eye(4))) for C in self.consts]
         self.consts_T = [np.ascontiguousarray(C.T) for C in self.consts]
 
     # ------------------------------------------------------------------ single
-    def _coefficients(self, q: np.ndarray) -> np.ndarray:
-        """(2n + 1,) ``[u_1..u_n, w_1..w_n, 1]``: ``(cos θ, sin θ)`` or ``(d, 0)`` per joint."""
-        n = self.n
+    def __getstate__(self) -> dict:
+        state = dict(self.__dict__)
+        del state["_local"]   # the workspaces: made again where needed
+        return state
+
+    def __setstate__(self, state: dict) -> None:
+        self.__dict__.update(state)
+        self._local = threading.local()
+
+    def workspace(self) -> Workspace:
+        """This thread's :class:`Workspace` of this engine (made on first use)."""
+        try:
+            return self._local.workspace
+        except AttributeError:
+            self._local.workspace = Workspace(self)
+            return self._local.workspace
+
+    def coefficients(self, q: np.ndarray, w: Workspace) -> None:
+        """``w.coefficients`` = ``[u_1..u_n, w_1..w_n, 1]``: ``(cos θ, sin θ)`` or ``(d, 0)`` per joint."""
         if self.trivial_map:
             th = q
+        elif self.unit_sign:
+            th = np.add(q, self.offset, out=w.angles)
         else:
-            th = q + self.offset if self.unit_sign else q * self.sign + self.offset
-        v = np.empty(2 * n + 1)
-        np.cos(th, out=v[:n])
-        np.sin(th, out=v[n : 2 * n])
-        v[2 * n] = 1.0
+            th = np.add(q * self.sign, self.offset, out=w.angles)
+        np.cos(th, out=w.cos)
+        np.sin(th, out=w.sin)
         if not self.all_revolute:
             p = self.prismatic_idx
-            v[p] = th[p]
-            v[n + p] = 0.0
-        return v
+            w.coefficients[p] = th[p]
+            w.coefficients[self.n + p] = 0.0
 
-    def _blocks(self, v: np.ndarray, M: np.ndarray) -> np.ndarray:
-        """The joint blocks ``u_i P_i + w_i Q_i + R_i`` (flat) from the coefficients ``v``: one
-        product with the dense ``M``, or the stacked parts ``M`` = (P, Q, R) of a long chain."""
+    def _blocks(self, v: np.ndarray, M, out: np.ndarray) -> None:
+        """The joint blocks ``u_i P_i + w_i Q_i + R_i`` (flat, into ``out``) from the coefficients
+        ``v``: one product with the dense ``M``, or the stacked parts ``M`` = (P, Q, R) of a long chain."""
         if self.dense:
-            return v.dot(M)
+            v.dot(M, out=out)
+            return
         n, (P, Q, R) = self.n, M
-        out = R.copy()
+        np.copyto(out, R)
         out[:n] += v[:n, None] * P[:n] + v[n : 2 * n, None] * Q[:n]
-        return out
 
     def fk_single(self, q: np.ndarray) -> np.ndarray:
-        """(4, 4) end-effector pose: the product ``A_1 A_2 ... A_n`` of the joint blocks."""
-        n = self.n
-        A = self._blocks(self._coefficients(q), self.M_fk if self.dense else self.fk_parts).reshape(n, 4, 4)
-        if n == 1:
-            return A[0]
-        if n >= 4:  # neighbours in one stacked product, then in order: fewer calls
-            pairs = A[0 : n - 1 : 2] @ A[1:n:2]
-            T = pairs[0]
-            for i in range(1, len(pairs)):
-                T = T.dot(pairs[i])  # ndarray.dot: half the call cost of @ for one 4×4 product
-            return T.dot(A[n - 1]) if n % 2 else T
-        T = A[0]
-        for i in range(1, n):
-            T = T.dot(A[i])
-        return T
+        """(4, 4) end-effector pose: the product ``A_1 A_2 ... A_n`` of the joint blocks
+        (neighbours first, in one stacked product, then in order)."""
+        w = self.workspace()
+        self.coefficients(q, w)
+        self._blocks(w.coefficients, self.M_fk if self.dense else self.fk_parts, w.fk_out)
+        if len(w.fk_pairs):
+            np.matmul(w.fk_left, w.fk_right, out=w.fk_pairs)
+        T = w.fk_first
+        for factor in w.fk_rest:
+            T = T.dot(factor)  # ndarray.dot: half the call cost of @ for one 4×4 product
+        return T if w.fk_rest else T.copy()   # never an array of the workspace
 
     def joint_frames_single(self, q: np.ndarray) -> np.ndarray:
         """(n + 1, 4, 4) poses of the joint frames 1..n and of the end-effector."""
@@ -262,18 +327,32 @@ class Engine:
         self.screw_frames(q).reshape(n + 1, 49).take(_POSE_IN_X, axis=1, out=out[1:])
         return out.reshape(n + 2, 4, 4)
 
-    def screw_frames(self, q: np.ndarray) -> np.ndarray:
-        """(n + 1, 7, 7): :math:`X(T_i)` of the joint frames 1..n and of the end-effector.
+    def evaluate_frames(self, q: np.ndarray) -> Workspace:
+        """This thread's workspace, with ``frames`` (n + 1, 7, 7) = :math:`X(T_i)` of the joint
+        frames 1..n and of the end-effector at ``q``: the running products of the blocks
+        ``X(A_1), ..., X(A_n), X(E)``, in order."""
+        w = self.workspace()
+        self.coefficients(q, w)
+        self._blocks(w.coefficients, self.M_screw if self.dense else self.screw_parts, w.screw_out)
+        np.copyto(w.first_frame, w.first_block)
+        for previous, block, frame in w.steps:
+            previous.dot(block, out=frame)
+        return w
 
-        The running products of the blocks ``X(A_1), ..., X(A_n), X(E)``, in order.
-        """
-        n = self.n
-        X = self._blocks(self._coefficients(q), self.M_screw if self.dense else self.screw_parts).reshape(n + 1, 7, 7)
-        frames = np.empty((n + 1, 7, 7))
-        frames[0] = X[0]
-        for i in range(1, n + 1):
-            frames[i - 1].dot(X[i], out=frames[i])
-        return frames
+    def screw_frames(self, q: np.ndarray) -> np.ndarray:
+        """(n + 1, 7, 7): :math:`X(T_i)` of the joint frames 1..n and of the end-effector
+        (:meth:`evaluate_frames`; the workspace's array, valid until its next evaluation)."""
+        return self.evaluate_frames(q).frames
+
+    def end_effector_jacobian(self, w: Workspace) -> np.ndarray:
+        """Geometric Jacobian (6, n) of the end-effector from the frames in ``w``
+        (:meth:`evaluate_frames`): :meth:`jacobian_from_screws` without its options."""
+        w.end_column.dot(_SHIFT_X, out=w.shift)
+        if not self.same_axis:
+            w.frames_flat.take(self.screw_index, out=w.screws, mode="clip")  # clip: no buffer
+            if not self.unit_sign:
+                w.screws *= self.sign_column
+        return w.shift_matrix.dot(w.screws_T)
 
     def jacobian_from_screws(self, frames: np.ndarray, upto: int | None = None, point=None) -> np.ndarray:
         """Geometric Jacobian (6, n) from :meth:`screw_frames`' (n + 1, 7, 7).
@@ -291,10 +370,7 @@ class Engine:
             shift = Xt[:, 6].dot(_SHIFT_X)
         else:
             shift = (Xt[:3, :3] @ point + Xt[:3, 6]).dot(_SHIFT) + _SHIFT_X[6]
-        if self.same_axis:
-            screws = frames[:n, :6, self.first_screw_column]  # (n, 6)
-        else:
-            screws = frames[self._ar, :6, self.screw_column] * self.sign[:, None]
+        screws = frames.reshape(-1).take(self.screw_index) * self.sign_column
         J = shift.reshape(6, 6).dot(screws.T)
         if m < n:
             J[:, m:] = 0.0
@@ -304,12 +380,15 @@ class Engine:
         """Geometric Jacobian (6, n); ``upto`` = frame index (n+1 = end-effector)."""
         if upto == 0:
             return np.zeros((6, self.n))
-        return self.jacobian_from_screws(self.screw_frames(q), upto, point)
+        w = self.evaluate_frames(q)
+        if point is None and (upto is None or upto == self.n + 1):
+            return self.end_effector_jacobian(w)
+        return self.jacobian_from_screws(w.frames, upto, point)
 
     def pose_and_jacobian_single(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """End-effector pose (4, 4) and Jacobian (6, n) from one pass over the chain."""
-        frames = self.screw_frames(q)
-        return frames[self.n].take(_POSE_IN_X).reshape(4, 4), self.jacobian_from_screws(frames)
+        w = self.evaluate_frames(q)
+        return w.end_flat.take(_POSE_IN_X).reshape(4, 4), self.end_effector_jacobian(w)
 
     # ------------------------------------------------------------------- batch
     def _batch_pass(self, Q: np.ndarray, record: str | None, upto: int | None = None

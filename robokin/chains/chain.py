@@ -224,6 +224,9 @@ class SerialChain:
         axes.setflags(write=False)
         self._joint_axes = axes
         self._engine_cache: Engine | None = None
+        #: the engine once compiled, if no result of it can overflow (revolute joints, links of
+        #: ordinary size): a single configuration then goes to it without an overflow check
+        self._unchecked_engine: Engine | None = None
         self._zeros = np.zeros(n)
         self._sym_cache: dict = {}
 
@@ -389,6 +392,8 @@ class SerialChain:
             self._max_constant = max(float(np.abs(C).max()) for C in consts)
             self._huge_links = self._max_constant > _BIG
             self._prismatic = not all(rev)
+            if not (self._huge_links or self._prismatic):
+                self._unchecked_engine = self._engine_cache
         return self._engine_cache
 
     # ------------------------------------------------------------ argument parsing
@@ -502,8 +507,12 @@ class SerialChain:
             ``q`` has NaN/inf entries, or ``frame`` is out of range.
         """
         kind, a = self._parse_q(q, check)
-        if kind == "single" and frame is None and not (check and self._overflow_risk(a)):
-            return self._engine.fk_single(a)  # the common call, in as few steps as possible
+        if kind == "single" and frame is None:  # the common call, in as few steps as possible
+            engine = self._unchecked_engine
+            if engine is None and not (check and self._overflow_risk(a)):
+                engine = self._engine
+            if engine is not None:
+                return engine.fk_single(a)
         k = self._n + 1 if frame is None else self._frame_index(frame)
         if kind == "sym":
             return self._symbolic_subs(self._sym_frames()[k], a)
@@ -586,8 +595,12 @@ class SerialChain:
             (identical, and simpler to print).
         """
         kind, a = self._parse_q(q, check)
-        if kind == "single" and frame is None and point is None and not (check and self._overflow_risk(a)):
-            return self._engine.jacobian_single(a)  # the common call, in as few steps as possible
+        if kind == "single" and frame is None and point is None:  # the common call, in as few steps as possible
+            engine = self._unchecked_engine
+            if engine is None and not (check and self._overflow_risk(a)):
+                engine = self._engine
+            if engine is not None:
+                return engine.jacobian_single(a)
         k = self._n + 1 if frame is None else self._frame_index(frame)
         if kind == "sym":
             return self._symbolic_subs(self._sym_jacobian(k, point), a)
@@ -630,7 +643,7 @@ class SerialChain:
                              "got symbols (fk and jacobian take symbols)")
         engine = self._engine
         pose_and_jacobian = engine.pose_and_jacobian_single if kind == "single" else engine.pose_and_jacobian_batch
-        if check and self._overflow_risk(a):
+        if check and self._unchecked_engine is None and self._overflow_risk(a):
             with np.errstate(all="ignore"):
                 T, J = pose_and_jacobian(a)
             return self._checked(T, "the forward kinematics", q=a), self._checked(J, "the Jacobian", q=a)
