@@ -148,6 +148,7 @@ _SHIFT_X[:3] = _SHIFT
 _SHIFT_X[6] = np.eye(6).ravel()
 #: Flat indices of the pose (4, 4) inside X(T) (7, 7): rows 0-2 of columns 0-2 and 6, then (0, 0, 0, 1).
 _POSE_IN_X = np.array([0, 1, 2, 6, 7, 8, 9, 13, 14, 15, 16, 20, 42, 43, 44, 48])
+_POSE_IN_X_4X4 = _POSE_IN_X.reshape(4, 4)   # take() with it gives the (4, 4) pose
 _IDENTITY_FLAT = np.eye(4).ravel()
 
 
@@ -388,7 +389,7 @@ class Engine:
     def pose_and_jacobian_single(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """End-effector pose (4, 4) and Jacobian (6, n) from one pass over the chain."""
         w = self.evaluate_frames(q)
-        return w.end_flat.take(_POSE_IN_X).reshape(4, 4), self.end_effector_jacobian(w)
+        return w.end_flat.take(_POSE_IN_X_4X4), self.end_effector_jacobian(w)
 
     # ------------------------------------------------------------------- batch
     def _batch_pass(self, Q: np.ndarray, record: str | None, upto: int | None = None

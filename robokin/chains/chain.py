@@ -638,6 +638,8 @@ class SerialChain:
             Rows ``[v; ω]`` (see :meth:`jacobian`).
         """
         kind, a = self._parse_q(q, check)
+        if kind == "single" and self._unchecked_engine is not None:  # the common call, in as few steps as possible
+            return self._unchecked_engine.pose_and_jacobian_single(a)
         if kind == "sym":
             raise ShapeError(f"q must have shape ({self._n},) or (N, {self._n}) (numeric configurations); "
                              "got symbols (fk and jacobian take symbols)")
