@@ -90,3 +90,26 @@ def test_nbval_starts_its_kernels_with_private_sockets():
         assert_private_sockets(kernel.km)
     finally:
         kernel.stop()
+
+
+def test_a_cell_that_logs_twelve_thousand_lines_is_read_whole_and_ends():
+    """A client made by these managers keeps every iopub message the kernel sends: a cell that
+    logs 12,000 lines (one message each) reaches nbclient whole, and its ``idle`` status too
+    (with ZeroMQ's default limit of 1,000 unread messages some 1,000 lines were lost on a quiet
+    machine, and under load the cell ended in "Timeout waiting for IOPub output")."""
+    import nbformat
+    import zmq
+    from nbclient import NotebookClient
+
+    manager = PrivateSocketsKernelManager(kernel_name="python3")
+    client = manager.client()
+    assert client.context.getsockopt(zmq.RCVHWM) == 0
+    nb = nbformat.v4.new_notebook()
+    talkative = "import logging\nfor i in range(12000):\n    logging.warning('line %d', i)\n"
+    nb.cells = [nbformat.v4.new_code_cell(talkative), nbformat.v4.new_code_cell("print('the next cell')")]
+    executor = NotebookClient(nb, timeout=120, kernel_name="python3", raise_on_iopub_timeout=True,
+                              kernel_manager_class=AsyncPrivateSocketsKernelManager)
+    concurrent.futures.ThreadPoolExecutor(1).submit(executor.execute).result()   # a loop of its own
+    lines = "".join(output.get("text", "") for output in nb.cells[0].outputs).splitlines()
+    assert lines == [f"WARNING:root:line {i}" for i in range(12000)]
+    assert nb.cells[1].outputs[0]["text"] == "the next cell\n"

@@ -17,6 +17,17 @@ The folder is kept across restarts (the connection file stays valid) and removed
 when the kernel is shut down. Windows has no ``ipc`` sockets: there the managers
 below are jupyter_client's own (TCP).
 
+A client made by these managers (``manager.client()``, as nbclient, nbval and the
+autograder make theirs) keeps any number of unread messages on its iopub channel.
+ZeroMQ's default high-water mark is 1,000 messages at each end: a cell that logs
+thousands of lines (one message per flushed line) outruns a client that is slower
+than the kernel, and ZeroMQ then drops new messages for that client -- lines of
+output and, at the end, the cell's ``idle`` status, which nbclient waits for and
+reports as "Timeout waiting for IOPub output" (the autograder took a correct but
+talkative notebook for a hang). With no limit on the client's side, its ZeroMQ
+thread takes the messages off the kernel's queue as fast as they come, whatever
+the Python code reading them does.
+
 Used for the kernels nbval starts (``conftest.py`` at the repository's root), the
 grader's kernels (``grading_bridge``) and the sandboxed student kernel
 (``robokin_sandbox``, which binds the folder into the sandbox).
@@ -29,6 +40,7 @@ import shutil
 import tempfile
 from pathlib import Path
 
+import zmq
 from jupyter_client.manager import AsyncKernelManager, KernelManager
 from jupyter_core.utils import run_sync
 
@@ -62,6 +74,12 @@ class PrivateSocketsMixin:
             self.connection_file = str(self.socket_folder / "kernel.json")
             self.ip = str(self.socket_folder / "socket")
         return await super()._async_pre_start_kernel(**kw)
+
+    def client(self, **kwargs):
+        """A client of the kernel that keeps any number of unread iopub messages (see the module)."""
+        client = super().client(**kwargs)
+        client.context.setsockopt(zmq.RCVHWM, 0)   # the client's own context: its channels' default
+        return client
 
     async def _async_cleanup_resources(self, restart: bool = False) -> None:
         await super()._async_cleanup_resources(restart=restart)
