@@ -736,3 +736,21 @@ def test_a_chain_pickles_and_copies_after_use(mixed):
     before = _single_results(mixed, q)
     for other in (pickle.loads(pickle.dumps(mixed)), copy.deepcopy(mixed)):
         assert all(np.array_equal(a, b) for a, b in zip(before, _single_results(other, q)))
+
+
+@pytest.mark.parametrize("revolute", [True, False])
+def test_offsets_and_signs_are_folded_into_the_blocks(revolute):
+    """A joint's variable sign * q + offset is folded into its constant matrices, so that one
+    configuration needs cos q and sin q only: u(q) P' + w(q) Q' + R' equals u(θ) P + w(θ) Q + R,
+    and a joint without offset and sign keeps P, Q, R exactly."""
+    for axis in range(3):
+        P, Q, R = engine_module.joint_pqr(axis, revolute)
+        assert all(np.array_equal(a, b) for a, b in zip(engine_module.folded_pqr(axis, revolute, 1.0, 0.0),
+                                                        (P, Q, R)))
+        for sign, offset in [(-1.0, 0.0), (1.0, 0.7), (-1.0, -2.1)]:
+            P2, Q2, R2 = engine_module.folded_pqr(axis, revolute, sign, offset)
+            for q in (-1.3, 0.0, 0.4, 2.9):
+                theta = sign * q + offset
+                u, w = (math.cos(theta), math.sin(theta)) if revolute else (theta, 0.0)
+                u2, w2 = (math.cos(q), math.sin(q)) if revolute else (q, 0.0)
+                np.testing.assert_allclose(u2 * P2 + w2 * Q2 + R2, u * P + w * Q + R, rtol=0, atol=1e-15)

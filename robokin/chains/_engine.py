@@ -16,7 +16,10 @@ between joints). A joint element about axis k satisfies
     C_{i-1} J_i(d) = d\, P_i + R_i \quad\text{(prismatic)},
 
 with constant :math:`P_i, Q_i, R_i`, so all joint blocks of one configuration
-come from one ``cos`` and one ``sin`` call and one small matrix product.
+come from one ``cos`` and one ``sin`` call and one small matrix product. A joint
+whose variable is :math:`\theta = s q + o` (sign and offset) has them folded into its
+constants (:func:`folded_pqr`), so that a configuration needs :math:`\cos q` and
+:math:`\sin q` of the joint values themselves.
 
 The single-configuration Jacobian uses the same blocks in a 7×7 form that
 carries, besides the pose, the *moment* of every joint axis (Lynch & Park
@@ -111,6 +114,23 @@ def joint_pqr(axis: int, revolute: bool) -> tuple[np.ndarray, np.ndarray, np.nda
     return P, Q, R
 
 
+def folded_pqr(axis: int, revolute: bool, sign: float, offset: float
+               ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`joint_pqr` of a joint whose variable is ``sign * q + offset``, in terms of q itself.
+
+    Revolute, θ = s q + o: cos θ P + sin θ Q = cos q P' + sin q Q' with
+    P' = cos o P + sin o Q and Q' = s (cos o Q - sin o P). Prismatic, d = s q + o:
+    d P + R = q (s P) + (R + o P). A joint with s = 1, o = 0 keeps P, Q, R exactly.
+    """
+    P, Q, R = joint_pqr(axis, revolute)
+    if sign == 1.0 and offset == 0.0:
+        return P, Q, R
+    if revolute:
+        c, s = np.cos(offset), np.sin(offset)
+        return c * P + s * Q, sign * (c * Q - s * P), R
+    return sign * P, Q, R + offset * P
+
+
 def _skew(p: np.ndarray) -> np.ndarray:
     """(3, 3) matrix ``[p]`` with ``[p] x = p × x``."""
     return np.array([[0.0, -p[2], p[1]], [p[2], 0.0, -p[0]], [-p[1], p[0], 0.0]])
@@ -167,7 +187,6 @@ class Workspace:
         self.coefficients = np.empty(2 * n + 1)
         self.coefficients[2 * n] = 1.0
         self.cos, self.sin = self.coefficients[:n], self.coefficients[n : 2 * n]
-        self.angles = np.empty(n)   # sign * q + offset, unless that is q
         # fk: the blocks A_1..A_n (E folded into A_n); neighbours multiplied in one stacked product
         self.fk_blocks = np.empty((n, 4, 4))
         self.fk_out = self.fk_blocks.reshape(16 * n) if engine.dense else self.fk_blocks.reshape(n, 16)
@@ -223,7 +242,8 @@ class Engine:
         self.trivial_map = self.unit_sign and bool(np.all(self.offset == 0.0))
         self.E = self.consts[-1]
         # Single configuration: the joint blocks A_i = C_{i-1} J_i = u_i P_i + w_i Q_i + R_i
-        blocks = [[(self.consts[i] @ M).ravel() for M in joint_pqr(int(axes[i]), bool(revolute[i]))]
+        blocks = [[(self.consts[i] @ M).ravel()
+                   for M in folded_pqr(int(axes[i]), bool(revolute[i]), float(signs[i]), float(offsets[i]))]
                   for i in range(n)]
         # fk: the blocks' P, Q, R parts stacked, (3, n, 16); E folded into the last block
         self.fk_parts = np.array(blocks, dtype=float).reshape(n, 3, 16).transpose(1, 0, 2).copy()
@@ -280,17 +300,11 @@ class Engine:
 
     def coefficients(self, q: np.ndarray, w: Workspace) -> None:
         """``w.coefficients`` = ``[u_1..u_n, w_1..w_n, 1]``: ``(cos θ, sin θ)`` or ``(d, 0)`` per joint."""
-        if self.trivial_map:
-            th = q
-        elif self.unit_sign:
-            th = np.add(q, self.offset, out=w.angles)
-        else:
-            th = np.add(q * self.sign, self.offset, out=w.angles)
-        np.cos(th, out=w.cos)
-        np.sin(th, out=w.sin)
+        np.cos(q, out=w.cos)   # offsets and signs are folded into the blocks (folded_pqr)
+        np.sin(q, out=w.sin)
         if not self.all_revolute:
             p = self.prismatic_idx
-            w.coefficients[p] = th[p]
+            w.coefficients[p] = q[p]
             w.coefficients[self.n + p] = 0.0
 
     def _blocks(self, v: np.ndarray, M, out: np.ndarray) -> None:
