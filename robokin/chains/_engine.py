@@ -183,7 +183,7 @@ class Workspace:
 
     def __init__(self, engine: Engine) -> None:
         n = engine.n
-        #: [u_1..u_n, w_1..w_n, 1]: (cos θ, sin θ) or (d, 0) per joint (:meth:`Engine.coefficients`)
+        #: [u_1..u_n, w_1..w_n, 1]: (cos q_i, sin q_i) or (q_i, 0) per joint (:meth:`Engine.coefficients`)
         self.coefficients = np.empty(2 * n + 1)
         self.coefficients[2 * n] = 1.0
         self.cos, self.sin = self.coefficients[:n], self.coefficients[n : 2 * n]
@@ -299,7 +299,8 @@ class Engine:
             return self._local.workspace
 
     def coefficients(self, q: np.ndarray, w: Workspace) -> None:
-        """``w.coefficients`` = ``[u_1..u_n, w_1..w_n, 1]``: ``(cos θ, sin θ)`` or ``(d, 0)`` per joint."""
+        """``w.coefficients`` = ``[u_1..u_n, w_1..w_n, 1]``: ``(cos q_i, sin q_i)`` (revolute) or
+        ``(q_i, 0)`` (prismatic) per joint, the blocks holding offsets and signs (:func:`folded_pqr`)."""
         np.cos(q, out=w.cos)   # offsets and signs are folded into the blocks (folded_pqr)
         np.sin(q, out=w.sin)
         if not self.all_revolute:

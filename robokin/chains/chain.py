@@ -447,6 +447,13 @@ class SerialChain:
             return True
         return self._prismatic and a.size > 0 and float(np.abs(a).max()) > _BIG
 
+    def _direct_engine(self, a: np.ndarray, check: bool) -> Engine | None:
+        """The engine, if one configuration ``a`` can go to it without an overflow check; else None.
+
+        (The chain's ``_unchecked_engine`` once compiled, when nothing can overflow.)
+        """
+        return self._engine if not (check and self._overflow_risk(a)) else None
+
     def _checked(self, out: np.ndarray, what: str, **inputs: Any) -> np.ndarray:
         """``out`` if finite; else a DomainError naming the inputs (or the chain's huge dimensions)."""
         if np.isfinite(out).all():
@@ -508,9 +515,7 @@ class SerialChain:
         """
         kind, a = self._parse_q(q, check)
         if kind == "single" and frame is None:  # the common call, in as few steps as possible
-            engine = self._unchecked_engine
-            if engine is None and not (check and self._overflow_risk(a)):
-                engine = self._engine
+            engine = self._unchecked_engine or self._direct_engine(a, check)
             if engine is not None:
                 return engine.fk_single(a)
         k = self._n + 1 if frame is None else self._frame_index(frame)
@@ -596,9 +601,7 @@ class SerialChain:
         """
         kind, a = self._parse_q(q, check)
         if kind == "single" and frame is None and point is None:  # the common call, in as few steps as possible
-            engine = self._unchecked_engine
-            if engine is None and not (check and self._overflow_risk(a)):
-                engine = self._engine
+            engine = self._unchecked_engine or self._direct_engine(a, check)
             if engine is not None:
                 return engine.jacobian_single(a)
         k = self._n + 1 if frame is None else self._frame_index(frame)
@@ -638,14 +641,16 @@ class SerialChain:
             Rows ``[v; ω]`` (see :meth:`jacobian`).
         """
         kind, a = self._parse_q(q, check)
-        if kind == "single" and self._unchecked_engine is not None:  # the common call, in as few steps as possible
-            return self._unchecked_engine.pose_and_jacobian_single(a)
+        if kind == "single":  # the common call, in as few steps as possible
+            engine = self._unchecked_engine or self._direct_engine(a, check)
+            if engine is not None:
+                return engine.pose_and_jacobian_single(a)
         if kind == "sym":
             raise ShapeError(f"q must have shape ({self._n},) or (N, {self._n}) (numeric configurations); "
                              "got symbols (fk and jacobian take symbols)")
         engine = self._engine
         pose_and_jacobian = engine.pose_and_jacobian_single if kind == "single" else engine.pose_and_jacobian_batch
-        if check and self._unchecked_engine is None and self._overflow_risk(a):
+        if check and self._overflow_risk(a):
             with np.errstate(all="ignore"):
                 T, J = pose_and_jacobian(a)
             return self._checked(T, "the forward kinematics", q=a), self._checked(J, "the Jacobian", q=a)

@@ -391,18 +391,19 @@ class _Link:
             return {"error": f"the result cannot be sent: {exc}"}
 
     def _drain_iopub(self) -> None:
-        while True:
-            try:
-                self.client.get_iopub_msg(timeout=0)
-            except queue.Empty:
-                return
+        _drain(self.client.get_iopub_msg, 0)
 
     def _drain_shell(self) -> None:
-        while True:
-            try:
-                self.client.get_shell_msg(timeout=0.001)
-            except queue.Empty:
-                return
+        _drain(self.client.get_shell_msg, 0.001)
+
+
+def _drain(get_message, timeout: float) -> None:
+    """Read and drop a channel's messages until none comes within ``timeout`` s."""
+    while True:
+        try:
+            get_message(timeout=timeout)
+        except queue.Empty:
+            return
 
 
 _LINK: _Link | None = None
