@@ -506,6 +506,11 @@ METHODS: dict[str, type[IKMethod]] = {
 }
 
 
+#: Each method made with its default options, shared by the solves that name it (a step rule
+#: keeps no state between calls; its options are set once, in ``__init__``).
+_WITH_DEFAULTS: dict[str, IKMethod] = {}
+
+
 def make_method(method: str | IKMethod, options: dict[str, Any]) -> IKMethod:
     """Resolve ``method`` (a name from :data:`METHODS` or an :class:`IKMethod`) with options."""
     if isinstance(method, IKMethod):
@@ -519,6 +524,10 @@ def make_method(method: str | IKMethod, options: dict[str, Any]) -> IKMethod:
             cls = METHODS[method]
         except KeyError:
             raise ValueError(f"method must be one of {sorted(METHODS)} or an IKMethod; got {method!r}") from None
+        if not options:  # the usual call: the method with its defaults, made once
+            if method not in _WITH_DEFAULTS:
+                _WITH_DEFAULTS[method] = cls()
+            return _WITH_DEFAULTS[method]
         try:
             return cls(**options)
         except TypeError as exc:

@@ -21,7 +21,6 @@ from robokin.errors import DomainError, ShapeError
 from robokin.motion._kernels import tool_jacobian, wrap_angles
 from robokin.validation import (
     as_float_array,
-    check_chain,
     check_int,
     check_limits,
     check_positive,
@@ -64,6 +63,7 @@ class IKContext:
 
     def __post_init__(self) -> None:
         self.full_mask = bool(self.mask.all())
+        self.mask_list = self.mask.astype(float).tolist()  # 1.0 / 0.0 per component, for plain-float norms
         self.rows = self.mask.nonzero()[0]
         self.p_tool = None if self.tool is None else self.tool[:3, 3].copy()
         self._fk_and_jacobian = getattr(self.chain, "fk_and_jacobian", None)
@@ -331,7 +331,8 @@ def parse_wrap(wrap: Any, chain: Chain, n: int, revolute: np.ndarray | None = No
 
 
 def make_context(chain: Chain, mask: np.ndarray, tool: Any, wrap: Any) -> IKContext:
-    check_chain(chain)
+    """The :class:`IKContext` of a solve: ``chain`` already checked (:func:`~robokin.validation.check_chain`),
+    ``mask`` from :func:`parse_mask`; the tool and ``wrap`` are checked here."""
     n = int(chain.n)
     data = chain_data(chain)
     lower, upper = data.lower, data.upper

@@ -46,7 +46,7 @@ class Goal:
         self.R = np.ascontiguousarray(T_goal[:3, :3])
         self.position = T_goal[:3, 3].tolist()
         self.is_position = settings.is_position
-        mask = settings.ctx.mask.astype(float).tolist()
+        mask = settings.ctx.mask_list
         self.mask_position, self.mask_orientation = mask[:3], mask[3:]
 
     def error(self, T: np.ndarray) -> tuple[np.ndarray, float, float]:
