@@ -62,8 +62,8 @@ class IKContext:
     shift: np.ndarray | None = None
 
     def __post_init__(self) -> None:
-        self.full_mask = bool(self.mask.all())
         self.mask_list = self.mask.astype(float).tolist()  # 1.0 / 0.0 per component, for plain-float norms
+        self.full_mask = 0.0 not in self.mask_list  # (plain floats: a NumPy reduction costs more for 6 entries)
         self.rows = self.mask.nonzero()[0]
         self.p_tool = None if self.tool is None else self.tool[:3, 3].copy()
         self._fk_and_jacobian = getattr(self.chain, "fk_and_jacobian", None)
@@ -253,9 +253,16 @@ def _check_pose(T: np.ndarray, name: str, tol: float = 1e-6) -> np.ndarray:
     return check_transform(T, name=name)
 
 
+#: The default masks (read-only): every component of a pose, the position of a position target.
+_POSE_MASK = np.ones(6, dtype=bool)
+_POSITION_MASK = np.array([True] * 3 + [False] * 3)
+_POSE_MASK.setflags(write=False)
+_POSITION_MASK.setflags(write=False)
+
+
 def parse_mask(mask: Any, is_position: bool) -> np.ndarray:
     if mask is None:
-        return np.array([True] * 3 + [not is_position] * 3)
+        return _POSITION_MASK if is_position else _POSE_MASK
     m = np.asarray(mask)
     if m.shape != (6,):
         raise ShapeError(f"mask must have shape (6,) (booleans for x, y, z, rx, ry, rz); got shape {m.shape}")
