@@ -428,7 +428,7 @@ def test_answers_are_handed_over_after_cells_that_printed_thousands_of_lines(tmp
 
     from grading_bridge import benchmark, grader_side
 
-    manager, client = benchmark._start_kernel(shutil.which("bwrap") is not None, str(tmp_path))
+    manager, client = benchmark.start_kernel(shutil.which("bwrap") is not None, str(tmp_path))
     try:
         grader_side.connect(manager.get_connection_info(), 5.0)
         for round_ in range(2):   # the first import installs the bridge, the second reuses it
@@ -446,7 +446,7 @@ def test_answers_are_handed_over_after_cells_that_printed_thousands_of_lines(tmp
     finally:
         grader_side.disconnect()
         client.stop_channels()
-        benchmark._stop(manager)
+        benchmark.stop_kernel(manager)
 
 
 def test_call_channel_calls_calls_back_and_stops_a_call_that_never_returns(tmp_path):
@@ -461,7 +461,7 @@ def test_call_channel_calls_calls_back_and_stops_a_call_that_never_returns(tmp_p
     from grading_bridge import benchmark, grader_side
 
     sandboxed = shutil.which("bwrap") is not None
-    manager, client = benchmark._start_kernel(sandboxed, str(tmp_path))
+    manager, client = benchmark.start_kernel(sandboxed, str(tmp_path))
     try:
         client.execute_interactive("import time\n\ndef slow(x):\n    time.sleep(10**6)\n\n"
                                    "def twice(f, x):\n    return 2 * f(x)\n", timeout=60)
@@ -484,4 +484,4 @@ def test_call_channel_calls_calls_back_and_stops_a_call_that_never_returns(tmp_p
     finally:
         grader_side.disconnect()
         client.stop_channels()
-        benchmark._stop(manager)
+        benchmark.stop_kernel(manager)

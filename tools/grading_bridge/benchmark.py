@@ -41,7 +41,17 @@ CASES = (("scalar(phi): float -> float", "scalar", lambda: (0.3,)),
          ("matrix(q): 6 floats -> 6x6 array", "matrix", lambda: ([0.1, 0.2, 0.3, 0.4, 0.5, 0.6],)))
 
 
-def _start_kernel(sandbox: bool, folder: str):
+def start_kernel(sandbox: bool, folder: str):
+    """A student's kernel (in the sandbox, as autograde starts it, or not) with the benchmark's
+    functions defined, and a blocking client of it: ``(manager, client)``.
+
+    The client keeps any number of unread iopub messages (as the clients of
+    :mod:`kernel_sockets` managers do): a cell that prints thousands of lines
+    would otherwise lose messages when this process falls behind, the ``idle``
+    that ends the request among them (``execute_interactive`` then waits for its
+    time limit).
+    """
+    import zmq
     from jupyter_client.manager import KernelManager
 
     if sandbox:
@@ -56,7 +66,9 @@ def _start_kernel(sandbox: bool, folder: str):
         manager.start_kernel(cwd=folder)
     from jupyter_client import BlockingKernelClient
 
-    client = BlockingKernelClient()
+    context = zmq.Context()
+    context.setsockopt(zmq.RCVHWM, 0)   # the default of the client's channels: no receive limit
+    client = BlockingKernelClient(context=context)
     client.load_connection_info(manager.get_connection_info())
     client.start_channels()
     client.wait_for_ready(timeout=60)
@@ -64,7 +76,7 @@ def _start_kernel(sandbox: bool, folder: str):
     return manager, client
 
 
-def _stop(manager) -> None:
+def stop_kernel(manager) -> None:
     from jupyter_core.utils import run_sync
 
     if hasattr(manager, "_async_shutdown_kernel") and type(manager).__name__ != "KernelManager":
@@ -100,7 +112,7 @@ def _execute_request_call(link, handle: int, arguments) -> object:
 
 def measure(sandbox: bool, calls: int) -> list[tuple[str, str, float, float]]:
     folder = tempfile.mkdtemp(prefix="robokin-bench-")
-    manager, client = _start_kernel(sandbox, folder)
+    manager, client = start_kernel(sandbox, folder)
     try:
         grader_side.connect(manager.get_connection_info(), 30.0)
         namespace: dict = {}
@@ -117,7 +129,7 @@ def measure(sandbox: bool, calls: int) -> list[tuple[str, str, float, float]]:
     finally:
         grader_side.disconnect()
         client.stop_channels()
-        _stop(manager)
+        stop_kernel(manager)
 
 
 def main(argv=None) -> None:
