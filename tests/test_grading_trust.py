@@ -24,7 +24,7 @@ benign, every other chapter (in that chapter's one autograde run):
                 (``os._exit``) at the end of the last *Try it yourself* cell -- where
                 tests follow (chapters 4 and 5), the kernel is restarted and the cells
                 before are run again, elsewhere grading stops there;
-    ``another`` answers written another way (tests/benign_variants.py), and a cell that
+    ``written`` answers written another way (tests/benign_variants.py), and a cell that
                 never ends at the end of the last *Try it yourself* cell (interrupted at
                 the time limit, ``OTHER_TIMEOUT`` s in these runs; the notebook goes on);
 sandbox:
@@ -294,9 +294,14 @@ SUITE = grading_course.Suite(
 
 
 def benign_submissions(run: Run, correct: dict) -> dict[str, dict]:
-    """Every other chapter's benign submissions: talkative and crashing, written another way and hanging."""
+    """Every other chapter's benign submissions: talkative and crashing, written another way and hanging.
+
+    nbgrader grades the students of a run in the order of their names: the hanging one is
+    named "written" so that it comes last (or next to last), not first -- when every
+    chapter's run began with its wait for the time limit, the grading threads of both
+    parts slept at once and the machine idled at the start of ``make test``."""
     return {"noisy": with_incident(talkative(correct, run.source), CRASH),
-            "another": with_incident(written_another_way(correct, run.chapter), HANG)}
+            "written": with_incident(written_another_way(correct, run.chapter), HANG)}
 
 
 #: the benign submissions of every other chapter, graded in that chapter's one autograde run,
@@ -413,7 +418,7 @@ def test_correct_answers_written_another_way_keep_full_marks(request, tmp_path_f
     run = grading_course.graded_courses(request, tmp_path_factory)[chapter]
     if run.error:
         pytest.fail(run.fail_message())
-    student = "hang" if chapter == CHAPTER else "another"
+    student = "hang" if chapter == CHAPTER else "written"
     run = grading_course.view(run, [student])
     _full_marks(run, student)
     report = _report(run.feedback[student])
