@@ -18,6 +18,8 @@ from pathlib import Path
 
 import pytest
 
+import nbgrader_runner
+
 ROOT = Path(__file__).resolve().parent.parent
 BUILD_DIR = ROOT / "_build"
 HTML_DIR = BUILD_DIR / "html"
@@ -203,6 +205,7 @@ def pytest_sessionfinish(session, exitstatus):
     survivors to the controller (tests/parallel_plan.py), which reports them here.
     """
     config = session.config
+    nbgrader_runner.close_all()   # the warm nbgrader processes of this one (tests/nbgrader_runner.py)
     if hasattr(config, "workerinput"):
         config.workeroutput["robokin_survivors"] = _stop_survivors()
         return

@@ -1,0 +1,185 @@
+"""nbgrader's command lines, each in a fresh process forked from one that imported nbgrader.
+
+The grading suites run about 40 ``nbgrader`` commands per ``make test``; each new
+``nbgrader`` process spends about 1.1 s of CPU importing nbgrader (traitlets,
+nbconvert, nbclient, sqlalchemy, ... 1,300 modules) before it does anything. A
+*runner* imports the module of nbgrader's command-line application
+(``nbgrader.apps.nbgraderapp``, whose ``main`` the ``nbgrader`` console script calls)
+once and forks a child for each command: the child takes the command's working
+folder, environment and arguments, calls ``main()`` as the console script does and
+exits with its exit code. Nothing but imported modules is shared: no application,
+configuration, database session or kernel exists before the fork (the runner has
+one thread and does nothing else), so each command starts as a new ``nbgrader``
+process would, and its output goes to a file of its own.
+
+:func:`run` is a drop-in for ``subprocess.run([nbgrader, *args], cwd=..., env=...,
+capture_output=True, text=True, timeout=...)``. There is one runner per calling thread
+(a runner serves one command at a time) and per set of ``PYTHON*`` variables (read
+when an interpreter starts: ``sys.path``, hash seed, ...); :func:`close_all` stops
+them (``tests/conftest.py`` does, before it looks for processes the tests left
+running). A runner ends by itself when the process that started it ends (its
+input closes).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import select
+import signal
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+import traceback
+from pathlib import Path
+
+
+class Runner:
+    """One warm process that forks a child per nbgrader command (see the module's docstring)."""
+
+    def __init__(self, env: dict[str, str]) -> None:
+        self.process = subprocess.Popen(
+            [sys.executable, __file__, "--serve"], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+            env=env, text=True, bufsize=1)
+
+    def run(self, args: list[str], cwd: Path, env: dict[str, str], timeout: float) -> subprocess.CompletedProcess:
+        with tempfile.TemporaryDirectory(prefix="robokin-nbgrader-") as folder:
+            output = Path(folder) / "output.txt"
+            request = {"args": args, "cwd": str(cwd), "env": env, "output": str(output)}
+            self.process.stdin.write(json.dumps(request) + "\n")
+            deadline = time.monotonic() + timeout
+            child = self._reply(deadline, None)["pid"]
+            try:
+                returncode = self._reply(deadline, child)["exit"]
+            except subprocess.TimeoutExpired:
+                os.kill(child, signal.SIGKILL)
+                self._reply(time.monotonic() + 60.0, None)
+                raise subprocess.TimeoutExpired(["nbgrader", *args], timeout,
+                                                output.read_text(errors="replace")) from None
+            text = output.read_text(encoding="utf-8", errors="replace")
+        return subprocess.CompletedProcess(["nbgrader", *args], returncode, text, "")
+
+    def _reply(self, deadline: float, child: int | None) -> dict:
+        """The runner's next line; TimeoutExpired at ``deadline``, RuntimeError if the runner died."""
+        stdout = self.process.stdout
+        ready, _, _ = select.select([stdout], [], [], max(0.0, deadline - time.monotonic()))
+        if not ready:
+            raise subprocess.TimeoutExpired(["nbgrader"], deadline)
+        line = stdout.readline()
+        if not line:
+            raise RuntimeError(f"the nbgrader runner (pid {self.process.pid}) ended "
+                               f"(exit {self.process.wait()}) while running command {child}")
+        return json.loads(line)
+
+    def close(self) -> None:
+        self.process.stdin.close()
+        self.process.wait(timeout=30)
+        self.process.stdout.close()
+
+
+_RUNNERS: dict[tuple, Runner] = {}
+_LOCK = threading.Lock()
+
+
+def _interpreter_settings(env: dict[str, str]) -> tuple:
+    return tuple(sorted((k, v) for k, v in env.items() if k.startswith("PYTHON")))
+
+
+def run(args: list[str], cwd: Path, env: dict[str, str], timeout: float) -> subprocess.CompletedProcess:
+    """``nbgrader <args>`` in ``cwd`` with the environment ``env`` (all of it): its exit code
+    and its output (stdout and stderr, in order, as ``stdout``). Raises
+    ``subprocess.TimeoutExpired`` after ``timeout`` seconds, the command killed."""
+    key = (threading.get_ident(), _interpreter_settings(env))
+    with _LOCK:
+        runner = _RUNNERS.get(key)
+        if runner is None or runner.process.poll() is not None:
+            runner = _RUNNERS[key] = Runner(env)
+    return runner.run(args, cwd, env, timeout)
+
+
+def runner_pids() -> list[int]:
+    """The process ids of this process's runners."""
+    with _LOCK:
+        return [runner.process.pid for runner in _RUNNERS.values()]
+
+
+def close_all() -> None:
+    """Stop every runner of this process."""
+    with _LOCK:
+        runners = list(_RUNNERS.values())
+        _RUNNERS.clear()
+    for runner in runners:
+        runner.close()
+
+
+# ------------------------------------------------------------------ the runner process
+def _child(request: dict) -> int:
+    """In the forked child (its output already in the command's file): become the command,
+    run it, return its exit code."""
+    os.chdir(request["cwd"])
+    os.environ.clear()
+    os.environ.update(request["env"])
+    sys.argv = ["nbgrader", *request["args"]]
+    from nbgrader.apps.nbgraderapp import main
+
+    try:
+        main()
+        return 0
+    except SystemExit as exit_:
+        code = exit_.code
+        if code is None or isinstance(code, int):
+            return code or 0
+        print(code, file=sys.stderr)
+        return 1
+
+
+def _redirect(output: str) -> None:
+    """Standard input from /dev/null, standard output and error to the file ``output``."""
+    devnull = os.open(os.devnull, os.O_RDONLY)
+    out = os.open(output, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
+    for fd, target in ((0, devnull), (1, out), (2, out)):
+        os.dup2(target, fd)
+    os.close(devnull)
+    os.close(out)
+
+
+def _command(request: dict) -> None:
+    """The forked child: run the command and exit with its exit code (never returns)."""
+    try:
+        _redirect(request["output"])
+    except BaseException:  # noqa: BLE001 - output not redirected: print nothing on the runner's pipe
+        os._exit(1)
+    code = 1
+    try:
+        code = _child(request)
+    except BaseException:  # noqa: BLE001 - the command's output tells
+        traceback.print_exc()
+    finally:
+        try:
+            sys.stdout.flush()
+            sys.stderr.flush()
+        finally:
+            os._exit(code if 0 <= code < 256 else 1)
+
+
+def serve() -> None:
+    """The runner: import nbgrader's application, then fork a child per request line."""
+    # as the console script: the folder of the executable first on sys.path, not tests/
+    sys.path[0] = str(Path(sys.executable).parent)
+    import nbgrader.apps.nbgraderapp  # noqa: F401 - the import this process exists for
+
+    assert threading.active_count() == 1, "the nbgrader runner must not fork with threads running"
+    for line in sys.stdin:
+        request = json.loads(line)
+        pid = os.fork()
+        if pid == 0:
+            _command(request)
+        print(json.dumps({"pid": pid}), flush=True)
+        _, status = os.waitpid(pid, 0)
+        print(json.dumps({"exit": os.waitstatus_to_exitcode(status)}), flush=True)
+
+
+if __name__ == "__main__":
+    serve()

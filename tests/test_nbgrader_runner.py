@@ -1,0 +1,81 @@
+"""nbgrader commands forked from a warm process (tests/nbgrader_runner.py) behave as new processes.
+
+The grading suites run their nbgrader commands through the runner; the
+walk-through of tests/test_nbgrader.py runs the console script itself. Here: the
+same output and exit code as the console script, the request's folder and
+environment (a course's ``nbgrader_config.py`` is Python, so it can print them),
+a command past its time limit killed without harming the next one, and no process
+left when the runners are closed.
+"""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+import textwrap
+
+import pytest
+
+from conftest import ROOT
+
+pytest.importorskip("nbgrader", reason="nbgrader is not installed: run `make test` (installs requirements.txt)")
+psutil = pytest.importorskip("psutil")
+sys.path.insert(0, str(ROOT / "tools"))
+
+import nbgrader_runner  # noqa: E402
+import student_edition  # noqa: E402
+
+pytestmark = pytest.mark.nbgrader
+
+#: A course configuration that tells where and with what it runs (nbgrader executes it).
+PROBE_CONFIG = textwrap.dedent("""\
+    import os, sys
+    print("PROBE", os.getcwd(), os.environ.get("ROBOKIN_PROBE"), sys.argv[1:], flush=True)
+    if os.environ.get("ROBOKIN_PROBE") == "sleep":
+        import time
+        time.sleep(60)
+""")
+
+
+def environment(**extra: str) -> dict[str, str]:
+    return {**student_edition.environment(), **extra}
+
+
+@pytest.mark.parametrize("args", [["--version"], ["autograde", "no_such_assignment"]])
+def test_output_and_exit_code_are_the_console_scripts(tmp_path, args):
+    new = subprocess.run([*student_edition.nbgrader_command(), *args], cwd=tmp_path, env=environment(),
+                         capture_output=True, text=True, timeout=120)
+    forked = nbgrader_runner.run(args, tmp_path, environment(), timeout=120)
+    assert forked.returncode == new.returncode
+    assert forked.stdout == new.stdout + new.stderr   # stdout and stderr go to one file, in order
+
+
+def test_a_command_runs_in_its_folder_with_its_environment(tmp_path):
+    runs = []
+    for name in ("first", "second"):
+        course = tmp_path / name
+        course.mkdir()
+        (course / "nbgrader_config.py").write_text(PROBE_CONFIG)
+        runs.append(nbgrader_runner.run(["db", "student", "list"], course, environment(ROBOKIN_PROBE=name),
+                                        timeout=120))
+    for name, run in zip(("first", "second"), runs):
+        assert run.returncode == 0, run.stdout
+        assert f"PROBE {tmp_path / name} {name} ['db', 'student', 'list']" in run.stdout
+
+
+def test_a_command_past_its_time_limit_is_killed_and_the_next_one_runs(tmp_path):
+    (tmp_path / "nbgrader_config.py").write_text(PROBE_CONFIG)
+    with pytest.raises(subprocess.TimeoutExpired) as caught:
+        nbgrader_runner.run(["db", "student", "list"], tmp_path, environment(ROBOKIN_PROBE="sleep"), timeout=3)
+    assert "PROBE" in caught.value.output
+    after = nbgrader_runner.run(["--version"], tmp_path, environment(), timeout=120)
+    assert after.returncode == 0 and "nbgrader version" in after.stdout
+
+
+def test_closed_runners_leave_no_process():
+    nbgrader_runner.run(["--version"], ROOT, environment(), timeout=120)
+    runners = nbgrader_runner.runner_pids()
+    assert runners and all(psutil.Process(pid).num_threads() == 1 for pid in runners)   # forks safely
+    nbgrader_runner.close_all()
+    assert not nbgrader_runner.runner_pids()
+    assert not [pid for pid in runners if psutil.pid_exists(pid)]
