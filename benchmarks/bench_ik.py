@@ -121,7 +121,7 @@ def main() -> None:
     ap.add_argument("--n-other", type=int, default=200, help="targets for the other methods")
     ap.add_argument("--robots", nargs="+", default=["ur10", "baxter_left"])
     ap.add_argument("--methods", nargs="+", default=list(METHODS), choices=list(METHODS))
-    ap.add_argument("--batch", type=int, default=1000, help="targets of the extra 'lm' batch timing")
+    ap.add_argument("--batch", type=int, default=1000, help="targets of the extra 'lm' batch timing (0: skip)")
     ap.add_argument("--ar601", type=int, default=100, help="poses of the AR-601 closed-form table (0: skip)")
     args = ap.parse_args()
     print("| robot | method | N | success | median ms/solve | median CPU ms/solve | median CPU / naive DH fk "
@@ -129,22 +129,27 @@ def main() -> None:
     print("|---|---|---|---|---|---|---|---|---|---|---|")
     for robot in args.robots:
         bench(robot, args.n, args.n_other, args.methods)
+    if args.batch:
+        bench_batch(args.robots, args.batch)
+    if args.ar601:
+        bench_ar601(args.ar601)
+
+
+def bench_batch(robots: list[str], n: int) -> None:
+    """The default method batched on ``n`` random reachable targets per robot."""
     print()
-    print(f"Batched 'lm' on {args.batch} targets (best of 5 runs; wall and CPU time of this process):")
-    for robot in args.robots:
+    print(f"Batched 'lm' on {n} targets (best of 5 runs; wall and CPU time of this process):")
+    for robot in robots:
         chain = getattr(models, robot)()
-        T = chain.fk(chain.random_configurations(args.batch, seed=777))
+        T = chain.fk(chain.random_configurations(n, seed=777))
         best, best_cpu = np.inf, np.inf
         for _ in range(5):
             t0, c0 = time.perf_counter(), time.process_time()
             rb = solve_ik_batch(chain, T)
             best = min(best, time.perf_counter() - t0)
             best_cpu = min(best_cpu, time.process_time() - c0)
-        print(f"  {robot}: {1e6 * best / args.batch:.1f} µs/target wall, {1e6 * best_cpu / args.batch:.1f} µs/target "
+        print(f"  {robot}: {1e6 * best / n:.1f} µs/target wall, {1e6 * best_cpu / n:.1f} µs/target "
               f"CPU, success {100 * rb.success.mean():.2f} %, mean iterations {rb.iterations.mean():.1f}")
-
-    if args.ar601:
-        bench_ar601(args.ar601)
 
 
 if __name__ == "__main__":
