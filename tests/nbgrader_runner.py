@@ -40,37 +40,45 @@ class Runner:
     """One warm process that forks a child per nbgrader command (see the module's docstring)."""
 
     def __init__(self, env: dict[str, str]) -> None:
-        self.process = subprocess.Popen(
-            [sys.executable, __file__, "--serve"], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
-            env=env, text=True, bufsize=1)
+        self.process = subprocess.Popen([sys.executable, __file__, "--serve"], stdin=subprocess.PIPE,
+                                        stdout=subprocess.PIPE, env=env, bufsize=0)
+        self._unread = b""   # what the runner wrote and no reply has taken yet
 
     def run(self, args: list[str], cwd: Path, env: dict[str, str], timeout: float) -> subprocess.CompletedProcess:
+        command = ["nbgrader", *args]
         with tempfile.TemporaryDirectory(prefix="robokin-nbgrader-") as folder:
             output = Path(folder) / "output.txt"
             request = {"args": args, "cwd": str(cwd), "env": env, "output": str(output)}
-            self.process.stdin.write(json.dumps(request) + "\n")
+            self.process.stdin.write(json.dumps(request).encode() + b"\n")
             deadline = time.monotonic() + timeout
-            child = self._reply(deadline, None)["pid"]
-            try:
-                returncode = self._reply(deadline, child)["exit"]
-            except subprocess.TimeoutExpired:
-                os.kill(child, signal.SIGKILL)
-                self._reply(time.monotonic() + 60.0, None)
-                raise subprocess.TimeoutExpired(["nbgrader", *args], timeout,
-                                                output.read_text(errors="replace")) from None
+            started = self._reply(deadline)
+            ended = started and self._reply(deadline)
+            if not ended:
+                if started:
+                    os.kill(started["pid"], signal.SIGKILL)
+                    self._reply(time.monotonic() + 60.0)   # the killed child's exit
+                raise subprocess.TimeoutExpired(command, timeout, output.read_text(errors="replace"))
             text = output.read_text(encoding="utf-8", errors="replace")
-        return subprocess.CompletedProcess(["nbgrader", *args], returncode, text, "")
+        return subprocess.CompletedProcess(command, ended["exit"], text, "")
 
-    def _reply(self, deadline: float, child: int | None) -> dict:
-        """The runner's next line; TimeoutExpired at ``deadline``, RuntimeError if the runner died."""
-        stdout = self.process.stdout
-        ready, _, _ = select.select([stdout], [], [], max(0.0, deadline - time.monotonic()))
-        if not ready:
-            raise subprocess.TimeoutExpired(["nbgrader"], deadline)
-        line = stdout.readline()
-        if not line:
-            raise RuntimeError(f"the nbgrader runner (pid {self.process.pid}) ended "
-                               f"(exit {self.process.wait()}) while running command {child}")
+    def _reply(self, deadline: float) -> dict | None:
+        """The runner's next line (None at ``deadline``); RuntimeError if the runner died.
+
+        Read from the pipe's file descriptor, not a buffered file: a buffered readline can
+        take both of a command's lines at once, and ``select`` would then wait for the
+        second one, already read, until the deadline.
+        """
+        fd = self.process.stdout.fileno()
+        while b"\n" not in self._unread:
+            ready, _, _ = select.select([fd], [], [], max(0.0, deadline - time.monotonic()))
+            if not ready:
+                return None
+            chunk = os.read(fd, 65536)
+            if not chunk:
+                raise RuntimeError(f"the nbgrader runner (pid {self.process.pid}) ended "
+                                   f"(exit {self.process.wait()}) in the middle of a command")
+            self._unread += chunk
+        line, _, self._unread = self._unread.partition(b"\n")
         return json.loads(line)
 
     def close(self) -> None:

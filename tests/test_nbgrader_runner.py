@@ -4,8 +4,8 @@ The grading suites run their nbgrader commands through the runner; the
 walk-through of tests/test_nbgrader.py runs the console script itself. Here: the
 same output and exit code as the console script, the request's folder and
 environment (a course's ``nbgrader_config.py`` is Python, so it can print them),
-a command past its time limit killed without harming the next one, and no process
-left when the runners are closed.
+a command past its time limit killed without harming the next one, commands that end at
+once following each other, and no process left when the runners are closed.
 """
 
 from __future__ import annotations
@@ -70,6 +70,13 @@ def test_a_command_past_its_time_limit_is_killed_and_the_next_one_runs(tmp_path)
     assert "PROBE" in caught.value.output
     after = nbgrader_runner.run(["--version"], tmp_path, environment(), timeout=120)
     assert after.returncode == 0 and "nbgrader version" in after.stdout
+
+
+def test_commands_that_end_at_once_follow_each_other_without_waiting(tmp_path):
+    """A command's two replies (started, ended) can arrive together: neither may be waited for again."""
+    for _ in range(20):
+        run = nbgrader_runner.run(["--version"], tmp_path, environment(), timeout=20)
+        assert run.returncode == 0 and "nbgrader version" in run.stdout
 
 
 def test_closed_runners_leave_no_process():
