@@ -11,6 +11,10 @@ from_dh, from_modified_dh, from_link_table
     Builders from standard DH, modified (Craig) DH and link-transform tables.
 Chain, DrawableChain
     Typing protocols: what the solvers and the views read from a chain.
+
+:mod:`robokin.chains.reference` holds forward kinematics and the geometric Jacobian as the
+book writes them (a product of link transforms; one column per joint), for reading; the
+engine of :class:`SerialChain` is tested against it.
 """
 
 from robokin.chains.builders import from_dh, from_link_table, from_modified_dh
