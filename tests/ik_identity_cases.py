@@ -6,19 +6,32 @@ with arguments drawn from a fixed seed -- methods and their options, robots
 (planar 3R with and without limits, a planar arm with a prismatic joint, the
 UR10, Baxter's left arm), pose and position targets, reachable and not, masks,
 tools, wrapping, step caps, restarts and the LM polish.  The result's arrays
-(q, errors, every history array) and scalars are hashed with SHA-256 so that
-the golden file stays small.
+(q, errors, every history array) and scalars are hashed with SHA-256 (compared
+bit for bit on the platform that recorded them), and the outcome of every case
+is stored as values too (q, success, reason: compared with :data:`Q_TOLERANCE`
+on any other platform, see :func:`value_differences`).
 
 Regenerate the golden file (only when a change of arithmetic is intended, and
 say so in the commit message)::
 
     PYTHONPATH=. python tests/ik_identity_cases.py
+
+It runs the cases twice: here, and in a child process with other SIMD kernels
+of numpy and another BLAS kernel (:data:`OTHER_KERNELS`). A case whose outcome
+differs between the two (beyond :data:`Q_TOLERANCE`) is *sensitive*: a last-bit
+change of the arithmetic sends it elsewhere (an unreachable target, a restart,
+a redundant arm drifting to another solution), so that only its digest, not its
+values, can be compared.
 """
 
 from __future__ import annotations
 
 import hashlib
+import os
 import platform
+import subprocess
+import sys
+import tempfile
 from pathlib import Path
 from typing import Any
 
@@ -39,6 +52,24 @@ from robokin.transforms import rotation_exp, transform
 GOLDEN = Path(__file__).parent / "data" / "ik_identity_golden.npz"
 SINGLE_CASES = 1000
 BATCH_CASES = 40
+#: Widest joint columns of the robots (Baxter's 7): q is stored padded with NaN to this width.
+WIDTH = 7
+#: Largest |q - q_recorded| (rad or m) of a case compared by value on another platform. The
+#: solvers' default tolerance is 1e-6; with other SIMD and BLAS kernels, the final q of a
+#: case that is not sensitive moves by 1e-15 (median) to 2e-8 (99th percentile of the
+#: solved cases): a real change of the algorithm moves it by far more.
+Q_TOLERANCE = 1e-6
+#: Cases compared by value that may still differ on another platform (other CPUs may find
+#: sensitive cases that the two kernel sets of the recording did not).
+VALUE_BUDGET = 0.01
+#: What the recording's second run changes: numpy's AVX-512 kernels off, OpenBLAS's Haswell kernels.
+OTHER_KERNELS = {
+    "OPENBLAS_CORETYPE": "Haswell",
+    "NPY_DISABLE_CPU_FEATURES": " ".join([
+        "AVX512F", "AVX512CD", "AVX512_SKX", "AVX512_CLX", "AVX512_CNL", "AVX512_ICL", "AVX512_SPR",
+        "AVX512BW", "AVX512DQ", "AVX512VL", "AVX512IFMA", "AVX512VBMI", "AVX512VBMI2", "AVX512BITALG",
+        "AVX512VPOPCNTDQ", "AVX512VNNI", "AVX512BF16", "AVX512FP16"]),
+}
 
 
 def _planar_3r(limited: bool) -> SerialChain:
@@ -244,23 +275,77 @@ def platform_fingerprint() -> str:
     return f"numpy {np.__version__}; blas {blas.get('name')} {blas.get('version')}; {platform.machine()}; {enabled}"
 
 
+def _padded(q: np.ndarray) -> np.ndarray:
+    out = np.full(q.shape[:-1] + (WIDTH,), np.nan)
+    out[..., : q.shape[-1]] = q
+    return out
+
+
+def outcome_values(single: list[Any], batch: list[Any]) -> dict[str, np.ndarray]:
+    """q (NaN-padded to :data:`WIDTH`), success and reason of every single case and of every
+    target of the batch cases (stacked in case order; ``batch_sizes`` splits them)."""
+    rows = [(r.q[i], r.success[i], r.reason[i]) for r in batch for i in range(len(r))]
+    return {
+        "single_q": np.array([_padded(r.q) for r in single]),
+        "single_success": np.array([r.success for r in single], dtype=bool),
+        "single_reason": np.array([r.reason for r in single]),
+        "batch_sizes": np.array([len(r) for r in batch]),
+        "batch_q": np.array([_padded(q) for q, _, _ in rows]).reshape(-1, WIDTH),
+        "batch_success": np.array([s for _, s, _ in rows], dtype=bool),
+        "batch_reason": np.array([str(reason) for _, _, reason in rows], dtype="<U16"),
+    }
+
+
+def differing(recorded: dict[str, np.ndarray], values: dict[str, np.ndarray], part: str) -> np.ndarray:
+    """Mask of the cases (``part`` 'single') or batch targets ('batch') whose success or reason
+    differ, or whose q differs by more than :data:`Q_TOLERANCE`."""
+    q_difference = np.nanmax(np.abs(recorded[f"{part}_q"] - values[f"{part}_q"]), axis=-1, initial=0.0)
+    return ((recorded[f"{part}_success"] != values[f"{part}_success"])
+            | (recorded[f"{part}_reason"] != values[f"{part}_reason"])
+            | ~(q_difference <= Q_TOLERANCE))
+
+
+def value_differences(recorded: dict[str, np.ndarray], values: dict[str, np.ndarray], part: str) -> list[int]:
+    """Indices of the cases (or batch targets) that are not sensitive and differ."""
+    return list(np.flatnonzero(differing(recorded, values, part) & ~recorded[f"{part}_sensitive"]))
+
+
 def compute() -> dict[str, np.ndarray]:
-    """Digests, iterations and success of every case, as arrays."""
+    """Digests, iterations and outcome values of every case, as arrays."""
     chains = robots()
     single = [run_single(c, chains) for c in single_cases()]
     batch = [run_batch(c, chains) for c in batch_cases()]
     return {
         "single_digest": np.array([list(digest_single(r)) for r in single], dtype=np.uint8),
         "single_iterations": np.array([r.iterations for r in single]),
-        "single_success": np.array([r.success for r in single]),
         "batch_digest": np.array([list(digest_batch(r)) for r in batch], dtype=np.uint8),
         "platform": np.array(platform_fingerprint()),
+        **outcome_values(single, batch),
     }
+
+
+def _compute_with_other_kernels() -> dict[str, np.ndarray]:
+    """:func:`compute` in a child process with :data:`OTHER_KERNELS` set."""
+    with tempfile.TemporaryDirectory() as folder:
+        out = Path(folder) / "other.npz"
+        code = (f"import numpy as np, ik_identity_cases as c; np.savez({str(out)!r}, **c.compute())")
+        env = {**os.environ, **OTHER_KERNELS,
+               "PYTHONPATH": os.pathsep.join([str(Path(__file__).parent), str(Path(__file__).parent.parent)])}
+        subprocess.run([sys.executable, "-c", code], env=env, check=True)
+        with np.load(out) as data:
+            return {k: data[k] for k in data.files}
 
 
 if __name__ == "__main__":
     data = compute()
+    other = _compute_with_other_kernels()
+    if str(other["platform"]) == str(data["platform"]):
+        raise SystemExit("the second run did not change the arithmetic's kernels: no sensitive case can be found")
+    for part in ("single", "batch"):
+        data[f"{part}_sensitive"] = differing(data, other, part)
     GOLDEN.parent.mkdir(exist_ok=True)
     np.savez_compressed(GOLDEN, **data)
     print(f"wrote {GOLDEN}: {len(data['single_digest'])} single cases "
-          f"({data['single_success'].mean():.0%} solved), {len(data['batch_digest'])} batch cases")
+          f"({data['single_success'].mean():.0%} solved, {data['single_sensitive'].sum()} sensitive), "
+          f"{len(data['batch_digest'])} batch cases ({len(data['batch_q'])} targets, "
+          f"{data['batch_sensitive'].sum()} sensitive)")
