@@ -247,3 +247,26 @@ def test_within_stroke():
     robot = three_rpr(stroke=(0.2, 1.0))
     assert robot.within_stroke([0.5, 0.5, 0.5]) and not robot.within_stroke([0.1, 0.5, 0.5])
     assert list(robot.within_stroke([[0.5, 0.5, 0.5], [0.5, 1.5, 0.5]])) == [True, False]
+
+
+@pytest.mark.parametrize("pose, leg, where", [
+    ([0.0, 0.0, 0.3], 1, r"pose \[0.0, 0.0, 0.3\]"),                     # B1 on A1
+    ([[0.2, 0.1, 0.4], [0.0, 0.0, 0.4]], 1, r"pose\[1\] = \[0.0, 0.0, 0.4\]"),
+    ([1.0 - np.cos(0.7), -np.sin(0.7), 0.7], 2, r"pose \["),               # B2 on A2
+])
+def test_jacobian_at_a_zero_length_leg_names_the_pose_and_the_leg(pose, leg, where):
+    """A grid of positions through a base anchor: the error says which pose and which leg."""
+    with pytest.raises(DomainError, match=rf"{where}.*B{leg} on base anchor A{leg} \(leg {leg} has length 0\)"):
+        three_rpr().jacobian(pose)
+    with pytest.raises(DomainError, match=f"leg {leg} has length 0"):
+        three_rpr().condition_number(pose)
+
+
+def test_jacobian_maps_platform_velocity_to_leg_rates():
+    """jacobian is the inverse Jacobian A (rho_dot = A x_dot), direct_jacobian its inverse."""
+    robot = three_rpr()
+    pose, x_dot, h = np.array([0.3, 0.2, 0.4]), np.array([0.05, -0.02, 0.3]), 1e-6
+    rho_dot = (robot.inverse_kinematics(pose + h * x_dot) - robot.inverse_kinematics(pose - h * x_dot)) / (2 * h)
+    assert np.allclose(robot.jacobian(pose) @ x_dot, rho_dot, atol=1e-9)
+    assert np.allclose(robot.direct_jacobian(pose) @ rho_dot, x_dot, atol=1e-9)
+    assert "leg rates" in Planar3RPR.jacobian.__doc__ and "serial chain" in Planar3RPR.jacobian.__doc__

@@ -23,45 +23,27 @@ orientation. The platform anchors are given in the platform frame,
 
 Forward kinematics
 ------------------
-With :math:`\mathbf{u} = \mathbf{B}_1 - \mathbf{A}_1`, subtracting the first loop
-equation :math:`\lVert\mathbf{u}\rVert^2 = \rho_1^2` from the two others gives two
-equations *linear* in :math:`\mathbf{u}`:
-
-.. math::
-
-    2\,\mathbf{e}_i^\top \mathbf{u} = \rho_i^2 - \rho_1^2 - \lVert\mathbf{e}_i\rVert^2,
-    \qquad
-    \mathbf{e}_i = \mathbf{R}(\varphi)(\mathbf{b}_i - \mathbf{b}_1) - (\mathbf{a}_i - \mathbf{a}_1),
-    \quad i = 2, 3,
-
-i.e. :math:`\mathbf{M}(\varphi)\mathbf{u} = \mathbf{r}(\varphi)`. Cramer's rule,
-:math:`\mathbf{u} = \mathbf{N}/D` with :math:`D = \det\mathbf{M}`, substituted into the
-first equation gives the orientation equation
-
-.. math::
-
-    F(\varphi) = \lVert\mathbf{N}(\varphi)\rVert^2 - \rho_1^2 D(\varphi)^2 = 0,
-
-a trigonometric polynomial with harmonics up to :math:`3\varphi`. With
-:math:`t = \tan(\varphi/2)` and multiplied by :math:`(1 + t^2)^3` it is a
-polynomial of degree 6 in :math:`t` (at most six real assembly modes); with
-:math:`z = e^{i\varphi}` and multiplied by :math:`z^3` it is a polynomial of degree 6
-in :math:`z` whose roots on the unit circle are the real solutions. The solver
-uses the second form (no special case for :math:`\varphi = \pi`, where
-:math:`t \to \infty`), then polishes every root with Newton's method on the three
-loop equations.
+:meth:`Planar3RPR.forward_kinematics` returns every assembly mode (platform pose) for
+given leg lengths: the real roots of the orientation equation :math:`F(\varphi) = 0`
+that is left after the position is eliminated from the three loop equations. With
+:math:`t = \tan(\varphi/2)`, :math:`(1 + t^2)^3 F` is a polynomial of degree 6
+(:meth:`Planar3RPR.orientation_polynomial`), so there are at most six real assembly
+modes (Gosselin & Merlet 1994; Merlet 2006, §4.2). The solver finds the roots as those of
+a polynomial in :math:`z = e^{i\varphi}` (no special case for :math:`\varphi = \pi`,
+where :math:`t \to \infty`), then polishes every pose with Newton's method on the three
+loop equations. The derivation of the equation and of its degree is chapter 3 of the
+workbook (its solution).
 
 Velocities
 ----------
-Differentiating :math:`\rho_i^2 = \lVert\mathbf{B}_i - \mathbf{A}_i\rVert^2` gives
-:math:`\dot\rho_i = \mathbf{n}_i^\top\dot{\mathbf{p}}
-+ ((\mathbf{B}_i - \mathbf{p}) \times \mathbf{n}_i)_z\,\dot\varphi`
-with the leg direction :math:`\mathbf{n}_i = (\mathbf{B}_i - \mathbf{A}_i)/\rho_i`, i.e.
-:math:`\dot{\boldsymbol\rho} = \mathbf{A}(\mathbf{x})\,\dot{\mathbf{x}}` with the
-*inverse Jacobian* :math:`\mathbf{A}` (rows
-:math:`[\mathbf{n}_i^\top,\ ((\mathbf{B}_i - \mathbf{p})\times\mathbf{n}_i)_z]`)
-(Merlet 2006, §5.2). :math:`\mathbf{A}` is singular when the three leg lines meet in
-one point or are parallel (parallel or type-2 singularity, Gosselin & Angeles 1990).
+:meth:`Planar3RPR.jacobian` returns the *inverse Jacobian* :math:`\mathbf{A}(\mathbf{x})`
+of the robot, :math:`\dot{\boldsymbol\rho} = \mathbf{A}\,\dot{\mathbf{x}}` with
+:math:`\dot{\mathbf{x}} = (\dot x, \dot y, \dot\varphi)`: it maps the platform velocity to the
+leg rates (Merlet 2006, §5.2), the opposite direction to ``jacobian`` of a serial chain
+(:meth:`robokin.chains.SerialChain.jacobian`), which maps the joint rates to the twist.
+:meth:`Planar3RPR.direct_jacobian` returns :math:`\mathbf{A}^{-1}`. Where
+:math:`\det\mathbf{A} = 0` the robot is at a parallel (type-2) singularity
+(Gosselin & Angeles 1990).
 """
 
 from __future__ import annotations
@@ -293,30 +275,43 @@ class Planar3RPR:
         r"""Inverse Jacobian :math:`\mathbf{A}`:
         :math:`\dot{\boldsymbol\rho} = \mathbf{A}\,[\dot x, \dot y, \dot\varphi]^\top`.
 
-        Row :math:`i` is :math:`[\mathbf{n}_i^\top,\ ((\mathbf{B}_i - \mathbf{p}) \times \mathbf{n}_i)_z]`
-        with :math:`\mathbf{n}_i = (\mathbf{B}_i - \mathbf{A}_i)/\rho_i` (Merlet 2006, §5.2).
+        Note the direction: for this parallel robot ``jacobian`` maps the platform velocity
+        to the leg rates (row :math:`i` gives :math:`\dot\rho_i`; columns :math:`\dot x`,
+        :math:`\dot y` in m/s and :math:`\dot\varphi` in rad/s), while ``jacobian`` of a
+        serial chain maps the joint rates to the twist. :meth:`direct_jacobian` is
+        :math:`\mathbf{A}^{-1}`, the map from leg rates to platform velocity
+        (Merlet 2006, §5.2).
 
         Parameters
         ----------
         pose : array_like, shape (3,) or (N, 3)
+            ``(x, y, φ)`` of the platform frame, metres and radians.
 
         Returns
         -------
         numpy.ndarray, shape (3, 3) or (N, 3, 3)
+            Rows: legs; columns: :math:`\dot x, \dot y` (dimensionless) and
+            :math:`\dot\varphi` (m/rad).
 
         Raises
         ------
         DomainError
-            If a leg has zero length (its direction is undefined).
+            If a pose puts a platform anchor on its base anchor (a leg of length 0,
+            whose direction is undefined); the message names the pose and the leg.
         """
         X, batched = as_batch(pose, 3, "pose")
         X2 = X.reshape(-1, 3)
         B = self._points(X2)
         d = B - self.base_anchors
         rho = self._lengths(d, X2)
-        if (rho <= 1e-12 * self._scale).any():
-            raise DomainError("pose puts a platform anchor on its base anchor (a leg of length 0): "
-                              "the leg direction and the Jacobian are undefined")
+        zero = rho <= 1e-12 * self._scale
+        if zero.any():
+            k, leg = (int(i) for i in np.argwhere(zero)[0])
+            where = f"pose[{k}] = " if batched else "pose "
+            raise DomainError(
+                f"{where}{[float(f'{v:.6g}') for v in X2[k]]} puts platform anchor B{leg + 1} on base "
+                f"anchor A{leg + 1} (leg {leg + 1} has length 0): its direction and the Jacobian are "
+                "undefined there; leave such poses out (e.g. a grid of positions through a base anchor)")
         n = d / rho[..., None]
         arm = B - X2[:, None, :2]
         J = np.concatenate([n, _cross2(arm, n)[..., None]], axis=-1)

@@ -38,17 +38,6 @@ A0 = inverse_jacobian(POSE0)
 J0 = np.linalg.inv(A0)
 """
 
-_CUBIC_MODES = """
-_sq1, _sq2, _sq3 = rho0**2
-_cubic = [
-    0.5 * (_sq1 - _sq2 + 4 - 2) + (_sq3 - _sq1),
-    math.sqrt(3) / 2 * (4 - 4 + _sq2 - _sq1),
-    0.5 * (_sq1 - _sq2) + _sq3 - 3 - _sq1,
-    math.sqrt(3) / 2 * (_sq2 - _sq1),
-]
-modes0 = np.column_stack([np.zeros(3), np.zeros(3), 2 * np.arctan(np.sort(np.roots(_cubic).real))])
-"""
-
 _F_WITHOUT_D = """
 def F_of_phi(phi, rho, robot=robot):
     M, r = linear_solve(phi, rho, robot)
@@ -56,22 +45,69 @@ def F_of_phi(phi, rho, robot=robot):
     return adj_r @ adj_r - rho[0] ** 2  # the factor det(M)^2 forgotten
 """
 
+_MODES_WITHOUT_ANGLE = """
+_my_fk_right = my_fk
+
+def my_fk(rho, robot=robot):
+    modes = _my_fk_right(rho, robot)
+    return modes[:, :2]  # the orientation dropped
+
+modes0 = my_fk(rho0)
+"""
+
+_CRAMER_NO_CONJUGATE = """
+def cramer_parts(phi, rho, robot=robot):
+    a = robot.base_anchors[:, 0] + 1j * robot.base_anchors[:, 1]
+    b = robot.platform_anchors[:, 0] + 1j * robot.platform_anchors[:, 1]
+    E = np.exp(1j * phi) * (b[1:] - b[0]) - (a[1:] - a[0])
+    r = rho[1:] ** 2 - rho[0] ** 2 - np.abs(E) ** 2
+    return r[0] * E[1] - r[1] * E[0], E[0] * E[1]  # Delta without the conjugates
+"""
+
+_CRAMER_REAL_FORM = """
+def cramer_parts(phi, rho, robot=robot):
+    M, r = linear_solve(phi, rho, robot)
+    u = np.linalg.solve(M, r)
+    return complex(*u), 1.0  # the right w, but not Cramer's rule: not a sum of powers of z
+"""
+
+_PIVOT_AT_B1 = """
+pivot = np.asarray(pose_s[:2], dtype=float).copy()  # the platform's reference point
+"""
+
+
 MUTATIONS = {
     "task1_test1": [
         ("squared leg lengths",
          "_ik_right = ik\n\ndef ik(pose):\n    return _ik_right(pose) ** 2\n\nrho0 = ik(POSE0)"),
         ("platform turned by R(-phi) (rotation transposed)", _IK_TRANSPOSED),
+        ("the answer right at x0 only (a table of one pose)",
+         "_rho0_right = rho0.copy()\n\ndef ik(pose):\n    return _rho0_right.copy()\n"),
     ],
     "task2_test1": [
         ("the factor t^2 divided out of the polynomial (degree 4)",
          "poly_t = sp.Poly(sp.cancel(poly_t.as_expr() / t**2), t)"),
-        ("the mirror modes -phi dropped",
-         "modes0 = my_fk(rho0)[2:]"),
+        ("F without the factor D^2 on rho1^2 (a polynomial of other roots)",
+         "poly_t = sp.Poly(sp.expand(poly_t.as_expr() + 5 * t**2), t)"),
     ],
     "task2_test2": [
-        ("the orientations taken from the pitfall's cubic", _CUBIC_MODES),
+        ("only the odd coefficients named", "vanishing_coefficients = {1, 3, 5}"),
+        ("a coefficient named that does not vanish", "vanishing_coefficients = {0, 1, 2, 3, 5}"),
     ],
     "task2_test3": [
+        ("Delta without the conjugates", _CRAMER_NO_CONJUGATE),
+        ("w itself returned (no Cramer's rule)", _CRAMER_REAL_FORM),
+        ("the powers of the real form (order 2 each)", "N_powers, Delta_powers = (-2, 2), (-2, 2)"),
+    ],
+    "task2_test4": [
+        ("the mirror modes -phi dropped",
+         "modes0 = my_fk(rho0)[2:]"),
+        ("the orientation dropped from the modes", _MODES_WITHOUT_ANGLE),
+        ("my_fk solves the exercise's robot whatever robot it is given",
+         "_my_fk_right = my_fk\n\ndef my_fk(rho, robot=robot):\n"
+         "    return _my_fk_right(rho)\n"),
+    ],
+    "task2_test5": [
         ("F without the factor det(M)^2 on rho1^2", _F_WITHOUT_D),
         ("modes6 solved for the exercise's robot instead of the classic one",
          "modes6 = my_fk(CLASSIC_RHO)"),
@@ -79,12 +115,7 @@ MUTATIONS = {
     "task3_test1": [
         ("moment arm from the base origin", _ARM_FROM_ORIGIN),
         ("leg vectors not normalised (rho_i rho_i-dot)", _UNNORMALISED),
-    ],
-    "task3_test2": [
-        ("A0 with the moment arm from the base origin",
-         "A0 = A0.copy()\n"
-         "A0[:, 2] = robot.platform_points(POSE0)[:, 0] * A0[:, 1]"
-         " - robot.platform_points(POSE0)[:, 1] * A0[:, 0]"),
+        ("J0 = A0 (the direct Jacobian taken for the inverse one)", "J0 = A0"),
     ],
     "task4_test1": [
         ("det A instead of rho1 rho2 rho3 det A (not a conic)",
@@ -94,7 +125,8 @@ MUTATIONS = {
          "pose_s = np.array([*centre, PHI_MAP])"),
     ],
     "task4_test2": [
-        ("only the first three modes of the classic robot",
-         "modes6 = modes6[:3]"),
+        ("the pivot taken at B1", _PIVOT_AT_B1),
+        ("every position singular at phi = pi/2 (not 0)",
+         "phi_all_singular = np.pi / 2"),
     ],
 }
