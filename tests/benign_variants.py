@@ -73,6 +73,28 @@ def ik(pose):  # written another way: leg by leg, the platform point rotated by 
 
 rho0 = ik(POSE0)
 '''),
+        "task2_answer2": ("modes with phi in [0, 2 pi), N and Delta both times z", '''
+
+_my_fk_principal = my_fk
+
+
+def my_fk(rho, robot=robot):  # written another way: angles in [0, 2 pi), sorted there
+    modes = _my_fk_principal(rho, robot).copy()
+    modes[:, 2] = np.mod(modes[:, 2], 2 * np.pi)
+    return modes[np.argsort(modes[:, 2])]
+
+
+_cramer_principal = cramer_parts
+
+
+def cramer_parts(phi, rho, robot=robot):  # written another way: w = (z N) / (z Delta)
+    N, Delta = _cramer_principal(phi, rho, robot)
+    return np.exp(1j * phi) * N, np.exp(1j * phi) * Delta
+
+
+N_powers, Delta_powers = (0, 3), (0, 2)
+modes0 = my_fk(rho0)
+'''),
         "task3_answer1": ("the moment column by a 3D cross product", '''
 
 def inverse_jacobian(pose):  # written another way: rows [u_i, (R b_i x u_i)_z], np.cross
