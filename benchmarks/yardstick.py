@@ -3,7 +3,7 @@
 One 4×4 Denavit–Hartenberg matrix per joint built with ``np.array`` and
 multiplied with ``@`` -- what a student writes first (UR10 parameters).
 Timed in the same run as the code it measures, so that the ratio cancels the
-machine's speed and its load; the issue's goals are ratios to it:
+machine's speed and its load; the goals are ratios to it:
 forward kinematics ≤ 0.3×, geometric Jacobian ≤ 0.5×, default IK median ≤ 15×.
 """
 

@@ -1,4 +1,4 @@
-"""The IK guarantees, over seeded random targets (issue 13).
+"""The IK guarantees, over seeded random targets: what a caller may rely on whatever the target.
 
 For thousands of seeded targets on the UR10 and the Baxter arm -- reachable
 poses (forward kinematics of random configurations, some of them next to a
