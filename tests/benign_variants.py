@@ -1,4 +1,4 @@
-"""Correct answers written another way, per chapter (issue 21: "however it is written").
+"""Correct answers written another way, per chapter: a right answer earns full marks however it is written.
 
 tests/test_grading_trust.py grades, for every chapter, the instructor's solutions
 with some answers re-computed by another valid method -- genuinely different code,

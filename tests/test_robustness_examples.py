@@ -1,4 +1,4 @@
-"""The robustness defects of issue 13, one regression test each (and one per class found).
+"""Robustness defects found in a review of bad inputs, one regression test each (and one per class found).
 
 The property suite (test_robustness_fuzz.py) covers every public function; these
 are the readable examples: what a student typed, and the error or result they now get.

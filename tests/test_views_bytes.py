@@ -3,7 +3,7 @@
 The book stores scenes by the hash of their data (``_static/scenes/<key>.js``),
 so a refactoring of :mod:`robokin.views` must not change a single byte of
 ``Scene.commands()`` (as packed for a page) or ``Scene.to_html()``. The hashes
-below were recorded before the views were re-layered (issue 22); a change to
+below were recorded before the views were split into layers; a change to
 the drawing itself updates them deliberately, in the same commit.
 """
 
