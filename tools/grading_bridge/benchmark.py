@@ -14,6 +14,7 @@ Timings depend on the machine and its load; nothing in the test suite asserts th
 from __future__ import annotations
 
 import argparse
+import queue
 import statistics
 import sys
 import tempfile
@@ -46,10 +47,8 @@ def start_kernel(sandbox: bool, folder: str):
     functions defined, and a blocking client of it: ``(manager, client)``.
 
     The client keeps any number of unread iopub messages (as the clients of
-    :mod:`kernel_sockets` managers do): a cell that prints thousands of lines
-    would otherwise lose messages when this process falls behind, the ``idle``
-    that ends the request among them (``execute_interactive`` then waits for its
-    time limit).
+    :mod:`kernel_sockets` managers do) and uses no heartbeat; cells are run with
+    :func:`run_cell`, which reads their end from the shell channel.
     """
     import zmq
     from jupyter_client.manager import KernelManager
@@ -70,10 +69,37 @@ def start_kernel(sandbox: bool, folder: str):
     context.setsockopt(zmq.RCVHWM, 0)   # the default of the client's channels: no receive limit
     client = BlockingKernelClient(context=context)
     client.load_connection_info(manager.get_connection_info())
-    client.start_channels()
+    # No heartbeat (as the bridge's link): a client without its manager judges the kernel by
+    # heartbeats answered within 1 s, and on a busy machine a late answer made wait_for_ready
+    # report "Kernel died before replying to kernel_info" of a live kernel. The wait for the
+    # kernel_info reply (60 s, never reached by load: ~1 s on a quiet machine) decides alone.
+    client.start_channels(hb=False)
     client.wait_for_ready(timeout=60)
-    client.execute_interactive(STUDENT_CODE, timeout=60)
+    run_cell(client, STUDENT_CODE, timeout=60)
     return manager, client
+
+
+def run_cell(client, code: str, timeout: float) -> dict:
+    """Run ``code`` in the kernel of ``client`` and return its ``execute_reply``.
+
+    The end of the request is read from its reply on the shell channel, never from the
+    ``idle`` status on iopub (``execute_interactive`` waits for that): the kernel sends
+    iopub through a ZeroMQ PUB socket, which drops messages for a subscriber more than
+    1,000 behind (ZeroMQ's default send limit, which ipykernel keeps). After a cell that
+    printed thousands of lines on a busy machine the ``idle`` could be among them, and
+    the wait then ran into its time limit ("Timeout waiting for output"). A reply on the
+    shell channel is never dropped. The cell's output stays unread on iopub.
+    """
+    msg_id = client.execute(code, store_history=False)
+    deadline = time.monotonic() + timeout
+    while (remaining := deadline - time.monotonic()) > 0:
+        try:
+            reply = client.get_shell_msg(timeout=remaining)
+        except queue.Empty:
+            break
+        if reply["parent_header"].get("msg_id") == msg_id:
+            return reply
+    raise TimeoutError(f"the kernel did not finish the cell within {timeout:g} s: {code[:60]!r}")
 
 
 def stop_kernel(manager) -> None:
