@@ -42,7 +42,8 @@ REFERENCES["ur10.ik_position"] = dict(_IK)
 # chapter 3, the 3-RPR
 REFERENCES["three_rpr.inverse_kinematics"] = {"inverse_kinematics": "Planar3RPR.inverse_kinematics"}
 REFERENCES["three_rpr.forward_kinematics"] = {"forward_kinematics": "Planar3RPR.forward_kinematics",
-                                              "orientation_polynomial": "Planar3RPR.orientation_polynomial"}
+                                              "orientation_polynomial": "Planar3RPR.orientation_polynomial",
+                                              "orientation_harmonics": "Planar3RPR.orientation_harmonics"}
 REFERENCES["three_rpr.inverse_jacobian"] = {"jacobian": "Planar3RPR.jacobian",
                                             "direct_jacobian": "Planar3RPR.direct_jacobian"}
 # chapter 5, Baxter: one command of the resolved-rate law
