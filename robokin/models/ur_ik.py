@@ -1,0 +1,690 @@
+r"""Closed-form inverse kinematics of the Universal Robots arms (:func:`robokin.models.ur10`).
+
+The UR3, UR5, UR10 (CB3) and UR3e, UR5e, UR10e, UR16e (e-Series) share one
+kinematic structure: in robokin's DH layout (rows ``(d, θ_offset, a, α)``,
+:func:`robokin.chains.from_dh`, each row
+:math:`R_z(\theta_i)\,T_z(d_i)\,T_x(a_i)\,R_x(\alpha_i)`)
+
+====  =====  =====  =====  ========
+i     d_i    a_i    α_i    θ_i
+====  =====  =====  =====  ========
+1     d1     0      π/2    q1
+2     0      a2     0      q2
+3     0      a3     0      q3
+4     d4     0      π/2    q4
+5     d5     0      −π/2   q5
+6     d6     0      0      q6
+====  =====  =====  =====  ========
+
+with the manufacturer's signs (``a2``, ``a3`` < 0; ``d4`` > 0: the wrist is
+offset sideways from the plane of the arm). Joints 2, 3 and 4 are parallel
+(their axes are :math:`\mathbf{z}_1`); the three wrist axes do not meet in a
+point, so Pieper's decoupling of the position from the orientation does not
+apply, but the parallel axes give a closed form all the same (Hawkins 2013,
+*Analytic inverse kinematics for the Universal Robots UR-5/UR-10 arms*;
+Siciliano et al. 2009 §2.12; Lynch & Park 2017 §6.1). Derived here from the
+table above and checked numerically (``tests/test_ur_ik.py``). Given the tool
+flange pose :math:`(\mathbf{R}, \mathbf{p}) = ([\mathbf{x}_6\ \mathbf{y}_6\ \mathbf{z}_6], \mathbf{p})`
+in the base frame:
+
+1. **Wrist centre and q1.** The origin of frame 5 is
+   :math:`\mathbf{o}_5 = \mathbf{p} - d_6\,\mathbf{z}_6`. Every point of the arm
+   beyond joint 1 lies at the height :math:`d_4` along the horizontal axis
+   :math:`\mathbf{z}_1 = [s_1,\ -c_1,\ 0]^\top` of the parallel joints, so
+   :math:`o_{5x} s_1 - o_{5y} c_1 = d_4`. With
+   :math:`o_{5x} + i\,o_{5y} = r\,e^{i\psi}`: :math:`r\sin(q_1 - \psi) = d_4`,
+
+   .. math:: q_1 = \psi + \tfrac{\pi}{2} \pm \arccos(d_4 / r),
+
+   two *shoulder* solutions if :math:`r > |d_4|` (the wrist centre outside the
+   cylinder of radius :math:`|d_4|` about the base axis), none if
+   :math:`r < |d_4|`.
+2. **q5.** :math:`\mathbf{z}_1` seen from the flange is
+   :math:`\mathbf{R}^\top\mathbf{z}_1 = [c_6 s_5,\ -s_6 s_5,\ c_5]^\top`, so
+   :math:`c_5 = \mathbf{z}_6\cdot\mathbf{z}_1` and
+   :math:`|s_5| = \lVert(\mathbf{x}_6\cdot\mathbf{z}_1,\ \mathbf{y}_6\cdot\mathbf{z}_1)\rVert`:
+   :math:`q_5 = \pm\operatorname{atan2}(|s_5|, c_5)`, two *wrist* solutions.
+3. **q6** from the same vector:
+   :math:`q_6 = \operatorname{atan2}(-\mathbf{y}_6\cdot\mathbf{z}_1 / s_5,\ \mathbf{x}_6\cdot\mathbf{z}_1 / s_5)`;
+   undefined when :math:`s_5 = 0` (joints 2, 3, 4 and 6 parallel).
+4. **Planar three-link problem for q2, q3, q4.** The origin of frame 4 is
+   :math:`\mathbf{o}_4 = \mathbf{o}_5 - d_5\mathbf{z}_4` with
+   :math:`\mathbf{z}_4 = -s_6\mathbf{x}_6 - c_6\mathbf{y}_6`, and the axis
+   :math:`\mathbf{x}_4 = c_5 c_6\mathbf{x}_6 - c_5 s_6\mathbf{y}_6 - s_5\mathbf{z}_6`.
+   In the plane of the arm (frame 1: :math:`X = c_1 o_{4x} + s_1 o_{4y}`,
+   :math:`Y = o_{4z} - d_1`) the links :math:`a_2`, :math:`a_3` reach
+   :math:`(X, Y)`:
+
+   .. math::
+
+       c_3 = \frac{X^2 + Y^2 - a_2^2 - a_3^2}{2 a_2 a_3},\quad
+       q_3 = \pm\operatorname{atan2}\!\big(\sqrt{1 - c_3^2},\ c_3\big),\quad
+       q_2 = \operatorname{atan2}(Y, X) - \operatorname{atan2}(a_3 s_3,\ a_2 + a_3 c_3),
+
+   two *elbow* solutions (none if :math:`|c_3| > 1`), and
+   :math:`q_4 = \operatorname{atan2}(x_{4z},\ c_1 x_{4x} + s_1 x_{4y}) - q_2 - q_3`
+   (the three parallel joints add up to the angle of :math:`\mathbf{x}_4` in the plane).
+
+Up to :math:`2\times2\times2 = 8` solutions. Each one is verified by the forward
+kinematics of the table (the product of its six DH matrices, written out in
+:func:`_flange_pose`; equal to :func:`robokin.models.ur10`'s ``fk`` and to
+``from_dh(table).fk`` to 1e-12 in the tests): ``position_residual``,
+``orientation_residual``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any, NamedTuple
+
+import numpy as np
+
+from robokin.errors import DomainError, ShapeError
+from robokin.models.ur10 import UR10_DH
+from robokin.validation import as_float_array, check_positive, check_transform
+
+__all__ = ["REASONS", "SINGULARITIES", "BRANCHES", "UR_DH_TABLES", "UR3_DH", "UR5_DH", "UR10_DH", "UR3E_DH",
+           "UR5E_DH", "UR10E_DH", "UR16E_DH", "URIKResult", "URIKBatchResult", "ur10_ik", "ur10_ik_batch"]
+
+_PI = math.pi
+
+
+def _ur_table(d1: float, a2: float, a3: float, d4: float, d5: float, d6: float) -> list[list[float]]:
+    """A UR table in robokin's DH layout, rows (d, θ_offset, a, α)."""
+    return [[d1, 0.0, 0.0, _PI / 2], [0.0, 0.0, a2, 0.0], [0.0, 0.0, a3, 0.0],
+            [d4, 0.0, 0.0, _PI / 2], [d5, 0.0, 0.0, -_PI / 2], [d6, 0.0, 0.0, 0.0]]
+
+
+# Universal Robots, "DH Parameters for calculations of kinematics and dynamics" (support article,
+# last modified 19 January 2022; CB3 software 3.7.0 and e-Series 5.1.0), metres and radians.
+#: UR3 (CB3) in robokin's DH layout, rows ``(d, θ_offset, a, α)`` (Universal Robots' DH article).
+UR3_DH = _ur_table(0.1519, -0.24365, -0.21325, 0.11235, 0.08535, 0.0819)
+#: UR5 (CB3), the same layout and source.
+UR5_DH = _ur_table(0.089159, -0.425, -0.39225, 0.10915, 0.09465, 0.0823)
+#: UR3e (e-Series), the same layout and source.
+UR3E_DH = _ur_table(0.15185, -0.24355, -0.2132, 0.13105, 0.08535, 0.0921)
+#: UR5e (e-Series), the same layout and source.
+UR5E_DH = _ur_table(0.1625, -0.425, -0.3922, 0.1333, 0.0997, 0.0996)
+#: UR10e (e-Series), the same layout and source.
+UR10E_DH = _ur_table(0.1807, -0.6127, -0.57155, 0.17415, 0.11985, 0.11655)
+#: UR16e (e-Series), the same layout and source.
+UR16E_DH = _ur_table(0.1807, -0.4784, -0.36, 0.17415, 0.11985, 0.11655)
+
+#: The tables by name: ``dh="ur5e"`` is ``dh=UR5E_DH``. ``"ur10"`` is :data:`robokin.models.ur10.UR10_DH`.
+UR_DH_TABLES: dict[str, list[list[float]]] = {
+    "ur3": UR3_DH, "ur5": UR5_DH, "ur10": [list(map(float, row)) for row in UR10_DH],
+    "ur3e": UR3E_DH, "ur5e": UR5E_DH, "ur10e": UR10E_DH, "ur16e": UR16E_DH,
+}
+
+#: Reasons of :class:`URIKResult` (``success`` is True only for ``"solved"``).
+REASONS = (
+    "solved",             # at least one solution, every returned one verified by FK
+    "shoulder_cylinder",  # wrist centre nearer to the base axis than |d4|: no q1
+    "too_far",            # in the arm's plane the wrist is beyond |a2| + |a3| (every branch)
+    "too_close",          # in the arm's plane the wrist is within ||a2| − |a3|| (every branch)
+    "joint_limits",       # solutions exist, none within the joint limits (within_limits=True)
+    "not_verified",       # solutions computed, none reproduces the target (numerical trouble)
+)
+
+#: Singular cases flagged in :attr:`URIKResult.singular`.
+SINGULARITIES = (
+    "shoulder",  # wrist centre on the base axis in the arm's plane (r = |d4|): the two q1 coincide
+    "wrist",     # sin q5 = 0: joints 2, 3, 4, 6 parallel, q6 free (q6 = 0 returned)
+    "elbow",     # sin q3 = 0: arm stretched or folded, the two elbow solutions coincide
+)
+
+#: Names of the three columns of :attr:`URIKResult.branches`.
+BRANCHES = ("shoulder", "wrist", "elbow")
+
+_SIGNS = np.array([(s, w, e) for s in (1, -1) for w in (1, -1) for e in (1, -1)], dtype=int)
+_SIGNS.setflags(write=False)
+_LIMIT = 2.0 * _PI  # the controller's joint range, ±2π for every joint (as robokin.models.ur10)
+
+
+@dataclass(frozen=True, eq=False)
+class URIKResult:
+    """All closed-form solutions of a Universal Robots arm for one flange pose.
+
+    Attributes
+    ----------
+    q : ndarray, shape (k, 6)
+        The solutions (rad, each angle in (−π, π]), ``k`` in 0..8; sorted by
+        branch (shoulder, wrist, elbow), ``+1`` first.
+    success : bool
+        True if ``k ≥ 1`` and every returned solution reproduces the target.
+    reason : str
+        One of :data:`REASONS`.
+    position_residual : ndarray, shape (k,)
+        ``‖p_FK(q) − p_target‖`` (m) of each solution.
+    orientation_residual : ndarray, shape (k,)
+        Rotation angle of ``R_FK(q)ᵀ R_target`` (rad) of each solution.
+    branches : ndarray of int, shape (k, 3)
+        Signs ``(shoulder, wrist, elbow)`` of each solution (:data:`BRANCHES`):
+        the ``±`` of :math:`q_1 = \\psi + \\pi/2 \\pm \\arccos(d_4/r)`, the sign of
+        ``sin q5`` and the sign of ``sin q3`` (``+1`` where it is 0).
+    within_limits : ndarray of bool, shape (k,)
+        Whether each solution respects the joint limits (±2π, the controller's range).
+    singular : tuple of str
+        Singular cases met (see :data:`SINGULARITIES`); there a family of
+        solutions (or two coinciding ones) is represented by one member.
+    wrist_centre : ndarray, shape (3,)
+        The origin of frame 5, :math:`\\mathbf{p} - d_6\\mathbf{z}_6` (m, base frame).
+    """
+
+    q: np.ndarray
+    success: bool
+    reason: str
+    position_residual: np.ndarray
+    orientation_residual: np.ndarray
+    branches: np.ndarray
+    within_limits: np.ndarray
+    singular: tuple[str, ...] = field(default_factory=tuple)
+    wrist_centre: np.ndarray = field(default_factory=lambda: np.full(3, np.nan))
+
+    def __len__(self) -> int:
+        return int(self.q.shape[0])
+
+    def __repr__(self) -> str:
+        return (f"URIKResult(solutions={len(self)}, success={self.success}, "
+                f"reason={self.reason!r}, singular={self.singular})")
+
+
+@dataclass(frozen=True, eq=False)
+class URIKBatchResult:
+    """All closed-form solutions for N flange poses, eight slots per pose.
+
+    Slot ``j`` of every pose holds the branch ``BRANCH_SIGNS[j]`` =
+    ``branches[j]`` (shoulder, wrist, elbow; ``+1`` first); a slot without a
+    solution (unreachable branch, a coinciding singular branch, not verified,
+    or outside the limits with ``within_limits=True``) has ``valid`` False and
+    NaN in ``q`` and the residuals. ``result[i]`` is pose i as a
+    :class:`URIKResult` (the valid slots in order), equal to
+    ``ur10_ik(T[i], ...)``; ``len(result)`` is N and iterating gives those results.
+
+    Attributes
+    ----------
+    q : ndarray, shape (N, 8, 6)
+        The solutions (rad, in (−π, π]; NaN where not ``valid``).
+    valid : ndarray of bool, shape (N, 8)
+        Which slots hold a verified solution.
+    success : ndarray of bool, shape (N,)
+        At least one valid slot.
+    reason : ndarray of str, shape (N,)
+        One of :data:`REASONS` per pose.
+    position_residual, orientation_residual : ndarray, shape (N, 8)
+        As in :class:`URIKResult` (m, rad; NaN where not ``valid``).
+    branches : ndarray of int, shape (8, 3)
+        The signs ``(shoulder, wrist, elbow)`` of the slots (the same for every pose).
+    within_limits : ndarray of bool, shape (N, 8)
+        Whether each slot's solution respects the joint limits (False where not ``valid``).
+    singular : ndarray of bool, shape (N, 3)
+        The singular cases met, columns in the order of :data:`SINGULARITIES`.
+    wrist_centre : ndarray, shape (N, 3)
+        The origin of frame 5 of each pose (m, base frame).
+    """
+
+    q: np.ndarray
+    valid: np.ndarray
+    success: np.ndarray
+    reason: np.ndarray
+    position_residual: np.ndarray
+    orientation_residual: np.ndarray
+    branches: np.ndarray
+    within_limits: np.ndarray
+    singular: np.ndarray
+    wrist_centre: np.ndarray
+
+    def __len__(self) -> int:
+        return int(self.q.shape[0])
+
+    def __getitem__(self, i: int) -> URIKResult:
+        keep = self.valid[i]
+        return URIKResult(self.q[i][keep], bool(self.success[i]), str(self.reason[i]),
+                          self.position_residual[i][keep], self.orientation_residual[i][keep],
+                          self.branches[keep], self.within_limits[i][keep],
+                          tuple(s for s, flag in zip(SINGULARITIES, self.singular[i]) if flag),
+                          self.wrist_centre[i].copy())
+
+    def __iter__(self) -> Any:
+        return (self[i] for i in range(len(self)))
+
+    def __repr__(self) -> str:
+        return (f"URIKBatchResult(poses={len(self)}, solved={int(self.success.sum())}, "
+                f"solutions={int(self.valid.sum())})")
+
+
+# ------------------------------------------------------------------ the table
+class _Geometry(NamedTuple):
+    """The six lengths (m) and six joint offsets (rad) of a UR table."""
+
+    d1: float
+    a2: float
+    a3: float
+    d4: float
+    d5: float
+    d6: float
+    offsets: tuple[float, float, float, float, float, float]
+    scale: float  # sum of the lengths' magnitudes (m): the tolerances' unit
+
+
+_ALPHAS = (_PI / 2, 0.0, 0.0, _PI / 2, -_PI / 2, 0.0)
+_ZERO_ENTRIES = ((0, 2, "a1"), (1, 0, "d2"), (2, 0, "d3"), (3, 2, "a4"), (4, 2, "a5"), (5, 2, "a6"))
+_CACHE: dict[Any, _Geometry] = {}
+
+
+def _geometry(dh: Any) -> _Geometry:
+    """The validated UR geometry of ``dh`` (None, a name of :data:`UR_DH_TABLES` or a (6, 4) table)."""
+    if dh is None:
+        dh = "ur10"
+    if isinstance(dh, str):
+        key: Any = dh.lower()
+        if key not in UR_DH_TABLES:
+            raise DomainError(f"dh must be a (6, 4) DH table or one of {sorted(UR_DH_TABLES)}; got {dh!r}")
+        if key in _CACHE:
+            return _CACHE[key]
+        table = np.array(UR_DH_TABLES[key], dtype=float)
+    else:
+        if isinstance(dh, (bool, np.bool_, int, float, complex)):
+            raise TypeError(f"dh must be a (6, 4) DH table, rows (d, theta_offset, a, alpha), or a name; "
+                            f"got {type(dh).__name__} {dh!r}")
+        table = np.array(as_float_array(dh, "dh", shape=(6, 4)), dtype=float)
+        key = table.tobytes()
+        if key in _CACHE:
+            return _CACHE[key]
+    for i, alpha in enumerate(_ALPHAS):
+        if abs(table[i, 3] - alpha) > 1e-9:
+            raise DomainError(
+                f"dh is not a Universal Robots table in robokin's DH layout (rows (d, theta_offset, a, alpha)): "
+                f"alpha of row {i + 1} must be {alpha:.6g} (alphas pi/2, 0, 0, pi/2, -pi/2, 0); got {table[i, 3]:.6g}")
+    for i, j, name in _ZERO_ENTRIES:
+        if table[i, j] != 0.0:
+            raise DomainError(f"dh is not a Universal Robots table: {name} (row {i + 1}, column {j + 1}) "
+                              f"must be 0; got {table[i, j]:.6g}")
+    d1, a2, a3, d4, d5, d6 = (float(table[0, 0]), float(table[1, 2]), float(table[2, 2]),
+                              float(table[3, 0]), float(table[4, 0]), float(table[5, 0]))
+    if a2 == 0.0 or a3 == 0.0:
+        raise DomainError(f"dh is not a Universal Robots table: a2 and a3 (upper arm and forearm) must be "
+                          f"non-zero; got a2 = {a2:.6g}, a3 = {a3:.6g}")
+    scale = abs(d1) + abs(a2) + abs(a3) + abs(d4) + abs(d5) + abs(d6)
+    if not math.isfinite(scale * scale) or scale * 1e-150 > 1.0 or min(abs(a2), abs(a3)) < 1e-150:
+        raise DomainError(f"dh has lengths out of range (their squares must be finite and non-zero in float64); "
+                          f"got a2 = {a2:.6g}, a3 = {a3:.6g}, sum of |lengths| {scale:.6g} m")
+    o = [float(x) for x in table[:, 1]]
+    geometry = _Geometry(d1, a2, a3, d4, d5, d6, (o[0], o[1], o[2], o[3], o[4], o[5]), scale)
+    if len(_CACHE) > 32:
+        _CACHE.clear()
+    _CACHE[key] = geometry
+    return geometry
+
+
+# ------------------------------------------------------------------ forward kinematics
+def _flange_pose(g: _Geometry, Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    r"""Flange pose ``(R (..., 3, 3), p (..., 3))`` of the table at joint values ``Q (..., 6)``.
+
+    The product of the six DH matrices, grouped as the derivation reads it:
+    frame 6 in frame 4 (:math:`\mathbf{z}_6 = [-s_5, c_5, 0]`,
+    :math:`\mathbf{o}_6 = [-d_6 s_5, d_6 c_5, d_5]`), then the planar links in
+    frame 1 (angle :math:`\theta_{234}`, origin :math:`\mathbf{o}_4 =
+    [a_2 c_2 + a_3 c_{23},\ a_2 s_2 + a_3 s_{23},\ d_4]`), then joint 1.
+    """
+    th = Q + np.asarray(g.offsets)
+    c, s = np.cos(th), np.sin(th)
+    c1, s1, c5, s5, c6, s6 = c[..., 0], s[..., 0], c[..., 4], s[..., 4], c[..., 5], s[..., 5]
+    t23, t234 = th[..., 1] + th[..., 2], th[..., 1] + th[..., 2] + th[..., 3]
+    c23, s23, c234, s234 = np.cos(t23), np.sin(t23), np.cos(t234), np.sin(t234)
+    # columns x6, y6, z6 and the origin in frame 4 (rows: x, y, z components)
+    f4 = np.stack([np.stack([c5 * c6, s5 * c6, -s6]), np.stack([-c5 * s6, -s5 * s6, -c6]),
+                   np.stack([-s5, c5, np.zeros_like(c5)]),
+                   np.stack([-g.d6 * s5, g.d6 * c5, np.full_like(c5, g.d5)])])  # (4, 3, ...)
+    u, v, w = f4[:, 0], f4[:, 1], f4[:, 2]
+    # frame 4 -> frame 1: (u, v, w) -> u x4 + v y4 + w z4 with x4 = (c234, s234, 0), y4 = (0, 0, 1),
+    # z4 = (s234, -c234, 0); the origin adds o4
+    X = u * c234 + w * s234
+    Y = u * s234 - w * c234
+    Z = v
+    X[3] += g.a2 * c[..., 1] + g.a3 * c23
+    Y[3] += g.a2 * s[..., 1] + g.a3 * s23
+    Z[3] += g.d4
+    # frame 1 -> base: (X, Y, Z) -> X x1 + Y y1 + Z z1 with x1 = (c1, s1, 0), y1 = (0, 0, 1), z1 = (s1, -c1, 0)
+    bx, by, bz = X * c1 + Z * s1, X * s1 - Z * c1, Y
+    bz[3] += g.d1
+    out = np.stack([bx, by, bz])  # (3 components, 4 columns, ...)
+    R = np.moveaxis(out[:, :3], (0, 1), (-2, -1))
+    p = np.moveaxis(out[:, 3], 0, -1)
+    return R, p
+
+
+def _residuals(g: _Geometry, Q: np.ndarray, T: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Position (m) and orientation (rad) residuals of the rows ``Q (..., 6)`` against ``T (..., 4, 4)``."""
+    R, p = _flange_pose(g, Q)
+    if Q.ndim == 2:  # one pose (4, 4), rows (k, 6)
+        target_R, target_p = T[:3, :3], T[:3, 3]
+    else:            # poses (N, 4, 4), slots (N, 8, 6)
+        target_R, target_p = T[:, None, :3, :3], T[:, None, :3, 3]
+    dp = np.sqrt(np.sum((p - target_p) ** 2, axis=-1))
+    Rrel = np.swapaxes(R, -1, -2) @ target_R  # R_FKᵀ R_target
+    cos_t = np.clip((Rrel[..., 0, 0] + Rrel[..., 1, 1] + Rrel[..., 2, 2] - 1.0) / 2.0, -1.0, 1.0)
+    skew = np.sqrt((Rrel[..., 2, 1] - Rrel[..., 1, 2]) ** 2 + (Rrel[..., 0, 2] - Rrel[..., 2, 0]) ** 2
+                   + (Rrel[..., 1, 0] - Rrel[..., 0, 1]) ** 2)
+    return dp, np.arctan2(skew / 2.0, cos_t)
+
+
+def _wrap(a: np.ndarray) -> np.ndarray:
+    """Angles into (−π, π]."""
+    w = np.mod(np.asarray(a) + _PI, 2.0 * _PI) - _PI
+    return np.where(w <= -_PI + 1e-15, w + 2.0 * _PI, w)
+
+
+# ------------------------------------------------------------------ one pose, step by step
+def _solve_pose(T: list[list[float]], g: _Geometry, tol: float
+                ) -> tuple[list[list[float]], list[tuple[int, int, int]], str, set[str], tuple[float, ...]]:
+    """Candidate solutions (DH angles θ, unverified) of one pose, in branch order; the steps of the module."""
+    (r11, r12, r13, px), (r21, r22, r23, py), (r31, r32, r33, pz) = T[0], T[1], T[2]
+    singular: set[str] = set()
+    flag, collapse = math.sqrt(tol), 1e3 * tol + 1e-7
+    # step 1: wrist centre o5 = p - d6 z6, and q1 from  o5 . z1 = d4
+    wx, wy, wz = px - g.d6 * r13, py - g.d6 * r23, pz - g.d6 * r33
+    centre = (wx, wy, wz)
+    r = math.hypot(wx, wy)
+    if r <= tol * g.scale and abs(g.d4) <= tol * g.scale:  # on the base axis and no offset: q1 free
+        singular.add("shoulder")
+        shoulders = [(1, 0.0)]
+    elif not r >= abs(g.d4) * (1.0 - tol):
+        return [], [], "shoulder_cylinder", singular, centre
+    else:
+        psi = math.atan2(wy, wx)
+        gap = math.atan2(math.sqrt(max((r - abs(g.d4)) * (r + abs(g.d4)), 0.0)), g.d4)  # arccos(d4 / r)
+        if min(gap, _PI - gap) < flag:
+            singular.add("shoulder")
+        shoulders = [(1, psi + _PI / 2 + gap)]
+        if min(gap, _PI - gap) > collapse:
+            shoulders.append((-1, psi + _PI / 2 - gap))
+    solutions, branches, misses = [], [], []
+    for s_sign, t1 in shoulders:
+        c1, s1 = math.cos(t1), math.sin(t1)
+        # step 2: q5 from z1 seen in the flange frame, R^T z1 = (c6 s5, -s6 s5, c5)
+        xz, yz, zz = r11 * s1 - r21 * c1, r12 * s1 - r22 * c1, r13 * s1 - r23 * c1
+        s5_abs = math.hypot(xz, yz)
+        t5_abs = math.atan2(s5_abs, zz)
+        if s5_abs < flag:
+            singular.add("wrist")
+        wrists = [(1, t5_abs)] if s5_abs <= tol else [(1, t5_abs), (-1, -t5_abs)]
+        for w_sign, t5 in wrists:
+            # step 3: q6 (free at sin q5 = 0: 0 returned)
+            t6 = math.atan2(-w_sign * yz, w_sign * xz) if s5_abs > tol else 0.0
+            c5, s5, c6, s6 = math.cos(t5), math.sin(t5), math.cos(t6), math.sin(t6)
+            # step 4: the planar three-link problem in frame 1
+            ox = wx + g.d5 * (s6 * r11 + c6 * r12)  # o4 = o5 - d5 z4, z4 = -s6 x6 - c6 y6
+            oy = wy + g.d5 * (s6 * r21 + c6 * r22)
+            oz = wz + g.d5 * (s6 * r31 + c6 * r32)
+            x4x = c5 * c6 * r11 - c5 * s6 * r12 - s5 * r13  # x4 = c5 c6 x6 - c5 s6 y6 - s5 z6
+            x4y = c5 * c6 * r21 - c5 * s6 * r22 - s5 * r23
+            x4z = c5 * c6 * r31 - c5 * s6 * r32 - s5 * r33
+            t234 = math.atan2(x4z, c1 * x4x + s1 * x4y)
+            X, Y = c1 * ox + s1 * oy, oz - g.d1
+            rho2 = X * X + Y * Y
+            c3 = (rho2 - g.a2 * g.a2 - g.a3 * g.a3) / (2.0 * g.a2 * g.a3)
+            if not -1.0 - tol <= c3 <= 1.0 + tol:  # also NaN / inf from a huge target
+                misses.append("too_far" if not rho2 < (abs(g.a2) + abs(g.a3)) ** 2 else "too_close")
+                continue
+            c3 = min(1.0, max(-1.0, c3))
+            s3_abs = math.sqrt((1.0 - c3) * (1.0 + c3))
+            t3_abs = math.atan2(s3_abs, c3)
+            if min(t3_abs, _PI - t3_abs) < flag:
+                singular.add("elbow")
+            elbows = [(1, t3_abs)]
+            if min(t3_abs, _PI - t3_abs) > collapse:
+                elbows.append((-1, -t3_abs))
+            for e_sign, t3 in elbows:
+                s3 = e_sign * s3_abs
+                t2 = math.atan2(Y, X) - math.atan2(g.a3 * s3, g.a2 + g.a3 * c3)
+                solutions.append([t1, t2, t3, t234 - t2 - t3, t5, t6])
+                branches.append((s_sign, w_sign, e_sign))
+    if not solutions:
+        return [], [], ("too_far" if "too_far" in misses else "too_close"), singular, centre
+    return solutions, branches, "solved", singular, centre
+
+
+def _fast_transform(T: Any) -> np.ndarray | None:
+    """A float64 (4, 4) array that is a transform (tolerance 1e-6), checked in plain floats; else None."""
+    if type(T) is not np.ndarray or T.dtype != np.float64 or T.shape != (4, 4):
+        return None
+    rows = T.tolist()
+    (a, b, c, x), (d, e, f, y), (g, h, i, z), bottom = rows
+    if not all(map(math.isfinite, (a, b, c, x, d, e, f, y, g, h, i, z))) or bottom != [0.0, 0.0, 0.0, 1.0]:
+        return None
+    err = max(abs(a * a + b * b + c * c - 1.0), abs(d * d + e * e + f * f - 1.0), abs(g * g + h * h + i * i - 1.0),
+              abs(a * d + b * e + c * f), abs(a * g + b * h + c * i), abs(d * g + e * h + f * i))
+    det = a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g)
+    return T if err <= 1e-6 and det > 0.0 else None
+
+
+def _check_tol(tol: Any) -> float:
+    tol = check_positive(tol, "tol", scalar=True)
+    if tol > 1e-3:
+        raise DomainError(f"tol must be a small relative tolerance (> 0, at most 1e-3); got {tol:g}")
+    return float(tol)
+
+
+def ur10_ik(
+    T_target: Any,
+    *,
+    dh: Any = None,
+    within_limits: bool = False,
+    tol: float = 1e-9,
+    check: bool = True,
+) -> URIKResult:
+    r"""All joint solutions of a Universal Robots arm for a flange pose, in closed form.
+
+    Parameters
+    ----------
+    T_target : array_like, shape (4, 4)
+        Goal pose :math:`{}^B\mathbf{T}_E` of the tool flange (``tool0``) in the
+        base frame (m), as :func:`robokin.models.ur10`'s ``fk`` returns it. For a
+        batch ``(N, 4, 4)`` use :func:`ur10_ik_batch`.
+    dh : array_like, shape (6, 4), or str, optional
+        The arm's table in robokin's DH layout, rows ``(d, θ_offset, a, α)``
+        with the UR structure (α = π/2, 0, 0, π/2, −π/2, 0; only d1, a2, a3,
+        d4, d5, d6 non-zero; offsets allowed), or a name of
+        :data:`UR_DH_TABLES` (``"ur3"``, ``"ur5"``, ``"ur10"``, ``"ur3e"``,
+        ``"ur5e"``, ``"ur10e"``, ``"ur16e"``). Default: the UR10 (CB3) table of
+        :func:`robokin.models.ur10`.
+    within_limits : bool, optional
+        Return only the solutions within the joint limits (±2π each, the
+        controller's range; every angle in (−π, π] is); ``reason="joint_limits"``
+        if none is.
+    tol : float, optional
+        Relative tolerance (at most 1e-3): a cosine up to ``tol`` outside
+        [−1, 1] is clipped; singular cases are flagged within ``√tol`` rad and
+        two branches merged within ``1e3 tol + 1e-7`` rad; times the arm's size
+        (sum of the lengths) the accepted position residual, ``1e3 tol`` the
+        accepted orientation residual (rad).
+    check : bool, optional
+        Validate the inputs (default True).
+
+    Returns
+    -------
+    URIKResult
+        ``q`` (k, 6) with k ≤ 8, ``success``, ``reason``, residuals per
+        solution, ``branches`` (shoulder, wrist, elbow), ``within_limits``,
+        ``singular``, ``wrist_centre``. Never raises for an unreachable target:
+        ``success=False`` and ``reason`` say why (:data:`REASONS`).
+
+    Raises
+    ------
+    ShapeError
+        ``T_target`` is not 4×4, or ``dh`` is not 6×4.
+    DomainError
+        ``T_target`` is not a homogeneous transform; ``dh`` is not a UR table
+        (the message names the entry); ``tol`` is not in (0, 1e-3].
+    TypeError
+        Non-numeric ``T_target``, ``dh`` or ``tol``.
+
+    Notes
+    -----
+    Derivation in the module docstring (steps 1–4: wrist centre and q1, q5,
+    q6, the planar three-link problem for q2, q3, q4); Hawkins (2013) for the
+    UR-5/UR-10, Siciliano et al. (2009) §2.12 and Lynch & Park (2017) §6.1
+    for closed-form inverse kinematics. Every solution is verified with the
+    forward kinematics of the table (``position_residual``,
+    ``orientation_residual``). A joint of the arm turns through ±2π, so each
+    returned angle ``q_i`` also stands for ``q_i ∓ 2π``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from robokin.models import ur10
+    >>> q = np.array([0.3, -1.2, 1.4, -0.5, 1.1, 0.2])
+    >>> res = ur10_ik(ur10().fk(q))
+    >>> res.success, len(res)
+    (True, 8)
+    >>> bool(np.abs(res.q - q).max(axis=1).min() < 1e-9)
+    True
+    """
+    T = _fast_transform(T_target) if check else np.asarray(T_target, dtype=float)
+    if T is None:
+        T = check_transform(T_target, name="T_target")
+        if T.ndim != 2:
+            raise ShapeError(f"T_target must have shape (4, 4) (use ur10_ik_batch for (N, 4, 4)); "
+                             f"got shape {T.shape}")
+    if check:
+        g = _geometry(dh)
+        tol = tol if type(tol) is float and tol == 1e-9 else _check_tol(tol)
+    else:
+        g = _geometry(dh)
+    sols, branches, reason, singular, centre = _solve_pose(T.tolist(), g, tol)
+    flags = tuple(s for s in SINGULARITIES if s in singular)
+    if not sols:
+        return URIKResult(np.zeros((0, 6)), False, reason, np.zeros(0), np.zeros(0), np.zeros((0, 3), dtype=int),
+                          np.zeros(0, dtype=bool), flags, np.array(centre))
+    Q = _wrap(np.array(sols) - np.array(g.offsets))
+    B = np.array(branches, dtype=int)
+    dp, dr = _residuals(g, Q, T)
+    good = (dp <= 1e3 * tol * g.scale + 1e-12) & (dr <= 1e3 * tol + 1e-12)
+    inside = np.all(np.abs(Q) <= _LIMIT, axis=1)
+    keep = good & inside if within_limits else good
+    if not keep.all():
+        Q, B, dp, dr, inside = Q[keep], B[keep], dp[keep], dr[keep], inside[keep]
+    if len(Q):
+        reason = "solved"
+    elif not good.any():
+        reason = "not_verified"
+    else:
+        reason = "joint_limits"
+    return URIKResult(Q, bool(len(Q)), reason, dp, dr, B, inside, flags, np.array(centre))
+
+
+# ------------------------------------------------------------------ many poses at once
+def ur10_ik_batch(
+    T_targets: Any,
+    *,
+    dh: Any = None,
+    within_limits: bool = False,
+    tol: float = 1e-9,
+) -> URIKBatchResult:
+    """:func:`ur10_ik` for a batch of flange poses, vectorised over the poses.
+
+    The same steps as :func:`ur10_ik` on arrays: per pose the two shoulder
+    angles, the 2×2 wrist angles and the 2×2×2 elbow angles, in eight slots.
+
+    Parameters
+    ----------
+    T_targets : array_like, shape (N, 4, 4)
+        Flange poses (a single (4, 4) pose is treated as N = 1).
+    dh, within_limits, tol
+        As in :func:`ur10_ik`.
+
+    Returns
+    -------
+    URIKBatchResult
+        Arrays with a leading N (``q`` (N, 8, 6), ``valid`` (N, 8), ...);
+        ``result[i]`` equals ``ur10_ik(T_targets[i], ...)`` (to rounding: the
+        arithmetic is vectorised).
+
+    Raises
+    ------
+    ShapeError, DomainError, TypeError
+        As in :func:`ur10_ik` (``T_targets`` named, with the index of a bad pose).
+    """
+    Ts = check_transform(T_targets, name="T_targets").reshape(-1, 4, 4)
+    g = _geometry(dh)
+    tol = _check_tol(tol)
+    with np.errstate(all="ignore"):
+        return _solve_batch(Ts, g, tol, within_limits)
+
+
+def _solve_batch(Ts: np.ndarray, g: _Geometry, tol: float, within_limits: bool) -> URIKBatchResult:
+    """The vectorised steps; slots (N, 2 shoulders, 2 wrists, 2 elbows) flattened to (N, 8)."""
+    N = Ts.shape[0]
+    flag, collapse = math.sqrt(tol), 1e3 * tol + 1e-7
+    x6, y6, z6, p = Ts[:, :3, 0], Ts[:, :3, 1], Ts[:, :3, 2], Ts[:, :3, 3]
+    # step 1: wrist centre and the two q1
+    centre = p - g.d6 * z6
+    wx, wy = centre[:, 0], centre[:, 1]
+    r = np.hypot(wx, wy)
+    free = (r <= tol * g.scale) & (abs(g.d4) <= tol * g.scale)
+    reach1 = free | (r >= abs(g.d4) * (1.0 - tol))
+    gap = np.arctan2(np.sqrt(np.maximum((r - abs(g.d4)) * (r + abs(g.d4)), 0.0)), g.d4)
+    gap_min = np.minimum(gap, _PI - gap)
+    sing_shoulder = free | (reach1 & (gap_min < flag))
+    base = np.where(free, 0.0, np.arctan2(wy, wx) + _PI / 2)
+    gap = np.where(free, 0.0, gap)
+    t1 = base[:, None] + np.array([1.0, -1.0]) * gap[:, None]                   # (N, 2)
+    ok1 = np.stack([reach1, reach1 & ~free & (gap_min > collapse)], axis=1)     # (N, 2)
+    c1, s1 = np.cos(t1), np.sin(t1)
+    # step 2: q5
+    def along_z1(col: np.ndarray) -> np.ndarray:
+        return col[:, 0, None] * s1 - col[:, 1, None] * c1                      # (N, 2)
+    xz, yz, zz = along_z1(x6), along_z1(y6), along_z1(z6)
+    s5_abs = np.hypot(xz, yz)
+    t5_abs = np.arctan2(s5_abs, zz)
+    wsign = np.array([1.0, -1.0])
+    t5 = t5_abs[..., None] * wsign                                               # (N, 2, 2)
+    regular5 = s5_abs > tol
+    ok2 = ok1[..., None] & np.stack([np.ones_like(regular5), regular5], axis=-1)
+    sing_wrist = np.any(ok1 & (s5_abs < flag), axis=1)
+    # step 3: q6
+    t6 = np.where(regular5[..., None], np.arctan2(-wsign * yz[..., None], wsign * xz[..., None]), 0.0)
+    c5, s5, c6, s6 = np.cos(t5), np.sin(t5), np.cos(t6), np.sin(t6)
+    # step 4: planar problem
+    def col(v: np.ndarray, k: int) -> np.ndarray:
+        return v[:, k, None, None]
+    o4 = [col(centre, k) + g.d5 * (s6 * col(x6, k) + c6 * col(y6, k)) for k in range(3)]
+    x4 = [c5 * c6 * col(x6, k) - c5 * s6 * col(y6, k) - s5 * col(z6, k) for k in range(3)]
+    C1, S1 = c1[..., None], s1[..., None]
+    t234 = np.arctan2(x4[2], C1 * x4[0] + S1 * x4[1])
+    X, Y = C1 * o4[0] + S1 * o4[1], o4[2] - g.d1
+    rho2 = X * X + Y * Y
+    c3 = (rho2 - g.a2 * g.a2 - g.a3 * g.a3) / (2.0 * g.a2 * g.a3)
+    reach3 = (c3 >= -1.0 - tol) & (c3 <= 1.0 + tol)
+    c3 = np.clip(np.nan_to_num(c3), -1.0, 1.0)
+    s3_abs = np.sqrt((1.0 - c3) * (1.0 + c3))
+    t3_abs = np.arctan2(s3_abs, c3)
+    t3_min = np.minimum(t3_abs, _PI - t3_abs)
+    sing_elbow = np.any(ok2 & reach3 & (t3_min < flag), axis=(1, 2))
+    esign = np.array([1.0, -1.0])
+    t3 = t3_abs[..., None] * esign                                               # (N, 2, 2, 2)
+    s3 = s3_abs[..., None] * esign
+    t2 = np.arctan2(Y, X)[..., None] - np.arctan2(g.a3 * s3, g.a2 + g.a3 * c3[..., None])
+    ok3 = (ok2 & reach3)[..., None] & np.stack([np.ones_like(reach3), t3_min > collapse], axis=-1)
+    shape = (N, 2, 2, 2)
+    theta = np.stack([np.broadcast_to(t1[:, :, None, None], shape), t2, t3,
+                      t234[..., None] - t2 - t3, np.broadcast_to(t5[..., None], shape),
+                      np.broadcast_to(t6[..., None], shape)], axis=-1).reshape(N, 8, 6)
+    ok = ok3.reshape(N, 8)
+    Q = _wrap(theta - np.asarray(g.offsets))
+    dp, dr = _residuals(g, Q, Ts)
+    good = ok & (dp <= 1e3 * tol * g.scale + 1e-12) & (dr <= 1e3 * tol + 1e-12)
+    inside = good & np.all(np.abs(Q) <= _LIMIT, axis=2)
+    valid = inside if within_limits else good
+    reason = np.full(N, "solved", dtype="<U17")
+    none = ~valid.any(axis=1)
+    if none.any():
+        far = np.any(ok2 & ~reach3 & ~(rho2 < (abs(g.a2) + abs(g.a3)) ** 2), axis=(1, 2))
+        reason[none] = np.where(~reach1, "shoulder_cylinder",
+                                np.where(ok.any(axis=1), np.where(good.any(axis=1), "joint_limits", "not_verified"),
+                                         np.where(far, "too_far", "too_close")))[none]
+    nan = np.where(valid, 0.0, np.nan)
+    return URIKBatchResult(Q + nan[..., None], valid, ~none, reason, dp + nan, dr + nan, _SIGNS.copy(),
+                           inside & valid, np.stack([sing_shoulder, sing_wrist, sing_elbow], axis=1), centre)
