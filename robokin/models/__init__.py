@@ -2,7 +2,8 @@
 
 - ``planar_two_link()`` (2 joints): planar RR arm in the x–y plane (tour, first examples).
 - ``eth_leg()`` (3): ETH Autonomous Mobile Robots exercise-1 leg (unit lengths).
-- ``ur10()`` (6): Universal Robots UR10 (CB3), manufacturer DH parameters.
+- ``ur10()`` (6): Universal Robots UR10 (CB3), manufacturer DH parameters; its closed-form
+  inverse kinematics (all 8 solutions, any UR table with ``dh=``) is ``ur10_ik(T)``.
 - ``baxter_left()`` (7): Rethink Robotics Baxter, left arm (URDF-verified).
 - ``ar601_leg()`` (6): AR-601 humanoid leg (hip 3, knee 1, ankle 2); its closed-form
   inverse kinematics (all 8 solutions) is ``ar601_leg_ik(T)``.
@@ -32,6 +33,7 @@ from robokin.models.panda import panda
 from robokin.models.planar import planar_two_link
 from robokin.models.three_rpr import three_rpr, three_rpr_classic
 from robokin.models.ur10 import ur10
+from robokin.models.ur_ik import URIKBatchResult, URIKResult, ur10_ik, ur10_ik_batch
 from robokin.models.robot_library import RobotInfo, available_robots
 from robokin.models.urdf import ROBOT_DESCRIPTIONS, from_urdf, robot_description
 from robokin.models.urdf_meshes import visual_meshes
@@ -39,4 +41,5 @@ from robokin.models.urdf_meshes import visual_meshes
 __all__ = ["planar_two_link", "eth_leg", "ur10", "baxter_left", "ar601_leg", "ar601_leg_ik",
            "ar601_leg_ik_batch", "AR601IKResult", "genova_arm", "panda", "three_rpr",
            "three_rpr_classic", "from_urdf", "robot_description", "ROBOT_DESCRIPTIONS",
-           "visual_meshes", "available_robots", "RobotInfo"]
+           "visual_meshes", "available_robots", "RobotInfo", "ur10_ik", "ur10_ik_batch", "URIKResult",
+           "URIKBatchResult"]
