@@ -42,6 +42,7 @@ import robokin.check as check
 import robokin.models as models
 from robokin.models.baxter import baxter_left_urdf
 from robokin.models.panda import panda_link_transforms
+from robokin.models.ur_ik import UR10E_DH
 import robokin.transforms as tr
 from robokin.chains import Fixed, Rx, Ry, Rz, SerialChain, Tx, Ty, Tz, from_dh, from_link_table, from_modified_dh
 from robokin.check import CheckResult
@@ -471,8 +472,29 @@ def model_specs() -> list[Spec]:
         Spec("models.ar601_leg_ik_batch", models.ar601_leg_ik_batch, [Tf("T_targets", scale=0.3)],
              {"l2": length("l2")}, batch=True,
              check=lambda r, c, v: np.testing.assert_equal(len(r), 1 if c.N is None else c.N)),
+        Spec("models.ur10_ik", models.ur10_ik, [Tf("T_target", batch=False, scale=1.3)],
+             {"dh": _ur_table(), "within_limits": Choice("within_limits", [True, False], bad=()),
+              "tol": Num("tol", 1e-10, 1e-8, positive=True)},
+             check=lambda r, c, v: np.testing.assert_equal(r.q.shape[1:], (6,))),
+        Spec("models.ur10_ik_batch", models.ur10_ik_batch, [Tf("T_targets", scale=1.3)],
+             {"dh": _ur_table()}, batch=True, finite=False, check=_ur_batch_check),
     ]
     return S
+
+
+def _ur_table() -> Choice:
+    """The ``dh`` of the UR inverse kinematics: a name or a table; bad: a wrong shape or not a UR table."""
+    twisted = [list(row) for row in UR10E_DH]
+    twisted[4][3] = math.pi / 2
+    return Choice("dh", ["ur10", "ur5", "ur3e", "ur16e", UR10E_DH, None],
+                  extra_bad={"not_ur": lambda c: twisted, "rows": lambda c: UR10E_DH[:5]})
+
+
+def _ur_batch_check(r: Any, ctx: Ctx, values: dict) -> None:
+    """N results of eight slots; the valid slots finite, the others NaN."""
+    n = 1 if ctx.N is None else ctx.N
+    np.testing.assert_equal((len(r), r.q.shape, r.valid.shape), (n, (n, 8, 6), (n, 8)))
+    assert np.all(np.isfinite(r.q[r.valid])) and np.all(np.isnan(r.q[~r.valid]))
 
 
 # ------------------------------------------------------------------ motion
