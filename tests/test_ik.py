@@ -23,6 +23,7 @@ from robokin.motion import (
 from robokin.motion._kernels import rotation_log_fast, rotation_log_single, tool_jacobian
 from robokin.motion.ik.objectives import JointLimitDistance, Manipulability
 from robokin.motion.ik.problem import make_context
+from robokin.motion.ik.result import Outcome
 from robokin.motion.ik.solve import classify_stall
 from robokin.transforms import rotation_exp, rotation_log, rotx, transform
 
@@ -418,10 +419,16 @@ def test_classify_stall():
     J = np.eye(2, 3)
     lo, hi = np.full(3, -1.0), np.full(3, 1.0)
     e = np.array([1.0, 0.0])
-    assert classify_stall(J, e, np.zeros(3), lo, hi, 1e-2) == 0       # gradient free to act
-    assert classify_stall(J, e, np.array([1.0, 0, 0]), lo, hi, 1e-2) == 2  # pushed into a limit
+    assert classify_stall(J, e, np.zeros(3), lo, hi, 1e-2) == Outcome.STALLED  # gradient free to act
+    assert classify_stall(J, e, np.array([1.0, 0, 0]), lo, hi, 1e-2) == Outcome.JOINT_LIMITS  # pushed into a limit
     J2 = np.array([[0.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
-    assert classify_stall(J2, e, np.zeros(3), lo, hi, 1e-2) == 1     # e orthogonal to range(J)
+    assert classify_stall(J2, e, np.zeros(3), lo, hi, 1e-2) == Outcome.UNREACHABLE  # e orthogonal to range(J)
+
+
+def test_one_outcome_enum_names_every_reason():
+    """Single, batched and polishing solvers share Outcome; REASONS lists its names."""
+    assert REASONS == ("converged", "max_iterations", "stalled", "unreachable", "joint_limits")
+    assert [Outcome(code).reason for code in range(len(REASONS))] == list(REASONS)
 
 
 # -------------------------------------------------------------- bad input

@@ -19,14 +19,11 @@ from robokin.motion._kernels import pose_error_vector, random_within_limits
 from robokin.motion.ik.methods import IKMethod
 from robokin.motion.ik.polish import polish as polish_rows
 from robokin.motion.ik.problem import IKContext
-from robokin.motion.ik.result import IKBatchResult
+from robokin.motion.ik.result import REASON_NAMES, IKBatchResult, Outcome
 from robokin.motion.ik.settings import DEFAULTS, IKSettings, parse_settings
 from robokin.motion.ik.stall import classify_stall, stall_check
 
 __all__ = ["solve_ik_batch"]
-
-_REASON_NAMES = np.array(["stalled", "unreachable", "joint_limits", "max_iterations", "converged"])
-_STALLED, _UNREACHABLE, _JOINT_LIMITS, _MAX_IT, _CONVERGED = range(5)
 
 
 @dataclass
@@ -73,12 +70,13 @@ class AttemptRows:
 
 @dataclass
 class TargetBest:
-    """Per target (N): the best configuration over its attempts and how that attempt ended."""
+    """Per target (N): the best configuration over its attempts and how that attempt ended
+    (``outcome``: :class:`~robokin.motion.ik.result.Outcome` codes)."""
 
     norm: np.ndarray
     q: np.ndarray
     error: np.ndarray
-    code: np.ndarray
+    outcome: np.ndarray
     success: np.ndarray
     attempts: np.ndarray
     iterations: np.ndarray
@@ -86,19 +84,19 @@ class TargetBest:
     @classmethod
     def start(cls, q_init: np.ndarray) -> TargetBest:
         N = q_init.shape[0]
-        return cls(np.full(N, np.inf), q_init.copy(), np.zeros((N, 6)), np.full(N, _MAX_IT),
+        return cls(np.full(N, np.inf), q_init.copy(), np.zeros((N, 6)), np.full(N, Outcome.MAX_ITERATIONS),
                    np.zeros(N, dtype=bool), np.ones(N, dtype=int), np.zeros(N, dtype=int))
 
-    def keep(self, targets: np.ndarray, norm: np.ndarray, q: np.ndarray, error: np.ndarray, code: Any) -> None:
+    def keep(self, targets: np.ndarray, norm: np.ndarray, q: np.ndarray, error: np.ndarray, outcome: Any) -> None:
         """Make the given configurations (one per entry of ``targets``) the targets' best."""
-        self.norm[targets], self.q[targets], self.error[targets], self.code[targets] = norm, q, error, code
+        self.norm[targets], self.q[targets], self.error[targets], self.outcome[targets] = norm, q, error, outcome
 
-    def keep_better(self, rows: AttemptRows, index: np.ndarray, codes: np.ndarray) -> None:
+    def keep_better(self, rows: AttemptRows, index: np.ndarray, outcomes: np.ndarray) -> None:
         """The ended attempts ``index`` (in order): keep each one's best if it beats its target's."""
-        for k, code in zip(index, codes):
-            t = rows.target[k]
-            if rows.best_norm[k] < self.norm[t]:
-                self.keep(t, rows.best_norm[k], rows.best_q[k], rows.best_error[k], code)
+        for row, outcome in zip(index, outcomes):
+            target = rows.target[row]
+            if rows.best_norm[row] < self.norm[target]:
+                self.keep(target, rows.best_norm[row], rows.best_q[row], rows.best_error[row], outcome)
 
 
 def steps_within_limits(
@@ -111,11 +109,12 @@ def steps_within_limits(
     """
     dq = method.step(J, e, q, ctx)[0]
     blocked = ((q <= ctx.lower) & (dq < 0)) | ((q >= ctx.upper) & (dq > 0))
-    rb = np.flatnonzero(blocked.any(axis=1))
-    if rb.size:
-        bl = blocked[rb]
-        dq_b = method.step(np.where(bl[:, None, :], 0.0, J[rb]), e[rb], q[rb], ctx)[0]
-        dq[rb] = np.where(bl, 0.0, dq_b)
+    some_blocked = np.flatnonzero(blocked.any(axis=1))
+    if some_blocked.size:
+        frozen = blocked[some_blocked]
+        dq_free = method.step(np.where(frozen[:, None, :], 0.0, J[some_blocked]), e[some_blocked],
+                              q[some_blocked], ctx)[0]
+        dq[some_blocked] = np.where(frozen, 0.0, dq_free)
     return dq
 
 
@@ -123,8 +122,8 @@ def cap_steps(dq: np.ndarray, max_step: float | None) -> np.ndarray:
     """Scale the rows of ``dq`` (R, n) longer than ``max_step`` down to it (None: no cap)."""
     if max_step is None:
         return dq
-    s = np.linalg.norm(dq, axis=1, keepdims=True)
-    return dq * np.minimum(1.0, max_step / np.maximum(s, 1e-300))
+    size = np.linalg.norm(dq, axis=1, keepdims=True)
+    return dq * np.minimum(1.0, max_step / np.maximum(size, 1e-300))
 
 
 def _errors(settings: IKSettings, rows: AttemptRows, T_goal: np.ndarray):
@@ -134,10 +133,10 @@ def _errors(settings: IKSettings, rows: AttemptRows, T_goal: np.ndarray):
     e = pose_error_vector(T, T_goal[rows.target])
     if settings.is_position:
         e[:, 3:] = 0.0
-    m = ctx.mask
-    pe = np.linalg.norm(e[:, :3] * m[:3].astype(float), axis=1)
-    oe = np.linalg.norm(e[:, 3:] * m[3:].astype(float), axis=1)
-    return e, pe, oe, T_flange
+    mask = ctx.mask
+    position_error = np.linalg.norm(e[:, :3] * mask[:3].astype(float), axis=1)
+    orientation_error = np.linalg.norm(e[:, 3:] * mask[3:].astype(float), axis=1)
+    return e, position_error, orientation_error, T_flange
 
 
 def _iterate(settings: IKSettings, rows: AttemptRows, best: TargetBest, T_goal: np.ndarray
@@ -148,43 +147,46 @@ def _iterate(settings: IKSettings, rows: AttemptRows, best: TargetBest, T_goal: 
     whose attempts ended unsolved in this iteration.
     """
     ctx, method = settings.ctx, settings.method
-    e, pe, oe, T_flange = _errors(settings, rows, T_goal)
-    norm = np.sqrt(pe * pe + oe * oe)
+    e, position_error, orientation_error, T_flange = _errors(settings, rows, T_goal)
+    norm = np.sqrt(position_error * position_error + orientation_error * orientation_error)
     fresh = rows.iteration == 0
     rows.reference[fresh] = norm[fresh]
     better = norm < rows.best_norm
     rows.best_norm[better], rows.best_q[better], rows.best_error[better] = norm[better], rows.q[better], e[better]
-    converged = np.flatnonzero((pe <= settings.tol_position) & (oe <= settings.tol_orientation))
+    converged = np.flatnonzero((position_error <= settings.tol_position)
+                               & (orientation_error <= settings.tol_orientation))
     if converged.size:
         best.success[rows.target[converged]] = True
-        best.keep(rows.target[converged], norm[converged], rows.q[converged], e[converged], _CONVERGED)
+        best.keep(rows.target[converged], norm[converged], rows.q[converged], e[converged], Outcome.CONVERGED)
     alive = ~best.success[rows.target]  # drops every row of a solved target
     maxed = alive & (rows.iteration >= settings.max_iterations)
-    end_code = np.where(maxed, _MAX_IT, -1)
+    going_on = -1  # not an Outcome: the attempt has not ended
+    end_outcome = np.where(maxed, Outcome.MAX_ITERATIONS, going_on)
     go = np.zeros(rows.target.size, dtype=bool)
-    ri = np.flatnonzero(alive & ~maxed)
+    running = np.flatnonzero(alive & ~maxed)
     new_q = rows.q
-    if ri.size:
-        J = ctx.jacobian(rows.q[ri], T_flange[ri])
-        J_task, e_task = (J, e[ri]) if ctx.full_mask else (J[:, ctx.rows, :], e[ri][:, ctx.rows])
-        stalled, passed = stall_check(rows.iteration[ri], rows.checkpoint[ri], rows.reference[ri],
-                                      rows.best_norm[ri], settings.stall_iterations, settings.stall_tolerance)
+    if running.size:
+        J = ctx.jacobian(rows.q[running], T_flange[running])
+        J_task, e_task = (J, e[running]) if ctx.full_mask else (J[:, ctx.rows, :], e[running][:, ctx.rows])
+        stalled, passed = stall_check(rows.iteration[running], rows.checkpoint[running], rows.reference[running],
+                                      rows.best_norm[running], settings.stall_iterations, settings.stall_tolerance)
         if stalled.any():
-            end_code[ri[stalled]] = classify_stall(J_task[stalled], e_task[stalled], rows.q[ri][stalled],
-                                                   ctx.lower, ctx.upper, settings.gradient_tolerance)
-        moved = ri[passed]
+            end_outcome[running[stalled]] = classify_stall(J_task[stalled], e_task[stalled], rows.q[running][stalled],
+                                                           ctx.lower, ctx.upper, settings.gradient_tolerance)
+        moved = running[passed]
         rows.checkpoint[moved], rows.reference[moved] = rows.iteration[moved], rows.best_norm[moved]
         keep = ~stalled
-        gi = ri[keep]
-        if gi.size:
-            qg = rows.q[gi]
-            dq = cap_steps(steps_within_limits(method, J_task[keep], e_task[keep], qg, ctx), settings.max_step)
+        stepping = running[keep]
+        if stepping.size:
+            q_stepping = rows.q[stepping]
+            dq = cap_steps(steps_within_limits(method, J_task[keep], e_task[keep], q_stepping, ctx),
+                           settings.max_step)
             new_q = rows.q.copy()
-            new_q[gi] = ctx.project(qg + dq)
-            go[gi] = True
-            np.add.at(best.iterations, rows.target[gi], 1)
-    ended = np.flatnonzero(end_code >= 0)
-    best.keep_better(rows, ended, end_code[ended])
+            new_q[stepping] = ctx.project(q_stepping + dq)
+            go[stepping] = True
+            np.add.at(best.iterations, rows.target[stepping], 1)
+    ended = np.flatnonzero(end_outcome != going_on)
+    best.keep_better(rows, ended, end_outcome[ended])
     rows.q = new_q
     going = rows.take(go)
     going.iteration += 1
@@ -202,10 +204,10 @@ def _restart(settings: IKSettings, rows: AttemptRows, best: TargetBest, ended_ta
              if live[t] == 0 and not best.success[t] and best.attempts[t] <= restarts]
     if not spawn:
         return rows
-    st = np.array(spawn)
-    count = np.minimum(restarts + 1 - best.attempts[st], 2 * best.attempts[st])
-    best.attempts[st] += count
-    targets = np.repeat(st, count)
+    spawning = np.array(spawn)
+    count = np.minimum(restarts + 1 - best.attempts[spawning], 2 * best.attempts[spawning])
+    best.attempts[spawning] += count
+    targets = np.repeat(spawning, count)
     q = random_within_limits(rng, settings.ctx.lower, settings.ctx.upper, targets.size)
     return rows.extend(AttemptRows.start(targets, q))
 
@@ -290,23 +292,24 @@ def _batch_result(settings: IKSettings, best: TargetBest, T_goal: np.ndarray) ->
     failed = np.flatnonzero(~best.success)
     if settings.polish and failed.size:
         # as in solve_ik: polish the best attempt of every failed target
-        q, e, converged, code, iterations = polish_rows(settings, best.q[failed], T_goal[failed])
+        q, e, converged, outcome, iterations = polish_rows(settings, best.q[failed], T_goal[failed])
         best.q[failed], best.error[failed], best.success[failed] = q, e, converged
-        best.code[failed] = np.where(converged, _CONVERGED, np.where(code == 3, _MAX_IT, code))
+        best.outcome[failed] = outcome
         best.iterations[failed] += iterations
-    m = settings.ctx.mask
-    pe = np.linalg.norm(best.error[:, :3] * m[:3].astype(float), axis=1)
-    oe = np.linalg.norm(best.error[:, 3:] * m[3:].astype(float), axis=1)
-    ok = best.success & (pe <= settings.tol_position) & (oe <= settings.tol_orientation)
-    reason = _REASON_NAMES[best.code]
-    reason = np.where(ok, "converged", np.where(best.code == _CONVERGED, "max_iterations", reason))
+    mask = settings.ctx.mask
+    position_error = np.linalg.norm(best.error[:, :3] * mask[:3].astype(float), axis=1)
+    orientation_error = np.linalg.norm(best.error[:, 3:] * mask[3:].astype(float), axis=1)
+    ok = best.success & (position_error <= settings.tol_position) & (orientation_error <= settings.tol_orientation)
+    # a converged attempt whose masked error is above the tolerance after all reports max_iterations
+    outcome = np.where(ok, Outcome.CONVERGED,
+                       np.where(best.outcome == Outcome.CONVERGED, Outcome.MAX_ITERATIONS, best.outcome))
     return IKBatchResult(
         q=best.q,
         success=ok,
         iterations=best.iterations,
-        reason=reason,
-        position_error=pe,
-        orientation_error=oe,
+        reason=REASON_NAMES[outcome],
+        position_error=position_error,
+        orientation_error=orientation_error,
         errors=best.error,
         attempts=best.attempts,
         method=settings.method.name,

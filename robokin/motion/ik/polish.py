@@ -21,22 +21,26 @@ import numpy as np
 
 from robokin.motion._kernels import pose_error_vector
 from robokin.motion.ik.problem import IKContext
+from robokin.motion.ik.result import Outcome
 from robokin.motion.ik.settings import REFINE_STALL_TOLERANCE, IKSettings
-from robokin.motion.ik.stall import STALL_REASONS, classify_stall
+from robokin.motion.ik.stall import classify_stall
 
-__all__ = ["polish", "POLISH_REASONS"]
+__all__ = ["polish"]
 
-#: Names of the codes returned by :func:`polish` (3: out of iterations).
-POLISH_REASONS = (*STALL_REASONS, "max_iterations")
+#: Damping factors of Marquardt's rule: after a rejected step, after an accepted one; its bounds.
+_RAISE, _LOWER = 8.0, 3.0
+_INITIAL_DAMPING, _SMALLEST_DAMPING, _LARGEST_DAMPING = 1e-3, 1e-9, 1e8
 
 
-def _task(ctx: IKContext, q: np.ndarray, T_goal: np.ndarray, is_position: bool):
+def _task(ctx: IKContext, q: np.ndarray, T_goal: np.ndarray, is_position: bool
+          ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Flange poses (N, 4, 4), pose errors (N, 6) and their task rows (N, m) at ``q`` (N, n)."""
     T_flange, T = ctx.pose(q)
-    e = pose_error_vector(T, T_goal)
+    error = pose_error_vector(T, T_goal)
     if is_position:
-        e[:, 3:] = 0.0
-    te = e if ctx.full_mask else e[:, ctx.rows]
-    return T_flange, e, te
+        error[:, 3:] = 0.0
+    task_error = error if ctx.full_mask else error[:, ctx.rows]
+    return T_flange, error, task_error
 
 
 def polish(
@@ -49,79 +53,80 @@ def polish(
     :data:`~robokin.motion.ik.settings.REFINE_STALL_TOLERANCE`) and
     ``gradient_tolerance`` of ``settings``.
 
-    Returns ``(q, e (N, 6), converged (N,), code (N,), iterations (N,))``,
-    ``code`` as in :func:`classify_stall` (0 stalled, 1 unreachable,
-    2 joint_limits) or 3 for max_iterations (names in :data:`POLISH_REASONS`).
+    Returns ``(q, e (N, 6), converged (N,), outcome (N,), iterations (N,))``,
+    ``outcome`` an :class:`~robokin.motion.ik.result.Outcome` code: ``CONVERGED``, a
+    verdict of :func:`classify_stall` or ``MAX_ITERATIONS``.
     """
     ctx, is_position = settings.ctx, settings.is_position
-    tol = (settings.tol_position, settings.tol_orientation)
     max_iterations, window = settings.max_iterations, settings.stall_iterations
-    min_decrease, gtol = REFINE_STALL_TOLERANCE, settings.gradient_tolerance
+    tol_position, tol_orientation = settings.tol_position, settings.tol_orientation
     N, n = q.shape
-    lower, upper = ctx.lower, ctx.upper
-    tol_p, tol_o = tol
-    m = ctx.mask
+    lower, upper, mask = ctx.lower, ctx.upper, ctx.mask
     q = q.copy()
-    T_flange, e, te = _task(ctx, q, T_goal, is_position)
-    f = 0.5 * np.sum(te * te, axis=1)
+    T_flange, error, task_error = _task(ctx, q, T_goal, is_position)
+    cost = 0.5 * np.sum(task_error * task_error, axis=1)
     J = ctx.jacobian(q, T_flange)
-    Jt = J if ctx.full_mask else J[:, ctx.rows, :]
-    mu = np.full(N, 1e-3)
-    ref = f.copy()
-    since = np.zeros(N, dtype=int)
-    its = np.zeros(N, dtype=int)
-    code = np.full(N, 3)
-    conv = np.zeros(N, dtype=bool)
+    task_jacobian = J if ctx.full_mask else J[:, ctx.rows, :]
+    damping = np.full(N, _INITIAL_DAMPING)
+    reference_cost = cost.copy()
+    accepted_since_check = np.zeros(N, dtype=int)
+    iterations = np.zeros(N, dtype=int)
+    outcome = np.full(N, Outcome.MAX_ITERATIONS)
+    converged = np.zeros(N, dtype=bool)
     active = np.ones(N, dtype=bool)
-    eye = np.eye(n)
+    identity = np.eye(n)
     for _ in range(max_iterations * 4):  # accepted + rejected trials
-        pe = np.linalg.norm(e[:, :3] * m[:3], axis=1)
-        oe = np.linalg.norm(e[:, 3:] * m[3:], axis=1)
-        newly = active & (pe <= tol_p) & (oe <= tol_o)
-        conv |= newly
+        position_error = np.linalg.norm(error[:, :3] * mask[:3], axis=1)
+        orientation_error = np.linalg.norm(error[:, 3:] * mask[3:], axis=1)
+        newly = active & (position_error <= tol_position) & (orientation_error <= tol_orientation)
+        converged |= newly
         active &= ~newly
-        idx = np.flatnonzero(active)
-        if idx.size == 0:
+        rows = np.flatnonzero(active)
+        if rows.size == 0:
             break
-        Ja, ea, qa = Jt[idx], te[idx], q[idx]
-        g = (np.swapaxes(Ja, 1, 2) @ ea[:, :, None])[:, :, 0]
-        blocked = ((qa <= lower) & (g < 0)) | ((qa >= upper) & (g > 0))
-        Jf = np.where(blocked[:, None, :], 0.0, Ja)
-        gf = np.where(blocked, 0.0, g)
-        JtJ = np.swapaxes(Jf, 1, 2) @ Jf
+        J_rows, e_rows, q_rows = task_jacobian[rows], task_error[rows], q[rows]
+        gradient = (np.swapaxes(J_rows, 1, 2) @ e_rows[:, :, None])[:, :, 0]
+        # joints on a limit that the gradient pushes outwards take no part in the step
+        blocked = ((q_rows <= lower) & (gradient < 0)) | ((q_rows >= upper) & (gradient > 0))
+        J_free = np.where(blocked[:, None, :], 0.0, J_rows)
+        gradient_free = np.where(blocked, 0.0, gradient)
+        JtJ = np.swapaxes(J_free, 1, 2) @ J_free
         scale = np.maximum(np.einsum("kii->k", JtJ) / n, 1e-12)
-        A = JtJ + (mu[idx] * scale)[:, None, None] * eye
-        dq = np.linalg.solve(A, gf[:, :, None])[:, :, 0]
-        q_try = ctx.project(qa + dq)
-        Tf_try, e_try, te_try = _task(ctx, q_try, T_goal[idx], is_position)
-        f_try = 0.5 * np.sum(te_try * te_try, axis=1)
-        ok = f_try < f[idx]
-        acc = idx[ok]
-        rej = idx[~ok]
-        mu[rej] *= 8.0
-        if acc.size:
-            mu[acc] = np.maximum(mu[acc] / 3.0, 1e-9)
-            q[acc] = q_try[ok]
-            e[acc] = e_try[ok]
-            te[acc] = te_try[ok]
-            f[acc] = f_try[ok]
-            Jn = ctx.jacobian(q_try[ok], Tf_try[ok])
-            Jt[acc] = Jn if ctx.full_mask else Jn[:, ctx.rows, :]
-            its[acc] += 1
-            since[acc] += 1
-        # stationary: no relative decrease of min_decrease over `window` accepted
+        A = JtJ + (damping[rows] * scale)[:, None, None] * identity
+        dq = np.linalg.solve(A, gradient_free[:, :, None])[:, :, 0]
+        q_trial = ctx.project(q_rows + dq)
+        T_flange_trial, error_trial, task_error_trial = _task(ctx, q_trial, T_goal[rows], is_position)
+        cost_trial = 0.5 * np.sum(task_error_trial * task_error_trial, axis=1)
+        lower_cost = cost_trial < cost[rows]
+        accepted = rows[lower_cost]
+        rejected = rows[~lower_cost]
+        damping[rejected] *= _RAISE
+        if accepted.size:
+            damping[accepted] = np.maximum(damping[accepted] / _LOWER, _SMALLEST_DAMPING)
+            q[accepted] = q_trial[lower_cost]
+            error[accepted] = error_trial[lower_cost]
+            task_error[accepted] = task_error_trial[lower_cost]
+            cost[accepted] = cost_trial[lower_cost]
+            J_new = ctx.jacobian(q_trial[lower_cost], T_flange_trial[lower_cost])
+            task_jacobian[accepted] = J_new if ctx.full_mask else J_new[:, ctx.rows, :]
+            iterations[accepted] += 1
+            accepted_since_check[accepted] += 1
+        # stationary: no relative decrease of REFINE_STALL_TOLERANCE over `window` accepted
         # steps, or the damping exploded (no descent possible)
-        done_win = active & (since >= window)
-        stuck = done_win & (f > (1.0 - min_decrease) ** 2 * ref)
-        ref = np.where(done_win & ~stuck, f, ref)
-        since = np.where(done_win & ~stuck, 0, since)
-        stuck |= active & (mu > 1e8)
-        stuck |= active & (its >= max_iterations)
+        checked = active & (accepted_since_check >= window)
+        stuck = checked & (cost > (1.0 - REFINE_STALL_TOLERANCE) ** 2 * reference_cost)
+        reference_cost = np.where(checked & ~stuck, cost, reference_cost)
+        accepted_since_check = np.where(checked & ~stuck, 0, accepted_since_check)
+        stuck |= active & (damping > _LARGEST_DAMPING)
+        stuck |= active & (iterations >= max_iterations)
         if stuck.any():
-            s = np.flatnonzero(stuck)
-            codes = classify_stall(Jt[s], te[s], q[s], lower, upper, gtol)
-            codes = np.where(mu[s] > 1e8, np.where(codes == 0, 1, codes), codes)
-            code[s] = np.where(its[s] >= max_iterations, 3, codes)
-            active[s] = False
-    code[conv] = -1
-    return q, e, conv, code, its
+            ended = np.flatnonzero(stuck)
+            verdicts = classify_stall(task_jacobian[ended], task_error[ended], q[ended], lower, upper,
+                                      settings.gradient_tolerance)
+            # a damping that exploded means no descent direction: a stall there is out of reach
+            exploded = damping[ended] > _LARGEST_DAMPING
+            verdicts = np.where(exploded & (verdicts == Outcome.STALLED), Outcome.UNREACHABLE, verdicts)
+            outcome[ended] = np.where(iterations[ended] >= max_iterations, Outcome.MAX_ITERATIONS, verdicts)
+            active[ended] = False
+    outcome[converged] = Outcome.CONVERGED
+    return q, error, converged, outcome, iterations

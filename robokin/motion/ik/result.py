@@ -8,14 +8,38 @@ solve, :class:`IKBatchResult` the outcome of many solves at once.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from enum import IntEnum
 from functools import cached_property
 
 import numpy as np
 
-__all__ = ["IKHistory", "IKResult", "IKBatchResult", "REASONS"]
+__all__ = ["IKHistory", "IKResult", "IKBatchResult", "Outcome", "REASONS", "REASON_NAMES"]
 
-#: Possible values of ``reason`` (see :func:`robokin.motion.solve_ik`).
-REASONS = ("converged", "max_iterations", "stalled", "unreachable", "joint_limits")
+
+class Outcome(IntEnum):
+    """How an IK attempt ended, as one code for the single, batched and polishing solvers.
+
+    A result's ``reason`` is the member's :attr:`reason` (its name in lower case).
+    ``STALLED``, ``UNREACHABLE`` and ``JOINT_LIMITS`` are the verdicts of
+    :func:`~robokin.motion.ik.stall.classify_stall` on an attempt that stopped progressing.
+    """
+
+    CONVERGED = 0
+    MAX_ITERATIONS = 1
+    STALLED = 2
+    UNREACHABLE = 3
+    JOINT_LIMITS = 4
+
+    @property
+    def reason(self) -> str:
+        """The name a result reports: ``"converged"``, ``"max_iterations"``, ..."""
+        return self.name.lower()
+
+
+#: Possible values of ``reason`` (see :func:`robokin.motion.solve_ik`), in the order of :class:`Outcome`.
+REASONS = tuple(outcome.reason for outcome in Outcome)
+#: :data:`REASONS` as an array, to turn an array of :class:`Outcome` codes into reasons at once.
+REASON_NAMES = np.array(REASONS)
 
 
 @dataclass(frozen=True, eq=False)

@@ -19,11 +19,11 @@ import numpy as np
 from robokin.chains.protocol import Chain
 from robokin.motion._kernels import random_within_limits, rotation_log_single
 from robokin.motion.ik.methods import IKMethod, StepResult
-from robokin.motion.ik.polish import POLISH_REASONS, polish
+from robokin.motion.ik.polish import polish
 from robokin.motion.ik.problem import IKContext
-from robokin.motion.ik.result import IKHistory, IKResult
+from robokin.motion.ik.result import IKHistory, IKResult, Outcome
 from robokin.motion.ik.settings import DEFAULTS, IKSettings, parse_settings
-from robokin.motion.ik.stall import STALL_REASONS, StallWatch, classify_stall
+from robokin.motion.ik.stall import StallWatch, classify_stall
 
 __all__ = ["solve_ik", "solve_ik_once", "run_attempt", "classify_stall", "DEFAULTS"]
 
@@ -138,7 +138,7 @@ class Attempt(NamedTuple):
     q: np.ndarray
     error: np.ndarray
     norm: float
-    reason: str
+    outcome: Outcome
     iterations: int
 
 
@@ -169,16 +169,16 @@ def run_attempt(
         if norm < best_norm or converged:
             best_norm, best_q, best_e = norm, q, e
         if converged:
-            reason = "converged"
+            outcome = Outcome.CONVERGED
             break
         if k >= max_iterations:
-            reason = "max_iterations"
+            outcome = Outcome.MAX_ITERATIONS
             break
         assert J is not None  # computed whenever not converged
         J_task, e_task = (J, e) if rows is None else (J[rows], e[rows])
         if watch.stalled(k, best_norm):
-            code = classify_stall(J_task, e_task, q, ctx.lower, ctx.upper, settings.gradient_tolerance)
-            reason = STALL_REASONS[int(code)]
+            verdict = classify_stall(J_task, e_task, q, ctx.lower, ctx.upper, settings.gradient_tolerance)
+            outcome = Outcome(int(verdict))
             break
         dq, damping = limit_aware_step(method, J_task, e_task, q, ctx, on_limit)  # the method's step
         q_new, on_limit = ctx.advance(q, cap_step(dq, max_step))
@@ -188,20 +188,19 @@ def run_attempt(
         k += 1
     if history is not None:
         history.end_attempt()
-    return Attempt(best_q, best_e, best_norm, reason, k)
+    return Attempt(best_q, best_e, best_norm, outcome, k)
 
 
 def _polish_best(
     settings: IKSettings, goal: Goal, best: Attempt, attempts: int, history: HistoryRecorder | None
 ) -> Attempt:
     """Every attempt failed: polish the best one (monotone LM) so that the reason says why."""
-    q, e, converged, code, iterations = polish(settings, best.q[None, :], goal.T[None])
-    reason = "converged" if converged[0] else POLISH_REASONS[int(code[0])]
+    q, e, _, outcome, iterations = polish(settings, best.q[None, :], goal.T[None])
     if history is not None:
         T_flange, _ = settings.ctx.pose(q[0])
         history.add_point(q[0], e[0], settings.ctx.jacobian(q[0], T_flange), attempts)
         history.end_attempt()
-    return Attempt(q[0], e[0], math.nan, reason, int(iterations[0]))
+    return Attempt(q[0], e[0], math.nan, Outcome(int(outcome[0])), int(iterations[0]))
 
 
 def _result(settings: IKSettings, best: Attempt, iterations: int, attempts: int,
@@ -213,13 +212,13 @@ def _result(settings: IKSettings, best: Attempt, iterations: int, attempts: int,
         position, orientation = e[:3] * ctx.mask[:3], e[3:] * ctx.mask[3:]
     position_error = math.sqrt(float(position.dot(position)))
     orientation_error = math.sqrt(float(orientation.dot(orientation)))
-    ok = bool(best.reason == "converged" and position_error <= settings.tol_position
+    ok = bool(best.outcome == Outcome.CONVERGED and position_error <= settings.tol_position
               and orientation_error <= settings.tol_orientation)
     return IKResult(
         q=best.q.copy(),
         success=ok,
         iterations=iterations,
-        reason=best.reason,
+        reason=best.outcome.reason,
         position_error=position_error,
         orientation_error=orientation_error,
         errors=e.copy(),
@@ -235,7 +234,7 @@ def _solve(settings: IKSettings, T_goal: np.ndarray, q_start: np.ndarray, record
     goal = Goal(T_goal, settings)
     history = HistoryRecorder() if record_history else None
     rng = seed if isinstance(seed, np.random.Generator) else None  # created on the first restart
-    best = Attempt(q_start, np.zeros(6), math.inf, "max_iterations", 0)
+    best = Attempt(q_start, np.zeros(6), math.inf, Outcome.MAX_ITERATIONS, 0)
     iterations = attempts = 0
     for attempt in range(settings.restarts + 1):
         attempts += 1
@@ -246,11 +245,11 @@ def _solve(settings: IKSettings, T_goal: np.ndarray, q_start: np.ndarray, record
             q = random_within_limits(rng, ctx.lower, ctx.upper, 1)[0]
         result = run_attempt(settings, goal, q, attempt, history)
         iterations += result.iterations
-        if result.reason == "converged" or result.norm < best.norm:
+        if result.outcome == Outcome.CONVERGED or result.norm < best.norm:
             best = result
-        if result.reason == "converged":
+        if result.outcome == Outcome.CONVERGED:
             break
-    if best.reason != "converged" and settings.polish:
+    if best.outcome != Outcome.CONVERGED and settings.polish:
         best = _polish_best(settings, goal, best, attempts, history)
         iterations += best.iterations
     return _result(settings, best, iterations, attempts, history)

@@ -11,10 +11,9 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["classify_stall", "StallWatch", "stall_check", "STALL_REASONS"]
+from robokin.motion.ik.result import Outcome
 
-#: Names of the codes returned by :func:`classify_stall`.
-STALL_REASONS = ("stalled", "unreachable", "joint_limits")
+__all__ = ["classify_stall", "StallWatch", "stall_check"]
 
 _LIMIT_EPS = 1e-12
 
@@ -22,7 +21,8 @@ _LIMIT_EPS = 1e-12
 def classify_stall(
     J: np.ndarray, e: np.ndarray, q: np.ndarray, lower: np.ndarray, upper: np.ndarray, gtol: float
 ) -> np.ndarray:
-    r"""Why did the error stop decreasing? Codes 0 = stalled, 1 = unreachable, 2 = joint_limits.
+    r"""Why did the error stop decreasing? :class:`~robokin.motion.ik.result.Outcome` ``STALLED``,
+    ``UNREACHABLE`` or ``JOINT_LIMITS``.
 
     With :math:`g = J^T e` (the steepest-descent direction of
     :math:`\tfrac12\|e\|^2`) and :math:`g_p` the same with the components that
@@ -51,7 +51,7 @@ def classify_stall(
     Returns
     -------
     ndarray of int, shape (...)
-        The codes (broadcasts over a leading batch axis).
+        The :class:`~robokin.motion.ik.result.Outcome` codes (broadcasts over a leading batch axis).
     """
     g = (np.swapaxes(J, -1, -2) @ e[..., None])[..., 0]
     at_lo = q <= lower + _LIMIT_EPS
@@ -61,7 +61,7 @@ def classify_stall(
     scale = gtol * np.linalg.norm(J, axis=(-2, -1)) * np.linalg.norm(e, axis=-1)
     g_small = np.linalg.norm(g, axis=-1) <= scale
     gp_small = np.linalg.norm(gp, axis=-1) <= scale
-    return np.where(g_small, 1, np.where(gp_small, 2, 0))
+    return np.where(g_small, Outcome.UNREACHABLE, np.where(gp_small, Outcome.JOINT_LIMITS, Outcome.STALLED))
 
 
 class StallWatch:
