@@ -370,3 +370,24 @@ def test_trusted_names_rule_finds_a_name_from_a_try_cell(tmp_path):
     path = tmp_path / "01_x.ipynb"
     path.write_text(json.dumps({"cells": cells, "metadata": {}, "nbformat": 4, "nbformat_minor": 5}))
     assert _trusted_names_problems(path) == ["cell 3 (task1_test1) reads ['hidden', 'leg']"]
+
+
+def test_formatter_gives_a_cell_without_an_id_a_stable_one():
+    """tools/format_notebooks.py gives a cell written without an id (by a script, or an editor of
+    format 4.4) a stable id, so that ``make execute`` does not give it a random one after
+    tools/nbgrader_metadata.py named its locked cell by position (the metadata went stale)."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("format_notebooks", ROOT / "tools" / "format_notebooks.py")
+    formatter = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(formatter)
+    nb = {"nbformat": 4, "nbformat_minor": 4,
+          "cells": [{"cell_type": "markdown", "metadata": {}, "source": "kept", "id": "kept"},
+                    {"cell_type": "markdown", "metadata": {}, "source": "new"},
+                    {"cell_type": "markdown", "metadata": {}, "source": "new"}]}
+    assert formatter.give_cells_ids(nb)
+    ids = [cell["id"] for cell in nb["cells"]]
+    assert ids[0] == "kept" and len(set(ids)) == 3 and all(re.fullmatch(r"[a-zA-Z0-9_-]{1,64}", i) for i in ids)
+    assert nb["nbformat_minor"] == 5
+    again = json.loads(json.dumps(nb))
+    assert not formatter.give_cells_ids(again) and again == nb

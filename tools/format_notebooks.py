@@ -4,6 +4,8 @@
     .venv/bin/python tools/format_notebooks.py            # format notebooks/*.ipynb in place
     .venv/bin/python tools/format_notebooks.py --check    # exit 1 and list the lines that are too long
 
+Every cell without an id gets a stable one (``make execute`` would give it a random
+one, after ``tools/nbgrader_metadata.py`` named its locked cell by its position).
 Code is formatted by black (``--line-length 88``, with its string splitting), then
 the comments and one-line docstrings black leaves long are wrapped at word
 boundaries. Only cell sources change; outputs are kept (re-run ``make execute``
@@ -151,6 +153,34 @@ def format_code(code: str) -> str:
     return wrap_long_text(formatted)
 
 
+def give_cells_ids(nb: dict) -> bool:
+    """Give every cell without an ``id`` a stable one (and the notebook format 4.5 that has them).
+
+    A cell written without an id (by a script, or by an editor of format 4.4) would otherwise
+    get a random one from the next ``make execute`` (nbformat fills missing ids), after
+    ``tools/nbgrader_metadata.py`` had named its locked cell ``cell-<index>``: the metadata
+    would then be stale. The id is derived from the cell's position and source, so that a
+    second run changes nothing. Returns whether a cell changed.
+    """
+    import hashlib
+
+    taken = {cell["id"] for cell in nb["cells"] if cell.get("id")}
+    changed = False
+    for index, cell in enumerate(nb["cells"]):
+        if cell.get("id"):
+            continue
+        digest = hashlib.sha1(f"{index}\0{''.join(cell.get('source', ''))}".encode()).hexdigest()
+        length = 8
+        while f"cell-{digest[:length]}" in taken:
+            length += 1
+        cell["id"] = f"cell-{digest[:length]}"
+        taken.add(cell["id"])
+        changed = True
+    if changed and (nb.get("nbformat"), nb.get("nbformat_minor", 0)) < (4, 5):
+        nb["nbformat"], nb["nbformat_minor"] = 4, 5
+    return changed
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--check", action="store_true")
@@ -160,7 +190,7 @@ def main() -> int:
     bad = 0
     for path in paths:
         nb = load_notebook(path)
-        changed = False
+        changed = False if args.check else give_cells_ids(nb)
         for index, cell in enumerate(nb["cells"]):
             if cell["cell_type"] != "code":
                 continue
