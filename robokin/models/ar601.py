@@ -25,7 +25,7 @@ def ar601_leg(l1: Any = 0.3, l2: Any = 0.3, l3: Any = 0.1) -> SerialChain:
     r"""Leg of the AR-601 humanoid: spherical hip (3), knee (1), ankle (2).
 
     Source: transform sequence of a 2020 student homework report on the
-    AR-601 leg (course material, /work/shared/seeds/004_*):
+    AR-601 leg (course material, not distributed with robokin):
 
     .. math::
 

@@ -72,9 +72,10 @@ def baxter_left(base: str = "torso", end: str = "hand") -> SerialChain:
     hardware page and Ju et al. print 0.36435); the θ₂ offset π/2 makes q = 0
     the URDF zero pose (arm stretched horizontally).
 
-    The Imperial College tutorial table (/work/shared/seeds/003_*) has the same
-    structure but rounds the lengths (0.2703, 0.3644, 0.3743, 0.2295) and twists
-    (±1.571) and omits the θ₂ offset π/2, so its q = 0 is a different pose;
+    The Imperial College tutorial table (course material, not distributed with
+    robokin) has the same structure but rounds the lengths (0.2703, 0.3644,
+    0.3743, 0.2295) and twists (±1.571) and omits the θ₂ offset π/2, so its
+    q = 0 is a different pose;
     with q2 → q2 + π/2 it agrees with this model to 0.3 mm.
 
     Cross-checked (``tests/test_urdf.py``, 1,000 configurations, 1e-9 m / 1e-9 rad)

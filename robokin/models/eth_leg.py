@@ -28,9 +28,9 @@ def eth_leg(l_b: Any = 1, l_1: Any = 1, l_2: Any = 1, l_3: Any = 1, *, limits: A
     r"""The 3-DOF leg of ETH Zürich's *Autonomous Mobile Robots*, exercise 1.
 
     Source: ETH AMR exercise 1 ("Kinematics of a single robot leg"), checked
-    against a student report (in /work/shared/seeds/000_*), whose printed
-    Jacobian (eq. 20) has a sign slip in entry (3, 3); the values here are
-    re-derived.
+    against a student report (course material, not distributed with robokin),
+    whose printed Jacobian (eq. 20) has a sign slip in entry (3, 3); the values
+    here are re-derived.
 
     Frames ``B, 1, 2, 3, F`` (base, hip-abduction, hip-flexion, knee, foot);
     :math:`\mathbf{q} = [\alpha, \beta, \gamma]`: α about the x axis of frame 1,
