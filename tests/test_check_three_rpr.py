@@ -158,3 +158,12 @@ def test_check_poses(capsys):
     assert chk.check_poses(np.zeros((0, 3)), [0.1, 0.1, 3.0], quiet=True).passed    # no mode exists
     out = capsys.readouterr().out
     assert out.count("✔") == 2
+
+
+def test_an_unexplained_wrong_jacobian_gets_a_direction_not_the_answer():
+    """The hint of an answer that no diagnosis explains says how to derive A, not its rows
+    (the Try it yourself cell would otherwise hand out Task 3's closed form)."""
+    result = chk.inverse_jacobian(lambda pose: np.eye(3) + pose[0], quiet=True)
+    assert result.diagnosis == "mismatch"
+    assert "differentiate ρ_i" in result.message
+    assert "×" not in result.message and "n_i" not in result.message

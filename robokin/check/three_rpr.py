@@ -203,7 +203,8 @@ inverse_jacobian = exercise(_CHAPTER, "inverse_jacobian", Check(
     groups=_GROUP,
     diagnoses=_jacobian_mistakes(),
     noun="poses",
-    hint="Row i is [n_iᵀ, ((B_i − P) × n_i)_z] with n_i = (B_i − A_i)/ρ_i.",
+    hint=("Row i gives ρ̇_i: differentiate ρ_i = ‖B_i − A_i‖ along the platform motion (ẋ, ẏ, φ̇), "
+          "with (x, y) the point B1 and the platform turning about it."),
     doc="Check a function A(pose) -> 3×3 inverse Jacobian of the exercise robot (ρ̇ = A ẋ).",
 ))
 
