@@ -17,14 +17,12 @@ import numpy as np
 
 __all__ = [
     "rotation_log_fast",
-    "pose_error_vector",
     "tool_jacobian",
     "clamp_to_limits",
     "distance_to_limits",
     "random_within_limits",
     "wrap_angles",
     "rotation_log_single",
-    "pose_error_single",
     "generic_rank",
 ]
 
@@ -76,15 +74,6 @@ def rotation_log_fast(R: np.ndarray) -> np.ndarray:
         h /= np.linalg.norm(h, axis=-1, keepdims=True)
         w[near_pi] = theta[near_pi][:, None] * h
     return w
-
-
-def pose_error_vector(T: np.ndarray, T_goal: np.ndarray) -> np.ndarray:
-    """Stacked error ``[p_goal - p; log(R_goal R^T)]`` (..., 6) in the base frame."""
-    e = np.empty(np.broadcast_shapes(T.shape, T_goal.shape)[:-2] + (6,))
-    e[..., :3] = T_goal[..., :3, 3] - T[..., :3, 3]
-    R_err = T_goal[..., :3, :3] @ np.swapaxes(T[..., :3, :3], -1, -2)
-    e[..., 3:] = rotation_log_fast(R_err)
-    return e
 
 
 def tool_jacobian(J: np.ndarray, R: np.ndarray, p_tool: np.ndarray) -> np.ndarray:
@@ -153,13 +142,6 @@ def rotation_log_single(R: np.ndarray) -> list[float]:
         return [f * vx, f * vy, f * vz]
     w = rotation_log_fast(R)
     return [float(w[0]), float(w[1]), float(w[2])]
-
-
-def pose_error_single(T: np.ndarray, T_goal: np.ndarray) -> np.ndarray:
-    """:func:`pose_error_vector` for one pair of (4, 4) poses."""
-    wx, wy, wz = rotation_log_single(T_goal[:3, :3] @ T[:3, :3].T)
-    p, g = T[:3, 3].tolist(), T_goal[:3, 3].tolist()
-    return np.array((g[0] - p[0], g[1] - p[1], g[2] - p[2], wx, wy, wz))
 
 
 def generic_rank(jacobian, lower: np.ndarray, upper: np.ndarray, samples: int = 4) -> int:

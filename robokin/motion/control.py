@@ -37,7 +37,8 @@ import numpy as np
 
 from robokin.chains.protocol import Chain
 from robokin.errors import DomainError, ShapeError
-from robokin.motion._kernels import generic_rank, pose_error_single
+from robokin.motion._kernels import generic_rank
+from robokin.motion.pose_error import pose_error_unchecked
 from robokin.validation import (
     as_float_array,
     as_scalar,
@@ -306,7 +307,7 @@ class CartesianController:
             e = np.zeros(6)
             e[:3] = g - T[:3, 3]
             return e
-        return pose_error_single(T, g)
+        return pose_error_unchecked(T, g)
 
     def __call__(self, t: float, q: Any) -> ControlOutput:
         """Joint-velocity command at time ``t`` (s) and configuration ``q`` (n,).

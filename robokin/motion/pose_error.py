@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 
 from robokin.errors import ShapeError
-from robokin.motion._kernels import rotation_log_fast
+from robokin.motion._kernels import rotation_log_fast, rotation_log_single
 from robokin.transforms import (
     quaternion_conjugate,
     quaternion_from_rotation,
@@ -30,7 +30,7 @@ from robokin.transforms import (
 )
 from robokin.validation import check_transform
 
-__all__ = ["pose_error", "REPRESENTATIONS"]
+__all__ = ["pose_error", "pose_error_unchecked", "REPRESENTATIONS"]
 
 #: Accepted values of ``representation``.
 REPRESENTATIONS = ("angle_axis", "quaternion", "rpy")
@@ -108,12 +108,12 @@ def pose_error(T_current: Any, T_goal: Any, representation: str = "angle_axis") 
         raise ShapeError(
             f"T_current and T_goal must broadcast; got shapes {T.shape} and {G.shape}"
         ) from None
+    if representation == "angle_axis":
+        return pose_error_unchecked(T, G)
     e = np.empty(shape[:-2] + (6,))
     e[..., :3] = G[..., :3, 3] - T[..., :3, 3]
     R, Rg = T[..., :3, :3], G[..., :3, :3]
-    if representation == "angle_axis":
-        e[..., 3:] = rotation_log_fast(Rg @ np.swapaxes(R, -1, -2))
-    elif representation == "quaternion":
+    if representation == "quaternion":
         qe = quaternion_multiply(
             quaternion_from_rotation(Rg, check=False), quaternion_conjugate(quaternion_from_rotation(R, check=False))
         )
@@ -122,4 +122,22 @@ def pose_error(T_current: Any, T_goal: Any, representation: str = "angle_axis") 
     else:
         d = rpy_from_rotation(Rg, check=False) - rpy_from_rotation(R, check=False)
         e[..., 3:] = np.pi - np.mod(np.pi - d, 2.0 * np.pi)
+    return e
+
+
+def pose_error_unchecked(T: np.ndarray, T_goal: np.ndarray) -> np.ndarray:
+    r"""The angle–axis :func:`pose_error` without validation, for the solvers' loops.
+
+    :math:`e = [p_{goal} - p;\ \log(R_{goal} R^T)]` in the base frame. One pair of (4, 4)
+    poses gives (6,), computed in plain floats (every IK iteration calls it); stacks
+    ``(..., 4, 4)`` broadcast and give ``(..., 6)``. The arguments must be valid float
+    homogeneous transforms.
+    """
+    if T.ndim == 2 and T_goal.ndim == 2:
+        wx, wy, wz = rotation_log_single(T_goal[:3, :3] @ T[:3, :3].T)
+        p, g = T[:3, 3].tolist(), T_goal[:3, 3].tolist()
+        return np.array((g[0] - p[0], g[1] - p[1], g[2] - p[2], wx, wy, wz))
+    e = np.empty(np.broadcast_shapes(T.shape, T_goal.shape)[:-2] + (6,))
+    e[..., :3] = T_goal[..., :3, 3] - T[..., :3, 3]
+    e[..., 3:] = rotation_log_fast(T_goal[..., :3, :3] @ np.swapaxes(T[..., :3, :3], -1, -2))
     return e

@@ -15,13 +15,14 @@ from typing import Any
 import numpy as np
 
 from robokin.chains.protocol import Chain
-from robokin.motion._kernels import pose_error_vector, random_within_limits
+from robokin.motion._kernels import random_within_limits
 from robokin.motion.ik.methods import IKMethod
 from robokin.motion.ik.polish import polish as polish_rows
 from robokin.motion.ik.problem import IKContext
 from robokin.motion.ik.result import REASON_NAMES, IKBatchResult, Outcome
 from robokin.motion.ik.settings import DEFAULTS, IKSettings, parse_settings
 from robokin.motion.ik.stall import classify_stall, stall_check
+from robokin.motion.pose_error import pose_error_unchecked
 
 __all__ = ["solve_ik_batch"]
 
@@ -130,7 +131,7 @@ def _errors(settings: IKSettings, rows: AttemptRows, T_goal: np.ndarray):
     """Pose errors (R, 6), their masked position and orientation norms, and the flange poses."""
     ctx = settings.ctx
     T_flange, T = ctx.pose(rows.q)
-    e = pose_error_vector(T, T_goal[rows.target])
+    e = pose_error_unchecked(T, T_goal[rows.target])
     if settings.is_position:
         e[:, 3:] = 0.0
     mask = ctx.mask

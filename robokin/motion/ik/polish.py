@@ -19,11 +19,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from robokin.motion._kernels import pose_error_vector
 from robokin.motion.ik.problem import IKContext
 from robokin.motion.ik.result import Outcome
 from robokin.motion.ik.settings import REFINE_STALL_TOLERANCE, IKSettings
 from robokin.motion.ik.stall import classify_stall
+from robokin.motion.pose_error import pose_error_unchecked
 
 __all__ = ["polish"]
 
@@ -36,7 +36,7 @@ def _task(ctx: IKContext, q: np.ndarray, T_goal: np.ndarray, is_position: bool
           ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Flange poses (N, 4, 4), pose errors (N, 6) and their task rows (N, m) at ``q`` (N, n)."""
     T_flange, T = ctx.pose(q)
-    error = pose_error_vector(T, T_goal)
+    error = pose_error_unchecked(T, T_goal)
     if is_position:
         error[:, 3:] = 0.0
     task_error = error if ctx.full_mask else error[:, ctx.rows]

@@ -17,13 +17,14 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from robokin.chains.protocol import Chain
-from robokin.motion._kernels import random_within_limits, rotation_log_single
+from robokin.motion._kernels import random_within_limits
 from robokin.motion.ik.methods import IKMethod, StepResult
 from robokin.motion.ik.polish import polish
 from robokin.motion.ik.problem import IKContext
 from robokin.motion.ik.result import IKHistory, IKResult, Outcome
 from robokin.motion.ik.settings import DEFAULTS, IKSettings, parse_settings
 from robokin.motion.ik.stall import StallWatch, classify_stall
+from robokin.motion.pose_error import pose_error_unchecked
 
 __all__ = ["solve_ik", "solve_ik_once", "run_attempt", "classify_stall", "DEFAULTS"]
 
@@ -39,11 +40,10 @@ class Goal:
         For the task mask and whether the target is a position.
     """
 
-    __slots__ = ("T", "R", "position", "is_position", "mask_position", "mask_orientation")
+    __slots__ = ("T", "position", "is_position", "mask_position", "mask_orientation")
 
     def __init__(self, T_goal: np.ndarray, settings: IKSettings) -> None:
         self.T = T_goal
-        self.R = np.ascontiguousarray(T_goal[:3, :3])
         self.position = T_goal[:3, 3].tolist()
         self.is_position = settings.is_position
         mask = settings.ctx.mask_list
@@ -51,16 +51,18 @@ class Goal:
 
     def error(self, T: np.ndarray) -> tuple[np.ndarray, float, float]:
         """Error ``[p_goal - p; theta h]`` (6,) of pose ``T`` and its masked position and orientation norms."""
-        p, g = T[:3, 3].tolist(), self.position
-        ex, ey, ez = g[0] - p[0], g[1] - p[1], g[2] - p[2]
-        if self.is_position:
+        if self.is_position:  # no orientation to reach
+            p, g = T[:3, 3].tolist(), self.position
+            ex, ey, ez = g[0] - p[0], g[1] - p[1], g[2] - p[2]
             rx = ry = rz = 0.0
-        else:  # theta h = log(R_goal R^T), as pose_error_single
-            rx, ry, rz = rotation_log_single(self.R.dot(T[:3, :3].T))
+            e = np.array((ex, ey, ez, rx, ry, rz))
+        else:
+            e = pose_error_unchecked(T, self.T)
+            ex, ey, ez, rx, ry, rz = e.tolist()
         mp, mo = self.mask_position, self.mask_orientation
         position_error = math.sqrt(mp[0] * ex * ex + mp[1] * ey * ey + mp[2] * ez * ez)
         orientation_error = math.sqrt(mo[0] * rx * rx + mo[1] * ry * ry + mo[2] * rz * rz)
-        return np.array((ex, ey, ez, rx, ry, rz)), position_error, orientation_error
+        return e, position_error, orientation_error
 
 
 class HistoryRecorder:
