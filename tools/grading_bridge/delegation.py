@@ -56,6 +56,53 @@ REFERENCES["ar601.ik_solver"] = {"ar601_leg_ik": "robokin.models.ar601_leg_ik",
                                  "ar601_leg_ik_batch": "robokin.models.ar601_leg_ik_batch", **_IK}
 
 
+def declared_references(check_folder: str | None = None) -> dict[str, dict[str, str]]:
+    """The ``DELEGATION`` tables of the chapters' check modules, as ``{"<chapter>.<check>": {...}}``.
+
+    A chapter's check module (``robokin/check/<chapter>.py``; tools/new_chapter.py writes
+    one) may state, as a literal dict ``DELEGATION = {check: {method: how the report names
+    it}}``, the robokin functions that solve its tasks. The modules are parsed, not
+    imported; a module without the table, or whose table is not a literal, adds nothing.
+    """
+    import importlib.util
+    from pathlib import Path
+
+    if check_folder is None:
+        spec = importlib.util.find_spec("robokin")
+        if spec is None or not spec.submodule_search_locations:
+            return {}
+        check_folder = str(Path(list(spec.submodule_search_locations)[0]) / "check")
+    found: dict[str, dict[str, str]] = {}
+    for path in sorted(Path(check_folder).glob("[a-z]*.py")):
+        try:
+            tree = ast.parse(path.read_text(encoding="utf-8"))
+        except (OSError, SyntaxError, ValueError):
+            continue
+        for stmt in tree.body:
+            if isinstance(stmt, ast.Assign):
+                targets, value = stmt.targets, stmt.value
+            elif isinstance(stmt, ast.AnnAssign) and stmt.value is not None:
+                targets, value = [stmt.target], stmt.value
+            else:
+                continue
+            if not any(isinstance(t, ast.Name) and t.id == "DELEGATION" for t in targets):
+                continue
+            try:
+                table = ast.literal_eval(value)
+            except (ValueError, SyntaxError, TypeError):
+                continue
+            if isinstance(table, dict):
+                for check, references in table.items():
+                    if isinstance(check, str) and isinstance(references, dict):
+                        found[f"{path.stem}.{check}"] = {str(k): str(v) for k, v in references.items()}
+    return found
+
+
+# the tables of the check modules, for the checks not listed above
+for _check, _references in declared_references().items():
+    REFERENCES.setdefault(_check, _references)
+
+
 def _mentions(node: ast.AST) -> set[str]:
     out: set[str] = set()
     for sub in ast.walk(node):
