@@ -53,8 +53,11 @@ def r_np(q):
     return np.array([-np.sin(be) - np.sin(be + ga), np.sin(al) * ln + 1, -np.cos(al) * ln])
 
 
+_J_FUNCTION = sp.lambdify([(a, b, g)], J, "numpy")
+
+
 def J_np(q):
-    return np.array(J.subs(dict(zip((a, b, g), q))).evalf(), dtype=float)
+    return np.array(_J_FUNCTION(np.asarray(q, dtype=float)), dtype=float)
 
 
 Q_LIFT = np.deg2rad([0, 60, -120])
@@ -67,6 +70,7 @@ def test_registry_lists_every_check_of_the_chapter():
         "rotation_B1", "rotation_12", "rotation_23", "transform_B1", "transform_12",
         "transform_23", "transform_3F", "transform_BF", "foot_position", "foot_jacobian",
         "foot_jacobian_at", "lift_velocity", "newton_step", "tracking_controller",
+        "newton_ik", "tracking_loop", "ik_closed_form",
     }
     assert check.leg is L and "leg" in dir(check)
 
@@ -110,7 +114,7 @@ def test_pass_message_wording(capsys):
     L.rotation_B1(Rx(a))
     assert capsys.readouterr().out == "✔ R_B1 is correct (checked at 20 random angles).\n"
     L.foot_jacobian_at(J_np(Q_LIFT))
-    assert capsys.readouterr().out == "✔ J_BF at q = [0°, 60°, −120°] is correct.\n"
+    assert capsys.readouterr().out == "✔ J_lift at q = [0°, 60°, −120°] is correct.\n"
 
 
 # ---------------------------------------------------------------- diagnoses specific to the leg
@@ -156,14 +160,14 @@ def test_jacobian_column_sign_slip_of_the_symbolic_code():
     Jc = J.copy()
     Jc[:, 1] = -Jc[:, 1]
     r = L.foot_jacobian(Jc, quiet=True)
-    assert r.message == "✘ Column 2 (∂/∂β) of J_BF(q) has the wrong sign."
+    assert r.message == "✘ Column 2 (∂/∂β) of J_sym(q) has the wrong sign."
 
 
 def test_printed_jacobian_with_a_sign_slip_in_entry_3_3():
     Jp = np.array([[0, -1, -0.5], [2, 0, 0], [0, 0, 0.866]])
     r = L.foot_jacobian_at(Jp, quiet=True)
     assert r.diagnosis == "sign_entry"
-    assert r.message == "✘ Entry (3, 3) of J_BF has the wrong sign."
+    assert r.message == "✘ Entry (3, 3) of J_lift has the wrong sign."
 
 
 def test_jacobian_evaluated_at_degrees():
@@ -244,6 +248,13 @@ def test_ik_solution_mistakes():
     assert not L.ik_solution(q, goal=far, quiet=True).passed
 
 
+def test_ik_solution_names_the_answer_as_the_notebook_does():
+    r = L.ik_solution(np.rad2deg(_ik_solutions()[0]), name="found[0]", quiet=True)
+    assert r.name == "found[0]" and r.message.startswith("✘ found[0] is in degrees")
+    with pytest.raises(TypeError, match="name must be a str"):
+        L.ik_solution(_ik_solutions()[0], name=3, quiet=True)
+
+
 # ---------------------------------------------------------------- tracking controller
 def ctrl(q, r_des, v_des, kp=10.0):
     return np.linalg.solve(J_np(q), v_des + kp * (r_des - r_np(q)))
@@ -271,3 +282,137 @@ def test_tracking_controller_accepts_one_vector_per_argument_or_scalars():
         return ctrl(np.array([a1, b1, g1]), np.array([x, y, z]), np.array([vx, vy, vz]))
 
     assert L.tracking_controller(scalars, quiet=True).passed
+
+
+# ---------------------------------------------------------------- the student's own loops
+def newton_ik(r_goal, q0, damping=0.0, tol=1e-10, max_iterations=50):
+    """Newton's method written independently: normal equations, J^T J + lambda^2 I."""
+    q = np.array(q0, dtype=float)
+    iterates = [q]
+    for _ in range(int(max_iterations)):
+        e = np.asarray(r_goal) - r_np(q)
+        if np.linalg.norm(e) <= tol:
+            break
+        Jq = J_np(q)
+        q = q + np.linalg.solve(Jq.T @ Jq + damping**2 * np.eye(3), Jq.T @ e)
+        iterates.append(q)
+    return np.array(iterates)
+
+
+@pytest.mark.parametrize(
+    "loop, code",
+    [
+        (newton_ik, None),
+        (lambda g, q0, d, tol, m: newton_ik(g, q0, d, tol, m)[1:], "no_start_row"),
+        (lambda g, q0, d, tol, m: _newton_wrong_sign(g, q0, d, tol, m), "error_sign"),
+        (lambda g, q0, d, tol, m: newton_ik(g, q0, np.sqrt(d), tol, m), "damping_not_squared"),
+        (lambda g, q0, d, tol, m: newton_ik(g, q0, d, -1.0, m), "no_early_stop"),
+        (lambda g, q0, d, tol, m: (newton_ik(g, q0, d, tol, m), True), "error"),
+        (lambda g, q0, d, tol, m: newton_ik(g, q0, d, tol, m)[-1], "error"),
+        ("not a function", "constant"),
+    ],
+)
+def test_newton_ik(loop, code):
+    r = L.newton_ik(loop, quiet=True)
+    assert r.diagnosis == code, r.message
+
+
+def _newton_wrong_sign(r_goal, q0, damping, tol, max_iterations):
+    q = np.array(q0, dtype=float)
+    iterates = [q]
+    for _ in range(int(max_iterations)):
+        e = r_np(q) - np.asarray(r_goal)
+        if np.linalg.norm(e) <= tol:
+            break
+        Jq = J_np(q)
+        q = q + np.linalg.solve(Jq.T @ Jq + damping**2 * np.eye(3), Jq.T @ e)
+        iterates.append(q)
+    return np.array(iterates)
+
+
+def test_newton_ik_reference_converges_quadratically_and_damped_settles():
+    goal, q0 = np.array([0.2, 0.5, -2.0]), np.deg2rad([0.0, -30.0, 60.0])
+    Q = newton_ik(goal, q0)
+    errors = np.linalg.norm(goal - np.array([r_np(q) for q in Q]), axis=1)
+    assert len(Q) == 6 and errors[-1] <= 1e-10
+    assert np.all(errors[1:5] / errors[:4] ** 2 < 1.0)
+    assert L.newton_ik(newton_ik, quiet=True).passed
+
+
+def track(q0, r_des, v_des, kp=10.0, ts=0.01, feedforward=True):
+    """The resolved-rate Euler loop written independently (solve instead of pinv)."""
+    q = np.array(q0, dtype=float)
+    rows = []
+    for r_d, v_d in zip(r_des, v_des):
+        rows.append(q)
+        v = kp * (r_d - r_np(q)) + (v_d if feedforward else 0.0)
+        q = q + ts * np.linalg.solve(J_np(q), v)
+    return np.array(rows)
+
+
+@pytest.mark.parametrize(
+    "loop, code",
+    [
+        (track, None),
+        (lambda q0, r, v, kp, ts, ff: track(q0, r, v, kp, ts, False), "no_feedforward"),
+        (lambda q0, r, v, kp, ts, ff: track(q0, r, v, kp, ts, True), "always_feedforward"),
+        (lambda q0, r, v, kp, ts, ff: np.vstack([track(q0, r, v, kp, ts, ff)[1:],
+                                                 _one_more(q0, r, v, kp, ts, ff)]),
+         "recorded_after_step"),
+        (lambda q0, r, v, kp, ts, ff: track(q0, r, v, kp, ts, ff)[:-1], "error"),
+        (lambda q0, r, v, kp, ts, ff: track(q0, r, v, 2 * kp, ts, ff), "mismatch"),
+    ],
+)
+def test_tracking_loop(loop, code):
+    r = L.tracking_loop(loop, quiet=True)
+    assert r.diagnosis == code, r.message
+
+
+def _one_more(q0, r_des, v_des, kp, ts, feedforward):
+    """The configuration after the last sample's Euler step."""
+    q = track(q0, r_des, v_des, kp, ts, feedforward)[-1]
+    v = kp * (r_des[-1] - r_np(q)) + (v_des[-1] if feedforward else 0.0)
+    return q + ts * np.linalg.solve(J_np(q), v)
+
+
+def closed_form(p):
+    """Every solution of r_BF(q) = p, re-derived: both leg planes, both knees."""
+    d = np.asarray(p, dtype=float) - [0.0, 1.0, 0.0]
+    out = []
+    for L_signed in (np.hypot(d[1], d[2]), -np.hypot(d[1], d[2])):
+        alpha = np.arctan2(np.sign(L_signed) * d[1], -np.sign(L_signed) * d[2])
+        u, w = d[0], 1.0 - L_signed
+        cos_gamma = (u * u + w * w - 2.0) / 2.0
+        if abs(cos_gamma) <= 1.0:
+            for gamma in (np.arccos(cos_gamma), -np.arccos(cos_gamma)):
+                beta = np.arctan2(-u, -w) - gamma / 2
+                out.append([alpha, beta, gamma])
+    return np.array(out).reshape(-1, 3)
+
+
+def test_closed_form_reference_solves_the_goals():
+    for p in L.ik_closed_form.sample_points():
+        sols = closed_form(p)
+        assert all(np.allclose(r_np(q), p) for q in sols)
+    counts = {len(closed_form(p)) for p in L.ik_closed_form.sample_points()}
+    assert counts == {0, 2, 4}
+
+
+@pytest.mark.parametrize(
+    "answer, code",
+    [
+        (closed_form, None),
+        (lambda p: closed_form(p)[::-1] + 2 * np.pi, None),  # any order, angles modulo 2 pi
+        (lambda p: closed_form(p)[:2] if len(closed_form(p)) else closed_form(p), "one_branch"),
+        (lambda p: np.rad2deg(closed_form(p)), "degrees_output"),
+        (lambda p: closed_form(p)[::2], "one_knee"),
+        (lambda p: np.zeros((2, 3)), "mismatch"),
+        (lambda p: np.zeros(3), "shape"),
+        (lambda p: 1 / 0, "error"),
+        (np.zeros((2, 3)), "constant"),
+        (None, "error"),
+    ],
+)
+def test_ik_closed_form(answer, code):
+    r = L.ik_closed_form(answer, quiet=True)
+    assert r.diagnosis == code, r.message

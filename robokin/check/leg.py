@@ -13,12 +13,17 @@ check                      the student's answer                                 
 ``transform_3F``           H_3F: 4×4 constant                                   --
 ``transform_BF``           H_BF(q) = H_B1 H_12 H_23 H_3F                        q = (α, β, γ)
 ``foot_position``          B r_BF(q): 3-vector                                  q
-``foot_jacobian``          J(q) = ∂r_BF/∂q: 3×3                                 q
-``foot_jacobian_at``       J at q = [0°, 60°, −120°]: numbers                   --
-``lift_velocity``          q̇ = J⁺ v at that q, v = [0, 0, −1] m/s: numbers     --
+``foot_jacobian``          J_sym(q) = ∂r_BF/∂q: 3×3                             q
+``foot_jacobian_at``       J_lift, J at q = [0°, 60°, −120°]: numbers           --
+``lift_velocity``          dq_cmd = J⁺ v at that q, v = [0, 0, −1] m/s          --
 ``newton_step``            function (q, r_goal) -> q + J⁺ (r_goal − r(q))       q, r_goal
+``newton_ik``              function (r_goal, q0, damping, tol, max_iterations)  start, goal, λ,
+                           -> the iterates q^0 ... q^K, (K + 1, 3)              budget
+``ik_closed_form``         function p -> every solution of r_BF(q) = p, (m, 3)  goal p
 ``ik_solution(q)``         q with r_BF(q) = [0.2, 0.5, −2] (any solution)       --
 ``tracking_controller``    function (q, r_des, v_des) -> q̇ = J⁺(v_des + Kp e)  q, r_des, v_des
+``tracking_loop``          function (q0, r_des, v_des, kp, ts, feedforward)     start, reference,
+                           -> joint angles at the N samples, (N, 3)             gain, time step
 =========================  ==================================================  =================
 
 Symbolic answers may use the symbols ``alpha, beta, gamma`` (any assumptions)
@@ -29,11 +34,15 @@ from __future__ import annotations
 
 import math
 from functools import lru_cache
+from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 
 from robokin.check import diagnoses as dg
-from robokin.check._core import PASS, FAIL, Check, CheckResult, Variable, alternatives, fmt, report, show
+from robokin.check._core import (
+    FAIL, PASS, Check, CheckResult, MatrixArgumentsCheck, Variable, alternatives, fmt, report, show,
+)
 from robokin.check._registry import exercise
 from robokin.validation import as_vector, check_positive
 
@@ -41,7 +50,8 @@ __all__ = [
     "rotation_B1", "rotation_12", "rotation_23",
     "transform_B1", "transform_12", "transform_23", "transform_3F", "transform_BF",
     "foot_position", "foot_jacobian", "foot_jacobian_at", "lift_velocity",
-    "newton_step", "ik_solution", "tracking_controller",
+    "newton_step", "ik_solution", "tracking_controller", "newton_ik", "tracking_loop",
+    "ik_closed_form",
     "Q_LIFT", "V_LIFT", "R_GOAL", "KP",
 ]
 
@@ -226,7 +236,7 @@ foot_position = exercise(_CHAPTER, "foot_position", Check(
 ))
 
 foot_jacobian = exercise(_CHAPTER, "foot_jacobian", Check(
-    name="J_BF(q)",
+    name="J_sym(q)",
     reference=_jacobian,
     variables=Q,
     groups=_QGROUP,
@@ -238,7 +248,7 @@ foot_jacobian = exercise(_CHAPTER, "foot_jacobian", Check(
 _AT_LIFT = "q = [0°, 60°, −120°]"
 
 foot_jacobian_at = exercise(_CHAPTER, "foot_jacobian_at", Check(
-    name="J_BF",
+    name="J_lift",
     reference=_jacobian,
     variables=Q,
     at=Q_LIFT,
@@ -255,7 +265,7 @@ def _lift(x, v=V_LIFT):
 
 
 lift_velocity = exercise(_CHAPTER, "lift_velocity", Check(
-    name="q̇",
+    name="dq_cmd",
     reference=_lift,
     variables=Q,
     at=Q_LIFT,
@@ -335,8 +345,8 @@ def _joint_angles(q: object, name: str) -> tuple[np.ndarray | None, str | None, 
 
 
 def ik_solution(
-    q: object, goal: object = None, *, tol: float = 1e-3, raise_on_fail: bool = False,
-    quiet: bool = False,
+    q: object, goal: object = None, *, tol: float = 1e-3, name: str = "q_goal",
+    raise_on_fail: bool = False, quiet: bool = False,
 ) -> CheckResult:
     """Check a solution of the inverse kinematics: ``r_BF(q)`` must reach ``goal``.
 
@@ -350,6 +360,8 @@ def ik_solution(
         Foot position in the base frame, m (default :data:`R_GOAL`).
     tol : float, optional
         Allowed foot-position error, m.
+    name : str, optional
+        The answer's name in the messages (default ``"q_goal"``), e.g. ``"found[0]"``.
     raise_on_fail, quiet : bool, optional
         Raise ``AssertionError`` on failure; print nothing.
 
@@ -357,7 +369,8 @@ def ik_solution(
     -------
     CheckResult
     """
-    name = "q_goal"
+    if not isinstance(name, str):
+        raise TypeError(f"name must be a str; got {type(name).__name__}")
     goal = R_GOAL if goal is None else as_vector(goal, 3, "goal")
     tol = check_positive(tol, "tol", scalar=True)
     qa, code, msg = _joint_angles(q, name)
@@ -427,4 +440,328 @@ tracking_controller = exercise(_CHAPTER, "tracking_controller", Check(
         "Check a function controller(q, r_des, v_des) -> q̇ = J⁺(q)(v_des + Kp (r_des − r(q))) "
         "with Kp = 10 /s."
     ),
+))
+
+
+# ------------------------------------------------------------------ the student's own loops
+class _PackedLoopCheck(MatrixArgumentsCheck):
+    """A check of a loop whose result is packed into one vector by ``pack`` (same for the
+    student's function and the reference), so that iterations of any length compare."""
+
+    def __init__(self, *args: Any, pack: Callable[[Any], np.ndarray], **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        self.pack = pack
+
+    def evaluate(self, answer: Any) -> CheckResult:
+        if callable(answer) and not isinstance(answer, np.ndarray):
+            student, pack = answer, self.pack
+
+            def packed(*args: Any) -> np.ndarray:
+                return pack(student(*args))
+
+            return super().evaluate(packed)
+        return super().evaluate(answer)
+
+
+def _iterates(out: Any, name: str) -> np.ndarray:
+    """The iterates a loop returned, as an array (K + 1, 3); a clear error otherwise."""
+    if isinstance(out, tuple):
+        raise TypeError(f"{name} should return one array of joint angles (K + 1, 3), not a tuple "
+                        f"of {len(out)} items")
+    Q = np.asarray(out, dtype=float)
+    if Q.ndim != 2 or Q.shape[1] != 3 or len(Q) == 0:
+        raise TypeError(f"{name} should return an array of shape (K + 1, 3), one row per "
+                        f"iterate; got shape {Q.shape}")
+    return Q
+
+
+# -- Newton's method (task 4)
+def _newton_loop(r_goal, q0, damping, tol, max_iterations, *, sign=1.0, early_stop=True,
+                 transpose=False, damping_power=2, start_row=True) -> np.ndarray:
+    """The reference iteration (and, with the keywords, its typical mistakes): the iterates
+    q^0, q^1, ..., q^K, shape (K + 1, 3)."""
+    q = np.array(q0, dtype=float)
+    Q = [q.copy()]
+    for _ in range(int(max_iterations)):
+        e = sign * (r_goal - _position(q))
+        if early_stop and np.linalg.norm(e) <= tol:
+            break
+        J = _jacobian(q)
+        if transpose:
+            dq = J.T @ e
+        elif damping == 0.0:
+            dq = np.linalg.pinv(J) @ e
+        else:
+            dq = J.T @ np.linalg.solve(J @ J.T + damping**damping_power * np.eye(3), e)
+        q = q + dq
+        Q.append(q.copy())
+    out = np.array(Q)
+    return out if start_row else out[1:]
+
+
+def _pack_iterates(out: Any) -> np.ndarray:
+    """Last iterate, number of steps, first row: ``[q^K (3), K, q^0 (3)]``."""
+    Q = _iterates(out, "newton_ik")
+    return np.r_[Q[-1], float(len(Q) - 1), Q[0]]
+
+
+_Q_START = [
+    _angle("alpha", 1, -1.0, 1.0), _angle("beta", 2, -1.0, 1.0), _angle("gamma", 3, 0.5, 2.4)
+]
+_DQ_GOAL = [Variable(f"dq_{k}", "other", -0.25, 0.25) for k in (1, 2, 3)]
+_NEWTON_MORE = [
+    Variable("damping_choice", "other", 0.0, 0.3),
+    Variable("max_iterations", "other", 1.0, 8.999),
+    Variable("tol_exponent", "other", 4.0, 10.0),
+]
+
+
+def _newton_args(x: np.ndarray) -> tuple:
+    """``(r_goal, q0, damping, tol, max_iterations)`` from a sample: a goal the leg reaches
+    near the start; no damping for half the samples, else λ in [0.05, 0.2] m."""
+    q0 = np.array(x[:3])
+    r_goal = _position(q0 + x[3:6])
+    damping = 0.0 if x[6] < 0.15 else float(x[6] - 0.1)
+    return r_goal, q0, damping, 10.0 ** -x[8], int(x[7])
+
+
+def _newton_variant(**kwargs):
+    return lambda x: _pack_iterates(_newton_loop(*_newton_args(x), **kwargs))
+
+
+newton_ik = exercise(_CHAPTER, "newton_ik", _PackedLoopCheck(
+    name="newton_ik(r_goal, q0, damping, tol, max_iterations)",
+    reference=_newton_variant(),
+    variables=[*_Q_START, *_DQ_GOAL, *_NEWTON_MORE],
+    groups=[(f"x{k}", [k]) for k in range(9)],
+    diagnoses=[
+        alternatives("error_sign", [(_newton_variant(sign=-1.0), (
+            "{name} steps away from the goal: the error is e = r_goal − r(q) (goal minus "
+            "current); the step J⁺e then moves the foot towards the goal."
+        ))]),
+        alternatives("no_start_row", [(_newton_variant(start_row=False), (
+            "{name} leaves out the start: the iterates begin with q^0 = q0, so that row k "
+            "of the log is iterate k (K steps give K + 1 rows)."
+        ))]),
+        alternatives("no_early_stop", [(_newton_variant(early_stop=False), (
+            "{name} always takes max_iterations steps: stop as soon as ‖r_goal − r(q^k)‖ "
+            "<= tol, before computing another step."
+        ))]),
+        alternatives("damping_not_squared", [(_newton_variant(damping_power=1), (
+            "{name} adds λ·I where λ²·I belongs: the damped step is Jᵀ(J Jᵀ + λ² I)⁻¹ e "
+            "(λ in m, λ² in m² like J Jᵀ)."
+        ))]),
+        alternatives("jacobian_transpose", [(_newton_variant(transpose=True), (
+            "{name} uses Jᵀ e (a gradient step); Newton's method uses J⁺ e."
+        ))]),
+    ],
+    noun="starts, goals, dampings and iteration budgets",
+    arguments=_newton_args,
+    signature="newton_ik(r_goal, q0, damping, tol, max_iterations) -> iterates (K + 1, 3)",
+    hint=("The loop: q = q0; log q; repeat at most max_iterations times: e = r_goal − r(q); "
+          "stop if ‖e‖ <= tol; J = J_v(q); Δq = J⁺e (λ = 0) or Jᵀ(J Jᵀ + λ² I)⁻¹ e; "
+          "q = q + Δq; log q."),
+    atol=1e-7,
+    doc=("Check a Newton iteration newton_ik(r_goal, q0, damping, tol, max_iterations) that "
+         "returns its iterates q^0 ... q^K, shape (K + 1, 3)."),
+    pack=_pack_iterates,
+))
+
+
+# -- the resolved-rate tracking loop (task 5)
+_TRACK_SAMPLES = 8
+
+
+def _track_loop(q0, r_des, v_des, kp, ts, feedforward, *, sign=1.0, ff=None,
+                record_after=False, gain_on_ff=False) -> np.ndarray:
+    """The reference Euler loop (and, with the keywords, its typical mistakes): the joint
+    angles at the samples, shape (N, 3), row 0 = q0."""
+    use_ff = feedforward if ff is None else ff
+    q = np.array(q0, dtype=float)
+    Q = []
+    for r_d, v_d in zip(r_des, v_des):
+        if not record_after:
+            Q.append(q.copy())
+        e = sign * (r_d - _position(q))
+        v = kp * (v_d + e) if (gain_on_ff and use_ff) else (v_d if use_ff else 0.0) + kp * e
+        q = q + ts * (np.linalg.pinv(_jacobian(q)) @ v)
+        if record_after:
+            Q.append(q.copy())
+    return np.array(Q)
+
+
+def _track_args(x: np.ndarray) -> tuple:
+    """``(q0, r_des, v_des, kp, ts, feedforward)``: a reference line that starts near the
+    foot, sampled at N = 8 instants."""
+    q0 = np.array(x[:3])
+    ts, kp, feedforward = float(x[10]), float(x[9]), bool(x[11] > 0.5)
+    k = np.arange(_TRACK_SAMPLES)[:, None]
+    v_des = np.tile(x[6:9], (_TRACK_SAMPLES, 1))
+    r_des = _position(q0) + x[3:6] + k * ts * v_des
+    return q0, r_des, v_des, kp, ts, feedforward
+
+
+def _pack_track(out: Any) -> np.ndarray:
+    if isinstance(out, tuple):
+        raise TypeError(f"track should return one array of joint angles (N, 3), not a tuple of "
+                        f"{len(out)} items")
+    Q = np.asarray(out, dtype=float)
+    if Q.shape != (_TRACK_SAMPLES, 3):
+        raise TypeError(f"track should return the joint angles at the N = {_TRACK_SAMPLES} "
+                        f"samples of r_des, shape ({_TRACK_SAMPLES}, 3); got shape {Q.shape}")
+    return Q.ravel()
+
+
+def _track_variant(**kwargs):
+    return lambda x: _pack_track(_track_loop(*_track_args(x), **kwargs))
+
+
+tracking_loop = exercise(_CHAPTER, "tracking_loop", _PackedLoopCheck(
+    name="track(q0, r_des, v_des, kp, ts, feedforward)",
+    reference=_track_variant(),
+    variables=[
+        *_Q_REGULAR,
+        *[Variable(f"offset_{c}", "other", -0.1, 0.1) for c in "xyz"],
+        *[Variable(f"v_{c}", "other", -0.5, 0.5) for c in "xyz"],
+        Variable("kp", "other", 2.0, 20.0),
+        Variable("ts", "other", 0.005, 0.04),
+        Variable("feedforward_choice", "other", 0.0, 1.0),
+    ],
+    groups=[(f"x{k}", [k]) for k in range(12)],
+    diagnoses=[
+        alternatives("no_feedforward", [(_track_variant(ff=False), (
+            "{name} never adds the feed-forward velocity: with feedforward=True the "
+            "command is q̇ = J⁺(ṙ_des + Kp (r_des − r))."
+        ))]),
+        alternatives("always_feedforward", [(_track_variant(ff=True), (
+            "{name} adds the feed-forward velocity also with feedforward=False: the P-only "
+            "command is q̇ = J⁺ Kp (r_des − r)."
+        ))]),
+        alternatives("error_sign", [(_track_variant(sign=-1.0), (
+            "{name} feeds back r − r_des: the error must be r_des − r, otherwise the loop "
+            "pushes the foot away."
+        ))]),
+        alternatives("recorded_after_step", [(_track_variant(record_after=True), (
+            "{name} records q after the Euler step: row k must be the configuration at "
+            "sample k, the one the command of sample k is computed from (row 0 = q0)."
+        ))]),
+        alternatives("gain_on_feedforward", [(_track_variant(gain_on_ff=True), (
+            "{name} multiplies the feed-forward velocity by Kp too: q̇ = J⁺(ṙ_des + Kp "
+            "(r_des − r))."
+        ))]),
+    ],
+    noun="starts, references, gains and time steps",
+    arguments=_track_args,
+    signature="track(q0, r_des, v_des, kp, ts, feedforward) -> joint angles (N, 3)",
+    hint=("The loop: q = q0; for each sample k: log q; e = r_des[k] − r(q); "
+          "q̇ = J⁺(q)(v_des[k] + Kp e) (without v_des[k] when feedforward is False); "
+          "q = q + ts q̇."),
+    atol=1e-7,
+    doc=("Check a resolved-rate tracking loop track(q0, r_des, v_des, kp, ts, feedforward) "
+         "that returns the joint angles at the samples, shape (N, 3), row 0 = q0."),
+    pack=_pack_track,
+))
+
+
+# -- all solutions in closed form (task 4)
+def _closed_form(p, branches=(1.0, -1.0), knees=(1.0, -1.0)) -> np.ndarray:
+    """All solutions of r_BF(q) = p, wrapped to (-π, π], from the leg's geometry (the
+    reference of :data:`ik_closed_form`; ``branches``/``knees`` leave some out)."""
+    d = np.asarray(p, dtype=float) - _P_B1()
+    rho = math.hypot(d[1], d[2])
+    out = []
+    for branch in branches:  # foot below (+1) or above (-1) the hip's x axis
+        a = math.atan2(branch * d[1], -branch * d[2])
+        u, w = d[0], 1.0 - branch * rho
+        c = (u * u + w * w - 2.0) / 2.0
+        if abs(c) > 1.0:
+            continue
+        for knee in knees:
+            g = knee * math.acos(c)
+            b = math.atan2(-u, -w) - g / 2.0
+            out.append(np.angle(np.exp(1j * np.array([a, b, g]))))
+    return np.array(out).reshape(-1, 3)
+
+
+_CLOSED_GOALS = [
+    _box("x_goal", -1.6, 1.6), _box("y_goal", -0.2, 2.2), _box("z_goal", -2.6, 1.0),
+]
+
+
+def _same_set(A: np.ndarray, B: np.ndarray, atol: float = 1e-7) -> bool:
+    """Equal as sets of configurations, angles modulo 2π, each once."""
+    if A.shape != B.shape:
+        return False
+    unused = list(range(len(B)))
+    for a in A:
+        hit = [j for j in unused if np.allclose(np.angle(np.exp(1j * (a - B[j]))), 0.0, atol=atol)]
+        if not hit:
+            return False
+        unused.remove(hit[0])
+    return True
+
+
+class _SolutionSetCheck(Check):
+    """``ik_closed_form(p) -> (m, 3)``: every solution, each once, in any order."""
+
+    def evaluate(self, answer: Any) -> CheckResult:
+        X = self.sample_points()
+        name = self.name
+        if answer is None:
+            return CheckResult(name, False, f"{FAIL} {name} is None: did you forget to define it?",
+                               "error", len(X))
+        if not callable(answer):
+            return CheckResult(name, False, f"{FAIL} {name} should be a Python function "
+                               f"ik_closed_form(p) -> (m, 3) array; got {type(answer).__name__}.",
+                               "constant", len(X))
+        got = []
+        for x in X:
+            try:
+                S = np.asarray(answer(np.array(x, dtype=float)), dtype=float)
+            except Exception as exc:  # noqa: BLE001 - report the student's error
+                return CheckResult(name, False, f"{FAIL} calling {name} at p = {fmt(x)} raised "
+                                   f"{type(exc).__name__}: {exc}", "error", len(X))
+            if S.size == 0:
+                S = S.reshape(0, 3)
+            if S.ndim != 2 or S.shape[1] != 3:
+                return CheckResult(name, False, f"{FAIL} {name} should return an array (m, 3), "
+                                   f"one solution per row (m may be 0); got shape {S.shape} at "
+                                   f"p = {fmt(x)}.", "shape", len(X))
+            got.append(S)
+        refs = [_closed_form(x) for x in X]
+        if all(_same_set(S, R) for S, R in zip(got, refs)):
+            return CheckResult(name, True, f"{PASS} {name} is correct (checked at {len(X)} random "
+                               "goals, with 0, 2 and 4 solutions).", None, len(X))
+        if all(_same_set(np.deg2rad(S), R) for S, R in zip(got, refs)):
+            return CheckResult(name, False, f"{FAIL} {name} returns degrees: np.deg2rad of it "
+                               "solves the problem. robokin works in radians.", "degrees_output",
+                               len(X))
+        mistakes = [
+            ("one_branch", lambda x: _closed_form(x, branches=(1.0,)),
+             "{name} misses the solutions with the foot above the hip's x axis (α + π, the "
+             "leg swung over the top): where that branch is in reach, a goal has 4 solutions."),
+            ("one_knee", lambda x: _closed_form(x, knees=(1.0,)),
+             "{name} returns one knee per leg plane: the planar arm of β and γ reaches a "
+             "point with the knee bent either way (±γ)."),
+        ]
+        for code, transform, text in mistakes:
+            if all(_same_set(S, np.asarray(transform(x), dtype=float).reshape(-1, 3))
+                   for S, x in zip(got, X)):
+                return CheckResult(name, False, f"{FAIL} " + text.format(name=name), code, len(X))
+        k = next(i for i, (S, R) in enumerate(zip(got, refs)) if not _same_set(S, R))
+        return CheckResult(name, False, (
+            f"{FAIL} {name} is not correct: at p = {fmt(X[k])} it returns {len(got[k])} "
+            f"solution(s), the goal has {len(refs[k])}"
+            + (": " + "; ".join(fmt(row) for row in refs[k]) + " (rad)." if len(refs[k]) else ".")
+        ), "mismatch", len(X))
+
+
+ik_closed_form = exercise(_CHAPTER, "ik_closed_form", _SolutionSetCheck(
+    name="ik_closed_form",
+    reference=lambda x: np.zeros(1),
+    variables=_CLOSED_GOALS,
+    samples=40,
+    noun="goals",
+    doc=("Check a function ik_closed_form(p) -> (m, 3) that returns every solution of "
+         "r_BF(q) = p, each once (angles compared modulo 2π)."),
 ))
