@@ -35,6 +35,79 @@ VARIANTS: dict[str, dict[str, tuple[str, str]]] = {
 columns = [sp.diff(r_BF, joint) for joint in q_sym]
 J_sym = sp.Matrix.hstack(*columns)
 dq_cmd = np.linalg.lstsq(J_lift, v_cmd, rcond=None)[0]
+lifts = bool(v_cmd[2] > 0)  # z of B points up: only a positive z velocity lifts
+dq_lift = np.linalg.lstsq(J_lift, np.array([0.0, 0.0, 1.0]), rcond=None)[0]
+'''),
+        "task4_answer1": ("Newton's method as a while loop on the normal equations (no pseudoinverse)", '''
+
+def newton_ik(r_goal, q0, damping=0.0, tol=1e-10, max_iterations=50):
+    """Written another way: a while loop, steps from (J^T J + lambda^2 I) dq = J^T e."""
+    path = [np.asarray(q0, dtype=float)]
+    error = r_goal - leg.fk(path[-1])[:3, 3]
+    while np.linalg.norm(error) > tol and len(path) <= max_iterations:
+        jac = leg.position_jacobian(path[-1])
+        normal = jac.T @ jac + damping**2 * np.eye(3)
+        path.append(path[-1] + np.linalg.solve(normal, jac.T @ error))
+        error = r_goal - leg.fk(path[-1])[:3, 3]
+    return np.vstack(path)
+
+
+Q_newton = newton_ik(r_goal, q0_ik)
+r_iter = np.array([leg.fk(q)[:3, 3] for q in Q_newton])
+e_iter = np.array([np.linalg.norm(r_goal - r) for r in r_iter])
+'''),
+        "task4_answer2": ("the closed form by the law of cosines on the knee, a list per branch", '''
+
+def ik_closed_form(p):
+    """Written another way: the knee angle from the law of cosines, beta from two angles."""
+    rel = np.asarray(p, dtype=float) - HIP
+    solutions = []
+    for side in (1.0, -1.0):  # foot below / above the hip's x axis
+        dist = side * np.hypot(rel[1], rel[2])  # signed distance L in the leg plane
+        alpha_ = np.arctan2(side * rel[1], -side * rel[2])
+        u_, w_ = rel[0], 1.0 - dist  # the foot seen from the beta joint
+        reach_sq = u_**2 + w_**2
+        cos_inner = (2.0 - reach_sq) / 2.0  # the angle between thigh and shank
+        if reach_sq == 0 or abs(cos_inner) > 1:
+            continue
+        inner = np.arccos(cos_inner)
+        for knee in (np.pi - inner, inner - np.pi):
+            beta_ = np.arctan2(-u_, -w_) - knee / 2
+            q = np.array([alpha_, beta_, knee])
+            solutions.append(np.arctan2(np.sin(q), np.cos(q)))
+    return np.array(solutions).reshape(-1, 3)
+
+
+closed = ik_closed_form(r_goal)
+'''),
+        "task5_answer1": (
+            "the loop indexed by k with np.linalg.solve, the circle from complex numbers, the discrete lag",
+            '''
+
+phase = np.exp(1j * OMEGA * t)  # written another way: the circle as a complex number
+r_des = c + RADIUS * np.column_stack([phase.imag, np.zeros_like(t), phase.real])
+v_des = RADIUS * OMEGA * np.column_stack([phase.real, np.zeros_like(t), -phase.imag])
+
+
+def track(q0, r_des, v_des, kp=KP, ts=TS, feedforward=True):
+    """Written another way: preallocated rows, indexed by k, J solved instead of J+."""
+    rows = np.empty((len(r_des), 3))
+    q = np.asarray(q0, dtype=float)
+    for k in range(len(r_des)):
+        rows[k] = q
+        wanted = kp * (r_des[k] - leg.fk(q)[:3, 3])
+        if feedforward:
+            wanted = wanted + v_des[k]
+        q = q + ts * np.linalg.solve(leg.position_jacobian(q), wanted)
+    return rows
+
+
+Q_ff = track(q0_track, r_des, v_des)
+Q_p = track(q0_track, r_des, v_des, feedforward=False)
+err_ff = np.linalg.norm(r_des - leg.fk(Q_ff)[:, :3, 3], axis=1)
+err_p = np.linalg.norm(r_des - leg.fk(Q_p)[:, :3, 3], axis=1)
+z_step = np.exp(1j * OMEGA * TS)  # the exact discrete-time lag of the Euler loop
+lag_predicted = RADIUS * abs(z_step - 1) / abs(z_step - 1 + KP * TS)
 '''),
     },
     "02_ur10_ik": {
