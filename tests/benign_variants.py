@@ -19,7 +19,12 @@ last ungraded (*Try it yourself*) cell, after its code: a kernel that dies, and 
 
 from __future__ import annotations
 
+import ast
 import copy
+import importlib.util
+import json
+import os
+from pathlib import Path
 
 #: ``os._exit`` in an ungraded cell: the kernel dies
 CRASH = "import os\n\nos._exit(1)  # my experiment killed the kernel\n"
@@ -241,6 +246,92 @@ d_goal = float(np.sqrt(np.sum(ankle_point(T_goal) ** 2)))
 '''),
     },
 }
+
+
+# ------------------------------------------------------------ chapters without an entry above
+# A chapter that :data:`VARIANTS` does not list (a new one, made by tools/new_chapter.py) takes
+# the ``VARIANTS`` of its grading-mutation file (tests/grading_mutations/<chapter>.py, which the
+# scaffold writes with another method for each of its tasks), or else a default derived from
+# its notebook (:func:`derived_variants`), so that no per-chapter entry is needed here.
+
+#: the chapters' grading-mutation files (as tests/test_grading_mutations.py reads them)
+MUTATIONS_DIR = Path(os.environ.get("ROBOKIN_GRADING_MUTATIONS",
+                                    Path(__file__).resolve().parent / "grading_mutations")).resolve()
+#: the chapter notebooks (as tests/test_nbgrader.py reads them)
+NOTEBOOKS = Path(os.environ.get("ROBOKIN_NBGRADER_NOTEBOOKS",
+                                Path(__file__).resolve().parent.parent / "notebooks")).resolve()
+
+
+def file_variants(chapter: str) -> dict[str, tuple[str, str]] | None:
+    """``VARIANTS`` of the chapter's grading-mutation file, or None when it has none."""
+    path = MUTATIONS_DIR / f"{chapter}.py"
+    if not path.is_file():
+        return None
+    spec = importlib.util.spec_from_file_location(f"grading_variants_{chapter}", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    found = getattr(module, "VARIANTS", None)
+    if found is None:
+        return None
+    assert isinstance(found, dict) and all(isinstance(v, tuple) and len(v) == 2 for v in found.values()), (
+        f"{chapter}: VARIANTS in {path} must be {{grade_id: (what, code)}}")
+    return found
+
+
+def derived_variants(nb: dict) -> dict[str, tuple[str, str]]:
+    """A default for a chapter without variants: every answer cell that defines a function it
+    declares (``metadata.robokin.declare``) redefines it under other names, calling the first.
+
+    Not another method (write one in the chapter's grading-mutation file), but a test that
+    the grader reads *what* a declared answer computes: its name, code and object change.
+    """
+    out: dict[str, tuple[str, str]] = {}
+    for cell in nb["cells"]:
+        meta = cell.get("metadata", {}).get("robokin", {})
+        grade_id = _grade_id(cell)
+        if cell["cell_type"] != "code" or meta.get("role") != "answer" or not grade_id:
+            continue
+        try:
+            tree = ast.parse(_source(cell))
+        except SyntaxError:
+            continue
+        functions = {s.name for s in tree.body if isinstance(s, ast.FunctionDef)}
+        name = next((n for n in meta.get("declare", []) if n in functions), None)
+        if name is None:
+            continue
+        out[grade_id] = (f"{name} redefined under other names, calling the first definition", f"""
+
+# written another way: {name} wrapped under other names (a default: no variant written)
+import functools
+
+{name}_as_first_written = {name}
+
+
+@functools.wraps({name}_as_first_written)
+def {name}(*arguments, **keywords):
+    result_of_the_first = {name}_as_first_written(*arguments, **keywords)
+    return result_of_the_first
+""")
+    assert out, "no answer cell defines a function it declares: write VARIANTS in the chapter's grading-mutation file"
+    return out
+
+
+class _WithDefaults(dict):
+    """:data:`VARIANTS` with, for a chapter it does not list, the variants of :func:`file_variants`
+    or :func:`derived_variants` (read once, on first use)."""
+
+    def __missing__(self, chapter: str) -> dict[str, tuple[str, str]]:
+        found = file_variants(chapter)
+        if found is None:
+            path = NOTEBOOKS / f"{chapter}.ipynb"
+            if not path.is_file():
+                raise KeyError(chapter)
+            found = derived_variants(json.loads(path.read_text(encoding="utf-8")))
+        self[chapter] = found
+        return found
+
+
+VARIANTS = _WithDefaults(VARIANTS)
 
 
 def _grade_id(cell: dict) -> str | None:
