@@ -139,6 +139,7 @@ BRANCHES = ("shoulder", "wrist", "elbow")
 
 _SIGNS = np.array([(s, w, e) for s in (1, -1) for w in (1, -1) for e in (1, -1)], dtype=int)
 _SIGNS.setflags(write=False)
+_SLOT = {tuple(int(v) for v in signs): j for j, signs in enumerate(_SIGNS)}
 _LIMIT = 2.0 * _PI  # the controller's joint range, ±2π for every joint (as robokin.models.ur10)
 
 
@@ -266,6 +267,27 @@ class _Geometry(NamedTuple):
     d6: float
     offsets: tuple[float, float, float, float, float, float]
     scale: float  # sum of the lengths' magnitudes (m): the tolerances' unit
+    basis: np.ndarray  # (6, 3, 16): the DH matrix of row i is cos θ_i B[i, 0] + sin θ_i B[i, 1] + B[i, 2]
+
+
+def _dh_basis(table: np.ndarray) -> np.ndarray:
+    r"""Constant matrices of the DH rows.
+
+    :math:`R_z(\theta)T_z(d)T_x(a)R_x(\alpha) = c_\theta B_0 + s_\theta B_1 + B_2`
+
+    From the standard DH matrix (Siciliano et al. 2009, §2.8.2)
+    ``[[cθ, −sθ cα, sθ sα, a cθ], [sθ, cθ cα, −cθ sα, a sθ], [0, sα, cα, d], [0, 0, 0, 1]]``
+    (θ = q + θ_offset: the offset is added to q before the cosine).
+    """
+    B = np.zeros((6, 3, 4, 4))
+    for i, (d, _offset, a, alpha) in enumerate(table):
+        ca, sa = math.cos(alpha), math.sin(alpha)
+        B[i, 0, 0, 0], B[i, 0, 1, 1], B[i, 0, 1, 2], B[i, 0, 0, 3] = 1.0, ca, -sa, a
+        B[i, 1, 1, 0], B[i, 1, 0, 1], B[i, 1, 0, 2], B[i, 1, 1, 3] = 1.0, -ca, sa, a
+        B[i, 2, 2, 1], B[i, 2, 2, 2], B[i, 2, 2, 3], B[i, 2, 3, 3] = sa, ca, d, 1.0
+    basis = B.reshape(6, 3, 16)
+    basis.setflags(write=False)
+    return basis
 
 
 _ALPHAS = (_PI / 2, 0.0, 0.0, _PI / 2, -_PI / 2, 0.0)
@@ -311,7 +333,7 @@ def _geometry(dh: Any) -> _Geometry:
         raise DomainError(f"dh has lengths out of range (their squares must be finite and non-zero in float64); "
                           f"got a2 = {a2:.6g}, a3 = {a3:.6g}, sum of |lengths| {scale:.6g} m")
     o = [float(x) for x in table[:, 1]]
-    geometry = _Geometry(d1, a2, a3, d4, d5, d6, (o[0], o[1], o[2], o[3], o[4], o[5]), scale)
+    geometry = _Geometry(d1, a2, a3, d4, d5, d6, (o[0], o[1], o[2], o[3], o[4], o[5]), scale, _dh_basis(table))
     if len(_CACHE) > 32:
         _CACHE.clear()
     _CACHE[key] = geometry
@@ -319,61 +341,55 @@ def _geometry(dh: Any) -> _Geometry:
 
 
 # ------------------------------------------------------------------ forward kinematics
-def _flange_pose(g: _Geometry, Q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    r"""Flange pose ``(R (..., 3, 3), p (..., 3))`` of the table at joint values ``Q (..., 6)``.
-
-    The product of the six DH matrices, grouped as the derivation reads it:
-    frame 6 in frame 4 (:math:`\mathbf{z}_6 = [-s_5, c_5, 0]`,
-    :math:`\mathbf{o}_6 = [-d_6 s_5, d_6 c_5, d_5]`), then the planar links in
-    frame 1 (angle :math:`\theta_{234}`, origin :math:`\mathbf{o}_4 =
-    [a_2 c_2 + a_3 c_{23},\ a_2 s_2 + a_3 s_{23},\ d_4]`), then joint 1.
-    """
-    th = Q + np.asarray(g.offsets)
-    c, s = np.cos(th), np.sin(th)
-    c1, s1, c5, s5, c6, s6 = c[..., 0], s[..., 0], c[..., 4], s[..., 4], c[..., 5], s[..., 5]
-    t23, t234 = th[..., 1] + th[..., 2], th[..., 1] + th[..., 2] + th[..., 3]
-    c23, s23, c234, s234 = np.cos(t23), np.sin(t23), np.cos(t234), np.sin(t234)
-    # columns x6, y6, z6 and the origin in frame 4 (rows: x, y, z components)
-    f4 = np.stack([np.stack([c5 * c6, s5 * c6, -s6]), np.stack([-c5 * s6, -s5 * s6, -c6]),
-                   np.stack([-s5, c5, np.zeros_like(c5)]),
-                   np.stack([-g.d6 * s5, g.d6 * c5, np.full_like(c5, g.d5)])])  # (4, 3, ...)
-    u, v, w = f4[:, 0], f4[:, 1], f4[:, 2]
-    # frame 4 -> frame 1: (u, v, w) -> u x4 + v y4 + w z4 with x4 = (c234, s234, 0), y4 = (0, 0, 1),
-    # z4 = (s234, -c234, 0); the origin adds o4
-    X = u * c234 + w * s234
-    Y = u * s234 - w * c234
-    Z = v
-    X[3] += g.a2 * c[..., 1] + g.a3 * c23
-    Y[3] += g.a2 * s[..., 1] + g.a3 * s23
-    Z[3] += g.d4
-    # frame 1 -> base: (X, Y, Z) -> X x1 + Y y1 + Z z1 with x1 = (c1, s1, 0), y1 = (0, 0, 1), z1 = (s1, -c1, 0)
-    bx, by, bz = X * c1 + Z * s1, X * s1 - Z * c1, Y
-    bz[3] += g.d1
-    out = np.stack([bx, by, bz])  # (3 components, 4 columns, ...)
-    R = np.moveaxis(out[:, :3], (0, 1), (-2, -1))
-    p = np.moveaxis(out[:, 3], 0, -1)
-    return R, p
+def _dh_poses(g: _Geometry, Q: np.ndarray) -> np.ndarray:
+    """Flange poses (k, 4, 4) of the rows ``Q`` (k, 6): the product of the table's six DH matrices."""
+    th = Q + np.asarray(g.offsets) if any(g.offsets) else Q
+    V = _ONES[: len(Q)].copy()  # (k, 6, 3): cos, sin, 1
+    np.cos(th, out=V[..., 0])
+    np.sin(th, out=V[..., 1])
+    A = (V[..., None, :] @ g.basis).reshape(Q.shape[:-1] + (6, 4, 4))  # A_i(q_i), i = 1..6
+    P = A[:, 0::2] @ A[:, 1::2]                                          # A1 A2, A3 A4, A5 A6
+    return P[:, 0] @ P[:, 1] @ P[:, 2]
 
 
 def _residuals(g: _Geometry, Q: np.ndarray, T: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Position (m) and orientation (rad) residuals of the rows ``Q (..., 6)`` against ``T (..., 4, 4)``."""
-    R, p = _flange_pose(g, Q)
-    if Q.ndim == 2:  # one pose (4, 4), rows (k, 6)
-        target_R, target_p = T[:3, :3], T[:3, 3]
-    else:            # poses (N, 4, 4), slots (N, 8, 6)
-        target_R, target_p = T[:, None, :3, :3], T[:, None, :3, 3]
-    dp = np.sqrt(np.sum((p - target_p) ** 2, axis=-1))
-    Rrel = np.swapaxes(R, -1, -2) @ target_R  # R_FKᵀ R_target
-    cos_t = np.clip((Rrel[..., 0, 0] + Rrel[..., 1, 1] + Rrel[..., 2, 2] - 1.0) / 2.0, -1.0, 1.0)
-    skew = np.sqrt((Rrel[..., 2, 1] - Rrel[..., 1, 2]) ** 2 + (Rrel[..., 0, 2] - Rrel[..., 2, 0]) ** 2
-                   + (Rrel[..., 1, 0] - Rrel[..., 0, 1]) ** 2)
-    return dp, np.arctan2(skew / 2.0, cos_t)
+    r"""Position (m) and orientation (rad) residuals of the rows ``Q`` (k, 6) against ``T`` (4, 4).
+
+    The rotation angle of :math:`\mathbf{R}_{FK}^\top\mathbf{R}` from
+    :math:`\lVert\mathbf{R}_{FK} - \mathbf{R}\rVert_F = 2\sqrt{2}\,\sin(\theta/2)`
+    (accurate for small angles, unlike the arccosine of the trace).
+    """
+    D = _dh_poses(g, Q)[:, :3, :] - T[:3, :]
+    D *= D
+    S = D.sum(axis=1)  # (k, 4): squared column differences
+    return np.sqrt(S[:, 3]), 2.0 * np.arcsin(np.minimum(np.sqrt(S[:, :3].sum(axis=1)) * _INV_SQRT8, 1.0))
+
+
+_INV_SQRT8 = 1.0 / math.sqrt(8.0)
+_ONES = np.ones((8, 6, 3))
+_ONES.setflags(write=False)
 
 
 def _wrap(a: np.ndarray) -> np.ndarray:
-    """Angles into (−π, π]."""
-    w = np.mod(np.asarray(a) + _PI, 2.0 * _PI) - _PI
-    return np.where(w <= -_PI + 1e-15, w + 2.0 * _PI, w)
+    """Angles into (−π, π]: ``a − 2π·round(a / 2π)``, then −π to π."""
+    w = a - _TWO_PI * np.rint(a * (1.0 / _TWO_PI))
+    w += _TWO_PI * (w <= -_PI)
+    return w
+
+
+def _cos_sin(angle: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``(cos, sin)`` of an array from ``t = tan(angle / 2)``: ``((1 − t²), 2t) / (1 + t²)``.
+
+    The same values to a few ulp; numpy vectorises ``tan`` but not ``sin`` and
+    ``cos`` for float64 (here 1.7 against 14 ns an element each): the batch
+    path's cosines and sines cost an eighth.
+    """
+    t = np.tan(0.5 * angle)
+    u = 1.0 / (1.0 + t * t)
+    return (1.0 - t * t) * u, (2.0 * u) * t
+
+
+_TWO_PI = 2.0 * _PI
 
 
 # ------------------------------------------------------------------ one pose, step by step
@@ -406,7 +422,7 @@ def _solve_pose(T: list[list[float]], g: _Geometry, tol: float
         # step 2: q5 from z1 seen in the flange frame, R^T z1 = (c6 s5, -s6 s5, c5)
         xz, yz, zz = r11 * s1 - r21 * c1, r12 * s1 - r22 * c1, r13 * s1 - r23 * c1
         s5_abs = math.hypot(xz, yz)
-        t5_abs = math.atan2(s5_abs, zz)
+        t5_abs = math.atan2(s5_abs, zz) if s5_abs > tol else (0.0 if zz > 0.0 else _PI)  # sin q5 = 0: exactly
         if s5_abs < flag:
             singular.add("wrist")
         wrists = [(1, t5_abs)] if s5_abs <= tol else [(1, t5_abs), (-1, -t5_abs)]
@@ -457,7 +473,7 @@ def _fast_transform(T: Any) -> np.ndarray | None:
     err = max(abs(a * a + b * b + c * c - 1.0), abs(d * d + e * e + f * f - 1.0), abs(g * g + h * h + i * i - 1.0),
               abs(a * d + b * e + c * f), abs(a * g + b * h + c * i), abs(d * g + e * h + f * i))
     det = a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g)
-    return T if err <= 1e-6 and det > 0.0 else None
+    return T if err <= 1e-6 and abs(det - 1.0) <= 1e-6 else None
 
 
 def _check_tol(tol: Any) -> float:
@@ -548,24 +564,22 @@ def ur10_ik(
         if T.ndim != 2:
             raise ShapeError(f"T_target must have shape (4, 4) (use ur10_ik_batch for (N, 4, 4)); "
                              f"got shape {T.shape}")
-    if check:
-        g = _geometry(dh)
-        tol = tol if type(tol) is float and tol == 1e-9 else _check_tol(tol)
-    else:
-        g = _geometry(dh)
+    g = _geometry(dh)
+    if check and not (type(tol) is float and tol == 1e-9):
+        tol = _check_tol(tol)
     sols, branches, reason, singular, centre = _solve_pose(T.tolist(), g, tol)
     flags = tuple(s for s in SINGULARITIES if s in singular)
     if not sols:
         return URIKResult(np.zeros((0, 6)), False, reason, np.zeros(0), np.zeros(0), np.zeros((0, 3), dtype=int),
                           np.zeros(0, dtype=bool), flags, np.array(centre))
-    Q = _wrap(np.array(sols) - np.array(g.offsets))
-    B = np.array(branches, dtype=int)
+    Q = np.array(sols, dtype=float)
+    Q = _wrap(Q - np.array(g.offsets) if any(g.offsets) else Q)
+    B = _SIGNS.copy() if len(branches) == 8 else _SIGNS[[_SLOT[b] for b in branches]]
     dp, dr = _residuals(g, Q, T)
     good = (dp <= 1e3 * tol * g.scale + 1e-12) & (dr <= 1e3 * tol + 1e-12)
-    inside = np.all(np.abs(Q) <= _LIMIT, axis=1)
-    keep = good & inside if within_limits else good
-    if not keep.all():
-        Q, B, dp, dr, inside = Q[keep], B[keep], dp[keep], dr[keep], inside[keep]
+    inside = np.ones(len(Q), dtype=bool)  # every angle in (−π, π] is within the limits ±2π
+    if not good.all():
+        Q, B, dp, dr, inside = Q[good], B[good], dp[good], dr[good], inside[good]
     if len(Q):
         reason = "solved"
     elif not good.any():
@@ -607,84 +621,162 @@ def ur10_ik_batch(
     ShapeError, DomainError, TypeError
         As in :func:`ur10_ik` (``T_targets`` named, with the index of a bad pose).
     """
-    Ts = check_transform(T_targets, name="T_targets").reshape(-1, 4, 4)
+    Ts = _fast_transforms(T_targets)
+    if Ts is None:
+        Ts = check_transform(T_targets, name="T_targets").reshape(-1, 4, 4)
     g = _geometry(dh)
     tol = _check_tol(tol)
     with np.errstate(all="ignore"):
         return _solve_batch(Ts, g, tol, within_limits)
 
 
+def _fast_transforms(T: Any) -> np.ndarray | None:
+    """A float64 (N, 4, 4) array of transforms (tolerance 1e-6), checked on its components; else None."""
+    if type(T) is not np.ndarray or T.dtype != np.float64 or T.ndim != 3 or T.shape[1:] != (4, 4):
+        return None
+    F = T.reshape(-1, 16)
+    if not (np.isfinite(F).all() and (F[:, 12:] == (0.0, 0.0, 0.0, 1.0)).all()):
+        return None
+    a, b, c, d, e, f, g, h, i = (F[:, k] for k in (0, 1, 2, 4, 5, 6, 8, 9, 10))
+    err = np.maximum.reduce([abs(a * a + b * b + c * c - 1.0), abs(d * d + e * e + f * f - 1.0),
+                             abs(g * g + h * h + i * i - 1.0), abs(a * d + b * e + c * f),
+                             abs(a * g + b * h + c * i), abs(d * g + e * h + f * i),
+                             abs(a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g) - 1.0)])
+    return T if (err <= 1e-6).all() else None
+
+
 def _solve_batch(Ts: np.ndarray, g: _Geometry, tol: float, within_limits: bool) -> URIKBatchResult:
-    """The vectorised steps; slots (N, 2 shoulders, 2 wrists, 2 elbows) flattened to (N, 8)."""
+    """The steps of :func:`_solve_pose` on arrays whose last axis is the pose.
+
+    Branch axes come first: shoulder (2, N), shoulder × wrist (2, 2, N),
+    shoulder × wrist × elbow (2, 2, 2, N); flattened, slot j of the result.
+    """
     N = Ts.shape[0]
     flag, collapse = math.sqrt(tol), 1e3 * tol + 1e-7
-    x6, y6, z6, p = Ts[:, :3, 0], Ts[:, :3, 1], Ts[:, :3, 2], Ts[:, :3, 3]
-    # step 1: wrist centre and the two q1
-    centre = p - g.d6 * z6
-    wx, wy = centre[:, 0], centre[:, 1]
+    r11, r12, r13, px, r21, r22, r23, py, r31, r32, r33, pz = np.ascontiguousarray(Ts[:, :3, :].reshape(N, 12).T)
+    # step 1: wrist centre and the two q1 (index 0: +, 1: −)
+    wx, wy, wz = px - g.d6 * r13, py - g.d6 * r23, pz - g.d6 * r33
     r = np.hypot(wx, wy)
-    free = (r <= tol * g.scale) & (abs(g.d4) <= tol * g.scale)
-    reach1 = free | (r >= abs(g.d4) * (1.0 - tol))
-    gap = np.arctan2(np.sqrt(np.maximum((r - abs(g.d4)) * (r + abs(g.d4)), 0.0)), g.d4)
+    d4 = abs(g.d4)
+    gap = np.arctan2(np.sqrt(np.maximum((r - d4) * (r + d4), 0.0)), g.d4)
     gap_min = np.minimum(gap, _PI - gap)
+    reach1 = r >= d4 * (1.0 - tol)
+    base = np.arctan2(wy, wx) + _PI / 2
+    if d4 <= tol * g.scale:  # no offset: on the base axis q1 is free (0 returned)
+        free = r <= tol * g.scale
+        reach1 |= free
+        base[free], gap[free] = 0.0, 0.0
+    else:
+        free = np.zeros(N, dtype=bool)
+    t1 = np.stack([base + gap, base - gap])                                     # (2, N)
+    ok1 = np.stack([reach1, reach1 & ~free & (gap_min > collapse)])
     sing_shoulder = free | (reach1 & (gap_min < flag))
-    base = np.where(free, 0.0, np.arctan2(wy, wx) + _PI / 2)
-    gap = np.where(free, 0.0, gap)
-    t1 = base[:, None] + np.array([1.0, -1.0]) * gap[:, None]                   # (N, 2)
-    ok1 = np.stack([reach1, reach1 & ~free & (gap_min > collapse)], axis=1)     # (N, 2)
-    c1, s1 = np.cos(t1), np.sin(t1)
-    # step 2: q5
-    def along_z1(col: np.ndarray) -> np.ndarray:
-        return col[:, 0, None] * s1 - col[:, 1, None] * c1                      # (N, 2)
-    xz, yz, zz = along_z1(x6), along_z1(y6), along_z1(z6)
+    c1, s1 = _cos_sin(t1)
+    # step 2: q5 = ±atan2(|s5|, c5) from R^T z1 = (c6 s5, −s6 s5, c5)
+    xz, yz, zz = r11 * s1 - r21 * c1, r12 * s1 - r22 * c1, r13 * s1 - r23 * c1  # (2, N)
     s5_abs = np.hypot(xz, yz)
     t5_abs = np.arctan2(s5_abs, zz)
-    wsign = np.array([1.0, -1.0])
-    t5 = t5_abs[..., None] * wsign                                               # (N, 2, 2)
     regular5 = s5_abs > tol
-    ok2 = ok1[..., None] & np.stack([np.ones_like(regular5), regular5], axis=-1)
-    sing_wrist = np.any(ok1 & (s5_abs < flag), axis=1)
-    # step 3: q6
-    t6 = np.where(regular5[..., None], np.arctan2(-wsign * yz[..., None], wsign * xz[..., None]), 0.0)
-    c5, s5, c6, s6 = np.cos(t5), np.sin(t5), np.cos(t6), np.sin(t6)
-    # step 4: planar problem
-    def col(v: np.ndarray, k: int) -> np.ndarray:
-        return v[:, k, None, None]
-    o4 = [col(centre, k) + g.d5 * (s6 * col(x6, k) + c6 * col(y6, k)) for k in range(3)]
-    x4 = [c5 * c6 * col(x6, k) - c5 * s6 * col(y6, k) - s5 * col(z6, k) for k in range(3)]
-    C1, S1 = c1[..., None], s1[..., None]
-    t234 = np.arctan2(x4[2], C1 * x4[0] + S1 * x4[1])
-    X, Y = C1 * o4[0] + S1 * o4[1], o4[2] - g.d1
+    if not regular5.all():  # sin q5 = 0: exactly 0 or π
+        t5_abs[~regular5] = np.where(zz[~regular5] > 0.0, 0.0, _PI)
+    t5 = np.stack([t5_abs, -t5_abs], axis=1)                                    # (2, 2, N)
+    ok2 = np.stack([ok1, ok1 & regular5], axis=1)
+    sing_wrist = (ok1 & (s5_abs < flag)).any(axis=0)
+    # step 3: q6 (0 where sin q5 = 0)
+    t6 = np.stack([np.arctan2(-yz, xz), np.arctan2(yz, -xz)], axis=1)
+    t6 *= regular5[:, None]
+    (c5, s5), (c6, s6) = _cos_sin(t5), _cos_sin(t6)
+    # step 4: the planar three-link problem in frame 1 (arrays (2, 2, N))
+    C1, S1 = c1[:, None], s1[:, None]
+    ox = wx + g.d5 * (s6 * r11 + c6 * r12)
+    oy = wy + g.d5 * (s6 * r21 + c6 * r22)
+    oz = wz + g.d5 * (s6 * r31 + c6 * r32)
+    c5c6, c5s6 = c5 * c6, c5 * s6
+    x4x = c5c6 * r11 - c5s6 * r12 - s5 * r13
+    x4y = c5c6 * r21 - c5s6 * r22 - s5 * r23
+    x4z = c5c6 * r31 - c5s6 * r32 - s5 * r33
+    t234 = np.arctan2(x4z, C1 * x4x + S1 * x4y)
+    X, Y = C1 * ox + S1 * oy, oz - g.d1
     rho2 = X * X + Y * Y
     c3 = (rho2 - g.a2 * g.a2 - g.a3 * g.a3) / (2.0 * g.a2 * g.a3)
     reach3 = (c3 >= -1.0 - tol) & (c3 <= 1.0 + tol)
-    c3 = np.clip(np.nan_to_num(c3), -1.0, 1.0)
+    np.clip(c3, -1.0, 1.0, out=c3)
     s3_abs = np.sqrt((1.0 - c3) * (1.0 + c3))
     t3_abs = np.arctan2(s3_abs, c3)
     t3_min = np.minimum(t3_abs, _PI - t3_abs)
-    sing_elbow = np.any(ok2 & reach3 & (t3_min < flag), axis=(1, 2))
-    esign = np.array([1.0, -1.0])
-    t3 = t3_abs[..., None] * esign                                               # (N, 2, 2, 2)
-    s3 = s3_abs[..., None] * esign
-    t2 = np.arctan2(Y, X)[..., None] - np.arctan2(g.a3 * s3, g.a2 + g.a3 * c3[..., None])
-    ok3 = (ok2 & reach3)[..., None] & np.stack([np.ones_like(reach3), t3_min > collapse], axis=-1)
-    shape = (N, 2, 2, 2)
-    theta = np.stack([np.broadcast_to(t1[:, :, None, None], shape), t2, t3,
-                      t234[..., None] - t2 - t3, np.broadcast_to(t5[..., None], shape),
-                      np.broadcast_to(t6[..., None], shape)], axis=-1).reshape(N, 8, 6)
-    ok = ok3.reshape(N, 8)
-    Q = _wrap(theta - np.asarray(g.offsets))
-    dp, dr = _residuals(g, Q, Ts)
+    ok2r = ok2 & reach3
+    sing_elbow = (ok2r & (t3_min < flag)).any(axis=(0, 1))
+    ok = np.stack([ok2r, ok2r & (t3_min > collapse)], axis=2)                    # (2, 2, 2, N)
+    t3 = np.stack([t3_abs, -t3_abs], axis=2)
+    s3 = np.stack([s3_abs, -s3_abs], axis=2)
+    t2 = np.arctan2(Y, X)[:, :, None] - np.arctan2(g.a3 * s3, g.a2 + g.a3 * c3[:, :, None])
+    t4 = t234[:, :, None] - t2 - t3
+    # the joint values, each at its own branch shape, wrapped into (−π, π]
+    o = g.offsets
+    q1, q5, q6 = _wrap(t1 - o[0]), _wrap(t5 - o[4]), _wrap(t6 - o[5])
+    q2, q3, q4 = _wrap(t2 - o[1]), _wrap(t3 - o[2]), _wrap(t4 - o[3])
+    dp, dr = _slot_residuals(g, (q1, q2, q3, q4, q5, q6), r11, r12, r13, px, r21, r22, r23, py, r31, r32, r33, pz)
     good = ok & (dp <= 1e3 * tol * g.scale + 1e-12) & (dr <= 1e3 * tol + 1e-12)
-    inside = good & np.all(np.abs(Q) <= _LIMIT, axis=2)
+    Q = np.empty((6, 2, 2, 2, N))
+    Q[0], Q[1], Q[2], Q[3] = q1[:, None, None], q2, q3, q4
+    Q[4], Q[5] = q5[:, :, None], q6[:, :, None]
+    Q = Q.reshape(6, 8, N).T                                                     # (N, 8, 6)
+    good = good.reshape(8, N).T
+    inside = good & (np.abs(Q) <= _LIMIT).all(axis=2)
     valid = inside if within_limits else good
+    solved = valid.any(axis=1)
     reason = np.full(N, "solved", dtype="<U17")
-    none = ~valid.any(axis=1)
-    if none.any():
-        far = np.any(ok2 & ~reach3 & ~(rho2 < (abs(g.a2) + abs(g.a3)) ** 2), axis=(1, 2))
-        reason[none] = np.where(~reach1, "shoulder_cylinder",
-                                np.where(ok.any(axis=1), np.where(good.any(axis=1), "joint_limits", "not_verified"),
-                                         np.where(far, "too_far", "too_close")))[none]
-    nan = np.where(valid, 0.0, np.nan)
-    return URIKBatchResult(Q + nan[..., None], valid, ~none, reason, dp + nan, dr + nan, _SIGNS.copy(),
-                           inside & valid, np.stack([sing_shoulder, sing_wrist, sing_elbow], axis=1), centre)
+    if not solved.all():
+        computed = ok.reshape(8, N).T.any(axis=1)
+        far = (ok2 & ~reach3 & ~(rho2 < (abs(g.a2) + abs(g.a3)) ** 2)).any(axis=(0, 1))
+        why = np.where(~reach1, "shoulder_cylinder",
+                       np.where(computed, np.where(good.any(axis=1), "joint_limits", "not_verified"),
+                                np.where(far, "too_far", "too_close")))
+        reason[~solved] = why[~solved]
+    blank = np.where(valid, 0.0, np.nan)
+    return URIKBatchResult(Q + blank[:, :, None], valid, solved, reason, dp.reshape(8, N).T + blank,
+                           dr.reshape(8, N).T + blank, _SIGNS.copy(), inside,
+                           np.stack([sing_shoulder, sing_wrist, sing_elbow], axis=1), np.stack([wx, wy, wz], axis=1))
+
+
+def _slot_residuals(g: _Geometry, q: tuple[np.ndarray, ...], *T: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    r"""Residuals (2, 2, 2, N) of the wrapped joint values against the poses' components ``T`` (12 × (N,)).
+
+    The forward kinematics of the table written out (the product of its DH
+    matrices, grouped as the derivation reads it): the flange frame in frame 4,
+    :math:`\mathbf{x}_6 = [c_5c_6,\ s_5c_6,\ -s_6]`, :math:`\mathbf{y}_6 = [-c_5s_6,\ -s_5s_6,\ -c_6]`,
+    :math:`\mathbf{z}_6 = [-s_5,\ c_5,\ 0]`, :math:`\mathbf{o}_6 = [-d_6s_5,\ d_6c_5,\ d_5]`;
+    frame 4 in frame 1 turned by :math:`\theta_{234}` about :math:`\mathbf{z}_1` with origin
+    :math:`[a_2c_2 + a_3c_{23},\ a_2s_2 + a_3s_{23},\ d_4]`; frame 1 in the base frame.
+    Then :math:`\lVert\mathbf{p}_{FK} - \mathbf{p}\rVert` and the angle of
+    :math:`\mathbf{R}_{FK}^\top\mathbf{R}` from the Frobenius distance.
+    """
+    o = g.offsets
+    q1, q2, q3, q4, q5, q6 = q
+    t1, t5, t6 = q1 + o[0], (q5 + o[4])[:, :, None], (q6 + o[5])[:, :, None]
+    t2 = q2 + o[1]
+    t23 = t2 + (q3 + o[2])
+    t234 = t23 + (q4 + o[3])
+    c1, s1 = _cos_sin(t1)
+    c1, s1 = c1[:, None, None], s1[:, None, None]
+    (c5, s5), (c6, s6) = _cos_sin(t5), _cos_sin(t6)
+    (c2, s2), (c23, s23), (c234, s234) = _cos_sin(t2), _cos_sin(t23), _cos_sin(t234)
+    rot2 = np.zeros(t234.shape)
+    pos2 = np.zeros(t234.shape)
+    # (u, v, w) in frame 4 -> frame 1 (u c234 + w s234, u s234 − w c234, v) -> base (X c1 + v s1, X s1 − v c1, Y)
+    columns = ((c5 * c6, s5 * c6, -s6), (-c5 * s6, -s5 * s6, -c6), (-s5, c5, None))
+    for k, (u, v, w) in enumerate(columns):
+        X = u * c234 + w * s234 if w is not None else u * c234
+        Y = u * s234 - w * c234 if w is not None else u * s234
+        for entry, target in ((X * c1 + v * s1, T[k]), (X * s1 - v * c1, T[4 + k]), (Y, T[8 + k])):
+            entry -= target
+            entry *= entry
+            rot2 += entry
+    X = g.a2 * c2 + g.a3 * c23 - g.d6 * s5 * c234 + g.d5 * s234
+    Y = g.a2 * s2 + g.a3 * s23 - g.d6 * s5 * s234 - g.d5 * c234
+    v = g.d6 * c5 + g.d4
+    for entry, target in ((X * c1 + v * s1, T[3]), (X * s1 - v * c1, T[7]), (Y + g.d1, T[11])):
+        entry -= target
+        entry *= entry
+        pos2 += entry
+    return np.sqrt(pos2), 2.0 * np.arcsin(np.minimum(np.sqrt(rot2) * _INV_SQRT8, 1.0))
