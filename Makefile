@@ -5,7 +5,12 @@
 #                computes them; nbval in make test fails when one differs from a fresh run)
 #   make book EDITION=student   the student edition of the book (no solutions) in _build/student/
 #   make student the student edition of every chapter and the nbgrader course (_build/nbgrader/)
-#   make test    run the complete test suite on two cores (same set-up on first use)
+#   make test    the everyday suite on two cores (about 4 min; same set-up on first use): unit,
+#                property and fuzz tests, every notebook under nbval, both editions of the book
+#                with one page of each kind in Chromium, one chapter graded end to end
+#   make test-all  the complete suite, what CI runs (.ci/run): make test plus every chapter's
+#                grading, the notebooks under other BLAS kernels, every page, live JupyterLab,
+#                a scaffolded chapter (tests/tiers.py says which check is in which tier)
 #   make quick   the fast inner loop: unit, property and fuzz tests only (< 1 min);
 #                no notebooks, book, browser or nbgrader (CONTRIBUTING.md)
 #   make lab     open the notebooks in JupyterLab with live 3D views
@@ -38,7 +43,7 @@ else
 $(error EDITION must be 'instructor' or 'student', not '$(EDITION)')
 endif
 
-.PHONY: book student test quick lab execute chapter bench clean distclean check-python
+.PHONY: book student test test-all quick lab execute chapter bench clean distclean check-python
 
 # The Python that builds the venv (or, once it exists, the venv's own) must be >= 3.11.
 check-python:
@@ -88,10 +93,14 @@ PYTEST_ARGS ?=
 # images do: a run starts some 300 Python processes (notebook and grading kernels, nbgrader
 # commands, pytest workers), and without the caches every one of them compiles robokin,
 # tools/ and the rewritten test modules again (collection alone: 5.6 instead of 3.4 s of CPU).
-test quick execute: export PYTHONDONTWRITEBYTECODE :=
+test test-all quick execute: export PYTHONDONTWRITEBYTECODE :=
 test: $(STAMP)
-	@$(BIN)/python -m pytest $(PYTEST_ARGS) || { \
+	@$(BIN)/python -m pytest -m "not exhaustive" $(PYTEST_ARGS) || { \
 	  echo "ERROR [test]: some tests failed (see the summary above)."; exit 1; }
+
+test-all: $(STAMP)
+	@$(BIN)/python -m pytest $(PYTEST_ARGS) || { \
+	  echo "ERROR [test-all]: some tests failed (see the summary above)."; exit 1; }
 
 QUICK := not notebooks and not book and not browser and not nbgrader and not other_machines
 quick: $(STAMP)

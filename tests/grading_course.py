@@ -89,9 +89,11 @@ def part_mark(part: str) -> list:
     return [pytest.mark.xdist_group(part)]
 
 
-def xdist_group_mark(key: str = CHAPTER3) -> list:
-    """The xdist mark of a test that reads the job ``key``'s run (none without xdist)."""
-    return part_mark(part_of(key))
+def job_marks(key: str = CHAPTER3) -> list:
+    """The marks of a test that reads the job ``key``'s run: ``grades(key)``, from which the
+    session learns which runs to grade (:class:`Courses`) and the tiers which chapter the test
+    checks (tests/tiers.py), and its part's xdist group (none without xdist)."""
+    return [pytest.mark.grades(key), *part_mark(part_of(key))]
 
 
 def reads(key: str):
@@ -101,15 +103,24 @@ def reads(key: str):
     one by one (this, or :func:`chapter_params`), not with a module-wide ``pytestmark``.
     """
     def mark(test):
-        for group in xdist_group_mark(key):
-            test = group(test)
+        for one in job_marks(key):
+            test = one(test)
         return test
     return mark
 
 
 def chapter_params(chapters) -> list:
-    """``chapters`` as parameters, each marked with its part's xdist group."""
-    return [pytest.param(chapter, marks=xdist_group_mark(chapter)) for chapter in chapters]
+    """``chapters`` as parameters, each marked with the job it reads (:func:`job_marks`)."""
+    return [pytest.param(chapter, marks=job_marks(chapter)) for chapter in chapters]
+
+
+def jobs_read(items) -> dict[str, set[str]]:
+    """``{job: stems of the test files whose tests read it}`` for the tests ``items``."""
+    out: dict[str, set[str]] = {}
+    for item in items:
+        for mark in item.iter_markers("grades"):
+            out.setdefault(str(mark.args[0]), set()).add(Path(str(item.fspath)).stem)
+    return out
 
 
 @dataclass
@@ -149,25 +160,25 @@ _RUNS: dict = {}                 # job -> Run, for the parts built in this proce
 _BUILT: set[str] = set()         # the parts built in this process
 
 
-def selected_files(request) -> set[str]:
-    """The stems of the test files with a test selected in this session."""
-    return {Path(str(item.fspath)).stem for item in request.session.items}
-
-
 class Courses(Mapping):
     """``{chapter or job: Run}`` for the jobs of this session; a part is graded when one of its
-    jobs is first read (all parts at once outside pytest-xdist, where one pool grades them all)."""
+    jobs is first read (all parts at once outside pytest-xdist, where one pool grades them all).
+
+    The jobs are those the selected tests read (their ``grades`` marks, :func:`job_marks`):
+    ``make test``, which selects chapter 3's grading tests only (tests/tiers.py), grades chapter
+    3 only; a suite adds its submissions to the runs of the chapters it joins when a selected
+    test of its file reads a run."""
 
     def __init__(self, request, tmp_path_factory) -> None:
         import test_nbgrader
 
-        files = selected_files(request)
+        read = jobs_read(request.session.items)
+        files = set().union(*read.values()) if read else set()
         self.suites = [suite for name in SUITES if name in files for suite in module_suites(name)]
-        self.full = "test_nbgrader" in files
-        shared = [s for s in self.suites if not s.own_course]
-        self.chapters = [c for c in test_nbgrader.CHAPTERS if self.full or any(s.joins(c) for s in shared)]
+        self.chapters = [c for c in test_nbgrader.CHAPTERS if c in read]
         own = [suite.key(c) for suite in self.suites if suite.own_course
-               for c in test_nbgrader.CHAPTERS if suite.joins(c)]
+               for c in test_nbgrader.CHAPTERS if suite.key(c) in read]
+        self.full = "walkthrough" in read or "unmarked" in read
         self.jobs = [*self.chapters, *own, *(("walkthrough", "unmarked") if self.full else ())]
         self.factory = tmp_path_factory
 

@@ -12,7 +12,8 @@
   pytest started by a test (a scaffolded chapter's suite, the notebooks under other
   BLAS kernels) runs in one process too: the outer run already uses the cores.
 * **Markers** ``notebooks``, ``nbgrader``, ``book`` and ``browser`` are added from what a
-  test uses (the fast loop, ``make quick``, deselects them).
+  test uses (the fast loop, ``make quick``, deselects them), and ``exhaustive`` by the rules
+  of ``tests/tiers.py`` (``make test`` deselects it, ``make test-all`` keeps it).
 * **Groups** (``xdist_group``; one group runs in one worker, in collection order):
   the cells of one notebook under nbval (``nbval:<stem>``: its kernel lives in the
   worker, cell after cell), and the tests of a module with module- or class-scoped
@@ -33,6 +34,8 @@ import uuid
 from collections import defaultdict
 
 import pytest
+
+import tiers
 
 try:
     from _pytest.nodeid import NodeId, coerce_node_id
@@ -164,6 +167,7 @@ def _assign_markers(item) -> None:
         item.add_marker(pytest.mark.book)
     if "browser" in names:
         item.add_marker(pytest.mark.browser)
+    tiers.mark(item)
 
 
 def _assign_groups(items) -> None:

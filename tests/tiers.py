@@ -1,0 +1,107 @@
+"""The suite's two tiers: what ``make test`` runs every day, what ``make test-all`` adds.
+
+``make test`` (the everyday tier, about 4 minutes on two cores) runs every test except those
+marked ``exhaustive``; ``make test-all`` (what CI runs, ``.ci/run``) runs them all. Nothing is
+dropped: a check is in the everyday tier, or in ``make test-all`` only, by the rules below.
+A test is marked here, at collection, from what it checks, so that a new chapter's tests
+fall into the right tier without an entry anywhere:
+
+========================  ==========================================  =============================
+what                      everyday (``make test``)                    ``make test-all`` adds
+========================  ==========================================  =============================
+unit, property, fuzz      all of them                                 --
+notebooks                 every notebook once under nbval             the notebooks under other BLAS
+                          (stored outputs, strict)                    kernels; ``make execute``
+                                                                      changes no byte; a scaffolded
+                                                                      chapter through every tier
+book                      both editions built; one page of each       every page of both editions
+                          kind in Chromium (:data:`EVERYDAY_PAGES`,   (each at 1280 and 390 px)
+                          each at 1280 and 390 px)
+grading                   :data:`EVERYDAY_CHAPTER` end to end         every other chapter's grading
+                          (solutions, blank, mistakes, tampering,     (nbgrader runs, mutations),
+                          the sandbox), the grading machinery's own   the instructors' walk-through,
+                          unit tests                                  a chapter without metadata
+JupyterLab                --                                          a live session in Chromium
+========================  ==========================================  =============================
+
+A chapter's checks thus cost the everyday tier its notebook under nbval, its unit tests and its
+static checks; its grading, its mutations and its page in the browser are in ``make test-all``
+(CONTRIBUTING.md, "The price of a chapter").
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import pytest
+
+#: The chapter graded end to end by ``make test``: the chapter of the tamper suite, the sandbox
+#: escapes and the instructors' walk-through, so that every grading check has one everyday case.
+EVERYDAY_CHAPTER = "03_three_rpr"
+
+#: One page of each kind, checked in Chromium by ``make test`` (the others in ``make test-all``):
+#: a text page with formulas, a notebook page outside the exercises, an exercise chapter (also
+#: in the student edition, which differs there), a page of 3D scenes, a page of the API reference.
+EVERYDAY_PAGES = {
+    ("book/conventions", "instructor"),
+    ("notebooks/00_tour", "instructor"),
+    (f"notebooks/{EVERYDAY_CHAPTER}", "instructor"),
+    (f"notebooks/{EVERYDAY_CHAPTER}", "student"),
+    ("book/views", "instructor"),
+    ("book/api/motion", "instructor"),
+}
+
+#: Test files whose every test is in ``make test-all`` only, and why.
+EXHAUSTIVE_FILES = {
+    "test_notebooks_other_machines.py": "every notebook again under other BLAS kernels",
+    "test_new_chapter.py": "a scaffolded chapter through the suite (its own nbval, grading, book)",
+    "test_live_jupyter.py": "a live JupyterLab session in Chromium",
+    "test_reexecution.py": "make execute of unchanged notebooks, byte for byte",
+}
+
+#: Grading jobs that are not a chapter (tests/grading_course.py).
+EXHAUSTIVE_JOBS = {"walkthrough": "the instructors' walk-through", "unmarked": "a chapter without metadata"}
+
+CHAPTER_STEM = re.compile(r"^\d\d_[a-z0-9_]+$")
+
+
+def chapter_of(item) -> str | None:
+    """The chapter a test checks: the one whose graded run it reads (its ``grades`` mark), or
+    its ``chapter``/``path`` parameter; None for a test of no single chapter."""
+    for mark in item.iter_markers("grades"):
+        job = str(mark.args[0]).split("+", 1)[0]
+        return job if CHAPTER_STEM.match(job) else None
+    params = getattr(getattr(item, "callspec", None), "params", {})
+    for name in ("chapter", "path"):
+        value = params.get(name)
+        if value is not None:
+            stem = Path(str(value)).stem
+            if CHAPTER_STEM.match(stem):
+                return stem
+    return None
+
+
+def exhaustive_reason(item) -> str | None:
+    """Why ``item`` runs in ``make test-all`` only, or None when it runs in both tiers."""
+    if item.path.name in EXHAUSTIVE_FILES:
+        return EXHAUSTIVE_FILES[item.path.name]
+    for mark in item.iter_markers("grades"):
+        if str(mark.args[0]) in EXHAUSTIVE_JOBS:
+            return EXHAUSTIVE_JOBS[str(mark.args[0])]
+    chapter = chapter_of(item)
+    grading = item.path.name == "test_grading_mutations.py" or any(item.iter_markers("grades"))
+    if grading and chapter is not None and chapter != EVERYDAY_CHAPTER:
+        return f"the grading of {chapter} (make test grades {EVERYDAY_CHAPTER})"
+    params = getattr(getattr(item, "callspec", None), "params", {})
+    if item.name.startswith("test_page_in_browser"):
+        edition = params.get("edition_book")
+        if (params.get("page"), edition) not in EVERYDAY_PAGES:
+            return "a page of the book in Chromium beyond one of each kind"
+    return None
+
+
+def mark(item) -> None:
+    """Mark ``item`` ``exhaustive`` when a rule above says so."""
+    if exhaustive_reason(item) is not None:
+        item.add_marker(pytest.mark.exhaustive)
