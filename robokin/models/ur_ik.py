@@ -140,7 +140,6 @@ BRANCHES = ("shoulder", "wrist", "elbow")
 _SIGNS = np.array([(s, w, e) for s in (1, -1) for w in (1, -1) for e in (1, -1)], dtype=int)
 _SIGNS.setflags(write=False)
 _SLOT = {tuple(int(v) for v in signs): j for j, signs in enumerate(_SIGNS)}
-_LIMIT = 2.0 * _PI  # the controller's joint range, ±2π for every joint (as robokin.models.ur10)
 
 
 @dataclass(frozen=True, eq=False)
@@ -717,14 +716,14 @@ def _solve_batch(Ts: np.ndarray, g: _Geometry, tol: float, within_limits: bool) 
     q2, q3, q4 = _wrap(t2 - o[1]), _wrap(t3 - o[2]), _wrap(t4 - o[3])
     dp, dr = _slot_residuals(g, (q1, q2, q3, q4, q5, q6), r11, r12, r13, px, r21, r22, r23, py, r31, r32, r33, pz)
     good = ok & (dp <= 1e3 * tol * g.scale + 1e-12) & (dr <= 1e3 * tol + 1e-12)
-    Q = np.empty((6, 2, 2, 2, N))
-    Q[0], Q[1], Q[2], Q[3] = q1[:, None, None], q2, q3, q4
-    Q[4], Q[5] = q5[:, :, None], q6[:, :, None]
-    Q = Q.reshape(6, 8, N).T                                                     # (N, 8, 6)
+    slots = np.empty((6, 2, 2, 2, N))
+    slots[0], slots[1], slots[2], slots[3] = q1[:, None, None], q2, q3, q4
+    slots[4], slots[5] = q5[:, :, None], q6[:, :, None]
+    Q = slots.reshape(6, 8, N).T                                                 # (N, 8, 6)
     good = good.reshape(8, N).T
-    inside = good & (np.abs(Q) <= _LIMIT).all(axis=2)
+    inside = good  # every angle in (−π, π] is within the limits ±2π
     valid = inside if within_limits else good
-    solved = valid.any(axis=1)
+    solved = np.asarray(valid.any(axis=1), dtype=bool)
     reason = np.full(N, "solved", dtype="<U17")
     if not solved.all():
         computed = ok.reshape(8, N).T.any(axis=1)
