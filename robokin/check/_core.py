@@ -338,8 +338,11 @@ def to_float_array(out: Any, what: str) -> np.ndarray:
     Raises
     ------
     AnswerError
-        Symbols left after substitution, complex or non-numeric entries.
+        Symbols left after substitution, complex or non-numeric entries; ``None`` (a
+        function that ends without ``return``).
     """
+    if out is None:
+        raise AnswerError("error", f"{what} is None: did you forget `return`?")
     sp = _sympy()
     if sp is not None and _is_sympy(out):
         try:
