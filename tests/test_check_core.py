@@ -236,6 +236,15 @@ def test_none_and_nan_answers():
     assert rot(lambda t: np.full((3, 3), np.nan)).diagnosis == "error"
 
 
+def test_function_without_return_is_told_to_return():
+    def forgot(alpha):
+        np.cos(alpha)   # computed, never returned
+
+    r = rot(forgot)
+    assert r.diagnosis == "error" and "is None: did you forget `return`?" in r.message
+    assert "NaN" not in r.message
+
+
 def test_non_numeric_answer():
     r = value("abc", [1.0], quiet=True)
     assert r.diagnosis == "error" and "not numeric" in r.message
