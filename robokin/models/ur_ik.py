@@ -360,11 +360,17 @@ def _residuals(g: _Geometry, Q: np.ndarray, T: np.ndarray) -> tuple[np.ndarray, 
     """
     D = _dh_poses(g, Q)[:, :3, :] - T[:3, :]
     D *= D
-    S = D.sum(axis=1)  # (k, 4): squared column differences
-    return np.sqrt(S[:, 3]), 2.0 * np.arcsin(np.minimum(np.sqrt(S[:, :3].sum(axis=1)) * _INV_SQRT8, 1.0))
+    S = D.reshape(-1, 12) @ _SUMS  # (k, 2): ‖ΔR‖²/8 and ‖Δp‖²
+    np.sqrt(S, out=S)
+    return S[:, 1], 2.0 * np.arcsin(np.minimum(S[:, 0], 1.0))
 
 
 _INV_SQRT8 = 1.0 / math.sqrt(8.0)
+#: Sums of the squared differences of the rows of [R | p] (3, 4), flattened: rotation (over 8), position.
+_SUMS = np.zeros((12, 2))
+_SUMS[[0, 1, 2, 4, 5, 6, 8, 9, 10], 0] = 1.0 / 8.0
+_SUMS[[3, 7, 11], 1] = 1.0
+_SUMS.setflags(write=False)
 _ONES = np.ones((8, 6, 3))
 _ONES.setflags(write=False)
 
@@ -374,6 +380,12 @@ def _wrap(a: np.ndarray) -> np.ndarray:
     w = a - _TWO_PI * np.rint(a * (1.0 / _TWO_PI))
     w += _TWO_PI * (w <= -_PI)
     return w
+
+
+def _wrapped(angle: float) -> float:
+    """One angle into (−π, π] (``math.remainder`` is exact)."""
+    w = math.remainder(angle, _TWO_PI)
+    return w if w > -_PI else w + _TWO_PI
 
 
 def _cos_sin(angle: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -396,25 +408,26 @@ def _solve_pose(T: list[list[float]], g: _Geometry, tol: float
                 ) -> tuple[list[list[float]], list[tuple[int, int, int]], str, set[str], tuple[float, ...]]:
     """Candidate solutions (DH angles θ, unverified) of one pose, in branch order; the steps of the module."""
     (r11, r12, r13, px), (r21, r22, r23, py), (r31, r32, r33, pz) = T[0], T[1], T[2]
+    d1, a2, a3, d4, d5, d6 = g.d1, g.a2, g.a3, g.d4, g.d5, g.d6
     singular: set[str] = set()
     flag, collapse = math.sqrt(tol), 1e3 * tol + 1e-7
     # step 1: wrist centre o5 = p - d6 z6, and q1 from  o5 . z1 = d4
-    wx, wy, wz = px - g.d6 * r13, py - g.d6 * r23, pz - g.d6 * r33
+    wx, wy, wz = px - d6 * r13, py - d6 * r23, pz - d6 * r33
     centre = (wx, wy, wz)
     r = math.hypot(wx, wy)
-    if r <= tol * g.scale and abs(g.d4) <= tol * g.scale:  # on the base axis and no offset: q1 free
+    if r <= tol * g.scale and abs(d4) <= tol * g.scale:  # on the base axis and no offset: q1 free
         singular.add("shoulder")
         shoulders = [(1, 0.0)]
-    elif not r >= abs(g.d4) * (1.0 - tol):
+    elif not r >= abs(d4) * (1.0 - tol):
         return [], [], "shoulder_cylinder", singular, centre
     else:
         psi = math.atan2(wy, wx)
-        gap = math.atan2(math.sqrt(max((r - abs(g.d4)) * (r + abs(g.d4)), 0.0)), g.d4)  # arccos(d4 / r)
+        gap = math.atan2(math.sqrt(max((r - abs(d4)) * (r + abs(d4)), 0.0)), d4)  # arccos(d4 / r)
         if min(gap, _PI - gap) < flag:
             singular.add("shoulder")
-        shoulders = [(1, psi + _PI / 2 + gap)]
+        shoulders = [(1, _wrapped(psi + _PI / 2 + gap))]
         if min(gap, _PI - gap) > collapse:
-            shoulders.append((-1, psi + _PI / 2 - gap))
+            shoulders.append((-1, _wrapped(psi + _PI / 2 - gap)))
     solutions, branches, misses = [], [], []
     for s_sign, t1 in shoulders:
         c1, s1 = math.cos(t1), math.sin(t1)
@@ -430,18 +443,18 @@ def _solve_pose(T: list[list[float]], g: _Geometry, tol: float
             t6 = math.atan2(-w_sign * yz, w_sign * xz) if s5_abs > tol else 0.0
             c5, s5, c6, s6 = math.cos(t5), math.sin(t5), math.cos(t6), math.sin(t6)
             # step 4: the planar three-link problem in frame 1
-            ox = wx + g.d5 * (s6 * r11 + c6 * r12)  # o4 = o5 - d5 z4, z4 = -s6 x6 - c6 y6
-            oy = wy + g.d5 * (s6 * r21 + c6 * r22)
-            oz = wz + g.d5 * (s6 * r31 + c6 * r32)
+            ox = wx + d5 * (s6 * r11 + c6 * r12)  # o4 = o5 - d5 z4, z4 = -s6 x6 - c6 y6
+            oy = wy + d5 * (s6 * r21 + c6 * r22)
+            oz = wz + d5 * (s6 * r31 + c6 * r32)
             x4x = c5 * c6 * r11 - c5 * s6 * r12 - s5 * r13  # x4 = c5 c6 x6 - c5 s6 y6 - s5 z6
             x4y = c5 * c6 * r21 - c5 * s6 * r22 - s5 * r23
             x4z = c5 * c6 * r31 - c5 * s6 * r32 - s5 * r33
             t234 = math.atan2(x4z, c1 * x4x + s1 * x4y)
-            X, Y = c1 * ox + s1 * oy, oz - g.d1
+            X, Y = c1 * ox + s1 * oy, oz - d1
             rho2 = X * X + Y * Y
-            c3 = (rho2 - g.a2 * g.a2 - g.a3 * g.a3) / (2.0 * g.a2 * g.a3)
+            c3 = (rho2 - a2 * a2 - a3 * a3) / (2.0 * a2 * a3)
             if not -1.0 - tol <= c3 <= 1.0 + tol:  # also NaN / inf from a huge target
-                misses.append("too_far" if not rho2 < (abs(g.a2) + abs(g.a3)) ** 2 else "too_close")
+                misses.append("too_far" if not rho2 < (abs(a2) + abs(a3)) ** 2 else "too_close")
                 continue
             c3 = min(1.0, max(-1.0, c3))
             s3_abs = math.sqrt((1.0 - c3) * (1.0 + c3))
@@ -451,10 +464,11 @@ def _solve_pose(T: list[list[float]], g: _Geometry, tol: float
             elbows = [(1, t3_abs)]
             if min(t3_abs, _PI - t3_abs) > collapse:
                 elbows.append((-1, -t3_abs))
+            phi = math.atan2(Y, X)
             for e_sign, t3 in elbows:
-                s3 = e_sign * s3_abs
-                t2 = math.atan2(Y, X) - math.atan2(g.a3 * s3, g.a2 + g.a3 * c3)
-                solutions.append([t1, t2, t3, t234 - t2 - t3, t5, t6])
+                t2 = phi - math.atan2(a3 * e_sign * s3_abs, a2 + a3 * c3)
+                # t1, t3, t5, t6 are in (−π, π] already
+                solutions.append([t1, _wrapped(t2), t3, _wrapped(t234 - t2 - t3), t5, t6])
                 branches.append((s_sign, w_sign, e_sign))
     if not solutions:
         return [], [], ("too_far" if "too_far" in misses else "too_close"), singular, centre
@@ -567,24 +581,20 @@ def ur10_ik(
     if check and not (type(tol) is float and tol == 1e-9):
         tol = _check_tol(tol)
     sols, branches, reason, singular, centre = _solve_pose(T.tolist(), g, tol)
-    flags = tuple(s for s in SINGULARITIES if s in singular)
+    flags = tuple(s for s in SINGULARITIES if s in singular) if singular else ()
     if not sols:
         return URIKResult(np.zeros((0, 6)), False, reason, np.zeros(0), np.zeros(0), np.zeros((0, 3), dtype=int),
                           np.zeros(0, dtype=bool), flags, np.array(centre))
-    Q = np.array(sols, dtype=float)
-    Q = _wrap(Q - np.array(g.offsets) if any(g.offsets) else Q)
+    Q = np.array(sols, dtype=float)  # wrapped into (−π, π]
+    if any(g.offsets):
+        Q = _wrap(Q - np.array(g.offsets))
     B = _SIGNS.copy() if len(branches) == 8 else _SIGNS[[_SLOT[b] for b in branches]]
     dp, dr = _residuals(g, Q, T)
-    good = (dp <= 1e3 * tol * g.scale + 1e-12) & (dr <= 1e3 * tol + 1e-12)
     inside = np.ones(len(Q), dtype=bool)  # every angle in (−π, π] is within the limits ±2π
-    if not good.all():
+    if dp.max() > 1e3 * tol * g.scale + 1e-12 or dr.max() > 1e3 * tol + 1e-12:  # keep the verified ones
+        good = (dp <= 1e3 * tol * g.scale + 1e-12) & (dr <= 1e3 * tol + 1e-12)
         Q, B, dp, dr, inside = Q[good], B[good], dp[good], dr[good], inside[good]
-    if len(Q):
-        reason = "solved"
-    elif not good.any():
-        reason = "not_verified"
-    else:
-        reason = "joint_limits"
+    reason = "solved" if len(Q) else "not_verified"  # (no joint_limits: the limits hold every solution)
     return URIKResult(Q, bool(len(Q)), reason, dp, dr, B, inside, flags, np.array(centre))
 
 
