@@ -266,13 +266,15 @@ class _Geometry(NamedTuple):
     d6: float
     offsets: tuple[float, float, float, float, float, float]
     scale: float  # sum of the lengths' magnitudes (m): the tolerances' unit
-    basis: np.ndarray  # (6, 3, 16): the DH matrix of row i is cos θ_i B[i, 0] + sin θ_i B[i, 1] + B[i, 2]
+    basis: np.ndarray  # (18, 96): block i maps (cos θ_i, sin θ_i, 1) to the 16 entries of the DH matrix of row i
 
 
 def _dh_basis(table: np.ndarray) -> np.ndarray:
-    r"""Constant matrices of the DH rows.
+    r"""Constant matrices of the DH rows, block-diagonal (18, 96).
 
-    :math:`R_z(\theta)T_z(d)T_x(a)R_x(\alpha) = c_\theta B_0 + s_\theta B_1 + B_2`
+    :math:`R_z(\theta)T_z(d)T_x(a)R_x(\alpha) = c_\theta B_0 + s_\theta B_1 + B_2`: the
+    row ``(cos θ_1, sin θ_1, 1, …, cos θ_6, sin θ_6, 1)`` times the result gives the six
+    DH matrices, flattened.
 
     From the standard DH matrix (Siciliano et al. 2009, §2.8.2)
     ``[[cθ, −sθ cα, sθ sα, a cθ], [sθ, cθ cα, −cθ sα, a sθ], [0, sα, cα, d], [0, 0, 0, 1]]``
@@ -284,7 +286,9 @@ def _dh_basis(table: np.ndarray) -> np.ndarray:
         B[i, 0, 0, 0], B[i, 0, 1, 1], B[i, 0, 1, 2], B[i, 0, 0, 3] = 1.0, ca, -sa, a
         B[i, 1, 1, 0], B[i, 1, 0, 1], B[i, 1, 0, 2], B[i, 1, 1, 3] = 1.0, -ca, sa, a
         B[i, 2, 2, 1], B[i, 2, 2, 2], B[i, 2, 2, 3], B[i, 2, 3, 3] = sa, ca, d, 1.0
-    basis = B.reshape(6, 3, 16)
+    basis = np.zeros((18, 96))
+    for i in range(6):
+        basis[3 * i: 3 * i + 3, 16 * i: 16 * i + 16] = B[i].reshape(3, 16)
     basis.setflags(write=False)
     return basis
 
@@ -342,12 +346,13 @@ def _geometry(dh: Any) -> _Geometry:
 # ------------------------------------------------------------------ forward kinematics
 def _dh_poses(g: _Geometry, Q: np.ndarray) -> np.ndarray:
     """Flange poses (k, 4, 4) of the rows ``Q`` (k, 6): the product of the table's six DH matrices."""
+    k = len(Q)
     th = Q + np.asarray(g.offsets) if any(g.offsets) else Q
-    V = _ONES[: len(Q)].copy()  # (k, 6, 3): cos, sin, 1
-    np.cos(th, out=V[..., 0])
-    np.sin(th, out=V[..., 1])
-    A = (V[..., None, :] @ g.basis).reshape(Q.shape[:-1] + (6, 4, 4))  # A_i(q_i), i = 1..6
-    P = A[:, 0::2] @ A[:, 1::2]                                          # A1 A2, A3 A4, A5 A6
+    V = _ONES[:k].copy()  # (k, 6, 3): cos θ_i, sin θ_i, 1
+    np.cos(th, out=V[:, :, 0])
+    np.sin(th, out=V[:, :, 1])
+    A = (V.reshape(k, 18) @ g.basis).reshape(k, 6, 4, 4)  # A_i(q_i), i = 1..6 (one product, block-diagonal basis)
+    P = A[:, 0::2] @ A[:, 1::2]                            # A1 A2, A3 A4, A5 A6
     return P[:, 0] @ P[:, 1] @ P[:, 2]
 
 
