@@ -134,3 +134,23 @@ clean:
 
 distclean: clean
 	rm -rf $(VENV)
+
+# One chapter's tests, with only that chapter graded: make test-chapter CH=03_three_rpr
+# (its notebook under nbval, its notebook conventions, the tests of its check modules
+# (tests/test_check_<module>.py), its grading mutations, the contracts of its student
+# edition, nbgrader, the trust suite and the delegation check; every tier).
+.PHONY: test-chapter
+test-chapter: $(STAMP)
+	@test -n "$(CH)" -a -f "notebooks/$(CH).ipynb" || { \
+	  echo "ERROR [test-chapter]: CH= names a chapter notebook, e.g. 'make test-chapter CH=03_three_rpr' (got '$(CH)')."; exit 1; }
+	@ALONE=$$(mktemp -d) && mkdir "$$ALONE/notebooks" && cp "notebooks/$(CH).ipynb" "$$ALONE/notebooks/" && \
+	CHECKS=$$($(BIN)/python -c 'import json, sys; nb = json.load(open(sys.argv[1])); \
+	  print(" ".join(sorted({"test_check_" + check.split(".")[0] for cell in nb["cells"] \
+	  for check, _ in cell.get("metadata", {}).get("robokin", {}).get("explain", [])})))' "notebooks/$(CH).ipynb") && \
+	FILES=$$(for name in $$CHECKS; do test -f "tests/$$name.py" && echo "tests/$$name.py"; done) && \
+	KEYS=$$(for name in $$CHECKS; do test -f "tests/$$name.py" && printf ' or %s' "$$name"; done) && \
+	ROBOKIN_NBGRADER_NOTEBOOKS="$$ALONE/notebooks" $(BIN)/python -m pytest $(PYTEST_ARGS) "notebooks/$(CH).ipynb" \
+	  tests/test_notebook_conventions.py $$FILES tests/test_grading_mutations.py tests/test_student_edition_contracts.py \
+	  tests/test_nbgrader.py tests/test_grading_trust.py tests/test_grading_tamper.py -k "$(CH)$$KEYS"; \
+	status=$$?; rm -rf "$$ALONE"; test $$status -eq 0 || { \
+	  echo "ERROR [test-chapter]: some tests of $(CH) failed (see the summary above)."; exit 1; }
