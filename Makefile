@@ -16,7 +16,8 @@
 #   make lab     open the notebooks in JupyterLab with live 3D views
 #   make execute re-run every notebook in a fresh kernel and store its outputs (stream
 #                outputs merged, so that an unchanged notebook stores unchanged bytes);
-#                make execute NB=notebooks/02_ur10_ik.ipynb re-runs that one only
+#                make execute NB=notebooks/02_ur10_ik.ipynb re-runs that one only (the kernel
+#                talks over sockets in a private folder: tools/kernel_sockets.py)
 #   make chapter NAME=scara TITLE="The SCARA arm" [ROBOT="a SCARA arm"]  a new chapter
 #                (tools/new_chapter.py; book/authoring.md explains it)
 #   make bench   print the benchmark tables
@@ -115,8 +116,10 @@ execute: $(STAMP)
 	@for nb in $(NB); do \
 	  test -f "$$nb" || { echo "ERROR [execute]: no notebook $$nb (NB= takes paths such as notebooks/02_ur10_ik.ipynb)"; exit 1; }; \
 	  echo "== executing $$nb"; \
-	  ROBOKIN_VIEWER=static $(BIN)/jupyter nbconvert --to notebook --execute --inplace \
-	    --ExecutePreprocessor.timeout=300 --ExecutePreprocessor.record_timing=False "$$nb" || exit 1; \
+	  ROBOKIN_VIEWER=static PYTHONPATH="$(CURDIR)/tools$${PYTHONPATH:+:$$PYTHONPATH}" \
+	    $(BIN)/jupyter nbconvert --to notebook --execute --inplace \
+	    --ExecutePreprocessor.timeout=300 --ExecutePreprocessor.record_timing=False \
+	    --ExecutePreprocessor.kernel_manager_class=kernel_sockets.AsyncPrivateSocketsKernelManager "$$nb" || exit 1; \
 	  $(BIN)/jupyter nbconvert --to notebook --inplace --log-level=WARN \
 	    --CoalesceStreamsPreprocessor.enabled=True "$$nb" || exit 1; \
 	done
