@@ -228,6 +228,10 @@ def transform_specs() -> list[Spec]:
              shape=lambda c, v: B(c, 4), batch=True),
         Spec("transforms.quaternion_conjugate", tr.quaternion_conjugate, [Arr("q", (4,))],
              shape=lambda c, v: B(c, 4), batch=True),
+        Spec("transforms.transform_exp", tr.transform_exp, [Arr("V", (6,), lo=-4, hi=4)],
+             shape=lambda c, v: B(c, 4, 4), batch=True),
+        Spec("transforms.transform_log", tr.transform_log, [Tf("T")], shape=lambda c, v: B(c, 6), batch=True),
+        Spec("transforms.adjoint", tr.adjoint, [Tf("T")], shape=lambda c, v: B(c, 6, 6), batch=True),
     ]
     return S
 
@@ -263,6 +267,12 @@ def chain_method_specs() -> list[Spec]:
         Spec("SerialChain.manipulability", _method("manipulability"), [self_arg(), Q()],
              {"position_only": Choice("position_only", [True, False], bad=())},
              shape=lambda c, v: B(c), batch=True, setup=pick_chain),
+        Spec("SerialChain.screw_axes", _method("screw_axes"), [self_arg()],
+             shape=lambda c, v: ((4, 4), (n(c), 6)), setup=pick_chain),
+        Spec("SerialChain.space_jacobian", _method("space_jacobian"), [self_arg(), Q()],
+             shape=lambda c, v: B(c, 6, n(c)), batch=True, setup=pick_chain),
+        Spec("SerialChain.body_jacobian", _method("body_jacobian"), [self_arg(), Q()],
+             shape=lambda c, v: B(c, 6, n(c)), batch=True, setup=pick_chain),
         Spec("SerialChain.condition_number", _method("condition_number"), [self_arg(), Q()],
              shape=lambda c, v: B(c), batch=True, setup=pick_chain, finite=False),
         Spec("SerialChain.random_configurations", _method("random_configurations"),

@@ -705,6 +705,41 @@ class SerialChain:
             c = np.where(sv[..., -1] > 0, sv[..., 0] / sv[..., -1], np.inf)
         return float(c) if np.ndim(c) == 0 else c
 
+    # ------------------------------------------------------------ product of exponentials
+    def screw_axes(self) -> tuple[np.ndarray, np.ndarray]:
+        r"""Home pose :math:`M` (4, 4) and space-frame screw axes :math:`\mathcal{S}` (n, 6), rows ``[ω; v]``.
+
+        :math:`T(\mathbf{q}) = e^{[\mathcal{S}_1]q_1}\cdots e^{[\mathcal{S}_n]q_n}M` equals :meth:`fk`
+        (Lynch & Park 2017, §4.1.1). See :func:`robokin.chains.screws.screw_axes`.
+        """
+        from robokin.chains.screws import screw_axes
+
+        return screw_axes(self)
+
+    def space_jacobian(self, q: Any) -> np.ndarray:
+        r"""Lynch & Park's space Jacobian :math:`J_s`, shape (6, n) or (N, 6, n), rows ``[ω; v_s]``.
+
+        Column i is :math:`[\mathrm{Ad}_{e^{[\mathcal{S}_1]q_1}\cdots}]\mathcal{S}_i` (Lynch & Park
+        2017, §5.1.1); with this book's :meth:`jacobian` ``[J_v; J_ω]`` and the end-effector's
+        position :math:`p`: :math:`J_s = [J_\omega;\ J_v + [p]J_\omega]`. See
+        :func:`robokin.chains.screws.space_jacobian`.
+        """
+        from robokin.chains.screws import space_jacobian
+
+        return space_jacobian(self, q)
+
+    def body_jacobian(self, q: Any) -> np.ndarray:
+        r"""Lynch & Park's body Jacobian :math:`J_b`, shape (6, n) or (N, 6, n), rows ``[ω_b; v_b]``.
+
+        :math:`J_b = [\mathrm{Ad}_{T^{-1}}]J_s`, in the end-effector frame (Lynch & Park 2017,
+        §5.1.2); with this book's :meth:`jacobian` and the end-effector's rotation :math:`R`:
+        :math:`J_b = [R^\mathsf{T}J_\omega;\ R^\mathsf{T}J_v]`. See
+        :func:`robokin.chains.screws.body_jacobian`.
+        """
+        from robokin.chains.screws import body_jacobian
+
+        return body_jacobian(self, q)
+
     # ------------------------------------------------------------ configurations
     def random_configurations(self, N: int, seed: Any = None) -> np.ndarray:
         """``N`` configurations uniformly distributed within the limits, shape (N, n).

@@ -34,6 +34,7 @@ from robokin.transforms.quaternions import (
     rotation_from_quaternion,
 )
 from robokin.transforms.rotations import rotx, roty, rotz, skew, unskew
+from robokin.transforms.screws import adjoint, transform_exp, transform_log
 
 __all__ = [
     "rotx",
@@ -57,6 +58,9 @@ __all__ = [
     "rotation_log",
     "rotation_from_angle_axis",
     "angle_axis_from_rotation",
+    "transform_exp",
+    "transform_log",
+    "adjoint",
     "quaternion_from_rotation",
     "rotation_from_quaternion",
     "quaternion_multiply",
