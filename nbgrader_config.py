@@ -9,7 +9,7 @@ import os
 import sys
 from pathlib import Path
 
-from nbconvert.preprocessors import ClearMetadataPreprocessor
+from nbconvert.preprocessors import ClearMetadataPreprocessor, CSSHTMLHeaderPreprocessor
 from nbgrader.preprocessors import (
     AssignLatePenalties,
     ClearHiddenTests,
@@ -18,6 +18,7 @@ from nbgrader.preprocessors import (
     ClearSolutions,
     ComputeChecksums,
     DeduplicateIds,
+    GetGrades,
     IgnorePattern,
     IncludeHeaderFooter,
     InstantiateTests,
@@ -35,7 +36,10 @@ from robokin_nbgrader import (  # noqa: E402
     AutograderReport,
     GradingIncidents,
     DropSolutionProse,
+    FeedbackStyle,
+    HideHiddenTests,
     MarkSolutionRegions,
+    MystMarkdown,
     OfflineMathJaxHTMLExporter,
     PointsHeader,
     RequireGradingMetadata,
@@ -110,6 +114,14 @@ c.RobokinExecute.sandbox = True
 
 # -- generate_feedback: MathJax inlined (the page is read offline, and handed out alone)
 c.GenerateFeedback.exporter_class = OfflineMathJaxHTMLExporter
+# nbgrader's two preprocessors, then the robokin ones (tools/robokin_nbgrader.py)
+c.GenerateFeedback.preprocessors = [
+    GetGrades,
+    CSSHTMLHeaderPreprocessor,
+    FeedbackStyle,            # notes that wrap at the page's width; tables with a column gap
+    HideHiddenTests,          # no hidden test in the page (a student reads it before handing in again)
+    MystMarkdown,             # the task statements' MyST as Markdown ({exercise}, {admonition}, {cite})
+]
 # Chapters whose test cells run in a grader kernel, the answers handed over as data ("*": all;
 # book/for-instructors.md, "Where the verdicts are decided"). A call of a student's function
 # from a test goes over a socket to a call server in the student's kernel (a fraction of a

@@ -857,6 +857,83 @@ def test_feedback_calls_only_answers_your_answers_and_quotes_whole_statements(gr
     assert checked, f"{chapter}: no failing test with a note in any submission"
 
 
+def hidden_test_lines(source: dict) -> set[str]:
+    """The lines of the hidden tests of ``source`` (stripped, 4+ characters) that are not also in the
+    code the student edition shows (read-only code cells outside their hidden tests)."""
+    hidden, shown = set(), set()
+    for cell in source["cells"]:
+        for block in HIDDEN_TESTS.findall(src(cell)):
+            hidden |= {line.strip() for line in block.splitlines()[1:-1] if len(line.strip()) >= 4}
+        if cell["cell_type"] == "code" and not nbg(cell).get("solution"):
+            shown |= {line.strip() for line in HIDDEN_TESTS.sub("", src(cell)).splitlines()}
+    return hidden - shown
+
+
+@pytest.mark.parametrize("chapter", grading_course.chapter_params(CHAPTERS))
+def test_feedback_never_shows_hidden_tests(graded, chapter):
+    """No line of a hidden test is in any feedback page (a student reads it before handing in
+    again); a comment says where they were, and a failing test's verdict stays."""
+    import html
+
+    run = _run(graded, chapter)
+    hidden = hidden_test_lines(run.source)
+    has_hidden = any(HIDDEN_TESTS.search(src(c)) for c in run.source["cells"])
+    for student, page in run.feedback.items():
+        if not page:
+            continue
+        text = html.unescape(re.sub(r"<[^>]+>", "", page))
+        lines = {line.strip() for line in text.splitlines()}
+        leaked = sorted(hidden & lines)
+        assert not leaked, f"{chapter}: the feedback page of {student!r} shows hidden tests: {leaked[:3]}"
+        assert "HIDDEN TESTS" not in text, f"{chapter}: the feedback page of {student!r} shows the delimiters"
+        assert not has_hidden or "hidden tests, run when grading" in text, (
+            f"{chapter}: the feedback page of {student!r} does not say where the hidden tests were")
+    for student, nb in run.autograded.items():
+        for grade_id, note in notes(nb).items():
+            quoted = "\n".join(line.strip() for line in note.splitlines())
+            leaked = [line for line in hidden if line in quoted.splitlines()]
+            assert not leaked, f"{chapter} {student} {grade_id}: the robokin note quotes hidden tests: {leaked}"
+
+
+@pytest.mark.parametrize("chapter", grading_course.chapter_params(CHAPTERS))
+def test_released_test_cells_are_not_reported_as_changed(graded, chapter):
+    """A test cell handed in as it was released (without its hidden tests) is not "changed": autograde's
+    RestoreMissingCells puts its hidden tests back without nbgrader's checksum warning, and a cell
+    that was changed is still reported and restored."""
+    import logging
+
+    from robokin_nbgrader import RestoreMissingCells
+    import nbformat
+
+    run = _run(graded, chapter)
+    warnings: list[str] = []
+
+    class Collect(logging.Handler):
+        def emit(self, record):
+            warnings.append(record.getMessage())
+
+    def overwrite(nb: dict) -> dict:
+        processor = RestoreMissingCells(add_missing_cells=True)
+        processor.log.addHandler(Collect())
+        processor.log.setLevel(logging.WARNING)
+        resources = {"nbgrader": {"notebook": chapter, "assignment": chapter,
+                                  "db_url": f"sqlite:///{run.course / 'gradebook.db'}"}}
+        return processor.preprocess(nbformat.reads(json.dumps(nb), as_version=4), resources)[0]
+
+    graded_nb = overwrite(run.release)
+    assert not warnings, f"{chapter}: the released notebook handed in as it is: {warnings[:3]}"
+    sources = {nbg(c).get("grade_id"): src(c) for c in run.source["cells"] if nbg(c).get("grade")}
+    restored = {nbg(c).get("grade_id"): src(c) for c in graded_nb.cells if nbg(c).get("grade")}
+    assert restored == sources, f"{chapter}: the test cells are not graded as the instructor wrote them"
+    tampered = copy.deepcopy(run.release)
+    test = next(c for c in tampered["cells"] if nbg(c).get("grade"))
+    test["source"] = "pass  # the student emptied the test\n"
+    restored = {nbg(c).get("grade_id"): src(c) for c in overwrite(tampered).cells if nbg(c).get("grade")}
+    assert any("checksum" in w and nbg(test)["grade_id"] in w for w in warnings), (
+        f"{chapter}: a changed test cell is not reported: {warnings}")
+    assert restored == sources, f"{chapter}: a changed test cell is not restored"
+
+
 @grading_course.reads(FEEDBACK_CHAPTER)
 def test_knock_on_failure_names_the_root_cause(graded):
     """An answer cell that raises: a later task's test that needs its names says so."""

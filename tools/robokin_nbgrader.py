@@ -33,6 +33,10 @@ into its pipelines:
     cause among them, and what ``robokin.check`` (asked in the student's kernel)
     says about those answers; after the last test it asks about every answer it
     has a check for (``registered_pairs``).
+``HideHiddenTests`` (generate_feedback)
+    The hidden tests of the test cells are not in the feedback page: nbgrader's
+    ``ClearHiddenTests`` takes them out, the tracebacks lose their code, and the
+    verdict and diagnosis stay.
 ``OfflineMathJaxHTMLExporter`` (generate_feedback)
     nbgrader's HTML exporter with MathJax 3 inlined in the page (from the
     ``django-static-mathjax`` wheel the book uses) instead of loaded from a CDN:
@@ -81,12 +85,14 @@ from nbgrader.coursedir import CourseDirectory
 from nbgrader.dbutil import ALEMBIC_DIR
 from nbgrader.nbgraderformat import MetadataValidator, ValidationError
 from nbgrader.nbgraderformat.common import BaseMetadataValidator
-from nbgrader.preprocessors import CheckCellMetadata, Execute, NbGraderPreprocessor, OverwriteCells
+from nbgrader.api import MissingEntry
+from nbgrader.preprocessors import CheckCellMetadata, ClearHiddenTests, Execute, NbGraderPreprocessor, OverwriteCells
 from traitlets import Bool, Unicode
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from notebook_analysis import (
+    Binding,
     _check_aliases,
     defined_names,
     free_names,
@@ -94,8 +100,8 @@ from notebook_analysis import (
     mark_solution,
     statement_at,
     statement_span,
-    trace,
 )
+from notebook_analysis import trace as _cell_trace
 from robokin_sandbox import SandboxedKernelManager, bwrap_executable, sandbox_wanted
 
 TYPE_PROBE = "type"  # robokin.check.grading.TYPE_PROBE: what a value is, no verdict
@@ -127,6 +133,30 @@ def _first_line(text: str, width: int = 60) -> str:
         if line and not line.startswith("#"):
             return line if len(line) <= width else line[: width - 1] + "…"
     return text.strip().splitlines()[0][:width] if text.strip() else ""
+
+
+def hidden_lines(source: str, begin: str | None = None, end: str | None = None) -> set[int]:
+    """The numbers (from 1) of the lines of ``source`` in its hidden tests, delimiters included:
+    the lines nbgrader's ``ClearHiddenTests`` removes (its default delimiters unless given)."""
+    begin = begin or ClearHiddenTests.begin_test_delimeter.default_value
+    end = end or ClearHiddenTests.end_test_delimeter.default_value
+    out, inside = set(), False
+    for number, line in enumerate(source.split("\n"), 1):
+        if begin in line:
+            inside = True
+        if inside:
+            out.add(number)
+        if end in line:
+            inside = False
+    return out
+
+
+def visible_source(source: str) -> str:
+    """``source`` without its hidden tests, as nbgrader's ``ClearHiddenTests`` leaves it for a student."""
+    if not hidden_lines(source):
+        return source
+    cell = from_dict({"cell_type": "code", "metadata": {}, "source": source, "outputs": [], "execution_count": None})
+    return ClearHiddenTests(enforce_metadata=False).preprocess_cell(cell, {}, 0)[0].source
 
 
 # ---------------------------------------------------------------- every pipeline
@@ -274,7 +304,32 @@ class PointsHeader(NbGraderPreprocessor):
 
 # ---------------------------------------------------------------- autograde
 class RestoreMissingCells(OverwriteCells):
-    """``OverwriteCells`` that puts a deleted test cell back after the nearest cell still there."""
+    """``OverwriteCells`` that puts a deleted test cell back after the nearest cell still there, and
+    knows that a test cell with hidden tests was released without them.
+
+    The gradebook holds each read-only cell as the instructor wrote it, hidden tests included, and
+    its checksum; the student was given the cell without them. nbgrader compares the two, finds them
+    different for every test cell with hidden tests (a warning "Attribute 'checksum' ... has
+    changed!" in every run) and puts the gradebook's source back. Here a cell that is exactly what
+    was released (the gradebook's source without its hidden tests) gets its hidden tests back
+    before nbgrader compares: no change to report. A cell changed in any other way is reported and
+    restored by nbgrader as before.
+    """
+
+    def preprocess_cell(self, cell, resources, cell_index):
+        grade_id = cell.metadata.get("nbgrader", {}).get("grade_id")
+        if grade_id is not None and cell.cell_type == "code":
+            try:
+                source_cell = self.gradebook.find_source_cell(grade_id, self.notebook_id, self.assignment_id)
+            except MissingEntry:
+                source_cell = None
+            if source_cell is not None and source_cell.locked and cell.source != source_cell.source:
+                released = ClearHiddenTests(config=self.config, enforce_metadata=False).preprocess_cell(
+                    from_dict({"cell_type": "code", "metadata": {}, "source": source_cell.source,
+                               "outputs": [], "execution_count": None}), resources, cell_index)[0].source
+                if released != source_cell.source and cell.source == released:
+                    cell.source = source_cell.source
+        return super().preprocess_cell(cell, resources, cell_index)
 
     def add_missing_grade_cells(self, nb, resources):
         source_nb = self.gradebook.find_notebook(self.notebook_id, self.assignment_id)
@@ -651,14 +706,17 @@ class FailureNotes:
         table = _bindings(kinds)
         self.answer_cell = {n: table[n].cell for n in self.roots if n in table}
         self.root_roots = {n: table[n].roots for n in self.roots if n in table}
+        self._kinds = kinds
         self.causes = self._causes(kinds)
 
-    def _causes(self, kinds) -> dict[str, str]:
+    def _causes(self, kinds, correct: frozenset[str] = frozenset()) -> dict[str, str]:
         """``{answer name: why it is suspect}`` for the root causes of this failure (the why
-        reads after "its" or "their": ``"own test task2_test1 failed"``)."""
+        reads after "its" or "their": ``"own test task2_test1 failed"``). An answer that
+        ``robokin.check`` finds correct (``correct``) is never a cause, and its own tests are
+        the failing tests of its task that read it."""
         why: dict[str, str] = {}
         all_reads = trace(kinds)
-        for name in sorted(self.roots):
+        for name in sorted(self.roots - set(correct)):
             cell = self.answer_cell.get(name)
             if cell is not None and _errors(self.nb.cells[cell]):
                 error = _errors(self.nb.cells[cell])[0]
@@ -667,9 +725,11 @@ class FailureNotes:
                 why[name] = f"answer cell{where} raised {error.get('ename')}"
                 continue
             failed = []
+            task = _task_of(self.nb.cells[cell]) if cell is not None else None
             for j in range(cell + 1 if cell is not None else 0, self.index):
                 other = self.nb.cells[j]
-                if other.cell_type == "code" and utils.is_grade(other) and _errors(other):
+                if other.cell_type == "code" and utils.is_grade(other) and _errors(other) \
+                        and _task_of(other) == task:   # a test of another task is not its own
                     roots = set().union(*(b.roots for b in all_reads[j].values())) if all_reads[j] else set()
                     if name in roots:
                         failed.append(other.metadata["nbgrader"]["grade_id"])
@@ -707,6 +767,12 @@ class FailureNotes:
         if error.get("ename") == "CellTimeoutError":
             out.append(f"✘ Task {self.task} ({self.grade_id}) did not finish within the time limit: "
                        "it was stopped.")
+        elif self.line and self.line in hidden_lines(self.cell.source):
+            # a hidden test: its verdict and diagnosis, never its code (not even the line's number)
+            out.append(f"✘ Task {self.task} ({self.grade_id}) failed in its hidden tests "
+                       "(tests run when grading, whose code is not shown):")
+            message = f"{error.get('ename')}: {error.get('evalue', '')}".strip().rstrip(":")
+            out.append(f"  {message}" if error.get("evalue") else f"  ({error.get('ename')})")
         else:
             where = f" at line {self.line}:" if self.line else ""
             out.append(f"✘ Task {self.task} ({self.grade_id}) failed{where}")
@@ -719,20 +785,27 @@ class FailureNotes:
         if self.yours:
             out.append(f"  It checks your answer{'s' if len(self.yours) > 1 else ''} "
                        f"{self._named(self.yours)}.")
-        if self.derived:
-            upstream = sorted(set().union(*(b.roots for b in self.derived.values())))
-            given = ", ".join(f"`{n}`" for n in sorted(self.derived))
-            here = [b.cell >= self.index for b in self.derived.values()]
+        derived = {n: b for n, b in self.derived.items() if n not in self._hidden_names()}
+        if derived:
+            upstream = sorted(set().union(*(b.roots for b in derived.values())))
+            given = ", ".join(f"`{n}`" for n in sorted(derived))
+            here = [b.cell >= self.index for b in derived.values()]
             where = ("earlier in this test cell" if all(here) else "by read-only cells" if not any(here)
                      else "by read-only cells and earlier in this test cell")
-            out.append(f"  It also reads {given}, computed {where} from your answer"
-                       f"{'s' if len(upstream) > 1 else ''} {self._named(upstream)}.")
+            # what it reads of the student's, not that it is "computed from" them: a finite-difference
+            # reference at the student's q is robokin's value there, not the student's
+            several = len(derived) > 1
+            out.append(f"  It also reads {given}, computed {where}; {'they use' if several else 'it uses'} "
+                       f"your answer{'s' if len(upstream) > 1 else ''} {self._named(upstream)}.")
         for name in sorted(self.yours):
             missing = f"name '{name}' is not defined"
             if error.get("ename") == "NameError" and missing in str(error.get("evalue", "")):
                 cell = self.yours[name].cell
                 out.append(f"  `{name}` was never defined: your answer cell of Task "
                            f"{_task_of(self.nb.cells[cell])} did not finish (see its error above it).")
+        correct = frozenset(v["quantity"] for v in verdicts if v.get("status") == "correct")
+        if correct & set(self.causes):   # robokin.check finds it right: not the cause
+            self.causes = self._causes(self._kinds, correct)
         if self.causes:
             groups: dict[tuple, list[str]] = {}
             for name, why in sorted(self.causes.items()):
@@ -771,6 +844,18 @@ class FailureNotes:
                 wrong.setdefault(v["quantity"], v.get("diagnosis") or v["status"])
         return out
 
+    def _hidden_names(self) -> set[str]:
+        """Names bound in this cell's hidden tests only: the note never names them."""
+        hidden = hidden_lines(self.cell.source)
+        if not hidden:
+            return set()
+        lines = self.cell.source.split("\n")
+        code = "\n".join(line for number, line in enumerate(lines, 1) if number in hidden)
+        try:
+            return set(defined_names(textwrap.dedent(code))) - set(defined_names(visible_source(self.cell.source)))
+        except SyntaxError:
+            return set()
+
     def _task_of_name(self, name: str) -> int | None:
         cell = self.answer_cell.get(name)
         return _task_of(self.nb.cells[cell]) if cell is not None else None
@@ -791,6 +876,32 @@ class FailureNotes:
 
 
 _BUILTIN_NAMES = set(dir(__import__("builtins")))
+
+
+def trace(cells: list[tuple[str, str]]) -> list[dict[str, Binding]]:
+    """``notebook_analysis.trace`` with each read-only cell read statement by statement.
+
+    A read-only cell that computes ``H_model = leg.frames(q)`` and, in another statement,
+    ``H = R_B1 @ R_12`` gives ``H_model`` no answer of the student's: only the statements that
+    read an answer pass it on. Answer cells stay whole (all they bind is the student's). The
+    result is ``trace``'s, for the cells as given (a binding's ``cell`` is the index in ``cells``).
+    """
+    expanded: list[tuple[str, str]] = []
+    owner: list[int] = []
+    for index, (kind, code) in enumerate(cells):
+        parts = _statements(code) if kind == "code" else [code]
+        for part in parts or [""]:
+            expanded.append((kind, part))
+            owner.append(index)
+    reads = _cell_trace(expanded)
+    out: list[dict[str, Binding]] = [{} for _ in cells]
+    for position, found in enumerate(reads):
+        index = owner[position]
+        for name, binding in found.items():
+            cell = owner[binding.cell]
+            if cell < index and name not in out[index]:   # a name bound earlier in the cell is its own
+                out[index][name] = Binding(cell, binding.answer, binding.roots)
+    return out
 
 
 def _statements(code: str) -> list[str]:
@@ -897,7 +1008,14 @@ class AutograderReport(NbGraderPreprocessor):
         elif verdicts and all(v["status"] == "correct" for v in verdicts):
             out += ["", f"`robokin.check` finds all {len(verdicts)} answers it can check correct."]
 
-        causes = report.get("causes") or {}
+        # an answer this page reports correct is nobody's cause
+        right = {v["quantity"] for v in verdicts if v["status"] == "correct"}
+        right -= {v["quantity"] for v in verdicts if v["status"] in ("wrong", "missing")}
+        causes = {}
+        for key, cause in (report.get("causes") or {}).items():
+            names = [n for n in cause["names"] if n not in right]
+            if names:
+                causes[key] = {**cause, "names": names}
         if causes:
             out += ["", "**Where to start**", ""]
             ordered = sorted(causes.items(), key=lambda kv: (kv[1]["task"] is None, kv[1]["task"] or 0))
@@ -944,6 +1062,7 @@ class AutograderReport(NbGraderPreprocessor):
                                  "ran as usual (look for an endless loop).")
                 elif not utils.is_grade(cell):
                     evalue = _md(str(output.get("evalue", "")))[:120]
+                    label = _label(cell, _failing_line(cell, output))
                     notes.append(f"- {label} (not graded) raised `{output.get('ename')}`"
                                  + (f": {evalue}" if evalue else "") + "; the notebook ran on.")
                 break
@@ -1004,13 +1123,28 @@ class GradingIncidents(NbGraderPreprocessor):
         return nb, resources
 
 
-def _label(cell) -> str:
+def _failing_line(cell, error) -> int | None:
+    """The line (from 1) of ``cell`` at which its error output ``error`` was raised, if its traceback says."""
+    text = ANSI.sub("", "\n".join(error.get("traceback", [])))
+    count = cell.get("execution_count")
+    found = [int(line) for number, line in re.findall(r"Cell In\[(\d+)\], line (\d+)", text)
+             if str(number) == str(count)]
+    return found[-1] if found and 0 < found[-1] <= len(cell.source.splitlines()) else None
+
+
+def _label(cell, line: int | None = None) -> str:
+    """``In [5] `first line` (your answer to Task 2)``; with ``line``, that line is quoted (where the
+    cell raised) instead of the first -- never a line of its hidden tests."""
     count = cell.get("execution_count")
     where = f"In [{count}]" if count else "a cell"
     role = _robokin(cell).get("role")
     task = _task_of(cell)
     kind = {"answer": f"your answer to Task {task}", "test": f"a test of Task {task}"}.get(role)
-    first = _first_line(cell.source)
+    if line is not None and line not in hidden_lines(cell.source):
+        first = _first_line(statement_at(cell.source, line))
+        where += f", line {line},"
+    else:
+        first = _first_line(visible_source(cell.source))
     text = f"{where} `{first}`" if first else where
     return f"{text} ({kind})" if kind else text
 
@@ -1025,6 +1159,246 @@ def _md(text: str) -> str:
 
 
 # ---------------------------------------------------------------- generate_feedback
+#: A traceback's frame in a cell: "Cell In[12], line 5" (ANSI colours removed).
+CELL_FRAME = re.compile(r"Cell In\[(\d+)\], line (\d+)")
+#: A line of code quoted in a traceback's frame: "----> 5 code" or "      6 code".
+QUOTED_LINE = re.compile(r"\s*(?:-*>)?\s*\d+ ?(.*)$")
+FAILED_AT = re.compile(r"^(✘ Task .*? failed at line )(\d+)(:)", re.M)
+
+
+class HideHiddenTests(ClearHiddenTests):
+    """generate_feedback: a test cell's hidden tests are not in the feedback page.
+
+    The graded notebook holds every test cell as the instructor wrote it (autograde restores the
+    hidden tests the student edition lacks), and the feedback page is made from it; a student who
+    reads the page before handing in again (``collect --update``) would read them. nbgrader's
+    ``ClearHiddenTests`` (the preprocessor of ``generate_assignment``, with its delimiters) takes
+    them out of the cell, and a comment says where they were; what the cell printed stays (the
+    verdict), and its error output keeps the error and its message (the diagnosis) while the
+    traceback's frames in the hidden lines lose their code. Line numbers (the traceback's, the
+    robokin note's "failed at line N") are those of the cell as the student sees it.
+    """
+
+    enforce_metadata = Bool(False, help="complain about hidden tests outside a test cell").tag(config=True)
+    marker = Unicode("# … hidden tests, run when grading (their code is not shown) …",
+                     help="the comment in place of each block of hidden tests").tag(config=True)
+
+    def preprocess_cell(self, cell, resources, index):
+        if cell.cell_type != "code" or self.begin_test_delimeter not in cell.source:
+            return cell, resources
+        original = cell.source
+        hidden = hidden_lines(original, self.begin_test_delimeter, self.end_test_delimeter)
+        cell, resources = super().preprocess_cell(cell, resources, index)   # nbgrader's own checks
+        lines, renumber = [], {}
+        for number, line in enumerate(original.split("\n"), 1):
+            if number not in hidden:
+                lines.append(line)
+                renumber[number] = len(lines)
+            elif number - 1 not in hidden:
+                lines.append(self.marker)
+        assert [line for line in lines if line != self.marker] == cell.source.split("\n"), "ClearHiddenTests changed"
+        cell.source = "\n".join(lines)
+        # the hidden lines a traceback could quote (not those that are also visible, nor a lone ")")
+        hidden_text = {line.strip() for number, line in enumerate(original.split("\n"), 1)
+                       if number in hidden and len(line.strip()) >= 4} - {line.strip() for line in lines}
+        for output in cell.get("outputs", []):
+            if output.get("output_type") == "stream" and "failed at line" in output.get("text", ""):
+                output["text"] = FAILED_AT.sub(lambda m: m.group(1) + str(renumber.get(int(m.group(2)), "?"))
+                                               + m.group(3), output["text"])
+            elif output.get("output_type") == "error":
+                output["traceback"] = [self._frame(entry, cell.get("execution_count"), lines, renumber, hidden_text)
+                                       for entry in output.get("traceback", [])]
+        return cell, resources
+
+    @staticmethod
+    def _frame(entry: str, count, lines: list[str], renumber: dict[int, int], hidden_text: set[str]) -> str:
+        """A traceback entry without the cell's hidden lines: a frame in this cell shows its line only
+        if it is visible; any other entry that quotes a hidden line is replaced by a sentence."""
+        plain = ANSI.sub("", entry)
+        frame = CELL_FRAME.match(plain)
+        quoted = {m.group(1).strip() for m in map(QUOTED_LINE.match, plain.splitlines()[1:]) if m}
+        if frame and (str(frame.group(1)) == str(count) or quoted & hidden_text):
+            line = renumber.get(int(frame.group(2)))
+            if line is None:
+                return f"Cell In[{frame.group(1)}], in the hidden tests (their code is not shown)"
+            return f"Cell In[{frame.group(1)}], line {line}\n----> {line} {lines[line - 1]}"
+        if quoted & hidden_text or any(text in plain for text in hidden_text if len(text) >= 12):
+            return "(a frame in the hidden tests: its code is not shown)"
+        return entry
+
+
+class FeedbackStyle(NbGraderPreprocessor):
+    """generate_feedback: the page's own stylesheet, after nbconvert's (``CSSHTMLHeaderPreprocessor``,
+    whose ``resources["inlining"]["css"]`` the feedback template inlines).
+
+    The notes under a failing test and the tracebacks wrap at the page's width instead of
+    scrolling sideways (at 1280 px a note's long lines were cut off), and the report's tables have
+    a gap between their columns.
+    """
+
+    css = Unicode("""
+div.output_area pre, div.output_subarea pre, div.output_text pre, .jp-OutputArea-output pre {
+  white-space: pre-wrap; overflow-wrap: anywhere; }
+div.output_subarea, div.output_area { overflow-x: visible; max-width: 100%; }
+div.text_cell_render table th, div.text_cell_render table td, .rendered_html table th,
+.rendered_html table td { padding: 0.25em 0.9em; }
+""", help="CSS added to the feedback page").tag(config=True)
+
+    def preprocess(self, nb, resources):
+        inlining = resources.setdefault("inlining", {})
+        inlining["css"] = [*inlining.get("css", []), self.css]
+        return nb, resources
+
+
+# ---------------------------------------------------------------- MyST, as Markdown
+#: The opening fence of a MyST directive: ```{name} argument, or :::{name} argument.
+DIRECTIVE_OPEN = re.compile(r"^(?P<indent>\s*)(?P<fence>`{3,}|:{3,})\{(?P<name>[\w:-]+)\}\s*(?P<argument>.*?)\s*$")
+#: The opening fence of a plain code block: ``` or ~~~ (with a language, not a directive).
+CODE_OPEN = re.compile(r"^\s*(?P<fence>`{3,}|~{3,})(?!\{)")
+#: A MyST role: {cite}`key1,key2`, {doc}`text <target>`.
+ROLE = re.compile(r"(?<![\w\\])\{(?P<name>[a-z][\w:-]*)\}(?P<ticks>`+)(?P<body>.+?)(?P=ticks)", re.S)
+ADMONITIONS = {"note", "tip", "hint", "important", "warning", "caution", "attention", "danger", "error",
+               "seealso"}
+
+
+@functools.cache
+def _bibliography(path: str) -> dict[str, tuple[str, str]]:
+    """``{key: (authors, year)}`` of the BibTeX file at ``path`` ("Lynch and Park", "2017")."""
+    try:
+        from pybtex.database import parse_file
+
+        data = parse_file(path)
+    except Exception:  # noqa: BLE001 - without the bibliography a citation shows its key
+        return {}
+    out = {}
+    for key, entry in data.entries.items():
+        people = entry.persons.get("author") or entry.persons.get("editor") or []
+        names = [" ".join(person.last_names).replace("{", "").replace("}", "") for person in people]
+        authors = (names[0] if len(names) == 1 else " and ".join(names) if len(names) == 2
+                   else f"{names[0]} et al." if names else key)
+        out[key] = (authors, entry.fields.get("year", "n.d."))
+    return out
+
+
+class MystMarkdown(NbGraderPreprocessor):
+    """generate_feedback: MyST markup in the text cells becomes plain Markdown, which the page renders.
+
+    The task statements are written for the book (MyST: ``{exercise}``, ``{admonition}``,
+    ``{cite}``, ``{doc}``); nbconvert's Markdown shows that markup raw. Here a directive becomes
+    what it means in Markdown (an exercise a bold "Exercise c.k" with its text, an admonition a
+    quotation under its bold title, the fences of ``{exercise-start}``/``{exercise-end}`` and
+    the options go), a citation becomes "(Author, year)" from ``book/references.bib``, and a
+    cross-reference its text (a link to a page of the book would not resolve where the page is
+    read). Code blocks are left as they are.
+    """
+
+    bibliography = Unicode(str(Path(__file__).resolve().parent.parent / "book" / "references.bib"),
+                           help="the BibTeX file the {cite} roles name").tag(config=True)
+
+    def preprocess(self, nb, resources):
+        name = str(resources.get("nbgrader", {}).get("notebook", "") or "")
+        head = name.split("_", 1)[0]
+        self._chapter = f"{int(head)}." if head.isdigit() else ""
+        self._exercises = 0
+        return super().preprocess(nb, resources)
+
+    def preprocess_cell(self, cell, resources, index):
+        if cell.cell_type == "markdown" and "{" in cell.source:
+            cell.source = self.convert(cell.source)
+        return cell, resources
+
+    def convert(self, text: str) -> str:
+        """``text`` with its MyST directives and roles as Markdown."""
+        if not hasattr(self, "_exercises"):
+            self._chapter, self._exercises = "", 0
+        return "\n".join(self._blocks(text.split("\n")))
+
+    def _blocks(self, lines: list[str]) -> list[str]:
+        out: list[str] = []
+        k = 0
+        while k < len(lines):
+            line = lines[k]
+            code = CODE_OPEN.match(line)
+            directive = DIRECTIVE_OPEN.match(line)
+            if code and not directive:
+                end = self._closing(lines, k + 1, code.group("fence"))
+                out += lines[k: end + 1]
+                k = end + 1
+                continue
+            if not directive:
+                out.append(self._roles(line))
+                k += 1
+                continue
+            end = self._closing(lines, k + 1, directive.group("fence"))
+            body = lines[k + 1: end]
+            options = {}
+            while body and re.match(r"^\s*:[\w-]+:", body[0]):
+                option = body.pop(0).strip()[1:]
+                options[option.split(":", 1)[0]] = option.split(":", 1)[1].strip()
+            out += self._directive(directive.group("name"), self._roles(directive.group("argument")),
+                                   options, self._blocks(body), directive.group("indent"))
+            k = end + 1
+        return out
+
+    @staticmethod
+    def _closing(lines: list[str], start: int, fence: str) -> int:
+        """The index of the line that closes ``fence`` (the last line if none does)."""
+        depth = 0
+        for k in range(start, len(lines)):
+            stripped = lines[k].strip()
+            if DIRECTIVE_OPEN.match(lines[k]) and DIRECTIVE_OPEN.match(lines[k]).group("fence") == fence:
+                depth += 1
+            elif stripped and set(stripped) == {fence[0]} and len(stripped) >= len(fence):
+                if depth == 0:
+                    return k
+                depth -= 1
+        return len(lines)
+
+    def _directive(self, name: str, argument: str, options: dict, body: list[str], indent: str) -> list[str]:
+        kind = name.split(":")[-1]
+        if kind in ("exercise", "exercise-start"):
+            self._exercises += 1
+            title = f"**Exercise {self._chapter}{self._exercises}**" + (f" ({argument})" if argument else "")
+            return [indent + title, "", *body] if body else [indent + title, ""]
+        if kind in ("exercise-end", "solution-start", "solution-end", "margin", "only"):
+            return body
+        if kind == "admonition" or kind in ADMONITIONS:
+            title = argument if kind == "admonition" else (kind.capitalize() + (f": {argument}" if argument else ""))
+            quoted = [f"{indent}> **{title}**" if title else f"{indent}>", f"{indent}>"]
+            quoted += [f"{indent}> {line[len(indent):] if line.startswith(indent) else line}".rstrip() for line in body]
+            return [*quoted, ""]
+        if kind == "math":
+            return [indent + "$$", *body, indent + "$$"]
+        if kind in ("figure", "image"):
+            return [f"{indent}![{' '.join(body).strip()}]({argument})"]
+        if kind in ("code-block", "code", "code-cell"):
+            return [indent + "```" + argument, *body, indent + "```"]
+        head = [f"{indent}**{argument}**", ""] if argument else []
+        return [*head, *body]
+
+    def _roles(self, line: str) -> str:
+        return ROLE.sub(self._role, line) if "{" in line else line
+
+    def _role(self, match) -> str:
+        name, body = match.group("name"), match.group("body").strip()
+        if name.startswith("cite"):
+            references = _bibliography(self.bibliography)
+            cited = [references.get(key.strip(), (key.strip(), "")) for key in body.split(",") if key.strip()]
+            if name in ("cite:t", "cite:ts"):
+                return "; ".join(f"{authors} ({year})" if year else authors for authors, year in cited)
+            return "(" + "; ".join(f"{authors}, {year}" if year else authors for authors, year in cited) + ")"
+        if name == "math":
+            return f"${body}$"
+        if name == "eq":
+            return f"({body})"
+        explicit = re.match(r"^(?P<text>.*?)\s*<(?P<target>[^<>]+)>$", body, re.S)
+        if explicit and explicit.group("text"):
+            return explicit.group("text")
+        if name in ("doc", "ref", "numref", "term", "download", "any"):
+            return body.rsplit("/", 1)[-1].replace("-", " ").replace("_", " ")
+        return body
+
+
 MATHJAX_CONFIG = """window.MathJax = {
   tex: {inlineMath: [["$", "$"], ["\\\\(", "\\\\)"]], displayMath: [["$$", "$$"], ["\\\\[", "\\\\]"]],
         processEscapes: true, processEnvironments: true, tags: "ams"},

@@ -17,9 +17,13 @@
 * **Student edition.**  With ``ROBOKIN_EDITION=student`` (``make book
   EDITION=student``) the solutions are not in the HTML at all: before a chapter
   notebook is parsed, its ``solution`` cells, the text between
-  ``{solution-start}`` and ``{solution-end}`` and the printouts of its ``check``
-  cells are taken out. Like the instructor edition it uses the stored outputs,
-  so it is built from exactly the pages of the instructor edition.
+  ``{solution-start}`` and ``{solution-end}``, the hidden tests of its test cells
+  (``### BEGIN HIDDEN TESTS`` to ``### END HIDDEN TESTS``, taken out by nbgrader's own
+  ``ClearHiddenTests``, as in nbgrader's student edition) and the printouts of its
+  ``check`` cells are taken out. The notebook a reader downloads from a page
+  (``_sources/``, which Sphinx copies from the file on disk) is that same student
+  notebook. Like the instructor edition it uses the stored outputs, so it is built
+  from exactly the pages of the instructor edition.
 * **Exercises numbered per chapter.**  sphinx-exercise numbers exercises through
   the whole book (Exercise 25 in Chapter 5); the numbers are rewritten as
   *chapter.k* (Exercise 5.2), the chapter taken from the notebook's name
@@ -148,9 +152,10 @@ def student_notebook(text: str) -> str | None:
     Removed: code cells tagged ``solution``; every cell from a ``{solution-start}``
     directive to its ``{solution-end}`` (of a markdown cell with ``BEGIN SOLUTION`` /
     ``END SOLUTION`` markers of its own, e.g. in HTML comments, only the text between
-    them, as in nbgrader's student edition); the outputs of ``check`` cells (they print
-    the computed answers). Kept: the problem, hints, figures, the check cells'
-    code, the *Try it yourself* cells.
+    them, as in nbgrader's student edition); the hidden tests of every code cell
+    (:func:`without_hidden_tests`); the outputs of ``check`` cells (they print the
+    computed answers) and of cells that had hidden tests. Kept: the problem, hints,
+    figures, the check cells' visible code, the *Try it yourself* cells.
     """
     try:
         nb = json.loads(text)
@@ -178,11 +183,31 @@ def student_notebook(text: str) -> str | None:
             in_solution = False
         if drop:
             continue
-        if "check" in tags and cell.get("outputs"):
+        if cell["cell_type"] == "code":
+            visible, removed = without_hidden_tests(source)
+            if removed:
+                cell = dict(cell, source=visible, outputs=[])
+        if ("check" in tags) and cell.get("outputs"):
             cell = dict(cell, outputs=[])
         cells.append(cell)
     nb["cells"] = cells
     return json.dumps(nb, ensure_ascii=False)
+
+
+def without_hidden_tests(source: str) -> tuple[str, bool]:
+    """``source`` without its hidden tests, and whether it had any.
+
+    nbgrader's own ``ClearHiddenTests`` (the preprocessor of ``generate_assignment``, with
+    its configured delimiters) does it, so that the book's student edition and nbgrader's
+    leave out exactly the same lines.
+    """
+    if "HIDDEN TESTS" not in source:
+        return source, False
+    import nbformat
+    from nbgrader.preprocessors import ClearHiddenTests
+
+    cell, _ = ClearHiddenTests(enforce_metadata=False).preprocess_cell(nbformat.v4.new_code_cell(source), {}, 0)
+    return cell.source, cell.source != source
 
 
 def remove_solutions(app: Sphinx, docname: str, source: list[str]) -> None:
@@ -191,6 +216,22 @@ def remove_solutions(app: Sphinx, docname: str, source: list[str]) -> None:
     text = student_notebook(source[0])
     if text is not None:
         source[0] = text
+
+
+def student_sources(app: Sphinx, exception: Exception | None) -> None:
+    """In the student edition, the notebooks a reader downloads (``_sources/<page>.ipynb``, which
+    Sphinx copies from the original file) are the student notebooks the pages were made from."""
+    if exception is not None or app.config.robokin_edition != "student" or app.builder.format != "html":
+        return
+    sources = Path(app.outdir) / "_sources"
+    for docname in app.env.found_docs:
+        original = Path(app.env.doc2path(docname))
+        if original.suffix != ".ipynb":
+            continue
+        for copied in (sources / f"{docname}.ipynb", sources / f"{docname}.ipynb.txt"):
+            if copied.is_file():
+                text = student_notebook(original.read_text(encoding="utf-8"))
+                copied.write_text(text if text is not None else "", encoding="utf-8")
 
 
 def chapter_of(docname: str) -> int | None:
@@ -314,6 +355,7 @@ def setup(app: Sphinx) -> dict:
     # Run after myst-parser has added its own MathJax options.
     app.connect("config-inited", configure_mathjax, priority=900)
     app.connect("build-finished", copy_mathjax)
+    app.connect("build-finished", student_sources)
     app.connect("html-page-context", deduplicate_scripts, priority=900)
     # After Sphinx has assigned the book-wide figure numbers (priority 500).
     app.connect("env-get-updated", number_exercises_per_chapter, priority=900)

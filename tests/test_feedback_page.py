@@ -1,0 +1,208 @@
+"""What the feedback page says and how it reads, without nbgrader commands or a kernel.
+
+The preprocessors of ``generate_feedback`` and the notes autograde writes
+(``tools/robokin_nbgrader.py``) on made-up notebooks:
+
+* MyST markup of the task statements (``{exercise}``, ``{admonition}``, ``{cite}``, ``{doc}``)
+  becomes Markdown the page renders, for every chapter notebook in ``notebooks/``;
+* the page's notes wrap at its width and its tables have a gap between columns;
+* *Where to start* and the note under a failing test never blame an answer that
+  ``robokin.check`` finds correct, an answer's "own tests" are tests of its task, a value
+  computed from robokin's model is not called the student's, and the note on an error in an
+  ungraded cell quotes the line that raised.
+
+``tests/test_nbgrader.py`` checks the pages of real graded submissions.
+"""
+
+from __future__ import annotations
+
+import html
+import os
+import re
+import sys
+from pathlib import Path
+
+import nbformat
+import pytest
+
+from conftest import ROOT
+
+sys.path.insert(0, str(ROOT / "tools"))
+
+from nbgrader_metadata import chapter_notebooks
+
+NOTEBOOKS = Path(os.environ.get("ROBOKIN_NBGRADER_NOTEBOOKS", ROOT / "notebooks")).resolve()
+CHAPTERS = chapter_notebooks(NOTEBOOKS.parent, NOTEBOOKS.name)
+#: MyST that nbconvert's Markdown would show raw: a directive's fence, a role.
+RAW_MYST = re.compile(r"(```+|:::+)\{[\w:-]+\}|\{[a-z][\w:-]*\}`")
+
+
+def _myst(text: str, notebook: str = "03_example") -> str:
+    from robokin_nbgrader import MystMarkdown
+
+    nb = nbformat.v4.new_notebook()
+    nb.cells = [nbformat.v4.new_markdown_cell(text)]
+    nb, _ = MystMarkdown().preprocess(nb, {"nbgrader": {"notebook": notebook}})
+    return nb.cells[0].source
+
+
+def test_myst_directives_and_roles_become_markdown():
+    text = ("## Task 1: a title\n\n```{exercise-start}\n:label: rpr-ik\n```\nWrite `ik(pose)`, see "
+            "{cite}`lynch2017` and {cite}`siciliano2009,craig2005`.\n```{exercise-end}\n```\n\n"
+            "```{admonition} Common pitfall: the moment arm\n:class: warning\nThe arm is $B_i - P$ "
+            "({doc}`the conventions <../book/conventions>`).\n```\n\n```python\n{cite}`not_a_role`\n```")
+    out = _myst(text)
+    assert not RAW_MYST.search(out.replace("```python\n{cite}`not_a_role`\n```", "")), out
+    assert "**Exercise 3.1**" in out and "Write `ik(pose)`" in out and ":label:" not in out, out
+    assert "(Lynch and Park, 2017)" in out and "(Siciliano et al., 2009; Craig, 2005)" in out, out
+    assert "> **Common pitfall: the moment arm**" in out and "> The arm is $B_i - P$ (the conventions)." in out
+    assert ":class:" not in out and "../book" not in out, "the options and the book's links stay"
+    assert "```python\n{cite}`not_a_role`\n```" in out, "a code block is not MyST"
+
+
+@pytest.mark.parametrize("path", CHAPTERS, ids=[p.stem for p in CHAPTERS])
+def test_no_raw_myst_in_a_chapters_feedback(path):
+    """Every text cell of the chapter, as the feedback page shows it: no directive or role is left raw,
+    and no link points into the book's folder (it does not resolve where the page is read)."""
+    from robokin_nbgrader import MystMarkdown
+
+    nb = nbformat.read(path, as_version=4)
+    nb, _ = MystMarkdown().preprocess(nb, {"nbgrader": {"notebook": path.stem}})
+    for index, cell in enumerate(nb.cells):
+        if cell.cell_type != "markdown":
+            continue
+        outside_code = re.sub(r"^(```+|~~~+)[^{\n]*\n.*?^\1\s*$", "", cell.source, flags=re.S | re.M)
+        raw = RAW_MYST.findall(outside_code)
+        assert not raw, f"{path.stem} cell {index}: raw MyST in the feedback: {raw[:3]}\n{cell.source[:300]}"
+        assert "](../" not in cell.source, f"{path.stem} cell {index}: a link into the book's folder"
+
+
+def test_feedback_page_wraps_notes_and_spaces_table_columns(tmp_path):
+    from nbconvert.exporters import HTMLExporter
+    from nbconvert.preprocessors import CSSHTMLHeaderPreprocessor
+
+    from robokin_nbgrader import FeedbackStyle
+
+    nb = nbformat.v4.new_notebook()
+    nb.cells = [nbformat.v4.new_markdown_cell("| task | points |\n|---|---|\n| Task 1: foot position | 0 / 2 |")]
+    resources: dict = {"config_dir": str(tmp_path), "nbgrader": {"notebook": "01_example", "score": 0, "max_score": 2,
+                                                              "late_penalty": 0}}
+    import nbgrader
+
+    formgrader = Path(nbgrader.__file__).parent / "server_extensions" / "formgrader"   # as GenerateFeedback sets it
+    exporter = HTMLExporter(template_name="feedback", extra_template_basedirs=[str(formgrader / "templates")],
+                            extra_template_paths=[str(formgrader / "static/node_modules/bootstrap/dist/css")])
+    exporter.register_preprocessor(CSSHTMLHeaderPreprocessor(), enabled=True)   # as nbgrader's pipeline runs them
+    exporter.register_preprocessor(FeedbackStyle(), enabled=True)
+    page = exporter.from_notebook_node(nb, resources)[0]
+    assert "white-space: pre-wrap" in page and "padding: 0.25em 0.9em" in page
+
+
+# ---------------------------------------------------------------- what the notes say
+def _cell(source, grade_id=None, solution=False, grade=False, task=None, count=None, outputs=()):
+    cell = nbformat.v4.new_code_cell(source, execution_count=count)
+    if grade_id:
+        cell.metadata["nbgrader"] = {"grade_id": grade_id, "solution": solution, "grade": grade,
+                                     "locked": not solution, "points": 1, "schema_version": 3}
+        cell.metadata["robokin"] = {"task": task}
+    cell.outputs = [nbformat.from_dict(o) for o in outputs]
+    return cell
+
+
+def _error(ename, count, line, evalue=""):
+    return {"output_type": "error", "ename": ename, "evalue": evalue,
+            "traceback": [f"Cell In[{count}], line {line}\n----> {line} whatever", f"{ename}: {evalue}"]}
+
+
+def _leg_notebook():
+    """Task 1: two answers and their test (which fails); Task 2: a given cell that computes a model value
+    and, in another statement, one from the answers; a test of Task 2 that fails."""
+    nb = nbformat.v4.new_notebook()
+    nb.cells = [
+        nbformat.v4.new_markdown_cell("## Task 1: rotations"),
+        _cell("R_a = rot(1)\nR_b = rot(2)", "task1_answer1", solution=True, task=1, count=1),
+        _cell("assert np.allclose(R_a @ R_b, model(3))", "task1_test1", grade=True, task=1, count=2,
+              outputs=[_error("AssertionError", 2, 1)]),
+        nbformat.v4.new_markdown_cell("## Task 2: the foot"),
+        _cell("H_model = leg_frames(q)\nH = R_a @ R_b", "cell-given", count=3),
+        _cell("foot = H[:3, 3]", "task2_answer1", solution=True, task=2, count=4),
+        _cell("h = 1e-6\nJ_fd = fd(leg_fk, q_lift)\nassert np.allclose(H_model, foot_model)\n"
+              "assert np.allclose(J_fd, foot)", "task2_test1", grade=True, task=2, count=5),
+        _cell("q_lift = [0, 1, 2]", "task2_answer2", solution=True, task=2, count=6),
+    ]
+    # q_lift answered after the test reads it would be odd: move it before the test
+    nb.cells.insert(6, nb.cells.pop(7))
+    return nb
+
+
+def test_a_model_value_is_not_the_students_and_a_correct_answer_is_no_cause():
+    from robokin_nbgrader import FailureNotes
+
+    nb = _leg_notebook()
+    index = next(i for i, c in enumerate(nb.cells) if c.metadata.get("nbgrader", {}).get("grade_id") == "task2_test1")
+    # the test fails at its last line (J_fd against foot)
+    failure = nbformat.from_dict(_error("AssertionError", 5, 4))
+    report = {"pairs": [], "explained": {}}
+    notes = FailureNotes(nb, index, report)
+    notes.pairs(failure)
+    assert "H_model" not in notes.derived and "H_model" not in notes.yours, "leg_frames(q) is not the student's"
+    correct = [{"quantity": "R_a", "status": "correct", "message": "✔ R_a is correct", "typical": False}]
+    text = "\n".join(notes.lines(failure, correct))
+    assert "because of `R_b` (Task 1)" in text and "`R_a`" not in text.split("because of")[1].split(".")[0], text
+    assert "It also reads `J_fd`, computed earlier in this test cell; it uses your answer `q_lift`" in text, text
+    assert [c["names"] for c in report["causes"].values()] == [["R_b"]], report["causes"]
+
+
+def test_own_tests_are_the_tests_of_the_answers_task():
+    from robokin_nbgrader import FailureNotes
+
+    nb = _leg_notebook()
+    nb.cells.append(nbformat.v4.new_markdown_cell("## Task 3: later"))
+    nb.cells.append(_cell("assert foot[2] < 0", "task3_test1", grade=True, task=3, count=7))
+    failed = next(c for c in nb.cells if c.metadata.get("nbgrader", {}).get("grade_id") == "task2_test1")
+    failed.outputs = [nbformat.from_dict(_error("AssertionError", 5, 4))]
+    report = {"pairs": [], "explained": {}}
+    notes = FailureNotes(nb, len(nb.cells) - 1, report)
+    text = "\n".join(notes.lines(nbformat.from_dict(_error("AssertionError", 7, 1)), []))
+    # foot's own test task2_test1 failed; R_a, R_b (Task 1) are named for task1_test1 only, never task2_test1
+    assert "`foot` (Task 2): its own test task2_test1 failed" in text or "own test task1_test1" in text, text
+    for line in text.splitlines():
+        if "R_a" in line and "own test" in line:
+            assert "task2_test1" not in line.split("R_a")[1].split(";")[0], line
+
+
+def test_report_quotes_the_line_that_raised_and_drops_correct_causes():
+    from robokin_nbgrader import AutograderReport
+
+    nb = nbformat.v4.new_notebook()
+    ungraded = _cell("x = 1\ny = 2\nassert y == 3, 'my own experiment'", count=9,
+                     outputs=[_error("AssertionError", 9, 3, "my own experiment")])
+    test = _cell("assert R_b is not None", "task1_test1", grade=True, task=1, count=10,
+                 outputs=[_error("AssertionError", 10, 1)])
+    nb.cells = [nbformat.v4.new_markdown_cell("# Chapter"), ungraded, test]
+    resources = {"robokin": {
+        "pairs": [(1, "leg.a", "R_a"), (1, "leg.b", "R_b")],
+        "verdicts": [{"quantity": "R_a", "status": "correct", "message": "✔ R_a is correct", "typical": False},
+                     {"quantity": "R_b", "status": "wrong", "message": "✘ R_b is transposed", "typical": True,
+                      "diagnosis": "transpose"}],
+        "causes": {"1|own test task1_test1 failed": {"task": 1, "why": "own test task1_test1 failed",
+                                                     "names": ["R_a", "R_b"], "tests": ["task2_test1"]}},
+        "incidents": []}}
+    nb, _ = AutograderReport().preprocess(nb, resources)
+    report = nb.cells[0].source
+    start = report.split("**Where to start**")[1].split("**Notes")[0]
+    assert "`R_b`" in start and "`R_a`" not in start, report
+    assert "line 3, `assert y == 3, 'my own experiment'`" in report and "`x = 1`" not in report, report
+
+
+def test_feedback_page_shows_no_markdown_raw():
+    """The report's own Markdown renders (a smoke test of the exporter with the feedback's preprocessors)."""
+    from nbconvert.exporters import HTMLExporter
+
+    from robokin_nbgrader import MystMarkdown
+
+    nb = nbformat.v4.new_notebook()
+    nb.cells = [nbformat.v4.new_markdown_cell("```{admonition} Learning goals\n:class: tip\n- one\n```")]
+    nb, _ = MystMarkdown().preprocess(nb, {})
+    page = html.unescape(re.sub(r"<[^>]+>", "", HTMLExporter(template_name="classic").from_notebook_node(nb)[0]))
+    assert "{admonition}" not in page and "Learning goals" in page and ":class:" not in page
