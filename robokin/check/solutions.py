@@ -9,7 +9,10 @@ solver may return any of them. These checks accept every right answer:
   within the joint limits;
 - :func:`solution_set`: a set of solutions (rows, any order, angles equal up to
   multiples of 2π when ``angles=True``) is right when it holds every reference
-  solution once and nothing else.
+  solution once and nothing else;
+- :class:`SolutionSetCheck`: the same for a *function* that returns every solution,
+  compared at random inputs -- a chapter check registered with ``exercise(...)``; with a
+  reference of one row, it checks an answer whose angles count modulo 2π.
 
 Like :func:`robokin.check.value`, they print one line (``quiet=True`` silences
 it), return a :class:`~robokin.check.CheckResult` with a diagnosis code when the
@@ -22,14 +25,15 @@ chapter check is one line (see the authoring page of the book).
 from __future__ import annotations
 
 from collections import Counter
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
-from robokin.check._core import FAIL, PASS, CheckResult, report
+from robokin.check._core import FAIL, PASS, AnswerError, Check, CheckResult, evaluator, report
 from robokin.validation import as_float_array, check_chain, check_positive
 
-__all__ = ["ik_solution", "solution_set"]
+__all__ = ["ik_solution", "solution_set", "SolutionSetCheck"]
 
 
 def _as_answer(answer: Any, name: str, width: int) -> tuple[np.ndarray | None, str]:
@@ -183,3 +187,85 @@ def solution_set(solutions: Any, reference: Any, name: str = "solutions", *, ato
         return report(CheckResult(name, False, text, "missing", len(a)), raise_on_fail=raise_on_fail, quiet=quiet)
     return report(CheckResult(name, True, f"{PASS} {name}: all {len(ref)} solutions, each once.", None, len(a)),
                   raise_on_fail=raise_on_fail, quiet=quiet)
+
+
+@dataclass
+class SolutionSetCheck(Check):
+    r"""A check of a function that returns *every* solution: each once, in any order.
+
+    Use it, registered with :func:`robokin.check._registry.exercise`, for a task whose
+    answer is a function with several right results (all inverse-kinematics solutions of
+    a goal), or a function of angles that are right up to multiples of 2π (a reference
+    of one row). At each sampled input ``x`` the answer's rows are compared with
+    ``reference(x)`` by :func:`solution_set`.
+
+    Parameters
+    ----------
+    name, variables, groups, samples, seed, noun, doc
+        As for :class:`~robokin.check.Check`: the answer is called with the variables
+        (one argument per variable, or per group of ``groups``).
+    reference : callable
+        ``reference(x) -> ndarray (r, m)``: every solution at the input ``x`` of shape
+        ``(nvars,)``, one per row (``r`` may be 0, and may change with ``x``).
+    atol : float
+        Two rows are the same solution when every entry differs by at most ``atol``.
+    angles : bool
+        Entries are angles (rad): equal up to a multiple of 2π (default True).
+
+    Notes
+    -----
+    The answer returns an array ``(k, m)`` (one solution may be ``(m,)``, or a number when
+    ``m`` is 1; none ``(0, m)`` or ``[]``). Diagnoses: ``"degrees"`` (``np.deg2rad`` of every answer is right), then
+    those of :func:`solution_set` at the first input where the answer is wrong
+    (``"extra"``, ``"duplicate"``, ``"missing"``, ``"shape"``, ``"not_finite"``), and
+    ``"error"`` for an answer that cannot be called.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from robokin.check import SolutionSetCheck, Variable
+    >>> both_elbows = SolutionSetCheck(   # q2 of a two-link arm (l1 = l2 = 1) reaching distance d
+    ...     name="q2", variables=[Variable("d", kind="length", low=0.2, high=1.9)], noun="distances",
+    ...     reference=lambda x: np.array([[1.0], [-1.0]]) * np.arccos(x[0] ** 2 / 2 - 1))
+    >>> result = both_elbows(lambda d: [[np.arccos(d**2 / 2 - 1)], [2 * np.pi - np.arccos(d**2 / 2 - 1)]])
+    ✔ q2 is correct: every solution, each once (checked at 20 random distances).
+    """
+
+    atol: float = 1e-6
+    angles: bool = True
+
+    def _sets(self, answer: Any) -> tuple[np.ndarray, list[np.ndarray], list[np.ndarray]]:
+        """The inputs, the reference sets and the answer's sets (AnswerError if it fails)."""
+        X = self.sample_points()
+        refs = []
+        for x in X:
+            ref = np.asarray(self.reference(x), dtype=float)
+            refs.append(ref[None] if ref.ndim == 1 else ref)
+        ev = evaluator(answer, self.variables, self.groups, self.name)
+        got = []
+        for x, ref in zip(X, refs):
+            values = ev.fn(x)
+            values = values.reshape(1) if values.ndim == 0 else values   # one number: one solution of one angle
+            got.append(values.reshape(0, ref.shape[-1]) if values.size == 0 else values)
+        return X, refs, got
+
+    def evaluate(self, answer: Any) -> CheckResult:
+        """Like calling the check, but neither prints nor raises (see :meth:`Check.evaluate`)."""
+        try:
+            X, refs, got = self._sets(answer)
+        except AnswerError as exc:
+            return self._fail(exc.code, exc.message, len(self.sample_points()))
+        verdicts = [solution_set(S, R, self.name, atol=self.atol, angles=self.angles, quiet=True)
+                    for S, R in zip(got, refs)]
+        if all(verdicts):
+            return CheckResult(self.name, True, f"{PASS} {self.name} is correct: every solution, each once"
+                               f"{self._where(X)}.", None, len(X))
+        with np.errstate(all="ignore"):
+            in_degrees = all(solution_set(np.deg2rad(S), R, self.name, atol=self.atol, angles=self.angles,
+                                          quiet=True) for S, R in zip(got, refs))
+        if in_degrees and any(len(R) for R in refs):
+            return self._fail("degrees", f"{self.name} returns degrees: np.deg2rad of it is right. "
+                              "robokin works in radians.", len(X))
+        k = next(i for i, verdict in enumerate(verdicts) if not verdict)
+        text = verdicts[k].message.removeprefix(f"{FAIL} ").rstrip(".")
+        return self._fail(verdicts[k].diagnosis or "mismatch", f"{text} (at {self._point_text(X[k])}).", len(X))
