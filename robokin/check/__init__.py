@@ -17,7 +17,8 @@ Generic checks: :func:`matrix_function` (a function of some variables: a
 matrix, a transform, a Jacobian -- ``kind=`` picks the typical mistakes),
 :func:`value` (a number or array), :func:`ik_solution` (any configuration that
 reaches a target) and :func:`solution_set` (all solutions, each once, in any
-order). Chapter checks live in submodules listed in
+order); :class:`SolutionSetCheck` is a chapter check of a function returning every
+solution, or angles that count modulo 2π. Chapter checks live in submodules listed in
 :data:`robokin.check.CHAPTERS` and are imported on first access
 (``robokin.check.leg``).
 """
@@ -37,7 +38,7 @@ from robokin.check._core import (
 )
 from robokin.check.generic import matrix_function, value
 from robokin.check._registry import CHAPTERS, checks_of
-from robokin.check.solutions import ik_solution, solution_set
+from robokin.check.solutions import SolutionSetCheck, ik_solution, solution_set
 
 __all__ = [
     "Check",
@@ -51,6 +52,7 @@ __all__ = [
     "value",
     "ik_solution",
     "solution_set",
+    "SolutionSetCheck",
     "checks_of",
     "CHAPTERS",
 ]
