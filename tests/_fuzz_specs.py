@@ -960,7 +960,15 @@ def solution_check_specs() -> list[Spec]:
              solutions, reference, atol=atol, quiet=True),
              [_SolutionRows("solutions"), Const("reference", ref), Num("atol", 1e-8, 1e-3, positive=True)],
              student=("solutions",), check=_is_result, weight=0.3),
+        Spec("check.SolutionSetCheck", lambda answer: _ELBOW_ANGLES(answer, quiet=True), [Answer("answer")],
+             student=("answer",), check=_is_result, weight=0.3),
     ]
+
+
+#: a SolutionSetCheck: both elbow angles q2 of a two-link arm (l1 = l2 = 1 m) at a distance d
+_ELBOW_ANGLES = check.SolutionSetCheck(
+    name="q2", variables=[check.Variable("d", kind="length", low=0.2, high=1.9)], samples=5,
+    reference=lambda x: np.array([[1.0], [-1.0]]) * np.arccos(x[0] ** 2 / 2 - 1))
 
 
 def all_specs() -> list[Spec]:

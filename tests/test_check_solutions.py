@@ -60,3 +60,62 @@ def test_solution_sets_in_any_order_and_up_to_full_turns():
         result = check.solution_set(answer, ref, quiet=True)
         assert not result.passed and result.diagnosis == code, (code, result)
     assert not check.solution_set(shuffled, ref, angles=False, quiet=True).passed
+
+
+# ---------------------------------------------------------------- SolutionSetCheck: a chapter check
+def _elbows(d):
+    """Both elbow angles q2 of a two-link arm (l1 = l2 = 1 m) whose tool is at distance d (m)."""
+    return np.arccos(d**2 / 2 - 1)
+
+
+ELBOWS = check.SolutionSetCheck(
+    name="q2", variables=[check.Variable("d", kind="length", low=0.2, high=1.9)], noun="distances",
+    reference=lambda x: np.array([[1.0], [-1.0]]) * _elbows(x[0]))
+
+
+@pytest.mark.parametrize("answer", [
+    lambda d: [[_elbows(d)], [-_elbows(d)]],
+    lambda d: [[-_elbows(d)], [_elbows(d)]],                         # another order
+    lambda d: [[_elbows(d) + 2 * np.pi], [2 * np.pi - _elbows(d)]],   # other turns
+], ids=["in_order", "other_order", "other_turns"])
+def test_solution_set_check_accepts_every_order_and_turn(answer):
+    result = ELBOWS.evaluate(answer)
+    assert result.passed and result.diagnosis is None, result.message
+
+
+@pytest.mark.parametrize("answer, code", [
+    (lambda d: [[_elbows(d)]], "missing"),
+    (lambda d: [[_elbows(d)], [_elbows(d)]], "duplicate"),
+    (lambda d: [[_elbows(d)], [-_elbows(d)], [0.5]], "extra"),
+    (lambda d: np.rad2deg([[_elbows(d)], [-_elbows(d)]]), "degrees"),
+    (lambda d: None, "error"),
+    (lambda d: 1 / 0, "error"),
+    (lambda d: [[np.nan], [0.0]], "not_finite"),
+    (lambda d: [[1.0, 2.0]], "shape"),
+    (lambda d: [], "missing"),
+], ids=["missing", "duplicate", "extra", "degrees", "no_return", "raises", "nan", "shape", "empty"])
+def test_solution_set_check_names_the_mistake(answer, code):
+    result = ELBOWS.evaluate(answer)
+    assert not result.passed and result.diagnosis == code, result.message
+    if code in ("missing", "duplicate", "extra"):
+        assert "(at d = " in result.message     # where it is wrong
+
+
+def test_solution_set_check_with_one_row_compares_angles_modulo_two_pi():
+    """A reference of one row: an answer function whose angles are right up to full turns."""
+    heading = check.SolutionSetCheck(name="heading", variables=[check.Variable("t")],
+                                     reference=lambda x: np.array([x[0] / 2]))
+    assert heading.evaluate(lambda t: t / 2 + 2 * np.pi).passed
+    assert heading.evaluate(lambda t: t / 2 - 4 * np.pi).passed
+    assert heading.evaluate(lambda t: t / 2 + np.pi).diagnosis == "extra"
+
+
+def test_solution_set_check_registers_as_a_chapter_check():
+    from robokin.check._registry import _REGISTRY, exercise
+
+    registered = exercise("test_only_chapter", "q2", ELBOWS)
+    try:
+        assert registered is ELBOWS and isinstance(registered, check.Check)
+        assert ELBOWS(lambda d: [[_elbows(d)], [-_elbows(d)]], quiet=True).passed
+    finally:
+        _REGISTRY.pop("test_only_chapter", None)
