@@ -85,6 +85,15 @@ def test_residuals_are_those_of_the_models_fk(random_cases):
         assert np.allclose(res.orientation_residual, dr, rtol=0, atol=1e-12)
 
 
+def test_batch_residuals_are_those_of_the_models_fk(random_cases):
+    _, T, _, batch = random_cases
+    for i in range(0, len(T), 7):
+        item = batch[i]
+        dp, dr = residuals_by_chain(UR10, item.q, T[i])
+        assert np.allclose(item.position_residual, dp, rtol=0, atol=1e-13)
+        assert np.allclose(item.orientation_residual, dr, rtol=0, atol=1e-12)
+
+
 def test_angles_and_branches(random_cases):
     _, _, singles, _ = random_cases
     for res in singles:
