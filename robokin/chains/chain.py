@@ -740,6 +740,37 @@ class SerialChain:
 
         return body_jacobian(self, q)
 
+    # ------------------------------------------------------------ statics and ellipsoids
+    def velocity_ellipsoid(self, q: Any, part: str = "position") -> tuple[np.ndarray, np.ndarray]:
+        """Semi-axes and unit axes of the velocity ellipsoid of the ``"position"`` or ``"orientation"`` rows.
+
+        Semi-axes (3,) or (N, 3), descending; axes the columns of (3, 3) or (N, 3, 3), base frame.
+        See :func:`robokin.chains.ellipsoids.velocity_ellipsoid`.
+        """
+        from robokin.chains.ellipsoids import velocity_ellipsoid
+
+        return velocity_ellipsoid(self, q, part)
+
+    def force_ellipsoid(self, q: Any, part: str = "position") -> tuple[np.ndarray, np.ndarray]:
+        """Semi-axes and unit axes of the force ellipsoid, the dual of :meth:`velocity_ellipsoid`.
+
+        Semi-axes descending, ``inf`` along a direction the chain cannot move.
+        See :func:`robokin.chains.ellipsoids.force_ellipsoid`.
+        """
+        from robokin.chains.ellipsoids import force_ellipsoid
+
+        return force_ellipsoid(self, q, part)
+
+    def static_torques(self, q: Any, wrench: Any) -> np.ndarray:
+        r"""Joint torques with which the end-effector exerts a wrench, at rest: :math:`\mathbf{J}^\mathsf{T}\mathbf{w}`.
+
+        ``wrench`` is ``[f; μ]`` (base frame, force at the end-effector's origin); the result has
+        shape (n,) or (N, n). See :func:`robokin.chains.ellipsoids.static_torques`.
+        """
+        from robokin.chains.ellipsoids import static_torques
+
+        return static_torques(self, q, wrench)
+
     # ------------------------------------------------------------ configurations
     def random_configurations(self, N: int, seed: Any = None) -> np.ndarray:
         """``N`` configurations uniformly distributed within the limits, shape (N, n).
