@@ -1,12 +1,17 @@
-"""An instructor adds a chapter: the scaffold (tools/new_chapter.py) makes one that passes the suite.
+"""An instructor adds chapters: the scaffold (tools/new_chapter.py) makes ones that pass the suite.
 
-In a temporary copy of the repository: ``tools/new_chapter.py`` creates chapter
-``scara``; then the parts of ``make test`` that concern a chapter run on it there:
-nbval (stored outputs equal a fresh run), the notebook conventions, the table of
-contents, the robustness suite's coverage of its new check, its grading mutations
-(the graded test rejects the scaffold's wrong answer), the contracts of its
-student edition, and nbgrader (student edition, blank = 0, solution = full marks,
-the typical mistake diagnosed). They run in ONE pytest process (``CHAPTER_TESTS``).
+In a temporary copy of the repository, ``tools/new_chapter.py`` creates two chapters, one
+after the other (the README's example name, ``scara``, and a second one; a name an existing
+chapter holds is taken with a suffix, and the numbers are the next free ones: nothing here
+names a chapter of the repository). Then the parts of ``make test-all`` that concern a
+chapter run on both, untouched: nbval (stored outputs equal a fresh run), the notebook
+conventions, the table of contents, the robustness suite's coverage of their checks, their
+grading mutations (each graded test rejects the scaffold's wrong answers), the contracts of
+their student edition, nbgrader (student edition, blank = 0, solution = full marks, the
+typical mistake diagnosed), the trust suite (correct answers written another way, talkative
+answers: full marks) and the tamper suite's delegation check. Every per-chapter registry
+those tests read is written by the scaffold or derived from the notebook. They run in ONE
+pytest process (:func:`chapter_tests`).
 """
 
 from __future__ import annotations
@@ -24,14 +29,34 @@ from conftest import ROOT
 
 pytest.importorskip("nbgrader", reason="nbgrader is not installed: run `make test` (installs requirements.txt)")
 
+#: the chapters the test makes, in order: (name, title, robot); a taken name gets a suffix
+WANTED = (("scara", "The SCARA arm", "a SCARA arm"), ("cable_robot", "A cable robot", "a cable-driven robot"))
+
 
 def _tracked_files() -> list[str]:
-    out = subprocess.run(["git", "ls-files", "-z"], cwd=ROOT, capture_output=True, check=True).stdout
+    """The repository's files as the suite sees them: tracked, and new ones git does not ignore."""
+    out = subprocess.run(["git", "ls-files", "-z", "--cached", "--others", "--exclude-standard"], cwd=ROOT,
+                         capture_output=True, check=True).stdout
     return [f for f in out.decode().split("\0") if f]
 
 
+def free_name(wanted: str, taken: list[str]) -> str:
+    """``wanted``, or ``wanted_2``, ``wanted_3``, ...: a name no existing chapter contains, so that
+    a ``-k`` expression naming it selects the new chapter's tests alone."""
+    name, k = wanted, 1
+    while any(name in other for other in taken):
+        k += 1
+        name = f"{wanted}_{k}"
+    return name
+
+
+def _stems(folder: Path) -> set[str]:
+    return {p.stem for p in folder.glob("[0-9][0-9]_*.ipynb")}
+
+
 @pytest.fixture(scope="module")
-def new_chapter(tmp_path_factory) -> Path:
+def new_chapters(tmp_path_factory) -> tuple[Path, list[tuple[str, str]]]:
+    """The copy, and ``[(name, notebook stem), ...]`` of the chapters made in it."""
     copy = tmp_path_factory.mktemp("repository")
     for name in _tracked_files():
         source = ROOT / name
@@ -40,42 +65,73 @@ def new_chapter(tmp_path_factory) -> Path:
             target.parent.mkdir(parents=True, exist_ok=True)
             target.write_bytes(source.read_bytes())
     env = dict(os.environ, PYTHONPATH=str(copy))
-    proc = subprocess.run([sys.executable, "tools/new_chapter.py", "--name", "scara", "--title", "The SCARA arm",
-                           "--robot", "a SCARA arm", "--topics", "forward kinematics from a DH table"],
-                          cwd=copy, env=env, capture_output=True, text=True, timeout=600)
-    assert proc.returncode == 0, proc.stdout + proc.stderr
-    return copy
+    made: list[tuple[str, str]] = []
+    for wanted, title, robot in WANTED:
+        taken = [stem.split("_", 1)[1] for stem in _stems(copy / "notebooks")]
+        taken += [p.stem for p in (copy / "robokin" / "check").glob("[a-z]*.py")]
+        name = free_name(wanted, taken)
+        before = _stems(copy / "notebooks")
+        proc = subprocess.run([sys.executable, "tools/new_chapter.py", "--name", name, "--title", title,
+                               "--robot", robot, "--topics", "forward kinematics of a planar arm"],
+                              cwd=copy, env=env, capture_output=True, text=True, timeout=600)
+        assert proc.returncode == 0, proc.stdout + proc.stderr
+        new = _stems(copy / "notebooks") - before
+        assert len(new) == 1, f"the scaffold made the notebooks {sorted(new)} for {name}"
+        made.append((name, new.pop()))
+    return copy, made
 
 
-def test_scaffold_writes_every_place_of_a_chapter(new_chapter):
-    nb = new_chapter / "notebooks" / "07_scara.ipynb"
-    assert nb.is_file() and (new_chapter / "robokin" / "check" / "scara.py").is_file()
-    assert "notebooks/07_scara" in (new_chapter / "_toc.yml").read_text()
-    assert "| 7 | a SCARA arm |" in (new_chapter / "book" / "intro.md").read_text()
-    assert "`notebooks/07_scara.ipynb`" in (new_chapter / "README.md").read_text()
-    assert '"scara": "robokin.check.scara"' in (new_chapter / "robokin" / "check" / "_registry.py").read_text()
-    assert (new_chapter / "tests" / "grading_mutations" / "07_scara.py").is_file()
-    cells = json.loads(nb.read_text())["cells"]
-    assert [c["execution_count"] for c in cells if c["cell_type"] == "code"] == [1, 2, 3, 4, 5, 6, 7]
-    again = subprocess.run([sys.executable, "tools/new_chapter.py", "--name", "scara", "--title", "x"],
-                           cwd=new_chapter, env=dict(os.environ, PYTHONPATH=str(new_chapter)),
+def test_scaffold_writes_every_place_of_a_chapter(new_chapters):
+    copy, made = new_chapters
+    numbers = [int(stem[:2]) for _, stem in made]
+    existing = [int(stem[:2]) for stem in _stems(ROOT / "notebooks")]
+    assert numbers == [max(existing, default=0) + 1, max(existing, default=0) + 2], made
+    for (name, stem), number, (_, _, robot) in zip(made, numbers, WANTED):
+        nb = copy / "notebooks" / f"{stem}.ipynb"
+        assert nb.is_file() and (copy / "robokin" / "check" / f"{name}.py").is_file()
+        assert f"notebooks/{stem}" in (copy / "_toc.yml").read_text()
+        assert f"| {number} | {robot} |" in (copy / "book" / "intro.md").read_text()
+        assert f"`notebooks/{stem}.ipynb`" in (copy / "README.md").read_text()
+        assert f'"{name}": "robokin.check.{name}"' in (copy / "robokin" / "check" / "_registry.py").read_text()
+        assert f"`{stem}`" in (copy / "book" / "for-instructors.md").read_text()   # the points table
+        mutations = (copy / "tests" / "grading_mutations" / f"{stem}.py").read_text()
+        assert "MUTATIONS = {" in mutations and "VARIANTS = {" in mutations
+        assert "DELEGATION = {" in (copy / "robokin" / "check" / f"{name}.py").read_text()
+        cells = json.loads(nb.read_text())["cells"]
+        assert [c["execution_count"] for c in cells if c["cell_type"] == "code"] == [1, 2, 3, 4, 5, 6, 7]
+    name = made[0][0]
+    again = subprocess.run([sys.executable, "tools/new_chapter.py", "--name", name, "--title", "x"],
+                           cwd=copy, env=dict(os.environ, PYTHONPATH=str(copy)),
                            capture_output=True, text=True)
     assert again.returncode != 0 and "exists already" in again.stderr
 
 
-#: What runs in the copy, per file (or test): the pytest ``-k`` expression of its tests
-#: there (None: all of them). One pytest process runs them all (``-k`` of the union,
-#: each part restricted to its own file); ``ROBOKIN_NBGRADER_NOTEBOOKS`` (read by the
-#: nbgrader and mutation tests only) names a folder holding the new chapter alone.
-CHAPTER_TESTS = {
-    "notebooks/07_scara.ipynb": None,   # nbval: stored outputs equal a fresh run
-    "tests/test_notebook_conventions.py": "scara or solution or set or there_are",
-    "tests/test_check_solutions.py": None,
-    "tests/test_book.py::test_every_notebook_is_in_the_toc": None,
-    "tests/test_robustness_fuzz.py": "scara or every_public_entry_point",
-    "tests/test_grading_mutations.py": "scara",
-    "tests/test_nbgrader.py": "scara or metadata",
-}
+def test_free_name_avoids_every_existing_chapter():
+    assert free_name("scara", ["leg", "ur10"]) == "scara"
+    assert free_name("scara", ["scara"]) == "scara_2"
+    assert free_name("scara", ["scara", "scara_2"]) == "scara_3"
+
+
+def chapter_tests(made: list[tuple[str, str]]) -> dict[str, str | None]:
+    """What runs in the copy, per file (or test): the pytest ``-k`` expression of its tests
+    there (None: all of them). One pytest process runs them all (``-k`` of the union, each
+    part restricted to its own file); ``ROBOKIN_NBGRADER_NOTEBOOKS`` (read by the grading
+    and contract tests) names a folder holding the new chapters alone."""
+    names = " or ".join(name for name, _ in made)
+    return {
+        **{f"notebooks/{stem}.ipynb": None for _, stem in made},   # nbval: stored outputs equal a fresh run
+        "tests/test_notebook_conventions.py": f"{names} or solution or set or there_are",
+        "tests/test_check_solutions.py": None,
+        "tests/test_book.py::test_every_notebook_is_in_the_toc": None,
+        "tests/test_robustness_fuzz.py": f"{names} or every_public_entry_point",
+        "tests/test_grading_mutations.py": names,
+        "tests/test_student_edition_contracts.py": names,
+        "tests/test_grading_tamper.py": f"delegation_is_flagged and ({names})",
+        "tests/test_grading_trust.py": names,
+        NBGRADER_PART: f"{names} or metadata",
+    }
+
+
 NBGRADER_PART = "tests/test_nbgrader.py"
 
 
@@ -92,31 +148,34 @@ def selection_expression(selections: dict[str, str | None]) -> str:
 
 
 @pytest.fixture(scope="module")
-def chapter_suite(new_chapter, tmp_path_factory) -> dict[str, dict[str, str]]:
-    """Run the chapter's part of the suite in the copy, in one pytest process.
+def chapter_suite(new_chapters, tmp_path_factory) -> dict[str, dict[str, str]]:
+    """Run the chapters' part of the suite in the copy, in one pytest process.
 
     Returns ``{selection: {node id: outcome}}`` (``PASSED``, ``FAILED``, ``ERROR``,
     ``SKIPPED``, ...: pytest's ``-rA`` summary) and, under ``"log"``, the end of its output.
     """
-    only = tmp_path_factory.mktemp("new_chapter_alone") / "notebooks"
+    copy, made = new_chapters
+    selections = chapter_tests(made)
+    only = tmp_path_factory.mktemp("new_chapters_alone") / "notebooks"
     only.mkdir()
-    (only / "07_scara.ipynb").write_bytes((new_chapter / "notebooks" / "07_scara.ipynb").read_bytes())
-    environ = dict(os.environ, PYTHONPATH=str(new_chapter), ROBOKIN_NBGRADER_NOTEBOOKS=str(only))
-    files = list(dict.fromkeys(selection.split("::", 1)[0] for selection in CHAPTER_TESTS))
+    for _, stem in made:
+        (only / f"{stem}.ipynb").write_bytes((copy / "notebooks" / f"{stem}.ipynb").read_bytes())
+    environ = dict(os.environ, PYTHONPATH=str(copy), ROBOKIN_NBGRADER_NOTEBOOKS=str(only))
+    files = list(dict.fromkeys(selection.split("::", 1)[0] for selection in selections))
     proc = subprocess.run([sys.executable, "-m", "pytest", "-q", "-rA", "--color=no", "-p", "no:cacheprovider",
-                           *files, "-k", selection_expression(CHAPTER_TESTS)],
-                          cwd=new_chapter, env=environ, capture_output=True, text=True, timeout=1800)
+                           *files, "-k", selection_expression(selections)],
+                          cwd=copy, env=environ, capture_output=True, text=True, timeout=2400)
     log = proc.stdout[-4000:] + proc.stderr[-2000:]
-    assert proc.returncode in (0, 1), f"pytest could not run the chapter's tests (exit {proc.returncode}):\n{log}"
-    outcomes: dict[str, dict[str, str]] = {selection: {} for selection in CHAPTER_TESTS}
+    assert proc.returncode in (0, 1), f"pytest could not run the chapters' tests (exit {proc.returncode}):\n{log}"
+    outcomes: dict[str, dict[str, str]] = {selection: {} for selection in selections}
     for line in proc.stdout.splitlines():
         match = SUMMARY_LINE.match(line) or SKIPPED_LINE.match(line)
         if match is None:
             continue
         outcome, node, detail = match.groups()
-        owner = next((s for s in CHAPTER_TESTS if node == s or node.startswith((s + "::", s + "["))), None)
+        owner = next((s for s in selections if node == s or node.startswith((s + "::", s + "["))), None)
         if owner is None:   # a skipped test's line names its file (and line), so does a collection error
-            owner = next((s for s in CHAPTER_TESTS if s.split("::", 1)[0] == node), None)
+            owner = next((s for s in selections if s.split("::", 1)[0] == node), None)
             node = line
         if owner is None and outcome == "SKIPPED":   # skipped where a shared fixture decided (conftest.py)
             continue
@@ -141,20 +200,20 @@ def _problems(outcomes: dict[str, str]) -> list[str]:
             if outcome.startswith(("FAILED", "ERROR"))]
 
 
-def test_new_chapter_passes_the_chapter_tests(chapter_suite):
+def test_new_chapters_pass_the_chapter_tests(chapter_suite):
     log = chapter_suite["log"][""]
-    for selection in CHAPTER_TESTS:
-        if selection == NBGRADER_PART:
+    for selection in chapter_suite:
+        if selection in (NBGRADER_PART, "log"):
             continue
         outcomes = chapter_suite[selection]
-        assert outcomes, f"no test of {selection} ran on the new chapter:\n{log}"
+        assert outcomes, f"no test of {selection} ran on the new chapters:\n{log}"
         problems = _problems(outcomes)
-        assert not problems, f"{selection} on the new chapter:\n" + "\n".join(problems) + f"\n{log}"
+        assert not problems, f"{selection} on the new chapters:\n" + "\n".join(problems) + f"\n{log}"
 
 
-def test_new_chapter_is_graded_by_nbgrader(chapter_suite):
+def test_new_chapters_are_graded_by_nbgrader(chapter_suite):
     outcomes = chapter_suite[NBGRADER_PART]
     log = chapter_suite["log"][""]
     assert any(outcome.startswith("PASSED") for outcome in outcomes.values()), f"no nbgrader test passed:\n{log}"
     problems = _problems(outcomes)
-    assert not problems, "nbgrader on the new chapter:\n" + "\n".join(problems) + f"\n{log}"
+    assert not problems, "nbgrader on the new chapters:\n" + "\n".join(problems) + f"\n{log}"

@@ -13,14 +13,19 @@ What it writes (and nothing else; it refuses to overwrite an existing chapter):
   Colab install cell; formatted, with nbgrader metadata, executed top to bottom;
 * ``robokin/check/<name>.py`` with the task's check (``check.<name>.tool_position``),
   registered in ``robokin/check/_registry.py``'s ``CHAPTERS``;
-* ``tests/grading_mutations/NN_<name>.py``: the wrong answer the graded test must reject;
+* ``tests/grading_mutations/NN_<name>.py``: the wrong answers each graded test must reject
+  (``MUTATIONS``) and each answer computed by another method, which must keep full marks
+  (``VARIANTS``, read by the trust suite through ``tests/benign_variants.py``);
+* in the check module, ``DELEGATION``: the robokin functions that solve each task (read
+  by ``tools/grading_bridge/delegation.py``, which flags an answer handing one back);
 * its line in ``_toc.yml`` (Exercises), and its row in the chapter tables of
   ``book/intro.md`` and ``README.md``; the points table of ``book/for-instructors.md``.
 
-The generated chapter passes ``make test`` as it is (its task: the tool position of
-the two-link planar arm, ``robokin.models.planar_two_link()``): replace the
-exercise, keep the structure. ``book/authoring.md`` explains every part and every
-rule the test suite enforces on a chapter.
+No other file needs an entry for the chapter. The generated chapter passes
+``make test-all`` as it is (its task: the tool position of the two-link planar
+arm, ``robokin.models.planar_two_link()``): replace the exercise, keep the
+structure. ``book/authoring.md`` explains every part and every rule the test
+suite enforces on a chapter.
 """
 
 from __future__ import annotations
@@ -236,6 +241,14 @@ __all__ = ["tool_position", "tool_jacobian"]
 
 _CHAPTER = "{name}"
 
+#: check -> {{the robokin function that solves its task: how the grading report names it}}: an
+#: answer that hands one back (``tool_position = ...fk``) is flagged for review by hand
+#: (tools/grading_bridge/delegation.py reads this literal table without importing the module)
+DELEGATION = {{
+    "tool_position": {{"fk": "SerialChain.fk", "frames": "SerialChain.frames"}},
+    "tool_jacobian": {{"position_jacobian": "SerialChain.position_jacobian", "jacobian": "SerialChain.jacobian"}},
+}}
+
 
 @lru_cache(maxsize=1)
 def _arm():
@@ -267,7 +280,16 @@ tool_jacobian = exercise(_CHAPTER, "tool_jacobian", Check(
 
 
 def mutations(name: str) -> str:
-    return '''"""Wrong answers that each autograded test of the chapter must reject."""
+    return '''"""Wrong answers that each autograded test of the chapter must reject (``MUTATIONS``,
+tests/test_grading_mutations.py), and correct answers written another way that must keep
+full marks (``VARIANTS``, tests/benign_variants.py and tests/test_grading_trust.py).
+
+``MUTATIONS``: ``{grade id of a test cell: [(what is wrong, code appended to the answer
+cells), ...]}``, at least one per graded test. ``VARIANTS``: ``{grade id of an answer cell:
+(how it differs, code appended to that cell)}``: another method, not only other names
+(without ``VARIANTS``, the trust suite derives a weaker default: each answer wrapped).
+The first line of each variant's code must be ASCII without quotes.
+"""
 
 MUTATIONS = {
     "task1_test1": [
@@ -279,6 +301,26 @@ MUTATIONS = {
     "task2_test1": [
         ("the transposed Jacobian", "tool_jacobian = (lambda f: lambda q: f(q).T)(tool_jacobian)"),
     ],
+}
+
+VARIANTS = {
+    "task1_answer1": ("the tool as a sum of complex numbers", """
+
+# written another way: the tool point as the complex number e^(i q1) + e^(i (q1 + q2))
+def tool_position(q):
+    first, second = np.asarray(q, dtype=float)
+    tip = np.exp(1j * first) + np.exp(1j * (first + second))
+    return np.array([tip.real, tip.imag])
+"""),
+    "task2_answer1": ("the Jacobian's columns as i times the complex link vectors", """
+
+# written another way: d/dq_k of e^(i q1) + e^(i (q1 + q2)) is i times the links after joint k
+def tool_jacobian(q):
+    first, second = np.asarray(q, dtype=float)
+    elbow, tip = np.exp(1j * first), np.exp(1j * (first + second))
+    columns = [1j * (elbow + tip), 1j * tip]
+    return np.array([[column.real for column in columns], [column.imag for column in columns]])
+"""),
 }
 '''
 
@@ -316,9 +358,12 @@ def execute(path: Path, root: Path) -> None:
     """What ``make execute NB=path`` does: run in a fresh kernel, store outputs, merge streams."""
     import os
 
-    env = dict(os.environ, ROBOKIN_VIEWER="static")
+    path_list = [str(TOOLS), *filter(None, [os.environ.get("PYTHONPATH")])]
+    env = dict(os.environ, ROBOKIN_VIEWER="static", PYTHONPATH=os.pathsep.join(path_list))
     base = [sys.executable, "-m", "nbconvert", "--to", "notebook", "--inplace", "--log-level=WARN"]
-    for extra in (["--execute", "--ExecutePreprocessor.timeout=300", "--ExecutePreprocessor.record_timing=False"],
+    manager = "--ExecutePreprocessor.kernel_manager_class=kernel_sockets.AsyncPrivateSocketsKernelManager"
+    for extra in (["--execute", "--ExecutePreprocessor.timeout=300", "--ExecutePreprocessor.record_timing=False",
+                   manager],
                   ["--CoalesceStreamsPreprocessor.enabled=True"]):
         print("$", " ".join(base[2:] + extra), path.name)
         subprocess.run(base + extra + [str(path)], cwd=root, env=env, check=True)
@@ -377,7 +422,8 @@ def main(argv: list[str] | None = None) -> int:
         execute(nb_path, root)
     print(f"\nNew chapter {number}: {nb_path.relative_to(root)}, robokin/check/{args.name}.py, "
           f"tests/grading_mutations/{stem}.py; listed in _toc.yml, book/intro.md and README.md.")
-    print("Next: write the exercise (book/authoring.md), then `make execute NB=...` and `make test`.")
+    print(f"Next: write the exercise (book/authoring.md), tidy it (format, metadata, make execute), "
+          f"then `make test-chapter CH={stem}`.")
     return 0
 
 
