@@ -133,7 +133,7 @@ REASONS = (
     "shoulder_cylinder",  # wrist centre nearer to the base axis than |d4|: no q1
     "too_far",            # in the arm's plane the wrist is beyond |a2| + |a3| (every branch)
     "too_close",          # in the arm's plane the wrist is within ||a2| − |a3|| (every branch)
-    "joint_limits",       # solutions exist, none within the joint limits (within_limits=True)
+    "joint_limits",       # none within the joint limits (within_limits=True; not with the UR's ±2π limits)
     "not_verified",       # solutions computed, none reproduces the target (numerical trouble)
 )
 
@@ -535,9 +535,10 @@ def ur10_ik(
         ``"ur5e"``, ``"ur10e"``, ``"ur16e"``). Default: the UR10 (CB3) table of
         :func:`robokin.models.ur10`.
     within_limits : bool, optional
-        Return only the solutions within the joint limits (±2π each, the
-        controller's range; every angle in (−π, π] is); ``reason="joint_limits"``
-        if none is.
+        Return only the solutions within the joint limits (the signature of
+        :func:`robokin.models.ar601_leg_ik`). The UR joints turn through ±2π
+        (the controller's range, as :func:`robokin.models.ur10`), so every
+        returned angle in (−π, π] is within them and the option removes none.
     tol : float, optional
         Relative tolerance (at most 1e-3): a cosine up to ``tol`` outside
         [−1, 1] is clipped; singular cases are flagged within ``√tol`` rad and
