@@ -21,7 +21,7 @@ check                    the student's answer                                   
 ``tool_pose``            ``f(q)`` -> :math:`{}^{B}\mathbf{T}_{T}` (4×4)                  :math:`{}^{B}\mathbf{T}_{E}(\mathbf{q})\,{}^{E}\mathbf{T}_{T}`
 ``orientation_error``    ``f(R, R_goal)`` -> :math:`\theta\mathbf{h}` (3,), base frame    :math:`\log(\mathbf{R}_{goal}\mathbf{R}^\top)`
 ``tool_jacobian``        ``f(J_e, R_be, p_et)`` -> :math:`\mathbf{J}_T` (6×n)              :math:`\mathbf{J}_{rb}(\mathbf{R}_{BE}\,{}_E\mathbf{r}_{ET})\,\mathbf{J}_E`
-``control_law``          ``f(J, e, gain_linear, gain_angular)`` -> :math:`\dot{\mathbf{q}}`    :math:`\mathbf{J}^+[K_l\mathbf{e}_p;\ K_a\mathbf{e}_o]`
+``control_law``          ``f(J, e, gain_linear, gain_angular)`` -> :math:`\dot{\mathbf{q}}`    :math:`\mathbf{J}^+[\kappa_l\mathbf{e}_p;\ \kappa_a\mathbf{e}_o]`
 =======================  ==========================================================  ==========================================
 
 Inputs: configurations of the course's arm drawn within its limits (the
@@ -462,9 +462,9 @@ def _control_law_mistakes():
             "{name} moves away from the goal: the error is e = goal − current and q̇ = +J⁺ K e."
         ))]),
         alternatives("twist_order", [(swapped_blocks, (
-            "{name} stacks the desired twist angular part first, [K_a e_o; K_l e_p], as the course "
+            "{name} stacks the desired twist angular part first, [κ_a e_o; κ_l e_p], as the course "
             "writes it, but robokin's Jacobian rows are [v; ω] (linear first): the linear error then "
-            "drives the rotation. Keep one order everywhere: ν = [K_l e_p; K_a e_o] with J = [J_v; J_ω]."
+            "drives the rotation. Keep one order everywhere: ν = [κ_l e_p; κ_a e_o] with J = [J_v; J_ω]."
         ))]),
         alternatives("swapped_gains", [(swapped_gains, (
             "{name} applies the angular gain to the position error and the linear gain to the "
@@ -487,6 +487,6 @@ control_law = exercise(_CHAPTER, "control_law", MatrixArgumentsCheck(
     arguments=_control_law_arguments,
     signature="control_law(J, e, gain_linear, gain_angular) -> (n,) array",
     atol=1e-7,
-    hint="q̇ = J⁺ [K_l e_p; K_a e_o] with e = [e_p; e_o] and J (6×n) rows [v; ω].",
-    doc="Check a function control_law(J, e, gain_linear, gain_angular) -> J⁺ [K_l e_p; K_a e_o] (n,).",
+    hint="q̇ = J⁺ [κ_l e_p; κ_a e_o] with e = [e_p; e_o] and J (6×n) rows [v; ω].",
+    doc="Check a function control_law(J, e, gain_linear, gain_angular) -> J⁺ [κ_l e_p; κ_a e_o] (n,).",
 ))
