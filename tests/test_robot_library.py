@@ -34,6 +34,10 @@ def test_every_urdf_file_of_the_package_is_listed_once():
     ("kinova", "base", "j2s6s200_end_effector", 6),
     ("xarm7", "world", "link_eef", 7),
     ("ur10_robot", "world", "ee_link", 6),
+    ("panda", "panda_link0", "panda_hand_tcp", 7),                  # the tool frame, not a finger
+    ("z1", "world", "gripperStator", 6),                            # the gripper's body, not its jaw
+    ("so100", "base", "gripper", 5),
+    ("talos_left_arm", "arm_left_1_link", "gripper_left_base_link", 6),   # the link carrying the gripper
 ])
 def test_listed_links_give_the_arm(name, base, tip, joints):
     info = {r.name: r for r in available_robots()}[name]
@@ -59,3 +63,39 @@ def test_unknown_robot_names_some_and_points_to_the_list():
     message = str(info.value)
     assert "'kinova2'" in message and "available_robots()" in message and "more)" in message
     assert len(message) < 600
+
+
+@pytest.mark.parametrize("name, finger, joints", [
+    ("panda", "panda_leftfinger", 8),
+    ("talos_left_arm", "gripper_left_motor_double_link", 7),
+])
+def test_a_gripper_joint_only_when_asked(name, finger, joints):
+    """A gripper's own links come after the end-effectors; a chain to one has the gripper joint."""
+    info = available_robots()[name]
+    assert finger in info.tip_links and info.tip_links.index(finger) > 0
+    assert from_urdf(robot_description(name), info.base_link, finger).n == joints == info.movable_joints + 1
+
+
+def test_notes_say_what_a_file_lacks():
+    """talos_left_arm starts below the arm's first joint, which talos_full_v2 has."""
+    import xml.etree.ElementTree as ElementTree
+
+    robots = available_robots()
+    left, full = robots["talos_left_arm"], robots["talos_full_v2"]
+    assert "arm_left_1_joint" in left.note and "talos_full_v2" in left.note
+    joints = lambda info: {j.get("name") for j in ElementTree.parse(info.path).getroot().findall("joint")}  # noqa: E731
+    assert "arm_left_1_joint" not in joints(left) and "arm_left_1_joint" in joints(full)
+    assert from_urdf(robot_description("talos_full_v2"), "torso_2_link", left.tip_links[0]).n == left.movable_joints + 1
+    assert sum(bool(info.note) for info in robots) == 1
+
+
+def test_the_list_shows_as_a_short_table_and_prints_whole():
+    robots = available_robots()
+    short, whole = repr(robots), str(robots)
+    assert len(short.splitlines()) <= 12 and f"{len(robots)} robots" in short and ".names()" in short
+    assert len(whole.splitlines()) == len(robots) + 2
+    assert all(len(line) <= 80 for line in whole.splitlines() + short.splitlines())
+    assert robots.names() == [info.name for info in robots] and robots["kinova"].name == "kinova"
+    assert isinstance(robots, tuple) and robots[0] is robots[:1][0]
+    with pytest.raises(KeyError, match="names"):
+        robots["kinova2"]

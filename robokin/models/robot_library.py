@@ -3,9 +3,16 @@ r"""The robots of the installed ``example-robot-data`` package, listed with thei
 :func:`available_robots` finds every URDF file the package ships (about seventy:
 arms, legged robots, humanoids, hands, drones) and reads, without building
 anything, its link tree: the root link (the natural ``base_link`` of
-:func:`robokin.models.from_urdf`) and its leaf links (candidate ``tip_link``\ s),
-the deepest first -- for an arm, the first one is its flange or tool frame.
+:func:`robokin.models.from_urdf`) and its candidate ``tip_link``\ s, the deepest
+first -- for an arm, the first one is its flange or tool frame. A gripper's
+joints (a movable joint named for a finger or gripper) are not counted in: where
+the tool is a gripper, the link that carries it is a tip, ahead of the gripper's
+own links (asking for one of those adds the gripper joint to the chain).
 :func:`robokin.models.robot_description` accepts any of their names.
+
+The list shows as a short table (``available_robots()`` in a notebook);
+``print(available_robots())`` prints all of it, ``.names()`` the names, and
+``available_robots()["kinova"]`` one entry.
 
 The listing reads the files' XML only (``xml.etree``): about 0.2 s for the
 whole package, once per process.
@@ -20,9 +27,20 @@ from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
 
-__all__ = ["RobotInfo", "available_robots", "robots_folder"]
+__all__ = ["RobotInfo", "RobotList", "available_robots", "robots_folder"]
 
 _INSTALL = "pip install 'robokin[robots]'"
+
+#: What is known to be missing from a file of the package (checked against the package's
+#: other files by tests/test_robot_library.py).
+NOTES = {
+    "talos_left_arm": ("the file starts at arm_left_1_link: the arm's first joint (arm_left_1_joint, "
+                       "torso_2_link to arm_left_1_link) is not in it, so its chain has 6 of the arm's 7 "
+                       "joints; talos_full_v2 has the whole arm (base torso_2_link)"),
+}
+
+#: Words that name a gripper's joint or link (a movable joint so named is not an arm joint).
+_GRIPPER_WORDS = ("finger", "gripper")
 
 
 @dataclass(frozen=True)
@@ -42,8 +60,14 @@ class RobotInfo:
         The root of its link tree (the first root if the file holds several trees).
     tip_links : tuple of str
         Its leaf links, the one with the most movable joints above it first.
+    tip_links : tuple of str
+        Its end-effector links, the one with the most movable joints above it first: the
+        leaf links reached without a gripper joint, and the links that carry a gripper;
+        then the gripper's own leaf links (a chain to one of those has a gripper joint).
     movable_joints : int
         Revolute, continuous and prismatic joints from ``base_link`` to ``tip_links[0]``.
+    note : str
+        What is known to be wrong or missing in the file ("" if nothing).
     """
 
     name: str
@@ -51,6 +75,56 @@ class RobotInfo:
     base_link: str
     tip_links: tuple[str, ...]
     movable_joints: int
+    note: str = ""
+
+
+class RobotList(tuple):
+    """The robots of :func:`available_robots`: a tuple of :class:`RobotInfo` shown as a table.
+
+    ``repr`` (what a notebook shows) is a short table of the first rows; ``str`` (what
+    ``print`` shows) has every row; ``names()`` lists the names; indexing by a name
+    (``robots["kinova"]``) gives that robot's entry.
+    """
+
+    SHOWN = 8
+
+    def names(self) -> list[str]:
+        """The robots' names, as :func:`robokin.models.robot_description` takes them."""
+        return [info.name for info in self]
+
+    def __getitem__(self, key):
+        if isinstance(key, str):
+            for info in self:
+                if info.name == key:
+                    return info
+            raise KeyError(f"no robot named {key!r} in example-robot-data; .names() lists them")
+        return super().__getitem__(key)
+
+    def _rows(self, infos) -> list[str]:
+        width = max((len(info.name) for info in self), default=4)
+        width = min(width, 28)
+        rows = [f"{'name':<{width}}  joints  base link -> first tip link"]
+        for info in infos:
+            name = info.name if len(info.name) <= width else info.name[: width - 1] + "…"
+            tip = info.tip_links[0] if info.tip_links else "-"
+            line = f"{name:<{width}}  {info.movable_joints:>6}  {info.base_link} -> {tip}"
+            rows.append(line if len(line) <= 80 else line[:79] + "…")
+        return rows
+
+    def __repr__(self) -> str:
+        head = f"{len(self)} robots of example-robot-data"
+        if len(self) <= self.SHOWN:
+            return "\n".join([head + ":", *self._rows(self)])
+        rest = len(self) - self.SHOWN
+        return "\n".join([head + f" (the first {self.SHOWN}):", *self._rows(self[: self.SHOWN]),
+                          f"… and {rest} more: print(available_robots()) shows them all,",
+                          "available_robots().names() lists the names."])
+
+    def __str__(self) -> str:
+        return "\n".join([f"{len(self)} robots of example-robot-data:", *self._rows(self)])
+
+    def __getnewargs__(self):
+        return (tuple(self),)
 
 
 def robots_folder() -> Path:
@@ -69,7 +143,11 @@ def robots_folder() -> Path:
 
 
 def _tree(path: Path) -> tuple[str, tuple[str, ...], int] | None:
-    """``(root, leaves deepest first, movable joints to the first leaf)``, or None if unreadable."""
+    """``(root, tip links deepest first, movable joints to the first tip)``, or None if unreadable.
+
+    The tips: the leaves reached without a gripper joint and the links that carry a gripper
+    (by their movable joints, gripper joints not counted), then the gripper's own leaves.
+    """
     try:
         root = ElementTree.parse(path).getroot()
     except (OSError, ElementTree.ParseError):
@@ -77,12 +155,14 @@ def _tree(path: Path) -> tuple[str, tuple[str, ...], int] | None:
     links = [name for el in root.findall("link") if (name := el.get("name"))]
     parent: dict[str, tuple[str, bool]] = {}
     children: set[str] = set()
+    joint_names: dict[str, str] = {}   # child link -> the name of the joint above it
     for joint in root.findall("joint"):
         p, c = joint.find("parent"), joint.find("child")
         parent_link = p.get("link") if p is not None else None
         child_link = c.get("link") if c is not None else None
         if not parent_link or not child_link:
             continue
+        joint_names[child_link] = joint.get("name") or ""
         parent[child_link] = (parent_link, joint.get("type") in ("revolute", "continuous", "prismatic"))
         children.add(parent_link)
     roots = [link for link in links if link not in parent]
@@ -102,19 +182,47 @@ def _tree(path: Path) -> tuple[str, tuple[str, ...], int] | None:
         for below in reversed(walk):
             count += parent[below][1]
             depth[below] = count
-    leaves = sorted((link for link in links if link not in children and link in parent),
-                    key=lambda link: (-depth.get(link, 0), links.index(link)))
-    return roots[0], tuple(leaves), depth.get(leaves[0], 0) if leaves else 0
+    leaves = [link for link in links if link not in children and link in parent]
+
+    def named(link: str, joint_only: bool = False) -> bool:   # named for a gripper or finger
+        text = joint_names.get(link, "") + ("" if joint_only else " " + link)
+        return any(word in text.lower() for word in _GRIPPER_WORDS)
+
+    ends: dict[str, int] = {}      # end-effector link -> movable joints above it (gripper joints not counted)
+    gripped: dict[str, int] = {}   # a gripper's own leaf -> movable joints above it
+    carriers: set[str] = set()     # links that carry a gripper
+    for leaf in leaves:
+        path = [leaf]
+        while path[-1] in parent and len(path) <= len(links):
+            path.append(parent[path[-1]][0])
+        # the first movable joint from the base that is named for a gripper: its parent link carries it
+        first = next((k for k in range(len(path) - 2, -1, -1)
+                      if parent[path[k]][1] and named(path[k], joint_only=True)), None)
+        if first is None:
+            ends.setdefault(leaf, depth.get(leaf, 0))
+        else:
+            ends.setdefault(path[first + 1], depth.get(path[first + 1], 0))
+            carriers.add(path[first + 1])
+            gripped[leaf] = depth.get(leaf, 0)
+    # deepest first; at equal depth a leaf of the arm (a tool frame), then a link carrying a
+    # gripper, then a leaf named for a finger or gripper fixed to it
+    order = lambda item: (-item[1], item[0] not in carriers and named(item[0]),  # noqa: E731
+                          item[0] in carriers, links.index(item[0]))
+    tips = [link for link, _ in sorted(ends.items(), key=order)]
+    tips += [link for link, _ in sorted(gripped.items(), key=order) if link not in ends]
+    return roots[0], tuple(tips), ends[tips[0]] if tips else 0
 
 
 @lru_cache(maxsize=1)
-def available_robots() -> tuple[RobotInfo, ...]:
+def available_robots() -> RobotList:
     """Every robot of the installed example-robot-data, sorted by name.
 
     Returns
     -------
-    tuple of RobotInfo
-        Name, file, base link and tip links of each URDF file.
+    RobotList
+        A tuple of :class:`RobotInfo` (name, file, base link, tip links, movable joints,
+        notes), shown as a short table; ``print(...)`` shows every row, ``.names()``
+        lists the names, ``[name]`` gives one entry.
 
     Raises
     ------
@@ -124,8 +232,10 @@ def available_robots() -> tuple[RobotInfo, ...]:
     Examples
     --------
     >>> from robokin.models import available_robots
-    >>> [r.name for r in available_robots()][:3]  # doctest: +SKIP
+    >>> available_robots().names()[:3]  # doctest: +SKIP
     ['TwoDofs', 'a1', 'alex_nub_hands']
+    >>> available_robots()["panda"].tip_links[0]  # doctest: +SKIP
+    'panda_hand_tcp'
     """
     folder = robots_folder()
     files = sorted(folder.glob("*/**/*.urdf"))
@@ -137,5 +247,5 @@ def available_robots() -> tuple[RobotInfo, ...]:
             continue
         package = f.relative_to(folder).parts[0]
         name = f.stem if stems[f.stem] == 1 else f"{package}/{f.stem}"
-        out.append(RobotInfo(name, f, tree[0], tree[1], tree[2]))
-    return tuple(sorted(out, key=lambda r: r.name))
+        out.append(RobotInfo(name, f, tree[0], tree[1], tree[2], NOTES.get(name, "")))
+    return RobotList(sorted(out, key=lambda r: r.name))
