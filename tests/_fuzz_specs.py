@@ -40,6 +40,7 @@ from _fuzz_support import (
 
 import robokin.check as check
 import robokin.models as models
+import robokin.motion as motion
 from robokin.models.baxter import baxter_left_urdf
 from robokin.models.panda import panda_link_transforms
 from robokin.models.ur_ik import UR10E_DH
@@ -227,6 +228,11 @@ def transform_specs() -> list[Spec]:
         Spec("transforms.quaternion_multiply", tr.quaternion_multiply, [Arr("p", (4,)), Arr("q", (4,))],
              shape=lambda c, v: B(c, 4), batch=True),
         Spec("transforms.quaternion_conjugate", tr.quaternion_conjugate, [Arr("q", (4,))],
+             shape=lambda c, v: B(c, 4), batch=True),
+        Spec("transforms.quaternion_slerp", tr.quaternion_slerp,
+             [Arr("q0", (4,), batch=False, extra_bad={"zero": zero_vector(4)}),
+              Arr("q1", (4,), batch=False, extra_bad={"zero": zero_vector(4)}),
+              Arr("s", (), shape_bad=False, lo=-0.5, hi=1.5)],
              shape=lambda c, v: B(c, 4), batch=True),
         Spec("transforms.transform_exp", tr.transform_exp, [Arr("V", (6,), lo=-4, hi=4)],
              shape=lambda c, v: B(c, 4, 4), batch=True),
@@ -616,6 +622,20 @@ def motion_specs() -> list[Spec]:
         Spec("motion.time_law", time_law, [Arr("tau", (), shape_bad=False, lo=-0.5, hi=1.5),
                                            Choice("kind", ["quintic", "cubic", "linear"])],
              shape=lambda c, v: (B(c),) * 3, batch=True),
+        Spec("motion.joint_trajectory", motion.joint_trajectory,
+             [Arr("t", (), shape_bad=False), Arr("q_start", (4,), batch=False), Arr("q_end", (4,), batch=False)],
+             {"v_max": Num("v_max", 0.1, 3.0, positive=True), "a_max": Num("a_max", 0.1, 3.0, positive=True),
+              "law": Choice("law", ["trapezoidal", "quintic", "cubic"])},
+             shape=lambda c, v: (B(c, 4),) * 3, batch=True),
+        Spec("motion.joint_trajectory_duration", motion.joint_trajectory_duration,
+             [Arr("q_start", (4,), batch=False), Arr("q_end", (4,), batch=False)],
+             {"v_max": Num("v_max", 0.1, 3.0, positive=True), "a_max": Num("a_max", 0.1, 3.0, positive=True),
+              "law": Choice("law", ["trapezoidal", "quintic", "cubic"])}, shape=lambda c, v: ()),
+        Spec("motion.pose_trajectory", motion.pose_trajectory,
+             [Arr("t", (), shape_bad=False), Tf("T_start", batch=False), Tf("T_end", batch=False),
+              Num("duration", 0.1, 3.0, positive=True)],
+             {"law": Choice("law", ["quintic", "cubic", "linear"])},
+             shape=lambda c, v: (B(c, 4, 4), B(c, 6), B(c, 6)), batch=True),
         Spec("motion.chain_with_tool", chain_with_tool, [Obj("chain", lambda c: c.chain), Tf("T_et", batch=False)],
              setup=pick_small, check=lambda r, c, v: isinstance(r, SerialChain) or _fail(r)),
         Spec("motion.rigid_body_jacobian", rigid_body_jacobian, [Arr("r", (3,))], shape=lambda c, v: B(c, 6, 6),

@@ -63,7 +63,7 @@ NOT_ENTRY_POINTS = {
     # results / containers: built by robokin, only read by users
     "motion.IKResult", "motion.IKHistory", "motion.IKBatchResult", "motion.ControlOutput",
     "motion.SimulationLog", "motion.BatchTrackingLog", "motion.Trajectory", "models.AR601IKResult",
-    "models.URIKResult", "models.URIKBatchResult",
+    "models.URIKResult", "models.URIKBatchResult", "motion.PoseTrajectory",
     "parallel.ForwardKinematicsResult", "models.RobotInfo", "check.CheckResult", "check.Diagnosis", "check.Mistake",
     "check.Variable", "check.Check", "chains.Element",
     # abstract base class of the IK step rules; typing protocols of a chain (never called)

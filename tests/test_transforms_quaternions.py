@@ -11,7 +11,10 @@ from robokin.transforms import (
     quaternion_conjugate,
     quaternion_from_rotation,
     quaternion_multiply,
+    quaternion_slerp,
+    rotation_exp,
     rotation_from_angle_axis,
+    rotation_log,
     rotation_from_quaternion,
     rotx,
     roty,
@@ -137,3 +140,42 @@ def test_symbolic():
     assert sp.simplify(Rz - rotz(t)) == sp.zeros(3, 3)
     prod = quaternion_multiply([w, x, y, z], quaternion_conjugate([w, x, y, z]))
     assert sp.expand(prod) == sp.Matrix([w**2 + x**2 + y**2 + z**2, 0, 0, 0])
+
+
+# ------------------------------------------------------------------ slerp
+@given(quaternion, quaternion)
+@settings(max_examples=60, deadline=None)
+def test_slerp_turns_about_a_fixed_axis_at_a_constant_rate_the_short_way(p, q):
+    """R(s) = R₀ exp(s w) with w = log(R₀ᵀR₁), |w| ≤ π (Shoemake 1985): the short way round,
+    whichever sign q₁ is given with."""
+    R0, R1 = rotation_from_quaternion(p), rotation_from_quaternion(q)
+    w = rotation_log(R0.T @ R1)
+    if np.linalg.norm(w) > np.pi - 1e-6:   # half a turn: both ways are as short
+        return
+    s = np.linspace(0.0, 1.0, 7)
+    for sign in (1.0, -1.0):
+        path = quaternion_slerp(p, sign * q, s)
+        assert np.allclose(np.linalg.norm(path, axis=1), 1.0, atol=1e-15)
+        for fraction, step in zip(s, path):
+            assert np.allclose(rotation_from_quaternion(step), R0 @ rotation_exp(fraction * w), atol=1e-12)
+
+
+def test_slerp_ends_and_nearly_equal_rotations():
+    p = quaternion_from_rotation(rotation_exp([0.3, -0.2, 0.5]))
+    q = quaternion_from_rotation(rotation_exp([0.3, -0.2, 0.5 + 1e-9]))
+    assert np.allclose(quaternion_slerp(p, q, 0.0), p, atol=1e-15)
+    assert np.allclose(quaternion_slerp(p, -q, 1.0), q, atol=1e-15)   # the end rotation, on p's side
+    middle = quaternion_slerp(p, q, 0.5)
+    assert np.allclose(rotation_from_quaternion(middle), rotation_exp([0.3, -0.2, 0.5 + 0.5e-9]), atol=1e-15)
+    assert quaternion_slerp(p, q, [0.1, 0.2]).shape == (2, 4)
+
+
+@pytest.mark.parametrize("q0, q1, s, error, words", [
+    ([1, 0, 0], [1, 0, 0, 0], 0.5, ShapeError, "q0"),
+    ([1, 0, 0, 0], [0, 0, 0, 0], 0.5, DomainError, "q1"),
+    ([1, 0, 0, 0], [0, 1, 0, 0], [[0.5]], ShapeError, "s must be"),
+    ([1, 0, 0, 0], [0, 1, 0, 0], np.nan, DomainError, "s"),
+])
+def test_slerp_names_a_bad_argument(q0, q1, s, error, words):
+    with pytest.raises(error, match=words):
+        quaternion_slerp(q0, q1, s)

@@ -31,6 +31,8 @@ from robokin.motion.simulate import SimulationLog, simulate
 from robokin.motion.sweeps import BatchTrackingLog, initial_condition_sweep, track_position_batch
 from robokin.motion.tool import chain_with_tool, rigid_body_jacobian, tool_jacobian
 from robokin.transforms import transform_from_rpy as transform_from_rpy  # documented in robokin.transforms
+from robokin.motion.joint_trajectory import JOINT_LAWS, joint_trajectory, joint_trajectory_duration
+from robokin.motion.pose_trajectory import PoseTrajectory, pose_trajectory
 from robokin.motion.trajectories import (
     Trajectory,
     circle_trajectory,
@@ -56,6 +58,11 @@ __all__ = [
     "line_trajectory",
     "via_point_trajectory",
     "time_law",
+    "joint_trajectory",
+    "joint_trajectory_duration",
+    "JOINT_LAWS",
+    "pose_trajectory",
+    "PoseTrajectory",
     "solve_ik",
     "solve_ik_once",
     "solve_ik_batch",

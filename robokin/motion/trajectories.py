@@ -35,7 +35,11 @@ __all__ = ["Trajectory", "circle_trajectory", "line_trajectory", "via_point_traj
 
 
 class Trajectory(NamedTuple):
-    """Positions (m), velocities (m/s) and accelerations (m/s²), (3,) or (T, 3) each."""
+    """Positions, velocities and accelerations, (d,) or (T, d) each.
+
+    A point's path: d = 3, in m, m/s, m/s²; a joint motion (:func:`~robokin.motion.joint_trajectory`):
+    d = n, in rad (m), rad/s (m/s), rad/s² (m/s²).
+    """
 
     positions: np.ndarray
     velocities: np.ndarray

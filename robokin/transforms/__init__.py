@@ -31,6 +31,7 @@ from robokin.transforms.quaternions import (
     quaternion_conjugate,
     quaternion_from_rotation,
     quaternion_multiply,
+    quaternion_slerp,
     rotation_from_quaternion,
 )
 from robokin.transforms.rotations import rotx, roty, rotz, skew, unskew
@@ -65,4 +66,5 @@ __all__ = [
     "rotation_from_quaternion",
     "quaternion_multiply",
     "quaternion_conjugate",
+    "quaternion_slerp",
 ]

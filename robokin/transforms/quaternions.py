@@ -26,6 +26,7 @@ __all__ = [
     "rotation_from_quaternion",
     "quaternion_multiply",
     "quaternion_conjugate",
+    "quaternion_slerp",
 ]
 
 
@@ -247,3 +248,71 @@ def quaternion_conjugate(q: Any) -> Any:
         return stack_vector([w, -x, -y, -z])
     a = _quats(q, "q")
     return a * np.array([1.0, -1.0, -1.0, -1.0])
+
+
+def _unit_quaternion(q: Any, name: str) -> np.ndarray:
+    """``q`` (4,) divided by its norm, scaled first so that no square overflows or underflows."""
+    a = as_float_array(q, name, shape=(4,))
+    largest = float(np.max(np.abs(a)))
+    if largest == 0.0:
+        raise DomainError(f"{name} must be a non-zero quaternion (w, x, y, z); got {a.tolist()}")
+    scaled = a / largest
+    return scaled / math.sqrt(float(scaled @ scaled))
+
+
+def quaternion_slerp(q0: Any, q1: Any, s: Any) -> np.ndarray:
+    r"""Spherical linear interpolation between two rotations, the short way, at a constant rate.
+
+    .. math::
+        q(s) = \frac{\sin((1 - s)\Omega)}{\sin\Omega}\, q_0 + \frac{\sin(s\Omega)}{\sin\Omega}\, q_1,
+        \qquad \Omega = \angle(q_0, q_1) \in [0, \tfrac{\pi}{2}]
+
+    (Shoemake 1985; Lynch & Park 2017, App. B.3.) :math:`q_1` and :math:`-q_1` are the same
+    rotation: the one with :math:`q_0 \cdot q_1 \ge 0` is taken, so that the rotation turns by
+    the smaller angle :math:`2\Omega \le \pi` about a fixed axis, at the constant angular rate
+    :math:`2\Omega` per unit of ``s``. The angle is computed as
+    :math:`\Omega = 2\operatorname{atan2}(\|q_0 - q_1\|, \|q_0 + q_1\|)`, accurate for nearly
+    equal rotations too, where (below :math:`10^{-6}`) the weights are their series to
+    :math:`\Omega^2`.
+
+    Parameters
+    ----------
+    q0, q1 : array_like, shape (4,)
+        Quaternions ``(w, x, y, z)`` of the start and end rotations (normalised first).
+    s : float or array_like, shape (T,)
+        Interpolation parameter(s); 0 gives ``q0``, 1 the end rotation. Values outside [0, 1]
+        extrapolate along the same great circle.
+
+    Returns
+    -------
+    numpy.ndarray, shape (4,) or (T, 4)
+        Unit quaternions on the arc from ``q0`` (the sign is ``q0``'s side: the path is
+        continuous, and its ``w`` may change sign; the rotation is what counts).
+
+    Raises
+    ------
+    ShapeError, DomainError
+        A quaternion not of shape (4,), zero or not finite; ``s`` not finite or of more than
+        one dimension.
+    """
+    a = _unit_quaternion(q0, "q0")
+    b = _unit_quaternion(q1, "q1")
+    parameter = as_float_array(s, "s")
+    if parameter.ndim > 1:
+        raise ShapeError(f"s must be a scalar or have shape (T,); got shape {parameter.shape}")
+    if a @ b < 0.0:   # -q1 is the same rotation, the short way round
+        b = -b
+    # the angle between two unit vectors, accurate at both ends: 2 atan2(|a - b|, |a + b|)
+    omega = 2.0 * math.atan2(float(np.linalg.norm(a - b)), float(np.linalg.norm(a + b)))
+    x = np.atleast_1d(parameter)
+    with np.errstate(all="ignore"):
+        if omega < 1e-6:   # weights sin(x omega)/sin(omega) = x (1 + (1 - x^2) omega^2 / 6 + ...)
+            first = (1.0 - x) * (1.0 + (1.0 - (1.0 - x) ** 2) * omega * omega / 6.0)
+            second = x * (1.0 + (1.0 - x * x) * omega * omega / 6.0)
+        else:
+            first = np.sin((1.0 - x) * omega) / math.sin(omega)
+            second = np.sin(x * omega) / math.sin(omega)
+        out = first[:, None] * a + second[:, None] * b
+        out /= np.linalg.norm(out, axis=-1, keepdims=True)
+    check_result_finite(out, "the interpolated quaternions", s=parameter)
+    return out[0] if parameter.ndim == 0 else out
