@@ -17,7 +17,7 @@ from urllib.parse import unquote, urlparse
 import pytest
 import yaml
 
-from browser_waits import DRAW_TIMEOUT, next_frames, poll_until
+from browser_waits import DRAW_TIMEOUT, WAIT_MS, next_frames, poll_until
 from conftest import EDITION_HTML, ROOT
 
 pytestmark = pytest.mark.book
@@ -286,7 +286,7 @@ def test_page_in_browser(edition_book, browser, page):
         # Maths: every math element typeset by MathJax, no MathJax errors.
         n_math = tab.evaluate("document.querySelectorAll('div.math, span.math').length")
         if n_math:
-            tab.wait_for_function("window.MathJax && MathJax.startup && MathJax.startup.promise", timeout=20_000)
+            tab.wait_for_function("window.MathJax && MathJax.startup && MathJax.startup.promise", timeout=WAIT_MS)
             tab.evaluate("MathJax.startup.promise")
             n_typeset = tab.evaluate("document.querySelectorAll('mjx-container').length")
             assert n_typeset >= n_math, f"{page}: {n_math} math elements but only {n_typeset} typeset"
@@ -309,7 +309,7 @@ def test_page_in_browser(edition_book, browser, page):
             scene = scenes.nth(index)
             scene.scroll_into_view_if_needed()
             canvas = scene.locator("canvas").first
-            canvas.wait_for(state="visible", timeout=20_000)
+            canvas.wait_for(state="visible", timeout=WAIT_MS)
             # the viewer has drawn the scene (and played its animation for a frame), then
             # stops playing: an animation left running redraws the scene on the CPU
             # (SwiftShader) for the rest of the test

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from browser_waits import pixels, poll_until, wait_drawn
+from browser_waits import WAIT_MS, pixels, poll_until, wait_drawn
 from conftest import watched_page
 
 from views_doubles import two_link
@@ -41,8 +41,8 @@ def test_static_scene_renders_in_chromium(tmp_path, browser):
 
     pg, errors = watched_page(browser, 800, 900)
     pg.goto(page.as_uri())
-    pg.wait_for_selector(".robokin-scene canvas", state="attached", timeout=20_000)
-    pg.wait_for_function("document.querySelectorAll('.robokin-scene canvas').length == 2", timeout=20_000)
+    pg.wait_for_selector(".robokin-scene canvas", state="attached", timeout=WAIT_MS)
+    pg.wait_for_function("document.querySelectorAll('.robokin-scene canvas').length == 2", timeout=WAIT_MS)
     # the viewer script was loaded once for both scenes
     assert pg.evaluate("document.querySelectorAll('script[src$=\"main.min.js\"]').length") == 1
     canvases = pg.query_selector_all(".robokin-scene canvas")
@@ -79,7 +79,7 @@ def test_missing_viewer_script_shows_message(tmp_path, browser):
     pg = browser.new_page()
     pg.goto(page.as_uri())
     pg.wait_for_function("document.querySelector('.robokin-scene-msg').textContent.indexOf('not shown') >= 0",
-                         timeout=10_000)
+                         timeout=WAIT_MS)
     assert "cannot load" in pg.text_content(".robokin-scene-msg")
 
 
@@ -106,9 +106,9 @@ def test_scene_data_moved_beside_the_page_still_renders(tmp_path, browser):
 
     pg, errors = watched_page(browser, 800, 800)
     pg.goto(page.as_uri())
-    pg.wait_for_function("document.querySelectorAll('.robokin-scene canvas').length >= 1", timeout=20_000)
+    pg.wait_for_function("document.querySelectorAll('.robokin-scene canvas').length >= 1", timeout=WAIT_MS)
     pg.evaluate("document.querySelectorAll('.robokin-scene')[1].scrollIntoView()")   # the lazy second scene
-    pg.wait_for_function("document.querySelectorAll('.robokin-scene canvas').length == 2", timeout=20_000)
+    pg.wait_for_function("document.querySelectorAll('.robokin-scene canvas').length == 2", timeout=WAIT_MS)
     assert not errors, errors
     assert pg.evaluate("document.querySelectorAll('script[src$=\".js\"][src*=\"scenes\"]').length") == 1
 
@@ -138,7 +138,7 @@ def test_large_command_shared_by_two_scenes_is_stored_once(tmp_path, browser):
     pg, errors = watched_page(browser, 800, 700)
     pg.goto(page.as_uri())
     pg.evaluate("document.querySelectorAll('.robokin-scene')[1].scrollIntoView()")
-    pg.wait_for_function("document.querySelectorAll('.robokin-scene canvas').length == 2", timeout=20_000)
+    pg.wait_for_function("document.querySelectorAll('.robokin-scene canvas').length == 2", timeout=WAIT_MS)
     assert not errors, errors
 
 
@@ -156,7 +156,7 @@ def test_point_cloud_renders_in_chromium(tmp_path, browser):
     assert len(page.read_text()) < 600_000        # 12 bytes a point, base64: ~320 kB
     pg, errors = watched_page(browser, 800, 900)
     pg.goto(page.as_uri())
-    pg.wait_for_function("document.querySelectorAll('.robokin-scene canvas').length == 2", timeout=20_000)
+    pg.wait_for_function("document.querySelectorAll('.robokin-scene canvas').length == 2", timeout=WAIT_MS)
     canvases = pg.query_selector_all(".robokin-scene canvas")
 
     def reds(a):

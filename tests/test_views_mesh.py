@@ -11,7 +11,7 @@ import warnings
 import numpy as np
 import pytest
 
-from browser_waits import poll_until
+from browser_waits import WAIT_MS, poll_until
 from conftest import watched_page
 
 from robokin import models
@@ -263,10 +263,10 @@ def test_static_mesh_scene_renders_in_chromium(tmp_path, browser):
 
     pg, errors = watched_page(browser, 800, 900)
     pg.goto(page.as_uri())
-    pg.wait_for_function("document.querySelectorAll('.robokin-scene canvas').length == 2", timeout=20_000)
+    pg.wait_for_function("document.querySelectorAll('.robokin-scene canvas').length == 2", timeout=WAIT_MS)
     # both viewers have been fed every command and have drawn them (not a fixed sleep)
     pg.wait_for_function("""() => Array.from(document.querySelectorAll('.robokin-scene'))
-        .every(box => box.robokinViewer && !box.robokinViewer.needs_render)""", timeout=20_000)
+        .every(box => box.robokinViewer && !box.robokinViewer.needs_render)""", timeout=WAIT_MS)
     # the meshes arrived as indexed geometry (uint32 indices decoded by the viewer)
     indexed = pg.evaluate("""() => { var n = 0;
         document.querySelector('.robokin-scene').robokinViewer.scene.traverse(function (o) {
@@ -300,5 +300,5 @@ def test_live_mesh_scene_reaches_the_browser(browser):
         pg.goto(viewer.web_url)
         pg.wait_for_function("""() => { var n = 0; if (!window.viewer) return false;
             window.viewer.scene.traverse(function (o) { if (o.isMesh && o.geometry.index) n++; });
-            return n >= 15; }""", timeout=20_000)
+            return n >= 15; }""", timeout=WAIT_MS)
         pg.close()
