@@ -18,9 +18,9 @@ import numpy as np
 T = TypeVar("T")
 
 #: Seconds a page may take to load, typeset or draw before the test looks at it for the last
-#: time: the ceiling of every wait in the browser tests. Measured on the 2-core machine: a scene
-#: draws in 0.2-2 s and a chapter's MathJax typesets in 1-3 s on a quiet machine, under 6 s with
-#: both cores busy; 20 s is over three times the slowest, and a wait that ends early costs nothing.
+#: time: the ceiling of every wait in the browser tests. A whole page check (load, typeset, every
+#: scene drawn, two widths) takes a few seconds on the quiet 2-core machine, so a single wait
+#: reaching 20 s means something never happened; a wait ends as soon as its condition holds.
 DRAW_TIMEOUT = 20.0
 #: The same ceiling in milliseconds, as Playwright takes it.
 WAIT_MS = int(DRAW_TIMEOUT * 1000)
