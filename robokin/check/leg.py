@@ -67,6 +67,19 @@ KP = 10.0
 _CHAPTER = "leg"
 _PI = math.pi
 
+#: check -> {the robokin function that solves its task: how the grading report names it}: an
+#: answer that hands one back (a newton_ik that calls solve_ik) is flagged for review by hand
+#: (tools/grading_bridge/delegation.py reads this literal table without importing the module)
+DELEGATION = {
+    "newton_ik": {"solve_ik": "robokin.motion.solve_ik", "solve_ik_once": "robokin.motion.solve_ik_once",
+                  "solve_ik_batch": "robokin.motion.solve_ik_batch"},
+    "ik_closed_form": {"solve_ik": "robokin.motion.solve_ik", "solve_ik_once": "robokin.motion.solve_ik_once",
+                       "solve_ik_batch": "robokin.motion.solve_ik_batch"},
+    "tracking_loop": {"CartesianController": "robokin.motion.CartesianController",
+                      "simulate": "robokin.motion.simulate",
+                      "track_position_batch": "robokin.motion.track_position_batch"},
+}
+
 
 @lru_cache(maxsize=1)
 def _leg():
