@@ -135,6 +135,15 @@ def test_batch_equals_single(random_cases):
     assert np.all(np.isnan(batch.q[~batch.valid])) and np.all(np.isfinite(batch.q[batch.valid]))
 
 
+def test_nested_lists_and_names_as_input():
+    q = np.array([0.3, -1.2, 1.4, -0.5, 1.1, 0.2])
+    T = UR10.fk(q)
+    res = ur10_ik(T.tolist(), dh=[list(row) for row in UR10_DH])
+    assert res.success and len(res) == 8 and gap_to(res.q, q) < 1e-10
+    assert np.array_equal(ur10_ik(T, dh="UR10").q, res.q)
+    assert np.allclose(ur10_ik_batch([T.tolist()])[0].q, res.q, rtol=0, atol=1e-12)
+
+
 def test_batch_shapes():
     empty = ur10_ik_batch(np.zeros((0, 4, 4)))
     assert len(empty) == 0 and empty.q.shape == (0, 8, 6) and empty.singular.shape == (0, 3)
