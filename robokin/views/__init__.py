@@ -14,6 +14,7 @@ Quick use::
     scene.add_ghost(chain, q_other)           # translucent copy (other IK solution)
     scene.animate("robot", Q, dt=0.05)        # (T, n) joint trajectory, play/pause in the viewer
     scene.show()
+    scene.save("robot.html")                  # the view as a standalone page (what show() draws)
 
     views.joint_sliders(chain)                # one slider per joint (live kernels)
     views.plot_chain(chain, q)                # matplotlib stick figure

@@ -651,6 +651,21 @@ def show(chain: DrawableChain | None = None, q: Any = None, *, targets: Sequence
     ShapeError, DomainError, TypeError
         As the :class:`Scene` methods; ``q``, ``ghosts`` or ``trajectory``
         without a chain is a DomainError.
+
+    See Also
+    --------
+    Scene.save : the same view saved to a file.
+
+    Notes
+    -----
+    **To save the view to a file**, build the scene ``show`` builds and save it:
+    :meth:`Scene.save` writes a standalone HTML page that any browser opens, offline
+    (``Scene.plot`` gives a matplotlib figure for a PNG or PDF)::
+
+        scene = views.Scene()
+        scene.add_chain(chain, q, meshes="ur10")    # what show(chain, q, meshes="ur10") draws
+        scene.save("ur10.html")                     # + _static/meshcat/main.min.js next to it
+        scene.plot().figure.savefig("ur10.png")     # a stick figure
     """
     if trajectory is not None:
         if chain is None:
