@@ -206,3 +206,16 @@ def test_feedback_page_shows_no_markdown_raw():
     nb, _ = MystMarkdown().preprocess(nb, {})
     page = html.unescape(re.sub(r"<[^>]+>", "", HTMLExporter(template_name="classic").from_notebook_node(nb)[0]))
     assert "{admonition}" not in page and "Learning goals" in page and ":class:" not in page
+
+
+def test_a_check_that_names_the_answer_otherwise_says_so():
+    """A check's message uses its own name of the answer: the note says which of the student's it is."""
+    from nbgrader_metadata import check_names
+
+    from robokin_nbgrader import _called
+
+    check, own = next(iter(sorted(check_names().items())))
+    verdict = {"check": check, "quantity": "found[0]", "status": "wrong", "message": f"✘ {own} is transposed"}
+    assert _called(verdict) == f" (on your `found[0]`, which it calls `{own}`)"
+    assert _called({**verdict, "quantity": own}) == ""
+    assert _called({**verdict, "message": "✘ the value is transposed"}) == ""

@@ -93,6 +93,31 @@ def test_student_book_leaves_a_scaffolded_chapters_hidden_tests_out():
     assert not leaks, f"the scaffolded chapter's hidden tests in the student edition of the book: {leaks[:3]}"
 
 
+def test_student_book_downloads_are_student_notebooks(tmp_path):
+    """Sphinx copies each page's source file into ``_sources/`` (the page's download button): in the
+    student edition the extension writes the student notebook there instead of the instructor's."""
+    from types import SimpleNamespace
+
+    from robokin_book import student_notebook, student_sources
+
+    path = CHAPTERS[0]
+    docname = f"{path.parent.name}/{path.stem}"
+    copied = tmp_path / "_sources" / f"{docname}.ipynb"
+    copied.parent.mkdir(parents=True)
+    copied.write_bytes(path.read_bytes())   # what Sphinx's HTML builder leaves there
+    app = SimpleNamespace(config=SimpleNamespace(robokin_edition="student"), outdir=str(tmp_path),
+                          builder=SimpleNamespace(format="html"),
+                          env=SimpleNamespace(found_docs={docname, "book/intro"},
+                                              doc2path=lambda name: str(path if name == docname else
+                                                                        ROOT / "book" / "intro.md")))
+    student_sources(app, None)
+    assert copied.read_text(encoding="utf-8") == student_notebook(path.read_text(encoding="utf-8"))
+    instructor = SimpleNamespace(**{**vars(app), "config": SimpleNamespace(robokin_edition="instructor")})
+    copied.write_bytes(path.read_bytes())
+    student_sources(instructor, None)
+    assert copied.read_bytes() == path.read_bytes(), "the instructor edition's download is the notebook itself"
+
+
 # ---------------------------------------------------------------- the feedback page
 def _graded_notebook():
     """A graded notebook whose test cell failed in its hidden tests, with the note autograde writes."""

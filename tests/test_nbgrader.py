@@ -764,6 +764,22 @@ def test_correct_answers_score_full_marks(graded, chapter):
 
 
 @pytest.mark.parametrize("chapter", grading_course.chapter_params(CHAPTERS))
+def test_correct_answers_print_no_failure_marks(graded, chapter):
+    """A test of a correct answer prints no ✘ (a check run on a made-up wrong input inside a test
+    prints one, and the student reads it as points lost): the demonstration belongs elsewhere."""
+    run = _run(graded, chapter)
+    marked = []
+    for cell in run.autograded["correct"].get("cells", []):
+        if nbg(cell).get("grade"):
+            for output in cell.get("outputs", []):
+                text = output.get("text", "")
+                text = "".join(text) if isinstance(text, list) else text
+                if "✘" in text:
+                    marked.append(f"{nbg(cell)['grade_id']}: {text.strip()[:120]}")
+    assert not marked, f"{chapter}: tests of the correct answers print ✘: {marked[:3]}"
+
+
+@pytest.mark.parametrize("chapter", grading_course.chapter_params(CHAPTERS))
 def test_typical_mistake_scores_partial_marks_and_is_named(graded, chapter):
     run = _run(graded, chapter)
     mistake = run.mistake
@@ -893,6 +909,30 @@ def test_feedback_never_shows_hidden_tests(graded, chapter):
             quoted = "\n".join(line.strip() for line in note.splitlines())
             leaked = [line for line in hidden if line in quoted.splitlines()]
             assert not leaked, f"{chapter} {student} {grade_id}: the robokin note quotes hidden tests: {leaked}"
+
+
+@pytest.mark.browser
+@pytest.mark.parametrize("chapter", grading_course.chapter_params(CHAPTERS))
+def test_feedback_page_reads_at_laptop_width(graded, chapter, browser, tmp_path):
+    """The feedback on a mistaken submission at 1280 px in Chromium: no note or traceback scrolls
+    sideways, the tables have a gap between their columns, no MyST markup is shown raw."""
+    run = _run(graded, chapter)
+    page = tmp_path / "feedback.html"
+    page.write_text(run.feedback.get("mistake") or run.feedback["correct"], encoding="utf-8")
+    tab = browser.new_page(viewport={"width": 1280, "height": 900})
+    try:
+        tab.goto(page.as_uri())
+        scrolling = tab.evaluate("""() => Array.from(document.querySelectorAll('pre'))
+            .filter(e => e.scrollWidth > e.clientWidth + 1).map(e => e.textContent.slice(0, 80))""")
+        gaps = tab.evaluate("""() => Array.from(document.querySelectorAll('.text_cell_render td'))
+            .map(e => parseFloat(getComputedStyle(e).paddingLeft) + parseFloat(getComputedStyle(e).paddingRight))""")
+        text = tab.evaluate("() => document.body.innerText")
+    finally:
+        tab.close()
+    assert not scrolling, f"{chapter}: text that scrolls sideways at 1280 px: {scrolling[:3]}"
+    assert gaps and min(gaps) >= 8, f"{chapter}: table cells without a gap between columns: {gaps[:4]}"
+    raw = re.findall(r"(?:```+|:::+)\{[\w:-]+\}|\{(?:cite|doc|ref|numref|eq|admonition)\}", text)
+    assert not raw, f"{chapter}: MyST markup shown raw in the feedback: {raw[:3]}"
 
 
 @pytest.mark.parametrize("chapter", grading_course.chapter_params(CHAPTERS))

@@ -702,6 +702,10 @@ class FailureNotes:
             student = {n: b for n, b in reads.items() if b.roots}
         self.yours = {n: b for n, b in student.items() if b.answer and b.cell < self.index}
         self.derived = {n: b for n, b in student.items() if n not in self.yours}
+        # the answers the whole test reads itself (a test that fails before it reaches its check of
+        # J_lift still checks J_lift: the note gives robokin.check's verdict on it)
+        whole = trace(kinds + [("code", visible_source(self.cell.source))])[-1]
+        self.checked = {n for n, b in whole.items() if b.answer and b.cell < self.index}
         self.roots = set().union(*(b.roots for b in student.values())) if student else set()
         table = _bindings(kinds)
         self.answer_cell = {n: table[n].cell for n in self.roots if n in table}
@@ -749,11 +753,12 @@ class FailureNotes:
         self.analyse(error)
         names = self.roots | set(self.yours)
         out: list[tuple[str, str]] = []
-        candidates = [tuple(p) for p in _robokin(self.cell).get("explain", [])]
-        candidates += [(check, name) for _, check, name in self.report.get("pairs", [])]
-        for check, quantity in candidates:
+        own = [tuple(p) for p in _robokin(self.cell).get("explain", [])]
+        candidates = [(check, quantity, names | self.checked) for check, quantity in own]
+        candidates += [(check, name, names) for _, check, name in self.report.get("pairs", [])]
+        for check, quantity, allowed in candidates:
             used = _identifier_names(quantity)
-            if used and used <= names | _BUILTIN_NAMES and (check, quantity) not in out:
+            if used and used <= allowed | _BUILTIN_NAMES and (check, quantity) not in out:
                 out.append((check, quantity))
         if error.get("ename") in self.type_errors:
             for name in sorted(self.yours):
@@ -830,7 +835,7 @@ class FailureNotes:
             text = f"  Your {listed} {'is' if len(names) == 1 else 'are'} {got}"
             hints = "; ".join(e for e in expected if e)
             out.append(text + (f"; expected: {hints}" if hints else "."))
-        names = self.roots | set(self.yours)
+        names = self.roots | set(self.yours) | self.checked
         wrong = self.report.setdefault("wrong", {})
         for v in verdicts:
             if v.get("status") in ("skipped", "info"):
@@ -839,7 +844,7 @@ class FailureNotes:
             mine = bool(used) and used <= names | _BUILTIN_NAMES
             tag = f"  (typical mistake: {v['diagnosis']})" if v.get("typical") and mine else ""
             text = v["message"] if v["status"] in ("correct", "wrong") else f"✘ {v['message']}"
-            out.append(f"  robokin.check: {text}{tag}")
+            out.append(f"  robokin.check{_called(v)}: {text}{tag}")
             if v["status"] in ("wrong", "missing") and v["quantity"].isidentifier():
                 wrong.setdefault(v["quantity"], v.get("diagnosis") or v["status"])
         return out
@@ -876,6 +881,20 @@ class FailureNotes:
 
 
 _BUILTIN_NAMES = set(dir(__import__("builtins")))
+
+
+def _called(verdict: dict) -> str:
+    """`` (on your `found[0]`, which it calls `q_goal`)`` when the check names the answer otherwise
+    than the notebook does (its message uses its own name), else ``""``."""
+    try:
+        own = _check_names().get(verdict.get("check", ""))
+    except Exception:  # noqa: BLE001 - feedback is a bonus
+        return ""
+    quantity = verdict.get("quantity", "")
+    if not own or not quantity or own == quantity or not re.search(rf"(?<![\w.]){re.escape(own)}\b",
+                                                                    verdict.get("message", "")):
+        return ""
+    return f" (on your `{quantity}`, which it calls `{own}`)"
 
 
 def trace(cells: list[tuple[str, str]]) -> list[dict[str, Binding]]:
@@ -1002,7 +1021,7 @@ class AutograderReport(NbGraderPreprocessor):
             if v["status"] == "wrong" or (v["status"] == "missing" and lost):
                 tag = f" *(typical mistake: {v['diagnosis']})*" if v["typical"] else ""
                 text = v["message"] if v["status"] == "wrong" else f"✘ {v['message']}"
-                findings.append(f"- Task {task}: {_md(text)}{tag}")
+                findings.append(f"- Task {task}{_md(_called(v))}: {_md(text)}{tag}")
         if findings:
             out += ["", "**What `robokin.check` says about your answers**", "", *findings]
         elif verdicts and all(v["status"] == "correct" for v in verdicts):
@@ -1141,7 +1160,9 @@ def _label(cell, line: int | None = None) -> str:
     task = _task_of(cell)
     kind = {"answer": f"your answer to Task {task}", "test": f"a test of Task {task}"}.get(role)
     if line is not None and line not in hidden_lines(cell.source):
-        first = _first_line(statement_at(cell.source, line))
+        statement = " ".join(part.split("#")[0].strip() for part in statement_at(cell.source, line).splitlines())
+        statement = re.sub(r"([(\[{]) ", r"\1", re.sub(r" ([)\]}])", r"\1", " ".join(statement.split())))
+        first = statement if len(statement) <= 60 else statement[:59] + "…"
         where += f", line {line},"
     else:
         first = _first_line(visible_source(cell.source))
