@@ -385,6 +385,8 @@ _SUMS = np.zeros((12, 2))
 _SUMS[[0, 1, 2, 4, 5, 6, 8, 9, 10], 0] = 1.0 / 8.0
 _SUMS[[3, 7, 11], 1] = 1.0
 _SUMS.setflags(write=False)
+_TRUE = np.ones(8, dtype=bool)
+_TRUE.setflags(write=False)
 _ONES = np.ones((8, 6, 3))
 _ONES.setflags(write=False)
 
@@ -607,8 +609,8 @@ def ur10_ik(
         Q = _wrap(Q - np.array(g.offsets))
     B = _SIGNS.copy() if len(branches) == 8 else _SIGNS[[_SLOT[b] for b in branches]]
     dp, dr = _residuals(g, Q, T)
-    inside = np.ones(len(Q), dtype=bool)  # every angle in (−π, π] is within the limits ±2π
-    if dp.max() > 1e3 * tol * g.scale + 1e-12 or dr.max() > 1e3 * tol + 1e-12:  # keep the verified ones
+    inside = _TRUE[: len(Q)].copy()  # every angle in (−π, π] is within the limits ±2π
+    if max(dp.tolist()) > 1e3 * tol * g.scale + 1e-12 or max(dr.tolist()) > 1e3 * tol + 1e-12:  # keep verified
         good = (dp <= 1e3 * tol * g.scale + 1e-12) & (dr <= 1e3 * tol + 1e-12)
         Q, B, dp, dr, inside = Q[good], B[good], dp[good], dr[good], inside[good]
     reason = "solved" if len(Q) else "not_verified"  # (no joint_limits: the limits hold every solution)
