@@ -749,8 +749,8 @@ def _solve_batch(Ts: np.ndarray, g: _Geometry, tol: float, within_limits: bool, 
     sing_elbow = (ok2r & (t3_min < flag)).any(axis=(0, 1))
     ok = np.stack([ok2r, ok2r & (t3_min > collapse)], axis=2)                    # (2, 2, 2, N)
     t3 = np.stack([t3_abs, -t3_abs], axis=2)
-    s3 = np.stack([s3_abs, -s3_abs], axis=2)
-    t2 = np.arctan2(Y, X)[:, :, None] - np.arctan2(g.a3 * s3, g.a2 + g.a3 * c3[:, :, None])
+    phi, beta = np.arctan2(Y, X), np.arctan2(g.a3 * s3_abs, g.a2 + g.a3 * c3)  # atan2 is odd in its first argument
+    t2 = np.stack([phi - beta, phi + beta], axis=2)
     t4 = t234[:, :, None] - t2 - t3
     # the joint values, each at its own branch shape, wrapped into (−π, π]
     o = g.offsets
