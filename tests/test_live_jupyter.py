@@ -2,7 +2,9 @@
 
 A JupyterLab server is started on 127.0.0.1 (a port it picks, token, temporary root,
 config, data, runtime and settings directories, the virtualenv's own
-``jupyter-lab``), a two-cell notebook is opened in headless Chromium and run:
+``jupyter-lab``), a notebook is opened in headless Chromium: its task statement
+(MyST directives, as the chapters write them) must be rendered by jupyterlab-myst,
+and its two code cells are run:
 
     views.show(arm, [0.3, 0.6])          # cell 1: live MeshCat scene in an iframe
     s = views.joint_sliders(arm)         # cell 2: one slider per joint + its own scene
@@ -63,9 +65,25 @@ def _require_jupyterlab():
             _skip_or_fail(f"{module} is not installed: pip install 'robokin[views]' psutil")
 
 
+#: A task statement as the chapters write it (MyST): jupyterlab-myst (requirements.txt) renders it;
+#: without it, JupyterLab shows the directives' markup as text.
+MYST_CELL = """```{exercise}
+:label: live-task
+
+Write `tool_position(q)`.
+```
+
+```{admonition} Pitfall: degrees for radians
+:class: warning
+
+NumPy's `cos` takes radians.
+```"""
+
+
 def _notebook():
-    cells = [{"cell_type": "code", "execution_count": None, "id": f"cell{k}", "metadata": {},
-              "outputs": [], "source": src} for k, src in enumerate(CELLS)]
+    cells = [{"cell_type": "markdown", "id": "task", "metadata": {}, "source": MYST_CELL}]
+    cells += [{"cell_type": "code", "execution_count": None, "id": f"cell{k}", "metadata": {},
+               "outputs": [], "source": src} for k, src in enumerate(CELLS)]
     return {"cells": cells, "nbformat": 4, "nbformat_minor": 5,
             "metadata": {"kernelspec": {"display_name": "Python 3 (ipykernel)", "language": "python",
                                         "name": "python3"},
@@ -290,6 +308,15 @@ def test_live_scene_and_sliders_in_jupyterlab(tmp_path, browser):
             await panel.sessionContext.ready;
         }""")
         timings["lab open, kernel ready"] = time.perf_counter() - t_start
+
+        # ---- the task statement (MyST) rendered, not shown as markup
+        assert page.evaluate("window.jupyterapp.hasPlugin('jupyterlab-myst:mime-renderer')"), (
+            "jupyterlab-myst is not installed (requirements.txt): task statements show as raw MyST")
+        statement = page.locator(".jp-MarkdownCell").first     # its editor is hidden once rendered
+        shown = poll_until(statement.inner_text, lambda text: "Pitfall" in text, 20.0)
+        statement.screenshot(path=str(shots / "robokin-lab-task-statement.png"))
+        assert "{admonition}" not in shown and "{exercise}" not in shown and ":class:" not in shown, shown
+        assert "Exercise 1" in shown and "Write tool_position(q)." in shown and "cos takes radians." in shown, shown
         page.evaluate("window.jupyterapp.commands.execute('notebook:run-all-cells')")
 
         # ---- cell 1: the live scene in an output iframe
