@@ -655,9 +655,10 @@ def ur10_ik_batch(
     g = _geometry(dh)
     tol = _check_tol(tol)
     N = len(Ts)
-    out = URIKBatchResult(np.empty((N, 8, 6)), np.empty((N, 8), dtype=bool), np.empty(N, dtype=bool),
-                          np.empty(N, dtype="<U17"), np.empty((N, 8)), np.empty((N, 8)), _SIGNS.copy(),
-                          np.empty((N, 8), dtype=bool), np.empty((N, 3), dtype=bool), np.empty((N, 3)))
+    # stored slot-major, (6, 8, N) and (8, N), as the blocks compute them; the result holds transposed views
+    out = URIKBatchResult(np.empty((6, 8, N)).T, np.empty((8, N), dtype=bool).T, np.empty(N, dtype=bool),
+                          np.empty(N, dtype="<U17"), np.empty((8, N)).T, np.empty((8, N)).T, _SIGNS.copy(),
+                          np.empty((8, N), dtype=bool).T, np.empty((N, 3), dtype=bool), np.empty((N, 3)))
     with np.errstate(all="ignore"):
         for start in range(0, N, _CHUNK):
             _solve_batch(Ts[start: start + _CHUNK], g, tol, within_limits, out, start)
@@ -764,27 +765,26 @@ def _solve_batch(Ts: np.ndarray, g: _Geometry, tol: float, within_limits: bool, 
     slots = np.empty((6, 2, 2, 2, N))
     slots[0], slots[1], slots[2], slots[3] = q1[:, None, None], q2, q3, q4
     slots[4], slots[5] = q5[:, :, None], q6[:, :, None]
-    Q = slots.reshape(6, 8, N).T                                                 # (N, 8, 6)
-    good = good.reshape(8, N).T
+    good = good.reshape(8, N)  # slot-major, as the result stores it
     inside = good  # every angle in (−π, π] is within the limits ±2π
     valid = inside if within_limits else good
     rows = slice(start, start + N)
     solved = out.success[rows]
-    np.any(valid, axis=1, out=solved)
+    np.any(valid, axis=0, out=solved)
     reason = out.reason[rows]
     reason[:] = "solved"
     if not solved.all():
-        computed = ok.reshape(8, N).T.any(axis=1)
+        computed = ok.reshape(8, N).any(axis=0)
         far = (ok2 & ~reach3 & ~(rho2 < (abs(g.a2) + abs(g.a3)) ** 2)).any(axis=(0, 1))
         why = np.where(~reach1, "shoulder_cylinder",
-                       np.where(computed, np.where(good.any(axis=1), "joint_limits", "not_verified"),
+                       np.where(computed, np.where(good.any(axis=0), "joint_limits", "not_verified"),
                                 np.where(far, "too_far", "too_close")))
         reason[~solved] = why[~solved]
     blank = np.where(valid, 0.0, np.nan)
-    np.add(Q, blank[:, :, None], out=out.q[rows])
-    np.add(dp.reshape(8, N).T, blank, out=out.position_residual[rows])
-    np.add(dr.reshape(8, N).T, blank, out=out.orientation_residual[rows])
-    out.valid[rows], out.within_limits[rows] = valid, inside
+    np.add(slots.reshape(6, 8, N), blank, out=out.q[rows].T)
+    np.add(dp.reshape(8, N), blank, out=out.position_residual[rows].T)
+    np.add(dr.reshape(8, N), blank, out=out.orientation_residual[rows].T)
+    out.valid[rows].T[:], out.within_limits[rows].T[:] = valid, inside
     out.singular[rows, 0], out.singular[rows, 1], out.singular[rows, 2] = sing_shoulder, sing_wrist, sing_elbow
     out.wrist_centre[rows, 0], out.wrist_centre[rows, 1], out.wrist_centre[rows, 2] = wx, wy, wz
 
