@@ -210,6 +210,8 @@ class URIKBatchResult:
     NaN in ``q`` and the residuals. ``result[i]`` is pose i as a
     :class:`URIKResult` (the valid slots in order), equal to
     ``ur10_ik(T[i], ...)``; ``len(result)`` is N and iterating gives those results.
+    ``q``, the residuals, ``valid`` and ``within_limits`` are transposed views of
+    slot-major arrays (as the vectorised steps compute them), not C-contiguous.
 
     Attributes
     ----------
