@@ -823,12 +823,16 @@ def _slot_residuals(g: _Geometry, q: tuple[np.ndarray, ...], *T: np.ndarray) -> 
     rot2 = np.zeros(t234.shape)
     for k, (u, v, w) in enumerate(((c5 * c6, s5 * c6, -s6), (-c5 * s6, -s5 * s6, -c6), (-s5, c5, None))):
         tx, ty, tz = seen_from_frame1(k, 0.0)
-        ex = u * c234 - tx if w is None else u * c234 + w * s234 - tx
-        ey = u * s234 - ty if w is None else u * s234 - w * c234 - ty
+        ex, ey = u * c234, u * s234  # (in place from here: fewer temporaries)
+        if w is not None:
+            ex += w * s234
+            ey -= w * c234
+        ex -= tx
+        ey -= ty
         ez = v - tz
-        rot2 += ex * ex
-        rot2 += ey * ey
-        rot2 += ez * ez
+        rot2 += np.square(ex, out=ex)
+        rot2 += np.square(ey, out=ey)
+        rot2 += np.square(ez, out=ez)
     tx, ty, tz = seen_from_frame1(3, g.d1)
     ex = g.a2 * c2 + g.a3 * c23 - g.d6 * s5 * c234 + g.d5 * s234 - tx
     ey = g.a2 * s2 + g.a3 * s23 - g.d6 * s5 * s234 - g.d5 * c234 - ty
