@@ -76,6 +76,14 @@ chain's own ``fk`` is not called here because for eight configurations it costs
 about three times the whole closed form (numbers in ``benchmarks/bench_ur_ik.py``'s
 docstring).
 
+The tables :data:`UR3_DH`, :data:`UR5_DH`, :data:`UR3E_DH`, :data:`UR5E_DH`,
+:data:`UR10E_DH` and :data:`UR16E_DH` are the manufacturer's (Universal Robots,
+*DH Parameters for calculations of kinematics and dynamics*, support article, last
+modified 19 January 2022), copied into robokin's layout; the UR10's is
+:data:`robokin.models.ur10.UR10_DH`. Checked: the UR10 table is the chain of
+:func:`robokin.models.ur10` (its three descriptions), the UR5 table the
+``ur5_robot.urdf`` of example-robot-data (to 1e-10 m, the URDF's rounding).
+
 :func:`ur10_ik` follows the four steps in plain floats, one branch at a time;
 :func:`ur10_ik_batch` does the same arithmetic on arrays (branch axes first, the
 pose last, in blocks of 1,024 poses) and is tested against it.
