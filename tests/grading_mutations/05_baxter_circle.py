@@ -72,21 +72,18 @@ MUTATIONS = {
         ("every run given the circle of q_start, not one through its own start",
          "sweep = track_position_batch(arm, Q_SWEEP, TS, np.broadcast_to(ref.positions,"
          " (63,) + ref.positions.shape), ref.velocities, gain=KP)"),
+        ("rho measured from the joint's origin, not from its axis",
+         "rho = np.array([np.linalg.norm(P_START - arm.frames(Q_START)[j + 1][:3, 3])"
+         " for j in range(7)])"),
     ],
     "task4_test3": [
-        ("the other joints at mid-range, not at the exercise's baseline",
-         "BASELINE = LOWER + 0.5 * SPAN\nQ_REPORT = np.tile(BASELINE, (70, 1))\n"
-         "for j in range(7):\n"
-         "    Q_REPORT[10 * j : 10 * j + 10, j] = LOWER[j] + REPORT_FRACTIONS * SPAN[j]"),
-        ("sweep steps of E1's range for every joint",
-         "Q_REPORT = np.tile(BASELINE, (70, 1))\n"
-         "for j in range(7):\n"
-         "    Q_REPORT[10 * j : 10 * j + 10, j] = LOWER[j] + REPORT_FRACTIONS * SPAN[3]"),
+        ("the IK guesses used without solving", "Q_SAME = guesses"),
+        ("hand_to always goes to the hand at q_start, whatever the target",
+         "_hand_to = hand_to\n"
+         "def hand_to(q, target, tol=1e-10, max_steps=50):\n"
+         "    return _hand_to(q, P_START, tol, max_steps)"),
     ],
     "task4_test4": [
-        ("the IK guesses used without solving", "Q_SAME = guesses"),
-    ],
-    "task4_test5": [
         ("five copies of q_start",
          "same = track_position_batch(arm, np.tile(Q_START, (5, 1)), TS, ref.positions,"
          " ref.velocities, gain=KP)"),
@@ -95,20 +92,13 @@ MUTATIONS = {
         ("the best-conditioned run taken for the worst",
          "m_w = int(np.argmax(smin.min(axis=1)))\nj_w, i_w = divmod(m_w, 9)"),
     ],
-    "task5_test2": [
-        ("a row of J instead of J^+", "row6 = tutorial_chain.position_jacobian(q_tut)[:, 5]"),
-        ("steps of range_j instead of E1's range",
-         "Q_TUT = np.tile(EXERCISE_LIMITS[:, 0] + 0.2 * np.ptp(EXERCISE_LIMITS, axis=1), (10, 1))\n"
-         "Q_TUT[:, 5] = EXERCISE_LIMITS[5, 0] + (0.2 + np.arange(10) / 10)"
-         " * np.ptp(EXERCISE_LIMITS[5])"),
-    ],
-    "task5_test4": [
+    "task5_test3": [
         ("damping of 0.02 mm instead of 0.02 m",
          "bad = dict(bad)\n"
          "bad[dls_name] = track_position_batch(arm, starts, TS, p_bad + relative,"
          " ref.velocities, clamp=False, gain=KP, inverse='dls', damping=2e-5)"),
     ],
-    "task5_test3": [
+    "task5_test2": [
         ("the last step taken for the most singular one",
          "k_s = np.full(len(starts), len(t) - 1)\nq_s = b.q[np.arange(len(starts)), k_s]\n"
          "J_s = arm.position_jacobian(q_s)\n"
