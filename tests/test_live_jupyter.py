@@ -349,12 +349,14 @@ def test_live_scene_and_sliders_in_jupyterlab(tmp_path, browser):
         frames = [_frame_of(page, iframes.nth(k).element_handle()) for k in range(2)]
         for frame in frames:
             _wait_drawn(frame)
-            # the grid lies in the robot's x-y plane: its normal is three.js's "up" (y)
-            normal = frame.evaluate("""() => {
+            # the grid lies in the robot's x-y plane: its normal is three.js's "up" (y); the grid
+            # is scaled to the scene (its normal's length is the scale)
+            normal = np.array(frame.evaluate("""() => {
                 const g = viewer.scene_tree.find(['Grid', '<object>']).object;
                 g.updateMatrixWorld(true);
-                const e = g.matrixWorld.elements; return [e[4], e[5], e[6]]; }""")
-            assert np.allclose(normal, [0, 1, 0], atol=1e-6), f"the grid is not horizontal: normal {normal}"
+                const e = g.matrixWorld.elements; return [e[4], e[5], e[6]]; }"""))
+            assert np.allclose(normal / np.linalg.norm(normal), [0, 1, 0], atol=1e-6), (
+                f"the grid is not horizontal: normal {normal}")
         # until the scene shows the robot (one more render after the last command)
         poll_until(lambda: _pixels(iframes.nth(0).screenshot()), lambda a: _links(a).sum() > 100)
         _shot(iframes.nth(0), shots / "robokin-lab-show.png")

@@ -289,13 +289,43 @@ def test_module_show_one_call(monkeypatch):
     assert {"robot", "ghost", "target", "points", "path", "robot_trace"} <= paths
 
 
-def test_grid_is_only_shifted_not_turned():
+def test_grid_is_only_shifted_and_scaled_not_turned():
     # the viewer's own Rx(π/2) sits on "/Grid/<object>"; a turn on "/Grid" would stand the grid up
     cmds = {c["path"]: c for c in _demo_scene().commands() if c["type"] == "set_transform"}
     grid = np.array(cmds["/Grid"]["matrix"]).reshape(4, 4).T        # MeshCat matrices are column-major
     shift = np.array(cmds["/meshcat"]["matrix"]).reshape(4, 4).T
-    np.testing.assert_allclose(grid[:3, :3], np.eye(3))
-    np.testing.assert_allclose(grid, shift)
+    scale = grid[0, 0]
+    assert 0 < scale < 1
+    np.testing.assert_allclose(grid[:3, :3], scale * np.eye(3))
+    np.testing.assert_allclose(grid[:3, 3], [0.0, 0.0, shift[2, 3]])   # under the scene's centre, at z = 0
+
+
+@pytest.mark.parametrize("build", ["demo", "hanging", "ur10"])
+def test_grid_is_a_floor_in_front_of_the_camera_around_the_robot(build):
+    """The floor grid (MeshCat's 20 m grid, scaled) lies in front of the camera -- a renderer
+    that drops lines crossing the camera's plane drew only the far part of the 20 m grid,
+    above the robot in the picture -- and its square covers what the scene draws."""
+    from robokin.models import baxter_left, ur10
+    from robokin.views import Scene
+    from robokin.views.geometry import scene_points
+
+    if build == "demo":
+        scene = _demo_scene()
+    else:
+        arm = baxter_left(base="shoulder") if build == "hanging" else ur10()
+        scene = Scene()
+        scene.add_chain(arm, arm.limits.mean(axis=1))
+    cmds = scene.commands()
+    transforms = {c["path"]: np.array(c["matrix"]).reshape(4, 4).T for c in cmds if c["type"] == "set_transform"}
+    grid, shift = transforms["/Grid"], transforms["/meshcat"]
+    eye = next(c["value"] for c in cmds if c.get("property") == "position" and c["path"].startswith("/Cameras"))
+    eye = np.array([eye[0], -eye[2], eye[1]])            # three.js (y up) -> the scene's z-up frame
+    half = 10.0 * grid[0, 0]                              # the grid's half side (m)
+    corners = np.array([[x, y, 0.0] for x in (-half, half) for y in (-half, half)]) + grid[:3, 3]
+    view = -eye / np.linalg.norm(eye)                     # the camera looks at the origin
+    assert np.all((corners - eye) @ view > 0.1 * np.linalg.norm(eye)), "a grid corner is behind the camera"
+    drawn = scene_points(scene) + shift[:3, 3]            # what the scene draws, in the viewer's frame
+    assert np.all(np.abs(drawn[:, :2]) <= half) and drawn[:, 2].min() >= grid[2, 3] - 1e-5   # 6 decimals sent
 
 
 def test_animate_without_name_moves_the_robot_not_its_ghost():
@@ -325,7 +355,7 @@ def test_grid_is_a_floor_under_a_hanging_arm():
     floor = grid[2, 3] - shift[2, 3]                                     # grid height in the robot's frame
     lowest = arm.frames(q)[:, 2, 3].min()
     assert lowest < -0.04 and floor == pytest.approx(lowest, abs=1e-6)
-    np.testing.assert_allclose(grid[:3, :3], np.eye(3))
+    np.testing.assert_allclose(grid[:3, :3], grid[0, 0] * np.eye(3))
     standing = {c["path"]: c for c in _demo_scene().commands() if c["type"] == "set_transform"}
     assert np.array(standing["/Grid"]["matrix"]).reshape(4, 4).T[2, 3] == pytest.approx(
         np.array(standing["/meshcat"]["matrix"]).reshape(4, 4).T[2, 3])

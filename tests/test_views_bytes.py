@@ -77,13 +77,13 @@ def _scara():
 
 #: name: (scene builder, sha256[:16] of the packed commands, sha256[:16] of to_html()).
 SCENES = {
-    "ur10 with frames and a target": (_ur10_frames_target, "f284e18581444a06", "8cf796ec48bac01a"),
-    "ur10, ghost, points, path, no grid": (_ur10_ghost_points_path, "f49adf406793472e", "2d652b019bca775f"),
-    "point cloud (800 points)": (_cloud, "5c97b87c26bff92b", "f92a922ec2924ed6"),
-    "ur10 animation, looped": (_ur10_animation, "037603aaac41d9fe", "338ba621b4af7625"),
-    "targets alone": (_targets, "0011b5bb8535f4c5", "f7750f8e936092c4"),
-    "ar601 leg, frames, animation": (_ar601_leg, "f056caa86a7e56ff", "9abb688ef2930536"),
-    "prismatic joint, animation (scale tracks)": (_scara, "b0306a11b572d9d7", "7d258f1ac037b06c"),
+    "ur10 with frames and a target": (_ur10_frames_target, "3b3fce98759c15d9", "3d83c7fc6e954cdb"),
+    "ur10, ghost, points, path, no grid": (_ur10_ghost_points_path, "32b3889180d2890b", "db2bc754ebae8c3c"),
+    "point cloud (800 points)": (_cloud, "bce8275f9b230421", "775a625bece7f796"),
+    "ur10 animation, looped": (_ur10_animation, "324a7714e05bf358", "e6842a042ebee2e4"),
+    "targets alone": (_targets, "66ac7a56517e0fe7", "8380b0065f0581f7"),
+    "ar601 leg, frames, animation": (_ar601_leg, "ccd36afefa7e98e4", "411b75262c125a33"),
+    "prismatic joint, animation (scale tracks)": (_scara, "32f73bc420175732", "b70509ab5f7b6ec0"),
 }
 
 

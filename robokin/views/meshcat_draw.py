@@ -441,6 +441,10 @@ def _trace_commands(scene, anim):
     return [_set_object(path, _line(path, F[:, -1, :3, 3], anim.trace_color))]
 
 
+#: Side of the floor grid, in units of the scene's half diagonal (its cells: 1/40 of it).
+GRID_SPAN = 2.5
+
+
 def scene_commands(scene: SceneRecord) -> list[dict]:
     """All MeshCat commands of a scene, in order: camera, objects, then the animation.
 
@@ -459,16 +463,20 @@ def scene_commands(scene: SceneRecord) -> list[dict]:
     center, radius = scene_bounds(scene, points)
     floor = scene_floor(scene, points)
     shift = _pose(p=-center)
-    d = 1.5 * max(radius, 0.1 * L) / np.tan(np.deg2rad(37.5))
+    size = max(radius, 0.1 * L)
+    d = 1.5 * size / np.tan(np.deg2rad(37.5))
     eye = np.array([0.95, 0.75, 0.6]) / np.linalg.norm([0.95, 0.75, 0.6]) * d   # three.js camera frame: y up
+    # The floor: MeshCat's grid (20 m, 40 cells) scaled to a square of side GRID_SPAN * size
+    # under the scene's centre, at the height of its lowest point. At 20 m it reached behind
+    # the camera, and a renderer that drops the lines crossing the camera's plane (headless
+    # Chromium) drew only its far part, above the robot in the picture: a ceiling.
+    grid = _pose(p=[0.0, 0.0, floor - center[2]], scale=[GRID_SPAN * size / 20.0] * 3)
     cmds = [
         # the orbit target is the world origin: move the scene so that its centre is there
-        # (only a translation for "/Grid": the viewer turns its grid into the x-y plane with
+        # (no rotation for "/Grid": the viewer turns its grid into the x-y plane with
         # Rx(π/2) on the object "/Grid/<object>", which a transform of the node "/Grid"
-        # composes with -- adding that turn here again would stand the grid up vertically.
-        # Headless Chromium with SwiftShader drops grid lines that cross the camera plane,
-        # so there only the far part of the grid is drawn; that is the renderer, not the grid.)
-        set_transform_command(ROOT, shift), set_transform_command("/Grid", _pose(p=[0.0, 0.0, floor] - center)),
+        # composes with -- adding that turn here again would stand the grid up vertically.)
+        set_transform_command(ROOT, shift), set_transform_command("/Grid", grid),
         set_transform_command("/Axes", shift),
         {"type": "set_property", "path": "/Cameras/default/rotated/<object>", "property": "position",
          "value": [_r(v) for v in eye]},

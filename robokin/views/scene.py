@@ -105,7 +105,9 @@ class Scene(SceneRecord):
     height : int, optional
         Height in CSS pixels, in [100, 4000].
     grid : bool, optional
-        Draw the floor grid.
+        Draw the floor grid: a square of 40 × 40 cells, 2.5 times the scene's half
+        diagonal wide, under the scene's centre at the height of its lowest point
+        (z = 0 for a robot standing on the floor).
 
     Attributes
     ----------
