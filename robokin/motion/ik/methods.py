@@ -159,7 +159,8 @@ class PseudoInverse(IKMethod):
         self.gain = check_positive(gain, "gain", scalar=True)
         self.rcond = check_positive(rcond, "rcond", scalar=True)
 
-    def step(self, J, e, q=None, ctx=None):
+    def step(self, J: np.ndarray, e: np.ndarray, q: np.ndarray | None = None, ctx: IKContext | None = None
+             ) -> StepResult:
         dq, _, _ = _svd_pinv_apply(J, e, self.rcond)
         return StepResult(self.gain * dq, 0.0)
 
@@ -186,7 +187,8 @@ class JacobianTranspose(IKMethod):
     def __init__(self, gain: float | None = None) -> None:
         self.gain = None if gain is None else check_positive(gain, "gain", scalar=True)
 
-    def step(self, J, e, q=None, ctx=None):
+    def step(self, J: np.ndarray, e: np.ndarray, q: np.ndarray | None = None, ctx: IKContext | None = None
+             ) -> StepResult:
         g = _matvec(_T(J), e)
         if self.gain is not None:
             return StepResult(self.gain * g, 0.0)
@@ -248,7 +250,8 @@ class WeightedPseudoInverse(IKMethod):
         self.rcond = check_positive(rcond, "rcond", scalar=True)
         self._M = np.linalg.cholesky(np.linalg.inv(W))
 
-    def step(self, J, e, q=None, ctx=None):
+    def step(self, J: np.ndarray, e: np.ndarray, q: np.ndarray | None = None, ctx: IKContext | None = None
+             ) -> StepResult:
         if self._M.shape[0] != J.shape[-1]:
             raise ShapeError(f"weights must have shape ({J.shape[-1]},) or ({J.shape[-1]}, {J.shape[-1]}) "
                              f"for this chain; got shape {self.weights.shape[:1]}")
@@ -320,7 +323,8 @@ class DampedLeastSquares(IKMethod):
         self.bias = check_positive(bias, "bias", allow_zero=adaptive != "error", scalar=True)
         self.gain = check_positive(gain, "gain", scalar=True)
 
-    def step(self, J, e, q=None, ctx=None):
+    def step(self, J: np.ndarray, e: np.ndarray, q: np.ndarray | None = None, ctx: IKContext | None = None
+             ) -> StepResult:
         undamped = self.adaptive is None and self.damping == 0
         if self.adaptive in (None, "error") and not undamped:  # one m x m solve
             if self.adaptive is None:
@@ -418,7 +422,8 @@ class NullSpace(IKMethod):
             return float(len(lower) * np.min(rng) ** 2 * 0.5)
         return 1.0
 
-    def step(self, J, e, q=None, ctx=None):
+    def step(self, J: np.ndarray, e: np.ndarray, q: np.ndarray | None = None, ctx: IKContext | None = None
+             ) -> StepResult:
         if q is None:
             raise TypeError("the null-space step needs the configuration q (the objective's gradient is taken there)")
         U, s, Vt = np.linalg.svd(J, full_matrices=False)
@@ -473,7 +478,8 @@ class LevenbergMarquardt(IKMethod):
             self.error_weights = as_float_array(error_weights, "error_weights", (6,))
             check_positive(self.error_weights, "error_weights")
 
-    def step(self, J, e, q=None, ctx=None):
+    def step(self, J: np.ndarray, e: np.ndarray, q: np.ndarray | None = None, ctx: IKContext | None = None
+             ) -> StepResult:
         n = J.shape[-1]
         if J.ndim == 2 and self.error_weights is None:  # single configuration: lean path
             lam2 = 0.5 * self.error_damping * float(e.dot(e)) + self.bias
