@@ -307,7 +307,7 @@ class CartesianController:
             e = np.zeros(6)
             e[:3] = g - T[:3, 3]
             return e
-        return pose_error_unchecked(T, g)
+        return np.array(pose_error_unchecked(T, g[:3, :3], g[:3, 3]))
 
     def __call__(self, t: float, q: Any) -> ControlOutput:
         """Joint-velocity command at time ``t`` (s) and configuration ``q`` (n,).

@@ -21,13 +21,13 @@ from typing import Any
 import numpy as np
 
 from robokin.errors import ShapeError
-from robokin.motion._kernels import rotation_log_fast, rotation_log_single
 from robokin.transforms import (
     quaternion_conjugate,
     quaternion_from_rotation,
     quaternion_multiply,
     rpy_from_rotation,
 )
+from robokin.transforms.angle_axis import rotation_log_unchecked
 from robokin.validation import check_transform
 
 __all__ = ["pose_error", "pose_error_unchecked", "REPRESENTATIONS"]
@@ -54,8 +54,8 @@ def pose_error(T_current: Any, T_goal: Any, representation: str = "angle_axis") 
             with :math:`\theta = \operatorname{atan2}(\tfrac12\|\operatorname{vee}(R_e
             - R_e^T)\|, \tfrac12(\operatorname{tr}R_e - 1))` for
             :math:`R_e = R_{goal}R^T`, which keeps its digits for any size of
-            error, also next to :math:`\pi` (it agrees with
-            :func:`robokin.transforms.rotation_log` to 1e-12 rad).  At exactly
+            error, also next to :math:`\pi` (it is
+            :func:`robokin.transforms.rotation_log`, unvalidated).  At exactly
             :math:`\theta = \pi` the sign of the axis is undefined (both
             :math:`\pm\pi h` are correct): the one returned has its component of
             largest magnitude positive (the first of equally large ones).
@@ -109,7 +109,8 @@ def pose_error(T_current: Any, T_goal: Any, representation: str = "angle_axis") 
             f"T_current and T_goal must broadcast; got shapes {T.shape} and {G.shape}"
         ) from None
     if representation == "angle_axis":
-        return pose_error_unchecked(T, G)
+        e = pose_error_unchecked(T, G[..., :3, :3], G[..., :3, 3])
+        return np.array(e) if isinstance(e, tuple) else e
     e = np.empty(shape[:-2] + (6,))
     e[..., :3] = G[..., :3, 3] - T[..., :3, 3]
     R, Rg = T[..., :3, :3], G[..., :3, :3]
@@ -125,19 +126,22 @@ def pose_error(T_current: Any, T_goal: Any, representation: str = "angle_axis") 
     return e
 
 
-def pose_error_unchecked(T: np.ndarray, T_goal: np.ndarray) -> np.ndarray:
-    r"""The angle–axis :func:`pose_error` without validation, for the solvers' loops.
+def pose_error_unchecked(T: np.ndarray, R_goal: np.ndarray, p_goal: Any) -> Any:
+    r"""The angle–axis :func:`pose_error` without validation: the one implementation of it.
 
-    :math:`e = [p_{goal} - p;\ \log(R_{goal} R^T)]` in the base frame. One pair of (4, 4)
-    poses gives (6,), computed in plain floats (every IK iteration calls it); stacks
-    ``(..., 4, 4)`` broadcast and give ``(..., 6)``. The arguments must be valid float
-    homogeneous transforms.
+    :math:`e = [p_{goal} - p;\ \log(R_{goal} R^T)]` in the base frame, for poses ``T``
+    (..., 4, 4) and a goal given by its rotation ``R_goal`` (..., 3, 3) and position ``p_goal``
+    (..., 3) (a goal pose ``G`` is ``G[..., :3, :3], G[..., :3, 3]``; the IK loop keeps them
+    apart, contiguous, because a product with a slice of a 4×4 costs it a microsecond per
+    iteration). One pose and one goal give a tuple of six floats, computed in plain floats
+    (every IK iteration calls it, and numpy's per-call cost would dominate; ``p_goal`` may then
+    be a list of three floats); stacks broadcast and give an array (..., 6).
     """
-    if T.ndim == 2 and T_goal.ndim == 2:
-        wx, wy, wz = rotation_log_single(T_goal[:3, :3] @ T[:3, :3].T)
-        p, g = T[:3, 3].tolist(), T_goal[:3, 3].tolist()
-        return np.array((g[0] - p[0], g[1] - p[1], g[2] - p[2], wx, wy, wz))
-    e = np.empty(np.broadcast_shapes(T.shape, T_goal.shape)[:-2] + (6,))
-    e[..., :3] = T_goal[..., :3, 3] - T[..., :3, 3]
-    e[..., 3:] = rotation_log_fast(T_goal[..., :3, :3] @ np.swapaxes(T[..., :3, :3], -1, -2))
+    if T.ndim == 2 and R_goal.ndim == 2:
+        wx, wy, wz = rotation_log_unchecked(R_goal.dot(T[:3, :3].T))
+        p, g = T[:3, 3].tolist(), (p_goal if isinstance(p_goal, list) else p_goal.tolist())
+        return g[0] - p[0], g[1] - p[1], g[2] - p[2], wx, wy, wz
+    e = np.empty(np.broadcast_shapes(T.shape[:-2], R_goal.shape[:-2], np.shape(p_goal)[:-1]) + (6,))
+    e[..., :3] = p_goal - T[..., :3, 3]
+    e[..., 3:] = rotation_log_unchecked(R_goal @ np.swapaxes(T[..., :3, :3], -1, -2))
     return e

@@ -34,8 +34,11 @@ __all__ = [
     "angle_axis_from_rotation",
 ]
 
-_TAYLOR_TOL = 1e-3  # below this angle the Taylor series are used
-_NEAR_PI_COS = -0.9  # below this cos(theta) rotation_log uses the symmetric part
+_TAYLOR_TOL = 1e-3  # below this angle rotation_exp uses the Taylor series
+#: Below this angle (rad) the rotation log's factor theta / (2 sin theta) is its series 1/2 + theta^2/12.
+SMALL_ANGLE = 1e-4
+#: Below this cos(theta) (theta above 2.69 rad) the rotation log takes the axis from the symmetric part of R.
+NEAR_PI_COS = -0.9
 DEFAULT_AXIS = np.array([1.0, 0.0, 0.0])
 
 
@@ -152,74 +155,56 @@ def _exp_single(x: float, y: float, z: float) -> np.ndarray:
     )
 
 
-def _log(R: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Return (w, theta, h) for a (..., 3, 3) stack; h = default axis at theta = 0."""
-    v = np.stack([R[..., 2, 1] - R[..., 1, 2], R[..., 0, 2] - R[..., 2, 0],
-                  R[..., 1, 0] - R[..., 0, 1]], axis=-1)  # = 2 sin(theta) h
-    s2 = np.linalg.norm(v, axis=-1)  # 2 sin(theta)
-    c2 = np.trace(R, axis1=-2, axis2=-1) - 1.0  # 2 cos(theta)
-    theta = np.arctan2(s2, c2)
-    cos_t = np.clip(0.5 * c2, -1.0, 1.0)
+def rotation_log_unchecked(R: np.ndarray) -> Any:
+    r""":func:`rotation_log` without validation: the one implementation of the rotation log.
 
-    # generic / small angle: h = v / (2 sin theta)
-    pos = s2 > 0.0
-    h_gen = np.where(pos[..., None], v / np.where(pos, s2, 1.0)[..., None], DEFAULT_AXIS)
-
-    # near pi: (R + R^T)/2 - cos(theta) I = (1 - cos(theta)) h h^T
-    near_pi = cos_t < _NEAR_PI_COS
+    ``R`` must be a float rotation matrix (3, 3), or a stack (..., 3, 3). One matrix gives a
+    tuple of three floats, computed in plain Python floats (the IK loop calls this every
+    iteration, and numpy's per-call cost would dominate); a stack gives an array (..., 3).
+    Both follow the same branches with the same thresholds (see :func:`rotation_log`):
+    :data:`SMALL_ANGLE` and :data:`NEAR_PI_COS`.
+    """
+    if R.ndim == 2:
+        (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = R.tolist()
+        vx, vy, vz = r21 - r12, r02 - r20, r10 - r01  # vee(R - R^T) = 2 sin(theta) h
+        two_sin = math.sqrt(vx * vx + vy * vy + vz * vz)
+        two_cos = r00 + r11 + r22 - 1.0
+        theta = math.atan2(two_sin, two_cos)
+        if theta < SMALL_ANGLE:
+            f = 0.5 + theta * theta / 12.0
+            return f * vx, f * vy, f * vz
+        cos_theta = 0.5 * two_cos
+        if cos_theta >= NEAR_PI_COS:
+            f = theta / two_sin
+            return f * vx, f * vy, f * vz
+        # (R + R^T)/2 - cos(theta) I = (1 - cos(theta)) h h^T: its column of largest diagonal is along h
+        d0, d1, d2 = r00 - cos_theta, r11 - cos_theta, r22 - cos_theta
+        if d0 >= d1 and d0 >= d2:
+            cx, cy, cz = d0, 0.5 * (r10 + r01), 0.5 * (r20 + r02)
+        elif d1 >= d2:
+            cx, cy, cz = 0.5 * (r01 + r10), d1, 0.5 * (r21 + r12)
+        else:
+            cx, cy, cz = 0.5 * (r02 + r20), 0.5 * (r12 + r21), d2
+        sign = -1.0 if cx * vx + cy * vy + cz * vz < 0.0 else 1.0  # vee = 2 sin(theta) h, sin(theta) >= 0
+        f = sign * theta / math.sqrt(cx * cx + cy * cy + cz * cz)
+        return f * cx, f * cy, f * cz
+    v = np.stack((R[..., 2, 1] - R[..., 1, 2], R[..., 0, 2] - R[..., 2, 0], R[..., 1, 0] - R[..., 0, 1]), axis=-1)
+    two_sin = np.sqrt(np.einsum("...i,...i->...", v, v))
+    two_cos = R[..., 0, 0] + R[..., 1, 1] + R[..., 2, 2] - 1.0
+    theta = np.arctan2(two_sin, two_cos)
+    small = theta < SMALL_ANGLE
+    near_pi = ~small & (0.5 * two_cos < NEAR_PI_COS)
+    factor = np.where(small, 0.5 + theta * theta / 12.0, theta / np.where(small | near_pi, 1.0, two_sin))
+    w = factor[..., None] * v
     if np.any(near_pi):
-        Bm = 0.5 * (R + np.swapaxes(R, -1, -2)) - cos_t[..., None, None] * np.eye(3)
-        M = Bm / np.where(near_pi, 1.0 - cos_t, 1.0)[..., None, None]
-        diag = np.diagonal(M, axis1=-2, axis2=-1)
-        k = np.argmax(diag, axis=-1)
-        col = np.take_along_axis(M, k[..., None, None], axis=-1)[..., 0]  # M[..., :, k]
-        ncol = np.linalg.norm(col, axis=-1, keepdims=True)
-        h_pi = col / np.where(ncol > 0.0, ncol, 1.0)  # ncol = 0 only outside near_pi
-        sign = np.where(np.einsum("...i,...i->...", h_pi, v) < 0.0, -1.0, 1.0)
-        h_pi = sign[..., None] * h_pi
-        h = np.where(near_pi[..., None], h_pi, h_gen)
-    else:
-        h = h_gen
-
-    # w = theta h; for small theta use w = v * theta / (2 sin theta) with a series
-    th2 = theta * theta
-    small = theta < _TAYLOR_TOL
-    w_small = 0.5 * (1.0 + th2 / 6.0 + 7.0 * th2 * th2 / 360.0)[..., None] * v
-    w = np.where(small[..., None], w_small, theta[..., None] * h)
-    return w, theta, h
-
-
-def _log_single(R: np.ndarray) -> tuple[np.ndarray, float, np.ndarray]:
-    """Scalar fast path of _log for one (3, 3) matrix (same branches)."""
-    (r11, r12, r13), (r21, r22, r23), (r31, r32, r33) = R.tolist()
-    vx, vy, vz = r32 - r23, r13 - r31, r21 - r12
-    s2 = math.sqrt(vx * vx + vy * vy + vz * vz)
-    c2 = r11 + r22 + r33 - 1.0
-    theta = math.atan2(s2, c2)
-    cos_t = min(1.0, max(-1.0, 0.5 * c2))
-    if cos_t < _NEAR_PI_COS:
-        k1 = 1.0 - cos_t
-        M = [
-            [(r11 - cos_t) / k1, 0.5 * (r12 + r21) / k1, 0.5 * (r13 + r31) / k1],
-            [0.5 * (r12 + r21) / k1, (r22 - cos_t) / k1, 0.5 * (r23 + r32) / k1],
-            [0.5 * (r13 + r31) / k1, 0.5 * (r23 + r32) / k1, (r33 - cos_t) / k1],
-        ]
-        k = max(range(3), key=lambda i: M[i][i])
-        col = [M[0][k], M[1][k], M[2][k]]
-        n = math.sqrt(col[0] ** 2 + col[1] ** 2 + col[2] ** 2)
-        sign = -1.0 if (col[0] * vx + col[1] * vy + col[2] * vz) < 0.0 else 1.0
-        h = [sign * c / n for c in col]
-    elif s2 > 0.0:
-        h = [vx / s2, vy / s2, vz / s2]
-    else:
-        h = DEFAULT_AXIS.tolist()
-    if theta < _TAYLOR_TOL:
-        th2 = theta * theta
-        f = 0.5 * (1.0 + th2 / 6.0 + 7.0 * th2 * th2 / 360.0)
-        w = [f * vx, f * vy, f * vz]
-    else:
-        w = [theta * c for c in h]
-    return np.array(w), theta, np.array(h)
+        cosines = 0.5 * two_cos[near_pi]
+        Rn = R[near_pi]
+        sym = 0.5 * (Rn + np.swapaxes(Rn, -1, -2)) - cosines[:, None, None] * np.eye(3)
+        k = np.argmax(np.einsum("kii->ki", sym), axis=-1)
+        column = sym[np.arange(k.size), :, k]
+        signs = np.where(np.einsum("ki,ki->k", column, v[near_pi]) < 0.0, -1.0, 1.0)
+        w[near_pi] = (signs * theta[near_pi] / np.linalg.norm(column, axis=-1))[:, None] * column
+    return w
 
 
 def _rotation_input(R: Any, check: bool) -> np.ndarray:
@@ -241,9 +226,10 @@ def rotation_log(R: Any, check: bool = True) -> np.ndarray:
 
     Robust everywhere:
 
-    - :math:`\theta \to 0`: the factor :math:`\theta / (2\sin\theta)` is
-      replaced by its Taylor series :math:`\tfrac12(1 + \theta^2/6 + 7\theta^4/360)`.
-    - :math:`\theta \to \pi` (:math:`\cos\theta < -0.9`): no division by
+    - :math:`\theta \to 0` (below :data:`SMALL_ANGLE`, 1e-4 rad): the factor
+      :math:`\theta / (2\sin\theta)` is replaced by its Taylor series
+      :math:`\tfrac12 + \theta^2/12` (the next term, :math:`7\theta^4/720`, is below 1e-18).
+    - :math:`\theta \to \pi` (:math:`\cos\theta <` :data:`NEAR_PI_COS`, -0.9): no division by
       :math:`\sin\theta`; the axis comes from the symmetric part
       :math:`\tfrac12(R + R^\mathsf{T}) - \cos\theta\, I = (1 - \cos\theta) h h^\mathsf{T}`
       using the column of its largest diagonal entry, with the sign fixed by
@@ -272,7 +258,7 @@ def rotation_log(R: Any, check: bool = True) -> np.ndarray:
     if is_symbolic(R):
         raise TypeError("rotation_log needs a numeric R; got a symbolic matrix")
     a = _rotation_input(R, check)
-    return _log_single(a)[0] if a.ndim == 2 else _log(a)[0]
+    return np.array(rotation_log_unchecked(a)) if a.ndim == 2 else rotation_log_unchecked(a)
 
 
 def rotation_from_angle_axis(axis: Any, angle: Any) -> Any:
@@ -394,7 +380,11 @@ def angle_axis_from_rotation(R: Any, check: bool = True) -> tuple[np.ndarray, An
         raise TypeError("angle_axis_from_rotation needs a numeric R; got a symbolic matrix")
     a = _rotation_input(R, check)
     if a.ndim == 2:
-        _, theta, h = _log_single(a)
-        return h, theta
-    _, thetas, hs = _log(a)
+        w = rotation_log_unchecked(a)
+        theta = min(math.hypot(*w), math.pi)  # |w| = theta to rounding
+        return (np.array(w) / theta if theta > 0.0 else DEFAULT_AXIS.copy()), theta
+    ws = rotation_log_unchecked(a)
+    thetas = np.minimum(np.linalg.norm(ws, axis=-1), np.pi)
+    positive = thetas > 0.0
+    hs = np.where(positive[..., None], ws / np.where(positive, thetas, 1.0)[..., None], DEFAULT_AXIS)
     return hs, thetas

@@ -131,7 +131,8 @@ def _errors(settings: IKSettings, rows: AttemptRows, T_goal: np.ndarray):
     """Pose errors (R, 6), their masked position and orientation norms, and the flange poses."""
     ctx = settings.ctx
     T_flange, T = ctx.pose(rows.q)
-    e = pose_error_unchecked(T, T_goal[rows.target])
+    goal = T_goal[rows.target]
+    e = pose_error_unchecked(T, goal[:, :3, :3], goal[:, :3, 3])
     if settings.is_position:
         e[:, 3:] = 0.0
     mask = ctx.mask

@@ -36,7 +36,7 @@ def _task(ctx: IKContext, q: np.ndarray, T_goal: np.ndarray, is_position: bool
           ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Flange poses (N, 4, 4), pose errors (N, 6) and their task rows (N, m) at ``q`` (N, n)."""
     T_flange, T = ctx.pose(q)
-    error = pose_error_unchecked(T, T_goal)
+    error = pose_error_unchecked(T, T_goal[:, :3, :3], T_goal[:, :3, 3])
     if is_position:
         error[:, 3:] = 0.0
     task_error = error if ctx.full_mask else error[:, ctx.rows]

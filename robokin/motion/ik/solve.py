@@ -40,13 +40,15 @@ class Goal:
         For the task mask and whether the target is a position.
     """
 
-    __slots__ = ("T", "position", "is_position", "mask_position", "mask_orientation")
+    __slots__ = ("T", "R", "position", "is_position", "full_mask", "mask_position", "mask_orientation")
 
     def __init__(self, T_goal: np.ndarray, settings: IKSettings) -> None:
         self.T = T_goal
+        self.R = np.ascontiguousarray(T_goal[:3, :3])
         self.position = T_goal[:3, 3].tolist()
         self.is_position = settings.is_position
         mask = settings.ctx.mask_list
+        self.full_mask = settings.ctx.full_mask
         self.mask_position, self.mask_orientation = mask[:3], mask[3:]
 
     def error(self, T: np.ndarray) -> tuple[np.ndarray, float, float]:
@@ -55,14 +57,16 @@ class Goal:
             p, g = T[:3, 3].tolist(), self.position
             ex, ey, ez = g[0] - p[0], g[1] - p[1], g[2] - p[2]
             rx = ry = rz = 0.0
-            e = np.array((ex, ey, ez, rx, ry, rz))
         else:
-            e = pose_error_unchecked(T, self.T)
-            ex, ey, ez, rx, ry, rz = e.tolist()
-        mp, mo = self.mask_position, self.mask_orientation
-        position_error = math.sqrt(mp[0] * ex * ex + mp[1] * ey * ey + mp[2] * ez * ez)
-        orientation_error = math.sqrt(mo[0] * rx * rx + mo[1] * ry * ry + mo[2] * rz * rz)
-        return e, position_error, orientation_error
+            ex, ey, ez, rx, ry, rz = pose_error_unchecked(T, self.R, self.position)
+        if self.full_mask:  # the same bits as the masked sums below, whose factors are all 1.0
+            position_error = math.sqrt(ex * ex + ey * ey + ez * ez)
+            orientation_error = math.sqrt(rx * rx + ry * ry + rz * rz)
+        else:
+            mp, mo = self.mask_position, self.mask_orientation
+            position_error = math.sqrt(mp[0] * ex * ex + mp[1] * ey * ey + mp[2] * ez * ez)
+            orientation_error = math.sqrt(mo[0] * rx * rx + mo[1] * ry * ry + mo[2] * rz * rz)
+        return np.array((ex, ey, ez, rx, ry, rz)), position_error, orientation_error
 
 
 class HistoryRecorder:
