@@ -13,7 +13,7 @@ scalars) and its outcome as values (q, success, reason).
   last bits), so the outcomes are: each case that is not *sensitive* must keep its success
   and reason, and its q within ``Q_TOLERANCE`` (1e-6 rad or m, the solvers' default
   tolerance; last-bit changes move it by 2e-8 at most in 99 % of the solved cases), with at
-  most ``VALUE_BUDGET`` (1 %) of them allowed to differ. Sensitive cases (17 of 1,000, whose
+  most ``VALUE_BUDGET`` (1 %) of them allowed to differ. Sensitive cases (under 2 % of them, whose
   outcome changed when the recording ran them again with other kernels) are left out of it.
 
 A deliberate change of arithmetic regenerates the file (``python tests/ik_identity_cases.py``)
