@@ -192,17 +192,17 @@ def _tree(path: Path) -> tuple[str, tuple[str, ...], int] | None:
     gripped: dict[str, int] = {}   # a gripper's own leaf -> movable joints above it
     carriers: set[str] = set()     # links that carry a gripper
     for leaf in leaves:
-        path = [leaf]
-        while path[-1] in parent and len(path) <= len(links):
-            path.append(parent[path[-1]][0])
+        up_to_root = [leaf]   # the leaf, its parent link, ..., the root
+        while up_to_root[-1] in parent and len(up_to_root) <= len(links):
+            up_to_root.append(parent[up_to_root[-1]][0])
         # the first movable joint from the base that is named for a gripper: its parent link carries it
-        first = next((k for k in range(len(path) - 2, -1, -1)
-                      if parent[path[k]][1] and named(path[k], joint_only=True)), None)
+        first = next((k for k in range(len(up_to_root) - 2, -1, -1)
+                      if parent[up_to_root[k]][1] and named(up_to_root[k], joint_only=True)), None)
         if first is None:
             ends.setdefault(leaf, depth.get(leaf, 0))
         else:
-            ends.setdefault(path[first + 1], depth.get(path[first + 1], 0))
-            carriers.add(path[first + 1])
+            ends.setdefault(up_to_root[first + 1], depth.get(up_to_root[first + 1], 0))
+            carriers.add(up_to_root[first + 1])
             gripped[leaf] = depth.get(leaf, 0)
     # deepest first; at equal depth a leaf of the arm (a tool frame), then a link carrying a
     # gripper, then a leaf named for a finger or gripper fixed to it
