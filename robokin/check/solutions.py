@@ -193,7 +193,7 @@ def solution_set(solutions: Any, reference: Any, name: str = "solutions", *, ato
 class SolutionSetCheck(Check):
     r"""A check of a function that returns *every* solution: each once, in any order.
 
-    Use it, registered with :func:`robokin.check._registry.exercise`, for a task whose
+    Use it, registered with ``exercise(chapter, name, check)``, for a task whose
     answer is a function with several right results (all inverse-kinematics solutions of
     a goal), or a function of angles that are right up to multiples of 2π (a reference
     of one row). At each sampled input ``x`` the answer's rows are compared with
