@@ -150,8 +150,8 @@ test-chapter: $(STAMP)
 	CHECKS=$$($(BIN)/python -c 'import json, sys; nb = json.load(open(sys.argv[1])); \
 	  print(" ".join(sorted({"test_check_" + check.split(".")[0] for cell in nb["cells"] \
 	  for check, _ in cell.get("metadata", {}).get("robokin", {}).get("explain", [])})))' "notebooks/$(CH).ipynb") && \
-	FILES=$$(for name in $$CHECKS; do test -f "tests/$$name.py" && echo "tests/$$name.py"; done) && \
-	KEYS=$$(for name in $$CHECKS; do test -f "tests/$$name.py" && printf ' or %s' "$$name"; done) && \
+	FILES=$$(for name in $$CHECKS; do if test -f "tests/$$name.py"; then echo "tests/$$name.py"; fi; done) && \
+	KEYS=$$(for name in $$CHECKS; do if test -f "tests/$$name.py"; then printf ' or %s' "$$name"; fi; done) && \
 	ROBOKIN_NBGRADER_NOTEBOOKS="$$ALONE/notebooks" $(BIN)/python -m pytest $(PYTEST_ARGS) "notebooks/$(CH).ipynb" \
 	  tests/test_notebook_conventions.py $$FILES tests/test_grading_mutations.py tests/test_student_edition_contracts.py \
 	  tests/test_nbgrader.py tests/test_grading_trust.py tests/test_grading_tamper.py -k "$(CH)$$KEYS"; \
