@@ -82,6 +82,47 @@ def _free_symbols(x: Any) -> set:
     return set(fs) if fs else set()
 
 
+def _default_limits(joint: Element) -> tuple[float, float]:
+    """A joint's own limits, else (-π, π) for a revolute and (-1, 1) m for a prismatic joint."""
+    if joint.limits is not None:
+        return joint.limits
+    return _DEFAULT_REVOLUTE_LIMITS if joint.kind == "R" else _DEFAULT_PRISMATIC_LIMITS
+
+
+def _tool_matrix(tool: Any) -> Any:
+    """The checked tool transform: identity, a float (4, 4) array or a 4×4 sympy.Matrix."""
+    if tool is None:
+        return np.eye(4)
+    if is_symbolic(tool):
+        import sympy as sp
+
+        matrix = sp.Matrix(tool)
+        if matrix.shape != (4, 4):
+            raise ShapeError(f"tool must have shape (4, 4); got shape {matrix.shape}")
+        return matrix
+    t = check_transform(tool, name="tool")
+    if t.shape != (4, 4):
+        raise ShapeError(f"tool must have shape (4, 4); got shape {t.shape}")
+    return np.array(t, dtype=float)
+
+
+def _frame_names(frame_names: Any, n: int) -> tuple[str, ...]:
+    """``n + 2`` frame names (strings; integers are accepted and converted)."""
+    if isinstance(frame_names, str) or not hasattr(frame_names, "__iter__"):
+        raise TypeError(f"frame_names must be a sequence of {n + 2} strings; got {type(frame_names).__name__} "
+                        f"{frame_names!r}")
+    frame_names = list(frame_names)
+    bad = [f for f in frame_names if not isinstance(f, (str, int, np.integer))]
+    if bad:
+        raise TypeError(f"frame_names must contain strings; got {type(bad[0]).__name__} {bad[0]!r}")
+    if len(frame_names) != n + 2:
+        raise ShapeError(
+            f"frame_names must have {n + 2} entries (base, one per joint, end-effector); "
+            f"got {len(frame_names)}"
+        )
+    return tuple(str(f) for f in frame_names)
+
+
 class SerialChain:
     r"""A serial kinematic chain built from elementary transforms.
 
@@ -174,50 +215,12 @@ class SerialChain:
         self._n = len(joints)
         self.name = str(name)
         n = self._n
-        # limits
         if limits is None:
-            rows = []
-            for el in joints:
-                if el.limits is not None:
-                    rows.append(el.limits)
-                elif el.kind == "R":
-                    rows.append(_DEFAULT_REVOLUTE_LIMITS)
-                else:
-                    rows.append(_DEFAULT_PRISMATIC_LIMITS)
-            limits = rows
+            limits = [_default_limits(el) for el in joints]
         self._limits = check_limits(limits, n, "limits").copy()
         self._limits.setflags(write=False)
-        # tool
-        if tool is None:
-            self._tool = np.eye(4)
-        elif is_symbolic(tool):
-            import sympy as sp
-
-            self._tool = sp.Matrix(tool)
-            if self._tool.shape != (4, 4):
-                raise ShapeError(f"tool must have shape (4, 4); got shape {self._tool.shape}")
-        else:
-            t = check_transform(tool, name="tool")
-            if t.shape != (4, 4):
-                raise ShapeError(f"tool must have shape (4, 4); got shape {t.shape}")
-            self._tool = np.array(t, dtype=float)
-        # frame names
-        if frame_names is None:
-            frame_names = ["base", *names, "ee"]
-        if isinstance(frame_names, str) or not hasattr(frame_names, "__iter__"):
-            raise TypeError(f"frame_names must be a sequence of {n + 2} strings; got {type(frame_names).__name__} "
-                            f"{frame_names!r}")
-        frame_names = list(frame_names)
-        bad = [f for f in frame_names if not isinstance(f, (str, int, np.integer))]
-        if bad:
-            raise TypeError(f"frame_names must contain strings; got {type(bad[0]).__name__} {bad[0]!r}")
-        frame_names = [str(f) for f in frame_names]
-        if len(frame_names) != n + 2:
-            raise ShapeError(
-                f"frame_names must have {n + 2} entries (base, one per joint, end-effector); "
-                f"got {len(frame_names)}"
-            )
-        self._frame_names = tuple(frame_names)
+        self._tool = _tool_matrix(tool)
+        self._frame_names = _frame_names(["base", *names, "ee"] if frame_names is None else frame_names, n)
         axes = np.zeros((n, 3))
         for i, el in enumerate(joints):
             axes[i, el.axis] = float(el.sign)

@@ -116,6 +116,44 @@ class SimulationLog:
         return np.linalg.norm(self.error[:, 3:], axis=1)
 
 
+def _joint_limits(chain: Chain, n: int, q0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``(lower, upper)`` of the chain (infinite if it has none); ``q0`` must lie within them."""
+    lim = getattr(chain, "limits", None)
+    lim = np.column_stack((np.full(n, -np.inf), np.full(n, np.inf))) if lim is None else \
+        check_limits(lim, n, "chain.limits")
+    lower, upper = lim[:, 0], lim[:, 1]
+    if np.any(q0 < lower - 1e-12) or np.any(q0 > upper + 1e-12):
+        i = int(np.argmax((q0 < lower - 1e-12) | (q0 > upper + 1e-12)))
+        raise DomainError(f"q0 must lie within the joint limits; q0[{i}] = {q0[i]:g} is outside "
+                          f"[{lower[i]:g}, {upper[i]:g}]")
+    return lower, upper
+
+
+def _speed_limits(qdot_limits: Any, n: int) -> np.ndarray | None:
+    """The joint speed limits (n,) (rad/s or m/s), or None for no limit."""
+    if qdot_limits is None:
+        return None
+    v = as_float_array(qdot_limits, "qdot_limits")
+    if v.ndim == 0:
+        v = np.full(n, float(v))
+    elif v.shape != (n,):
+        raise ShapeError(f"qdot_limits must be a scalar or have shape ({n},); got shape {v.shape}")
+    check_positive(v, "qdot_limits")
+    return v
+
+
+def _tolerances(tol: Any) -> tuple[float | None, float | None]:
+    """``(position, orientation)`` tolerances of the stop test, or ``(None, None)``."""
+    if tol is None:
+        return None, None
+    if np.ndim(tol) == 0:
+        value = check_positive(tol, "tol", scalar=True)
+        return value, value
+    tp = as_float_array(tol, "tol", (2,))
+    check_positive(tp, "tol")
+    return float(tp[0]), float(tp[1])
+
+
 def simulate(
     chain: Chain,
     controller: Any,
@@ -207,31 +245,9 @@ def simulate(
                           f"ts = {ts:g} s ({ratio:.3g} steps)")
     if singular_threshold is not None:
         singular_threshold = check_positive(singular_threshold, "singular_threshold", allow_zero=True, scalar=True)
-    lim = getattr(chain, "limits", None)
-    lim = np.column_stack((np.full(n, -np.inf), np.full(n, np.inf))) if lim is None else \
-        check_limits(lim, n, "chain.limits")
-    lower, upper = lim[:, 0], lim[:, 1]
-    if np.any(q < lower - 1e-12) or np.any(q > upper + 1e-12):
-        i = int(np.argmax((q < lower - 1e-12) | (q > upper + 1e-12)))
-        raise DomainError(f"q0 must lie within the joint limits; q0[{i}] = {q[i]:g} is outside "
-                          f"[{lower[i]:g}, {upper[i]:g}]")
-    vmax = None
-    if qdot_limits is not None:
-        v = as_float_array(qdot_limits, "qdot_limits")
-        if v.ndim == 0:
-            v = np.full(n, float(v))
-        elif v.shape != (n,):
-            raise ShapeError(f"qdot_limits must be a scalar or have shape ({n},); got shape {v.shape}")
-        check_positive(v, "qdot_limits")
-        vmax = v
-    if tol is None:
-        tol_p = tol_o = None
-    elif np.ndim(tol) == 0:
-        tol_p = tol_o = check_positive(tol, "tol", scalar=True)
-    else:
-        tp = as_float_array(tol, "tol", (2,))
-        check_positive(tp, "tol")
-        tol_p, tol_o = float(tp[0]), float(tp[1])
+    lower, upper = _joint_limits(chain, n, q)
+    vmax = _speed_limits(qdot_limits, n)
+    tol_p, tol_o = _tolerances(tol)
     can_stop = tol_p is not None and bool(getattr(controller, "static", False))
 
     steps = int(np.floor(t_end / ts + 1e-9))
