@@ -248,6 +248,30 @@ def _history_values(kind, values):
     return v
 
 
+def _joint_units(joint_types: Sequence[str] | None, degrees: bool) -> tuple[str, str]:
+    """Units of the joint position and velocity axes."""
+    kinds = set(joint_types or [])
+    if kinds == {"prismatic"}:
+        return "m", "m/s"
+    if "prismatic" in kinds:
+        return ("deg | m" if degrees else "rad | m"), ("deg/s | m/s" if degrees else "rad/s | m/s")
+    return ("deg", "deg/s") if degrees else ("rad", "rad/s")
+
+
+def _mark_singular(axes: Any, x: np.ndarray, singular: Any, length: int) -> None:
+    """A red band on every panel over the samples flagged near a singularity."""
+    flags = np.asarray(singular, dtype=bool)
+    if flags.shape != (length,):
+        raise ShapeError(f"singular must have shape ({length},) (one flag per sample); got shape {flags.shape}")
+    spans = _singular_spans(x, flags)
+    for ax in axes:
+        for i, (a, b) in enumerate(spans):
+            ax.axvspan(a, b, color=SINGULAR_COLOR, alpha=0.15, lw=0,
+                       label="near a singularity" if (i == 0 and ax is axes[0]) else None)
+    if spans:
+        axes[0].legend(fontsize=8, loc="best")
+
+
 def plot_history(record: Any = None, *, t: Any = None, q: Any = None, dq: Any = None, error: Any = None,
                  singular_values: Any = None, dt: float | None = None, joint_names: Sequence[str] | None = None,
                  joint_types: Sequence[str] | None = None, log_error: bool = True, degrees: bool = False,
@@ -349,13 +373,7 @@ def plot_history(record: Any = None, *, t: Any = None, q: Any = None, dq: Any = 
         if x.shape != (length,):
             raise ShapeError(f"t must have shape ({length},) (one time per sample of {panels[0][0]}); got shape "
                              f"{x.shape}")
-    kinds = set(joint_types or [])
-    if kinds == {"prismatic"}:
-        qunit, dqunit = "m", "m/s"
-    elif "prismatic" in kinds:
-        qunit, dqunit = ("deg | m" if degrees else "rad | m"), ("deg/s | m/s" if degrees else "rad/s | m/s")
-    else:
-        qunit, dqunit = ("deg", "deg/s") if degrees else ("rad", "rad/s")
+    qunit, dqunit = _joint_units(joint_types, degrees)
 
     def conv(v):
         v = np.asarray(v, dtype=float)
@@ -392,16 +410,7 @@ def plot_history(record: Any = None, *, t: Any = None, q: Any = None, dq: Any = 
             _series(ax, x, v, [f"σ{k + 1}" for k in range(v.shape[1] if v.ndim == 2 else 1)],
                     "singular values σ of J", log=False)
     if singular is not None:
-        flags = np.asarray(singular, dtype=bool)
-        if flags.shape != (length,):
-            raise ShapeError(f"singular must have shape ({length},) (one flag per sample); got shape {flags.shape}")
-        spans = _singular_spans(x, flags)
-        for ax in axes:
-            for i, (a, b) in enumerate(spans):
-                ax.axvspan(a, b, color=SINGULAR_COLOR, alpha=0.15, lw=0,
-                           label="near a singularity" if (i == 0 and ax is axes[0]) else None)
-        if spans:
-            axes[0].legend(fontsize=8, loc="best")
+        _mark_singular(axes, x, singular, length)
     axes[-1].set_xlabel(xlabel)
     fig.tight_layout()
     return fig
