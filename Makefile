@@ -18,6 +18,8 @@
 #                outputs merged, so that an unchanged notebook stores unchanged bytes);
 #                make execute NB=notebooks/02_ur10_ik.ipynb re-runs that one only (the kernel
 #                talks over sockets in a private folder: tools/kernel_sockets.py)
+#   make grade CH=03_three_rpr SUBMISSIONS=folder [JOBS=2]  grade <folder>/<student>/<chapter>.ipynb,
+#                JOBS at a time, into results.json and feedback.html beside each (tools/grade_many.py)
 #   make chapter NAME=scara TITLE="The SCARA arm" [ROBOT="a SCARA arm"]  a new chapter
 #                (tools/new_chapter.py; book/authoring.md explains it)
 #   make bench   print the benchmark tables
@@ -44,7 +46,7 @@ else
 $(error EDITION must be 'instructor' or 'student', not '$(EDITION)')
 endif
 
-.PHONY: book student test test-all quick lab execute chapter bench clean distclean check-python
+.PHONY: book student grade test test-all quick lab execute chapter bench clean distclean check-python
 
 # The Python that builds the venv (or, once it exists, the venv's own) must be >= 3.11.
 check-python:
@@ -84,6 +86,13 @@ student: $(STAMP)
 	@echo "== Making the nbgrader course and the student edition of every chapter =="
 	@$(BIN)/python tools/student_edition.py || { \
 	  echo "ERROR [student]: see the messages above."; exit 1; }
+
+# Grade every submission of a chapter in a folder of <student>/<chapter>.ipynb, JOBS at a time
+# (default: the number of cores), each into <student>/results.json (Gradescope's format) and
+# feedback.html (tools/grade_many.py; one notebook: tools/grade_submission.py).
+grade: $(STAMP)
+	@test -n "$(CH)" -a -n "$(SUBMISSIONS)" || { echo 'usage: make grade CH=03_three_rpr SUBMISSIONS=folder [JOBS=2]'; exit 2; }
+	@$(BIN)/python tools/grade_many.py "$(CH)" "$(SUBMISSIONS)" $(if $(JOBS),--jobs $(JOBS))
 
 # Two pytest-xdist workers by default (tests/parallel_plan.py); `make test PYTEST_ARGS=-n0`
 # runs everything in one process.
