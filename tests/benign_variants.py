@@ -137,6 +137,62 @@ def nullspace_projector(J):  # written another way: the right singular vectors o
     kernel = Vt[rank:]
     return kernel.T @ kernel
 '''),
+        "task3_answer1": ("the manipulability as the product of the singular values of J_v", '''
+
+def summary(chain, p_goal, path):  # written another way: w = prod(sigma_i), a loop over steps
+    q_path = np.asarray(path, dtype=float)
+    lower_limits, upper_limits = chain.limits.T
+    nearest = [min(np.min(q - lower_limits), np.min(upper_limits - q)) for q in q_path]
+    w_path = [np.prod(np.linalg.svd(chain.position_jacobian(q), compute_uv=False)) for q in q_path]
+    length = 0.0
+    for q_from, q_to in zip(q_path[:-1], q_path[1:]):
+        length += np.sqrt(np.sum((q_to - q_from) ** 2))
+    return {
+        "iterations": q_path.shape[0] - 1,
+        "error_nm": np.linalg.norm(chain.fk(q_path[-1])[:3, 3] - p_goal) * 1e9,
+        "path": length,
+        "min_limit": min(nearest[1:]),
+        "end_limit": nearest[-1],
+        "end_H": joint_limit_objective(q_path[-1], limits=chain.limits),
+        "min_w": min(w_path[1:]),
+        "end_w": w_path[-1],
+    }
+
+
+stats3 = {key: summary(cell, TARGETS[key[0]], res.history.q) for key, res in runs.items()}
+'''),
+        "task5_answer1": ("the restarts in a while loop over an index", '''
+
+def ik_restarts(chain, p_goal, starts, step):  # written another way: an index and a while loop
+    index, steps_taken = 0, 0
+    while True:
+        q, converged, iterations = ik_position(chain, p_goal, starts[index], step)
+        steps_taken += iterations
+        index += 1
+        if converged or index == len(starts):
+            return q, converged, index, steps_taken
+'''),
+        "task6_answer1": ("bisection by the sign of a product, the halvings counted from the tolerance", '''
+
+def bisect(f, low, high, tol=1e-13):  # written another way: f(a) f(m) < 0, a fixed count
+    a, b = float(low), float(high)
+    fa, fb = f(a), f(b)
+    if fa * fb > 0:
+        raise ValueError("f(low) and f(high) have the same sign")
+    if fa == 0 or fb == 0:
+        return a if fa == 0 else b
+    halvings = max(0, int(np.ceil(np.log2((b - a) / tol))))
+    for _ in range(halvings):
+        m = a + (b - a) / 2
+        fm = f(m)
+        if fm == 0:
+            return m
+        if fa * fm < 0:
+            b = m
+        else:
+            a, fa = m, fm
+    return a + (b - a) / 2
+'''),
     },
     "03_three_rpr": {
         "task1_answer1": ("leg lengths one leg at a time with hypot", '''
