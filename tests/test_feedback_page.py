@@ -219,3 +219,13 @@ def test_a_check_that_names_the_answer_otherwise_says_so():
     assert _called(verdict) == f" (on your `found[0]`, which it calls `{own}`)"
     assert _called({**verdict, "quantity": own}) == ""
     assert _called({**verdict, "message": "✘ the value is transposed"}) == ""
+    from robokin_nbgrader import AutograderReport
+
+    nb = nbformat.v4.new_notebook()
+    nb.cells = [nbformat.v4.new_markdown_cell("# Chapter"),
+                _cell("assert False", "task1_test1", grade=True, task=1, count=1,
+                      outputs=[_error("AssertionError", 1, 1)])]
+    resources = {"robokin": {"pairs": [(1, check, "found[0]")], "verdicts": [{**verdict, "typical": False}],
+                             "incidents": []}}
+    report = AutograderReport().preprocess(nb, resources)[0].cells[0].source
+    assert f"- Task 1 (on your `found[0]`, which it calls `{own}`): ✘ {own} is transposed" in report, report

@@ -1021,7 +1021,8 @@ class AutograderReport(NbGraderPreprocessor):
             if v["status"] == "wrong" or (v["status"] == "missing" and lost):
                 tag = f" *(typical mistake: {v['diagnosis']})*" if v["typical"] else ""
                 text = v["message"] if v["status"] == "wrong" else f"✘ {v['message']}"
-                findings.append(f"- Task {task}{_md(_called(v))}: {_md(text)}{tag}")
+                called = _called(v)
+                findings.append(f"- Task {task}{' ' + _md(called) if called else ''}: {_md(text)}{tag}")
         if findings:
             out += ["", "**What `robokin.check` says about your answers**", "", *findings]
         elif verdicts and all(v["status"] == "correct" for v in verdicts):
