@@ -1,0 +1,167 @@
+#!/usr/bin/env python3
+"""Write a Gradescope autograder for one chapter (``make gradescope``).
+
+    make gradescope CH=03_three_rpr                 # -> _build/gradescope/03_three_rpr.zip
+    .venv/bin/python tools/gradescope.py 03_three_rpr --out autograder.zip --memory 4096
+
+The zip is what Gradescope's "Configure Autograder" page takes (a zip archive with
+``setup.sh`` and ``run_autograder`` at its top, unpacked into ``/autograder/source``):
+
+``setup.sh``
+    Run once, as root, when Gradescope builds the autograder's image (Ubuntu with
+    ``python3``): installs bubblewrap (the sandbox of every submission's kernel), a
+    Python of at least 3.11 when the image's is older, and the pinned requirements
+    (``requirements.txt`` with ``constraints.txt``) into the virtual environment
+    ``$AUTOGRADER_ROOT/venv``.
+``run_autograder``
+    Run for each submission: grades the one notebook in ``$AUTOGRADER_ROOT/submission/``
+    with ``tools/grade_submission.py`` (the course's own pipeline: sandbox, grader kernel,
+    restarts, diagnoses, points, memory and CPU caps) and writes
+    ``$AUTOGRADER_ROOT/results/results.json`` (Gradescope's format) and ``feedback.html``.
+    ``AUTOGRADER_ROOT`` defaults to ``/autograder``: set it to run the autograder anywhere
+    (tests/test_grading_engines.py does, in a temporary folder).
+
+and the repository files that grading needs: ``robokin/``, ``tools/``, the chapter's
+notebook (the instructor's source: its solutions and hidden tests, from which the student
+edition is made and graded), ``nbgrader_config.py``, ``book/references.bib`` (the feedback's
+citations), ``pyproject.toml``, ``README.md``, ``requirements.txt`` and ``constraints.txt``.
+No other chapter is in it. The zip is the instructor's and holds a solution: upload it to
+Gradescope, never give it to students.
+"""
+
+from __future__ import annotations
+
+import argparse
+import subprocess
+import sys
+import zipfile
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from grade_submission import DEFAULT_CPU_SECONDS, DEFAULT_MEMORY_MIB
+
+ROOT = Path(__file__).resolve().parent.parent
+
+#: Folders whose files tracked by git go into the zip (not their caches or untracked files).
+FOLDERS = ("robokin", "tools")
+#: Single files of the repository that grading (or installing robokin) needs.
+FILES = ("nbgrader_config.py", "pyproject.toml", "README.md", "requirements.txt", "constraints.txt",
+         "book/references.bib")
+
+SETUP = r'''#!/usr/bin/env bash
+# Gradescope runs this once, as root, when it builds the autograder's image (Ubuntu with python3).
+# Written by robokin's tools/gradescope.py.
+set -euo pipefail
+ROOT="${AUTOGRADER_ROOT:-/autograder}"
+cd "$ROOT/source"
+export DEBIAN_FRONTEND=noninteractive
+apt-get update
+# bubblewrap: every submission's kernel runs in its sandbox (tools/robokin_sandbox.py)
+apt-get install -y --no-install-recommends bubblewrap python3-venv
+PYTHON=python3
+if ! python3 -c 'import sys; sys.exit(0 if sys.version_info >= (3, 11) else 1)'; then
+  # robokin needs Python >= 3.11; Ubuntu 22.04's python3 is 3.10, its python3.11 package is newer
+  apt-get install -y --no-install-recommends python3.11 python3.11-venv
+  PYTHON=python3.11
+fi
+"$PYTHON" -m venv "$ROOT/venv"
+"$ROOT/venv/bin/python" -m pip install --upgrade pip
+# the pinned requirements (constraints.txt pins every transitive package); robokin itself from here
+"$ROOT/venv/bin/python" -m pip install -r requirements.txt
+'''
+
+RUN = r'''#!/usr/bin/env bash
+# Gradescope runs this for each submission. Written by robokin's tools/gradescope.py for {chapter}.
+# AUTOGRADER_ROOT (default /autograder) holds source/ (this zip), submission/ and results/.
+set -uo pipefail
+CHAPTER={chapter}
+ROOT="${{AUTOGRADER_ROOT:-/autograder}}"
+PYTHON="$ROOT/venv/bin/python"
+test -x "$PYTHON" || PYTHON="$(command -v python3)"
+mkdir -p "$ROOT/results"
+mapfile -t FOUND < <(find "$ROOT/submission" -name '*.ipynb' -not -path '*/.ipynb_checkpoints/*' | sort)
+if test "${{#FOUND[@]}}" -ne 1; then
+  # not graded: the student reads why, and may submit again
+  "$PYTHON" - "$ROOT/results/results.json" "$CHAPTER" "${{#FOUND[@]}}" <<'EOF'
+import json, sys
+path, chapter, count = sys.argv[1], sys.argv[2], sys.argv[3]
+message = (f"Not graded: upload exactly one notebook, your {{chapter}}.ipynb; this submission has {{count}} "
+           "notebooks (.ipynb files).")
+json.dump({{"score": 0.0, "output": message, "tests": []}}, open(path, "w"), indent=2)
+EOF
+  exit 0
+fi
+exec "$PYTHON" "$ROOT/source/tools/grade_submission.py" "$CHAPTER" "${{FOUND[0]}}" --out "$ROOT/results" \
+  --memory {memory} --cpu-seconds {cpu_seconds}
+'''
+
+
+def tracked(folder: str) -> list[Path]:
+    """The files of ``folder`` tracked by git, as paths relative to the repository."""
+    out = subprocess.run(["git", "ls-files", "-z", "--", folder], cwd=ROOT, capture_output=True, text=True,
+                         check=True).stdout
+    return [Path(name) for name in out.split("\0") if name and (ROOT / name).is_file()]
+
+
+def contents(chapter: str) -> list[Path]:
+    """The repository files that go into the autograder of ``chapter``, relative to the repository."""
+    files = [path for folder in FOLDERS for path in tracked(folder)]
+    return sorted({*files, *(Path(name) for name in FILES), Path("notebooks") / f"{chapter}.ipynb"})
+
+
+def _add(archive: zipfile.ZipFile, name: str, data: bytes, executable: bool = False) -> None:
+    info = zipfile.ZipInfo(name, date_time=(2020, 1, 1, 0, 0, 0))
+    info.compress_type = zipfile.ZIP_DEFLATED
+    info.external_attr = (0o100755 if executable else 0o100644) << 16
+    archive.writestr(info, data)
+
+
+def write_zip(chapter: str, out: Path, memory_mib: int = DEFAULT_MEMORY_MIB,
+              cpu_seconds: int = DEFAULT_CPU_SECONDS) -> Path:
+    """Write the autograder of ``chapter`` to ``out``; return ``out``.
+
+    Raises ``FileNotFoundError`` naming the chapter when ``notebooks/<chapter>.ipynb`` does not
+    exist, and ``ValueError`` when a cap is not positive.
+    """
+    if not (ROOT / "notebooks" / f"{chapter}.ipynb").is_file():
+        chapters = sorted(p.stem for p in (ROOT / "notebooks").glob("[0-9][0-9]_*.ipynb"))
+        raise FileNotFoundError(f"chapter: no notebook notebooks/{chapter}.ipynb (chapters: {', '.join(chapters)})")
+    if memory_mib <= 0 or cpu_seconds <= 0:
+        raise ValueError(f"memory_mib and cpu_seconds must be positive; got {memory_mib} and {cpu_seconds}")
+    out.parent.mkdir(parents=True, exist_ok=True)
+    with zipfile.ZipFile(out, "w") as archive:
+        _add(archive, "setup.sh", SETUP.encode(), executable=True)
+        _add(archive, "run_autograder", RUN.format(chapter=chapter, memory=memory_mib,
+                                                   cpu_seconds=cpu_seconds).encode(), executable=True)
+        for path in contents(chapter):
+            _add(archive, path.as_posix(), (ROOT / path).read_bytes(), executable=path.suffix == ".py"
+                 and path.parts[0] == "tools")
+    return out
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
+                                     epilog="The zip holds the chapter's solutions: it is the instructor's.")
+    parser.add_argument("chapter", help="the chapter, e.g. 03_three_rpr")
+    parser.add_argument("--out", type=Path, default=None,
+                        help="the zip to write (default: _build/gradescope/<chapter>.zip)")
+    parser.add_argument("--memory", type=int, default=DEFAULT_MEMORY_MIB,
+                        help=f"MiB of address space per grading process (default {DEFAULT_MEMORY_MIB})")
+    parser.add_argument("--cpu-seconds", type=int, default=DEFAULT_CPU_SECONDS,
+                        help=f"CPU seconds per grading process (default {DEFAULT_CPU_SECONDS})")
+    args = parser.parse_args(argv)
+    out = args.out or ROOT / "_build" / "gradescope" / f"{args.chapter}.zip"
+    try:
+        write_zip(args.chapter, out.resolve(), args.memory, args.cpu_seconds)
+    except (FileNotFoundError, ValueError) as error:
+        print(f"ERROR [gradescope]: {error}", file=sys.stderr)
+        return 2
+    print(f"The Gradescope autograder of {args.chapter}: {out}\n"
+          "Upload it on the assignment's 'Configure Autograder' page. It holds the chapter's solutions "
+          "and hidden tests: keep it to the course's staff, never give it to students.")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
