@@ -166,3 +166,11 @@ test-chapter: $(STAMP)
 	  tests/test_nbgrader.py tests/test_grading_trust.py tests/test_grading_tamper.py -k "$(CH)$$KEYS"; \
 	status=$$?; rm -rf "$$ALONE"; test $$status -eq 0 || { \
 	  echo "ERROR [test-chapter]: some tests of $(CH) failed (see the summary above)."; exit 1; }
+
+# A Gradescope autograder for one chapter: make gradescope CH=03_three_rpr writes
+# _build/gradescope/<chapter>.zip (setup.sh, run_autograder, the grading files; tools/gradescope.py).
+# It holds the chapter's solutions and hidden tests: the instructor's, never given to students.
+.PHONY: gradescope
+gradescope: $(STAMP)
+	@test -n "$(CH)" || { echo 'usage: make gradescope CH=03_three_rpr'; exit 2; }
+	@$(BIN)/python tools/gradescope.py "$(CH)"
