@@ -46,7 +46,8 @@ from robokin_nbgrader import (  # noqa: E402
     RestoreMissingCells,
     RobokinCheckCellMetadata,
 )
-# Verdicts decided in a grader kernel, outside the student's (issue 21): tools/grading_bridge/.
+# Verdicts decided in a grader kernel, outside the student's, which a submission could tamper
+# with: tools/grading_bridge/.
 from grading_bridge.preprocessors import BridgeReport, BridgedExecute  # noqa: E402
 
 c = get_config()  # noqa: F821 - provided by nbgrader's config loader

@@ -1,4 +1,5 @@
-"""Grader kernels forked from a warm process (tools/grading_bridge/fork_server.py, issue 25).
+"""Grader kernels forked from a warm process (tools/grading_bridge/fork_server.py):
+a kernel costs a fork, not a Python start.
 
 Each grader kernel of an ``nbgrader autograde`` run is a fresh fork of one
 process that imported ipykernel and the grader's modules (``PRELOAD``) once.

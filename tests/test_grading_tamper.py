@@ -1,4 +1,5 @@
-"""Tampering submissions gain no points; delegation is flagged (issue 21, the grading bridge).
+"""Tampering submissions gain no points; delegation is flagged (the grading
+bridge decides verdicts outside the student's kernel).
 
 Chapter 3 is graded through the bridge (``tools/grading_bridge``): its test cells and
 robokin.check's verdicts run in a grader kernel, the answers handed over as data and
