@@ -118,6 +118,20 @@ def test_student_book_downloads_are_student_notebooks(tmp_path):
     assert copied.read_bytes() == path.read_bytes(), "the instructor edition's download is the notebook itself"
 
 
+def test_student_book_has_no_launch_buttons():
+    """Binder, Colab and a hub open the repository's notebook (the instructor's): the student edition
+    has no launch buttons; the instructor edition keeps those of ``_config.yml``."""
+    from types import SimpleNamespace
+
+    from robokin_book import configure_edition
+
+    buttons = {"binderhub_url": "https://mybinder.org", "colab_url": "https://colab.research.google.com"}
+    for edition, expected in (("student", {}), ("instructor", buttons)):
+        config = SimpleNamespace(robokin_edition=edition, html_theme_options={"launch_buttons": dict(buttons)})
+        configure_edition(None, config)
+        assert config.html_theme_options["launch_buttons"] == expected, edition
+
+
 # ---------------------------------------------------------------- the feedback page
 def _graded_notebook():
     """A graded notebook whose test cell failed in its hidden tests, with the note autograde writes."""
@@ -221,6 +235,9 @@ def test_built_student_book_has_no_hidden_tests(built_student_book):
                                     .read_text(encoding="utf-8")))
         leaked = [line for line in hidden if line in page]
         assert not leaked, f"{path.stem}: hidden tests in the student book's page: {leaked[:3]}"
+        raw = (built_student_book / "notebooks" / f"{path.stem}.html").read_text(encoding="utf-8")
+        assert "colab.research.google.com/github" not in raw and "mybinder.org/v2" not in raw, (
+            f"{path.stem}: a launch button of the student book opens the instructor's notebook")
         for download in (built_student_book / "_sources" / "notebooks").glob(f"{path.stem}.ipynb*"):
             text = download.read_text(encoding="utf-8")
             leaked = [line for line in hidden if line in text]

@@ -22,7 +22,8 @@
   ``ClearHiddenTests``, as in nbgrader's student edition) and the printouts of its
   ``check`` cells are taken out. The notebook a reader downloads from a page
   (``_sources/``, which Sphinx copies from the file on disk) is that same student
-  notebook. Like the instructor edition it uses the stored outputs, so it is built
+  notebook, and the pages have no launch buttons (Binder, Colab and a hub open the
+  repository's notebook, the instructor's). Like the instructor edition it uses the stored outputs, so it is built
   from exactly the pages of the instructor edition.
 * **Exercises numbered per chapter.**  sphinx-exercise numbers exercises through
   the whole book (Exercise 25 in Chapter 5); the numbers are rewritten as
@@ -143,6 +144,9 @@ def configure_edition(app: Sphinx, config) -> None:
         config.nb_execution_mode = "off"
         options = dict(config.html_theme_options or {})
         options["announcement"] = "Student edition: the worked solutions are not included."
+        # The launch buttons (Binder, Colab, a hub) open the repository's notebook, the instructor's
+        # (solutions and hidden tests): the student edition offers the page's own download instead.
+        options["launch_buttons"] = {}
         config.html_theme_options = options
 
 
