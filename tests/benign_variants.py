@@ -284,6 +284,29 @@ def v_des(time):  # written another way: the velocity of a point turning about z
     offset = RADIUS * np.array([np.cos(OMEGA * time), np.sin(OMEGA * time), 0.0])
     return np.cross([0.0, 0.0, OMEGA], offset)
 '''),
+        "task4_answer1": ("rho as the lengths of J_v's columns", '''
+
+# written another way: a revolute joint's column of J_v is z_j x (r - p_j), of length rho_j
+rho = np.linalg.norm(arm.position_jacobian(Q_START), axis=0)
+'''),
+        "task4_answer2": ("hand_to with J^T (J J^T)^-1 and a while loop", '''
+
+def hand_to(q, target, tol=1e-10, max_steps=50):  # written another way
+    q = np.asarray(q, dtype=float).copy()
+    steps = 0
+    while steps < max_steps:
+        J = arm.position_jacobian(q)
+        e = np.asarray(target, dtype=float) - arm.fk(q)[:3, 3]
+        if e @ e < tol**2:
+            break
+        q += J.T @ np.linalg.solve(J @ J.T, e)
+        steps += 1
+    return q
+
+
+Q_SAME = np.array([hand_to(guess, P_START) for guess in guesses])
+same = track_position_batch(arm, Q_SAME, TS, ref.positions, ref.velocities, gain=KP)
+'''),
     },
     "06_ar601_leg_ik": {
         "task3_answer1": ("the knee from the interior angle (pi - arccos), the ankle point "
