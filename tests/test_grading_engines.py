@@ -1,0 +1,281 @@
+"""Grading on other engines: Gradescope's autograder, ``make grade``'s jobs, a Kubernetes Job.
+
+One chapter (:data:`CHAPTER`, the everyday chapter of tests/tiers.py) is graded end to end
+(each graded submission costs about a minute of CPU):
+
+* ``run_autograder`` from the zip ``make gradescope`` writes (tools/gradescope.py), unpacked
+  in a temporary ``/autograder``-shaped folder (``AUTOGRADER_ROOT`` set, the venv's python on
+  PATH), grades a correct, a blank, a typical-mistake and a tampering submission one after
+  another; each test's score is the one ``nbgrader autograde`` gives in the chapter's shared
+  course (tests/grading_course.py: its ``correct``, ``unanswered`` and ``mistake``; the
+  tampering submission is a blank one with forged verdicts, which the tamper suite,
+  tests/test_grading_tamper.py, shows scores what the blank scores);
+* ``tools/grade_many.py`` (``make grade``) with two jobs grades the typical mistake again and
+  a correct submission that allocates 8 GB in an ungraded cell: the mistake scores what it
+  scored alone, the allocation fails (``MemoryError`` in its feedback) and the submission
+  keeps every mark.
+
+The rest is cheap: the zip holds what grading needs and no other chapter, ``run_autograder``
+explains a submission without exactly one notebook, the Kubernetes manifests are valid
+against the Kubernetes schema (kubernetes-validate), and the Containerfile (which cannot be
+built here: no container engine) parses and installs what ``run_autograder`` needs.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import shutil
+import stat
+import subprocess
+import sys
+import time
+import zipfile
+from pathlib import Path
+
+import pytest
+
+from conftest import ROOT
+
+sys.path.insert(0, str(ROOT / "tools"))
+sys.path.insert(0, str(ROOT / "tools" / "grading_deploy"))
+
+import grading_course
+import grade_shard
+import gradescope
+from benign_variants import with_incident
+from test_grading_tamper import tampered
+from test_nbgrader import correct_submission, mistaken_submission, save
+
+CHAPTER = "03_three_rpr"
+DEPLOY = ROOT / "tools" / "grading_deploy"
+#: a correct submission's experiment, in an ungraded cell: 8 GB of address space (np.empty maps it
+#: without writing it: were the cap missing, the test would not fill the machine's memory either)
+ALLOCATE_8GB = ("import numpy as np\n\nblock = np.empty(8 * 1024**3, dtype=np.uint8)  # 8 GB\n"
+                "print('allocated', block.nbytes)\n")
+#: the submissions run_autograder grades, and the nbgrader student whose scores each must get
+AUTOGRADED = {"correct": "correct", "blank": "unanswered", "mistake": "mistake", "tampering": "unanswered"}
+
+
+def _chapter_run(request, tmp_path_factory):
+    run = grading_course.graded_courses(request, tmp_path_factory)[CHAPTER]
+    if run.error:
+        pytest.fail(run.fail_message())
+    return run
+
+
+def submissions(run) -> dict[str, dict]:
+    """The notebooks graded here, made from the chapter's shared run (its release and source)."""
+    correct = correct_submission(run.release, run.source)
+    assert run.mistake is not None, f"{CHAPTER} has no typical mistake robokin.check recognises"
+    return {"correct": correct, "blank": run.release, "mistake": mistaken_submission(correct, run.mistake),
+            "tampering": tampered(run.release, "forged_check"), "memory": with_incident(correct, ALLOCATE_8GB)}
+
+
+def autograder_folder(base: Path) -> Path:
+    """An ``/autograder``-shaped folder: the zip in ``source/``, ``run_autograder`` beside it."""
+    archive = gradescope.write_zip(CHAPTER, base / "autograder.zip")
+    root = base / "autograder"
+    with zipfile.ZipFile(archive) as unpacked:
+        unpacked.extractall(root / "source")
+        for info in unpacked.infolist():   # extractall drops the modes
+            (root / "source" / info.filename).chmod((info.external_attr >> 16) & 0o777)
+    shutil.copy2(root / "source" / "run_autograder", root / "run_autograder")
+    return root
+
+
+def run_autograder(root: Path, notebooks: dict[str, dict]) -> tuple[subprocess.CompletedProcess, dict]:
+    """``root/run_autograder`` on a submission folder holding ``notebooks``, as Gradescope runs it."""
+    for folder in ("submission", "results"):
+        shutil.rmtree(root / folder, ignore_errors=True)
+        (root / folder).mkdir()
+    for name, nb in notebooks.items():
+        save(nb, root / "submission" / name)
+    env = dict(os.environ, AUTOGRADER_ROOT=str(root),
+               PATH=os.pathsep.join([str(Path(sys.executable).parent), os.environ.get("PATH", "")]))
+    proc = subprocess.run([str(root / "run_autograder")], env=env, capture_output=True, text=True, timeout=1200)
+    results = root / "results" / "results.json"
+    return proc, json.loads(results.read_text(encoding="utf-8")) if results.is_file() else {}
+
+
+def scores(results: dict) -> dict[str, float]:
+    return {test["name"]: test["score"] for test in results.get("tests", [])}
+
+
+@pytest.fixture(scope="module")
+def graded(request, tmp_path_factory):
+    """The chapter's shared nbgrader run, and every submission here graded by run_autograder one at
+    a time and by grade_many with two jobs: ``(run, {how: {submission: results}}, logs)``."""
+    run = _chapter_run(request, tmp_path_factory)
+    made = submissions(run)
+    base = tmp_path_factory.mktemp("engines")
+    root = autograder_folder(base)
+    out: dict[str, dict[str, dict]] = {"autograder": {}, "grade_many": {}}
+    logs = []
+    for name in AUTOGRADED:
+        started = time.perf_counter()
+        proc, results = run_autograder(root, {f"{CHAPTER}.ipynb": made[name]})
+        logs.append(f"run_autograder {name}: exit {proc.returncode}, {time.perf_counter() - started:.0f} s\n"
+                    f"{proc.stdout}{proc.stderr[-3000:]}")
+        out["autograder"][name] = results
+    folder = base / "submissions"
+    for name in ("mistake", "memory"):
+        save(made[name], folder / name / f"{CHAPTER}.ipynb")
+    proc = subprocess.run([sys.executable, str(ROOT / "tools" / "grade_many.py"), CHAPTER, str(folder), "--jobs", "2"],
+                          capture_output=True, text=True, timeout=1800)
+    logs.append(f"grade_many --jobs 2: exit {proc.returncode}\n{proc.stdout}{proc.stderr[-3000:]}")
+    for name in ("mistake", "memory"):
+        results = folder / name / "results.json"
+        out["grade_many"][name] = json.loads(results.read_text(encoding="utf-8")) if results.is_file() else {}
+        page = folder / name / "feedback.html"
+        out["grade_many"][name]["feedback"] = page.read_text(encoding="utf-8") if page.is_file() else ""
+    print("\n" + "\n".join(line.splitlines()[0] + " " + line.splitlines()[-1] for line in logs if line.strip()))
+    return run, out, "\n".join(logs)
+
+
+# ---------------------------------------------------------------- graded: run_autograder, grade_many
+@grading_course.reads(CHAPTER)
+@pytest.mark.parametrize("submission", list(AUTOGRADED))
+def test_run_autograder_gives_the_nbgrader_scores(graded, submission):
+    run, out, logs = graded
+    results = out["autograder"][submission]
+    assert results, f"run_autograder wrote no results.json for {submission}:\n{logs}"
+    expected = run.scores[AUTOGRADED[submission]]
+    assert scores(results) == pytest.approx(expected), (submission, logs[-3000:])
+    assert results["score"] == pytest.approx(sum(expected.values()))
+    assert {test["name"]: test["max_score"] for test in results["tests"]} == pytest.approx(run.maximum)
+    if submission == "correct":
+        assert results["score"] == pytest.approx(sum(run.maximum.values()))
+    if submission == "mistake":
+        assert 0 < results["score"] < sum(run.maximum.values())
+
+
+@grading_course.reads(CHAPTER)
+def test_results_json_is_gradescopes_format_and_hides_hidden_tests(graded):
+    run, out, _ = graded
+    results = out["autograder"]["mistake"]
+    assert set(results) >= {"score", "tests"}
+    for test in results["tests"]:
+        assert set(test) >= {"name", "score", "max_score", "output"} and isinstance(test["output"], str)
+    failed = [test for test in results["tests"] if test["score"] < test["max_score"]]
+    assert failed and all(test["output"] for test in failed), failed
+    assert "### BEGIN HIDDEN TESTS" not in json.dumps(results) and "Traceback" not in json.dumps(results)
+
+
+@grading_course.reads(CHAPTER)
+def test_two_jobs_give_the_scores_of_one_at_a_time(graded):
+    _, out, logs = graded
+    assert out["grade_many"]["mistake"].get("tests"), logs
+    assert scores(out["grade_many"]["mistake"]) == scores(out["autograder"]["mistake"])
+
+
+@grading_course.reads(CHAPTER)
+def test_allocating_8_gb_fails_and_keeps_the_other_marks(graded):
+    run, out, logs = graded
+    results = out["grade_many"]["memory"]
+    assert scores(results) == pytest.approx(run.scores["correct"]), logs
+    assert scores(results) == pytest.approx(run.maximum), logs
+    # the report's note on the incident, and nothing printed after the allocation
+    text = " ".join(re.sub(r"<[^>]+>", " ", results["feedback"]).split())
+    assert re.search(r"raised MemoryError ?: Unable to allocate 8\.00 GiB", text), logs
+    assert "allocated 8589934592" not in text
+
+
+# ---------------------------------------------------------------- cheap: the zip, the manifests
+def test_zip_holds_what_grading_needs_and_no_other_chapter(tmp_path):
+    archive = gradescope.write_zip(CHAPTER, tmp_path / "a.zip")
+    with zipfile.ZipFile(archive) as unpacked:
+        names = set(unpacked.namelist())
+        modes = {info.filename: info.external_attr >> 16 for info in unpacked.infolist()}
+        setup = unpacked.read("setup.sh").decode()
+    assert {"setup.sh", "run_autograder", "nbgrader_config.py", "pyproject.toml", "requirements.txt",
+            "constraints.txt", "book/references.bib", "tools/grade_submission.py", "robokin/__init__.py",
+            f"notebooks/{CHAPTER}.ipynb"} <= names
+    assert [name for name in names if name.startswith("notebooks/")] == [f"notebooks/{CHAPTER}.ipynb"]
+    assert not [name for name in names if "__pycache__" in name or name.startswith(("tests/", "_build/"))]
+    assert modes["setup.sh"] & stat.S_IXUSR and modes["run_autograder"] & stat.S_IXUSR
+    assert "bubblewrap" in setup and "pip install -r requirements.txt" in setup
+
+
+@pytest.mark.parametrize("chapter, memory", [("99_no_such_chapter", 4096), (CHAPTER, 0)])
+def test_zip_refuses_bad_arguments(tmp_path, chapter, memory):
+    with pytest.raises((FileNotFoundError, ValueError), match="chapter" if memory else "memory_mib"):
+        gradescope.write_zip(chapter, tmp_path / "a.zip", memory_mib=memory)
+
+
+@pytest.mark.parametrize("notebooks", [0, 2])
+def test_run_autograder_explains_a_submission_without_one_notebook(tmp_path, notebooks):
+    root = autograder_folder(tmp_path)
+    proc, results = run_autograder(root, {f"{k}.ipynb": {"cells": []} for k in range(notebooks)})
+    assert proc.returncode == 0, proc.stderr
+    assert results["score"] == 0 and results["tests"] == []
+    assert f"upload exactly one notebook, your {CHAPTER}.ipynb" in results["output"]
+    assert f"has {notebooks} notebooks" in results["output"]
+
+
+def test_manifests_validate_against_the_kubernetes_schema():
+    kubernetes_validate = pytest.importorskip("kubernetes_validate")
+    import yaml
+
+    documents = [doc for path in sorted(DEPLOY.glob("*.yaml"))
+                 for doc in yaml.safe_load_all(path.read_text(encoding="utf-8")) if doc]
+    kinds = {doc["kind"] for doc in documents}
+    assert "Job" in kinds, kinds
+    for doc in documents:
+        kubernetes_validate.validate(doc, "1.33.0", strict=True)
+    job = next(doc for doc in documents if doc["kind"] == "Job")
+    misspelt = {**job, "spec": {**job["spec"], "completionsMode": "Indexed"}}
+    with pytest.raises(kubernetes_validate.ValidationError, match="completionsMode"):   # the check checks
+        kubernetes_validate.validate(misspelt, "1.33.0", strict=True)
+    spec = job["spec"]
+    assert spec["completionMode"] == "Indexed" and spec["completions"] >= 1
+    for container in spec["template"]["spec"]["containers"]:
+        resources = container["resources"]
+        assert {"cpu", "memory"} <= set(resources["requests"]) and {"cpu", "memory"} <= set(resources["limits"])
+        command = " ".join(container.get("command", []) + container.get("args", []))
+        assert "grade_shard.py" in command or "grade_many.py" in command, command
+
+
+@pytest.mark.parametrize("students, shards", [(0, 3), (1, 3), (7, 3), (9, 3), (5, 1), (20, 8)])
+def test_shards_grade_every_student_once(students, shards):
+    found = [Path(f"s{k:02d}") / f"{CHAPTER}.ipynb" for k in range(students)]
+    dealt = [grade_shard.shard(found, index, shards) for index in range(shards)]
+    assert sorted(path for one in dealt for path in one) == found
+    assert max(map(len, dealt)) - min(map(len, dealt)) <= 1
+
+
+@pytest.mark.parametrize("index, shards, name", [(0, 0, "shards"), (3, 3, "index"), (-1, 2, "index")])
+def test_shard_refuses_bad_arguments(index, shards, name):
+    with pytest.raises(ValueError, match=f"^{name} must"):
+        grade_shard.shard([], index, shards)
+
+
+def containerfile_instructions(text: str) -> list[tuple[str, str]]:
+    """``[(INSTRUCTION, arguments)]`` of a Containerfile: comments dropped, continued lines joined."""
+    out, pending = [], ""
+    for line in text.splitlines():
+        if not pending and (not line.strip() or line.lstrip().startswith("#")):
+            continue
+        pending += line.rstrip()
+        if pending.endswith("\\"):
+            pending = pending[:-1] + " "
+            continue
+        word, _, rest = pending.strip().partition(" ")
+        out.append((word, " ".join(rest.split())))
+        pending = ""
+    assert not pending, "the Containerfile ends in a continued line"
+    return out
+
+
+def test_containerfile_parses_and_installs_what_run_autograder_needs():
+    instructions = containerfile_instructions((DEPLOY / "Containerfile").read_text(encoding="utf-8"))
+    known = {"FROM", "RUN", "COPY", "ADD", "ENV", "ARG", "WORKDIR", "USER", "LABEL", "ENTRYPOINT", "CMD"}
+    assert instructions[0][0] in {"FROM", "ARG"} and {word for word, _ in instructions} <= known, instructions
+    base = next(rest for word, rest in instructions if word == "FROM")
+    assert base.startswith(("debian:", "ubuntu:", "python:")), base
+    runs = " ".join(rest for word, rest in instructions if word == "RUN")
+    assert "bubblewrap" in runs and "pip install" in runs and "-r requirements.txt" in runs, runs
+    copied = " ".join(rest for word, rest in instructions if word in {"COPY", "ADD"})
+    for needed in ("robokin", "tools", "nbgrader_config.py", "requirements.txt", "constraints.txt", "pyproject.toml"):
+        assert needed in copied, f"the image lacks {needed}: {copied}"
