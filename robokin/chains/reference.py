@@ -1,7 +1,7 @@
 r"""Forward kinematics and the geometric Jacobian as the book writes them.
 
 :class:`~robokin.chains.SerialChain` computes both with a performance engine
-(:mod:`robokin.chains._engine`: constant blocks, 7×7 screw matrices, per-thread
+(``robokin.chains._engine``: constant blocks, 7×7 screw matrices, per-thread
 workspaces). This module is the textbook beside it, written for reading, not for
 speed: a product of link transforms (Siciliano et al. 2009, §2.8; Lynch & Park
 2017, §4.1) and the column-by-column Jacobian (Siciliano et al. 2009, §3.1.3,

@@ -80,7 +80,7 @@ The tables :data:`UR3_DH`, :data:`UR5_DH`, :data:`UR3E_DH`, :data:`UR5E_DH`,
 :data:`UR10E_DH` and :data:`UR16E_DH` are the manufacturer's (Universal Robots,
 *DH Parameters for calculations of kinematics and dynamics*, support article, last
 modified 19 January 2022), copied into robokin's layout; the UR10's is
-:data:`robokin.models.ur10.UR10_DH`. Checked: the UR10 table is the chain of
+``robokin.models.ur10.UR10_DH``. Checked: the UR10 table is the chain of
 :func:`robokin.models.ur10` (its three descriptions), the UR5 table the
 ``ur5_robot.urdf`` of example-robot-data (to 1e-10 m, the URDF's rounding).
 
@@ -128,7 +128,7 @@ UR10E_DH = _ur_table(0.1807, -0.6127, -0.57155, 0.17415, 0.11985, 0.11655)
 #: UR16e (e-Series), the same layout and source.
 UR16E_DH = _ur_table(0.1807, -0.4784, -0.36, 0.17415, 0.11985, 0.11655)
 
-#: The tables by name: ``dh="ur5e"`` is ``dh=UR5E_DH``. ``"ur10"`` is :data:`robokin.models.ur10.UR10_DH`.
+#: The tables by name: ``dh="ur5e"`` is ``dh=UR5E_DH``. ``"ur10"`` is ``robokin.models.ur10.UR10_DH``.
 UR_DH_TABLES: dict[str, list[list[float]]] = {
     "ur3": UR3_DH, "ur5": UR5_DH, "ur10": [list(map(float, row)) for row in UR10_DH],
     "ur3e": UR3E_DH, "ur5e": UR5E_DH, "ur10e": UR10E_DH, "ur16e": UR16E_DH,

@@ -162,7 +162,7 @@ def rotation_log_unchecked(R: np.ndarray) -> Any:
     tuple of three floats, computed in plain Python floats (the IK loop calls this every
     iteration, and numpy's per-call cost would dominate); a stack gives an array (..., 3).
     Both follow the same branches with the same thresholds (see :func:`rotation_log`):
-    :data:`SMALL_ANGLE` and :data:`NEAR_PI_COS`.
+    ``SMALL_ANGLE`` and ``NEAR_PI_COS``.
     """
     if R.ndim == 2:
         (r00, r01, r02), (r10, r11, r12), (r20, r21, r22) = R.tolist()
@@ -226,10 +226,10 @@ def rotation_log(R: Any, check: bool = True) -> np.ndarray:
 
     Robust everywhere:
 
-    - :math:`\theta \to 0` (below :data:`SMALL_ANGLE`, 1e-4 rad): the factor
+    - :math:`\theta \to 0` (below ``SMALL_ANGLE``, 1e-4 rad): the factor
       :math:`\theta / (2\sin\theta)` is replaced by its Taylor series
       :math:`\tfrac12 + \theta^2/12` (the next term, :math:`7\theta^4/720`, is below 1e-18).
-    - :math:`\theta \to \pi` (:math:`\cos\theta <` :data:`NEAR_PI_COS`, -0.9): no division by
+    - :math:`\theta \to \pi` (:math:`\cos\theta <` ``NEAR_PI_COS``, -0.9): no division by
       :math:`\sin\theta`; the axis comes from the symmetric part
       :math:`\tfrac12(R + R^\mathsf{T}) - \cos\theta\, I = (1 - \cos\theta) h h^\mathsf{T}`
       using the column of its largest diagonal entry, with the sign fixed by

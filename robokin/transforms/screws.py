@@ -51,7 +51,7 @@ def _translation_factor(w: np.ndarray) -> np.ndarray:
 
     Written with the unit axis :math:`\hat w = w/\theta`, :math:`G = I + \theta B [\hat w] +
     \theta^2 C [\hat w]^2`, whose coefficients :math:`(1 - \cos\theta)/\theta` and
-    :math:`1 - \sin\theta/\theta` stay bounded for any angle; below :data:`SERIES_ANGLE` they are
+    :math:`1 - \sin\theta/\theta` stay bounded for any angle; below ``SERIES_ANGLE`` they are
     their series.
     """
     theta = np.linalg.norm(w, axis=-1)
@@ -74,7 +74,7 @@ def transform_exp(V: Any) -> Any:
         \theta = \|w\|
 
     (Lynch & Park 2017, §3.3.3.2, Proposition 3.25; the module docstring derives this form.)
-    Below :data:`SERIES_ANGLE` the coefficients are their Taylor series, so a pure translation
+    Below ``SERIES_ANGLE`` the coefficients are their Taylor series, so a pure translation
     (:math:`w = 0`) gives :math:`[I, u; 0, 1]` exactly.
 
     Parameters
@@ -141,7 +141,7 @@ def transform_log(T: Any, check: bool = True) -> np.ndarray:
     for :math:`w = \omega\theta`.) Exact near both ends:
 
     - :math:`\theta \to 0`: :math:`D` is its series :math:`1/12 + \theta^2/720 + \theta^4/30240`
-      (below :data:`SERIES_ANGLE`); a pure translation gives :math:`[0; p]`.
+      (below ``SERIES_ANGLE``); a pure translation gives :math:`[0; p]`.
     - :math:`\theta \to \pi`: the rotation vector comes from :func:`robokin.transforms.rotation_log`,
       which takes the axis from the symmetric part of :math:`R` there; :math:`D` tends to
       :math:`1/\pi^2`, with no division by :math:`\sin\theta`. At exactly :math:`\theta = \pi`

@@ -21,7 +21,7 @@ _LIMIT_EPS = 1e-12
 def classify_stall(
     J: np.ndarray, e: np.ndarray, q: np.ndarray, lower: np.ndarray, upper: np.ndarray, gtol: float
 ) -> np.ndarray:
-    r"""Why did the error stop decreasing? :class:`~robokin.motion.ik.result.Outcome` ``STALLED``,
+    r"""Why did the error stop decreasing? ``robokin.motion.ik.result.Outcome`` ``STALLED``,
     ``UNREACHABLE`` or ``JOINT_LIMITS``.
 
     With :math:`g = J^T e` (the steepest-descent direction of
@@ -51,7 +51,7 @@ def classify_stall(
     Returns
     -------
     ndarray of int, shape (...)
-        The :class:`~robokin.motion.ik.result.Outcome` codes (broadcasts over a leading batch axis).
+        The ``robokin.motion.ik.result.Outcome`` codes (broadcasts over a leading batch axis).
     """
     g = (np.swapaxes(J, -1, -2) @ e[..., None])[..., 0]
     at_lo = q <= lower + _LIMIT_EPS
