@@ -20,7 +20,9 @@ book                      both editions built; one page of each       every page
 grading                   :data:`EVERYDAY_CHAPTER` end to end         every other chapter's grading
                           (solutions, blank, mistakes, tampering,     (nbgrader runs, mutations),
                           the sandbox), the grading machinery's own   the instructors' walk-through,
-                          unit tests                                  a chapter without metadata
+                          unit tests                                  a chapter without metadata, the
+                                                                      everyday chapter graded again
+                                                                      by run_autograder, make grade
 JupyterLab                --                                          a live session in Chromium
 ========================  ==========================================  =============================
 
@@ -60,6 +62,13 @@ EXHAUSTIVE_FILES = {
     "test_reexecution.py": "make execute of unchanged notebooks, byte for byte",
 }
 
+#: Test files whose tests that grade submissions (those that read a graded run) are in
+#: ``make test-all`` only, and why; their other tests stay in both tiers.
+EXHAUSTIVE_GRADING_FILES = {
+    "test_grading_engines.py": "the everyday chapter graded again through Gradescope's run_autograder "
+                               "and make grade (the nbgrader suites grade it every day)",
+}
+
 #: Grading jobs that are not a chapter (tests/grading_course.py).
 EXHAUSTIVE_JOBS = {"walkthrough": "the instructors' walk-through", "unmarked": "a chapter without metadata"}
 
@@ -89,6 +98,8 @@ def exhaustive_reason(item) -> str | None:
     for mark in item.iter_markers("grades"):
         if str(mark.args[0]) in EXHAUSTIVE_JOBS:
             return EXHAUSTIVE_JOBS[str(mark.args[0])]
+        if item.path.name in EXHAUSTIVE_GRADING_FILES:
+            return EXHAUSTIVE_GRADING_FILES[item.path.name]
     chapter = chapter_of(item)
     grading = item.path.name == "test_grading_mutations.py" or any(item.iter_markers("grades"))
     if grading and chapter is not None and chapter != EVERYDAY_CHAPTER:
