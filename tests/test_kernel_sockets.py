@@ -107,8 +107,14 @@ def test_a_cell_that_logs_twelve_thousand_lines_is_read_whole_and_ends():
     nb = nbformat.v4.new_notebook()
     talkative = "import logging\nfor i in range(12000):\n    logging.warning('line %d', i)\n"
     nb.cells = [nbformat.v4.new_code_cell(talkative), nbformat.v4.new_code_cell("print('the next cell')")]
-    executor = NotebookClient(nb, timeout=120, kernel_name="python3", raise_on_iopub_timeout=True,
-                              kernel_manager_class=AsyncPrivateSocketsKernelManager)
+    # Time limits: the whole test (kernel start, the cell, its 12,000 messages read) takes 5-10 s
+    # on the 2-core machine with other jobs running, so 120 s per cell is a ceiling load does not
+    # reach. After the cell's reply nbclient waits iopub_timeout for the rest of its output; the
+    # messages still queued then (each parsed and its signature checked) took longer than
+    # nbclient's default of 4 s on a busy machine ("Timeout waiting for IOPub output"), so that
+    # wait gets the same ceiling: it ends as soon as the idle status arrives.
+    executor = NotebookClient(nb, timeout=120, iopub_timeout=120, kernel_name="python3",
+                              raise_on_iopub_timeout=True, kernel_manager_class=AsyncPrivateSocketsKernelManager)
     concurrent.futures.ThreadPoolExecutor(1).submit(executor.execute).result()   # a loop of its own
     lines = "".join(output.get("text", "") for output in nb.cells[0].outputs).splitlines()
     assert lines == [f"WARNING:root:line {i}" for i in range(12000)]
