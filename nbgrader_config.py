@@ -103,6 +103,11 @@ c.Autograde.autograde_preprocessors = [
 ]
 c.OverwriteCells.add_missing_cells = True
 c.Execute.timeout = int(os.environ.get("ROBOKIN_CELL_TIMEOUT", "120"))   # seconds per cell
+# After a cell's reply, the rest of its output is waited for at most this long. nbclient's
+# default, 4 s, is a limit load reaches: a cell that printed thousands of lines on a busy
+# machine ended in "Timeout waiting for IOPub output", a timed-out cell in the grading. The
+# wait ends as soon as the cell's idle status arrives, so it gets the cell's own ceiling.
+c.Execute.iopub_timeout = c.Execute.timeout
 # 3D scenes of the graded notebook as pictures: the feedback page is read offline.
 c.RobokinExecute.viewer = "matplotlib"
 # Each submission's kernel runs in a bubblewrap sandbox (Debian package `bubblewrap`):
