@@ -18,8 +18,11 @@
 #                outputs merged, so that an unchanged notebook stores unchanged bytes);
 #                make execute NB=notebooks/02_ur10_ik.ipynb re-runs that one only (the kernel
 #                talks over sockets in a private folder: tools/kernel_sockets.py)
+#   make test-chapter CH=03_three_rpr   one chapter's tests, that chapter alone graded (every tier)
 #   make grade CH=03_three_rpr SUBMISSIONS=folder [JOBS=2]  grade <folder>/<student>/<chapter>.ipynb,
 #                JOBS at a time, into results.json and feedback.html beside each (tools/grade_many.py)
+#   make gradescope CH=03_three_rpr   the chapter's Gradescope autograder zip, in _build/gradescope/
+#                (tools/gradescope.py; the instructor's: it holds the solutions and hidden tests)
 #   make chapter NAME=scara TITLE="The SCARA arm" [ROBOT="a SCARA arm"]  a new chapter
 #                (tools/new_chapter.py; book/authoring.md explains it)
 #   make bench   print the benchmark tables
