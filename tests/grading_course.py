@@ -89,29 +89,35 @@ def part_mark(part: str) -> list:
     return [pytest.mark.xdist_group(part)]
 
 
-def job_marks(key: str = CHAPTER3) -> list:
+def job_marks(key: str = CHAPTER3, students: tuple[str, ...] | None = None) -> list:
     """The marks of a test that reads the job ``key``'s run: ``grades(key)``, from which the
     session learns which runs to grade (:class:`Courses`) and the tiers which chapter the test
-    checks (tests/tiers.py), and its part's xdist group (none without xdist)."""
-    return [pytest.mark.grades(key), *part_mark(part_of(key))]
+    checks (tests/tiers.py), and its part's xdist group (none without xdist).
+
+    ``students``: the submissions of a suite that the test reads (None: any of them); a suite
+    grades only the submissions the session's tests read (:meth:`Suite.chosen`)."""
+    grades = pytest.mark.grades(key) if students is None else pytest.mark.grades(key, students=tuple(students))
+    return [grades, *part_mark(part_of(key))]
 
 
-def reads(key: str):
-    """Decorator: the test reads the run of the job ``key`` (it gets that part's xdist group).
+def reads(key: str, students: tuple[str, ...] | None = None):
+    """Decorator: the test reads the run of the job ``key`` (its ``students``, or any).
 
     A test has one group or none: a file whose tests read runs of both parts marks them
     one by one (this, or :func:`chapter_params`), not with a module-wide ``pytestmark``.
     """
     def mark(test):
-        for one in job_marks(key):
+        for one in job_marks(key, students):
             test = one(test)
         return test
     return mark
 
 
-def chapter_params(chapters) -> list:
-    """``chapters`` as parameters, each marked with the job it reads (:func:`job_marks`)."""
-    return [pytest.param(chapter, marks=job_marks(chapter)) for chapter in chapters]
+def chapter_params(chapters, students: Callable[[str], tuple[str, ...]] | None = None) -> list:
+    """``chapters`` as parameters, each marked with the job it reads (:func:`job_marks`) and, with
+    ``students``, the submissions of each chapter's run it reads (``students(chapter)``)."""
+    return [pytest.param(chapter, marks=job_marks(chapter, students(chapter) if students else None))
+            for chapter in chapters]
 
 
 def jobs_read(items) -> dict[str, set[str]]:
@@ -120,6 +126,18 @@ def jobs_read(items) -> dict[str, set[str]]:
     for item in items:
         for mark in item.iter_markers("grades"):
             out.setdefault(str(mark.args[0]), set()).add(Path(str(item.fspath)).stem)
+    return out
+
+
+def students_read(items) -> dict[str, set[str] | None]:
+    """``{job: the suite submissions the tests ``items`` read}``, None for a job some test reads
+    whole (a ``grades`` mark without ``students``)."""
+    out: dict[str, set[str] | None] = {}
+    for item in items:
+        for mark in item.iter_markers("grades"):
+            job, students = str(mark.args[0]), mark.kwargs.get("students")
+            known = out.get(job, set())
+            out[job] = None if students is None or known is None else known | set(students)
     return out
 
 
@@ -143,10 +161,17 @@ class Suite:
     #: suite whose waits (time limits reached on purpose) would make the shared run the suite's
     #: longest unit; its options and environment then hold for its own submissions only
     own_course: bool = False
+    #: job -> the submissions the session's tests read (None: all), set by :class:`Courses`
+    wanted: dict[str, set[str] | None] = field(default_factory=dict)
 
     def key(self, chapter: str) -> str:
         """The job whose run holds this suite's submissions of ``chapter``."""
         return own_course_key(chapter, self.name) if self.own_course else chapter
+
+    def chosen(self, job: str, submissions: dict[str, dict]) -> dict[str, dict]:
+        """Of ``submissions`` (the suite's, for the run of ``job``), those a selected test reads."""
+        wanted = self.wanted.get(job)
+        return dict(submissions) if wanted is None else {k: v for k, v in submissions.items() if k in wanted}
 
 
 def module_suites(name: str) -> tuple[Suite, ...]:
@@ -178,6 +203,10 @@ class Courses(Mapping):
         self.chapters = [c for c in test_nbgrader.CHAPTERS if c in read]
         own = [suite.key(c) for suite in self.suites if suite.own_course
                for c in test_nbgrader.CHAPTERS if suite.key(c) in read]
+        for name in files & set(SUITES):   # a suite's submissions: those its own file's tests read
+            wanted = students_read(item for item in request.session.items if Path(str(item.fspath)).stem == name)
+            for suite in module_suites(name):
+                suite.wanted = wanted
         self.full = "walkthrough" in read or "unmarked" in read
         self.jobs = [*self.chapters, *own, *(("walkthrough", "unmarked") if self.full else ())]
         self.factory = tmp_path_factory

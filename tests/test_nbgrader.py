@@ -443,7 +443,7 @@ def run_chapter(chapter: str, base: Path, suites=(), key: str | None = None) -> 
         run.own = list(submissions)
         environment, options = {}, []
         for suite in suites:
-            extra = suite.submissions(run, correct, course)
+            extra = suite.chosen(key or chapter, suite.submissions(run, correct, course))
             clash = {s for s in extra if s in submissions and extra[s] != submissions[s]}
             assert not clash, f"{suite.name}: students {clash} are taken by another file's submissions"
             suite.students = list(extra)

@@ -18,7 +18,8 @@ book                      both editions built; one page of each       every page
                           kind in Chromium (:data:`EVERYDAY_PAGES`,   (each at 1280 and 390 px)
                           each at 1280 and 390 px)
 grading                   :data:`EVERYDAY_CHAPTER` end to end         every other chapter's grading
-                          (solutions, blank, mistakes, tampering,     (nbgrader runs, mutations),
+                          (solutions, blank, mistakes, one kind of    (nbgrader runs, mutations),
+                          tampering (:data:`EVERYDAY_SUBMISSIONS`),   every kind of tampering,
                           the sandbox), the grading machinery's own   the instructors' walk-through,
                           unit tests                                  a chapter without metadata, the
                                                                       everyday chapter graded again
@@ -69,6 +70,16 @@ EXHAUSTIVE_GRADING_FILES = {
                                "and make grade (the nbgrader suites grade it every day)",
 }
 
+#: Test files whose tests name the submissions they read (``grading_course.reads(job, students)``):
+#: the everyday tier keeps the tests that read only these (and the unanswered and correct ones
+#: every course grades), so that its course grades one tampering, not every kind; why in words.
+EVERYDAY_SUBMISSIONS = {
+    "test_grading_tamper.py": ({"blank_forged_check"}, "every other kind of tampering, delegation, a call "
+                               "that never returns (make test: one tampering, forged verdicts)"),
+    "test_grading_trust.py": ({"escape"}, "correct work that is talkative, crashes or hangs (make test: the "
+                              "sandbox escapes)"),
+}
+
 #: Grading jobs that are not a chapter (tests/grading_course.py).
 EXHAUSTIVE_JOBS = {"walkthrough": "the instructors' walk-through", "unmarked": "a chapter without metadata"}
 
@@ -100,6 +111,10 @@ def exhaustive_reason(item) -> str | None:
             return EXHAUSTIVE_JOBS[str(mark.args[0])]
         if item.path.name in EXHAUSTIVE_GRADING_FILES:
             return EXHAUSTIVE_GRADING_FILES[item.path.name]
+        if item.path.name in EVERYDAY_SUBMISSIONS:
+            kept, reason = EVERYDAY_SUBMISSIONS[item.path.name]
+            if not set(mark.kwargs.get("students", ("any",))) <= kept:
+                return reason
     chapter = chapter_of(item)
     grading = item.path.name == "test_grading_mutations.py" or any(item.iter_markers("grades"))
     if grading and chapter is not None and chapter != EVERYDAY_CHAPTER:
