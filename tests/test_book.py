@@ -27,8 +27,11 @@ pytestmark = pytest.mark.book
 #: after scrolling through all of its scenes. Measured as a web server sends them:
 #: text files (HTML, JS, CSS, SVG) gzip-compressed, fonts and images as they are.
 PAGE_WEIGHT_BUDGET = 2_000_000
-#: A page's own HTML, uncompressed (scene data lives in _static/scenes/).
-PAGE_HTML_BUDGET = 500_000
+#: A page's own HTML, uncompressed (scene data lives in _static/scenes/). Mostly highlighted code
+#: (a span per token, about ten times the source): chapter 2's instructor page, whose exercises
+#: became the student's own code with tests of their own inputs, is 568 kB (1.53 MB transferred
+#: with everything it loads, within PAGE_WEIGHT_BUDGET); 600 kB leaves room for a chapter of that size.
+PAGE_HTML_BUDGET = 600_000
 #: Widths the pages are read at: a laptop, and a phone.
 WIDTHS = (1280, 390)
 SCREENSHOTS = ROOT / "_build" / "screenshots"
@@ -337,7 +340,8 @@ def test_page_in_browser(edition_book, browser, page):
         weight = _transfer_size(url) + sum(_transfer_size(u) for u in loaded if u != url)
         print(f"[weight] {page}: {weight / 1e6:.2f} MB transferred ({raw / 1e6:.2f} MB uncompressed, "
               f"{len(loaded)} files); own HTML {html_size / 1e3:.0f} kB")
-        assert html_size <= PAGE_HTML_BUDGET, f"{page}: its HTML is {html_size / 1e3:.0f} kB > 500 kB"
+        assert html_size <= PAGE_HTML_BUDGET, (
+            f"{page}: its HTML is {html_size / 1e3:.0f} kB > {PAGE_HTML_BUDGET / 1e3:.0f} kB")
         assert weight <= PAGE_WEIGHT_BUDGET, f"{page}: page weight {weight / 1e6:.2f} MB > 2 MB"
     finally:
         context.close()
