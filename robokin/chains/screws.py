@@ -79,6 +79,12 @@ def screw_axes(chain: DrawableChain) -> tuple[np.ndarray, np.ndarray]:
     return frames[-1], S
 
 
+def _configurations(chain: DrawableChain, q: Any) -> tuple[np.ndarray, bool]:
+    """``q`` as a batch (N, n) and whether it came as one."""
+    configurations, batched = as_batch(q, chain.n, "q")
+    return configurations.reshape(-1, chain.n), batched
+
+
 def _joint_motion(screw: np.ndarray, values: np.ndarray) -> np.ndarray:
     r""":math:`e^{[\mathcal{S}_i]q_i}` for a column of joint values, (N, 4, 4); an overflow names ``q``."""
     try:
@@ -104,8 +110,7 @@ def product_of_exponentials(chain: DrawableChain, q: Any) -> np.ndarray:
     -------
     numpy.ndarray, shape (4, 4) or (N, 4, 4)
     """
-    configurations, batched = as_batch(q, chain.n, "q")
-    q = configurations.reshape(-1, chain.n)
+    q, batched = _configurations(chain, q)
     M, S = screw_axes(chain)
     T = np.broadcast_to(np.eye(4), (len(q), 4, 4))
     with np.errstate(all="ignore"):
@@ -136,8 +141,7 @@ def space_jacobian(chain: DrawableChain, q: Any) -> np.ndarray:
     numpy.ndarray, shape (6, n) or (N, 6, n)
         Rows ``[ω; v_s]``, in the base frame.
     """
-    configurations, batched = as_batch(q, chain.n, "q")
-    q = configurations.reshape(-1, chain.n)
+    q, batched = _configurations(chain, q)
     _, S = screw_axes(chain)
     J = np.zeros((len(q), 6, chain.n))
     T = np.broadcast_to(np.eye(4), (len(q), 4, 4))
@@ -167,8 +171,7 @@ def body_jacobian(chain: DrawableChain, q: Any) -> np.ndarray:
     numpy.ndarray, shape (6, n) or (N, 6, n)
         Rows ``[ω_b; v_b]``, in the end-effector frame.
     """
-    configurations, batched = as_batch(q, chain.n, "q")
-    q = configurations.reshape(-1, chain.n)
+    q, batched = _configurations(chain, q)
     with np.errstate(all="ignore"):
         J_b = adjoint(transform_inverse(product_of_exponentials(chain, q)), check=False) @ space_jacobian(chain, q)
     check_result_finite(J_b, "the body Jacobian", q=q)
