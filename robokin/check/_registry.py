@@ -23,6 +23,10 @@ CHAPTERS: dict[str, str] = {
     "cartesian": "robokin.check.cartesian",
     "baxter": "robokin.check.baxter",
     "ar601": "robokin.check.ar601",
+    "ur10_closed_form": "robokin.check.ur10_closed_form",
+    "product_of_exponentials": "robokin.check.product_of_exponentials",
+    "statics_ellipsoids": "robokin.check.statics_ellipsoids",
+    "trajectories": "robokin.check.trajectories",
 }
 
 _REGISTRY: dict[str, dict[str, Check]] = {}
