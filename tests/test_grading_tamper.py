@@ -38,7 +38,7 @@ import re
 import pytest
 
 import grading_course
-from test_nbgrader import NOTEBOOKS, Run, load, nbg, src
+from test_nbgrader import CHAPTERS, NOTEBOOKS, Run, load, nbg, src
 
 CHAPTER = "03_three_rpr"
 
@@ -408,7 +408,7 @@ NO_DELEGATION = {"04_cartesian_control": "its tool and goal frames are built wit
                                          "as the chapter teaches"}
 
 
-@pytest.mark.parametrize("chapter", sorted(p.stem for p in NOTEBOOKS.glob("0[1-9]_*.ipynb")))
+@pytest.mark.parametrize("chapter", CHAPTERS)
 def test_delegation_is_flagged_in_every_chapter(chapter):
     """For every check with robokin references that a chapter's tests explain, an answer
     bound to robokin's solution is flagged; the instructor's solutions are not."""
