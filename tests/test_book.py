@@ -345,3 +345,61 @@ def test_page_in_browser(edition_book, browser, page):
         assert weight <= PAGE_WEIGHT_BUDGET, f"{page}: page weight {weight / 1e6:.2f} MB > 2 MB"
     finally:
         context.close()
+
+
+#: Every code block of a page, its details opened: its font size, its client width and
+#: scroll width, its widest line; and the width of 88 characters in its font (a probe).
+CODE_WIDTH_JS = """(characters) => {
+  document.querySelectorAll('article details').forEach(d => { d.open = true; });
+  const blocks = Array.from(document.querySelectorAll('article div.highlight pre'))
+    .filter(pre => pre.offsetParent !== null);
+  const probe = document.createElement('span');
+  probe.style.cssText = 'position: absolute; visibility: hidden; white-space: pre';
+  document.body.appendChild(probe);
+  const found = blocks.map(pre => {
+    const style = getComputedStyle(pre);
+    probe.style.font = style.font;
+    probe.textContent = 'm'.repeat(characters);
+    const lines = pre.textContent.replace(/\\n$/, '').split('\\n');
+    return {fontPx: parseFloat(style.fontSize), client: pre.clientWidth, scroll: pre.scrollWidth,
+            room: pre.clientWidth - parseFloat(style.paddingLeft) - parseFloat(style.paddingRight),
+            probe: probe.getBoundingClientRect().width, longest: Math.max(...lines.map(l => l.length)),
+            line: lines.reduce((a, b) => (b.length > a.length ? b : a), '').slice(0, 60)};
+  });
+  probe.remove();
+  return found;
+}"""
+#: The longest code line the notebooks may have (ruff's line length; tests/test_notebook_conventions.py).
+CODE_LINE_LENGTH = 88
+
+
+@pytest.mark.browser
+def test_code_lines_fit_a_laptops_width(edition_book, browser):
+    """At 1280 px no code block of a chapter scrolls sideways: each block's widest line fits
+    (scrollWidth <= clientWidth), any 88-character line would fit (a probe in the block's own
+    font), and the code font stays readable (at least 12 px)."""
+    context = browser.new_context(viewport={"width": 1280, "height": 900})
+    chapters = [page for page in PAGES if page.startswith("notebooks/")]
+    widest = 0
+    try:
+        tab = context.new_page()
+        for page in chapters:
+            tab.goto((edition_book / f"{page}.html").as_uri(), wait_until="load")
+            blocks = tab.evaluate(CODE_WIDTH_JS, CODE_LINE_LENGTH)
+            assert blocks, f"{page}: no code blocks"
+            small = sorted({block["fontPx"] for block in blocks if block["fontPx"] < 12})
+            assert not small, f"{page}: code at {small} px, smaller than 12 px"
+            scrolling = [block for block in blocks if block["scroll"] > block["client"]]
+            assert not scrolling, (
+                f"{page}: {len(scrolling)} code blocks scroll sideways at 1280 px, e.g. a line of "
+                f"{scrolling[0]['longest']} characters in {scrolling[0]['client']} px "
+                f"(scroll width {scrolling[0]['scroll']} px): {scrolling[0]['line']!r}")
+            narrowest = min(blocks, key=lambda block: block["room"] - block["probe"])
+            assert narrowest["probe"] <= narrowest["room"], (
+                f"{page}: {CODE_LINE_LENGTH} characters take {narrowest['probe']:.0f} px, but the narrowest "
+                f"code block has {narrowest['room']:.0f} px for text")
+            widest = max(widest, max(block["longest"] for block in blocks))
+    finally:
+        context.close()
+    # the measure measured something: the chapters' longest lines are near the limit
+    assert 80 <= widest <= CODE_LINE_LENGTH, f"the widest code line of the chapters has {widest} characters"
