@@ -16,16 +16,15 @@ test, so it runs as a part of its own beside the others) -- eight autograde runs
 all (and the walk-through's two).
 
 :func:`graded_courses` grades them once per pytest process, for the files
-selected in the session: every chapter when ``test_nbgrader.py`` is selected or a
-selected file's suite joins a chapter other than 3, chapter 3 alone otherwise (the
-walk-through and the chapter without metadata with ``test_nbgrader.py`` only). The
-jobs come in three parts, one pytest-xdist group each (``nbgrader:3``: chapter 3, the
-walk-through, the chapter without metadata and chapter 5; ``nbgrader:tamper``: the
-tamper suite's course; ``nbgrader:others``), so that under xdist the workers grade
-at once, each only the part its tests read (:class:`Courses` grades a part when one
-of its runs is first read; without xdist, all parts at once, in one thread pool).
-Each file sees its own submissions only
-(:func:`view`).
+selected in the session: only the jobs (a chapter's run, a suite's own course, the
+walk-through, the chapter without metadata) that a selected test reads. Each job is a
+part of its own, one pytest-xdist group (``nbgrader:<job>``), so that under xdist the
+jobs spread over the workers, longest first (tests/parallel_plan.py), and a worker
+grades only the jobs its tests read (:class:`Courses` grades a job when it is first
+read; without xdist, all jobs at once, in one thread pool). A job's run waits on
+purpose (the time limits of its hanging submissions) as much as it computes: many
+small parts let one worker's waits overlap another's work. Each file sees its own
+submissions only (:func:`view`).
 
 A file that adds submissions to a chapter's run gives a :class:`Suite` per kind
 of run it joins (``SUITE``, or a tuple ``SUITES``): the chapters it joins
@@ -54,15 +53,8 @@ XDIST_GROUP = "nbgrader"
 
 #: test files that add submissions to the chapters' runs (their ``SUITES``, or ``SUITE``)
 SUITES = ("test_grading_tamper", "test_grading_trust")
-
-
-#: The graded courses come in two parts, one pytest-xdist group each, so that the two workers
-#: grade at once (tests/parallel_plan.py runs the groups "nbgrader:<part>" first): chapter 3
-#: (the longest run), the walk-through, the chapter without metadata and chapter 5; every
-#: other chapter. Which part a job is in changes only where it is graded, not what.
-PART_3 = f"{XDIST_GROUP}:3"
-PART_OTHERS = f"{XDIST_GROUP}:others"
-PART_3_JOBS = (CHAPTER3, "walkthrough", "unmarked", "05_baxter_circle")
+#: jobs besides the chapters' runs: the walk-through of book/for-instructors.md, the chapter without metadata
+EXTRAS = ("walkthrough", "unmarked")
 
 
 #: Separates a chapter and a suite in the key of a course of the suite's own (see :class:`Suite`).
@@ -76,10 +68,8 @@ def own_course_key(chapter: str, suite: str) -> str:
 
 def part_of(key: str) -> str:
     """The part (xdist group) in which the job ``key`` (a chapter, "walkthrough", "unmarked", or a
-    suite's own course, "<chapter>+<suite>") is graded: a suite's own course is a part of its own."""
-    if OWN in key:
-        return f"{XDIST_GROUP}:{key.split(OWN, 1)[1]}"
-    return PART_3 if key in PART_3_JOBS else PART_OTHERS
+    suite's own course, "<chapter>+<suite>") is graded: every job is a part of its own."""
+    return f"{XDIST_GROUP}:{key}"
 
 
 def part_mark(part: str) -> list:
@@ -207,8 +197,8 @@ class Courses(Mapping):
             wanted = students_read(item for item in request.session.items if Path(str(item.fspath)).stem == name)
             for suite in module_suites(name):
                 suite.wanted = wanted
-        self.full = "walkthrough" in read or "unmarked" in read
-        self.jobs = [*self.chapters, *own, *(("walkthrough", "unmarked") if self.full else ())]
+        self.extras = [job for job in EXTRAS if job in read]
+        self.jobs = [*self.chapters, *own, *self.extras]
         self.factory = tmp_path_factory
 
     def _build(self, parts: set[str]) -> None:
@@ -220,9 +210,9 @@ class Courses(Mapping):
                 return
             chapters = [c for c in self.chapters if part_of(c) in parts]
             own = [key for key in self.jobs if OWN in key and part_of(key) in parts]
-            extras = self.full and PART_3 in parts
-            _RUNS.update(test_nbgrader.grade_everything(self.factory.mktemp("nbgrader"), full=extras,
-                                                        suites=self.suites, chapters=chapters, own=own))
+            extras = [job for job in self.extras if part_of(job) in parts]
+            _RUNS.update(test_nbgrader.grade_everything(self.factory.mktemp("nbgrader"), suites=self.suites,
+                                                        chapters=chapters, own=own, extras=extras))
             _BUILT.update(parts)
 
     def __getitem__(self, key: str):

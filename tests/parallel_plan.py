@@ -70,13 +70,18 @@ ESTIMATES = [
     (r"test_book\.py::test_page_in_browser", 8.0),
     (r"test_views_(browser|mesh)\.py", 3.0),
 ]
-#: Expected seconds of a family of groups, shared evenly by the groups of the family
-#: in this run: the nbgrader courses are one group ("nbgrader") or several
-#: ("nbgrader:<part>", ...), and the grading costs the same in all, split or not.
+#: The xdist groups of the graded courses: "nbgrader:<job>", one per job (tests/grading_course.py).
 NBGRADER_GROUPS = r"^nbgrader($|[:_-])"
-SHARED_ESTIMATES = [
-    (NBGRADER_GROUPS, 340.0),
+#: Expected seconds of each job's group, from the full runs on the 2-core machine: a chapter's
+#: run (its submissions and the trust suite's) about 100 s, chapter 3's with the other engines'
+#: re-gradings (tests/test_grading_engines.py) and the tamper suite's own course more.
+NBGRADER_ESTIMATES = [
+    (r"^nbgrader:03_three_rpr\+tamper$", 240.0),
+    (r"^nbgrader:03_three_rpr$", 220.0),
+    (r"^nbgrader:walkthrough$", 60.0),
+    (NBGRADER_GROUPS, 100.0),
 ]
+ESTIMATES += NBGRADER_ESTIMATES
 
 
 def is_nbgrader_group(name: str) -> bool:
@@ -199,10 +204,6 @@ def estimates(units) -> dict[str, float]:
                 break
         else:
             out[unit] = 0.0
-    for pattern, total in SHARED_ESTIMATES:
-        family = [unit for unit in units if re.search(pattern, unit)]
-        for unit in family:
-            out[unit] = total / len(family)
     return out
 
 

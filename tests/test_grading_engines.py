@@ -4,11 +4,12 @@ One chapter (:data:`CHAPTER`, the everyday chapter of tests/tiers.py) is graded 
 (each graded submission costs about a minute of CPU):
 
 * ``run_autograder`` from the zip ``make gradescope`` writes (tools/gradescope.py), unpacked
-  in a temporary ``/autograder``-shaped folder (``AUTOGRADER_ROOT`` set, the venv's python on
-  PATH), grades a correct, a blank, a typical-mistake and a tampering submission one after
-  another; each test's score is the one ``nbgrader autograde`` gives in the chapter's shared
-  course (tests/grading_course.py: its ``correct``, ``unanswered`` and ``mistake``; the
-  tampering submission is a blank one with forged verdicts, which the tamper suite,
+  in temporary ``/autograder``-shaped folders (``AUTOGRADER_ROOT`` set, the venv's python on
+  PATH), grades a correct, a blank, a typical-mistake and a tampering submission, each in a
+  folder of its own and all at once (as Gradescope, one container per submission); each
+  test's score is the one ``nbgrader autograde`` gives in the chapter's shared course
+  (tests/grading_course.py: its ``correct``, ``unanswered`` and ``mistake``; the tampering
+  submission is a blank one with forged verdicts, which the tamper suite,
   tests/test_grading_tamper.py, shows scores what the blank scores);
 * ``tools/grade_many.py`` (``make grade``) with two jobs grades the typical mistake again and
   a correct submission that allocates 8 GB in an ungraded cell: the mistake scores what it
@@ -32,6 +33,7 @@ import subprocess
 import sys
 import time
 import zipfile
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import pytest
@@ -73,9 +75,9 @@ def submissions(run) -> dict[str, dict]:
             "tampering": tampered(run.release, "forged_check"), "memory": with_incident(correct, ALLOCATE_8GB)}
 
 
-def autograder_folder(base: Path) -> Path:
-    """An ``/autograder``-shaped folder: the zip in ``source/``, ``run_autograder`` beside it."""
-    archive = gradescope.write_zip(CHAPTER, base / "autograder.zip")
+def autograder_folder(archive: Path, base: Path) -> Path:
+    """An ``/autograder``-shaped folder in ``base``: the zip ``archive`` in ``source/``,
+    ``run_autograder`` beside it."""
     root = base / "autograder"
     with zipfile.ZipFile(archive) as unpacked:
         unpacked.extractall(root / "source")
@@ -105,25 +107,37 @@ def scores(results: dict) -> dict[str, float]:
 
 @pytest.fixture(scope="module")
 def graded(request, tmp_path_factory):
-    """The chapter's shared nbgrader run, and every submission here graded by run_autograder one at
-    a time and by grade_many with two jobs: ``(run, {how: {submission: results}}, logs)``."""
+    """The chapter's shared nbgrader run, and every submission here graded by run_autograder (each
+    in an ``/autograder`` folder of its own, all at once, as Gradescope grades each submission in a
+    container of its own) while grade_many grades two more with two jobs:
+    ``(run, {how: {submission: results}}, logs)``."""
     run = _chapter_run(request, tmp_path_factory)
     made = submissions(run)
     base = tmp_path_factory.mktemp("engines")
-    root = autograder_folder(base)
-    out: dict[str, dict[str, dict]] = {"autograder": {}, "grade_many": {}}
-    logs = []
-    for name in AUTOGRADED:
-        started = time.perf_counter()
-        proc, results = run_autograder(root, {f"{CHAPTER}.ipynb": made[name]})
-        logs.append(f"run_autograder {name}: exit {proc.returncode}, {time.perf_counter() - started:.0f} s\n"
-                    f"{proc.stdout}{proc.stderr[-3000:]}")
-        out["autograder"][name] = results
+    archive = gradescope.write_zip(CHAPTER, base / "autograder.zip")
     folder = base / "submissions"
     for name in ("mistake", "memory"):
         save(made[name], folder / name / f"{CHAPTER}.ipynb")
-    proc = subprocess.run([sys.executable, str(ROOT / "tools" / "grade_many.py"), CHAPTER, str(folder), "--jobs", "2"],
-                          capture_output=True, text=True, timeout=1800)
+
+    def autograde(name: str):
+        started = time.perf_counter()
+        proc, results = run_autograder(autograder_folder(archive, base / name), {f"{CHAPTER}.ipynb": made[name]})
+        return results, (f"run_autograder {name}: exit {proc.returncode}, {time.perf_counter() - started:.0f} s\n"
+                         f"{proc.stdout}{proc.stderr[-3000:]}")
+
+    def grade_many():
+        return subprocess.run([sys.executable, str(ROOT / "tools" / "grade_many.py"), CHAPTER, str(folder),
+                               "--jobs", "2"], capture_output=True, text=True, timeout=1800)
+
+    with ThreadPoolExecutor(max_workers=len(AUTOGRADED) + 1) as pool:
+        autograded = {name: pool.submit(autograde, name) for name in AUTOGRADED}
+        many = pool.submit(grade_many)
+        out: dict[str, dict[str, dict]] = {"autograder": {}, "grade_many": {}}
+        logs = []
+        for name, future in autograded.items():
+            out["autograder"][name], log = future.result()
+            logs.append(log)
+        proc = many.result()
     logs.append(f"grade_many --jobs 2: exit {proc.returncode}\n{proc.stdout}{proc.stderr[-3000:]}")
     for name in ("mistake", "memory"):
         results = folder / name / "results.json"
@@ -164,7 +178,7 @@ def test_results_json_is_gradescopes_format_and_hides_hidden_tests(graded):
 
 
 @grading_course.reads(CHAPTER)
-def test_two_jobs_give_the_scores_of_one_at_a_time(graded):
+def test_two_jobs_give_the_scores_of_run_autograder(graded):
     _, out, logs = graded
     assert out["grade_many"]["mistake"].get("tests"), logs
     assert scores(out["grade_many"]["mistake"]) == scores(out["autograder"]["mistake"])
@@ -206,7 +220,7 @@ def test_zip_refuses_bad_arguments(tmp_path, chapter, memory):
 
 @pytest.mark.parametrize("notebooks", [0, 2])
 def test_run_autograder_explains_a_submission_without_one_notebook(tmp_path, notebooks):
-    root = autograder_folder(tmp_path)
+    root = autograder_folder(gradescope.write_zip(CHAPTER, tmp_path / "autograder.zip"), tmp_path)
     proc, results = run_autograder(root, {f"{k}.ipynb": {"cells": []} for k in range(notebooks)})
     assert proc.returncode == 0, proc.stderr
     assert results["score"] == 0 and results["tests"] == []

@@ -564,23 +564,21 @@ def run_unmarked(base: Path) -> Run:
     return run
 
 
-def grade_everything(base: Path, full: bool = True, suites=(), chapters=None, own=()) -> dict[str, Run]:
-    """Every chapter (or ``chapters``; chapter 3 alone when ``full=False``) generated, submitted,
-    autograded once and given feedback, each with the submissions of the ``suites`` that join
-    it (tests/grading_course.py); the walk-through and the chapter without metadata (``full``);
-    ``own``: the keys "<chapter>+<suite>" of the suites graded in a course of their own."""
+def grade_everything(base: Path, suites=(), chapters=(), own=(), extras=()) -> dict[str, Run]:
+    """The ``chapters`` generated, submitted, autograded once and given feedback, each with the
+    submissions of the ``suites`` that join it (tests/grading_course.py); ``own``: the keys
+    "<chapter>+<suite>" of the suites graded in a course of their own; ``extras``: "walkthrough"
+    and "unmarked", the walk-through and the chapter without metadata."""
     started = time.perf_counter()
-    if chapters is None:
-        chapters = CHAPTERS if full else [c for c in CHAPTERS if c == grading_course.CHAPTER3]
     shared = [s for s in suites if not s.own_course]
     jobs = {chapter: partial(run_chapter, chapter, base, [s for s in shared if s.joins(chapter)])
             for chapter in chapters}
     for key in own:
         chapter, name = key.split(grading_course.OWN, 1)
         jobs[key] = partial(run_chapter, chapter, base, [s for s in suites if s.name == name], key)
-    if full:
-        jobs["walkthrough"] = partial(run_walkthrough, base)
-        jobs["unmarked"] = partial(run_unmarked, base)
+    extra_jobs = {"walkthrough": run_walkthrough, "unmarked": run_unmarked}
+    for key in extras:
+        jobs[key] = partial(extra_jobs[key], base)
     # the slow chapters first, so that the workers finish together
     order = sorted(jobs, key=lambda k: {"03_three_rpr": -1 if suites else 5, "01_leg_kinematics": 0,
                                         "05_baxter_circle": 1, "walkthrough": 2}.get(k, 5))
