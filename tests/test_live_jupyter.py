@@ -33,12 +33,26 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from browser_waits import poll_until
+from browser_waits import DRAW_TIMEOUT, WAIT_MS, poll_until
 from conftest import _skip_or_fail, chromium_path
 
 pytestmark = pytest.mark.browser
 
 JUPYTER_LAB = Path(sys.executable).with_name("jupyter-lab")
+
+# Time limits: each a ceiling that a loaded machine does not reach when nothing hangs; every wait
+# ends as soon as its condition holds, so a high ceiling costs nothing in a passing run.
+#: seconds for jupyter-lab to answer its first request: a few seconds on the quiet 2-core machine
+#: (imports, extensions), more at a high load; 60 s means it does not start
+SERVER_START = 60.0
+#: seconds for one REST call to the local server (milliseconds when it is well; a kernel's
+#: shutdown waits for the kernel to exit)
+API_REPLY = 15.0
+#: seconds for a process to exit once told to (the server after /api/shutdown, a kernel, MeshCat)
+PROCESS_EXIT = 10.0
+#: milliseconds for JupyterLab's own page to be ready, the notebook opened and its kernel session
+#: started: the browser waits' ceiling (browser_waits.DRAW_TIMEOUT) and the kernel's start
+APP_READY_MS = 30_000
 READOUT = ".jp-OutputArea-output .widget-html code"                    # the end-effector pose line
 SLIDER_VALUE = ".jp-OutputArea-output .widget-slider .widget-readout"   # the first slider's value
 #: Screenshots go to the test's tmp_path, or to this directory (e.g. ROBOKIN_SHOTS=/tmp) to look at them
@@ -132,7 +146,7 @@ class Lab:
             start_new_session=True)
         self.log_path = tmp / "jupyter-lab.log"
 
-    def api(self, method, path, timeout=5.0):
+    def api(self, method, path, timeout=API_REPLY):
         req = urllib.request.Request(f"{self.base}{path}", method=method,
                                      headers={"Authorization": f"token {self.token}"},
                                      data=b"" if method == "POST" else None)
@@ -140,7 +154,7 @@ class Lab:
             body = r.read()
         return json.loads(body) if body else None
 
-    def wait_ready(self, timeout=30.0):
+    def wait_ready(self, timeout=SERVER_START):
         """Wait until the server answers, reading its port from its runtime file first.
 
         The server binds a port the system gives it (``--port=0``) and names it in
@@ -156,7 +170,7 @@ class Lab:
                 if self.base is None:
                     self.port = json.loads(info.read_text())["port"]
                     self.base = f"http://127.0.0.1:{self.port}"
-                self.api("GET", "/api/status", timeout=1.0)
+                self.api("GET", "/api/status", timeout=1.0)   # one try; tried again until SERVER_START
                 return
             except (OSError, urllib.error.URLError, ValueError, KeyError):   # no (complete) file yet
                 time.sleep(0.1)
@@ -188,24 +202,24 @@ class Lab:
         """Kernels via the REST API, then the server; kill the process group if that fails."""
         try:
             for kernel in self.api("GET", "/api/kernels"):
-                self.api("DELETE", f"/api/kernels/{kernel['id']}", timeout=15.0)
+                self.api("DELETE", f"/api/kernels/{kernel['id']}")
             self.api("POST", "/api/shutdown")
         except (OSError, urllib.error.URLError, ValueError):
             pass
         try:
-            self.proc.wait(timeout=10)
+            self.proc.wait(timeout=PROCESS_EXIT)
         except subprocess.TimeoutExpired:
             for sig in (signal.SIGTERM, signal.SIGKILL):
                 try:
                     os.killpg(self.proc.pid, sig)
-                    self.proc.wait(timeout=5)
+                    self.proc.wait(timeout=PROCESS_EXIT)
                     break
                 except (ProcessLookupError, subprocess.TimeoutExpired):
                     continue
         self.log.close()
 
 
-def _gone(procs, timeout=10.0):
+def _gone(procs, timeout=PROCESS_EXIT):
     """The processes among ``procs`` still running after ``timeout`` seconds."""
     import psutil
     deadline = time.monotonic() + timeout
@@ -234,7 +248,7 @@ def _pixels(png):
     return np.asarray(Image.open(io.BytesIO(png)).convert("RGB"), dtype=int)
 
 
-def _frame_of(page, iframe_handle, timeout=20.0):
+def _frame_of(page, iframe_handle, timeout=DRAW_TIMEOUT):
     deadline = time.monotonic() + timeout
     while time.monotonic() < deadline:
         frame = iframe_handle.content_frame()
@@ -244,14 +258,14 @@ def _frame_of(page, iframe_handle, timeout=20.0):
     pytest.fail("the MeshCat iframe has no content frame")
 
 
-def _wait_drawn(frame, timeout_ms=20_000):
+def _wait_drawn(frame, timeout_ms=WAIT_MS):
     """The MeshCat page inside an iframe has its canvas and has received the scene."""
     frame.wait_for_selector("#meshcat-pane canvas", state="attached", timeout=timeout_ms)
     frame.wait_for_function("typeof viewer !== 'undefined' && viewer.num_messages_received > 0",
                             timeout=timeout_ms)
 
 
-def _settled(frame, quiet=0.4, timeout=10.0):
+def _settled(frame, quiet=0.4, timeout=DRAW_TIMEOUT):
     """Wait until the viewer in ``frame`` has received no message for ``quiet`` seconds; returns the count."""
     deadline = time.monotonic() + timeout
     count, since = frame.evaluate("viewer.num_messages_received"), time.monotonic()
@@ -301,7 +315,7 @@ def test_live_scene_and_sliders_in_jupyterlab(tmp_path, browser):
         page.on("pageerror", lambda e: errors.append(str(e)))
         page.goto(f"{lab.base}/lab/tree/live.ipynb?token={lab.token}&reset")
         page.wait_for_function("window.jupyterapp && window.jupyterapp.shell.currentWidget"
-                               " && window.jupyterapp.shell.currentWidget.sessionContext", timeout=30_000)
+                               " && window.jupyterapp.shell.currentWidget.sessionContext", timeout=APP_READY_MS)
         page.evaluate("""async () => {
             const panel = window.jupyterapp.shell.currentWidget;
             await panel.context.ready;
@@ -323,7 +337,7 @@ def test_live_scene_and_sliders_in_jupyterlab(tmp_path, browser):
         outputs = page.locator(".jp-Cell .jp-OutputArea-output")
         iframes = page.locator(".jp-OutputArea-output iframe")
         try:
-            iframes.nth(1).wait_for(state="attached", timeout=30_000)
+            iframes.nth(1).wait_for(state="attached", timeout=APP_READY_MS)
         except PlaywrightTimeout:
             page.screenshot(path=str(shots / "robokin-lab-fail.png"))
             texts = outputs.all_inner_texts()
@@ -363,10 +377,10 @@ def test_live_scene_and_sliders_in_jupyterlab(tmp_path, browser):
 
         # ---- cell 2: one slider per joint under the second scene
         sliders = page.locator(".jp-OutputArea-output .widget-slider")
-        sliders.first.wait_for(state="visible", timeout=20_000)
+        sliders.first.wait_for(state="visible", timeout=WAIT_MS)
         assert sliders.count() == 2, f"{sliders.count()} sliders for 2 joints"
         readout = page.locator(READOUT).last
-        readout.wait_for(state="visible", timeout=10_000)
+        readout.wait_for(state="visible", timeout=WAIT_MS)
         text_before = readout.inner_text()
         assert text_before.startswith("end-effector: p = ("), text_before
         page.screenshot(path=str(shots / "robokin-lab-page.jpg"), full_page=True, type="jpeg", quality=85)
@@ -382,11 +396,11 @@ def test_live_scene_and_sliders_in_jupyterlab(tmp_path, browser):
         # one key press: browser -> comm -> kernel -> zmq -> MeshCat server -> websocket -> viewer
         t0 = time.perf_counter()
         handle.press("ArrowRight")
-        frames[1].wait_for_function(f"viewer.num_messages_received > {n_before}", polling=10, timeout=10_000)
+        frames[1].wait_for_function(f"viewer.num_messages_received > {n_before}", polling=10, timeout=WAIT_MS)
         t_one = time.perf_counter() - t0
         page.wait_for_function(f"([t]) => {{ const c = document.querySelectorAll({READOUT!r});"
                                " return c.length > 0 && c[c.length - 1].innerText !== t; }",
-                               arg=[text_before], polling=10, timeout=10_000)   # re-rendered: query again
+                               arg=[text_before], polling=10, timeout=WAIT_MS)   # re-rendered: query again
         t_readout = time.perf_counter() - t0
         # then 19 more (0.5 degree each), as a student holding the key down
         t0 = time.perf_counter()
@@ -395,7 +409,7 @@ def test_live_scene_and_sliders_in_jupyterlab(tmp_path, browser):
         target = f"{float(value_before) + 10.0:.1f}"
         page.wait_for_function(f"([t]) => {{ const r = document.querySelector({SLIDER_VALUE!r});"
                                " return r !== null && r.innerText.trim() === t; }",
-                               arg=[target], polling=10, timeout=10_000)
+                               arg=[target], polling=10, timeout=WAIT_MS)
         _settled(frames[1], quiet=0.3)
         t_many = time.perf_counter() - t0
         assert sliders.first.locator(".widget-readout").inner_text().strip() == target

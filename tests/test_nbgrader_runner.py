@@ -37,6 +37,15 @@ PROBE_CONFIG = textwrap.dedent("""\
 """)
 
 
+#: Seconds a command that ends by itself may take: ``nbgrader --version`` or ``db student list`` take
+#: well under a second from a runner (a fork of a process that imported nbgrader) and about 2 s as a
+#: new process on the quiet 2-core machine; 120 s is a ceiling no load reaches without a hang.
+ENDS = 120
+#: Seconds before a command that never ends (the probe's 60 s sleep) is killed: the probe prints
+#: within a second of the start at a load of 16; the limit expires in the sleep, 50 s before it ends.
+NEVER_ENDS = 10
+
+
 def environment(**extra: str) -> dict[str, str]:
     return {**student_edition.environment(), **extra}
 
@@ -44,8 +53,8 @@ def environment(**extra: str) -> dict[str, str]:
 @pytest.mark.parametrize("args", [["--version"], ["autograde", "no_such_assignment"]])
 def test_output_and_exit_code_are_the_console_scripts(tmp_path, args):
     new = subprocess.run([*student_edition.nbgrader_command(), *args], cwd=tmp_path, env=environment(),
-                         capture_output=True, text=True, timeout=120)
-    forked = nbgrader_runner.run(args, tmp_path, environment(), timeout=120)
+                         capture_output=True, text=True, timeout=ENDS)
+    forked = nbgrader_runner.run(args, tmp_path, environment(), timeout=ENDS)
     assert forked.returncode == new.returncode
     assert forked.stdout == new.stdout + new.stderr   # stdout and stderr go to one file, in order
 
@@ -57,7 +66,7 @@ def test_a_command_runs_in_its_folder_with_its_environment(tmp_path):
         course.mkdir()
         (course / "nbgrader_config.py").write_text(PROBE_CONFIG)
         runs.append(nbgrader_runner.run(["db", "student", "list"], course, environment(ROBOKIN_PROBE=name),
-                                        timeout=120))
+                                        timeout=ENDS))
     for name, run in zip(("first", "second"), runs):
         assert run.returncode == 0, run.stdout
         assert f"PROBE {tmp_path / name} {name} ['db', 'student', 'list']" in run.stdout
@@ -66,21 +75,21 @@ def test_a_command_runs_in_its_folder_with_its_environment(tmp_path):
 def test_a_command_past_its_time_limit_is_killed_and_the_next_one_runs(tmp_path):
     (tmp_path / "nbgrader_config.py").write_text(PROBE_CONFIG)
     with pytest.raises(subprocess.TimeoutExpired) as caught:
-        nbgrader_runner.run(["db", "student", "list"], tmp_path, environment(ROBOKIN_PROBE="sleep"), timeout=3)
+        nbgrader_runner.run(["db", "student", "list"], tmp_path, environment(ROBOKIN_PROBE="sleep"), timeout=NEVER_ENDS)
     assert "PROBE" in caught.value.output
-    after = nbgrader_runner.run(["--version"], tmp_path, environment(), timeout=120)
+    after = nbgrader_runner.run(["--version"], tmp_path, environment(), timeout=ENDS)
     assert after.returncode == 0 and "nbgrader version" in after.stdout
 
 
 def test_commands_that_end_at_once_follow_each_other_without_waiting(tmp_path):
     """A command's two replies (started, ended) can arrive together: neither may be waited for again."""
     for _ in range(20):
-        run = nbgrader_runner.run(["--version"], tmp_path, environment(), timeout=20)
+        run = nbgrader_runner.run(["--version"], tmp_path, environment(), timeout=ENDS)
         assert run.returncode == 0 and "nbgrader version" in run.stdout
 
 
 def test_closed_runners_leave_no_process():
-    nbgrader_runner.run(["--version"], ROOT, environment(), timeout=120)
+    nbgrader_runner.run(["--version"], ROOT, environment(), timeout=ENDS)
     runners = nbgrader_runner.runner_pids()
     assert runners and all(psutil.Process(pid).num_threads() == 1 for pid in runners)   # forks safely
     nbgrader_runner.close_all()

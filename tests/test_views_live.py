@@ -16,6 +16,17 @@ pytest.importorskip("meshcat")
 pytest.importorskip("zmq")
 from robokin.views.live import LiveViewer, proxy_url
 
+# Time limits: ceilings a loaded machine does not reach when nothing hangs; each wait ends as soon
+# as its condition holds, so a high ceiling costs nothing in a passing run.
+#: seconds for the server to exit after its owner is gone: it looks at its parent every second
+#: (robokin/views/_server.py) and is gone about 1.5 s after the owner on the quiet machine
+SERVER_EXIT = 30.0
+#: seconds for one HTTP request to the server on the loopback (milliseconds when it is well)
+REPLY = 15.0
+#: seconds for a Python that starts a server and returns (imports and the server's start: a few
+#: seconds on the quiet machine)
+OWNER_RUN = 120
+
 
 def _listening(pid):
     """(address, port) pairs pid listens on, via psutil or /proc."""
@@ -45,7 +56,7 @@ def _listening(pid):
     return out
 
 
-def _gone(pid, timeout=5.0):
+def _gone(pid, timeout=SERVER_EXIT):
     deadline = time.monotonic() + timeout
     while time.monotonic() < deadline:
         try:
@@ -83,7 +94,7 @@ def test_server_on_loopback_free_port_and_cleaned_up():
             viewer.send_transforms(chain_transforms("robot", two_link(), np.array([0.5, 0.5])))
             # the page served at /static/ connects its websocket relative to its own URL (proxy-safe)
             import urllib.request
-            page = urllib.request.urlopen(viewer.web_url, timeout=5).read().decode()
+            page = urllib.request.urlopen(viewer.web_url, timeout=REPLY).read().decode()
             assert "location.pathname" in page and "main.min.js" in page
         finally:
             pid = viewer.pid
@@ -99,7 +110,7 @@ def test_server_exits_with_its_owner():
     import sys
 
     code = ("from robokin.views.live import LiveViewer; v = LiveViewer(); print(v.pid, flush=True)")
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60,
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=OWNER_RUN,
                          cwd=os.path.dirname(os.path.dirname(__file__)))
     pid = int(out.stdout.split()[-1])
     assert _gone(pid), "server survived the interpreter that started it"
@@ -114,7 +125,7 @@ code = ("from robokin.views.live import LiveViewer; v = LiveViewer(); print(v.pi
 owner = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
 pid = int(owner.stdout.readline())
 owner.kill()                      # the kernel dies hard and is not reaped yet: a zombie
-deadline, gone = time.monotonic() + 5.0, False
+deadline, gone = time.monotonic() + SERVER_EXIT, False
 while not gone and time.monotonic() < deadline:
     try:
         with open(f"/proc/{pid}/stat") as f:
@@ -148,7 +159,8 @@ def test_server_exits_when_its_kernel_is_killed_under_a_subreaper():
     # the server must notice that its parent changed, not wait for the zombie to be reaped
     import subprocess
 
-    out = subprocess.run([sys.executable, "-c", _KILLED_OWNER], capture_output=True, text=True, timeout=60, check=False,
+    out = subprocess.run([sys.executable, "-c", f"SERVER_EXIT = {SERVER_EXIT}\n" + _KILLED_OWNER], capture_output=True,
+                         text=True, timeout=OWNER_RUN + SERVER_EXIT, check=False,
                          cwd=os.path.dirname(os.path.dirname(__file__)))
     assert out.stdout.strip().splitlines()[-1:] == ["gone"], out.stdout + out.stderr
 
@@ -192,10 +204,10 @@ def test_only_the_owner_reaches_the_server():
         for path in ("/static/", "/static/main.min.js", "/", "/wrong-secret-0123456789/static/",
                      f"/{viewer.secret[:-1]}/static/"):
             with pytest.raises(urllib.error.HTTPError) as info:
-                urllib.request.urlopen(base + path, timeout=5)
+                urllib.request.urlopen(base + path, timeout=REPLY)
             assert info.value.code == 404, path
-        assert urllib.request.urlopen(viewer.web_url, timeout=5).status == 200
-        assert urllib.request.urlopen(viewer.web_url + "main.min.js", timeout=5).status == 200
+        assert urllib.request.urlopen(viewer.web_url, timeout=REPLY).status == 200
+        assert urllib.request.urlopen(viewer.web_url + "main.min.js", timeout=REPLY).status == 200
         assert viewer.zmq_url.startswith("ipc://")
         folder = os.path.dirname(viewer.zmq_url[len("ipc://"):])
         mode = os.stat(folder)
