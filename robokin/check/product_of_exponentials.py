@@ -1,15 +1,33 @@
-r"""Exercise checks of chapter 8: The product of exponentials.
+r"""Exercise checks of chapter 8: the product of exponentials on the UR10.
 
-=================  ==========================================  ==========
-check              the student's answer                         inputs
-=================  ==========================================  ==========
-``tool_position``  p(q): tool position (x, y) in m, shape (2,)  q1, q2
-``tool_jacobian``  J(q) = ∂p/∂q: 2×2, in m/rad                 q1, q2
-=================  ==========================================  ==========
+Twists and screw axes are Lynch & Park's, **angular part first**, :math:`[\omega; v]`
+(``book/conventions.md``). References come from robokin's own screw functions
+(:func:`robokin.transforms.transform_exp`, :func:`robokin.transforms.adjoint`) and from the
+UR10 of :func:`robokin.models.ur10` (its DH model: ``fk``, ``jacobian``, ``screw_axes``,
+``space_jacobian``, ``body_jacobian``).
 
-Every reference comes from the chapter's robot model (one model definition); the
-diagnoses are the standard ones for a vector (a sign, degrees for radians, swapped
-or negated inputs). See the book's page "Adding a chapter" for the pattern.
+========================  =================================================  ==================================
+check                     the student's answer                               inputs (random)
+========================  =================================================  ==================================
+``rodrigues``             ``rodrigues(omega, theta)`` -> e^{[ω]θ} (3, 3)       unit axis ω, angle θ
+``screw_axis``            ``screw_axis(omega, point)`` -> [ω; −ω × q] (6,)     unit axis ω, point q on it
+``screw_list``            ``S_list``, the UR10's screw axes, one per row (6, 6)  none (one value)
+``exp6``                  ``exp6(S, theta)`` -> e^{[S]θ} (4, 4)                a revolute screw axis, θ
+``forward_kinematics``    ``poe_fk(M, S_list, theta)`` -> T(θ) (4, 4)          the UR10's M and S, θ (6,)
+``adjoint``               ``adjoint_matrix(T)`` -> [Ad_T] (6, 6)               a transform (roll, pitch, yaw, p)
+``space_jacobian``        ``jacobian_in_space(S_list, theta)`` -> J_s (6, n)   the UR10's S, θ (6,)
+``geometric_from_space``  ``geometric_from_space(J_s, T)`` -> [J_v; J_ω]       the UR10's J_s and T at θ
+``body_jacobian``         ``jacobian_in_body(M, S_list, theta)`` -> J_b        the UR10's M and S, θ (6,)
+========================  =================================================  ==================================
+
+Each check names the typical mistakes of its task: −ω × q taken with the wrong sign, the
+order [v; ω] for [ω; v], the exponentials multiplied in the wrong order, M on the left, the
+term G(θ) forgotten, the adjoint of T for that of T⁻¹, degrees for radians.
+
+Usage::
+
+    from robokin.check import product_of_exponentials as check_poe
+    check_poe.exp6(exp6)
 """
 
 from __future__ import annotations
@@ -19,45 +37,600 @@ from functools import lru_cache
 import numpy as np
 
 from robokin.check import diagnoses as dg
-from robokin.check._core import Check, Variable
+from robokin.check._core import Check, MatrixArgumentsCheck, Variable, alternatives
 from robokin.check._registry import exercise
 
-__all__ = ["tool_position", "tool_jacobian"]
+__all__ = [
+    "rodrigues", "screw_axis", "screw_list", "exp6", "forward_kinematics", "adjoint",
+    "space_jacobian", "geometric_from_space", "body_jacobian",
+]
 
 _CHAPTER = "product_of_exponentials"
 
 #: check -> {the robokin function that solves its task: how the grading report names it}: an
-#: answer that hands one back (``tool_position = ...fk``) is flagged for review by hand
-#: (tools/grading_bridge/delegation.py reads this literal table without importing the module)
+#: answer that hands one back is flagged for review by hand (tools/grading_bridge/delegation.py
+#: reads this literal table without importing the module). Task 2's screw axes are read from
+#: ``SerialChain.frames``, as the chapter asks: only ``screw_axes`` hands the answer back.
 DELEGATION = {
-    "tool_position": {"fk": "SerialChain.fk", "frames": "SerialChain.frames"},
-    "tool_jacobian": {"position_jacobian": "SerialChain.position_jacobian", "jacobian": "SerialChain.jacobian"},
+    "rodrigues": {"rotation_exp": "robokin.transforms.rotation_exp"},
+    "screw_list": {"screw_axes": "SerialChain.screw_axes"},
+    "exp6": {"transform_exp": "robokin.transforms.transform_exp"},
+    "forward_kinematics": {"product_of_exponentials": "SerialChain.product_of_exponentials",
+                           "fk": "SerialChain.fk", "transform_exp": "robokin.transforms.transform_exp"},
+    "adjoint": {"adjoint": "robokin.transforms.adjoint"},
+    "space_jacobian": {"space_jacobian": "SerialChain.space_jacobian", "jacobian": "SerialChain.jacobian"},
+    "geometric_from_space": {"jacobian": "SerialChain.jacobian"},
+    "body_jacobian": {"body_jacobian": "SerialChain.body_jacobian",
+                      "space_jacobian": "SerialChain.space_jacobian"},
 }
 
 
 @lru_cache(maxsize=1)
-def _arm():
-    from robokin.models import planar_two_link
+def _ur10():
+    from robokin.models import ur10
 
-    return planar_two_link()
+    return ur10()
 
 
-tool_position = exercise(_CHAPTER, "tool_position", Check(
-    name="tool_position",
-    reference=lambda x: np.asarray(_arm().fk(x))[:2, 3],
-    variables=[Variable("q1"), Variable("q2")],
-    groups=[("q", [0, 1])],
-    diagnoses=dg.standard("vector"),
-    noun="angles",
-    doc="Check tool_position(q): the tool position (x, y) in m of the two-link arm, shape (2,).",
+@lru_cache(maxsize=1)
+def _home() -> tuple[np.ndarray, np.ndarray]:
+    M, S = _ur10().screw_axes()
+    return M, S
+
+
+# ------------------------------------------------------------------ the algebra, written out
+def _skew(w: np.ndarray) -> np.ndarray:
+    return np.array([[0.0, -w[2], w[1]], [w[2], 0.0, -w[0]], [-w[1], w[0], 0.0]])
+
+
+def _unit(a: np.ndarray) -> np.ndarray:
+    return np.asarray(a, dtype=float) / np.linalg.norm(a)
+
+
+def _rotation(omega: np.ndarray, theta: float, *, sin_sign: float = 1.0, square: bool = True) -> np.ndarray:
+    W = _skew(omega)
+    return np.eye(3) + sin_sign * np.sin(theta) * W + (1 - np.cos(theta)) * (W @ W if square else W)
+
+
+def _exp(S: np.ndarray, theta: float, *, with_g: bool = True) -> np.ndarray:
+    from robokin.transforms import transform_exp
+
+    T = np.asarray(transform_exp(np.asarray(S, dtype=float) * theta), dtype=float)
+    if not with_g:
+        T[:3, 3] = S[3:] * theta
+    return T
+
+
+def _product(M: np.ndarray, S: np.ndarray, theta: np.ndarray, *, reverse: bool = False,
+             m_left: bool = False, with_m: bool = True, with_g: bool = True) -> np.ndarray:
+    factors = [_exp(s, t, with_g=with_g) for s, t in zip(S, theta)]
+    if reverse:
+        factors = factors[::-1]
+    P = np.eye(4)
+    for F in factors:
+        P = P @ F
+    if not with_m:
+        return P
+    return M @ P if m_left else P @ M
+
+
+def _adjoint(T: np.ndarray) -> np.ndarray:
+    from robokin.transforms import adjoint
+
+    return np.asarray(adjoint(T), dtype=float)
+
+
+def _swap(J: np.ndarray) -> np.ndarray:
+    """[ω; v] <-> [v; ω]: the two blocks of rows traded."""
+    return np.concatenate([J[3:], J[:3]], axis=0)
+
+
+def _space(S: np.ndarray, theta: np.ndarray, *, reverse: bool = False, inverse: bool = False,
+           adjoint_on: bool = True) -> np.ndarray:
+    from robokin.transforms import transform_inverse
+
+    columns, P = [], np.eye(4)
+    for s, t in zip(S, theta):
+        A = transform_inverse(P) if inverse else P
+        columns.append(_adjoint(A) @ s if adjoint_on else np.array(s, dtype=float))
+        E = _exp(s, t)
+        P = E @ P if reverse else P @ E
+    return np.column_stack(columns)
+
+
+def _theta(x: np.ndarray) -> np.ndarray:
+    return np.asarray(x[:6], dtype=float)
+
+
+_AXIS = [Variable(f"axis_{c}", "other", -1.0, 1.0) for c in "xyz"]
+_POINT = [Variable(f"point_{c}", "length", -1.0, 1.0) for c in "xyz"]
+_ANGLE = [Variable("theta", "angle", -np.pi, np.pi, aliases=("θ",))]
+_Q = [Variable(f"theta{i}", "angle", -np.pi, np.pi, aliases=(f"q{i}",)) for i in range(1, 7)]
+
+
+def _group(nvar: int) -> list[tuple[str, list[int]]]:
+    return [("x", list(range(nvar)))]
+
+
+# ------------------------------------------------------------------ Task 1: Rodrigues' formula
+def _rodrigues_arguments(x: np.ndarray) -> tuple[np.ndarray, float]:
+    return _unit(x[:3]), float(x[3])
+
+
+def _rodrigues_reference(x: np.ndarray) -> np.ndarray:
+    from robokin.transforms import rotation_exp
+
+    omega, theta = _rodrigues_arguments(x)
+    return np.asarray(rotation_exp(omega * theta), dtype=float)
+
+
+def _rodrigues_mistakes():
+    def sin_sign(x):
+        return _rotation(*_rodrigues_arguments(x), sin_sign=-1.0)
+
+    def no_square(x):
+        return _rotation(*_rodrigues_arguments(x), square=False)
+
+    def swapped(x):
+        omega, theta = _rodrigues_arguments(x)
+        W = _skew(omega)
+        return np.eye(3) + (1 - np.cos(theta)) * W + np.sin(theta) * (W @ W)
+
+    return [
+        alternatives("transpose", [(sin_sign, (
+            "{name} turns by −θ: it is the transpose of e^{{[ω]θ}}. The sine term is "
+            "+sin θ [ω], with [ω]x = ω × x."
+        ))]),
+        alternatives("missing_square", [(no_square, (
+            "{name} has (1 − cos θ)[ω] where (1 − cos θ)[ω]² belongs: the series of e^{{[ω]θ}} "
+            "collects its even powers with [ω]², not [ω]."
+        ))]),
+        alternatives("sin_cos_swapped", [(swapped, (
+            "{name} has sin θ and 1 − cos θ traded: the odd powers of [ω]θ sum to sin θ [ω], "
+            "the even ones to (1 − cos θ)[ω]²."
+        ))]),
+        dg.degrees(),
+    ]
+
+
+rodrigues = exercise(_CHAPTER, "rodrigues", MatrixArgumentsCheck(
+    name="rodrigues(omega, theta)",
+    reference=_rodrigues_reference,
+    variables=[*_AXIS, *_ANGLE],
+    groups=_group(4),
+    diagnoses=_rodrigues_mistakes(),
+    noun="axes and angles",
+    arguments=_rodrigues_arguments,
+    signature="rodrigues(omega, theta) -> (3, 3) array",
+    hint="Sum the series of e^{[ω]θ} with [ω]³ = −[ω] for a unit ω.",
+    doc="Check rodrigues(omega, theta) -> the rotation e^{[ω]θ} (3, 3) about the unit axis omega.",
 ))
 
-tool_jacobian = exercise(_CHAPTER, "tool_jacobian", Check(
-    name="tool_jacobian",
-    reference=lambda x: np.asarray(_arm().position_jacobian(x))[:2],
-    variables=[Variable("q1"), Variable("q2")],
-    groups=[("q", [0, 1])],
-    diagnoses=dg.standard("jacobian"),
-    noun="angles",
-    doc="Check tool_jacobian(q): the 2x2 Jacobian of the tool position, in m/rad.",
+
+# ------------------------------------------------------------------ Task 2: screw axes
+def _screw_axis_arguments(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    return _unit(x[:3]), np.asarray(x[3:6], dtype=float)
+
+
+def _screw_axis_reference(x: np.ndarray) -> np.ndarray:
+    omega, point = _screw_axis_arguments(x)
+    return np.concatenate([omega, -np.cross(omega, point)])
+
+
+_SIGN_TEXT = (
+    "the linear part of {name} has the wrong sign: v is the velocity of the body point at the "
+    "origin of {{s}} when the body turns at unit rate about the axis, v = ω × (0 − q) = −ω × q."
+)
+_ORDER_TEXT = (
+    "{name} is ordered [v; ω]: Lynch & Park's screw axis puts the angular part first, "
+    "S = [ω; v] (this book's geometric Jacobian is [v; ω]: the two orders differ)."
+)
+
+
+def _screw_axis_mistakes():
+    def sign(x):
+        omega, point = _screw_axis_arguments(x)
+        return np.concatenate([omega, np.cross(omega, point)])
+
+    def order(x):
+        return _swap(_screw_axis_reference(x))
+
+    def order_and_sign(x):
+        omega, point = _screw_axis_arguments(x)
+        return np.concatenate([np.cross(omega, point), omega])
+
+    def point_as_v(x):
+        omega, point = _screw_axis_arguments(x)
+        return np.concatenate([omega, point])
+
+    return [
+        alternatives("cross_sign", [(sign, _SIGN_TEXT)]),
+        alternatives("twist_order", [
+            (order, _ORDER_TEXT),
+            (order_and_sign, "{name} is ordered [v; ω] and its v has the wrong sign: S = [ω; −ω × q]."),
+        ]),
+        alternatives("point_for_velocity", [(point_as_v, (
+            "the linear part of {name} is the point q itself; it is the velocity of the body point "
+            "at the origin, v = −ω × q."
+        ))]),
+    ]
+
+
+screw_axis = exercise(_CHAPTER, "screw_axis", MatrixArgumentsCheck(
+    name="screw_axis(omega, point)",
+    reference=_screw_axis_reference,
+    variables=[*_AXIS, *_POINT],
+    groups=_group(6),
+    diagnoses=_screw_axis_mistakes(),
+    noun="axes and points",
+    arguments=_screw_axis_arguments,
+    signature="screw_axis(omega, point) -> (6,) array",
+    hint="S = [ω; v] with v the velocity of the body point at the origin of {s}.",
+    doc="Check screw_axis(omega, point) -> the screw axis [ω; v] (6,) of a revolute joint.",
+))
+
+
+def _screw_list_reference(x: np.ndarray) -> np.ndarray:
+    return _home()[1]
+
+
+def _screw_list_mistakes():
+    def axes_from(frames_offset: int, sign: float = -1.0, order: bool = False):
+        def f(x):
+            chain = _ur10()
+            frames = chain.frames(np.zeros(chain.n))
+            rows = []
+            for i in range(chain.n):
+                frame = frames[i + frames_offset]
+                omega = frame[:3, :3] @ chain.joint_axes[i]
+                row = np.concatenate([omega, sign * np.cross(omega, frame[:3, 3])])
+                rows.append(_swap(row) if order else row)
+            return np.array(rows)
+        return f
+
+    return [
+        alternatives("cross_sign", [(axes_from(1, sign=1.0), (
+            "the linear parts of {name} have the wrong sign: v_i = −ω_i × q_i, the velocity of the "
+            "body point at the origin of {{s}}."
+        ))]),
+        alternatives("twist_order", [(axes_from(1, order=True), (
+            "the rows of {name} are ordered [v; ω]; a screw axis is [ω; v], angular part first."
+        ))]),
+        alternatives("transpose", [(lambda x: _home()[1].T, (
+            "{name} is transposed: row i is the screw axis S_i of joint i (the columns are ω and v)."
+        ))]),
+        alternatives("frame_before", [(axes_from(0), (
+            "{name} reads joint i's axis from the frame before it (home_frames[i − 1]); joint i "
+            "turns about the z axis of home_frames[i], through its origin."
+        ))]),
+    ]
+
+
+screw_list = exercise(_CHAPTER, "screw_list", Check(
+    name="S_list",
+    reference=_screw_list_reference,
+    variables=[],
+    diagnoses=_screw_list_mistakes(),
+    noun="values",
+    hint="Row i: ω_i, the z axis of home_frames[i + 1] (0-based rows), and v_i = −ω_i × q_i.",
+    doc="Check S_list: the UR10's six screw axes [ω_i; v_i] at home, one per row (6, 6).",
+))
+
+
+# ------------------------------------------------------------------ Task 3: exponential and FK
+def _exp6_arguments(x: np.ndarray) -> tuple[np.ndarray, float]:
+    omega, point = _unit(x[:3]), np.asarray(x[3:6], dtype=float)
+    return np.concatenate([omega, -np.cross(omega, point)]), float(x[6])
+
+
+def _exp6_reference(x: np.ndarray) -> np.ndarray:
+    return _exp(*_exp6_arguments(x))
+
+
+_NO_G_TEXT = (
+    "the translation of {name} is v θ: G(θ) is missing. The exponential's translation is "
+    "G(θ) v with G(θ) = Iθ + (1 − cos θ)[ω] + (θ − sin θ)[ω]²."
+)
+
+
+def _exp6_mistakes():
+    def no_g(x):
+        return _exp(*_exp6_arguments(x), with_g=False)
+
+    def no_theta(x):
+        S, theta = _exp6_arguments(x)
+        T = _exp(S, theta)
+        T[:3, 3] = S[3:]
+        return T
+
+    def reversed_rotation(x):
+        S, theta = _exp6_arguments(x)
+        T = _exp(S, theta)
+        T[:3, :3] = T[:3, :3].T
+        return T
+
+    def order(x):
+        S, theta = _exp6_arguments(x)
+        return _exp(_swap(S), theta)
+
+    return [
+        alternatives("missing_G", [
+            (no_g, _NO_G_TEXT),
+            (no_theta, "the translation of {name} is v: it is G(θ) v, G(θ) = Iθ + (1 − cos θ)[ω] + "
+                       "(θ − sin θ)[ω]²."),
+        ]),
+        alternatives("rotation_transposed", [(reversed_rotation, (
+            "the rotation of {name} turns by −θ: it is e^{{[ω]θ}} = I + sin θ [ω] + (1 − cos θ)[ω]²."
+        ))]),
+        alternatives("twist_order", [(order, (
+            "{name} reads S as [v; ω]: S = [ω; v], the angular part first."
+        ))]),
+        dg.degrees(),
+    ]
+
+
+exp6 = exercise(_CHAPTER, "exp6", MatrixArgumentsCheck(
+    name="exp6(S, theta)",
+    reference=_exp6_reference,
+    variables=[*_AXIS, *_POINT, *_ANGLE],
+    groups=_group(7),
+    diagnoses=_exp6_mistakes(),
+    noun="screw axes and angles",
+    arguments=_exp6_arguments,
+    signature="exp6(S, theta) -> (4, 4) array",
+    hint="e^{[S]θ} = [[e^{[ω]θ}, G(θ) v], [0, 1]] for a unit ω.",
+    doc="Check exp6(S, theta) -> e^{[S]θ} (4, 4) for a screw axis S = [ω; v] with a unit ω.",
+))
+
+
+def _fk_arguments(x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    M, S = _home()
+    return M.copy(), S.copy(), _theta(x)
+
+
+def _fk_reference(x: np.ndarray) -> np.ndarray:
+    return np.asarray(_ur10().fk(_theta(x)), dtype=float)
+
+
+def _fk_mistakes():
+    def variant(**kwargs):
+        return lambda x: _product(*_fk_arguments(x), **kwargs)
+
+    return [
+        alternatives("product_order", [(variant(reverse=True), (
+            "{name} multiplies the exponentials in the wrong order: T(θ) = e^{{[S1]θ1}} e^{{[S2]θ2}} "
+            "··· e^{{[Sn]θn}} M, joint 1 (nearest the base) on the left."
+        ))]),
+        alternatives("M_on_left", [
+            (variant(m_left=True), (
+                "{name} puts M on the left: the screw axes S_i are written in the space frame {{s}}, "
+                "so the exponentials act from the left on the home pose: T = e^{{[S1]θ1}} ··· M."
+            )),
+            (variant(with_m=False), (
+                "{name} leaves out the home pose M: the product of exponentials moves M, "
+                "T = e^{{[S1]θ1}} ··· e^{{[Sn]θn}} M."
+            )),
+        ]),
+        alternatives("missing_G", [(variant(with_g=False), (
+            "the exponentials in {name} have the translation v θ: G(θ) is missing "
+            "(G(θ) v, G(θ) = Iθ + (1 − cos θ)[ω] + (θ − sin θ)[ω]²)."
+        ))]),
+        dg.degrees(),
+    ]
+
+
+forward_kinematics = exercise(_CHAPTER, "forward_kinematics", MatrixArgumentsCheck(
+    name="poe_fk(M, S_list, theta)",
+    reference=_fk_reference,
+    variables=_Q,
+    groups=_group(6),
+    diagnoses=_fk_mistakes(),
+    noun="configurations",
+    arguments=_fk_arguments,
+    signature="poe_fk(M, S_list, theta) -> (4, 4) array",
+    hint="The UR10's DH forward kinematics is the reference: compare poe_fk with ur10.fk.",
+    doc="Check poe_fk(M, S_list, theta) -> the pose T(θ) (4, 4), on the UR10's M and screw axes.",
+))
+
+
+# ------------------------------------------------------------------ Task 4: adjoint and J_s
+_POSE = [*[Variable(n, "angle", -np.pi, np.pi) for n in ("roll", "pitch", "yaw")],
+         *[Variable(f"p_{c}", "length", -1.0, 1.0) for c in "xyz"]]
+
+
+def _adjoint_arguments(x: np.ndarray) -> tuple[np.ndarray]:
+    from robokin.transforms import rotation_from_rpy
+
+    T = np.eye(4)
+    T[:3, :3] = np.asarray(rotation_from_rpy(x[:3]), dtype=float)
+    T[:3, 3] = x[3:6]
+    return (T,)
+
+
+def _adjoint_reference(x: np.ndarray) -> np.ndarray:
+    return _adjoint(*_adjoint_arguments(x))
+
+
+def _adjoint_mistakes():
+    from robokin.transforms import transform_inverse
+
+    def blocks(x, *, lower=None, order=False):
+        (T,) = _adjoint_arguments(x)
+        R, p = T[:3, :3], T[:3, 3]
+        A = np.zeros((6, 6))
+        A[:3, :3] = A[3:, 3:] = R
+        A[3:, :3] = _skew(p) @ R if lower is None else lower(R, p)
+        return _swap(_swap(A).T).T if order else A
+
+    return [
+        alternatives("twist_order", [(lambda x: blocks(x, order=True), (
+            "{name} is the adjoint for twists ordered [v; ω] ([[R, [p]R], [0, R]]); for [ω; v] "
+            "it is [[R, 0], [[p]R, R]]."
+        ))]),
+        alternatives("product_order", [(lambda x: blocks(x, lower=lambda R, p: R @ _skew(p)), (
+            "the lower-left block of {name} is R[p]; it is [p]R (the velocity p × (Rω) of the "
+            "moved frame's origin)."
+        ))]),
+        alternatives("sign", [(lambda x: blocks(x, lower=lambda R, p: -_skew(p) @ R), (
+            "the lower-left block of {name} has the wrong sign: [p]R, with [p]x = p × x."
+        ))]),
+        alternatives("inverse_transform", [(lambda x: _adjoint(transform_inverse(_adjoint_arguments(x)[0])), (
+            "{name} is the adjoint of T⁻¹, [Ad_T]⁻¹; [Ad_T] = [[R, 0], [[p]R, R]] of T itself."
+        ))]),
+    ]
+
+
+adjoint = exercise(_CHAPTER, "adjoint", MatrixArgumentsCheck(
+    name="adjoint_matrix(T)",
+    reference=_adjoint_reference,
+    variables=_POSE,
+    groups=_group(6),
+    diagnoses=_adjoint_mistakes(),
+    noun="transforms",
+    arguments=_adjoint_arguments,
+    signature="adjoint_matrix(T) -> (6, 6) array",
+    hint="[Ad_T] maps a twist [ω; v] written in the moved frame to the fixed one.",
+    doc="Check adjoint_matrix(T) -> [Ad_T] (6, 6), for twists ordered [ω; v].",
+))
+
+
+def _space_arguments(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    return _home()[1].copy(), _theta(x)
+
+
+def _space_reference(x: np.ndarray) -> np.ndarray:
+    return np.asarray(_ur10().space_jacobian(_theta(x)), dtype=float)
+
+
+_ADJOINT_INVERSE_TEXT = (
+    "{name} takes the adjoint of the inverse of the partial product; column i is "
+    "[Ad_P] S_i with P = e^{{[S1]θ1}} ··· e^{{[S(i−1)]θ(i−1)}} itself."
+)
+
+
+def _space_mistakes():
+    def variant(**kwargs):
+        return lambda x: _space(*_space_arguments(x), **kwargs)
+
+    return [
+        alternatives("twist_order", [(lambda x: _swap(_space_reference(x)), (
+            "the rows of {name} are ordered [v; ω]: the space Jacobian's columns are twists [ω; v]."
+        ))]),
+        alternatives("product_order", [(variant(reverse=True), (
+            "{name} builds the partial products in the wrong order: column i is [Ad_P] S_i with "
+            "P = e^{{[S1]θ1}} ··· e^{{[S(i−1)]θ(i−1)}}, joint 1 on the left."
+        ))]),
+        alternatives("adjoint_of_inverse", [(variant(inverse=True), _ADJOINT_INVERSE_TEXT)]),
+        alternatives("home_axes", [(variant(adjoint_on=False), (
+            "{name} returns the screw axes at home: column i moves with the joints before it, "
+            "[Ad_P] S_i with P = e^{{[S1]θ1}} ··· e^{{[S(i−1)]θ(i−1)}}."
+        ))]),
+        dg.degrees(),
+    ]
+
+
+space_jacobian = exercise(_CHAPTER, "space_jacobian", MatrixArgumentsCheck(
+    name="jacobian_in_space(S_list, theta)",
+    reference=_space_reference,
+    variables=_Q,
+    groups=_group(6),
+    diagnoses=_space_mistakes(),
+    noun="configurations",
+    arguments=_space_arguments,
+    signature="jacobian_in_space(S_list, theta) -> (6, n) array",
+    hint="Column i is the screw axis of joint i moved by the joints before it.",
+    doc="Check jacobian_in_space(S_list, theta) -> J_s (6, n), rows [ω; v], on the UR10.",
+))
+
+
+def _geometric_arguments(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    chain, theta = _ur10(), _theta(x)
+    return np.asarray(chain.space_jacobian(theta), dtype=float), np.asarray(chain.fk(theta), dtype=float)
+
+
+def _geometric_reference(x: np.ndarray) -> np.ndarray:
+    return np.asarray(_ur10().jacobian(_theta(x)), dtype=float)
+
+
+def _geometric_mistakes():
+    def relation(sign: float):
+        def f(x):
+            Js, T = _geometric_arguments(x)
+            return np.concatenate([Js[3:] + sign * _skew(T[:3, 3]) @ Js[:3], Js[:3]])
+        return f
+
+    return [
+        alternatives("rows_swapped_only", [(relation(0.0), (
+            "{name} only swaps the rows: v_s is the velocity of the body point at the origin of "
+            "{{s}}, not of the end-effector; ṗ = v_s + ω × p = v_s − [p]ω."
+        ))]),
+        alternatives("cross_sign", [(relation(1.0), (
+            "{name} moves the velocity with the wrong sign: ṗ = v_s + ω × p = v_s − [p]ω, "
+            "so J_v = J_s,v − [p] J_s,ω."
+        ))]),
+        alternatives("twist_order", [(lambda x: _geometric_arguments(x)[0], (
+            "{name} is J_s itself ([ω; v_s]); robokin's geometric Jacobian is [J_v; J_ω], "
+            "J_v the velocity of the end-effector's origin."
+        ))]),
+    ]
+
+
+geometric_from_space = exercise(_CHAPTER, "geometric_from_space", MatrixArgumentsCheck(
+    name="geometric_from_space(J_s, T)",
+    reference=_geometric_reference,
+    variables=_Q,
+    groups=_group(6),
+    diagnoses=_geometric_mistakes(),
+    noun="configurations",
+    arguments=_geometric_arguments,
+    signature="geometric_from_space(J_s, T) -> (6, n) array",
+    hint="The end-effector's origin p moves with ṗ = v_s + ω × p.",
+    doc="Check geometric_from_space(J_s, T) -> robokin's geometric Jacobian [J_v; J_ω] (6, n).",
+))
+
+
+# ------------------------------------------------------------------ Task 5: J_b
+def _body_reference(x: np.ndarray) -> np.ndarray:
+    return np.asarray(_ur10().body_jacobian(_theta(x)), dtype=float)
+
+
+def _body_mistakes():
+    from robokin.transforms import transform_inverse
+
+    def with_adjoint(pick):
+        def f(x):
+            M, S, theta = _fk_arguments(x)
+            T = _product(M, S, theta)
+            return _adjoint(pick(T, M)) @ _space(S, theta)
+        return f
+
+    return [
+        alternatives("adjoint_of_T", [(with_adjoint(lambda T, M: T), (
+            "{name} is [Ad_T] J_s; the body Jacobian is [Ad_{{T⁻¹}}] J_s: it writes the twists "
+            "in the end-effector frame, which T⁻¹ maps to."
+        ))]),
+        alternatives("home_pose", [(with_adjoint(lambda T, M: transform_inverse(M)), (
+            "{name} is [Ad_{{M⁻¹}}] J_s: the home pose M in place of the current pose T(θ)."
+        ))]),
+        alternatives("space_jacobian", [(with_adjoint(lambda T, M: np.eye(4)), (
+            "{name} is the space Jacobian J_s; the body Jacobian is [Ad_{{T⁻¹}}] J_s."
+        ))]),
+        alternatives("twist_order", [(lambda x: _swap(_body_reference(x)), (
+            "the rows of {name} are ordered [v; ω]: the body Jacobian's columns are twists [ω; v]."
+        ))]),
+        dg.degrees(),
+    ]
+
+
+body_jacobian = exercise(_CHAPTER, "body_jacobian", MatrixArgumentsCheck(
+    name="jacobian_in_body(M, S_list, theta)",
+    reference=_body_reference,
+    variables=_Q,
+    groups=_group(6),
+    diagnoses=_body_mistakes(),
+    noun="configurations",
+    arguments=_fk_arguments,
+    signature="jacobian_in_body(M, S_list, theta) -> (6, n) array",
+    hint="J_b = [Ad_{T⁻¹}] J_s with T = T(θ) the current pose.",
+    doc="Check jacobian_in_body(M, S_list, theta) -> J_b (6, n), rows [ω; v], on the UR10.",
 ))

@@ -1,42 +1,271 @@
-"""Wrong answers that each autograded test of the chapter must reject (``MUTATIONS``,
-tests/test_grading_mutations.py), and correct answers written another way that must keep
-full marks (``VARIANTS``, tests/benign_variants.py and tests/test_grading_trust.py).
+"""Wrong answers that each autograded test of chapter 8 (the product of exponentials) must
+reject (``MUTATIONS``, tests/test_grading_mutations.py), and correct answers written another
+way that must keep full marks (``VARIANTS``, tests/benign_variants.py and
+tests/test_grading_trust.py).
 
 ``MUTATIONS``: ``{grade id of a test cell: [(what is wrong, code appended to the answer
-cells), ...]}``, at least one per graded test. ``VARIANTS``: ``{grade id of an answer cell:
-(how it differs, code appended to that cell)}``: another method, not only other names
-(without ``VARIANTS``, the trust suite derives a weaker default: each answer wrapped).
-The first line of each variant's code must be ASCII without quotes.
+cells), ...]}``, at least one per graded test; a mutation recomputes the names the answer
+cell computes from the changed function (``T0``, ``Js0``, ``Jb0``). ``VARIANTS``: ``{grade id
+of an answer cell: (how it differs, code appended to that cell)}``: another method, not only
+other names. The first line of each variant's code must be ASCII without quotes.
+"""
+
+_RODRIGUES_SIN_SIGN = """
+def rodrigues(omega, theta):
+    W = skew(omega)
+    return np.eye(3) - np.sin(theta) * W + (1.0 - np.cos(theta)) * (W @ W)  # turns by -theta
+"""
+
+_RODRIGUES_NO_SQUARE = """
+def rodrigues(omega, theta):
+    W = skew(omega)
+    return np.eye(3) + np.sin(theta) * W + (1.0 - np.cos(theta)) * W  # [w] for [w]^2
+"""
+
+_SCREW_SIGN = """
+def screw_axis(omega, point):
+    omega = np.asarray(omega, dtype=float)
+    return np.concatenate([omega, np.cross(omega, point)])  # +w x q
+"""
+
+_SCREW_ORDER = """
+def screw_axis(omega, point):
+    omega = np.asarray(omega, dtype=float)
+    return np.concatenate([-np.cross(omega, point), omega])  # [v; w]
+"""
+
+_SCREWS_FRAME_BEFORE = """
+S_list = np.array(
+    [screw_axis(home_frames[i - 1, :3, 2], home_frames[i - 1, :3, 3]) for i in range(1, 7)]
+)
+"""
+
+_SCREWS_ORDER = """
+S_list = np.array(
+    [screw_axis(home_frames[i, :3, 2], home_frames[i, :3, 3]) for i in range(1, 7)]
+)[:, [3, 4, 5, 0, 1, 2]]
+"""
+
+_EXP_WITHOUT_G = """
+def exp6(S, theta):
+    omega, v = np.asarray(S[:3], dtype=float), np.asarray(S[3:], dtype=float)
+    T = np.eye(4)
+    T[:3, :3] = rodrigues(omega, theta)
+    T[:3, 3] = v * theta  # G(theta) forgotten
+    return T
+"""
+
+_FK_REVERSED = """
+def poe_fk(M, S_list, theta):
+    T = np.eye(4)
+    for S, angle in zip(S_list, theta):
+        T = exp6(S, angle) @ T  # joint n on the left
+    return T @ M
+
+T0 = poe_fk(M, S_list, THETA0)
+"""
+
+_FK_M_LEFT = """
+def poe_fk(M, S_list, theta):
+    T = M.copy()  # M on the left
+    for S, angle in zip(S_list, theta):
+        T = T @ exp6(S, angle)
+    return T
+
+T0 = poe_fk(M, S_list, THETA0)
+"""
+
+_ADJOINT_R_P = """
+def adjoint_matrix(T):
+    R, p = T[:3, :3], T[:3, 3]
+    A = np.zeros((6, 6))
+    A[:3, :3] = R
+    A[3:, 3:] = R
+    A[3:, :3] = R @ skew(p)  # R [p] for [p] R
+    return A
+"""
+
+_ADJOINT_ORDER = """
+def adjoint_matrix(T):
+    R, p = T[:3, :3], T[:3, 3]
+    A = np.zeros((6, 6))
+    A[:3, :3] = R
+    A[3:, 3:] = R
+    A[:3, 3:] = skew(p) @ R  # the adjoint for [v; w]
+    return A
+"""
+
+_SPACE_NO_ADJOINT = """
+def jacobian_in_space(S_list, theta):
+    return np.array(S_list, dtype=float).T  # the screw axes at home
+
+Js0 = jacobian_in_space(S_list, THETA0)
+"""
+
+_SPACE_REVERSED = """
+def jacobian_in_space(S_list, theta):
+    columns, P = [], np.eye(4)
+    for S, angle in zip(S_list, theta):
+        columns.append(adjoint_matrix(P) @ S)
+        P = exp6(S, angle) @ P  # the partial product in the wrong order
+    return np.column_stack(columns)
+
+Js0 = jacobian_in_space(S_list, THETA0)
+"""
+
+_GEOMETRIC_SWAP_ONLY = """
+def geometric_from_space(J_s, T):
+    return np.vstack([J_s[3:], J_s[:3]])  # rows swapped, the point not moved
+"""
+
+_GEOMETRIC_SIGN = """
+def geometric_from_space(J_s, T):
+    return np.vstack([J_s[3:] + skew(T[:3, 3]) @ J_s[:3], J_s[:3]])  # +[p] for -[p]
+"""
+
+_BODY_ADJOINT_T = """
+def jacobian_in_body(M, S_list, theta):
+    T = poe_fk(M, S_list, theta)
+    return adjoint_matrix(T) @ jacobian_in_space(S_list, theta)  # Ad(T) for Ad(T^-1)
+
+Jb0 = jacobian_in_body(M, S_list, THETA0)
+"""
+
+_BODY_HOME = """
+def jacobian_in_body(M, S_list, theta):
+    return adjoint_matrix(transform_inverse(M)) @ jacobian_in_space(S_list, theta)  # M for T
+
+Jb0 = jacobian_in_body(M, S_list, THETA0)
 """
 
 MUTATIONS = {
     "task1_test1": [
-        ("degrees for radians", "tool_position = (lambda f: lambda q: f(np.rad2deg(q)))(tool_position)"),
-        ("the second link's own angle q2 instead of q1 + q2",
-         "def tool_position(q):\n    q1, q2 = q\n"
-         "    return np.array([np.cos(q1) + np.cos(q2), np.sin(q1) + np.sin(q2)])"),
+        ("[w] transposed", "skew = (lambda f: lambda w: f(w).T)(skew)"),
+    ],
+    "task1_test2": [
+        ("the sine term with the wrong sign (a turn by -theta)", _RODRIGUES_SIN_SIGN),
+        ("(1 - cos) [w] for (1 - cos) [w]^2", _RODRIGUES_NO_SQUARE),
+        ("degrees for radians", "rodrigues = (lambda f: lambda w, t: f(w, np.deg2rad(t)))(rodrigues)"),
     ],
     "task2_test1": [
-        ("the transposed Jacobian", "tool_jacobian = (lambda f: lambda q: f(q).T)(tool_jacobian)"),
+        ("v = w x q (the sign)", _SCREW_SIGN),
+        ("the order [v; w]", _SCREW_ORDER),
+    ],
+    "task2_test2": [
+        ("the axes read from the frame before each joint", _SCREWS_FRAME_BEFORE),
+        ("the rows ordered [v; w]", _SCREWS_ORDER),
+    ],
+    "task3_test1": [
+        ("the translation v theta: G(theta) forgotten", _EXP_WITHOUT_G),
+    ],
+    "task3_test2": [
+        ("the exponentials multiplied in the wrong order", _FK_REVERSED),
+        ("M on the left", _FK_M_LEFT),
+    ],
+    "task4_test1": [
+        ("R [p] for [p] R", _ADJOINT_R_P),
+        ("the adjoint of twists ordered [v; w]", _ADJOINT_ORDER),
+    ],
+    "task4_test2": [
+        ("the screw axes at home, not moved by the joints before", _SPACE_NO_ADJOINT),
+        ("the partial products in the wrong order", _SPACE_REVERSED),
+    ],
+    "task4_test3": [
+        ("the rows swapped, the point not moved", _GEOMETRIC_SWAP_ONLY),
+        ("+[p] for -[p]", _GEOMETRIC_SIGN),
+    ],
+    "task5_test1": [
+        ("Ad(T) for Ad(T^-1)", _BODY_ADJOINT_T),
+        ("the home pose M for the current pose", _BODY_HOME),
     ],
 }
 
 VARIANTS = {
-    "task1_answer1": ("the tool as a sum of complex numbers", """
+    "task1_answer1": ("[w] from cross products and the rotation as scipy's matrix exponential", """
 
-# written another way: the tool point as the complex number e^(i q1) + e^(i (q1 + q2))
-def tool_position(q):
-    first, second = np.asarray(q, dtype=float)
-    tip = np.exp(1j * first) + np.exp(1j * (first + second))
-    return np.array([tip.real, tip.imag])
+# written another way: column j of [w] is w x e_j, and e^([w] theta) summed by scipy's expm
+from scipy.linalg import expm
+
+
+def skew(w):
+    return np.cross(np.asarray(w, dtype=float), np.eye(3)).T
+
+
+def rodrigues(omega, theta):
+    return expm(skew(omega) * theta)
 """),
-    "task2_answer1": ("the Jacobian's columns as i times the complex link vectors", """
+    "task2_answer1": ("v as q x w, all six axes at once", """
 
-# written another way: d/dq_k of e^(i q1) + e^(i (q1 + q2)) is i times the links after joint k
-def tool_jacobian(q):
-    first, second = np.asarray(q, dtype=float)
-    elbow, tip = np.exp(1j * first), np.exp(1j * (first + second))
-    columns = [1j * (elbow + tip), 1j * tip]
-    return np.array([[column.real for column in columns], [column.imag for column in columns]])
+# written another way: v = q x w, and the six rows computed in one call
+def screw_axis(omega, point):
+    omega = np.asarray(omega, dtype=float)
+    return np.hstack([omega, np.cross(np.asarray(point, dtype=float), omega)])
+
+
+axes, points = home_frames[1:7, :3, 2], home_frames[1:7, :3, 3]
+S_list = np.hstack([axes, np.cross(points, axes)])
+"""),
+    "task3_answer1": ("the 4x4 matrix exponential of scipy and a reduce over the joints", """
+
+# written another way: e^([S] theta) by scipy's expm of the 4x4 matrix, the product by reduce
+from functools import reduce
+
+from scipy.linalg import expm
+
+
+def exp6(S, theta):
+    S = np.asarray(S, dtype=float)
+    twist = np.zeros((4, 4))
+    twist[:3, :3] = skew(S[:3])
+    twist[:3, 3] = S[3:]
+    return expm(twist * theta)
+
+
+def poe_fk(M, S_list, theta):
+    factors = [exp6(S, angle) for S, angle in zip(S_list, theta)]
+    return reduce(np.matmul, factors, np.eye(4)) @ M
+
+
+T0 = poe_fk(M, S_list, THETA0)
+"""),
+    "task4_answer1": ("the adjoint by blocks, each partial product anew, the velocity by cross products", """
+
+# written another way: np.block, the partial product rebuilt for each column, and
+# v_point = v_s + w x p column by column
+def adjoint_matrix(T):
+    R, p = T[:3, :3], T[:3, 3]
+    return np.block([[R, np.zeros((3, 3))], [skew(p) @ R, R]])
+
+
+def jacobian_in_space(S_list, theta):
+    n = len(theta)
+    J = np.zeros((6, n))
+    for i in range(n):
+        P = np.eye(4)
+        for k in range(i):
+            P = P @ exp6(S_list[k], theta[k])
+        J[:, i] = adjoint_matrix(P) @ S_list[i]
+    return J
+
+
+def geometric_from_space(J_s, T):
+    J_s = np.asarray(J_s, dtype=float)
+    v_point = J_s[3:] + np.cross(J_s[:3].T, T[:3, 3]).T
+    return np.vstack([v_point, J_s[:3]])
+
+
+Js0 = jacobian_in_space(S_list, THETA0)
+"""),
+    "task5_answer1": ("the body twists written out: R^T w and R^T (v + w x p)", """
+
+# written another way: w_b = R^T w_s and v_b = R^T (v_s + w_s x p), the block form of Ad(T^-1)
+def jacobian_in_body(M, S_list, theta):
+    T = poe_fk(M, S_list, theta)
+    R, p = T[:3, :3], T[:3, 3]
+    J_s = jacobian_in_space(S_list, theta)
+    return np.vstack([R.T @ J_s[:3], R.T @ (J_s[3:] + np.cross(J_s[:3].T, p).T)])
+
+
+Jb0 = jacobian_in_body(M, S_list, THETA0)
 """),
 }

@@ -1,0 +1,195 @@
+"""Tests of the chapter-8 exercise checks (robokin.check.product_of_exponentials).
+
+The correct answers come from the Modern Robotics library (``MatrixExp3``, ``MatrixExp6``,
+``FKinSpace``, ``Adjoint``, ``JacobianSpace``, ``JacobianBody``), not from robokin, and the
+UR10's screw axes are written out from its DH table; each typical mistake is written by
+hand and must be named by its diagnosis.
+"""
+
+from __future__ import annotations
+
+import importlib
+
+import numpy as np
+import pytest
+
+mr = pytest.importorskip("modern_robotics", reason="modern_robotics (requirements.txt) gives the answers")
+chk = importlib.import_module("robokin.check.product_of_exponentials")
+
+# The UR10 (CB3) at home, from its DH table (d1 = 0.1273, a2 = -0.612, a3 = -0.5723,
+# d4 = 0.163941, d5 = 0.1157, d6 = 0.0922 m): axes and points in the base frame.
+_D1, _A2, _A3, _D4, _D5, _D6 = 0.1273, -0.612, -0.5723, 0.163941, 0.1157, 0.0922
+AXES = np.array([[0, 0, 1], [0, -1, 0], [0, -1, 0], [0, -1, 0], [0, 0, -1], [0, -1, 0]], dtype=float)
+POINTS = np.array([
+    [0, 0, 0], [0, 0, _D1], [_A2, 0, _D1], [_A2 + _A3, 0, _D1],
+    [_A2 + _A3, -_D4, _D1], [_A2 + _A3, -_D4, _D1 - _D5],
+])
+S_UR10 = np.hstack([AXES, -np.cross(AXES, POINTS)])
+M_UR10 = np.array([[1, 0, 0, _A2 + _A3], [0, 0, -1, -_D4 - _D6], [0, 1, 0, _D1 - _D5], [0, 0, 0, 1]])
+
+
+def skew(w):
+    return mr.VecToso3(np.asarray(w, dtype=float))
+
+
+def rodrigues(omega, theta):
+    return mr.MatrixExp3(skew(omega) * theta)
+
+
+def screw_axis(omega, point):
+    return np.r_[omega, np.cross(point, omega)]
+
+
+def exp6(S, theta):
+    return mr.MatrixExp6(mr.VecTose3(np.asarray(S, dtype=float) * theta))
+
+
+def poe_fk(M, S_list, theta):
+    return mr.FKinSpace(M, np.asarray(S_list).T, theta)
+
+
+def adjoint_matrix(T):
+    return mr.Adjoint(T)
+
+
+def jacobian_in_space(S_list, theta):
+    return mr.JacobianSpace(np.asarray(S_list).T, theta)
+
+
+def geometric_from_space(J_s, T):
+    p = T[:3, 3]
+    return np.vstack([J_s[3:] + np.cross(J_s[:3].T, p).T, J_s[:3]])
+
+
+def jacobian_in_body(M, S_list, theta):
+    B = mr.Adjoint(mr.TransInv(M)) @ np.asarray(S_list).T
+    return mr.JacobianBody(B, theta)
+
+
+CORRECT = [
+    (chk.rodrigues, rodrigues), (chk.screw_axis, screw_axis), (chk.screw_list, S_UR10),
+    (chk.exp6, exp6), (chk.forward_kinematics, poe_fk), (chk.adjoint, adjoint_matrix),
+    (chk.space_jacobian, jacobian_in_space), (chk.geometric_from_space, geometric_from_space),
+    (chk.body_jacobian, jacobian_in_body),
+]
+
+
+@pytest.mark.parametrize(("check", "answer"), CORRECT, ids=[c.name for c, _ in CORRECT])
+def test_correct_answers_pass(check, answer):
+    result = check(answer, quiet=True)
+    assert result.passed and result.diagnosis is None, result.message
+
+
+def test_ur10_data_written_out_match_the_model():
+    from robokin.models import ur10
+
+    M, S = ur10().screw_axes()
+    assert np.allclose(S, S_UR10, atol=1e-12) and np.allclose(M, M_UR10, atol=1e-12)
+
+
+def test_pass_message(capsys):
+    chk.exp6(exp6)
+    assert capsys.readouterr().out == "✔ exp6(S, theta) is correct (checked at 20 random screw axes and angles).\n"
+
+
+# ---------------------------------------------------------------- diagnosed mistakes
+def _swap(a):
+    return np.concatenate([a[3:], a[:3]], axis=0)
+
+
+def _exp_without_g(S, theta):
+    T = exp6(S, theta)
+    T[:3, 3] = np.asarray(S[3:]) * theta
+    return T
+
+
+def _fk_m_left(M, S_list, theta):
+    return M @ poe_fk(np.eye(4), S_list, theta)
+
+
+def _space_reversed(S_list, theta):
+    columns, P = [], np.eye(4)
+    for S, angle in zip(S_list, theta):
+        columns.append(mr.Adjoint(P) @ S)
+        P = exp6(S, angle) @ P
+    return np.column_stack(columns)
+
+
+def _space_inverse(S_list, theta):
+    columns, P = [], np.eye(4)
+    for S, angle in zip(S_list, theta):
+        columns.append(mr.Adjoint(mr.TransInv(P)) @ S)
+        P = P @ exp6(S, angle)
+    return np.column_stack(columns)
+
+
+def _frame_before():
+    from robokin.models import ur10
+
+    frames = ur10().frames(np.zeros(6))
+    return np.array([np.r_[F[:3, 2], -np.cross(F[:3, 2], F[:3, 3])] for F in frames[:6]])
+
+
+WRONG = [
+    (chk.rodrigues, lambda w, t: rodrigues(w, -t), "transpose"),
+    (chk.rodrigues, lambda w, t: np.eye(3) + np.sin(t) * skew(w) + (1 - np.cos(t)) * skew(w), "missing_square"),
+    (chk.rodrigues, lambda w, t: np.eye(3) + (1 - np.cos(t)) * skew(w) + np.sin(t) * skew(w) @ skew(w),
+     "sin_cos_swapped"),
+    (chk.rodrigues, lambda w, t: rodrigues(w, np.deg2rad(t)), "degrees_input"),
+    (chk.screw_axis, lambda w, q: np.r_[w, np.cross(w, q)], "cross_sign"),
+    (chk.screw_axis, lambda w, q: _swap(screw_axis(w, q)), "twist_order"),
+    (chk.screw_axis, lambda w, q: np.r_[np.cross(w, q), w], "twist_order"),
+    (chk.screw_axis, lambda w, q: np.r_[w, q], "point_for_velocity"),
+    (chk.screw_list, S_UR10 * [1, 1, 1, -1, -1, -1], "cross_sign"),
+    (chk.screw_list, S_UR10[:, [3, 4, 5, 0, 1, 2]], "twist_order"),
+    (chk.screw_list, S_UR10.T, "transpose"),
+    (chk.screw_list, _frame_before(), "frame_before"),
+    (chk.exp6, _exp_without_g, "missing_G"),
+    (chk.exp6, lambda S, t: exp6(_swap(np.asarray(S)), t), "twist_order"),
+    (chk.exp6, lambda S, t: exp6(S, np.deg2rad(t)), "degrees_input"),
+    (chk.forward_kinematics, lambda M, S, t: poe_fk(M, S[::-1], t[::-1]), "product_order"),
+    (chk.forward_kinematics, _fk_m_left, "M_on_left"),
+    (chk.forward_kinematics, lambda M, S, t: poe_fk(np.eye(4), S, t), "M_on_left"),
+    (chk.forward_kinematics,
+     lambda M, S, t: np.linalg.multi_dot([_exp_without_g(s, a) for s, a in zip(S, t)] + [M]), "missing_G"),
+    (chk.adjoint, lambda T: mr.Adjoint(mr.TransInv(T)), "inverse_transform"),
+    (chk.adjoint, lambda T: np.block([[T[:3, :3], skew(T[:3, 3]) @ T[:3, :3]], [np.zeros((3, 3)), T[:3, :3]]]),
+     "twist_order"),
+    (chk.adjoint, lambda T: np.block([[T[:3, :3], np.zeros((3, 3))], [T[:3, :3] @ skew(T[:3, 3]), T[:3, :3]]]),
+     "product_order"),
+    (chk.space_jacobian, lambda S, t: _swap(jacobian_in_space(S, t)), "twist_order"),
+    (chk.space_jacobian, _space_reversed, "product_order"),
+    (chk.space_jacobian, _space_inverse, "adjoint_of_inverse"),
+    (chk.space_jacobian, lambda S, t: np.asarray(S).T, "home_axes"),
+    (chk.geometric_from_space, lambda J, T: _swap(J), "rows_swapped_only"),
+    (chk.geometric_from_space, lambda J, T: np.vstack([J[3:] - np.cross(J[:3].T, T[:3, 3]).T, J[:3]]), "cross_sign"),
+    (chk.body_jacobian, lambda M, S, t: mr.Adjoint(poe_fk(M, S, t)) @ jacobian_in_space(S, t), "adjoint_of_T"),
+    (chk.body_jacobian, lambda M, S, t: mr.Adjoint(mr.TransInv(M)) @ jacobian_in_space(S, t), "home_pose"),
+    (chk.body_jacobian, lambda M, S, t: jacobian_in_space(S, t), "space_jacobian"),
+    (chk.body_jacobian, lambda M, S, t: _swap(jacobian_in_body(M, S, t)), "twist_order"),
+]
+
+
+@pytest.mark.parametrize(("check", "answer", "code"), WRONG,
+                         ids=[f"{c.name.split('(')[0]}-{code}-{i}" for i, (c, _, code) in enumerate(WRONG)])
+def test_mistakes_are_diagnosed(check, answer, code):
+    result = check(answer, quiet=True)
+    assert not result.passed
+    assert result.diagnosis == code, result.message
+
+
+def test_unknown_mistake_is_a_mismatch():
+    result = chk.exp6(lambda S, t: exp6(S, t) + np.diag([0, 0, 0.01, 0]), quiet=True)
+    assert not result.passed and result.diagnosis == "mismatch" and "entry (3, 3)" in result.message
+
+
+def test_bad_answers():
+    assert chk.exp6(None, quiet=True).diagnosis == "error"
+    assert chk.exp6(np.eye(4), quiet=True).diagnosis == "constant"
+    assert chk.screw_list(S_UR10[:5], quiet=True).diagnosis == "shape"
+    result = chk.forward_kinematics(lambda M, S, t: 1 / 0, quiet=True)
+    assert result.diagnosis == "error" and "ZeroDivisionError" in result.message
+
+
+def test_delegation_table_names_registered_checks():
+    assert set(chk.DELEGATION) <= set(chk.__all__)
