@@ -1,63 +1,343 @@
-r"""Exercise checks of chapter 7: Closed-form inverse kinematics of the UR10.
+r"""Exercise checks of chapter 7: closed-form inverse kinematics of the UR10.
 
-=================  ==========================================  ==========
-check              the student's answer                         inputs
-=================  ==========================================  ==========
-``tool_position``  p(q): tool position (x, y) in m, shape (2,)  q1, q2
-``tool_jacobian``  J(q) = ∂p/∂q: 2×2, in m/rad                 q1, q2
-=================  ==========================================  ==========
+Every reference is computed from the DH table of :func:`robokin.models.ur10`
+(``robokin.models.ur10.UR10_DH``, the manufacturer's signs: ``a2``, ``a3`` < 0,
+``d4`` > 0). A check samples 20 configurations ``q`` (away from the singular
+cases: ``sin q3`` and ``sin q5`` not small, the wrist centre away from the
+cylinder of radius ``|d4|`` about the base axis), builds the flange pose
+``T = fk(q)`` and calls the student's function on it.
 
-Every reference comes from the chapter's robot model (one model definition); the
-diagnoses are the standard ones for a vector (a sign, degrees for radians, swapped
-or negated inputs). See the book's page "Adding a chapter" for the pattern.
+====================  ===========================================================  ===========================
+check                 the student's answer                                          compared with
+====================  ===========================================================  ===========================
+``wrist_centre``      ``f(T)`` -> the origin of frame 5, shape (3,), in m            ``frames(q)[5]``
+``shoulder_angles``   ``f(T)`` -> both q1 (rad), shape (2,)                          the two shoulder solutions
+``wrist_angles``      ``f(T, q1)`` -> both ``(q5, q6)`` (rad), shape (2, 2)          the two wrist solutions
+``arm_angles``        ``f(T, q1, q5, q6)`` -> both ``(q2, q3, q4)``, shape (2, 3)    the two elbow solutions
+``all_solutions``     ``f(T)`` -> every solution, shape (k, 6)                       :func:`robokin.models.ur10_ik`
+====================  ===========================================================  ===========================
+
+Sets of solutions are compared in any order, angles modulo 2π
+(:class:`robokin.check.SolutionSetCheck`). Typical mistakes named in the messages:
+the arguments of ``atan2`` swapped, a ``±`` branch dropped, the sign of ``d4``,
+``a2``/``a3`` taken positive, the flange point used for the wrist centre, the
+wrist point used for the planar problem, degrees for radians.
+
+Usage::
+
+    from robokin import check
+    check.ur10_closed_form.shoulder_angles(my_shoulder_angles)
 """
 
 from __future__ import annotations
 
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
 from functools import lru_cache
+from typing import Any
 
 import numpy as np
 
-from robokin.check import diagnoses as dg
-from robokin.check._core import Check, Variable
+from robokin.check._core import FAIL, AnswerError, CheckResult, MatrixArgumentsCheck, Variable, alternatives
 from robokin.check._registry import exercise
+from robokin.check.solutions import SolutionSetCheck
 
-__all__ = ["tool_position", "tool_jacobian"]
+__all__ = ["wrist_centre", "shoulder_angles", "wrist_angles", "arm_angles", "all_solutions"]
 
 _CHAPTER = "ur10_closed_form"
 
 #: check -> {the robokin function that solves its task: how the grading report names it}: an
-#: answer that hands one back (``tool_position = ...fk``) is flagged for review by hand
+#: answer that hands one back (``all_solutions = ur10_ik``) is flagged for review by hand
 #: (tools/grading_bridge/delegation.py reads this literal table without importing the module)
 DELEGATION = {
-    "tool_position": {"fk": "SerialChain.fk", "frames": "SerialChain.frames"},
-    "tool_jacobian": {"position_jacobian": "SerialChain.position_jacobian", "jacobian": "SerialChain.jacobian"},
+    "shoulder_angles": {"ur10_ik": "robokin.models.ur10_ik", "ur10_ik_batch": "robokin.models.ur10_ik_batch"},
+    "wrist_angles": {"ur10_ik": "robokin.models.ur10_ik", "ur10_ik_batch": "robokin.models.ur10_ik_batch"},
+    "arm_angles": {"ur10_ik": "robokin.models.ur10_ik", "ur10_ik_batch": "robokin.models.ur10_ik_batch"},
+    "all_solutions": {"ur10_ik": "robokin.models.ur10_ik", "ur10_ik_batch": "robokin.models.ur10_ik_batch",
+                      "solve_ik": "robokin.motion.solve_ik", "solve_ik_batch": "robokin.motion.solve_ik_batch"},
 }
 
 
 @lru_cache(maxsize=1)
-def _arm():
-    from robokin.models import planar_two_link
+def _robot():
+    from robokin.models import ur10
 
-    return planar_two_link()
+    return ur10()
 
 
-tool_position = exercise(_CHAPTER, "tool_position", Check(
-    name="tool_position",
-    reference=lambda x: np.asarray(_arm().fk(x))[:2, 3],
-    variables=[Variable("q1"), Variable("q2")],
-    groups=[("q", [0, 1])],
-    diagnoses=dg.standard("vector"),
-    noun="angles",
-    doc="Check tool_position(q): the tool position (x, y) in m of the two-link arm, shape (2,).",
+@lru_cache(maxsize=1)
+def _lengths() -> tuple[float, float, float, float, float, float]:
+    """d1, a2, a3, d4, d5, d6 (m) of the UR10 table."""
+    from robokin.models.ur10 import UR10_DH
+
+    t = [[float(v) for v in row] for row in UR10_DH]
+    return t[0][0], t[1][2], t[2][2], t[3][0], t[4][0], t[5][0]
+
+
+def _wrap(a: Any) -> np.ndarray:
+    """Angles wrapped into (−π, π]."""
+    return np.pi - np.mod(np.pi - np.asarray(a, dtype=float), 2 * np.pi)
+
+
+def _pose(x: np.ndarray) -> np.ndarray:
+    return np.asarray(_robot().fk(np.asarray(x, dtype=float), check=False), dtype=float)
+
+
+# The sampled configurations: q3 and q5 in (0.35, 2.8) (the other branch has the negative
+# angle), so that no sample is near the elbow or wrist singularity; q2 in a band that keeps
+# the wrist centre away from the base axis (checked in the tests: 4 or 8 solutions, none singular).
+_Q = [
+    Variable("q1", low=-math.pi, high=math.pi),
+    Variable("q2", low=-2.6, high=-0.6),
+    Variable("q3", low=0.35, high=2.8),
+    Variable("q4", low=-math.pi, high=math.pi),
+    Variable("q5", low=0.35, high=2.8),
+    Variable("q6", low=-math.pi, high=math.pi),
+]
+_GROUP = [("q", [0, 1, 2, 3, 4, 5])]
+
+
+# ------------------------------------------------------------------ the steps, right and wrong
+def _centre(T: np.ndarray) -> np.ndarray:
+    return T[:3, 3] - _lengths()[5] * T[:3, 2]
+
+
+def _shoulder(T: np.ndarray, *, swap: bool = False, d4_sign: float = 1.0, flange: bool = False) -> np.ndarray:
+    x, y, _ = T[:3, 3] if flange else _centre(T)
+    r = math.hypot(x, y)
+    psi = math.atan2(x, y) if swap else math.atan2(y, x)
+    beta = math.acos(max(-1.0, min(1.0, d4_sign * _lengths()[3] / r)))
+    return _wrap(np.array([psi + math.pi / 2 + beta, psi + math.pi / 2 - beta]))
+
+
+def _wrist(T: np.ndarray, q1: float, *, swap: bool = False, q6_sign: float = 1.0) -> np.ndarray:
+    z1 = np.array([math.sin(q1), -math.cos(q1), 0.0])
+    x6z, y6z, c5 = T[:3, :3].T @ z1
+    out = []
+    for sign in (1.0, -1.0):
+        s5 = sign * math.hypot(x6z, y6z)
+        q6 = math.atan2(x6z / s5, -y6z / s5) if swap else math.atan2(-q6_sign * y6z / s5, x6z / s5)
+        out.append([math.atan2(s5, c5), q6])
+    return _wrap(np.array(out))
+
+
+def _arm(T: np.ndarray, q1: float, q5: float, q6: float, *, a_sign: float = 1.0, swap: bool = False,
+         wrist_point: bool = False) -> np.ndarray:
+    d1, a2, a3, _d4, d5, _d6 = _lengths()
+    a2, a3 = a_sign * a2, a_sign * a3
+    R = T[:3, :3]
+    c1, s1, c5, s5, c6, s6 = (math.cos(q1), math.sin(q1), math.cos(q5), math.sin(q5), math.cos(q6),
+                              math.sin(q6))
+    z4 = R @ np.array([-s6, -c6, 0.0])
+    x4 = R @ np.array([c5 * c6, -c5 * s6, -s5])
+    o4 = _centre(T) - (0.0 if wrist_point else d5) * z4
+    X, Y = c1 * o4[0] + s1 * o4[1], o4[2] - d1
+    c3 = (X * X + Y * Y - a2 * a2 - a3 * a3) / (2 * a2 * a3)
+    if abs(c3) > 1.0:
+        return np.zeros((0, 3))
+    phi = math.atan2(x4[2], c1 * x4[0] + s1 * x4[1])
+    out = []
+    for q3 in (math.acos(c3), -math.acos(c3)):
+        to_target = math.atan2(X, Y) if swap else math.atan2(Y, X)
+        q2 = to_target - math.atan2(a3 * math.sin(q3), a2 + a3 * math.cos(q3))
+        out.append([q2, q3, phi - q2 - q3])
+    return _wrap(np.array(out))
+
+
+def _all(T: np.ndarray) -> np.ndarray:
+    from robokin.models.ur_ik import ur10_ik
+
+    return np.asarray(ur10_ik(T, check=False).q, dtype=float)
+
+
+def _rows_in(S: np.ndarray, R: np.ndarray, atol: float) -> bool:
+    """Every row of S is a different row of R (angles modulo 2π)."""
+    found = []
+    for row in S:
+        close = np.all(np.abs(_wrap(R - row)) <= atol, axis=1)
+        if not close.any():
+            return False
+        found.append(int(np.argmax(close)))
+    return len(set(found)) == len(found)
+
+
+def _same_rows(S: np.ndarray, W: np.ndarray, atol: float) -> bool:
+    """S and W hold the same rows (angles modulo 2π; a repeated row may stand for itself twice)."""
+    if len(S) != len(W):
+        return False
+    close = np.all(np.abs(_wrap(S[:, None, :] - W[None, :, :])) <= atol, axis=2)
+    return bool(close.any(axis=1).all() and close.any(axis=0).all())
+
+
+# ------------------------------------------------------------------ the check class
+@dataclass
+class _PoseSetCheck(SolutionSetCheck):
+    """A :class:`SolutionSetCheck` of a function of the flange pose (and earlier angles).
+
+    ``arguments(q)`` gives the student's function's arguments for the generating
+    configuration ``q``; ``mistakes`` are ``(code, set_function(q), message)``: a student's
+    answer that returns that set at every sample is named by the message. A proper
+    subset of the reference at every sample is a dropped branch (``branch_message``).
+    """
+
+    arguments: Callable[[np.ndarray], tuple] | None = None
+    signature: str = ""
+    mistakes: list[tuple[str, Callable[[np.ndarray], np.ndarray], str]] = field(default_factory=list)
+    branch_message: str = ""
+    columns: int = 0
+
+    def evaluate(self, answer: Any) -> CheckResult:
+        """Call ``answer(*arguments(q))`` at the sampled configurations and compare the sets."""
+        if answer is not None and not callable(answer):
+            return CheckResult(self.name, False, f"{FAIL} {self.name} should be a Python function "
+                               f"{self.signature}; got {type(answer).__name__}.", "constant", 0)
+        if answer is None or self.arguments is None:
+            return super().evaluate(answer)
+        build, student = self.arguments, answer
+
+        def call(q: np.ndarray) -> Any:
+            out = student(*build(np.asarray(q, dtype=float)))
+            if self.columns == 1 and isinstance(out, (list, tuple, np.ndarray)):
+                try:  # one angle per solution: the rows of a column
+                    return np.asarray(out, dtype=float).reshape(-1, 1)
+                except (TypeError, ValueError):
+                    return out
+            return out
+
+        result = super().evaluate(call)
+        if result.passed or result.diagnosis in ("degrees", "error"):
+            return result
+        try:
+            X, refs, got = self._sets(call)
+        except AnswerError:
+            return result
+        width = refs[0].shape[-1]
+        if any(S.ndim != 2 or S.shape[-1] != width or not np.all(np.isfinite(S)) for S in got):
+            return result
+        with np.errstate(all="ignore"):
+            for code, wrong, message in self.mistakes:
+                if all(_same_rows(S, np.asarray(wrong(x), dtype=float).reshape(-1, width), self.atol)
+                       for S, x in zip(got, X)):
+                    return self._fail(code, message.format(name=self.name), len(X))
+            subsets = [0 < len(S) < len(R) and _rows_in(S, R, self.atol) for S, R in zip(got, refs)]
+        if self.branch_message and all(subsets):
+            return self._fail("branch_dropped", self.branch_message.format(name=self.name), len(X))
+        return result
+
+
+# ------------------------------------------------------------------ the checks
+def _wrist_centre_mistakes():
+    d6 = _lengths()[5]
+    return [
+        alternatives("flange_point", [(lambda x: _pose(x)[:3, 3], (
+            "{name} is the flange position p: the wrist centre is the origin of frame 5, "
+            "p − d6 z6, d6 back along the tool's z axis."))]),
+        alternatives("d6_sign", [(lambda x: _pose(x)[:3, 3] + d6 * _pose(x)[:3, 2], (
+            "{name} is p + d6 z6: the flange lies d6 beyond the wrist centre along z6, "
+            "so the centre is p − d6 z6."))]),
+        alternatives("wrong_axis", [(lambda x: _pose(x)[:3, 3] - d6 * _pose(x)[2, :3], (
+            "{name} uses the third row of R for z6: the tool's z axis is the third column, "
+            "R[:, 2] (the columns of R are the flange's axes in the base frame)."))]),
+    ]
+
+
+wrist_centre = exercise(_CHAPTER, "wrist_centre", MatrixArgumentsCheck(
+    name="wrist_centre",
+    reference=lambda x: np.asarray(_robot().frames(np.asarray(x, dtype=float))[6][:3, 3], dtype=float),
+    variables=_Q,
+    groups=_GROUP,
+    arguments=lambda x: (_pose(x),),
+    signature="wrist_centre(T) -> (3,) array in m",
+    diagnoses=_wrist_centre_mistakes(),
+    noun="configurations",
+    atol=1e-9,
+    doc="Check wrist_centre(T): the origin of frame 5 (m, base frame) for the flange pose T (4, 4).",
 ))
 
-tool_jacobian = exercise(_CHAPTER, "tool_jacobian", Check(
-    name="tool_jacobian",
-    reference=lambda x: np.asarray(_arm().position_jacobian(x))[:2],
-    variables=[Variable("q1"), Variable("q2")],
-    groups=[("q", [0, 1])],
-    diagnoses=dg.standard("jacobian"),
-    noun="angles",
-    doc="Check tool_jacobian(q): the 2x2 Jacobian of the tool position, in m/rad.",
+shoulder_angles = exercise(_CHAPTER, "shoulder_angles", _PoseSetCheck(
+    name="shoulder_angles",
+    reference=lambda x: _shoulder(_pose(x)).reshape(-1, 1),
+    columns=1,
+    variables=_Q,
+    groups=_GROUP,
+    arguments=lambda x: (_pose(x),),
+    signature="shoulder_angles(T) -> (2,) array of q1 in rad",
+    mistakes=[
+        ("atan2_swapped", lambda x: _shoulder(_pose(x), swap=True).reshape(-1, 1),
+         "{name} uses atan2(x, y) for the direction of the wrist centre: atan2 takes the y "
+         "coordinate first, ψ = atan2(y, x)."),
+        ("d4_sign", lambda x: _shoulder(_pose(x), d4_sign=-1.0).reshape(-1, 1),
+         "{name} has the sign of d4 wrong: the wrist centre lies at +d4 along z1 = (s1, −c1, 0), "
+         "x s1 − y c1 = d4, so q1 = ψ + π/2 ± arccos(d4/r) with d4 = +0.1639 m."),
+        ("flange_point", lambda x: _shoulder(_pose(x), flange=True).reshape(-1, 1),
+         "{name} uses the flange position p instead of the wrist centre p5 = p − d6 z6: only "
+         "the wrist centre is at the height d4 along z1."),
+    ],
+    branch_message="{name} returns only one of the two shoulder solutions: "
+                   "q1 = ψ + π/2 ± arccos(d4/r), both signs.",
+    noun="configurations",
+    atol=1e-7,
+    doc="Check shoulder_angles(T): both solutions q1 (rad) for the flange pose T (4, 4).",
 ))
+
+wrist_angles = exercise(_CHAPTER, "wrist_angles", _PoseSetCheck(
+    name="wrist_angles",
+    reference=lambda x: _wrist(_pose(x), float(x[0])),
+    variables=_Q,
+    groups=_GROUP,
+    arguments=lambda x: (_pose(x), float(x[0])),
+    signature="wrist_angles(T, q1) -> (2, 2) array of rows (q5, q6) in rad",
+    mistakes=[
+        ("atan2_swapped", lambda x: _wrist(_pose(x), float(x[0]), swap=True),
+         "{name} has the arguments of atan2 swapped in q6: with R_6ᵀ z1 = (c6 s5, −s6 s5, c5), "
+         "q6 = atan2(−y6·z1 / s5, x6·z1 / s5), the sine first."),
+        ("q6_sign", lambda x: _wrist(_pose(x), float(x[0]), q6_sign=-1.0),
+         "{name} gives q6 with the wrong sign: y6·z1 = −s6 s5, so sin q6 = −y6·z1 / s5."),
+    ],
+    branch_message="{name} returns only one wrist solution: q5 = ±arccos(z6·z1), and q6 "
+                   "changes by π with the sign of sin q5.",
+    noun="configurations",
+    atol=1e-7,
+    doc="Check wrist_angles(T, q1): both rows (q5, q6) (rad) for the flange pose T and the shoulder angle q1.",
+))
+
+arm_angles = exercise(_CHAPTER, "arm_angles", _PoseSetCheck(
+    name="arm_angles",
+    reference=lambda x: _arm(_pose(x), float(x[0]), float(x[4]), float(x[5])),
+    variables=_Q,
+    groups=_GROUP,
+    arguments=lambda x: (_pose(x), float(x[0]), float(x[4]), float(x[5])),
+    signature="arm_angles(T, q1, q5, q6) -> (2, 3) array of rows (q2, q3, q4) in rad",
+    mistakes=[
+        ("a_sign", lambda x: _arm(_pose(x), float(x[0]), float(x[4]), float(x[5]), a_sign=-1.0),
+         "{name} uses positive a2, a3: the table's a2 = −0.612 m and a3 = −0.5723 m are negative "
+         "(with q = 0 the arm points along −x1), which turns q2 by π."),
+        ("atan2_swapped", lambda x: _arm(_pose(x), float(x[0]), float(x[4]), float(x[5]), swap=True),
+         "{name} has the arguments of atan2 swapped in q2: the direction to the point (X, Y) in "
+         "the arm's plane is atan2(Y, X), the Y coordinate first."),
+        ("wrist_point", lambda x: _arm(_pose(x), float(x[0]), float(x[4]), float(x[5]), wrist_point=True),
+         "{name} solves the planar problem for the wrist centre p5; the three parallel links end "
+         "at the origin of frame 4, p4 = p5 − d5 z4."),
+    ],
+    branch_message="{name} returns only one elbow solution: q3 = ±arccos(c3), and q2, q4 "
+                   "follow for each sign.",
+    noun="configurations",
+    atol=1e-7,
+    doc="Check arm_angles(T, q1, q5, q6): both rows (q2, q3, q4) (rad), elbow up and down.",
+))
+
+all_solutions = exercise(_CHAPTER, "all_solutions", _PoseSetCheck(
+    name="all_solutions",
+    reference=lambda x: _all(_pose(x)),
+    variables=_Q,
+    groups=_GROUP,
+    arguments=lambda x: (_pose(x),),
+    signature="all_solutions(T) -> (k, 6) array of solutions in rad",
+    branch_message="{name} misses solutions: every one it returns is right, but a generic "
+                   "reachable pose has 8 (2 shoulder × 2 wrist × 2 elbow); loop over every branch.",
+    noun="configurations",
+    atol=1e-7,
+    doc="Check all_solutions(T): every joint solution (k, 6) (rad) for the flange pose T (4, 4).",
+))
+

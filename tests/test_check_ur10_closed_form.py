@@ -1,0 +1,199 @@
+"""Tests of the chapter-7 exercise checks (robokin.check.ur10_closed_form).
+
+The correct answers are written here independently of the check module: each step of the
+closed form from the DH table, and all solutions by a dense multi-start Newton search on
+the forward kinematics (no closed form). Each typical mistake is written out as a student
+would make it and must be named by its diagnosis.
+"""
+
+from __future__ import annotations
+
+import importlib
+import math
+
+import numpy as np
+import pytest
+
+from robokin.check import solution_set
+from robokin.models import ur10
+from robokin.models.ur10 import UR10_DH
+
+chk = importlib.import_module("robokin.check.ur10_closed_form")
+ROBOT = ur10()
+D1, A2, A3 = UR10_DH[0][0], UR10_DH[1][2], UR10_DH[2][2]
+D4, D5, D6 = UR10_DH[3][0], UR10_DH[4][0], UR10_DH[5][0]
+
+
+def wrap(a):
+    return np.pi - np.mod(np.pi - np.asarray(a, dtype=float), 2 * np.pi)
+
+
+def centre(T, sign=-1.0):
+    return T[:3, 3] + sign * D6 * T[:3, 2]
+
+
+def shoulder(T, *, swap=False, d4=D4, dropped=False):
+    x, y, _ = centre(T)
+    r = math.hypot(x, y)
+    psi = math.atan2(x, y) if swap else math.atan2(y, x)
+    beta = math.acos(min(1.0, max(-1.0, d4 / r)))  # clipped: the flange point may be inside |d4|
+    out = [psi + math.pi / 2 + beta, psi + math.pi / 2 - beta]
+    return wrap(out[:1] if dropped else out)
+
+
+def wrist(T, q1, *, swap=False, dropped=False, degrees=False):
+    z1 = np.array([math.sin(q1), -math.cos(q1), 0.0])
+    a, b, c5 = T[:3, :3].T @ z1  # (c6 s5, -s6 s5, c5)
+    rows = []
+    for sign in (1.0, -1.0)[: 1 if dropped else 2]:
+        s5 = sign * math.hypot(a, b)
+        q6 = math.atan2(a / s5, -b / s5) if swap else math.atan2(-b / s5, a / s5)
+        rows.append([math.atan2(s5, c5), q6])
+    rows = wrap(rows)
+    return np.rad2deg(rows) if degrees else rows
+
+
+def arm(T, q1, q5, q6, *, a_sign=1.0, dropped=False, wrist_point=False):
+    R = T[:3, :3]
+    z4 = R @ [-math.sin(q6), -math.cos(q6), 0.0]
+    x4 = R @ [math.cos(q5) * math.cos(q6), -math.cos(q5) * math.sin(q6), -math.sin(q5)]
+    p4 = centre(T) - (0.0 if wrist_point else D5) * z4
+    X, Y = math.cos(q1) * p4[0] + math.sin(q1) * p4[1], p4[2] - D1
+    a2, a3 = a_sign * A2, a_sign * A3
+    c3 = (X * X + Y * Y - a2 * a2 - a3 * a3) / (2 * a2 * a3)
+    if abs(c3) > 1:
+        return np.zeros((0, 3))
+    phi = math.atan2(x4[2], math.cos(q1) * x4[0] + math.sin(q1) * x4[1])
+    rows = []
+    for q3 in (math.acos(c3), -math.acos(c3))[: 1 if dropped else 2]:
+        q2 = math.atan2(Y, X) - math.atan2(a3 * math.sin(q3), a2 + a3 * math.cos(q3))
+        rows.append([q2, q3, phi - q2 - q3])
+    return wrap(rows)
+
+
+def every_solution(T):
+    rows = []
+    for q1 in shoulder(T):
+        for q5, q6 in wrist(T, q1):
+            for q2, q3, q4 in arm(T, q1, q5, q6):
+                q = np.array([q1, q2, q3, q4, q5, q6])
+                if np.abs(ROBOT.fk(q) - T).max() < 1e-9:
+                    rows.append(q)
+    return np.array(rows).reshape(-1, 6)
+
+
+def newton_search(T, starts=60, seed=3):
+    """All solutions by Newton's method on the pose error from many random starts."""
+    from robokin.transforms import rotation_log
+
+    rng = np.random.default_rng(seed)
+    found: list[np.ndarray] = []
+    for q in rng.uniform(-np.pi, np.pi, (starts, 6)):
+        for _ in range(60):
+            F = ROBOT.fk(q)
+            error = np.r_[T[:3, 3] - F[:3, 3], rotation_log(T[:3, :3] @ F[:3, :3].T)]
+            if np.linalg.norm(error) < 1e-13:
+                break
+            q = q + np.linalg.lstsq(ROBOT.jacobian(q), error, rcond=None)[0]
+        if np.abs(ROBOT.fk(q) - T).max() < 1e-10:
+            q = wrap(q)
+            if not any(np.abs(wrap(q - f)).max() < 1e-6 for f in found):
+                found.append(q)
+    return np.array(found).reshape(-1, 6)
+
+
+# ---------------------------------------------------------------- correct answers
+@pytest.mark.parametrize("name, answer", [
+    ("wrist_centre", centre),
+    ("shoulder_angles", shoulder),
+    ("wrist_angles", wrist),
+    ("arm_angles", arm),
+    ("all_solutions", every_solution),
+])
+def test_correct_answers_pass(name, answer):
+    result = getattr(chk, name)(answer, quiet=True)
+    assert result.passed and result.diagnosis is None, result.message
+    assert result.samples == 20
+
+
+def test_the_references_are_what_a_dense_numerical_search_finds():
+    for x in chk.all_solutions.sample_points()[:3]:
+        T = chk._pose(x)
+        reference = chk._all(T)
+        assert solution_set(newton_search(T), reference, quiet=True).passed
+        assert solution_set(every_solution(T), reference, quiet=True).passed
+
+
+def test_the_samples_are_away_from_the_singular_cases():
+    from robokin.models.ur_ik import ur10_ik
+
+    for x in chk.all_solutions.sample_points():
+        result = ur10_ik(chk._pose(x))
+        assert result.success and not result.singular and len(result) in (4, 8)
+        assert np.abs(np.sin(result.q[:, [2, 4]])).min() > 0.1
+        assert np.hypot(*result.wrist_centre[:2]) > abs(D4) + 1e-3
+
+
+def test_the_wrist_centre_reference_is_frame_5():
+    for x in chk.wrist_centre.sample_points()[:5]:
+        assert np.allclose(chk.wrist_centre.reference(x), centre(ROBOT.fk(x)), atol=1e-12)
+
+
+# ---------------------------------------------------------------- typical mistakes
+MISTAKES = [
+    ("wrist_centre", lambda T: centre(T, sign=0.0), "flange_point"),
+    ("wrist_centre", lambda T: centre(T, sign=1.0), "d6_sign"),
+    ("wrist_centre", lambda T: T[:3, 3] - D6 * T[2, :3], "wrong_axis"),
+    ("shoulder_angles", lambda T: shoulder(T, swap=True), "atan2_swapped"),
+    ("shoulder_angles", lambda T: shoulder(T, d4=-D4), "d4_sign"),
+    ("shoulder_angles", lambda T: shoulder(T, dropped=True), "branch_dropped"),
+    ("shoulder_angles", lambda T: np.rad2deg(shoulder(T)), "degrees"),
+    ("shoulder_angles", lambda T: shoulder(np.vstack([np.c_[T[:3, :3], centre(T, 1.0)], T[3:]])), "flange_point"),
+    ("wrist_angles", lambda T, q1: wrist(T, q1, swap=True), "atan2_swapped"),
+    ("wrist_angles", lambda T, q1: wrist(T, q1) * [1, -1], "q6_sign"),
+    ("wrist_angles", lambda T, q1: wrist(T, q1, dropped=True), "branch_dropped"),
+    ("wrist_angles", lambda T, q1: wrist(T, q1, degrees=True), "degrees"),
+    ("arm_angles", lambda T, q1, q5, q6: arm(T, q1, q5, q6, a_sign=-1.0), "a_sign"),
+    ("arm_angles", lambda T, q1, q5, q6: arm(T, q1, q5, q6, dropped=True), "branch_dropped"),
+    ("arm_angles", lambda T, q1, q5, q6: arm(T, q1, q5, q6, wrist_point=True), "wrist_point"),
+    ("arm_angles", lambda T, q1, q5, q6: np.rad2deg(arm(T, q1, q5, q6)), "degrees"),
+    ("all_solutions", lambda T: every_solution(T)[:2], "branch_dropped"),
+    ("all_solutions", lambda T: np.rad2deg(every_solution(T)), "degrees"),
+    ("all_solutions", lambda T: np.vstack([every_solution(T)] * 2), "duplicate"),
+    ("all_solutions", lambda T: every_solution(T) + [0, 0, 0, 0, 0, 0.5], "extra"),
+]
+
+
+@pytest.mark.parametrize("name, answer, code", MISTAKES, ids=[f"{m[0]}-{m[2]}" for m in MISTAKES])
+def test_typical_mistakes_are_named(name, answer, code):
+    result = getattr(chk, name)(answer, quiet=True)
+    assert not result.passed and result.diagnosis == code, result.message
+    assert name in result.message
+
+
+def test_messages_name_the_fix(capsys):
+    chk.shoulder_angles(lambda T: shoulder(T, swap=True))
+    assert "atan2(y, x)" in capsys.readouterr().out
+    chk.arm_angles(lambda T, q1, q5, q6: arm(T, q1, q5, q6, a_sign=-1.0))
+    assert "negative" in capsys.readouterr().out
+
+
+# ---------------------------------------------------------------- answers that are no answer
+@pytest.mark.parametrize("name", ["wrist_centre", "shoulder_angles", "wrist_angles", "arm_angles", "all_solutions"])
+@pytest.mark.parametrize("answer", [None, 3.0, "abc", np.zeros(6), lambda *a: None, lambda *a: "x", lambda *a: 1 / 0,
+                                    lambda *a: np.full((2, 6), np.nan), lambda *a: np.zeros((2, 5, 7))])
+def test_garbage_gives_a_failed_result(name, answer):
+    result = getattr(chk, name)(answer, quiet=True)
+    assert not result.passed and isinstance(result.message, str) and result.message
+
+
+def test_an_unreachable_answer_set_is_empty_for_arm_angles():
+    q = np.array([0.4, -1.0, 0.8, -0.5, 1.1, 0.3])
+    T = ROBOT.fk(q)
+    T[:3, 3] += 2.0 * T[:3, 3] / np.linalg.norm(T[:3, 3])
+    assert chk._arm(T, q[0], q[4], q[5]).shape == (0, 3)
+
+
+def test_delegation_names_the_closed_form():
+    assert set(chk.DELEGATION) == {"shoulder_angles", "wrist_angles", "arm_angles", "all_solutions"}
+    assert all("ur10_ik" in table for table in chk.DELEGATION.values())
