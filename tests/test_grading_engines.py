@@ -16,6 +16,11 @@ One chapter (:data:`CHAPTER`, the everyday chapter of tests/tiers.py) is graded 
   scored alone, the allocation fails (``MemoryError`` in its feedback) and the submission
   keeps every mark.
 
+A fork bomb in a correct submission's last answer cell (graded by ``grade_submission.grade``
+alone, from a release this module makes) gets ``BlockingIOError`` at the cap on the kernel's
+processes: that task's tests lose their points, the others keep theirs, grading returns and
+no process of the bomb is left.
+
 The rest is cheap: the zip holds what grading needs and no other chapter, ``run_autograder``
 explains a submission without exactly one notebook, the Kubernetes manifests are valid
 against the Kubernetes schema (kubernetes-validate), and the Containerfile (which cannot be
@@ -43,9 +48,11 @@ from conftest import ROOT
 sys.path.insert(0, str(ROOT / "tools"))
 sys.path.insert(0, str(ROOT / "tools" / "grading_deploy"))
 
-import grading_course
 import grade_shard
+import grade_submission
 import gradescope
+import grading_course
+import process_cap
 from benign_variants import with_incident
 from test_grading_tamper import tampered
 from test_nbgrader import correct_submission, mistaken_submission, save
@@ -293,3 +300,107 @@ def test_containerfile_parses_and_installs_what_run_autograder_needs():
     copied = " ".join(rest for word, rest in instructions if word in {"COPY", "ADD"})
     for needed in ("robokin", "tools", "nbgrader_config.py", "requirements.txt", "constraints.txt", "pyproject.toml"):
         assert needed in copied, f"the image lacks {needed}: {copied}"
+
+
+# ---------------------------------------------------------------- the cap on a kernel's processes
+#: a fork bomb, bounded so that it cannot harm the machine were the cap missing: at most 2,000
+#: children, each ending at once (a zombie until the kernel ends: a process, no memory), named
+#: so that one left behind can be found
+FORK_BOMB = ('import os\n\nforked = 0\nwhile forked < 2000:\n    if os.fork() == 0:\n'
+             '        with open("/proc/self/comm", "w") as name:\n            name.write("rkforkbomb")\n'
+             '        os._exit(0)\n    forked += 1\nprint("forked", forked)\n\n')
+
+
+def _bomb_processes() -> list[int]:
+    """Processes named by FORK_BOMB, anywhere on the machine."""
+    found = []
+    for entry in Path("/proc").iterdir():
+        try:
+            if entry.name.isdigit() and (entry / "comm").read_text().strip() == "rkforkbomb":
+                found.append(int(entry.name))
+        except OSError:   # ended meanwhile
+            continue
+    return found
+
+
+def _release(tmp_path: Path) -> tuple[dict, dict]:
+    """The chapter's source and its student edition, made by nbgrader as grade_submission does."""
+    from student_edition import add_source, write_course
+
+    source = ROOT / "notebooks" / f"{CHAPTER}.ipynb"
+    course = tmp_path / "course"
+    write_course(course, tmp_path / "exchange")
+    add_source(course, source)
+    log: list[str] = []
+    proc = grade_submission.run_nbgrader(["generate_assignment", CHAPTER, "--force"], course, log)
+    assert proc.returncode == 0, log[-1]
+    release = course / "release" / CHAPTER / f"{CHAPTER}.ipynb"
+    return (json.loads(source.read_text(encoding="utf-8")), json.loads(release.read_text(encoding="utf-8")))
+
+
+@pytest.mark.exhaustive   # a submission graded (about a minute): make test-all, like the gradings above
+def test_a_fork_bomb_loses_its_cell_and_leaves_no_process(tmp_path):
+    source, release = _release(tmp_path)
+    nb = correct_submission(release, source)
+    answers = [cell for cell in nb["cells"] if cell.get("metadata", {}).get("nbgrader", {}).get("solution")]
+    bombed = answers[-1]
+    task = bombed["metadata"]["robokin"]["task"]
+    bombed["source"] = FORK_BOMB + "".join(bombed["source"])
+    save(nb, tmp_path / "bomb" / f"{CHAPTER}.ipynb")
+    assert not _bomb_processes(), "processes of an earlier fork bomb are running: cannot tell this one's"
+
+    started = time.perf_counter()
+    results = grade_submission.grade(CHAPTER, tmp_path / "bomb" / f"{CHAPTER}.ipynb", tmp_path / "out")
+    elapsed = time.perf_counter() - started
+    left = _bomb_processes()
+    feedback = (tmp_path / "out" / "feedback.html").read_text(encoding="utf-8")
+    print(f"\n[fork bomb] graded in {elapsed:.0f} s: {results['output']}")
+
+    assert not left, f"{len(left)} processes of the fork bomb are left after grading: {left[:10]}"
+    text = " ".join(re.sub(r"<[^>]+>", " ", feedback).split())
+    assert "BlockingIOError" in text and "forked 2000" not in text, "the fork was not stopped by the cap"
+    # the bombed task's tests lose their points; every other test keeps its own
+    tasks = {cell["metadata"]["nbgrader"]["grade_id"]: cell["metadata"]["robokin"]["task"]
+             for cell in source["cells"] if cell.get("metadata", {}).get("nbgrader", {}).get("grade")}
+    for test in results["tests"]:
+        expected = 0.0 if tasks[test["name"]] == task else test["max_score"]
+        assert test["score"] == pytest.approx(expected), (test, results["output"])
+    assert any(tasks[test["name"]] == task for test in results["tests"])
+
+
+def _no_cap_here(monkeypatch):
+    monkeypatch.setattr(process_cap, "cgroup_parent", lambda: (None, "/sys/fs/cgroup is read-only"))
+    monkeypatch.setattr(process_cap, "exempt_from_rlimit",
+                        lambda: "the grader runs as root (uid 0 of the initial user namespace)")
+
+
+def test_grading_stops_naming_the_cause_when_no_cap_can_be_made(tmp_path, monkeypatch):
+    _no_cap_here(monkeypatch)
+    monkeypatch.delenv("ROBOKIN_GRADING_SANDBOX", raising=False)
+    monkeypatch.delenv(process_cap.METHOD_VARIABLE, raising=False)
+    with pytest.raises(RuntimeError, match=r"(?s)cannot cap the processes.*read-only.*runs as root.*--max-processes 0"):
+        grade_submission.grade(CHAPTER, tmp_path / "any.ipynb", tmp_path / "out")
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("sandbox, cause", [("on", "max_processes=0"), ("off", "ROBOKIN_GRADING_SANDBOX=off")])
+def test_no_cap_is_a_logged_warning(monkeypatch, caplog, sandbox, cause):
+    _no_cap_here(monkeypatch)
+    monkeypatch.setenv("ROBOKIN_GRADING_SANDBOX", sandbox)
+    with caplog.at_level("WARNING", logger="robokin.grading"):
+        env = grade_submission.process_cap_environment(0 if sandbox == "on" else 256)
+    assert process_cap.TAG_VARIABLE not in env and env.get(process_cap.VARIABLE, "0") == "0"
+    assert [record.levelname for record in caplog.records] == ["WARNING"]
+    assert "not capped" in caplog.text and cause in caplog.text
+
+
+def test_an_ordinary_user_gets_rlimit_nproc(monkeypatch):
+    monkeypatch.setattr(process_cap, "cgroup_parent", lambda: (None, "not writable"))
+    monkeypatch.setattr(process_cap, "exempt_from_rlimit", lambda: "")
+    monkeypatch.delenv(process_cap.METHOD_VARIABLE, raising=False)
+    cap = process_cap.plan(256, make=True)
+    assert cap.method == "rlimit" and not cap.outer and cap.cgroup is None
+    alone, shared, namespace = cap.inner[cap.inner.index("rlimit") + 1].split(":")
+    # alone in the sandbox's user namespace: the cap; sharing the grader's: its processes now plus the cap
+    assert int(alone) == 256 and int(shared) >= 256 + 1 and int(namespace) == os.stat("/proc/self/ns/user").st_ino
+    assert cap.inner[-1] == "--" and cap.release() == 0

@@ -2,7 +2,8 @@
 """Grade one submitted notebook of a chapter, with no course directory to keep.
 
     .venv/bin/python tools/grade_submission.py 03_three_rpr submission.ipynb --out results/alice
-    .venv/bin/python tools/grade_submission.py 03_three_rpr submission.ipynb --out . --memory 4096
+    .venv/bin/python tools/grade_submission.py 03_three_rpr submission.ipynb --out . --memory 4096 \
+        --max-processes 256
 
 The course's own pipeline grades it (nbgrader_config.py: the bubblewrap sandbox, the
 verdicts decided in a grader kernel of their own, restarts after a lost kernel, the
@@ -23,22 +24,33 @@ sandbox) runs with a cap on its memory (``--memory``, MiB of address space per p
 default :data:`DEFAULT_MEMORY_MIB`) and on its CPU time (``--cpu-seconds``, default
 :data:`DEFAULT_CPU_SECONDS`): a submission that allocates beyond the cap gets a
 ``MemoryError`` in that cell, one that computes beyond it loses its kernel, and in both
-cases its other marks stay and the grading machine goes on. The exit code is 0 when the
-notebook was graded (whatever its score), 1 when grading itself failed (the message says
-why), 2 for bad arguments.
+cases its other marks stay and the grading machine goes on. The student's kernel and
+everything it starts may have at most ``--max-processes`` processes and threads (default
+:data:`process_cap.DEFAULT_MAX_PROCESSES`): a fork bomb gets ``BlockingIOError`` in its cell,
+which loses its points, and whatever it started is killed with the kernel. The cap is a
+cgroup's ``pids.max`` where a pids cgroup is writable (root), ``RLIMIT_NPROC`` for an
+ordinary user (tools/process_cap.py says why not both); where neither works, grading stops
+and says why, and ``--max-processes 0`` grades without the cap, with a warning. The exit
+code is 0 when the notebook was graded (whatever its score), 1 when grading itself failed
+(the message says why), 2 for bad arguments.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import logging
 import resource
 import shutil
 import subprocess
 import sys
 import tempfile
+import uuid
 from pathlib import Path
 
+import process_cap
+from process_cap import DEFAULT_MAX_PROCESSES, ProcessCapUnavailable
+from robokin_sandbox import sandbox_wanted
 from student_edition import ROOT, add_source, environment, nbgrader_command, write_course
 
 #: MiB of address space per process: a grader or student kernel with numpy, sympy and
@@ -51,6 +63,8 @@ DEFAULT_CPU_SECONDS = 600
 #: The student's name in the temporary course.
 STUDENT = "submission"
 
+logger = logging.getLogger("robokin.grading")
+
 
 def limits(memory_mib: int, cpu_seconds: int):
     """A ``preexec_fn`` that caps the address space and CPU time of a process and its children."""
@@ -61,9 +75,10 @@ def limits(memory_mib: int, cpu_seconds: int):
     return apply
 
 
-def run_nbgrader(args: list[str], course: Path, log: list[str], preexec=None) -> subprocess.CompletedProcess:
+def run_nbgrader(args: list[str], course: Path, log: list[str], preexec=None,
+                 env: dict[str, str] | None = None) -> subprocess.CompletedProcess:
     proc = subprocess.run([*nbgrader_command(), *args], cwd=course, capture_output=True, text=True,
-                          env=environment(), preexec_fn=preexec, check=False)
+                          env={**environment(), **(env or {})}, preexec_fn=preexec, check=False)
     log.append(f"$ nbgrader {' '.join(args)}   [exit {proc.returncode}]\n{proc.stdout}{proc.stderr}")
     return proc
 
@@ -103,13 +118,41 @@ def read_scores(course: Path, chapter: str) -> list[dict]:
                 for cell in cells]
 
 
+def process_cap_environment(max_processes: int) -> dict[str, str]:
+    """The variables that cap the student's kernel's processes at ``max_processes`` (0: no cap).
+
+    Raises ``RuntimeError`` (from :class:`process_cap.ProcessCapUnavailable`) naming the cause
+    when no cap can be made here; with no cap, or no sandbox to put it on, logs a warning
+    saying so.
+    """
+    if max_processes < 0:
+        raise ValueError(f"max_processes must be 0 (no cap) or a positive number of processes, not {max_processes}")
+    if max_processes == 0:
+        logger.warning("the processes of the submission's kernel are not capped (max_processes=0): a fork bomb is "
+                       "stopped only by the machine's own limits (a container's pids limit)")
+        return {process_cap.VARIABLE: "0"}
+    if not sandbox_wanted(True):
+        logger.warning("the processes of the submission's kernel are not capped: ROBOKIN_GRADING_SANDBOX=off runs "
+                       "the kernel outside the sandbox, where the cap is made; grade in a container with a pids "
+                       "limit of its own (docker run --pids-limit, Kubernetes podPidsLimit)")
+        return {}
+    try:
+        process_cap.plan(max_processes)
+    except ProcessCapUnavailable as error:
+        raise RuntimeError(str(error)) from None
+    return {process_cap.VARIABLE: str(max_processes), process_cap.TAG_VARIABLE: uuid.uuid4().hex[:12]}
+
+
 def grade(chapter: str, notebook: Path, out: Path, memory_mib: int = DEFAULT_MEMORY_MIB,
-          cpu_seconds: int = DEFAULT_CPU_SECONDS, notebooks: Path = ROOT / "notebooks") -> dict:
+          cpu_seconds: int = DEFAULT_CPU_SECONDS, notebooks: Path = ROOT / "notebooks",
+          max_processes: int = DEFAULT_MAX_PROCESSES) -> dict:
     """Grade ``notebook`` as a submission of ``chapter``; write ``results.json`` and ``feedback.html``
-    into ``out`` and return the results. Raises ``RuntimeError`` when grading itself fails."""
+    into ``out`` and return the results. Raises ``RuntimeError`` when grading itself fails (or no
+    cap on the kernel's processes can be made: ``max_processes=0`` grades without one)."""
     source = notebooks / f"{chapter}.ipynb"
     if not source.is_file():
         raise FileNotFoundError(f"no chapter {chapter!r}: {source} does not exist")
+    capped = process_cap_environment(max_processes)
     out.mkdir(parents=True, exist_ok=True)
     log: list[str] = []
     with tempfile.TemporaryDirectory(prefix="robokin-grade-") as folder:
@@ -121,8 +164,14 @@ def grade(chapter: str, notebook: Path, out: Path, memory_mib: int = DEFAULT_MEM
         submitted = course / "submitted" / STUDENT / chapter
         submitted.mkdir(parents=True)
         shutil.copy2(notebook, submitted / f"{chapter}.ipynb")
-        autograde = run_nbgrader(["autograde", chapter, "--student", STUDENT, "--force"], course, log,
-                                 preexec=limits(memory_mib, cpu_seconds))
+        try:
+            autograde = run_nbgrader(["autograde", chapter, "--student", STUDENT, "--force"], course, log,
+                                     preexec=limits(memory_mib, cpu_seconds), env=capped)
+        finally:   # a kernel's cgroup that its cleanup did not remove (nbgrader killed, say)
+            tag = capped.get(process_cap.TAG_VARIABLE)
+            killed = process_cap.remove_leftovers(tag) if tag else 0
+            if killed:
+                logger.warning("%d processes of the submission's kernel were left after grading; killed", killed)
         autograded = course / "autograded" / STUDENT / chapter / f"{chapter}.ipynb"
         if autograde.returncode != 0 or not autograded.is_file():
             raise RuntimeError("nbgrader autograde failed:\n" + log[-1][-4000:])
@@ -148,12 +197,19 @@ def main(argv: list[str] | None = None) -> int:
                         help=f"MiB of address space per process (default {DEFAULT_MEMORY_MIB})")
     parser.add_argument("--cpu-seconds", type=int, default=DEFAULT_CPU_SECONDS,
                         help=f"CPU seconds per process (default {DEFAULT_CPU_SECONDS})")
+    parser.add_argument("--max-processes", type=int, default=DEFAULT_MAX_PROCESSES,
+                        help="processes and threads of the submission's kernel and its children "
+                             f"(default {DEFAULT_MAX_PROCESSES}; 0: no cap, with a warning)")
     args = parser.parse_args(argv)
+    logging.basicConfig(format="%(levelname)s [robokin grading] %(message)s")
+    if args.max_processes < 0:
+        parser.error(f"--max-processes must be 0 (no cap) or positive, not {args.max_processes}")
     if not args.notebook.is_file():
         print(f"ERROR: no notebook {args.notebook}", file=sys.stderr)
         return 2
     try:
-        results = grade(args.chapter, args.notebook.resolve(), args.out.resolve(), args.memory, args.cpu_seconds)
+        results = grade(args.chapter, args.notebook.resolve(), args.out.resolve(), args.memory, args.cpu_seconds,
+                        max_processes=args.max_processes)
     except (FileNotFoundError, RuntimeError) as error:
         print(f"ERROR: {error}", file=sys.stderr)
         return 1

@@ -29,6 +29,12 @@ grader's session). A kernel in a new session does not get the SIGINT that
 jupyter_client sends to the process group it started, so an interrupt is an
 ``interrupt_request`` message (ipykernel then signals itself).
 
+``ROBOKIN_MAX_PROCESSES=N`` (or ``c.SandboxedKernelManager.max_processes = N``) caps the
+processes and threads of the kernel and everything it starts at ``N`` (a fork bomb gets
+``BlockingIOError`` from ``fork``), by a cgroup's ``pids.max`` or by ``RLIMIT_NPROC``, whichever
+works here (``tools/process_cap.py``); when neither does, the kernel does not start and the
+error says why. ``tools/grade_submission.py`` sets it.
+
 ``ROBOKIN_GRADING_SANDBOX=off`` or ``c.RobokinExecute.sandbox = False`` runs the
 kernel as nbgrader does, unsandboxed (for an instructor who grades inside a
 container of their own).
@@ -43,8 +49,9 @@ import subprocess
 import sys
 from pathlib import Path
 
+import process_cap
 from kernel_sockets import AsyncPrivateSocketsKernelManager
-from traitlets import List, Unicode
+from traitlets import Int, List, Unicode
 
 PACKAGE = "bubblewrap"
 SWITCH = "ROBOKIN_GRADING_SANDBOX"
@@ -177,6 +184,9 @@ class SandboxedKernelManager(AsyncPrivateSocketsKernelManager):
     hidden = List(Unicode(), help="folders the kernel must not see (course, exchange, repository)"
                   ).tag(config=True)
     readable = List(Unicode(), help="extra read-only folders (besides the system and Python)").tag(config=True)
+    max_processes = Int(0, help="processes and threads the kernel may have, its children's included "
+                        f"(0: no cap); {process_cap.VARIABLE} overrides it").tag(config=True)
+    _process_cap: process_cap.ProcessCap | None = None
 
     async def _async_pre_start_kernel(self, **kw):
         if not self.writable:
@@ -194,7 +204,26 @@ class SandboxedKernelManager(AsyncPrivateSocketsKernelManager):
         prefix = sandbox_arguments(writable=Path(self.writable).resolve(), runtime=self.socket_folder,
                                    hidden=[Path(p).resolve() for p in self.hidden], readable=readable,
                                    home=home, bwrap=self._bwrap)
+        limit = process_cap.requested() if os.environ.get(process_cap.VARIABLE, "").strip() else self.max_processes
+        if limit:
+            self._release_process_cap()   # a restart: the last kernel's
+            self._process_cap = process_cap.plan(limit, make=True)
+            self.log.info("The kernel's processes are capped: %s", self._process_cap.description)
+            prefix = self._process_cap.outer + prefix + self._process_cap.inner
         return prefix + cmd
+
+    def _release_process_cap(self) -> None:
+        if self._process_cap is not None:
+            killed = self._process_cap.release()
+            if killed:
+                self.log.warning("%d processes of the kernel were left; killed", killed)
+            self._process_cap = None
+
+    async def _async_cleanup_resources(self, restart: bool = False) -> None:
+        await super()._async_cleanup_resources(restart=restart)
+        self._release_process_cap()
+
+    cleanup_resources = _async_cleanup_resources
 
     async def _async_interrupt_kernel(self):
         # The kernel is in a session of its own (bwrap --new-session): a signal to the
