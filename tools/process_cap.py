@@ -30,7 +30,8 @@ cgroup: a container, where ``/sys/fs/cgroup`` is read-only), :func:`plan` raises
 ``ROBOKIN_PROCESS_CAP=cgroup|rlimit`` asks for one way only (an error if it does not work).
 
 The cap counts tasks, as both mechanisms do: a thread is one, so it must leave room for the
-kernel's own threads (about 10 for an IPython kernel with numpy).
+kernel's own (15 processes and threads for a sandboxed kernel that imported numpy, sympy,
+matplotlib and robokin, bwrap's two included).
 """
 
 from __future__ import annotations
@@ -43,8 +44,9 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-#: Processes and threads a student's kernel may have at once: an IPython kernel with numpy,
-#: sympy and matplotlib has about 10 threads, and no exercise starts processes of its own.
+#: Processes and threads a student's kernel may have at once: a sandboxed kernel that imported
+#: numpy, sympy, matplotlib and robokin has 15 (bwrap's two included), and no exercise starts
+#: processes of its own.
 DEFAULT_MAX_PROCESSES = 256
 #: The cap on the processes of one sandboxed kernel (``tools/robokin_sandbox.py``); unset or
 #: 0: no cap (what ``nbgrader autograde`` in a course does unless configured).
