@@ -1,63 +1,576 @@
-r"""Exercise checks of chapter 10: Trajectories in joint and task space.
+r"""Exercise checks of chapter 10: trajectories in joint and task space.
 
-=================  ==========================================  ==========
-check              the student's answer                         inputs
-=================  ==========================================  ==========
-``tool_position``  p(q): tool position (x, y) in m, shape (2,)  q1, q2
-``tool_jacobian``  J(q) = ∂p/∂q: 2×2, in m/rad                 q1, q2
-=================  ==========================================  ==========
+=======================  =====================================================  ===================
+check                    the student's answer                                   compared with
+=======================  =====================================================  ===================
+``cubic_scaling``        ``cubic_scaling(t, T)`` -> ``[s, ṡ, s̈]`` (3,)          3τ² − 2τ³, τ = t/T
+``quintic_scaling``      ``quintic_scaling(t, T)`` -> ``[s, ṡ, s̈]`` (3,)        10τ³ − 15τ⁴ + 6τ⁵
+``peak_factors``         (2, 2): rows cubic, quintic; columns c_v, c_a          the laws' maxima
+``trapezoid_time``       ``trapezoid_time(distance, v_max, a_max)`` -> T (s)    trapezoid / triangle
+``synchronised_motion``  ``synchronised_motion(t, q_start, q_end, v_max,        ``joint_trajectory``
+                         a_max)`` -> positions, velocities, accelerations
+``ptp_duration``         the UR10 move's duration (s)                           the slowest joint
+``slerp``                ``slerp(q0, q1, s)`` -> unit quaternion (4,)           ``quaternion_slerp``
+=======================  =====================================================  ===================
 
-Every reference comes from the chapter's robot model (one model definition); the
-diagnoses are the standard ones for a vector (a sign, degrees for radians, swapped
-or negated inputs). See the book's page "Adding a chapter" for the pattern.
+The timing laws are those of Siciliano et al. (2009), §4.2.1, and Lynch & Park (2017), §9.2.2;
+the synchronised trapezoids keep each joint's acceleration limit and lower its cruise speed so
+that every joint arrives at the slowest joint's minimum time (robokin's
+:func:`~robokin.motion.joint_trajectory`). Each check names the typical mistakes: derivatives
+with respect to τ instead of t, the triangular case missed (a negative cruise time), v_max and
+a_max swapped, the motion synchronised by the fastest joint, slerp the long way round (no sign
+flip), NaN for nearly equal rotations, degrees for radians.
 """
 
 from __future__ import annotations
 
-from functools import lru_cache
+import math
+from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 
-from robokin.check import diagnoses as dg
-from robokin.check._core import Check, Variable
+from robokin.check._core import (
+    FAIL,
+    PASS,
+    Check,
+    CheckResult,
+    MatrixArgumentsCheck,
+    Variable,
+    alternatives,
+    fmt,
+    report,
+)
 from robokin.check._registry import exercise
 
-__all__ = ["tool_position", "tool_jacobian"]
+__all__ = ["cubic_scaling", "quintic_scaling", "peak_factors", "trapezoid_time", "synchronised_motion",
+           "ptp_duration", "slerp", "PROBLEM"]
 
 _CHAPTER = "trajectories"
 
 #: check -> {the robokin function that solves its task: how the grading report names it}: an
-#: answer that hands one back (``tool_position = ...fk``) is flagged for review by hand
+#: answer that hands one back is flagged for review by hand
 #: (tools/grading_bridge/delegation.py reads this literal table without importing the module)
 DELEGATION = {
-    "tool_position": {"fk": "SerialChain.fk", "frames": "SerialChain.frames"},
-    "tool_jacobian": {"position_jacobian": "SerialChain.position_jacobian", "jacobian": "SerialChain.jacobian"},
+    "cubic_scaling": {"time_law": "robokin.motion.time_law", "joint_trajectory": "robokin.motion.joint_trajectory"},
+    "quintic_scaling": {"time_law": "robokin.motion.time_law",
+                        "joint_trajectory": "robokin.motion.joint_trajectory"},
+    "trapezoid_time": {"joint_trajectory_duration": "robokin.motion.joint_trajectory_duration",
+                       "joint_trajectory": "robokin.motion.joint_trajectory"},
+    "synchronised_motion": {"joint_trajectory": "robokin.motion.joint_trajectory",
+                            "joint_trajectory_duration": "robokin.motion.joint_trajectory_duration"},
+    "slerp": {"quaternion_slerp": "robokin.transforms.quaternion_slerp",
+              "pose_trajectory": "robokin.motion.pose_trajectory"},
+}
+
+#: The exercise's data (the notebook's problem statement): the UR10's two configurations (deg)
+#: and the per-joint limits (deg/s, rad/s²).
+PROBLEM = {
+    "q_a_deg": (-30.0, -100.0, 110.0, -100.0, -90.0, 0.0),
+    "q_b_deg": (75.0, -60.0, 60.0, -130.0, -90.0, 45.0),
+    "v_max_deg": (120.0, 120.0, 180.0, 180.0, 180.0, 180.0),
+    "a_max": (2.5, 2.5, 4.0, 5.0, 5.0, 5.0),
 }
 
 
-@lru_cache(maxsize=1)
-def _arm():
-    from robokin.models import planar_two_link
+class _ScalarCheck(Check):
+    """A :class:`Check` whose answer is one number per input (a time, a duration)."""
 
-    return planar_two_link()
+    def _mismatch_message(self, X: np.ndarray, S: np.ndarray, R: np.ndarray) -> str:
+        if R.ndim > 1:
+            return super()._mismatch_message(X, S, R)
+        with np.errstate(all="ignore"):
+            k = int(np.argmax(~np.isclose(S, R, atol=max(self.atol, 1e-9), rtol=self.rtol)))
+        where = self._point_text(X[k])
+        where = f" at {where}" if where else ""
+        return (f"{self.name} is not correct{where}: expected {fmt(R[k])}, got {fmt(S[k])}."
+                + (f" {self.hint}" if self.hint else ""))
 
 
-tool_position = exercise(_CHAPTER, "tool_position", Check(
-    name="tool_position",
-    reference=lambda x: np.asarray(_arm().fk(x))[:2, 3],
-    variables=[Variable("q1"), Variable("q2")],
-    groups=[("q", [0, 1])],
-    diagnoses=dg.standard("vector"),
-    noun="angles",
-    doc="Check tool_position(q): the tool position (x, y) in m of the two-link arm, shape (2,).",
+# ------------------------------------------------------------------ timing laws
+def _law(tau: np.ndarray, law: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """s, ds/dτ, d²s/dτ² of a rest-to-rest law on τ in [0, 1], written out (no robokin call)."""
+    if law == "cubic":
+        return 3 * tau**2 - 2 * tau**3, 6 * tau - 6 * tau**2, 6 - 12 * tau
+    if law == "quintic":
+        return (10 * tau**3 - 15 * tau**4 + 6 * tau**5, 30 * tau**2 - 60 * tau**3 + 30 * tau**4,
+                60 * tau - 180 * tau**2 + 120 * tau**3)
+    return tau, np.ones_like(tau), np.zeros_like(tau)
+
+
+def _scaling(x: np.ndarray, law: str, *, per_tau: bool = False) -> np.ndarray:
+    tau, duration = float(x[0]), float(x[1])
+    s, ds, dds = _law(np.asarray(tau), law)
+    if per_tau:
+        return np.array([s, ds, dds], dtype=float)
+    return np.array([s, ds / duration, dds / duration**2], dtype=float)
+
+
+_TIMES = [Variable("tau", "other", 0.0, 1.0), Variable("T", "other", 0.5, 4.0)]
+
+
+def _scaling_mistakes(law: str):
+    other = "quintic" if law == "cubic" else "cubic"
+    return [
+        alternatives("tau_derivatives", [(lambda x: _scaling(x, law, per_tau=True), (
+            "{name} returns ds/dτ and d²s/dτ² with τ = t/T: the rates in time are ṡ = (ds/dτ)/T and "
+            "s̈ = (d²s/dτ²)/T² (the chain rule)."
+        ))]),
+        alternatives("other_law", [(lambda x: _scaling(x, other), (
+            f"{{name}} is the {other} law: the {law} law has "
+            + ("4 coefficients fixed by s and ṡ at both ends." if law == "cubic"
+               else "6 coefficients fixed by s, ṡ and s̈ at both ends.")
+        ))]),
+        alternatives("no_rest", [(lambda x: _scaling(x, "linear"), (
+            "{name} is s = t/T, a timing law without rest at the ends: ṡ jumps from 0 to 1/T at t = 0 "
+            "(an infinite acceleration)."
+        ))]),
+    ]
+
+
+def _scaling_check(law: str) -> MatrixArgumentsCheck:
+    name = f"{law}_scaling"
+    return MatrixArgumentsCheck(
+        name=name,
+        reference=lambda x: _scaling(x, law),
+        variables=_TIMES,
+        diagnoses=_scaling_mistakes(law),
+        noun="times",
+        arguments=lambda x: (float(x[0] * x[1]), float(x[1])),
+        signature=f"{name}(t, T) -> array [s, ṡ, s̈] of shape (3,)",
+        hint="Write s(τ) as a polynomial in τ = t/T, fix its coefficients by the boundary conditions, "
+             "and differentiate with respect to t.",
+        doc=f"Check {name}(t, T) -> [s, ṡ, s̈]: the {law} rest-to-rest timing law at time t of a motion "
+            "of duration T (s dimensionless, ṡ in 1/s, s̈ in 1/s²).",
+    )
+
+
+cubic_scaling = exercise(_CHAPTER, "cubic_scaling", _scaling_check("cubic"))
+quintic_scaling = exercise(_CHAPTER, "quintic_scaling", _scaling_check("quintic"))
+
+#: peak speed c_v D/T and peak acceleration c_a D/T² of the cubic and quintic laws
+_PEAKS = np.array([[1.5, 6.0], [15.0 / 8.0, 10.0 / math.sqrt(3.0)]])
+
+peak_factors = exercise(_CHAPTER, "peak_factors", Check(
+    name="peak_factors",
+    reference=lambda x: _PEAKS,
+    diagnoses=[
+        alternatives("rows_swapped", [(lambda x: _PEAKS[::-1], (
+            "{name} has the rows swapped: row 0 is the cubic law, row 1 the quintic."
+        ))]),
+        alternatives("columns_swapped", [(lambda x: _PEAKS[:, ::-1], (
+            "{name} has the columns swapped: column 0 is the speed factor c_v, column 1 the "
+            "acceleration factor c_a."
+        ))]),
+        alternatives("quintic_acceleration", [(lambda x: np.array([[1.5, 6.0], [15.0 / 8.0, 0.0]]), (
+            "the quintic's acceleration is zero at τ = 1/2 (where its speed peaks): its largest "
+            "acceleration is where the jerk d³s/dτ³ vanishes, at τ = 1/2 ∓ √3/6."
+        ))]),
+    ],
+    hint="c_v = max ds/dτ and c_a = max |d²s/dτ²| over τ in [0, 1]: ṡ peaks where s̈ = 0, "
+         "s̈ at an end or where the jerk vanishes.",
+    doc="Check peak_factors (2, 2): rows cubic, quintic; columns c_v, c_a with peak speed c_v D/T and "
+        "peak acceleration c_a D/T².",
 ))
 
-tool_jacobian = exercise(_CHAPTER, "tool_jacobian", Check(
-    name="tool_jacobian",
-    reference=lambda x: np.asarray(_arm().position_jacobian(x))[:2],
-    variables=[Variable("q1"), Variable("q2")],
-    groups=[("q", [0, 1])],
-    diagnoses=dg.standard("jacobian"),
-    noun="angles",
-    doc="Check tool_jacobian(q): the 2x2 Jacobian of the tool position, in m/rad.",
+
+# ------------------------------------------------------------------ the trapezoid
+def _trapezoid_time(distance: float, v_max: float, a_max: float, *, threshold: float = 1.0,
+                    triangle: bool = True, ramps: float = 1.0, triangle_factor: float = 2.0) -> float:
+    """Minimum rest-to-rest time, written out; keyword arguments make the typical mistakes."""
+    if triangle and distance < threshold * v_max * v_max / a_max:
+        return triangle_factor * math.sqrt(distance / a_max)
+    return distance / v_max + ramps * v_max / a_max
+
+
+_TRAPEZOID = [Variable("distance", "other", 0.02, 3.0), Variable("v_max", "other", 0.3, 2.5),
+              Variable("a_max", "other", 0.5, 5.0)]
+
+
+def _trapezoid_mistakes():
+    return [
+        alternatives("triangular_missed", [(lambda x: np.asarray(_trapezoid_time(*x, triangle=False)), (
+            "{name} always uses T = D/v_max + v_max/a_max. For a short move (D < v_max²/a_max) its "
+            "cruise time D/v_max − v_max/a_max is negative: the joint never reaches v_max, and the "
+            "profile is a triangle."
+        ))]),
+        alternatives("swapped_limits", [(lambda x: np.asarray(_trapezoid_time(x[0], x[2], x[1])), (
+            "{name} swaps v_max and a_max (check the units: D/v_max is in s, v_max/a_max in s)."
+        ))]),
+        alternatives("threshold", [
+            (lambda x: np.asarray(_trapezoid_time(*x, threshold=0.5)), (
+                "{name} switches to the triangle at D = v_max²/(2 a_max); the two ramps together cover "
+                "v_max²/a_max, so the triangle is needed for D < v_max²/a_max."
+            )),
+            (lambda x: np.asarray(_trapezoid_time(*x, threshold=2.0)), (
+                "{name} switches to the triangle at D = 2 v_max²/a_max; the two ramps together cover "
+                "v_max²/a_max, so the triangle is needed for D < v_max²/a_max."
+            )),
+        ]),
+        alternatives("ramps_added", [
+            (lambda x: np.asarray(_trapezoid_time(*x, ramps=2.0)), (
+                "{name} adds the two ramps' times 2 v_max/a_max to D/v_max: but the ramps also cover "
+                "distance (v_max²/a_max together), so the cruise lasts only D/v_max − v_max/a_max and "
+                "T = D/v_max + v_max/a_max."
+            )),
+            (lambda x: np.asarray(x[0] / x[1]), (
+                "{name} ignores the acceleration limit (T = D/v_max): the joint cannot jump to v_max."
+            )),
+        ]),
+        alternatives("triangle_time", [
+            (lambda x: np.asarray(_trapezoid_time(*x, triangle_factor=1.0)), (
+                "{name}'s triangle is too short: each half covers D/2 at a_max, in √(D/a_max), so "
+                "T = 2√(D/a_max)."
+            )),
+            (lambda x: np.asarray(_trapezoid_time(*x, triangle_factor=2.0 * math.sqrt(2.0))), (
+                "{name}'s triangle is too long: each half covers D/2 at a_max, in √(D/a_max), so "
+                "T = 2√(D/a_max)."
+            )),
+        ]),
+    ]
+
+
+trapezoid_time = exercise(_CHAPTER, "trapezoid_time", _ScalarCheck(
+    name="trapezoid_time",
+    reference=lambda x: np.asarray(_trapezoid_time(*x)),
+    variables=_TRAPEZOID,
+    diagnoses=_trapezoid_mistakes(),
+    noun="moves",
+    hint="Accelerate at a_max, cruise at v_max, decelerate at a_max; when the distance is too short to "
+         "reach v_max, accelerate to the middle and decelerate at once.",
+    doc="Check trapezoid_time(distance, v_max, a_max) -> the minimum rest-to-rest time (s) of one joint.",
 ))
+
+
+# ------------------------------------------------------------------ the UR10 move
+def _problem_arrays(degrees_positions: bool = False):
+    start, end = np.array(PROBLEM["q_a_deg"]), np.array(PROBLEM["q_b_deg"])
+    if not degrees_positions:
+        start, end = np.deg2rad(start), np.deg2rad(end)
+    return start, end, np.deg2rad(PROBLEM["v_max_deg"]), np.array(PROBLEM["a_max"])
+
+
+def _ptp_times(degrees_positions: bool = False, swapped: bool = False) -> np.ndarray:
+    start, end, v_max, a_max = _problem_arrays(degrees_positions)
+    if swapped:
+        v_max, a_max = a_max, v_max
+    return np.array([_trapezoid_time(abs(e - s), v, a) for s, e, v, a in zip(start, end, v_max, a_max)])
+
+
+def _moving_min(times: np.ndarray) -> float:
+    return float(np.min(times[times > 0]))
+
+
+ptp_duration = exercise(_CHAPTER, "ptp_duration", _ScalarCheck(
+    name="ptp_duration",
+    reference=lambda x: np.asarray(np.max(_ptp_times())),
+    diagnoses=[
+        alternatives("fastest_joint", [(lambda x: np.asarray(_moving_min(_ptp_times())), (
+            "{name} is the fastest moving joint's time: the slowest joint sets the duration "
+            "(every other joint can slow down, none can go faster)."
+        ))]),
+        alternatives("degrees", [(lambda x: np.asarray(np.max(_ptp_times(degrees_positions=True))), (
+            "{name} uses the configurations in degrees with the limits in rad/s and rad/s²: convert "
+            "the angles with np.deg2rad first."
+        ))]),
+        alternatives("swapped_limits", [(lambda x: np.asarray(np.max(_ptp_times(swapped=True))), (
+            "{name} swaps v_max and a_max."
+        ))]),
+        alternatives("sum", [(lambda x: np.asarray(np.sum(_ptp_times())), (
+            "{name} is the sum of the joints' times: the joints move at the same time, so the motion "
+            "lasts as long as the slowest joint's."
+        ))]),
+    ],
+    atol=1e-6,
+    doc="Check ptp_duration: the minimum duration (s) of the chapter's synchronised UR10 move.",
+))
+
+
+# ------------------------------------------------------------------ synchronised motion
+def _profiles(t: np.ndarray, start: np.ndarray, end: np.ndarray, accel: np.ndarray, cruise: np.ndarray,
+              duration: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Trapezoids (ramps at ``accel``, cruise speed ``cruise``, own ``duration`` each), at t (N,)."""
+    tt = np.asarray(t, dtype=float)[:, None]
+    direction = np.sign(end - start)
+    distance = np.abs(end - start)
+    with np.errstate(all="ignore"):
+        ramp = np.where(accel > 0, cruise / np.where(accel > 0, accel, 1.0), 0.0)
+    time = np.clip(tt, 0.0, duration)
+    to_end = duration - time
+    rising, falling = time < ramp, time > duration - ramp
+    travelled = np.where(rising, 0.5 * accel * time**2,
+                         np.where(falling, distance - 0.5 * accel * to_end**2, cruise * (time - 0.5 * ramp)))
+    speed = np.where(rising, accel * time, np.where(falling, accel * to_end, cruise))
+    acceleration = np.where(rising, accel, np.where(falling, -accel, 0.0))
+    moving = (tt > 0.0) & (tt < duration)
+    return (start + direction * travelled, np.where(moving, direction * speed, 0.0),
+            np.where(moving, direction * acceleration, 0.0))
+
+
+def _cruise_for(duration: Any, distance: np.ndarray, accel: np.ndarray) -> np.ndarray:
+    discriminant = np.maximum(accel * accel * duration * duration - 4.0 * accel * distance, 0.0)
+    return 0.5 * (accel * duration - np.sqrt(discriminant))
+
+
+def _motion(t, start, end, v_max, a_max, mistake: str = "") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The synchronised trapezoids (written out, not robokin's), or a typical mistake of them."""
+    distance = np.abs(end - start)
+    if mistake == "swapped_limits":
+        v_max, a_max = a_max, v_max
+    times = np.array([_trapezoid_time(d, v, a, triangle=mistake != "triangular_missed")
+                      for d, v, a in zip(distance, v_max, a_max)])
+    if mistake == "unsynchronised":
+        cruise = np.array([min(v, math.sqrt(d * a)) for d, v, a in zip(distance, v_max, a_max)])
+        return _profiles(t, start, end, a_max, cruise, times)
+    moving = times > 0
+    duration = float(np.max(times)) if mistake != "fastest_joint" else float(np.min(times[moving]))
+    if mistake == "same_shape":
+        # every joint's profile the slowest joint's shape, stretched: v_i, a_i scaled by D_i / D_slow
+        slow = int(np.argmax(times))
+        cruise_slow = min(v_max[slow], math.sqrt(distance[slow] * a_max[slow]))
+        ratio = distance / distance[slow]
+        return _profiles(t, start, end, a_max[slow] * ratio, cruise_slow * ratio, np.full_like(distance, duration))
+    cruise = _cruise_for(duration, distance, a_max)
+    return _profiles(t, start, end, a_max, cruise, np.full_like(distance, duration))
+
+
+_MOTION_MISTAKES = {
+    "fastest_joint": ("{name} gives every joint the fastest joint's time: the slower joints then exceed "
+                      "their limits. The slowest joint sets the duration T = max_i T_i."),
+    "unsynchronised": ("in {name} every joint moves in its own minimum time, so the joints arrive one "
+                       "after the other: plan every joint again with the common duration T = max_i T_i."),
+    "swapped_limits": "{name} swaps v_max and a_max.",
+    "triangular_missed": ("{name} takes the duration T_i = D_i/v_max + v_max/a_max also for a joint that "
+                          "never reaches v_max (a negative cruise time): that joint's triangle is faster, "
+                          "2√(D_i/a_max)."),
+    "same_shape": ("{name} stretches the slowest joint's profile for every joint (v_i and a_i scaled "
+                   "by D_i/D_slow): synchronised, but the task keeps each joint's own acceleration "
+                   "a_max,i and lowers its cruise speed."),
+}
+
+
+def _cases() -> list[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]]:
+    """The moves the check tries: random ones, one with a joint at rest, one with both profile kinds."""
+    rng = np.random.default_rng(10)
+    cases = []
+    for n in (2, 3, 6, 6):
+        start = rng.uniform(-2.0, 2.0, n)
+        end = start + rng.uniform(-2.0, 2.0, n)
+        cases.append((start, end, rng.uniform(0.5, 2.0, n), rng.uniform(1.0, 6.0, n)))
+    start = np.array([0.2, -0.4, 1.0])
+    cases.append((start, start + [0.9, 0.0, -0.3], np.array([1.2, 1.0, 0.8]), np.array([3.0, 2.0, 5.0])))
+    # the slowest joint a triangle (0.2 < 1.5²/2)
+    cases.append((np.zeros(2), np.array([0.2, -0.05]), np.array([1.5, 1.5]), np.array([2.0, 4.0])))
+    return cases
+
+
+class _MotionCheck:
+    """Check ``synchronised_motion(t, q_start, q_end, v_max, a_max)`` against the synchronised trapezoids."""
+
+    name = "synchronised_motion"
+
+    def __init__(self) -> None:
+        self.__doc__ = ("Check synchronised_motion(t, q_start, q_end, v_max, a_max) -> (positions, "
+                        "velocities, accelerations), each (len(t), n): synchronised minimum-time trapezoids.")
+
+    def __call__(self, answer: Any, *, raise_on_fail: bool = False, quiet: bool = False) -> CheckResult:
+        return report(self.evaluate(answer), raise_on_fail=raise_on_fail, quiet=quiet)
+
+    def _fail(self, code: str, message: str, n: int) -> CheckResult:
+        return CheckResult(self.name, False, f"{FAIL} {message}", code, n)
+
+    def evaluate(self, answer: Any) -> CheckResult:
+        cases = _cases()
+        n = len(cases)
+        if not callable(answer):
+            return self._fail("constant", f"{self.name} should be a Python function synchronised_motion(t, "
+                              f"q_start, q_end, v_max, a_max); got {type(answer).__name__}.", n)
+        rng = np.random.default_rng(3)
+        for k, (start, end, v_max, a_max) in enumerate(cases):
+            ref = _motion(np.zeros(1), start, end, v_max, a_max)
+            duration = max(_trapezoid_time(abs(e - s), v, a) for s, e, v, a in zip(start, end, v_max, a_max))
+            t = np.concatenate([[0.0], np.sort(rng.uniform(0.0, duration, 40)), [duration]])
+            ref = _motion(t, start, end, v_max, a_max)
+            where = (f" (move {k + 1}: q_start = {fmt(start)}, q_end = {fmt(end)}, v_max = {fmt(v_max)}, "
+                     f"a_max = {fmt(a_max)})")
+            try:
+                out = answer(t.copy(), start.copy(), end.copy(), v_max.copy(), a_max.copy())
+            except Exception as exc:  # noqa: BLE001 - report the student's error
+                return self._fail("error", f"calling {self.name} raised {type(exc).__name__}: {exc}{where}", n)
+            got = self._arrays(out, len(t), len(start))
+            if isinstance(got, str):
+                return self._fail("shape", got, n)
+            inner = slice(1, -1)    # accelerations jump at the ends: compared inside
+            if self._same(got, ref, inner):
+                continue
+            for code, message in _MOTION_MISTAKES.items():
+                wrong = _motion(t, start, end, v_max, a_max, mistake=code)
+                if not self._same(wrong, ref, inner) and self._same(got, wrong, inner):
+                    return self._fail(code, message.format(name=self.name) + where, n)
+            return self._fail("mismatch", self._describe(t, got, ref, start, end, v_max, a_max, duration) + where, n)
+        return CheckResult(self.name, True, f"{PASS} {self.name} is correct (checked on {n} moves).", None, n)
+
+    @staticmethod
+    def _same(a, b, inner) -> bool:
+        return (np.allclose(a[0], b[0], atol=1e-7) and np.allclose(a[1], b[1], atol=1e-7)
+                and np.allclose(a[2][inner], b[2][inner], atol=1e-6))
+
+    def _arrays(self, out: Any, rows: int, n: int) -> tuple[np.ndarray, ...] | str:
+        if not isinstance(out, (tuple, list)) or len(out) != 3:
+            return (f"{self.name} should return three arrays (positions, velocities, accelerations); "
+                    f"got {type(out).__name__}" + (f" of length {len(out)}." if isinstance(out, (tuple, list))
+                                                   else "."))
+        arrays = []
+        for what, value in zip(("positions", "velocities", "accelerations"), out):
+            try:
+                array = np.asarray(value, dtype=float)
+            except (TypeError, ValueError):
+                return f"the {what} of {self.name} are not numbers."
+            if array.shape != (rows, n):
+                return (f"the {what} of {self.name} should have shape (len(t), n) = ({rows}, {n}); "
+                        f"got {array.shape}.")
+            if not np.all(np.isfinite(array)):
+                return f"the {what} of {self.name} contain NaN or infinite values (a joint that does not move?)."
+            arrays.append(array)
+        return tuple(arrays)
+
+    def _describe(self, t, got, ref, start, end, v_max, a_max, duration) -> str:
+        positions, velocities, accelerations = got
+        if not np.allclose(positions[0], start, atol=1e-7):
+            return f"{self.name} does not start at q_start: at t = 0 the positions are {fmt(positions[0])}."
+        if not np.allclose(positions[-1], end, atol=1e-7):
+            return (f"{self.name} does not arrive at q_end at T = {duration:.4g} s (the slowest joint's "
+                    f"minimum time): the positions there are {fmt(positions[-1])}.")
+        if not (np.allclose(velocities[0], 0, atol=1e-7) and np.allclose(velocities[-1], 0, atol=1e-7)):
+            return f"{self.name} does not rest at t = 0 and t = T: the velocities there must be zero."
+        if np.any(np.abs(velocities) > v_max * (1 + 1e-9) + 1e-9):
+            return f"{self.name} exceeds a joint's speed limit v_max."
+        if np.any(np.abs(accelerations[1:-1]) > a_max * (1 + 1e-9) + 1e-9):
+            return f"{self.name} exceeds a joint's acceleration limit a_max."
+        k = int(np.argmax(np.abs(got[0] - ref[0]).max(axis=1) + np.abs(got[1] - ref[1]).max(axis=1)))
+        return (f"{self.name} differs from the synchronised trapezoids at t = {t[k]:.4g} s: positions "
+                f"{fmt(got[0][k])}, expected {fmt(ref[0][k])}; velocities {fmt(got[1][k])}, expected "
+                f"{fmt(ref[1][k])}. Every joint keeps its a_max,i and cruises at the speed that makes it "
+                "arrive at T.")
+
+
+synchronised_motion = exercise(_CHAPTER, "synchronised_motion", _MotionCheck())  # type: ignore[arg-type]
+
+
+# ------------------------------------------------------------------ slerp
+def _unit(q: np.ndarray) -> np.ndarray:
+    return q / np.linalg.norm(q)
+
+
+def _slerp(q0: np.ndarray, q1: np.ndarray, s: float, *, flip: bool = True, linear: bool = False,
+           angle_factor: float = 1.0) -> np.ndarray:
+    """Slerp written out (the sign flip, the angle by atan2, a series near 0) or a typical mistake."""
+    if flip and q0 @ q1 < 0:
+        q1 = -q1
+    if linear:
+        return _unit((1 - s) * q0 + s * q1)
+    omega = 2.0 * math.atan2(np.linalg.norm(q0 - q1), np.linalg.norm(q0 + q1)) * angle_factor
+    if abs(math.sin(omega)) < 1e-9:
+        return _unit((1 - s) * q0 + s * q1)
+    return (math.sin((1 - s) * omega) * q0 + math.sin(s * omega) * q1) / math.sin(omega)
+
+
+def _slerp_cases() -> list[tuple[np.ndarray, np.ndarray, float]]:
+    """Pairs of unit quaternions and parameters: generic, q0·q1 < 0, equal, nearly equal (1e-10 rad)."""
+    rng = np.random.default_rng(7)
+    cases = []
+    for k in range(12):
+        q0, q1 = _unit(rng.normal(size=4)), _unit(rng.normal(size=4))
+        if (k % 2 == 0) == (q0 @ q1 > 0):    # every other pair the long way in its raw signs
+            q1 = -q1
+        cases.append((q0, q1, float(rng.uniform(0.05, 0.95))))
+    exact = np.array([0.5, 0.5, -0.5, 0.5])     # q·q = 1 exactly: arccos(1) = 0, sin 0 = 0
+    cases.append((exact, exact.copy(), 0.4))
+    q0 = _unit(rng.normal(size=4))
+    tiny = np.array([math.cos(5e-11), math.sin(5e-11), 0.0, 0.0])     # a turn of 1e-10 rad about x
+    w0, v0 = q0[0], q0[1:]
+    w1, v1 = tiny[0], tiny[1:]
+    near = np.concatenate([[w0 * w1 - v0 @ v1], w0 * v1 + w1 * v0 + np.cross(v0, v1)])
+    cases.append((q0, near, 0.7))
+    cases.append((q0, -near, 0.3))
+    return cases
+
+
+_SLERP_MISTAKES: list[tuple[str, Callable[..., np.ndarray], str]] = [
+    ("long_way", lambda q0, q1, s: _slerp(q0, q1, s, flip=False), (
+        "{name} goes the long way round when q0·q1 < 0: q1 and −q1 are the same rotation; flip q1 "
+        "when q0·q1 < 0 so that the rotation turns by the smaller angle (≤ π).")),
+    ("nlerp", lambda q0, q1, s: _slerp(q0, q1, s, linear=True), (
+        "{name} normalises the straight-line interpolation (1 − s) q0 + s q1: the right rotations at the "
+        "ends, but not at a constant angular rate in between. Use the weights sin((1 − s)Ω)/sin Ω and "
+        "sin(sΩ)/sin Ω.")),
+    ("lerp", lambda q0, q1, s: (1 - s) * q0 + s * (q1 if q0 @ q1 >= 0 else -q1), (
+        "{name} returns (1 − s) q0 + s q1, which is not a unit quaternion: interpolate on the sphere "
+        "(slerp).")),
+    ("rotation_angle", lambda q0, q1, s: _slerp(q0, q1, s, angle_factor=2.0), (
+        "{name} uses the rotation angle θ as Ω: the angle between the quaternions q0 and q1 (as vectors "
+        "in 4D) is Ω = θ/2, cos Ω = q0·q1.")),
+    ("reversed", lambda q0, q1, s: _slerp(q1, q0, s), (
+        "{name} runs from q1 to q0: at s = 0 it must give q0.")),
+]
+
+
+class _SlerpCheck:
+    """Check ``slerp(q0, q1, s)`` on generic, opposite-sign, equal and nearly equal pairs."""
+
+    name = "slerp"
+
+    def __init__(self) -> None:
+        self.__doc__ = ("Check slerp(q0, q1, s) -> unit quaternion (4,): the short way, at a constant rate, "
+                        "also for equal and nearly equal rotations (a quaternion or its negative accepted).")
+
+    def __call__(self, answer: Any, *, raise_on_fail: bool = False, quiet: bool = False) -> CheckResult:
+        return report(self.evaluate(answer), raise_on_fail=raise_on_fail, quiet=quiet)
+
+    @staticmethod
+    def _same_rotation(a: np.ndarray, b: np.ndarray, tol: float = 1e-8) -> bool:
+        return a.shape == b.shape == (4,) and bool(min(np.abs(a - b).max(), np.abs(a + b).max()) < tol)
+
+    def evaluate(self, answer: Any) -> CheckResult:
+        cases = _slerp_cases()
+        n = len(cases)
+
+        def fail(code: str, message: str) -> CheckResult:
+            return CheckResult(self.name, False, f"{FAIL} {message}", code, n)
+
+        if not callable(answer):
+            return fail("constant", f"{self.name} should be a Python function slerp(q0, q1, s) -> (4,); "
+                                    f"got {type(answer).__name__}.")
+        for k, (q0, q1, s) in enumerate(cases):
+            where = f" (at q0 = {fmt(q0)}, q1 = {fmt(q1)}, s = {s:.3g})"
+            try:
+                with np.errstate(all="ignore"):
+                    raw = answer(q0.copy(), q1.copy(), s)
+                got = np.asarray(raw, dtype=float).reshape(-1)
+            except Exception as exc:  # noqa: BLE001 - report the student's error
+                return fail("error", f"calling {self.name} raised {type(exc).__name__}: {exc}{where}")
+            if got.shape != (4,):
+                return fail("shape", f"{self.name} should return a quaternion (w, x, y, z) of shape (4,); "
+                                     f"got {got.size} numbers{where}.")
+            if not np.all(np.isfinite(got)):
+                near = " for (nearly) equal rotations: sin Ω ≈ 0 there; use (1 − s) q0 + s q1" if k >= 12 else ""
+                return fail("nan", f"{self.name} gives NaN or infinite values{near}{where}.")
+            reference = _slerp(q0, q1, s)
+            if self._same_rotation(got, reference):
+                continue
+            for code, wrong, message in _SLERP_MISTAKES:
+                with np.errstate(all="ignore"):
+                    mistaken = np.asarray(wrong(q0, q1, s), dtype=float)
+                if (np.all(np.isfinite(mistaken)) and not self._same_rotation(mistaken, reference)
+                        and self._same_rotation(got, mistaken)):
+                    return fail(code, message.format(name=self.name) + where)
+            if abs(np.linalg.norm(got) - 1.0) > 1e-8:
+                return fail("not_unit", f"{self.name} returns a quaternion of norm {np.linalg.norm(got):.6g}, "
+                                        f"not 1{where}.")
+            return fail("mismatch", f"{self.name} = {fmt(got)}, expected {fmt(reference)} (or its "
+                                    f"negative){where}.")
+        return CheckResult(self.name, True, f"{PASS} {self.name} is correct (checked at {n} pairs of "
+                                            "rotations, the nearly equal ones included).", None, n)
+
+
+slerp = exercise(_CHAPTER, "slerp", _SlerpCheck())  # type: ignore[arg-type]

@@ -4,39 +4,157 @@ full marks (``VARIANTS``, tests/benign_variants.py and tests/test_grading_trust.
 
 ``MUTATIONS``: ``{grade id of a test cell: [(what is wrong, code appended to the answer
 cells), ...]}``, at least one per graded test. ``VARIANTS``: ``{grade id of an answer cell:
-(how it differs, code appended to that cell)}``: another method, not only other names
-(without ``VARIANTS``, the trust suite derives a weaker default: each answer wrapped).
+(how it differs, code appended to that cell)}``: another method, not only other names.
 The first line of each variant's code must be ASCII without quotes.
 """
 
+_RECOMPUTE = "\nQ_ptp, Qd_ptp, Qdd_ptp = synchronised_motion(t_ptp, Q_A, Q_B, V_MAX, A_MAX)"
+
+
+def _motion_mistake(code: str) -> str:
+    """synchronised_motion replaced by the check module's typical mistake ``code``."""
+    return (
+        "from robokin.check.trajectories import _motion as _wrong_motion\n"
+        "def synchronised_motion(t, q_start, q_end, v_max, a_max):\n"
+        "    args = [np.asarray(x, dtype=float) for x in (t, q_start, q_end, v_max, a_max)]\n"
+        f"    return _wrong_motion(*args, mistake={code!r})" + _RECOMPUTE
+    )
+
+
 MUTATIONS = {
     "task1_test1": [
-        ("degrees for radians", "tool_position = (lambda f: lambda q: f(np.rad2deg(q)))(tool_position)"),
-        ("the second link's own angle q2 instead of q1 + q2",
-         "def tool_position(q):\n    q1, q2 = q\n"
-         "    return np.array([np.cos(q1) + np.cos(q2), np.sin(q1) + np.sin(q2)])"),
+        ("the rates taken with respect to tau, not t",
+         "cubic_scaling = (lambda f: lambda t, T: np.asarray(f(t, T)) * np.array([1.0, T, T * T]))"
+         "(cubic_scaling)"),
+        ("a timing law without rest at the ends (s = t/T)",
+         "def quintic_scaling(t, T):\n    return np.array([t / T, 1.0 / T, 0.0])"),
+        ("the cubic given for the quintic", "quintic_scaling = cubic_scaling"),
+    ],
+    "task1_test2": [
+        ("the rows swapped", "peak_factors = np.asarray(peak_factors)[::-1]"),
+        ("the quintic's acceleration read at tau = 1/2 (zero)",
+         "peak_factors = np.array([[1.5, 6.0], [15 / 8, 0.0]])"),
     ],
     "task2_test1": [
-        ("the transposed Jacobian", "tool_jacobian = (lambda f: lambda q: f(q).T)(tool_jacobian)"),
+        ("the triangular case missed (a negative cruise time)",
+         "def trapezoid_time(distance, v_max, a_max):\n    return distance / v_max + v_max / a_max"),
+        ("v_max and a_max swapped",
+         "trapezoid_time = (lambda f: lambda d, v, a: f(d, a, v))(trapezoid_time)"),
+        ("the triangle from D = v_max^2/(2 a_max) only",
+         "def trapezoid_time(distance, v_max, a_max):\n"
+         "    if distance >= v_max**2 / (2 * a_max):\n"
+         "        return distance / v_max + v_max / a_max\n"
+         "    return 2.0 * np.sqrt(distance / a_max)"),
+    ],
+    "task3_test1": [
+        ("synchronised by the fastest moving joint",
+         "ptp_duration = min(trapezoid_time(D, v, a) for D, v, a in zip(np.abs(Q_B - Q_A), V_MAX, A_MAX)"
+         " if D > 0)"),
+        ("the configurations in degrees, the limits in radians",
+         "ptp_duration = max(trapezoid_time(D, v, a) for D, v, a in "
+         "zip(np.rad2deg(np.abs(Q_B - Q_A)), V_MAX, A_MAX))"),
+    ],
+    "task3_test2": [
+        ("synchronised by the fastest joint", _motion_mistake("fastest_joint")),
+        ("every joint in its own minimum time (unsynchronised)", _motion_mistake("unsynchronised")),
+        ("v_max and a_max swapped", _motion_mistake("swapped_limits")),
+        ("the slowest joint's profile stretched for every joint", _motion_mistake("same_shape")),
+    ],
+    "task4_test1": [
+        ("slerp without the sign flip (the long way round)",
+         "def slerp(q0, q1, s):\n"
+         "    q0, q1 = np.asarray(q0, dtype=float), np.asarray(q1, dtype=float)\n"
+         "    omega = np.arccos(np.clip(q0 @ q1, -1.0, 1.0))\n"
+         "    if omega < 1e-9:\n"
+         "        return q0\n"
+         "    return (np.sin((1 - s) * omega) * q0 + np.sin(s * omega) * q1) / np.sin(omega)"),
+        ("the normalised straight-line interpolation (nlerp)",
+         "def slerp(q0, q1, s):\n"
+         "    q0, q1 = np.asarray(q0, dtype=float), np.asarray(q1, dtype=float)\n"
+         "    q1 = q1 if q0 @ q1 >= 0 else -q1\n"
+         "    q = (1 - s) * q0 + s * q1\n"
+         "    return q / np.linalg.norm(q)"),
+        ("NaN for equal rotations (0/0)",
+         "def slerp(q0, q1, s):\n"
+         "    q0, q1 = np.asarray(q0, dtype=float), np.asarray(q1, dtype=float)\n"
+         "    q1 = q1 if q0 @ q1 >= 0 else -q1\n"
+         "    omega = np.arccos(np.clip(q0 @ q1, -1.0, 1.0))\n"
+         "    return (np.sin((1 - s) * omega) * q0 + np.sin(s * omega) * q1) / np.sin(omega)"),
     ],
 }
 
 VARIANTS = {
-    "task1_answer1": ("the tool as a sum of complex numbers", """
+    "task1_answer1": ("the polynomials written out, the factors from their closed forms", """
 
-# written another way: the tool point as the complex number e^(i q1) + e^(i (q1 + q2))
-def tool_position(q):
-    first, second = np.asarray(q, dtype=float)
-    tip = np.exp(1j * first) + np.exp(1j * (first + second))
-    return np.array([tip.real, tip.imag])
+# written another way: s(tau) and its derivatives as explicit polynomials (np.polyval)
+def cubic_scaling(t, T):
+    tau = t / T
+    return np.array([np.polyval([-2.0, 3.0, 0.0, 0.0], tau), np.polyval([-6.0, 6.0, 0.0], tau) / T,
+                     np.polyval([-12.0, 6.0], tau) / T**2])
+
+
+def quintic_scaling(t, T):
+    tau = t / T
+    s = np.polyval([6.0, -15.0, 10.0, 0.0, 0.0, 0.0], tau)
+    sd = np.polyval([30.0, -60.0, 30.0, 0.0, 0.0], tau) / T
+    sdd = np.polyval([120.0, -180.0, 60.0, 0.0], tau) / T**2
+    return np.array([s, sd, sdd])
+
+
+peak_factors = np.array([[1.5, 6.0], [30.0 / 16.0, 10.0 * np.sqrt(3.0) / 3.0]])
 """),
-    "task2_answer1": ("the Jacobian's columns as i times the complex link vectors", """
+    "task2_answer1": ("the peak speed min(v_max, sqrt(D a_max)) in one formula", """
 
-# written another way: d/dq_k of e^(i q1) + e^(i (q1 + q2)) is i times the links after joint k
-def tool_jacobian(q):
-    first, second = np.asarray(q, dtype=float)
-    elbow, tip = np.exp(1j * first), np.exp(1j * (first + second))
-    columns = [1j * (elbow + tip), 1j * tip]
-    return np.array([[column.real for column in columns], [column.imag for column in columns]])
+# written another way: the peak speed is v_max or the triangle's sqrt(D a_max), whichever is lower
+def trapezoid_time(distance, v_max, a_max):
+    if distance == 0:
+        return 0.0
+    peak = min(v_max, float(np.sqrt(distance * a_max)))
+    return distance / peak + peak / a_max
+"""),
+    "task3_answer1": ("one joint at a time, the ramp time from Siciliano's formula", """
+
+# written another way: a loop over the joints; the ramp time t_c = T/2 - sqrt((T^2 a - 4 D)/a)/2
+def synchronised_motion(t, q_start, q_end, v_max, a_max):
+    t = np.asarray(t, dtype=float)
+    q_start, q_end = np.asarray(q_start, dtype=float), np.asarray(q_end, dtype=float)
+    T = max(trapezoid_time(abs(b - a), v, acc) for a, b, v, acc in zip(q_start, q_end, v_max, a_max))
+    columns = []
+    for a, b, acc in zip(q_start, q_end, np.asarray(a_max, dtype=float)):
+        D, sign = abs(b - a), np.sign(b - a)
+        t_c = T / 2 - 0.5 * np.sqrt(max((T * T * acc - 4 * D) / acc, 0.0))
+        peak = acc * t_c
+        q = np.empty_like(t)
+        qd = np.empty_like(t)
+        qdd = np.empty_like(t)
+        for k, time in enumerate(t):
+            if time < t_c:
+                q[k], qd[k], qdd[k] = 0.5 * acc * time**2, acc * time, acc
+            elif time > T - t_c:
+                q[k], qd[k], qdd[k] = D - 0.5 * acc * (T - time) ** 2, acc * (T - time), -acc
+            else:
+                q[k], qd[k], qdd[k] = peak * (time - t_c / 2), peak, 0.0
+        columns.append((a + sign * q, sign * qd, sign * qdd))
+    return tuple(np.column_stack([c[i] for c in columns]) for i in range(3))
+
+
+Q_ptp, Qd_ptp, Qdd_ptp = synchronised_motion(t_ptp, Q_A, Q_B, V_MAX, A_MAX)
+"""),
+    "task4_answer1": ("slerp as q0 (q0* q1)^s, through the axis and angle", """
+
+# written another way: the relative rotation q0* q1 raised to the power s
+def slerp(q0, q1, s):
+    q0, q1 = np.asarray(q0, dtype=float), np.asarray(q1, dtype=float)
+    w0, v0, w1, v1 = q0[0], q0[1:], q1[0], q1[1:]
+    rel = np.concatenate([[w0 * w1 + v0 @ v1], w0 * v1 - w1 * v0 - np.cross(v0, v1)])
+    if rel[0] < 0:
+        rel = -rel
+    half = np.arctan2(np.linalg.norm(rel[1:]), rel[0])
+    if half == 0.0:
+        return q0.copy()
+    axis = rel[1:] / np.linalg.norm(rel[1:])
+    part = np.concatenate([[np.cos(s * half)], np.sin(s * half) * axis])
+    wp, vp = part[0], part[1:]
+    return np.concatenate([[w0 * wp - v0 @ vp], w0 * vp + wp * v0 + np.cross(v0, vp)])
 """),
 }

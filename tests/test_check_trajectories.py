@@ -1,0 +1,257 @@
+"""Tests of the chapter-10 exercise checks (robokin.check.trajectories).
+
+The correct answers are written here independently of the check module: the timing laws
+from their closed forms, the trapezoid's time from the peak speed min(v_max, √(D a_max)),
+the synchronised motion by integrating its piecewise-constant acceleration numerically, and
+slerp as q0 (q0* q1)^s through the axis and angle of the relative rotation. The check's own
+references are compared with robokin's ``time_law``, ``joint_trajectory`` and
+``quaternion_slerp``.
+"""
+
+from __future__ import annotations
+
+import importlib
+import math
+
+import numpy as np
+import pytest
+
+from robokin.motion import joint_trajectory, joint_trajectory_duration, time_law
+from robokin.transforms import quaternion_slerp
+
+chk = importlib.import_module("robokin.check.trajectories")
+
+
+# ---------------------------------------------------------------- answers written by hand
+def cubic_by_hand(t, T):
+    tau = t / T
+    return np.array([3 * tau**2 - 2 * tau**3, 6 * tau * (1 - tau) / T, (6 - 12 * tau) / T**2])
+
+
+def quintic_by_hand(t, T):
+    tau = t / T
+    return np.array([tau**3 * (10 - 15 * tau + 6 * tau**2), 30 * tau**2 * (1 - tau) ** 2 / T,
+                     60 * tau * (1 - tau) * (1 - 2 * tau) / T**2])
+
+
+def trapezoid_by_hand(distance, v_max, a_max):
+    if distance == 0:
+        return 0.0
+    peak = min(v_max, math.sqrt(distance * a_max))
+    return distance / peak + peak / a_max
+
+
+def motion_by_integration(t, q_start, q_end, v_max, a_max):
+    """Each joint's acceleration a_i on [0, t_a], 0, −a_i on [T − t_a, T], integrated exactly."""
+    q_start, q_end = np.asarray(q_start, float), np.asarray(q_end, float)
+    T = max(trapezoid_by_hand(abs(b - a), v, acc) for a, b, v, acc in zip(q_start, q_end, v_max, a_max))
+    out_q, out_v, out_a = [], [], []
+    for a, b, acc in zip(q_start, q_end, a_max):
+        D, sign = abs(b - a), np.sign(b - a)
+        # t_a from D = a t_a (T − t_a): the smaller root
+        t_a = 0.5 * (T - math.sqrt(max(T * T - 4 * D / acc, 0.0)))
+        knots = np.array([0.0, t_a, T - t_a, T])
+        accel = np.array([acc, 0.0, -acc])
+        v_knot = np.concatenate([[0.0], np.cumsum(accel * np.diff(knots))])
+        q_knot = np.concatenate([[0.0], np.cumsum(v_knot[:-1] * np.diff(knots)
+                                                  + 0.5 * accel * np.diff(knots) ** 2)])
+        k = np.clip(np.searchsorted(knots, t, side="right") - 1, 0, 2)
+        dt = t - knots[k]
+        out_q.append(a + sign * (q_knot[k] + v_knot[k] * dt + 0.5 * accel[k] * dt**2))
+        out_v.append(sign * (v_knot[k] + accel[k] * dt))
+        out_a.append(sign * accel[k])
+    return np.column_stack(out_q), np.column_stack(out_v), np.column_stack(out_a)
+
+
+def _multiply(p, q):
+    return np.concatenate([[p[0] * q[0] - p[1:] @ q[1:]], p[0] * q[1:] + q[0] * p[1:] + np.cross(p[1:], q[1:])])
+
+
+def slerp_by_power(q0, q1, s):
+    q0, q1 = np.asarray(q0, float), np.asarray(q1, float)
+    rel = _multiply(q0 * [1, -1, -1, -1], q1)
+    if rel[0] < 0:
+        rel = -rel
+    half = math.atan2(np.linalg.norm(rel[1:]), rel[0])
+    if half == 0.0:
+        return q0.copy()
+    axis = rel[1:] / np.linalg.norm(rel[1:])
+    return _multiply(q0, np.concatenate([[math.cos(s * half)], math.sin(s * half) * axis]))
+
+
+# ---------------------------------------------------------------- references
+@pytest.mark.parametrize("law", ["cubic", "quintic"])
+def test_timing_references_are_robokin_time_law(law):
+    tau = np.linspace(0.0, 1.0, 11)
+    mine = chk._law(tau, law)
+    for a, b in zip(mine, time_law(tau, law)):
+        assert np.allclose(a, b, atol=1e-12)
+
+
+def test_peak_factors_are_the_laws_maxima():
+    tau = np.linspace(0.0, 1.0, 200001)
+    for row, law in zip(chk._PEAKS, ("cubic", "quintic")):
+        _, ds, dds = time_law(tau, law)
+        assert np.isclose(row[0], ds.max(), rtol=1e-9) and np.isclose(row[1], np.abs(dds).max(), rtol=1e-8)
+
+
+def test_trapezoid_and_motion_references_are_robokins():
+    rng = np.random.default_rng(2)
+    for D, v, a in rng.uniform([0.01, 0.2, 0.3], [4.0, 3.0, 8.0], (50, 3)):
+        assert np.isclose(chk._trapezoid_time(D, v, a), joint_trajectory_duration([0.0], [D], v_max=v, a_max=a))
+    for start, end, v_max, a_max in chk._cases():
+        T = joint_trajectory_duration(start, end, v_max=v_max, a_max=a_max)
+        t = np.linspace(0.0, T, 37)[1:-1]
+        mine = chk._motion(t, start, end, v_max, a_max)
+        theirs = joint_trajectory(t, start, end, v_max=v_max, a_max=a_max)
+        for x, y in zip(mine, theirs):
+            assert np.allclose(x, y, atol=1e-12)
+
+
+def test_slerp_reference_is_robokins_up_to_sign():
+    for q0, q1, s in chk._slerp_cases():
+        mine, theirs = chk._slerp(q0, q1, s), quaternion_slerp(q0, q1, s)
+        assert min(np.abs(mine - theirs).max(), np.abs(mine + theirs).max()) < 1e-12
+
+
+def test_ptp_duration_reference():
+    data = chk.PROBLEM
+    expected = joint_trajectory_duration(np.deg2rad(data["q_a_deg"]), np.deg2rad(data["q_b_deg"]),
+                                         v_max=np.deg2rad(data["v_max_deg"]), a_max=data["a_max"])
+    assert np.isclose(float(chk.ptp_duration.reference(np.zeros(0))), expected)
+
+
+def test_cases_cover_both_profiles_and_a_joint_at_rest():
+    X = chk.trapezoid_time.sample_points()
+    triangle = X[:, 0] < X[:, 1] ** 2 / X[:, 2]
+    assert 3 <= triangle.sum() <= 17
+    cases = chk._cases()
+    assert any(np.any(start == end) for start, end, _, _ in cases)
+    slowest_triangle = [np.max([chk._trapezoid_time(abs(e - s), v, a) for s, e, v, a in zip(*c)]) for c in cases]
+    assert len(slowest_triangle) == len(cases)
+
+
+# ---------------------------------------------------------------- correct answers
+def test_correct_answers_pass(capsys):
+    for check, answer in ((chk.cubic_scaling, cubic_by_hand), (chk.quintic_scaling, quintic_by_hand),
+                          (chk.trapezoid_time, trapezoid_by_hand), (chk.synchronised_motion, motion_by_integration),
+                          (chk.slerp, slerp_by_power)):
+        result = check(answer, quiet=True)
+        assert result.passed and result.diagnosis is None, result.message
+    assert chk.peak_factors(np.array([[1.5, 6.0], [1.875, 10 / math.sqrt(3)]]), quiet=True).passed
+    data = chk.PROBLEM
+    T = max(trapezoid_by_hand(abs(math.radians(b - a)), math.radians(v), acc)
+            for a, b, v, acc in zip(data["q_a_deg"], data["q_b_deg"], data["v_max_deg"], data["a_max"]))
+    chk.ptp_duration(T)
+    assert capsys.readouterr().out == "✔ ptp_duration is correct.\n"
+
+
+def test_slerp_accepts_the_negative_quaternion():
+    assert chk.slerp(lambda q0, q1, s: -slerp_by_power(q0, q1, s), quiet=True).passed
+
+
+# ---------------------------------------------------------------- diagnosed mistakes
+WRONG_SCALING = {
+    "tau_derivatives": lambda t, T: cubic_by_hand(t, T) * [1, T, T * T],
+    "other_law": quintic_by_hand,
+    "no_rest": lambda t, T: np.array([t / T, 1 / T, 0.0]),
+}
+
+
+@pytest.mark.parametrize("code", list(WRONG_SCALING))
+def test_scaling_mistakes_are_diagnosed(code):
+    result = chk.cubic_scaling(WRONG_SCALING[code], quiet=True)
+    assert not result.passed and result.diagnosis == code, result.message
+
+
+WRONG_TRAPEZOID = {
+    "triangular_missed": lambda D, v, a: D / v + v / a,
+    "swapped_limits": lambda D, v, a: trapezoid_by_hand(D, a, v),
+    "threshold": lambda D, v, a: D / v + v / a if D >= v * v / (2 * a) else 2 * math.sqrt(D / a),
+    "ramps_added": lambda D, v, a: D / v + 2 * v / a if D >= v * v / a else 2 * math.sqrt(D / a),
+    "triangle_time": lambda D, v, a: D / v + v / a if D >= v * v / a else math.sqrt(D / a),
+}
+
+
+@pytest.mark.parametrize("code", list(WRONG_TRAPEZOID))
+def test_trapezoid_mistakes_are_diagnosed(code):
+    result = chk.trapezoid_time(WRONG_TRAPEZOID[code], quiet=True)
+    assert not result.passed and result.diagnosis == code, result.message
+
+
+def test_trapezoid_unknown_mistake_names_a_move():
+    result = chk.trapezoid_time(lambda D, v, a: 1.1 * trapezoid_by_hand(D, v, a), quiet=True)
+    assert result.diagnosis == "mismatch" and "distance =" in result.message and "expected" in result.message
+
+
+@pytest.mark.parametrize("code", list(chk._MOTION_MISTAKES))
+def test_motion_mistakes_are_diagnosed(code):
+    def wrong(t, q_start, q_end, v_max, a_max):
+        return chk._motion(np.asarray(t), np.asarray(q_start), np.asarray(q_end), np.asarray(v_max),
+                           np.asarray(a_max), mistake=code)
+
+    result = chk.synchronised_motion(wrong, quiet=True)
+    assert not result.passed and result.diagnosis == code, result.message
+
+
+@pytest.mark.parametrize("answer, phrase", [
+    (lambda *args: 3, "three arrays"),
+    (lambda t, *args: (np.zeros(3), np.zeros(3), np.zeros(3)), "shape"),
+    (lambda *args: 1 / 0, "ZeroDivisionError"),
+    ("not a function", "Python function"),
+])
+def test_motion_bad_answers_are_explained(answer, phrase):
+    result = chk.synchronised_motion(answer, quiet=True)
+    assert not result.passed and phrase in result.message
+
+
+def test_motion_late_arrival_is_described():
+    def slow(t, q_start, q_end, v_max, a_max):
+        q, v, a = motion_by_integration(np.asarray(t) * 0.9, q_start, q_end, v_max, a_max)
+        return q, v, a
+
+    result = chk.synchronised_motion(slow, quiet=True)
+    assert result.diagnosis == "mismatch" and "does not arrive at q_end" in result.message
+
+
+@pytest.mark.parametrize("code", [code for code, _, _ in chk._SLERP_MISTAKES])
+def test_slerp_mistakes_are_diagnosed(code):
+    wrong = dict((c, f) for c, f, _ in chk._SLERP_MISTAKES)[code]
+    result = chk.slerp(wrong, quiet=True)
+    assert not result.passed and result.diagnosis == code, result.message
+
+
+def test_slerp_nan_for_equal_rotations():
+    def arccos_slerp(q0, q1, s):
+        q1 = q1 if q0 @ q1 >= 0 else -q1
+        omega = np.arccos(np.clip(q0 @ q1, -1, 1))
+        return (np.sin((1 - s) * omega) * q0 + np.sin(s * omega) * q1) / np.sin(omega)
+
+    result = chk.slerp(arccos_slerp, quiet=True)
+    assert result.diagnosis == "nan" and "nearly" in result.message
+
+
+@pytest.mark.parametrize("answer, code", [
+    (np.array([[6.0, 1.5], [10 / math.sqrt(3), 1.875]]), "columns_swapped"),
+    (np.array([[1.875, 10 / math.sqrt(3)], [1.5, 6.0]]), "rows_swapped"),
+    (np.array([[1.5, 6.0], [1.875, 0.0]]), "quintic_acceleration"),
+])
+def test_peak_factor_mistakes_are_diagnosed(answer, code):
+    assert chk.peak_factors(answer, quiet=True).diagnosis == code
+
+
+def test_ptp_duration_mistakes_are_diagnosed():
+    fastest = chk._moving_min(chk._ptp_times())
+    assert chk.ptp_duration(fastest, quiet=True).diagnosis == "fastest_joint"
+    degrees = float(np.max(chk._ptp_times(degrees_positions=True)))
+    assert chk.ptp_duration(degrees, quiet=True).diagnosis == "degrees"
+    assert chk.ptp_duration(float(np.sum(chk._ptp_times())), quiet=True).diagnosis == "sum"
+    assert chk.ptp_duration(1.0, quiet=True).diagnosis == "mismatch"
+
+
+@pytest.mark.parametrize("check_name", ["cubic_scaling", "quintic_scaling", "trapezoid_time",
+                                        "synchronised_motion", "slerp", "peak_factors", "ptp_duration"])
+@pytest.mark.parametrize("answer", [None, "text", 3.0, np.zeros((2, 2)), lambda *args: None])
+def test_any_answer_gets_a_result(check_name, answer):
+    result = getattr(chk, check_name)(answer, quiet=True)
+    assert isinstance(result.message, str) and result.message
