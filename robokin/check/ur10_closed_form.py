@@ -39,6 +39,7 @@ from typing import Any
 
 import numpy as np
 
+from robokin.check import diagnoses as dg
 from robokin.check._core import FAIL, AnswerError, CheckResult, MatrixArgumentsCheck, Variable, alternatives
 from robokin.check._registry import exercise
 from robokin.check.solutions import SolutionSetCheck
@@ -206,7 +207,9 @@ class _PoseSetCheck(SolutionSetCheck):
             return out
 
         result = super().evaluate(call)
-        if result.passed or result.diagnosis in ("degrees", "error"):
+        if result.diagnosis == "degrees":  # every angle it returns is in degrees
+            return CheckResult(result.name, False, result.message, "degrees_output", result.samples)
+        if result.passed or result.diagnosis == "error":
             return result
         try:
             X, refs, got = self._sets(call)
@@ -276,6 +279,7 @@ shoulder_angles = exercise(_CHAPTER, "shoulder_angles", _PoseSetCheck(
     ],
     branch_message="{name} returns only one of the two shoulder solutions: "
                    "q1 = ψ + π/2 ± arccos(d4/r), both signs.",
+    diagnoses=[dg.degrees_output()],  # named by evaluate: every returned angle in degrees
     noun="configurations",
     atol=1e-7,
     doc="Check shoulder_angles(T): both solutions q1 (rad) for the flange pose T (4, 4).",
@@ -297,6 +301,7 @@ wrist_angles = exercise(_CHAPTER, "wrist_angles", _PoseSetCheck(
     ],
     branch_message="{name} returns only one wrist solution: q5 = ±arccos(z6·z1), and q6 "
                    "changes by π with the sign of sin q5.",
+    diagnoses=[dg.degrees_output()],  # named by evaluate: every returned angle in degrees
     noun="configurations",
     atol=1e-7,
     doc="Check wrist_angles(T, q1): both rows (q5, q6) (rad) for the flange pose T and the shoulder angle q1.",
@@ -322,6 +327,7 @@ arm_angles = exercise(_CHAPTER, "arm_angles", _PoseSetCheck(
     ],
     branch_message="{name} returns only one elbow solution: q3 = ±arccos(c3), and q2, q4 "
                    "follow for each sign.",
+    diagnoses=[dg.degrees_output()],  # named by evaluate: every returned angle in degrees
     noun="configurations",
     atol=1e-7,
     doc="Check arm_angles(T, q1, q5, q6): both rows (q2, q3, q4) (rad), elbow up and down.",
@@ -336,6 +342,7 @@ all_solutions = exercise(_CHAPTER, "all_solutions", _PoseSetCheck(
     signature="all_solutions(T) -> (k, 6) array of solutions in rad",
     branch_message="{name} misses solutions: every one it returns is right, but a generic "
                    "reachable pose has 8 (2 shoulder × 2 wrist × 2 elbow); loop over every branch.",
+    diagnoses=[dg.degrees_output()],  # named by evaluate: every returned angle in degrees
     noun="configurations",
     atol=1e-7,
     doc="Check all_solutions(T): every joint solution (k, 6) (rad) for the flange pose T (4, 4).",
