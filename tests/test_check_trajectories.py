@@ -255,3 +255,84 @@ def test_ptp_duration_mistakes_are_diagnosed():
 def test_any_answer_gets_a_result(check_name, answer):
     result = getattr(chk, check_name)(answer, quiet=True)
     assert isinstance(result.message, str) and result.message
+
+
+# ---------------------------------------------------------------- the straight line and the loop
+def line_by_exponential(t, T_start, T_end, duration):
+    """R0 exp([w] s) and the twist [ṡ (p1 − p0); ṡ R0 w], with the quintic written here."""
+    from robokin.transforms import rotation_exp, rotation_log
+
+    s, sd, _ = quintic_by_hand(t, duration)
+    w = rotation_log(T_start[:3, :3].T @ T_end[:3, :3])
+    pose = np.eye(4)
+    pose[:3, :3] = T_start[:3, :3] @ rotation_exp(s * w)
+    pose[:3, 3] = T_start[:3, 3] + s * (T_end[:3, 3] - T_start[:3, 3])
+    return pose, np.concatenate([sd * (T_end[:3, 3] - T_start[:3, 3]), sd * T_start[:3, :3] @ w])
+
+
+def test_line_reference_is_pose_trajectory():
+    from robokin.motion import pose_trajectory
+
+    _, _, start, end = chk._line_case(4)
+    for t in (0.0, 0.4, 1.1, 2.0):
+        pose, twist = chk._line_reference(t, start, end, 2.0)
+        theirs = pose_trajectory(t, start, end, 2.0, law="quintic")
+        assert np.allclose(pose, theirs.poses, atol=1e-12) and np.allclose(twist, theirs.twists, atol=1e-12)
+
+
+def test_line_reference_twist_is_the_derivative_of_the_pose():
+    from robokin.transforms import rotation_log
+
+    _, _, start, end = chk._line_case(5)
+    h = 1e-6
+    for t in (0.3, 0.8, 1.7):
+        _, twist = chk._line_reference(t, start, end, 2.0)
+        before, _ = chk._line_reference(t - h, start, end, 2.0)
+        after, _ = chk._line_reference(t + h, start, end, 2.0)
+        assert np.allclose((after[:3, 3] - before[:3, 3]) / (2 * h), twist[:3], atol=1e-7)
+        assert np.allclose(rotation_log(after[:3, :3] @ before[:3, :3].T) / (2 * h), twist[3:], atol=1e-7)
+
+
+def track_by_pinv(q0, poses, twists, ts, gain):
+    from robokin.models import ur10
+    from robokin.transforms import rotation_log
+
+    robot, rows = ur10(), [np.array(q0, dtype=float)]
+    for pose, twist in zip(poses[:-1], twists[:-1]):
+        now = robot.fk(rows[-1])
+        error = np.concatenate([pose[:3, 3] - now[:3, 3], rotation_log(pose[:3, :3] @ now[:3, :3].T)])
+        rows.append(rows[-1] + ts * np.linalg.pinv(robot.jacobian(rows[-1])) @ (twist + gain * error))
+    return np.array(rows)
+
+
+def test_line_and_track_correct_answers_pass():
+    assert chk.line_reference(line_by_exponential, quiet=True).passed
+    assert chk.track(track_by_pinv, quiet=True).passed
+
+
+@pytest.mark.parametrize("code", list(chk._LINE_MISTAKES))
+def test_line_mistakes_are_diagnosed(code):
+    result = chk.line_reference(lambda t, a, b, d: chk._line_reference(t, a, b, d, mistake=code), quiet=True)
+    assert not result.passed and result.diagnosis == code, result.message
+
+
+@pytest.mark.parametrize("code", list(chk._TRACK_MISTAKES))
+def test_track_mistakes_are_diagnosed(code):
+    from robokin.models import ur10
+
+    robot = ur10()
+    result = chk.track(lambda *args: chk._track_reference(robot, *args, mistake=code), quiet=True)
+    assert not result.passed and result.diagnosis == code, result.message
+
+
+def test_track_wrong_shape_and_start_are_explained():
+    assert chk.track(lambda q0, poses, *rest: np.zeros((3, 6)), quiet=True).diagnosis == "shape"
+    result = chk.track(lambda q0, poses, *rest: np.tile(np.asarray(q0) + 1, (len(poses), 1)), quiet=True)
+    assert result.diagnosis == "start"
+
+
+@pytest.mark.parametrize("answer", [None, "text", 3.0, lambda *args: None])
+def test_line_and_track_any_answer_gets_a_result(answer):
+    for check in (chk.line_reference, chk.track):
+        result = check(answer, quiet=True)
+        assert not result.passed and result.message

@@ -11,6 +11,9 @@ check                    the student's answer                                   
                          a_max)`` -> positions, velocities, accelerations
 ``ptp_duration``         the UR10 move's duration (s)                           the slowest joint
 ``slerp``                ``slerp(q0, q1, s)`` -> unit quaternion (4,)           ``quaternion_slerp``
+``line_reference``       ``line_reference(t, T_start, T_end, duration)``        ``pose_trajectory``
+                         -> pose (4, 4), twist [v; ω] (6,)
+``track``                ``track(q0, poses, twists, ts, gain)`` -> (N, 6)       the resolved-rate loop
 =======================  =====================================================  ===================
 
 The timing laws are those of Siciliano et al. (2009), §4.2.1, and Lynch & Park (2017), §9.2.2;
@@ -30,6 +33,7 @@ from typing import Any
 
 import numpy as np
 
+from robokin.check import diagnoses as dg
 from robokin.check._core import (
     FAIL,
     PASS,
@@ -44,7 +48,7 @@ from robokin.check._core import (
 from robokin.check._registry import exercise
 
 __all__ = ["cubic_scaling", "quintic_scaling", "peak_factors", "trapezoid_time", "synchronised_motion",
-           "ptp_duration", "slerp", "PROBLEM"]
+           "ptp_duration", "slerp", "line_reference", "track", "PROBLEM"]
 
 _CHAPTER = "trajectories"
 
@@ -61,6 +65,10 @@ DELEGATION = {
                             "joint_trajectory_duration": "robokin.motion.joint_trajectory_duration"},
     "slerp": {"quaternion_slerp": "robokin.transforms.quaternion_slerp",
               "pose_trajectory": "robokin.motion.pose_trajectory"},
+    "line_reference": {"pose_trajectory": "robokin.motion.pose_trajectory",
+                       "quaternion_slerp": "robokin.transforms.quaternion_slerp"},
+    "track": {"CartesianController": "robokin.motion.CartesianController", "simulate": "robokin.motion.simulate",
+              "solve_ik": "robokin.motion.solve_ik", "ur10_ik": "robokin.models.ur10_ik"},
 }
 
 #: The exercise's data (the notebook's problem statement): the UR10's two configurations (deg)
@@ -183,7 +191,7 @@ def _trapezoid_time(distance: float, v_max: float, a_max: float, *, threshold: f
     return distance / v_max + ramps * v_max / a_max
 
 
-_TRAPEZOID = [Variable("distance", "other", 0.02, 3.0), Variable("v_max", "other", 0.3, 2.5),
+_TRAPEZOID = [Variable("distance", "angle", 0.02, 3.0), Variable("v_max", "other", 0.3, 2.5),
               Variable("a_max", "other", 0.5, 5.0)]
 
 
@@ -217,6 +225,7 @@ def _trapezoid_mistakes():
                 "{name} ignores the acceleration limit (T = D/v_max): the joint cannot jump to v_max."
             )),
         ]),
+        dg.degrees(),
         alternatives("triangle_time", [
             (lambda x: np.asarray(_trapezoid_time(*x, triangle_factor=1.0)), (
                 "{name}'s triangle is too short: each half covers D/2 at a_max, in √(D/a_max), so "
@@ -574,3 +583,193 @@ class _SlerpCheck:
 
 
 slerp = exercise(_CHAPTER, "slerp", _SlerpCheck())  # type: ignore[arg-type]
+
+
+# ------------------------------------------------------------------ the straight line
+def _line_case(seed: int):
+    """A short straight line of the UR10's flange: start configuration, its pose, the end pose."""
+    from robokin.models import ur10
+    from robokin.transforms import rotation_exp
+
+    rng = np.random.default_rng(seed)
+    robot = ur10()
+    q0 = np.deg2rad([75.0, -60.0, 60.0, -130.0, -90.0, 45.0]) + rng.uniform(-0.3, 0.3, 6)
+    start = robot.fk(q0)
+    end = start.copy()
+    end[:3, :3] = rotation_exp(rng.uniform(-0.5, 0.5, 3)) @ start[:3, :3]
+    end[:3, 3] += rng.uniform(-0.15, 0.15, 3)
+    return robot, q0, start, end
+
+
+def _line_reference(t: float, start: np.ndarray, end: np.ndarray, duration: float, *,
+                    mistake: str = "") -> tuple[np.ndarray, np.ndarray]:
+    """Pose and twist [v; ω] (base frame) of the slerped straight line, written out, or a mistake."""
+    from robokin.transforms import rotation_exp, rotation_log
+
+    law = "linear" if mistake == "linear_law" else "quintic"
+    s, ds, _ = (float(v) for v in _law(np.asarray(min(max(t / duration, 0.0), 1.0)), law))
+    ds /= duration
+    w = rotation_log(start[:3, :3].T @ end[:3, :3])        # in the start frame, |w| <= π
+    pose = np.eye(4)
+    pose[:3, :3] = start[:3, :3] @ rotation_exp(s * w)
+    pose[:3, 3] = start[:3, 3] + s * (end[:3, 3] - start[:3, 3])
+    omega = start[:3, :3] @ w * ds
+    if mistake == "body_frame":
+        omega = w * ds
+    elif mistake == "not_scaled":
+        omega = start[:3, :3] @ w / duration
+    return pose, np.concatenate([(end[:3, 3] - start[:3, 3]) * ds, omega])
+
+
+_LINE_MISTAKES = {
+    "body_frame": ("the angular velocity of {name} is in the start (tool) frame: the twist is in the base "
+                   "frame, ω = ṡ R_0 w with w the rotation vector of R_0ᵀ R_1."),
+    "not_scaled": ("the angular velocity of {name} is constant, θ h/T: the orientation follows s(t), so "
+                   "ω = ṡ(t) R_0 w, zero at both ends."),
+    "linear_law": ("{name} uses s = t/T: the line must use the quintic law (rest at both ends)."),
+}
+
+
+class _LineCheck:
+    """Check ``line_reference(t, T_start, T_end, duration)`` on lines of its own."""
+
+    name = "line_reference"
+
+    def __init__(self) -> None:
+        self.__doc__ = ("Check line_reference(t, T_start, T_end, duration) -> (pose (4, 4), "
+                        "twist (6,)): the straight line with the slerped orientation and the quintic law.")
+
+    def __call__(self, answer: Any, *, raise_on_fail: bool = False, quiet: bool = False) -> CheckResult:
+        return report(self.evaluate(answer), raise_on_fail=raise_on_fail, quiet=quiet)
+
+    def evaluate(self, answer: Any) -> CheckResult:
+        n = 3
+
+        def fail(code: str, message: str) -> CheckResult:
+            return CheckResult(self.name, False, f"{FAIL} {message}", code, n)
+
+        if not callable(answer):
+            return fail("constant", f"{self.name} should be a Python function (t, T_start, T_end, duration) "
+                                    f"-> (pose, twist); got {type(answer).__name__}.")
+        for seed in range(n):
+            _, _, start, end = _line_case(seed)
+            duration = 1.5 + seed
+            for t in (0.0, 0.23 * duration, 0.61 * duration, duration):
+                where = f" (at t = {t:.3g} s of a line of {duration:.3g} s)"
+                try:
+                    out = answer(t, start.copy(), end.copy(), duration)
+                    pose, twist = (np.asarray(x, dtype=float) for x in out)
+                except Exception as exc:  # noqa: BLE001 - report the student's error
+                    return fail("error", f"calling {self.name} raised {type(exc).__name__}: {exc}{where}")
+                if pose.shape != (4, 4) or twist.shape != (6,):
+                    return fail("shape", f"{self.name} should return a pose (4, 4) and a twist (6,); got "
+                                         f"{pose.shape} and {twist.shape}{where}.")
+                ref_pose, ref_twist = _line_reference(t, start, end, duration)
+                if np.allclose(pose, ref_pose, atol=1e-8) and np.allclose(twist, ref_twist, atol=1e-8):
+                    continue
+                for code, message in _LINE_MISTAKES.items():
+                    wrong_pose, wrong_twist = _line_reference(t, start, end, duration, mistake=code)
+                    if np.allclose(pose, wrong_pose, atol=1e-8) and np.allclose(twist, wrong_twist, atol=1e-8):
+                        return fail(code, message.format(name=self.name) + where)
+                part = "pose" if not np.allclose(pose, ref_pose, atol=1e-8) else "twist"
+                expected = ref_pose if part == "pose" else ref_twist
+                got = pose if part == "pose" else twist
+                return fail("mismatch", f"the {part} of {self.name} is not correct{where}: expected "
+                                        f"{fmt(expected)}, got {fmt(got)}.")
+        return CheckResult(self.name, True, f"{PASS} {self.name} is correct (checked on {n} lines of its own).",
+                           None, n)
+
+
+line_reference = exercise(_CHAPTER, "line_reference", _LineCheck())  # type: ignore[arg-type]
+
+
+def _track_reference(robot, q0, poses, twists, ts, gain, mistake: str = "") -> np.ndarray:
+    """The resolved-rate loop with Euler steps, written out, or one of its typical mistakes."""
+    from robokin.transforms import rotation_log
+
+    q = np.array(q0, dtype=float)
+    out = []
+    for pose, twist in zip(poses, twists):
+        if mistake != "recorded_after":
+            out.append(q)
+        now = robot.fk(q)
+        error = np.concatenate([pose[:3, 3] - now[:3, 3], rotation_log(pose[:3, :3] @ now[:3, :3].T)])
+        if mistake == "error_sign":
+            error = -error
+        elif mistake == "orientation_error":
+            error[3:] = rotation_log(now[:3, :3] @ pose[:3, :3].T)
+        feedforward = 0.0 if mistake == "no_feedforward" else twist
+        q = q + ts * np.linalg.solve(robot.jacobian(q), feedforward + gain * error)
+        if mistake == "recorded_after":
+            out.append(q)
+    return np.array(out)
+
+
+_TRACK_MISTAKES = {
+    "no_feedforward": ("{name} leaves out the feed-forward twist ν_k: without it the tool lags behind the "
+                       "moving reference. q̇ = J⁻¹(ν_k + K e_k)."),
+    "error_sign": ("{name} uses the error with the wrong sign (actual − desired): the loop then pushes the "
+                   "tool away from the reference. e = [p_k − p(q); log(R_k R(q)ᵀ)]."),
+    "orientation_error": ("the orientation error of {name} is log(R(q) R_kᵀ), the wrong direction: it is "
+                          "the rotation vector of R_k R(q)ᵀ (from the tool's orientation to the desired "
+                          "one, in the base frame)."),
+    "recorded_after": ("{name} records q after the step: row k must be the configuration at sample k "
+                       "(row 0 = q0), before the command of that sample is applied."),
+}
+
+
+class _TrackCheck:
+    """Check ``track(q0, poses, twists, ts, gain)`` against the resolved-rate loop on lines of its own."""
+
+    name = "track"
+
+    def __init__(self) -> None:
+        self.__doc__ = ("Check track(q0, poses, twists, ts, gain) -> joint angles (N, 6): resolved rates "
+                        "with feed-forward and Euler steps on the UR10.")
+
+    def __call__(self, answer: Any, *, raise_on_fail: bool = False, quiet: bool = False) -> CheckResult:
+        return report(self.evaluate(answer), raise_on_fail=raise_on_fail, quiet=quiet)
+
+    def evaluate(self, answer: Any) -> CheckResult:
+        from robokin.motion import pose_trajectory
+
+        n = 3
+
+        def fail(code: str, message: str) -> CheckResult:
+            return CheckResult(self.name, False, f"{FAIL} {message}", code, n)
+
+        if not callable(answer):
+            return fail("constant", f"{self.name} should be a Python function track(q0, poses, twists, ts, "
+                                    f"gain); got {type(answer).__name__}.")
+        for seed, (ts, gain) in enumerate([(0.01, 20.0), (0.02, 10.0), (0.005, 40.0)]):
+            robot, q0, start, end = _line_case(seed + 10)
+            times = ts * np.arange(25)
+            line = pose_trajectory(times, start, end, 0.2 + 24 * ts)
+            poses, twists = line.poses, line.twists
+            # start 1 cm and a little turned away from the line, so that the gain matters
+            q_start = q0 + np.array([0.01, -0.01, 0.01, 0.02, -0.02, 0.02])
+            where = f" (a line of its own, ts = {ts:g} s, gain = {gain:g} 1/s)"
+            try:
+                got = np.asarray(answer(q_start.copy(), poses.copy(), twists.copy(), ts, gain), dtype=float)
+            except Exception as exc:  # noqa: BLE001 - report the student's error
+                return fail("error", f"calling {self.name} raised {type(exc).__name__}: {exc}{where}")
+            if got.shape != (len(times), 6):
+                return fail("shape", f"{self.name} should return the joint angles at the {len(times)} samples, "
+                                     f"shape ({len(times)}, 6); got {got.shape}{where}.")
+            reference = _track_reference(robot, q_start, poses, twists, ts, gain)
+            if np.allclose(got, reference, atol=1e-8):
+                continue
+            for code, message in _TRACK_MISTAKES.items():
+                wrong = _track_reference(robot, q_start, poses, twists, ts, gain, mistake=code)
+                if np.all(np.isfinite(wrong)) and np.allclose(got, wrong, atol=1e-8):
+                    return fail(code, message.format(name=self.name) + where)
+            if not np.allclose(got[0], q_start, atol=1e-12):
+                return fail("start", f"row 0 of what {self.name} returns must be q0{where}.")
+            k = int(np.argmax(np.abs(got - reference).max(axis=1) > 1e-8))
+            return fail("mismatch", f"{self.name} differs from the resolved-rate loop at sample {k}{where}: "
+                                    f"expected {fmt(reference[k])}, got {fmt(got[k])}.")
+        return CheckResult(self.name, True, f"{PASS} {self.name} is correct (checked on {n} lines of its own).",
+                           None, n)
+
+
+track = exercise(_CHAPTER, "track", _TrackCheck())  # type: ignore[arg-type]

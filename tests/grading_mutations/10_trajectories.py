@@ -81,6 +81,33 @@ MUTATIONS = {
          "    omega = np.arccos(np.clip(q0 @ q1, -1.0, 1.0))\n"
          "    return (np.sin((1 - s) * omega) * q0 + np.sin(s * omega) * q1) / np.sin(omega)"),
     ],
+    "task5_test1": [
+        ("the angular velocity in the tool's start frame",
+         "def line_reference(t, T_start, T_end, duration, _right=line_reference):\n"
+         "    pose, twist = _right(t, T_start, T_end, duration)\n"
+         "    return pose, np.concatenate([twist[:3], T_start[:3, :3].T @ twist[3:]])"),
+        ("a constant angular velocity (not scaled by the timing law)",
+         "def line_reference(t, T_start, T_end, duration, _right=line_reference):\n"
+         "    pose, twist = _right(t, T_start, T_end, duration)\n"
+         "    w = T_start[:3, :3] @ rotation_log(T_start[:3, :3].T @ T_end[:3, :3])\n"
+         "    return pose, np.concatenate([twist[:3], w / duration])"),
+    ],
+    "task5_test2": [
+        ("no feed-forward twist",
+         "track = (lambda f: lambda q0, poses, twists, ts, gain: f(q0, poses, 0 * np.asarray(twists), ts, gain))"
+         "(track)\n"
+         "Q_line = track(Q_B, poses_line, twists_line, TS_LINE, GAIN)\n"
+         "position_errors = np.linalg.norm(poses_line[:, :3, 3] - ur10.fk(Q_line)[:, :3, 3], axis=1)"),
+        ("the error with the wrong sign",
+         "def track(q0, poses, twists, ts, gain):\n"
+         "    q, out = np.array(q0, dtype=float), []\n"
+         "    for pose, twist in zip(poses, twists):\n"
+         "        out.append(q)\n"
+         "        now = ur10.fk(q)\n"
+         "        error = np.concatenate([now[:3, 3] - pose[:3, 3], rotation_log(now[:3, :3] @ pose[:3, :3].T)])\n"
+         "        q = q + ts * np.linalg.solve(ur10.jacobian(q), twist + gain * error)\n"
+         "    return np.array(out)"),
+    ],
 }
 
 VARIANTS = {
@@ -156,5 +183,38 @@ def slerp(q0, q1, s):
     part = np.concatenate([[np.cos(s * half)], np.sin(s * half) * axis])
     wp, vp = part[0], part[1:]
     return np.concatenate([[w0 * wp - v0 @ vp], w0 * vp + wp * v0 + np.cross(v0, vp)])
+"""),
+    "task5_answer1": ("the orientation by the matrix exponential, the loop by least squares", """
+
+# written another way: R(t) = R0 exp([w] s) with rotation_exp, and the step by lstsq
+from robokin.transforms import rotation_exp
+
+
+def line_reference(t, T_start, T_end, duration):
+    s, sd, _ = quintic_scaling(t, duration)
+    R0 = T_start[:3, :3]
+    w = rotation_log(R0.T @ T_end[:3, :3])
+    pose = np.eye(4)
+    pose[:3, :3] = R0 @ rotation_exp(s * w)
+    pose[:3, 3] = (1 - s) * T_start[:3, 3] + s * T_end[:3, 3]
+    return pose, np.concatenate([sd * (T_end[:3, 3] - T_start[:3, 3]), sd * (R0 @ w)])
+
+
+poses_line = np.array([line_reference(t, T_line_start, T_line_end, LINE_DURATION)[0] for t in t_line])
+twists_line = np.array([line_reference(t, T_line_start, T_line_end, LINE_DURATION)[1] for t in t_line])
+
+
+def track(q0, poses, twists, ts, gain):
+    rows = [np.array(q0, dtype=float)]
+    for pose, twist in zip(poses[:-1], twists[:-1]):
+        q = rows[-1]
+        now = ur10.fk(q)
+        error = np.concatenate([pose[:3, 3] - now[:3, 3], rotation_log(pose[:3, :3] @ now[:3, :3].T)])
+        rows.append(q + ts * np.linalg.lstsq(ur10.jacobian(q), twist + gain * error, rcond=None)[0])
+    return np.array(rows)
+
+
+Q_line = track(Q_B, poses_line, twists_line, TS_LINE, GAIN)
+position_errors = np.linalg.norm(poses_line[:, :3, 3] - ur10.fk(Q_line)[:, :3, 3], axis=1)
 """),
 }
