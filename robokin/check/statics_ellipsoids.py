@@ -1,37 +1,75 @@
-r"""Exercise checks of chapter 9: Statics and the velocity and force ellipsoids.
+r"""Exercise checks of chapter 9: statics and the velocity and force ellipsoids.
 
-=================  ==========================================  ==========
-check              the student's answer                         inputs
-=================  ==========================================  ==========
-``tool_position``  p(q): tool position (x, y) in m, shape (2,)  q1, q2
-``tool_jacobian``  J(q) = ∂p/∂q: 2×2, in m/rad                 q1, q2
-=================  ==========================================  ==========
+The exercise's arm is :func:`robokin.models.planar_two_link` with :math:`l_1 = 1` m and
+:math:`l_2 = 0.6` m (:data:`LINKS`); the functions of Tasks 2–5 take a Jacobian, and the checks
+hand them the arm's 2×2 position Jacobian at random configurations away from its singularities.
 
-Every reference comes from the chapter's robot model (one model definition); the
-diagnoses are the standard ones for a vector (a sign, degrees for radians, swapped
-or negated inputs). See the book's page "Adding a chapter" for the pattern.
+=======================  =========================================================  ==============
+check                    the student's answer                                       inputs
+=======================  =========================================================  ==============
+``tool_jacobian``        J(q) = ∂p/∂q of the tool position, 2×2, m/rad              q1, q2
+``joint_torques``        τ(q, F) = J(q)ᵀ F, N·m, for the tool force F (N)           q1, q2, Fx, Fy
+``velocity_ellipse``     (radii, axes) of {J q̇ : ‖q̇‖ ≤ 1}: σ_i descending, u_i      J (2×2)
+``force_ellipse``        (radii, axes) of {F : ‖Jᵀ F‖ ≤ 1}: 1/σ_i descending, u_i   J (2×2)
+``manipulability``       w(J) = √det(J Jᵀ)                                          J (2×2)
+``w_formula``            w of the two-link arm in closed form, f(q2, l1, l2)        q2, l1, l2
+``condition_number``     κ(J) = σ_max / σ_min                                       J (2×2)
+``push_capacity``        the largest force along the unit d with ‖Jᵀ F‖ ≤ 1          J (2×2), d
+=======================  =========================================================  ==============
+
+An ellipse answer is compared with its axes' signs made canonical (each column's
+largest-magnitude entry positive): an axis and its opposite describe the same ellipse.
+The diagnoses name the chapter's typical mistakes: J instead of Jᵀ, the eigenvalues of J Jᵀ
+taken for semi-axes (squared lengths), force lengths not inverted, the radii in ascending order
+(as ``numpy.linalg.eigh`` returns them), degrees for radians.
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from functools import lru_cache
+from typing import Any
 
 import numpy as np
 
 from robokin.check import diagnoses as dg
-from robokin.check._core import Check, Variable
+from robokin.check._core import (
+    AnswerError,
+    Check,
+    CheckResult,
+    MatrixArgumentsCheck,
+    Variable,
+    alternatives,
+    fmt,
+)
 from robokin.check._registry import exercise
 
-__all__ = ["tool_position", "tool_jacobian"]
+__all__ = [
+    "LINKS",
+    "condition_number",
+    "force_ellipse",
+    "joint_torques",
+    "manipulability",
+    "push_capacity",
+    "tool_jacobian",
+    "velocity_ellipse",
+    "w_formula",
+]
 
 _CHAPTER = "statics_ellipsoids"
 
+#: the exercise arm's link lengths l1, l2 (m)
+LINKS = (1.0, 0.6)
+
 #: check -> {the robokin function that solves its task: how the grading report names it}: an
-#: answer that hands one back (``tool_position = ...fk``) is flagged for review by hand
-#: (tools/grading_bridge/delegation.py reads this literal table without importing the module)
+#: answer that hands one back (``tool_jacobian = ...position_jacobian``) is flagged for review by
+#: hand (tools/grading_bridge/delegation.py reads this literal table without importing the module)
 DELEGATION = {
-    "tool_position": {"fk": "SerialChain.fk", "frames": "SerialChain.frames"},
     "tool_jacobian": {"position_jacobian": "SerialChain.position_jacobian", "jacobian": "SerialChain.jacobian"},
+    "joint_torques": {"static_torques": "robokin.chains.ellipsoids.static_torques"},
+    "velocity_ellipse": {"velocity_ellipsoid": "robokin.chains.ellipsoids.velocity_ellipsoid"},
+    "force_ellipse": {"force_ellipsoid": "robokin.chains.ellipsoids.force_ellipsoid"},
+    "manipulability": {"manipulability": "SerialChain.manipulability"},
 }
 
 
@@ -39,25 +77,338 @@ DELEGATION = {
 def _arm():
     from robokin.models import planar_two_link
 
-    return planar_two_link()
+    return planar_two_link(*LINKS)
 
 
-tool_position = exercise(_CHAPTER, "tool_position", Check(
-    name="tool_position",
-    reference=lambda x: np.asarray(_arm().fk(x))[:2, 3],
-    variables=[Variable("q1"), Variable("q2")],
-    groups=[("q", [0, 1])],
-    diagnoses=dg.standard("vector"),
-    noun="angles",
-    doc="Check tool_position(q): the tool position (x, y) in m of the two-link arm, shape (2,).",
-))
+def _jacobian(x: np.ndarray) -> np.ndarray:
+    return np.asarray(_arm().position_jacobian(np.asarray(x[:2], dtype=float)), dtype=float)[:2]
 
+
+# Configurations away from the singular q2 = 0, π; the angle of d last where there is one.
+_Q = [Variable("q1"), Variable("q2", "angle", 0.4, 2.7)]
+_ANGLE_D = Variable("direction_angle", "other", -np.pi, np.pi)
+
+
+def _signed(axes: np.ndarray) -> np.ndarray:
+    """The axes (columns) with the sign that makes each one's largest-magnitude entry positive."""
+    largest = axes[np.argmax(np.abs(axes), axis=0), np.arange(axes.shape[1])]
+    return axes * np.where(largest < 0.0, -1.0, 1.0)
+
+
+def _canonical(pair: Any, name: str) -> np.ndarray:
+    """``(radii (2,), axes (2, 2))`` as one array: the radii, then the signed axes row by row."""
+    if not isinstance(pair, (tuple, list)) or len(pair) != 2:
+        raise AnswerError("shape", f"{name} should return a pair (radii, axes); it returned "
+                                   f"{type(pair).__name__}" + (f" of {len(pair)} items" if isinstance(
+                                       pair, (tuple, list)) else "") + ".")
+    try:
+        radii = np.asarray(pair[0], dtype=float).ravel()
+        axes = np.asarray(pair[1], dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise AnswerError("shape", f"{name}: the radii and axes should be arrays of numbers ({exc}).") from None
+    if radii.shape != (2,) or axes.shape != (2, 2):
+        raise AnswerError("shape", f"{name} for a 2×2 Jacobian should return radii of shape (2,) and "
+                                   f"axes of shape (2, 2); got {radii.shape} and {axes.shape}.")
+    return np.concatenate([radii, _signed(axes).ravel()])
+
+
+class _EllipseCheck(MatrixArgumentsCheck):
+    """A check of a function ``f(J) -> (radii, axes)``, compared in canonical form."""
+
+    def evaluate(self, answer: Any) -> CheckResult:
+        if callable(answer) and not isinstance(answer, np.ndarray):
+            student = answer
+            try:   # the form of the pair, told as such (not as an error raised by the answer)
+                _canonical(student(_jacobian(self.sample_points()[0])), self.name)
+            except AnswerError as exc:
+                return self._fail(exc.code, exc.message, 1)
+            except Exception:  # noqa: BLE001 - the evaluation below reports the student's error
+                pass
+
+            def canonical_answer(J: np.ndarray) -> np.ndarray:
+                return _canonical(student(J), self.name)
+
+            return super().evaluate(canonical_answer)
+        return super().evaluate(answer)
+
+
+def _as_number(answer: Any) -> Any:
+    """A function answer whose values of one entry ((), (1,), (1, 1)) become numbers."""
+    if not callable(answer) or isinstance(answer, np.ndarray):
+        return answer
+
+    def number(*arguments: Any) -> Any:
+        value = answer(*arguments)
+        try:
+            array = np.asarray(value, dtype=float)
+        except (TypeError, ValueError):
+            return value   # reported by the check as it is
+        return array.reshape(()) if array.size == 1 else value
+
+    return number
+
+
+def _number_mismatch(check: Check, X: np.ndarray, S: np.ndarray, R: np.ndarray) -> str:
+    """Where a number-valued answer differs first, and by how much."""
+    with np.errstate(all="ignore"):
+        bad = ~np.isclose(S, R, atol=max(check.atol, 1e-9), rtol=check.rtol)
+    k = int(np.argmax(bad.reshape(len(X), -1).any(axis=1)))
+    where = ", ".join(f"{v.label} = {fmt(xi)}" for v, xi in zip(check.variables, X[k]))
+    return (f"{check.name} is not correct at {where}: expected {fmt(R[k])}, got {fmt(S[k])}."
+            + (f" {check.hint}" if check.hint else ""))
+
+
+class _ScalarCheck(Check):
+    """A check of a function of scalars with a number for value."""
+
+    def evaluate(self, answer: Any) -> CheckResult:
+        return super().evaluate(_as_number(answer))
+
+    def _mismatch_message(self, X: np.ndarray, S: np.ndarray, R: np.ndarray) -> str:
+        return _number_mismatch(self, X, S, R)
+
+
+class _ScalarArgumentsCheck(MatrixArgumentsCheck):
+    """A check of a function of arrays with a number for value."""
+
+    def evaluate(self, answer: Any) -> CheckResult:
+        return super().evaluate(_as_number(answer))
+
+    def _mismatch_message(self, X: np.ndarray, S: np.ndarray, R: np.ndarray) -> str:
+        return _number_mismatch(self, X, S, R)
+
+
+def _svd(x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    U, sigma, Vt = np.linalg.svd(_jacobian(x))
+    return U, sigma, Vt.T
+
+
+def _pair(radii: np.ndarray, axes: np.ndarray) -> np.ndarray:
+    return np.concatenate([radii, _signed(axes).ravel()])
+
+
+def _ellipse_mistakes(force: bool) -> list:
+    def make(transform: Callable[[np.ndarray, np.ndarray, np.ndarray], tuple]) -> Callable:
+        def mistaken(x: np.ndarray) -> np.ndarray:
+            return _pair(*transform(*_svd(x)))
+        return mistaken
+
+    def rev(a: np.ndarray) -> np.ndarray:
+        return a[..., ::-1]
+
+    squared = (
+        "{name} returns squared lengths: the eigenvalues of J Jᵀ are σ_i², the semi-axes are "
+        "their square roots σ_i" + (", and the force ellipse's are 1/σ_i." if force else ".")
+    )
+    if force:
+        items = [
+            alternatives("not_inverted", [
+                (make(lambda U, s, V: (s, U)), (
+                    "{name} has the velocity ellipse's lengths σ_i: the force ellipse "
+                    "{{F : ‖Jᵀ F‖ ≤ 1}} has the same axes and the reciprocal lengths 1/σ_i (the arm "
+                    "pushes hardest where it moves slowest).")),
+                (make(lambda U, s, V: (rev(s), rev(U))), (
+                    "{name} has the lengths σ_i, not inverted: the force ellipse's semi-axes are "
+                    "1/σ_i (the longest along the velocity ellipse's shortest axis).")),
+            ]),
+            alternatives("squared", [
+                (make(lambda U, s, V: (rev(1 / s**2), rev(U))), squared),
+                (make(lambda U, s, V: (rev(s**2), rev(U))), squared),
+            ]),
+            alternatives("ascending", [(make(lambda U, s, V: (1 / s, U)), (
+                "{name} lists the radii in ascending order: give them descending (the longest "
+                "semi-axis 1/σ_min first), each axis in the column of its radius."))]),
+            alternatives("jacobian_not_transposed", [(make(lambda U, s, V: (rev(1 / s), rev(V))), (
+                "the axes of {name} are the eigenvectors of Jᵀ J (joint space), as if J and Jᵀ were "
+                "swapped: the force ellipse lies in the task space, with the eigenvectors of J Jᵀ "
+                "(the left singular vectors u_i of J)."))]),
+        ]
+    else:
+        items = [
+            alternatives("squared", [
+                (make(lambda U, s, V: (s**2, U)), squared),
+                (make(lambda U, s, V: (rev(s**2), rev(U))), squared),
+            ]),
+            alternatives("inverted", [(make(lambda U, s, V: (rev(1 / s), rev(U))), (
+                "{name} has the force ellipse's lengths 1/σ_i: the velocity ellipse "
+                "{{J q̇ : ‖q̇‖ ≤ 1}} has the semi-axes σ_i."))]),
+            alternatives("ascending", [(make(lambda U, s, V: (rev(s), rev(U))), (
+                "{name} lists the radii in ascending order (as numpy.linalg.eigh returns "
+                "eigenvalues): give them descending, each axis in the column of its radius."))]),
+            alternatives("jacobian_not_transposed", [(make(lambda U, s, V: (s, V)), (
+                "the axes of {name} are the eigenvectors of Jᵀ J (joint space), as if J and Jᵀ were "
+                "swapped: the ellipse of tool velocities lies in the task space, with the "
+                "eigenvectors of J Jᵀ (the left singular vectors u_i of J)."))]),
+        ]
+    return items
+
+
+def _one_jacobian(x: np.ndarray) -> tuple[np.ndarray]:
+    return (_jacobian(x),)
+
+
+def _ellipse_check(name: str, force: bool, doc: str) -> _EllipseCheck:
+    def reference(x: np.ndarray) -> np.ndarray:
+        U, s, _ = _svd(x)
+        return _pair(1.0 / s[::-1], U[:, ::-1]) if force else _pair(s, U)
+
+    return _EllipseCheck(
+        name=name,
+        reference=reference,
+        variables=_Q,
+        groups=[("x", [0, 1])],
+        diagnoses=_ellipse_mistakes(force),
+        noun="Jacobians of the arm",
+        arguments=_one_jacobian,
+        signature=f"{name}(J) -> (radii (m,), axes (m, m))",
+        hint=("radii 1/σ_i descending, axes u_i (columns) from J = U Σ Vᵀ" if force
+              else "radii σ_i descending, axes u_i (columns) from J = U Σ Vᵀ"),
+        doc=doc,
+    )
+
+
+# ------------------------------------------------------------------ Task 1: statics
 tool_jacobian = exercise(_CHAPTER, "tool_jacobian", Check(
     name="tool_jacobian",
-    reference=lambda x: np.asarray(_arm().position_jacobian(x))[:2],
+    reference=_jacobian,
     variables=[Variable("q1"), Variable("q2")],
     groups=[("q", [0, 1])],
     diagnoses=dg.standard("jacobian"),
     noun="angles",
-    doc="Check tool_jacobian(q): the 2x2 Jacobian of the tool position, in m/rad.",
+    hint="J = [[−l1 s1 − l2 s12, −l2 s12], [l1 c1 + l2 c12, l2 c12]] with l1 = 1 m, l2 = 0.6 m.",
+    doc="Check tool_jacobian(q): the 2×2 Jacobian ∂p/∂q of the exercise arm's tool position, m/rad.",
+))
+
+
+def _torques_reference(x: np.ndarray) -> np.ndarray:
+    return _jacobian(x).T @ x[2:4]
+
+
+def _torques_mistakes() -> list:
+    return [
+        alternatives("jacobian_not_transposed", [(lambda x: _jacobian(x) @ x[2:4], (
+            "{name} multiplies the force by J instead of Jᵀ: virtual work, τ·q̇ = F·v = F·(J q̇) "
+            "for every q̇, gives τ = Jᵀ F (row j of Jᵀ is column j of J, ∂p/∂q_j)."))]),
+        alternatives("sign", [(lambda x: -_torques_reference(x), (
+            "{name} has the opposite sign: τ = Jᵀ F are the torques with which the joints make the "
+            "tool push with F (they hold it against the environment's −F)."))]),
+        dg.degrees(),
+    ]
+
+
+joint_torques = exercise(_CHAPTER, "joint_torques", Check(
+    name="joint_torques",
+    reference=_torques_reference,
+    variables=[Variable("q1"), Variable("q2"), Variable("Fx", "other", -20.0, 20.0),
+               Variable("Fy", "other", -20.0, 20.0)],
+    groups=[("q", [0, 1]), ("F", [2, 3])],
+    diagnoses=_torques_mistakes(),
+    noun="configurations and forces",
+    hint="τ = J(q)ᵀ F (virtual work).",
+    doc="Check joint_torques(q, F): the torques τ = J(q)ᵀ F (N·m) with which the arm's tool pushes with F (N).",
+))
+
+
+# ------------------------------------------------------------------ Tasks 2 and 3: the ellipses
+velocity_ellipse = exercise(_CHAPTER, "velocity_ellipse", _ellipse_check(
+    "velocity_ellipse", False,
+    "Check velocity_ellipse(J) -> (radii, axes): σ_i descending and the unit axes u_i as columns.",
+))
+
+force_ellipse = exercise(_CHAPTER, "force_ellipse", _ellipse_check(
+    "force_ellipse", True,
+    "Check force_ellipse(J) -> (radii, axes): 1/σ_i descending and the unit axes as columns.",
+))
+
+
+# ------------------------------------------------------------------ Task 4: measures
+def _sigma(x: np.ndarray) -> np.ndarray:
+    return np.linalg.svd(_jacobian(x), compute_uv=False)
+
+
+manipulability = exercise(_CHAPTER, "manipulability", _ScalarArgumentsCheck(
+    name="manipulability",
+    reference=lambda x: np.sqrt(np.linalg.det(_jacobian(x) @ _jacobian(x).T)),
+    variables=_Q,
+    groups=[("x", [0, 1])],
+    diagnoses=[
+        alternatives("squared", [(lambda x: np.linalg.det(_jacobian(x) @ _jacobian(x).T), (
+            "{name} returns det(J Jᵀ) = w²: take the square root, w = √det(J Jᵀ) (the product of "
+            "the semi-axes σ_i)."))]),
+        alternatives("signed", [(lambda x: np.linalg.det(_jacobian(x)), (
+            "{name} returns det J, which is negative for half of the configurations: "
+            "w = √det(J Jᵀ) ≥ 0."))]),
+    ],
+    noun="Jacobians of the arm",
+    arguments=_one_jacobian,
+    signature="manipulability(J) -> float",
+    doc="Check manipulability(J) -> w = √det(J Jᵀ).",
+))
+
+w_formula = exercise(_CHAPTER, "w_formula", _ScalarCheck(
+    name="w_formula",
+    reference=lambda x: np.abs(x[1] * x[2] * np.sin(x[0])),
+    variables=[Variable("q2"), Variable("l1", "length", 0.2, 1.5), Variable("l2", "length", 0.2, 1.5)],
+    diagnoses=[
+        alternatives("absolute_value", [(lambda x: x[1] * x[2] * np.sin(x[0]), (
+            "{name} is negative for q2 in (−π, 0): w = √det(J Jᵀ) is a square root, never "
+            "negative."))]),
+        alternatives("squared", [(lambda x: (x[1] * x[2] * np.sin(x[0])) ** 2, (
+            "{name} is det(J Jᵀ) = w²: take the square root."))]),
+        dg.degrees(),
+    ],
+    noun="elbow angles and link lengths",
+    hint="det(J Jᵀ) = (det J)² for the square J of the arm.",
+    doc="Check w_formula(q2, l1, l2): the two-link arm's manipulability in closed form.",
+))
+
+condition_number = exercise(_CHAPTER, "condition_number", _ScalarArgumentsCheck(
+    name="condition_number",
+    reference=lambda x: _sigma(x)[0] / _sigma(x)[-1],
+    variables=_Q,
+    groups=[("x", [0, 1])],
+    diagnoses=[
+        alternatives("squared", [(lambda x: (_sigma(x)[0] / _sigma(x)[-1]) ** 2, (
+            "{name} is the ratio of the eigenvalues of J Jᵀ, σ_max²/σ_min²: the condition number "
+            "is the ratio of the semi-axes, σ_max/σ_min."))]),
+        alternatives("inverted", [(lambda x: _sigma(x)[-1] / _sigma(x)[0], (
+            "{name} is σ_min/σ_max ≤ 1: the condition number is σ_max/σ_min ≥ 1 (1 for an "
+            "isotropic arm, infinite at a singularity)."))]),
+    ],
+    noun="Jacobians of the arm",
+    arguments=_one_jacobian,
+    signature="condition_number(J) -> float",
+    doc="Check condition_number(J) -> κ = σ_max / σ_min.",
+))
+
+
+# ------------------------------------------------------------------ Task 5: the push along d
+def _direction(x: np.ndarray) -> np.ndarray:
+    return np.array([np.cos(x[2]), np.sin(x[2])])
+
+
+def _push_reference(x: np.ndarray) -> np.ndarray:
+    return np.asarray(1.0 / np.linalg.norm(_jacobian(x).T @ _direction(x)))
+
+
+push_capacity = exercise(_CHAPTER, "push_capacity", _ScalarArgumentsCheck(
+    name="push_capacity",
+    reference=_push_reference,
+    variables=[*_Q, _ANGLE_D],
+    groups=[("x", [0, 1, 2])],
+    diagnoses=[
+        alternatives("not_inverted", [(lambda x: np.asarray(np.linalg.norm(_jacobian(x).T @ _direction(x))), (
+            "{name} returns ‖Jᵀ d‖, the torque norm a unit force along d costs: the largest force "
+            "with ‖Jᵀ F‖ ≤ 1 is F = f d with f = 1/‖Jᵀ d‖."))]),
+        alternatives("jacobian_not_transposed", [(
+            lambda x: np.asarray(1.0 / np.linalg.norm(_jacobian(x) @ _direction(x))), (
+                "{name} uses J d instead of Jᵀ d: the torques of the force f d are τ = Jᵀ (f d).")),
+        ]),
+        alternatives("squared", [(lambda x: np.asarray(1.0 / np.linalg.norm(_jacobian(x).T @ _direction(x)) ** 2), (
+            "{name} is 1/‖Jᵀ d‖²: ‖Jᵀ (f d)‖ = f ‖Jᵀ d‖ ≤ 1 gives f = 1/‖Jᵀ d‖."))]),
+    ],
+    noun="Jacobians and directions",
+    arguments=lambda x: (_jacobian(x), _direction(x)),
+    signature="push_capacity(J, d) -> float",
+    doc="Check push_capacity(J, d) -> 1/‖Jᵀ d‖, the largest force along the unit d with ‖Jᵀ F‖ ≤ 1.",
 ))

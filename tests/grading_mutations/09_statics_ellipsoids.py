@@ -4,39 +4,154 @@ full marks (``VARIANTS``, tests/benign_variants.py and tests/test_grading_trust.
 
 ``MUTATIONS``: ``{grade id of a test cell: [(what is wrong, code appended to the answer
 cells), ...]}``, at least one per graded test. ``VARIANTS``: ``{grade id of an answer cell:
-(how it differs, code appended to that cell)}``: another method, not only other names
-(without ``VARIANTS``, the trust suite derives a weaker default: each answer wrapped).
+(how it differs, code appended to that cell)}``: another method, not only other names.
 The first line of each variant's code must be ASCII without quotes.
 """
 
 MUTATIONS = {
     "task1_test1": [
-        ("degrees for radians", "tool_position = (lambda f: lambda q: f(np.rad2deg(q)))(tool_position)"),
+        ("the transposed Jacobian", "tool_jacobian = (lambda f: lambda q: f(q).T)(tool_jacobian)"),
+        ("degrees for radians", "tool_jacobian = (lambda f: lambda q: f(np.rad2deg(q)))(tool_jacobian)"),
         ("the second link's own angle q2 instead of q1 + q2",
-         "def tool_position(q):\n    q1, q2 = q\n"
-         "    return np.array([np.cos(q1) + np.cos(q2), np.sin(q1) + np.sin(q2)])"),
+         "def tool_jacobian(q):\n    q1, q2 = q\n"
+         "    return np.array([[-L1 * np.sin(q1) - L2 * np.sin(q2), -L2 * np.sin(q2)],\n"
+         "                     [L1 * np.cos(q1) + L2 * np.cos(q2), L2 * np.cos(q2)]])"),
+    ],
+    "task1_test2": [
+        ("J instead of J^T", "joint_torques = lambda q, F: tool_jacobian(q) @ np.asarray(F, dtype=float)"),
+        ("the opposite sign", "joint_torques = (lambda f: lambda q, F: -f(q, F))(joint_torques)"),
+        ("tau0 from the load's weight (0, -m g)", "tau0 = joint_torques(Q0, -F0)"),
+        ("degrees for radians",
+         "joint_torques = (lambda f: lambda q, F: f(np.rad2deg(q), F))(joint_torques)"),
     ],
     "task2_test1": [
-        ("the transposed Jacobian", "tool_jacobian = (lambda f: lambda q: f(q).T)(tool_jacobian)"),
+        ("the eigenvalues of J J^T as semi-axes (squared lengths)",
+         "velocity_ellipse = (lambda f: lambda J: (f(J)[0] ** 2, f(J)[1]))(velocity_ellipse)"),
+        ("ascending order, as eigh returns them",
+         "def velocity_ellipse(J):\n    values, vectors = np.linalg.eigh(J @ J.T)\n"
+         "    return np.sqrt(values), vectors"),
+        ("the eigenvectors of J^T J (joint space)",
+         "def velocity_ellipse(J):\n    values, vectors = np.linalg.eigh(J.T @ J)\n"
+         "    return np.sqrt(np.clip(values[::-1], 0, None)), vectors[:, ::-1]"),
+        ("the force ellipse's lengths 1/sigma",
+         "velocity_ellipse = (lambda f: lambda J: (1 / f(J)[0], f(J)[1]))(velocity_ellipse)"),
+    ],
+    "task3_test1": [
+        ("the lengths not inverted", "force_ellipse = velocity_ellipse"),
+        ("1/sigma^2 (inverse eigenvalues)",
+         "force_ellipse = (lambda f: lambda J: (f(J)[0] ** 2, f(J)[1]))(force_ellipse)"),
+        ("1/sigma in ascending order",
+         "force_ellipse = (lambda f: lambda J: (f(J)[0][::-1], f(J)[1][:, ::-1]))(force_ellipse)"),
+        ("the inverted lengths on the velocity ellipse's axes in their order",
+         "force_ellipse = (lambda f: lambda J: (f(J)[0], f(J)[1][:, ::-1]))(force_ellipse)"),
+    ],
+    "task4_test1": [
+        ("det(J J^T) without the square root",
+         "manipulability = lambda J: float(np.linalg.det(J @ J.T))"),
+        ("the closed form without the absolute value",
+         "w_formula = lambda q2, l1, l2: l1 * l2 * np.sin(q2)"),
+        ("the closed form in degrees",
+         "w_formula = lambda q2, l1, l2: abs(l1 * l2 * np.sin(np.deg2rad(q2)))"),
+        ("the closed form with cos q2", "w_formula = lambda q2, l1, l2: abs(l1 * l2 * np.cos(q2))"),
+    ],
+    "task4_test2": [
+        ("the elbow at 45 degrees", "q2_best = np.pi / 4"),
+        ("the angle in degrees", "q2_best = 90.0"),
+    ],
+    "task4_test3": [
+        ("the ratio of the eigenvalues (kappa squared)",
+         "condition_number = (lambda f: lambda J: f(J) ** 2)(condition_number)"),
+        ("sigma_min / sigma_max", "condition_number = (lambda f: lambda J: 1 / f(J))(condition_number)"),
+        ("l2 = sqrt(2) l1", "l_ratio_iso = np.sqrt(2)"),
+        ("the elbow at 45 degrees", "q2_iso = np.pi / 4"),
+    ],
+    "task5_test1": [
+        ("the norm of J^T d, not inverted", "push_capacity = lambda J, d: float(np.linalg.norm(J.T @ d))"),
+        ("1 / |J^T d|^2", "push_capacity = lambda J, d: float(1 / np.linalg.norm(J.T @ d) ** 2)"),
+        ("J instead of J^T", "push_capacity = lambda J, d: float(1 / np.linalg.norm(J @ np.resize(d, J.shape[1])))"),
+    ],
+    "task5_test2": [
+        ("the height where the push down is weakest",
+         "z_strongest = z_line[int(np.argmin([push_capacity(ur10.position_jacobian(q), DOWN)"
+         " for q in q_line]))]"),
+        ("the top of the line", "z_strongest = z_line[-1]"),
+        ("the eigenvalues of J_v J_v^T for sigma_line", "sigma_line = sigma_line ** 2"),
+        ("sigma_line ascending", "sigma_line = sigma_line[:, ::-1]"),
     ],
 }
 
 VARIANTS = {
-    "task1_answer1": ("the tool as a sum of complex numbers", """
+    "task1_answer1": ("the Jacobian from complex link vectors, the torques as moments about the joints", """
 
-# written another way: the tool point as the complex number e^(i q1) + e^(i (q1 + q2))
-def tool_position(q):
-    first, second = np.asarray(q, dtype=float)
-    tip = np.exp(1j * first) + np.exp(1j * (first + second))
-    return np.array([tip.real, tip.imag])
-"""),
-    "task2_answer1": ("the Jacobian's columns as i times the complex link vectors", """
-
-# written another way: d/dq_k of e^(i q1) + e^(i (q1 + q2)) is i times the links after joint k
+# written another way: column k of J is i times the links after joint k (complex numbers),
+# and each torque is the moment of F about its joint
 def tool_jacobian(q):
     first, second = np.asarray(q, dtype=float)
-    elbow, tip = np.exp(1j * first), np.exp(1j * (first + second))
+    elbow, tip = L1 * np.exp(1j * first), L2 * np.exp(1j * (first + second))
     columns = [1j * (elbow + tip), 1j * tip]
     return np.array([[column.real for column in columns], [column.imag for column in columns]])
+
+
+def joint_torques(q, F):
+    first, second = np.asarray(q, dtype=float)
+    elbow = L1 * np.array([np.cos(first), np.sin(first)])
+    tip = elbow + L2 * np.array([np.cos(first + second), np.sin(first + second)])
+    arms = [tip, tip - elbow]
+    return np.array([arm[0] * F[1] - arm[1] * F[0] for arm in arms])
+
+
+tau0 = joint_torques(Q0, F0)
+"""),
+    "task2_answer1": ("the singular value decomposition of J", """
+
+# written another way: the left singular vectors and the singular values of J
+def velocity_ellipse(J):
+    left, singular_values, _ = np.linalg.svd(np.asarray(J, dtype=float))
+    return singular_values, left
+"""),
+    "task3_answer1": ("the eigen-decomposition of the force ellipse's own matrix J J^T", """
+
+# written another way: |J^T F|^2 = F^T (J J^T) F; the semi-axes are 1/sqrt of its eigenvalues
+def force_ellipse(J):
+    values, vectors = np.linalg.eigh(np.asarray(J, dtype=float) @ np.asarray(J, dtype=float).T)
+    return 1.0 / np.sqrt(values), vectors
+"""),
+    "task4_answer1": ("the product of the singular values, the closed form as |det J|", """
+
+# written another way: w is the product of the semi-axes; for the arm, the determinant of J
+def manipulability(J):
+    return float(np.prod(np.linalg.svd(np.asarray(J, dtype=float), compute_uv=False)))
+
+
+def w_formula(q2, l1, l2):
+    jacobian_at_zero = np.array([[-l2 * np.sin(q2), -l2 * np.sin(q2)],
+                                 [l1 + l2 * np.cos(q2), l2 * np.cos(q2)]])
+    return float(abs(np.linalg.det(jacobian_at_zero)))
+
+
+q2_best = float(np.arccos(0.0))
+"""),
+    "task4_answer2": ("the condition number from the eigenvalues, the design from its equations", """
+
+# written another way: kappa from the eigenvalues of J J^T; the design from c2 = -l2/l1, l1^2 = 2 l2^2
+def condition_number(J):
+    values = np.linalg.eigvalsh(np.asarray(J, dtype=float) @ np.asarray(J, dtype=float).T)
+    return float(np.sqrt(values[-1] / values[0]))
+
+
+l_ratio_iso = float(np.sqrt(0.5))
+q2_iso = float(np.arccos(-l_ratio_iso))
+"""),
+    "task5_answer1": ("the radius of the force ellipsoid along d", """
+
+# written another way: the force ellipsoid's radius along d, 1 / sqrt(sum (a_i . d / r_i)^2)
+def push_capacity(J, d):
+    radii, axes = force_ellipse(J)
+    return float(1.0 / np.sqrt(np.sum((np.asarray(axes).T @ d / radii) ** 2)))
+
+
+push_down = np.array([push_capacity(ur10.position_jacobian(q), DOWN) for q in q_line])
+z_strongest = float(z_line[int(np.argmax(push_down))])
+sigma_line = np.array([np.linalg.svd(ur10.position_jacobian(q), compute_uv=False) for q in q_line])
 """),
 }
