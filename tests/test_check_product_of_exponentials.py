@@ -66,11 +66,17 @@ def jacobian_in_body(M, S_list, theta):
     return mr.JacobianBody(B, theta)
 
 
+def ik_body(M, S_list, T_goal, theta_start):
+    B = mr.Adjoint(mr.TransInv(M)) @ np.asarray(S_list).T
+    theta, success = mr.IKinBody(B, M, T_goal, np.asarray(theta_start, dtype=float), 1e-12, 1e-12)
+    return theta, 5
+
+
 CORRECT = [
     (chk.rodrigues, rodrigues), (chk.screw_axis, screw_axis), (chk.screw_list, S_UR10),
     (chk.exp6, exp6), (chk.forward_kinematics, poe_fk), (chk.adjoint, adjoint_matrix),
     (chk.space_jacobian, jacobian_in_space), (chk.geometric_from_space, geometric_from_space),
-    (chk.body_jacobian, jacobian_in_body),
+    (chk.body_jacobian, jacobian_in_body), (chk.ik_body, ik_body),
 ]
 
 
@@ -176,6 +182,19 @@ def test_mistakes_are_diagnosed(check, answer, code):
     result = check(answer, quiet=True)
     assert not result.passed
     assert result.diagnosis == code, result.message
+
+
+def test_ik_answer_forms():
+    """(theta, iterations) as a tuple, as the list a handed-over tuple becomes, or theta alone."""
+    assert chk.ik_body(lambda *a: list(ik_body(*a)), quiet=True).passed
+    assert chk.ik_body(lambda *a: ik_body(*a)[0], quiet=True).passed
+
+
+def test_ik_mistakes():
+    result = chk.ik_body(lambda M, S, T, t: (np.asarray(t), 0), quiet=True)
+    assert not result.passed and result.diagnosis == "not_updated"
+    result = chk.ik_body(lambda M, S, T, t: (ik_body(M, S, T, t)[0] + 0.1, 5), quiet=True)
+    assert not result.passed and result.diagnosis == "mismatch" and "log(T(θ)⁻¹ T_goal)" in result.message
 
 
 def test_unknown_mistake_is_a_mismatch():

@@ -18,6 +18,8 @@ check                     the student's answer                               inp
 ``space_jacobian``        ``jacobian_in_space(S_list, theta)`` -> J_s (6, n)   the UR10's S, θ (6,)
 ``geometric_from_space``  ``geometric_from_space(J_s, T)`` -> [J_v; J_ω]       the UR10's J_s and T at θ
 ``body_jacobian``         ``jacobian_in_body(M, S_list, theta)`` -> J_b        the UR10's M and S, θ (6,)
+``ik_body``               ``ik_body(M, S_list, T_goal, theta_start)`` ->       a goal T(θ_goal), a start near θ_goal
+                          ``(theta, iterations)``: the pose reached
 ========================  =================================================  ==================================
 
 Each check names the typical mistakes of its task: −ω × q taken with the wrong sign, the
@@ -33,16 +35,17 @@ Usage::
 from __future__ import annotations
 
 from functools import lru_cache
+from typing import Any
 
 import numpy as np
 
 from robokin.check import diagnoses as dg
-from robokin.check._core import Check, MatrixArgumentsCheck, Variable, alternatives
+from robokin.check._core import Check, CheckResult, MatrixArgumentsCheck, Variable, alternatives
 from robokin.check._registry import exercise
 
 __all__ = [
     "rodrigues", "screw_axis", "screw_list", "exp6", "forward_kinematics", "adjoint",
-    "space_jacobian", "geometric_from_space", "body_jacobian",
+    "space_jacobian", "geometric_from_space", "body_jacobian", "ik_body",
 ]
 
 _CHAPTER = "product_of_exponentials"
@@ -62,6 +65,8 @@ DELEGATION = {
     "geometric_from_space": {"jacobian": "SerialChain.jacobian"},
     "body_jacobian": {"body_jacobian": "SerialChain.body_jacobian",
                       "space_jacobian": "SerialChain.space_jacobian"},
+    "ik_body": {"solve_ik": "robokin.motion.solve_ik", "solve_ik_once": "robokin.motion.solve_ik_once",
+                "ur10_ik": "robokin.models.ur10_ik", "body_jacobian": "SerialChain.body_jacobian"},
 }
 
 
@@ -633,4 +638,67 @@ body_jacobian = exercise(_CHAPTER, "body_jacobian", MatrixArgumentsCheck(
     signature="jacobian_in_body(M, S_list, theta) -> (6, n) array",
     hint="J_b = [Ad_{T⁻¹}] J_s with T = T(θ) the current pose.",
     doc="Check jacobian_in_body(M, S_list, theta) -> J_b (6, n), rows [ω; v], on the UR10.",
+))
+
+
+# ------------------------------------------------------------------ Task 6: IK with the body twist
+_OFFSET = [Variable(f"offset{i}", "other", -0.3, 0.3) for i in range(1, 7)]
+
+
+def _ik_arguments(x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    M, S = _home()
+    goal = np.asarray(_ur10().fk(_theta(x)), dtype=float)
+    return M.copy(), S.copy(), goal, _theta(x) + np.asarray(x[6:12], dtype=float)
+
+
+def _ik_reference(x: np.ndarray) -> np.ndarray:
+    return np.asarray(_ur10().fk(_theta(x)), dtype=float)
+
+
+def _configuration(result: Any) -> np.ndarray:
+    """The joint angles of an answer ``(theta, iterations)`` (a tuple or, handed over, a list)."""
+    if isinstance(result, (tuple, list)) and len(result) == 2 and np.ndim(result[1]) == 0:
+        result = result[0]
+    return np.asarray(result, dtype=float)
+
+
+class _PoseReachedCheck(MatrixArgumentsCheck):
+    """A :class:`MatrixArgumentsCheck` of an IK loop: the pose its joint angles reach is compared."""
+
+    def evaluate(self, answer: Any) -> CheckResult:
+        """Compare ``fk(theta)`` of the answer's ``theta`` with the goal (see :meth:`Check.evaluate`)."""
+        if callable(answer) and not isinstance(answer, np.ndarray):
+            student = answer
+
+            def reached(*args: Any) -> np.ndarray:
+                return np.asarray(_ur10().fk(_configuration(student(*args))), dtype=float)
+
+            return super().evaluate(reached)
+        return super().evaluate(answer)
+
+
+def _ik_mistakes():
+    def start_pose(x):
+        return np.asarray(_ur10().fk(_ik_arguments(x)[3]), dtype=float)
+
+    return [
+        alternatives("not_updated", [(start_pose, (
+            "the joint angles {name} returns reach the pose of the start: the loop does not update "
+            "θ (θ ← θ + Δθ with J_b(θ) Δθ = V_b)."
+        ))]),
+    ]
+
+
+ik_body = exercise(_CHAPTER, "ik_body", _PoseReachedCheck(
+    name="ik_body(M, S_list, T_goal, theta_start)",
+    reference=_ik_reference,
+    variables=[*_Q, *_OFFSET],
+    groups=_group(12),
+    diagnoses=_ik_mistakes(),
+    noun="goals and starts",
+    arguments=_ik_arguments,
+    signature="ik_body(M, S_list, T_goal, theta_start) -> (theta, iterations)",
+    hint=("The pose reached, T(θ) of the angles returned, is compared with the goal; Newton's step "
+          "solves J_b(θ) Δθ = V_b with [V_b] = log(T(θ)⁻¹ T_goal)."),
+    doc="Check ik_body(M, S_list, T_goal, theta_start) -> (theta, iterations): T(theta) must be the goal.",
 ))

@@ -138,6 +138,43 @@ def jacobian_in_body(M, S_list, theta):
 Jb0 = jacobian_in_body(M, S_list, THETA0)
 """
 
+_IK_STEP_SIGN = """
+def ik_body(M, S_list, T_goal, theta_start, tolerance=1e-10, max_iterations=30):
+    theta = np.array(theta_start, dtype=float)
+    for iteration in range(max_iterations + 1):
+        V_b = transform_log(transform_inverse(poe_fk(M, S_list, theta)) @ T_goal)
+        if np.linalg.norm(V_b) < tolerance or iteration == max_iterations:
+            return theta, iteration
+        theta = theta - np.linalg.pinv(jacobian_in_body(M, S_list, theta)) @ V_b  # the sign
+
+theta_ik, iterations_ik = ik_body(M, S_list, T_GOAL, THETA_START)
+"""
+
+_IK_SPACE_JACOBIAN = """
+def ik_body(M, S_list, T_goal, theta_start, tolerance=1e-10, max_iterations=30):
+    theta = np.array(theta_start, dtype=float)
+    for iteration in range(max_iterations + 1):
+        V_b = transform_log(transform_inverse(poe_fk(M, S_list, theta)) @ T_goal)
+        if np.linalg.norm(V_b) < tolerance or iteration == max_iterations:
+            return theta, iteration
+        theta = theta + np.linalg.pinv(jacobian_in_space(S_list, theta)) @ V_b  # J_s with V_b
+
+theta_ik, iterations_ik = ik_body(M, S_list, T_GOAL, THETA_START)
+"""
+
+_IK_STEP_FIRST = """
+def ik_body(M, S_list, T_goal, theta_start, tolerance=1e-10, max_iterations=30):
+    theta = np.array(theta_start, dtype=float)
+    for iteration in range(1, max_iterations + 1):
+        V_b = transform_log(transform_inverse(poe_fk(M, S_list, theta)) @ T_goal)
+        theta = theta + np.linalg.pinv(jacobian_in_body(M, S_list, theta)) @ V_b  # a step first
+        if np.linalg.norm(V_b) < tolerance:
+            return theta, iteration
+    return theta, max_iterations
+
+theta_ik, iterations_ik = ik_body(M, S_list, T_GOAL, THETA_START)
+"""
+
 MUTATIONS = {
     "task1_test1": [
         ("[w] transposed", "skew = (lambda f: lambda w: f(w).T)(skew)"),
@@ -177,6 +214,11 @@ MUTATIONS = {
     "task5_test1": [
         ("Ad(T) for Ad(T^-1)", _BODY_ADJOINT_T),
         ("the home pose M for the current pose", _BODY_HOME),
+    ],
+    "task6_test1": [
+        ("the Newton step with the wrong sign", _IK_STEP_SIGN),
+        ("the space Jacobian with the body twist", _IK_SPACE_JACOBIAN),
+        ("a step before the convergence test (a start at the goal takes one step)", _IK_STEP_FIRST),
     ],
 }
 
@@ -267,5 +309,20 @@ def jacobian_in_body(M, S_list, theta):
 
 
 Jb0 = jacobian_in_body(M, S_list, THETA0)
+"""),
+    "task6_answer1": ("a while loop and the step by least squares", """
+
+# written another way: a while loop, and the Newton step from np.linalg.lstsq
+def ik_body(M, S_list, T_goal, theta_start, tolerance=1e-10, max_iterations=30):
+    theta, steps = np.asarray(theta_start, dtype=float).copy(), 0
+    while True:
+        error = transform_log(transform_inverse(poe_fk(M, S_list, theta)) @ T_goal)
+        if np.all(np.linalg.norm(error.reshape(2, 3), axis=1) < tolerance) or steps == max_iterations:
+            return theta, steps
+        step = np.linalg.lstsq(jacobian_in_body(M, S_list, theta), error, rcond=None)[0]
+        theta, steps = theta + step, steps + 1
+
+
+theta_ik, iterations_ik = ik_body(M, S_list, T_GOAL, THETA_START)
 """),
 }
