@@ -178,3 +178,57 @@ def test_not_a_function_and_raise_on_fail():
     assert cb.circle_velocity(np.zeros(3), quiet=True).diagnosis == "constant"
     with pytest.raises(AssertionError, match="chain rule"):
         cb.circle_velocity(WRONG_VELOCITY["missing_chain_rule"], quiet=True, raise_on_fail=True)
+
+
+# ---------------------------------------------------------------- the tracking loop
+def track_kkt(q0, r_des, v_des, kp=cb.KP, ts=cb.TS, *, sign=1.0, record_after=False, ff=True, ff_gain=1.0,
+              ignore_kp=False):
+    """Euler steps of the law, each command from the KKT system of the minimum-norm problem
+    (and, with the keywords, the loop's typical mistakes)."""
+    q, rows = np.array(q0, dtype=float), []
+    gain = 0.0 if ignore_kp else kp
+    for r_d, v_d in zip(r_des, v_des):
+        if not record_after:
+            rows.append(q.copy())
+        J = ARM.position_jacobian(q)
+        v = (ff_gain * v_d if ff else 0.0) + gain * sign * (r_d - ARM.fk(q)[:3, 3])
+        K = np.block([[np.eye(7), J.T], [J, np.zeros((3, 3))]])
+        q = q + ts * np.linalg.solve(K, np.r_[np.zeros(7), v])[:7]
+        if record_after:
+            rows.append(q.copy())
+    return np.array(rows)
+
+
+def test_tracking_loop_correct_answer_passes():
+    r = cb.tracking_loop(track_kkt, quiet=True)
+    assert r.passed and r.diagnosis is None, r.message
+
+
+def test_tracking_loop_reduces_to_the_resolved_rate_law():
+    """One step of the loop is q0 + ts times the law that resolved_rate checks."""
+    q0 = cb.Q_START + 0.05
+    r_des = np.array([ARM.fk(q0)[:3, 3] + [0.01, 0.0, 0.0]] * 2)
+    v_des = np.array([[0.0, 0.05, 0.0]] * 2)
+    Q = track_kkt(q0, r_des, v_des, kp=5.0, ts=0.01)
+    J = ARM.position_jacobian(q0)
+    assert np.allclose(J @ (Q[1] - Q[0]) / 0.01, v_des[0] + 5.0 * (r_des[0] - ARM.fk(q0)[:3, 3]))
+
+
+WRONG_TRACK = {
+    "open_loop": lambda q0, r, v, kp=cb.KP, ts=cb.TS: track_kkt(q0, r, v, kp, ts, ignore_kp=True),
+    "no_feedforward": lambda q0, r, v, kp=cb.KP, ts=cb.TS: track_kkt(q0, r, v, kp, ts, ff=False),
+    "error_sign": lambda q0, r, v, kp=cb.KP, ts=cb.TS: track_kkt(q0, r, v, kp, ts, sign=-1.0),
+    "recorded_after_step": lambda q0, r, v, kp=cb.KP, ts=cb.TS: track_kkt(q0, r, v, kp, ts, record_after=True),
+    "gain_on_feedforward": lambda q0, r, v, kp=cb.KP, ts=cb.TS: track_kkt(q0, r, v, kp, ts, ff_gain=kp),
+}
+
+
+@pytest.mark.parametrize("code", WRONG_TRACK)
+def test_tracking_loop_mistakes(code):
+    r = cb.tracking_loop(WRONG_TRACK[code], quiet=True)
+    assert not r.passed and r.diagnosis == code, r.message
+
+
+def test_tracking_loop_wrong_shape_is_explained():
+    r = cb.tracking_loop(lambda q0, r, v, kp=cb.KP, ts=cb.TS: track_kkt(q0, r, v, kp, ts)[1:], quiet=True)
+    assert not r.passed and "shape (6, 7)" in r.message

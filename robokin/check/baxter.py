@@ -21,6 +21,8 @@ check                    the student's answer                                 in
 ``circle_velocity``      function ``v_des(t)`` -> (3,) (m/s)                   t in [0, 4] s
 ``resolved_rate``        function ``(q, r_des, v_des)`` -> q̇ (7,) (rad/s)     q, r_des, v_des
                          :math:`\mathbf J_v^+(\mathbf q)(\dot{\mathbf r}_{des} + K_p(\mathbf r_{des}-\mathbf r(\mathbf q)))`, :data:`KP`
+``tracking_loop``        function ``track(q0, r_des, v_des, kp, ts)`` ->      start, reference,
+                         joint angles (N, 7) (rad), Euler steps of that law   gain, time step
 ``forward_kinematics``   function ``T(q)`` -> 4×4, shoulder frame -> hand      q within the limits
 ``hand_position_at``     numbers: the hand position at :data:`Q_START` (m)     --
 =======================  ==================================================  ====================
@@ -41,19 +43,33 @@ from __future__ import annotations
 
 import math
 from functools import cache
+from typing import Any
 
 import numpy as np
 
 from robokin.check import diagnoses as dg
-from robokin.check._core import Check, Variable, alternatives
+from robokin.check._core import Check, CheckResult, MatrixArgumentsCheck, Variable, alternatives
 from robokin.check._registry import exercise
 
 __all__ = [
-    "circle_position", "circle_velocity", "resolved_rate", "forward_kinematics", "hand_position_at",
+    "circle_position", "circle_velocity", "resolved_rate", "tracking_loop", "forward_kinematics",
+    "hand_position_at",
     "Q_START", "P_START", "CENTRE", "RADIUS", "OMEGA", "PERIOD", "TS", "KP", "JOINT2_OFFSET",
 ]
 
 _CHAPTER = "baxter"
+
+#: check -> {the robokin function that solves its task: how the grading report names it}: an
+#: answer that hands one back (a track that calls track_position_batch) is flagged for review
+#: by hand (tools/grading_bridge/delegation.py reads this literal table without importing it)
+DELEGATION = {
+    "resolved_rate": {"CartesianController": "robokin.motion.CartesianController",
+                      "simulate": "robokin.motion.simulate",
+                      "track_position_batch": "robokin.motion.track_position_batch"},
+    "tracking_loop": {"CartesianController": "robokin.motion.CartesianController",
+                      "simulate": "robokin.motion.simulate",
+                      "track_position_batch": "robokin.motion.track_position_batch"},
+}
 _PI = math.pi
 
 #: Joint limits of the left arm (rad), s0 … w2 (URDF).
@@ -294,6 +310,114 @@ resolved_rate = exercise(_CHAPTER, "resolved_rate", Check(
     atol=1e-6,
     doc=("Check a function qdot(q, r_des, v_des) -> J_v⁺(q)(v_des + Kp (r_des − r(q))), Kp = 10 /s, "
           "Baxter left arm, shoulder frame, hand flange."),
+))
+
+
+# ------------------------------------------------------------------ the tracking loop
+_TRACK_SAMPLES = 6
+
+
+def _track_loop(q0, r_des, v_des, kp, ts, *, sign=1.0, record_after=False, gain_on_ff=False,
+                feedforward=True, open_loop=False) -> np.ndarray:
+    """The reference Euler loop (and, with the keywords, its typical mistakes): the joint
+    angles at the samples, shape (N, 7), row 0 = q0."""
+    arm = _arm()
+    q = np.array(q0, dtype=float)
+    gain = 0.0 if open_loop else kp
+    Q = []
+    for r_d, v_d in zip(r_des, v_des):
+        if not record_after:
+            Q.append(q.copy())
+        e = sign * (r_d - arm.fk(q)[:3, 3])
+        v = gain * (v_d + e) if gain_on_ff else (v_d if feedforward else 0.0) + gain * e
+        q = q + ts * (np.linalg.pinv(arm.position_jacobian(q)) @ v)
+        if record_after:
+            Q.append(q.copy())
+    return np.array(Q)
+
+
+def _track_args(x: np.ndarray) -> tuple:
+    """``(q0, r_des, v_des, kp, ts)``: a straight reference line that starts near the hand,
+    sampled at N = 6 instants."""
+    q0 = np.array(x[:7])
+    kp, ts = float(x[13]), float(x[14])
+    k = np.arange(_TRACK_SAMPLES)[:, None]
+    v_des = np.tile(x[10:13], (_TRACK_SAMPLES, 1))
+    r_des = _position(q0) + x[7:10] + k * ts * v_des
+    return q0, r_des, v_des, kp, ts
+
+
+def _pack_track(out: Any) -> np.ndarray:
+    if isinstance(out, tuple):
+        raise TypeError(f"track should return one array of joint angles (N, 7), not a tuple of "
+                        f"{len(out)} items")
+    Q = np.asarray(out, dtype=float)
+    if Q.shape != (_TRACK_SAMPLES, 7):
+        raise TypeError(f"track should return the joint angles at the N = {_TRACK_SAMPLES} "
+                        f"samples of r_des, shape ({_TRACK_SAMPLES}, 7); got shape {Q.shape}")
+    return Q.ravel()
+
+
+def _track_variant(**kwargs):
+    return lambda x: _pack_track(_track_loop(*_track_args(x), **kwargs))
+
+
+class _PackedTrackCheck(MatrixArgumentsCheck):
+    """The loop's joint angles (N, 7), packed into one vector, compared as a whole."""
+
+    def evaluate(self, answer: Any) -> CheckResult:
+        if callable(answer) and not isinstance(answer, np.ndarray):
+            student = answer
+
+            def packed(*args: Any) -> np.ndarray:
+                return _pack_track(student(*args))
+
+            return super().evaluate(packed)
+        return super().evaluate(answer)
+
+
+tracking_loop = exercise(_CHAPTER, "tracking_loop", _PackedTrackCheck(
+    name="track(q0, r_des, v_des, kp, ts)",
+    reference=_track_variant(),
+    variables=[
+        *_Q_REGULAR,
+        *[Variable(f"offset_{c}", "other", -0.02, 0.02) for c in "xyz"],
+        *[Variable(f"v_{c}", "other", -0.2, 0.2) for c in "xyz"],
+        Variable("kp", "other", 2.0, 20.0),
+        Variable("ts", "other", 0.005, 0.04),
+    ],
+    groups=[(f"x{k}", [k]) for k in range(15)],
+    diagnoses=[
+        alternatives("open_loop", [(_track_variant(open_loop=True), (
+            "{name} ignores the gain kp: it integrates the open-loop law q̇ = J⁺ ṙ_des. The "
+            "command is q̇ = J⁺(ṙ_des + kp (r_des − r(q))), kp = 0 only for the open loop."
+        ))]),
+        alternatives("no_feedforward", [(_track_variant(feedforward=False), (
+            "{name} never adds the feed-forward velocity: the command is "
+            "q̇ = J⁺(ṙ_des + kp (r_des − r))."
+        ))]),
+        alternatives("error_sign", [(_track_variant(sign=-1.0), (
+            "{name} feeds back r − r_des: the error must be r_des − r, otherwise the loop "
+            "pushes the hand away."
+        ))]),
+        alternatives("recorded_after_step", [(_track_variant(record_after=True), (
+            "{name} records q after the Euler step: row k must be the configuration at "
+            "sample k, the one the command of sample k is computed from (row 0 = q0)."
+        ))]),
+        alternatives("gain_on_feedforward", [(_track_variant(gain_on_ff=True), (
+            "{name} multiplies the feed-forward velocity by kp too: q̇ = J⁺(ṙ_des + kp "
+            "(r_des − r))."
+        ))]),
+    ],
+    noun="starts, references, gains and time steps",
+    arguments=_track_args,
+    signature="track(q0, r_des, v_des, kp, ts) -> joint angles (N, 7)",
+    hint=("The loop: q = q0; for each sample k: log q; e = r_des[k] − r(q); "
+          "q̇ = J_v⁺(q)(v_des[k] + kp e); q = q + ts q̇."),
+    atol=1e-7,
+    doc=("Check a resolved-rate tracking loop track(q0, r_des, v_des, kp, ts) that returns "
+         "the joint angles at the samples, shape (N, 7), row 0 = q0 (Baxter left arm, "
+         "shoulder frame, hand flange)."),
 ))
 
 

@@ -1,14 +1,24 @@
 """Wrong answers that each autograded test of chapter 5 must reject."""
 
-_P_ONLY_LOG = (
-    "log = simulate(arm, CartesianController(arm, lambda time: reference(time).positions,"
-    " position_gain=KP), Q_START, TS, T_END, tol=None)\n"
-    "Q_run = log.q\n"
-    "v_hand = np.gradient(log.pose[:, :3, 3], TS, axis=0)"
-)
-
 MUTATIONS = {
     "task1_test1": [
+        ("the link transform in standard-DH order, R_z T_z T_x R_x",
+         "def mdh_link(a, alpha, d, theta):\n"
+         "    ct, st, ca, sa = np.cos(theta), np.sin(theta), np.cos(alpha), np.sin(alpha)\n"
+         "    return np.array([[ct, -st * ca, st * sa, a * ct], [st, ct * ca, -ct * sa, a * st],\n"
+         "                     [0.0, sa, ca, d], [0.0, 0.0, 0.0, 1.0]])"),
+        ("the joint offsets of the table left out",
+         "def fk_table(table, q, d_hand=D_HAND):\n"
+         "    T = np.eye(4)\n"
+         "    for (a, alpha, d, off), qi in zip(table, q):\n"
+         "        T = T @ mdh_link(a, alpha, d, qi)\n"
+         "    return T @ mdh_link(0.0, 0.0, d_hand, 0.0)"),
+        ("the hand flange left out (the pose of joint 7)",
+         "def fk_table(table, q, d_hand=D_HAND):\n"
+         "    T = np.eye(4)\n"
+         "    for (a, alpha, d, off), qi in zip(table, q):\n"
+         "        T = T @ mdh_link(a, alpha, d, qi + off)\n"
+         "    return T"),
         ("the joint-2 offset left out of with_offset",
          "with_offset = as_printed\ngap_offset = max(hand_gap(with_offset, q) for q in Q_TEST)"),
         ("the printed table compared with the robot at q + offset instead of q - offset",
@@ -25,53 +35,83 @@ MUTATIONS = {
         ("'as printed' table already carrying the offset", "as_printed = with_offset"),
     ],
     "task2_test1": [
-        ("the circle centred on the hand", "CENTRE = P_START\nref = reference(t)"),
-    ],
-    "task2_test2": [
-        ("v_des without the chain rule's factor omega",
-         "def v_des(time):\n"
-         "    return RADIUS * np.array([-np.sin(OMEGA * time), np.cos(OMEGA * time), 0.0])"),
+        ("the circle centred on the hand", "CENTRE = P_START"),
+        ("the velocity without the chain rule's factor omega",
+         "_reference = reference\n"
+         "def reference(time):\n"
+         "    positions, velocities = _reference(time)\n"
+         "    return positions, velocities / OMEGA"),
         ("omega in degrees per second",
-         "reference = lambda time: circle_trajectory(time, CENTRE, RADIUS, normal=[0, 0, 1],"
-         " angular_speed=90.0)"),
+         "def reference(time):\n"
+         "    angle = 90.0 * np.asarray(time, dtype=float).reshape(-1)\n"
+         "    zero = 0 * angle\n"
+         "    return (CENTRE + RADIUS * np.column_stack([np.cos(angle), np.sin(angle), zero]),\n"
+         "            RADIUS * 90.0 * np.column_stack([-np.sin(angle), np.cos(angle), zero]))"),
+        ("clockwise positions with the counter-clockwise profile",
+         "_reference = reference\n"
+         "def reference(time):\n"
+         "    positions, velocities = _reference(time)\n"
+         "    positions = positions.copy()\n"
+         "    positions[:, 1] = 2 * CENTRE[1] - positions[:, 1]\n"
+         "    return positions, velocities"),
     ],
     "task3_test1": [
+        ("the open-loop law whatever kp",
+         "_resolved_rate = resolved_rate\n"
+         "def resolved_rate(q, r_des, v_des, kp=KP):\n"
+         "    return _resolved_rate(q, r_des, v_des, kp=0.0)"),
+        ("the Jacobian transpose instead of the pseudoinverse",
+         "def resolved_rate(q, r_des, v_des, kp=KP):\n"
+         "    J = arm.position_jacobian(q)\n"
+         "    return J.T @ (v_des + kp * (r_des - arm.fk(q)[:3, 3]))"),
+        ("the error fed back as r - r_des",
+         "def resolved_rate(q, r_des, v_des, kp=KP):\n"
+         "    J = arm.position_jacobian(q)\n"
+         "    return np.linalg.pinv(J) @ (v_des + kp * (arm.fk(q)[:3, 3] - r_des))"),
+    ],
+    "task3_test2": [
         ("the closed loop run without feedback",
          "Q_loop = {'open loop': Q_loop['open loop'], 'closed loop': Q_loop['open loop']}"),
-        ("simulate with the open-loop law",
-         "log = simulate(arm, CartesianController(arm, lambda time: reference(time).positions,"
-         " position_gain=0.0, feedforward=lambda time: reference(time).velocities),"
-         " Q_START, TS, T_END, tol=None)"),
+        ("q recorded after the Euler step",
+         "def track(q0, r_des, v_des, kp=KP, ts=TS):\n"
+         "    q = np.array(q0, dtype=float)\n"
+         "    Q = []\n"
+         "    for r_d, v_d in zip(r_des, v_des):\n"
+         "        q = q + ts * resolved_rate(q, r_d, v_d, kp)\n"
+         "        Q.append(q)\n"
+         "    return np.array(Q)"),
+        ("the gain kp ignored (always the open loop)",
+         "_track = track\n"
+         "def track(q0, r_des, v_des, kp=KP, ts=TS):\n"
+         "    return _track(q0, r_des, v_des, kp=0.0, ts=ts)"),
     ],
     "task3_test3": [
+        ("the open-loop hand taken from the closed-loop run",
+         "hand = {'open loop': hand['closed loop'], 'closed loop': hand['closed loop']}"),
+    ],
+    "task3_test4": [
         ("errors in metres, not millimetres",
          "drift = {ts: [e / 1e3 for e in pair] for ts, pair in drift.items()}"),
         ("closed-loop column from a P-only law",
          "drift = {ts: [e_open, 20 * e_closed] for ts, (e_open, e_closed) in drift.items()}"),
-    ],
-    "task3_test2": [
-        ("skip_first_step ignored",
-         "_euler_loop = euler_loop\n"
-         "def euler_loop(kp, q0=Q_START, skip_first_step=False):\n"
-         "    return _euler_loop(kp, q0)"),
-    ],
-    "task3_test4": [
-        ("no feed-forward in the controller (the hand lags)", _P_ONLY_LOG),
+        ("the orders taken as the slopes of error against ts, not of their logarithms",
+         "order_open, order_closed = np.polyfit(list(drift), np.array(list(drift.values())),"
+         " 1)[0]"),
     ],
     "task3_test5": [
-        ("the open-loop law",
-         "_resolved_rate = resolved_rate\n"
-         "resolved_rate = lambda q, r_des, v_des, kp=KP: _resolved_rate(q, r_des, v_des, kp=0.0)"),
+        ("no feed-forward in the loop (the hand lags)",
+         "Q_run = track(Q_START, r_ref, 0 * v_ref, kp=KP)\n"
+         "v_hand = np.gradient(arm.fk(Q_run)[:, :3, 3], TS, axis=0)"),
     ],
     "task4_test1": [
         ("the sweep tracked open loop",
          "sweep = track_position_batch(arm, Q_SWEEP, TS, P0_SWEEP[:, None, :] + relative,"
-         " ref.velocities, gain=0.0)\nworst = sweep.position_error.max(axis=1)"),
+         " v_ref, gain=0.0)\nworst = sweep.position_error.max(axis=1)"),
     ],
     "task4_test2": [
         ("every run given the circle of q_start, not one through its own start",
-         "sweep = track_position_batch(arm, Q_SWEEP, TS, np.broadcast_to(ref.positions,"
-         " (63,) + ref.positions.shape), ref.velocities, gain=KP)"),
+         "sweep = track_position_batch(arm, Q_SWEEP, TS, np.broadcast_to(r_ref,"
+         " (63,) + r_ref.shape), v_ref, gain=KP)"),
         ("rho measured from the joint's origin, not from its axis",
          "rho = np.array([np.linalg.norm(P_START - arm.frames(Q_START)[j + 1][:3, 3])"
          " for j in range(7)])"),
@@ -85,8 +125,8 @@ MUTATIONS = {
     ],
     "task4_test4": [
         ("five copies of q_start",
-         "same = track_position_batch(arm, np.tile(Q_START, (5, 1)), TS, ref.positions,"
-         " ref.velocities, gain=KP)"),
+         "same = track_position_batch(arm, np.tile(Q_START, (5, 1)), TS, r_ref,"
+         " v_ref, gain=KP)"),
     ],
     "task5_test1": [
         ("the best-conditioned run taken for the worst",
@@ -96,7 +136,7 @@ MUTATIONS = {
         ("damping of 0.02 mm instead of 0.02 m",
          "bad = dict(bad)\n"
          "bad[dls_name] = track_position_batch(arm, starts, TS, p_bad + relative,"
-         " ref.velocities, clamp=False, gain=KP, inverse='dls', damping=2e-5)"),
+         " v_ref, clamp=False, gain=KP, inverse='dls', damping=2e-5)"),
     ],
     "task5_test2": [
         ("the last step taken for the most singular one",
