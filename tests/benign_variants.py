@@ -265,6 +265,18 @@ T_ET = transform_from_ypr(TOOL_YPR, TOOL_OFFSET)
 tool_arm = chain_with_tool(arm, T_ET, name="genova_arm+tool")
 T_BT0 = tool_arm.fk(Q0)
 '''),
+        "task2_answer1": ("the angle and axis from the unit quaternion, the error from R_goal R^T", '''
+
+def angle_axis(R):  # written another way: from the unit quaternion (w >= 0) of R
+    w, x, y, z = quaternion_from_rotation(R)
+    vector = np.sign(w) * np.array([x, y, z])
+    return vector / np.linalg.norm(vector), 2 * np.arctan2(np.linalg.norm(vector), abs(w))
+
+
+def orientation_error(R, R_goal):  # written another way: R_goal R^T is already in B
+    axis, angle = angle_axis(R_goal @ R.T)
+    return angle * axis
+'''),
     },
     "05_baxter_circle": {
         "task1_answer2": ("a fourth-order central difference stencil", '''
@@ -278,11 +290,26 @@ def jv_fd(q, h=1e-4):  # written another way: the five-point stencil, error O(h^
         for step in h * np.eye(7)
     ])
 '''),
-        "task2_answer1": ("the circle's velocity as omega x (r - centre)", '''
+        "task2_answer1": ("the circle as a complex number, its velocity as omega x (r - centre)", '''
 
-def v_des(time):  # written another way: the velocity of a point turning about z
-    offset = RADIUS * np.array([np.cos(OMEGA * time), np.sin(OMEGA * time), 0.0])
-    return np.cross([0.0, 0.0, OMEGA], offset)
+def reference(time):  # written another way: c + r exp(i omega t), velocity omega e_z x (r - c)
+    turn = RADIUS * np.exp(1j * OMEGA * np.atleast_1d(np.asarray(time, dtype=float)))
+    offset = np.column_stack([turn.real, turn.imag, np.zeros(turn.shape)])
+    return CENTRE + offset, np.cross([0.0, 0.0, OMEGA], offset)
+'''),
+        "task3_answer1": ("the loop with a preallocated array and J^T (J J^T)^-1", '''
+
+def resolved_rate(q, r_des, v_des, kp=KP):  # written another way: the right inverse by solve
+    J = arm.position_jacobian(q)
+    return J.T @ np.linalg.solve(J @ J.T, v_des + kp * (r_des - arm.fk(q)[:3, 3]))
+
+
+def track(q0, r_des, v_des, kp=KP, ts=TS):  # written another way: rows filled in place
+    Q = np.empty((len(r_des), 7))
+    Q[0] = q0
+    for k in range(len(r_des) - 1):
+        Q[k + 1] = Q[k] + ts * resolved_rate(Q[k], r_des[k], v_des[k], kp)
+    return Q
 '''),
         "task4_answer1": ("rho as the lengths of J_v's columns", '''
 
@@ -305,7 +332,7 @@ def hand_to(q, target, tol=1e-10, max_steps=50):  # written another way
 
 
 Q_SAME = np.array([hand_to(guess, P_START) for guess in guesses])
-same = track_position_batch(arm, Q_SAME, TS, ref.positions, ref.velocities, gain=KP)
+same = track_position_batch(arm, Q_SAME, TS, r_ref, v_ref, gain=KP)
 '''),
     },
     "06_ar601_leg_ik": {
