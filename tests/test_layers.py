@@ -54,8 +54,8 @@ KNOWN_CYCLES: dict[frozenset, str] = {}
 
 #: The modules of robokin.views, bottom up: each imports only views modules listed before it
 #: (the layers of the robokin.views docstring). ``_server`` runs in its own process and imports none.
-VIEWS_ORDER = ["optional", "record", "arguments", "geometry", "meshcat_draw", "static_html", "plots", "meshes",
-               "live", "sphinx_extension", "display", "scene", "sliders", "_server", ""]
+VIEWS_ORDER = ["optional", "record", "arguments", "geometry", "ellipsoids", "meshcat_draw", "static_html", "plots",
+               "meshes", "live", "sphinx_extension", "display", "scene", "sliders", "_server", ""]
 
 #: Modules allowed to import inside functions (all other views modules import at the top).
 FUNCTION_IMPORTS_ALLOWED = {
