@@ -45,7 +45,8 @@ checks the order):
 1. :mod:`~robokin.views.optional` (the optional libraries, each imported there
    only, on first use), :mod:`~robokin.views.record` (the scene's items),
    :mod:`~robokin.views.arguments` (argument checks);
-2. :mod:`~robokin.views.geometry` (frames, layout, scale, bounds: numpy only);
+2. :mod:`~robokin.views.geometry` (frames, layout, scale, bounds: numpy only),
+   :mod:`~robokin.views.ellipsoids` (the curves of velocity and force ellipsoids: numpy only);
 3. backends: :mod:`~robokin.views.meshcat_draw` (MeshCat commands),
    :mod:`~robokin.views.static_html`, :mod:`~robokin.views.plots` (matplotlib),
    :mod:`~robokin.views.meshes` (URDF meshes), :mod:`~robokin.views.live` (live server),
