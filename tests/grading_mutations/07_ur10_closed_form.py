@@ -108,6 +108,19 @@ MUTATIONS = {
          "np.asarray(f(T)).reshape(-1, 6)[:1] + [0, 0, 0, 0, 0, 0.5]]))(all_solutions)\n"
          "Q_goal = all_solutions(T_goal)"),
     ],
+    "task5_test1": [
+        ("the wrist at cos q5 = 0",
+         "coinciding_branches = (lambda f: lambda q: [n for n in f(q) if n != 'wrist']"
+         " + (['wrist'] if abs(np.cos(q[4])) < 1e-9 else []))(coinciding_branches)"),
+        ("the elbow forgotten",
+         "coinciding_branches = (lambda f: lambda q: [n for n in f(q) if n != 'elbow'])(coinciding_branches)"),
+        ("the shoulder from the flange position",
+         "coinciding_branches = (lambda f: lambda q: [n for n in f(q) if n != 'shoulder']"
+         " + (['shoulder'] if abs(np.hypot(*robot.fk(q)[:2, 3]) - abs(D4)) < 1e-9 else []))"
+         "(coinciding_branches)"),
+        ("every configuration singular",
+         "coinciding_branches = lambda q: ['shoulder', 'wrist', 'elbow']"),
+    ],
 }
 
 VARIANTS = {
@@ -179,5 +192,15 @@ def all_solutions(T):
 
 
 Q_goal = all_solutions(T_goal)
+"""),
+    "task5_answer1": ("the shoulder from the last factor of det J, the sines as remainders", """
+
+# written another way: X of the wrist centre in frame 1 is 0 on the cylinder; q mod pi near 0
+def coinciding_branches(q, tol=1e-9):
+    q = np.asarray(q, dtype=float)
+    X = A2 * np.cos(q[1]) + A3 * np.cos(q[1] + q[2]) + D5 * np.sin(q[1] + q[2] + q[3])
+    near_zero = lambda angle: min(angle % np.pi, np.pi - angle % np.pi) < tol  # noqa: E731
+    found = {"shoulder": abs(X) < tol, "wrist": near_zero(q[4]), "elbow": near_zero(q[2])}
+    return [name for name, singular in found.items() if singular]
 """),
 }
