@@ -484,6 +484,20 @@ def _slerp(q0: np.ndarray, q1: np.ndarray, s: float, *, flip: bool = True, linea
     return (math.sin((1 - s) * omega) * q0 + math.sin(s * omega) * q1) / math.sin(omega)
 
 
+def _euler_interpolation(q0: np.ndarray, q1: np.ndarray, s: float) -> np.ndarray:
+    """The mistake of interpolating roll, pitch and yaw linearly, as a quaternion."""
+    from robokin.transforms import (
+        quaternion_from_rotation,
+        rotation_from_quaternion,
+        rotation_from_rpy,
+        rpy_from_rotation,
+    )
+
+    a = np.asarray(rpy_from_rotation(rotation_from_quaternion(q0)), dtype=float)
+    b = np.asarray(rpy_from_rotation(rotation_from_quaternion(q1)), dtype=float)
+    return quaternion_from_rotation(rotation_from_rpy(*((1 - s) * a + s * b)))
+
+
 def _slerp_cases() -> list[tuple[np.ndarray, np.ndarray, float]]:
     """Pairs of unit quaternions and parameters: generic, q0·q1 < 0, equal, nearly equal (1e-10 rad)."""
     rng = np.random.default_rng(7)
@@ -519,6 +533,10 @@ _SLERP_MISTAKES: list[tuple[str, Callable[..., np.ndarray], str]] = [
     ("rotation_angle", lambda q0, q1, s: _slerp(q0, q1, s, angle_factor=2.0), (
         "{name} uses the rotation angle θ as Ω: the angle between the quaternions q0 and q1 (as vectors "
         "in 4D) is Ω = θ/2, cos Ω = q0·q1.")),
+    ("euler_angles", lambda q0, q1, s: _euler_interpolation(q0, q1, s), (
+        "{name} interpolates roll, pitch and yaw one by one: the axis of the rotation then moves "
+        "during the motion, and an angle that wraps at ±π turns the long way. Interpolate the "
+        "quaternions on the sphere (slerp).")),
     ("reversed", lambda q0, q1, s: _slerp(q1, q0, s), (
         "{name} runs from q1 to q0: at s = 0 it must give q0.")),
 ]
