@@ -3,7 +3,7 @@ r"""Point-to-point joint motions in minimum time within velocity and acceleratio
 What an industrial controller's PTP move does: every joint goes from ``q_start`` to ``q_end``
 at rest at both ends, no joint exceeds its speed :math:`\dot q_{max,i}` or acceleration
 :math:`\ddot q_{max,i}`, and all joints start and arrive together, in the least time that
-allows (Siciliano et al. 2009, §4.2.1; Biagiotti & Melchiorri 2008, §3.2 and §5.1):
+allows (Siciliano et al. 2009, §4.2.1; Lynch & Park 2017, §9.2.2):
 
 1. each joint's own minimum time :math:`T_i` for its displacement :math:`D_i = |q_{end,i} -
    q_{start,i}|`: with the trapezoidal law, :math:`T_i = D_i/\dot q_{max} + \dot q_{max}/\ddot
@@ -13,8 +13,8 @@ allows (Siciliano et al. 2009, §4.2.1; Biagiotti & Melchiorri 2008, §3.2 and �
    :math:`T_i = \max(c_v D_i/\dot q_{max},\ \sqrt{c_a D_i/\ddot q_{max}})`;
 2. the motion's duration is the slowest joint's, :math:`T = \max_i T_i`;
 3. every joint is planned again with duration :math:`T`: a trapezoid with its own maximum
-   acceleration and the cruise speed that takes exactly :math:`T` (Siciliano et al. 2009,
-   eq. 4.6 solved for the cruise time), or the polynomial scaled to :math:`T`.
+   acceleration and the cruise speed that takes exactly :math:`T` (the smaller root of
+   :math:`v(T - v/\ddot q_{max,i}) = D_i`), or the polynomial scaled to :math:`T`.
 """
 
 from __future__ import annotations

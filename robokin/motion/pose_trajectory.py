@@ -4,8 +4,8 @@ r"""A straight-line motion of a frame: the position on a segment, the orientatio
     \mathbf{p}(t) = \mathbf{p}_0 + s(\tau)(\mathbf{p}_1 - \mathbf{p}_0), \qquad
     \mathbf{R}(t) = \mathbf{R}_0\, e^{[\mathbf{w}]s(\tau)}, \qquad \tau = t/T,
 
-with one timing law :math:`s` for both (Siciliano et al. 2009, §4.3.2 and §4.4, eq. 4.54; Lynch
-& Park 2017, §9.1): :math:`\mathbf{w} = \theta\mathbf{h}` is the rotation vector of
+with one timing law :math:`s` for both (Siciliano et al. 2009, §4.3; Lynch & Park 2017,
+§9.2.1): :math:`\mathbf{w} = \theta\mathbf{h}` is the rotation vector of
 :math:`\mathbf{R}_0^\mathsf{T}\mathbf{R}_1`, the short way (:math:`\theta \le \pi`), and
 :math:`\mathbf{R}(t)` is the slerp of the two orientations' quaternions. Interpolating Euler
 angles instead would turn about a moving axis, the long way round when an angle wraps.

@@ -267,7 +267,7 @@ def quaternion_slerp(q0: Any, q1: Any, s: Any) -> np.ndarray:
         q(s) = \frac{\sin((1 - s)\Omega)}{\sin\Omega}\, q_0 + \frac{\sin(s\Omega)}{\sin\Omega}\, q_1,
         \qquad \Omega = \angle(q_0, q_1) \in [0, \tfrac{\pi}{2}]
 
-    (Shoemake 1985; Lynch & Park 2017, App. B.3.) :math:`q_1` and :math:`-q_1` are the same
+    (Shoemake 1985, "Animating rotation with quaternion curves".) :math:`q_1` and :math:`-q_1` are the same
     rotation: the one with :math:`q_0 \cdot q_1 \ge 0` is taken, so that the rotation turns by
     the smaller angle :math:`2\Omega \le \pi` about a fixed axis, at the constant angular rate
     :math:`2\Omega` per unit of ``s``. The angle is computed as
