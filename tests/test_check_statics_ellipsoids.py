@@ -141,4 +141,4 @@ def test_delegation_names_robokin_functions():
     for check, references in chk.DELEGATION.items():
         assert hasattr(chk, check)
         for attribute in references:
-            assert hasattr(ellipsoids, attribute) or attribute in ("position_jacobian", "jacobian", "manipulability")
+            assert hasattr(ellipsoids, attribute) or attribute in ("position_jacobian", "jacobian")
