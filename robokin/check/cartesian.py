@@ -82,6 +82,15 @@ __all__ = [
 ]
 
 _CHAPTER = "cartesian"
+
+#: check -> {the robokin function that solves its task: how the grading report names it}: an
+#: answer that hands one back (an orientation_error that calls rotation_log) is flagged for
+#: review by hand (tools/grading_bridge/delegation.py reads this literal table without importing it)
+DELEGATION = {
+    "orientation_error": {"rotation_log": "robokin.transforms.rotation_log",
+                          "pose_error": "robokin.motion.pose_error",
+                          "angle_axis_from_rotation": "robokin.transforms.angle_axis_from_rotation"},
+}
 #: Number of joints of the course's arm.
 N_JOINTS = 7
 #: The tool's orientation as the course writes it, (yaw, pitch, roll) in rad, and its offset in metres (frame E).

@@ -211,6 +211,22 @@ theta_naive = np.array(
 )
 """
 
+# the orientation error left in the frame of the current orientation
+_ERROR_IN_TOOL_FRAME = """
+def orientation_error(R, R_goal):
+    h_T, angle = angle_axis(R.T @ R_goal)
+    return angle * h_T
+"""
+
+# the axis from R^T - R: the opposite direction
+_AXIS_SIGN = """
+_angle_axis = angle_axis
+
+def angle_axis(R):
+    h, angle = _angle_axis(R)
+    return -np.asarray(h), angle
+"""
+
 MUTATIONS = {
     "task1_test1": [
         ("the YPR triple read as (roll, pitch, yaw)", _TOOL_AS_RPY),
@@ -226,6 +242,8 @@ MUTATIONS = {
         ("the goal triple read as (roll, pitch, yaw)", _GOAL_AS_RPY),
         ("the rotation axis left in tool coordinates", _AXIS_IN_TOOL_FRAME),
         ("the error from the goal to the tool", _ERROR_SIGN),
+        ("orientation_error left in the frame of R", _ERROR_IN_TOOL_FRAME),
+        ("the axis of angle_axis with the wrong sign", _AXIS_SIGN),
     ],
     "task2_test2": [
         ("the goal's pose inverted instead of the tool's", _INVERTED_THE_GOAL),
@@ -239,6 +257,8 @@ MUTATIONS = {
     ],
     "task3_test2": [
         ("joint 7 dropped to solve a square 6x6 system", _SQUARE_SYSTEM),
+        ("the first right singular vector taken for the null space",
+         "spare = np.linalg.svd(J_T0)[2][0]"),
     ],
     "task4_test1": [
         ("the step taken before the stop test", _STEP_THEN_TEST),
@@ -248,6 +268,13 @@ MUTATIONS = {
     "task4_test2": [
         ("the report's skip rule instead of clamping", _SKIP_RULE),
         ("the twist stacked [w; v] in the loop", _RUN_COURSE_ORDER),
+    ],
+    "task4_test3": [
+        ("the factor per step taken as kappa ts", "factor_per_step = GAIN_ANGULAR * TS"),
+        ("the stop predicted from the position error",
+         "k_predicted = int(np.ceil(np.log(STOP / (GAIN_ANGULAR * np.linalg.norm(e0[:3])))"
+         " / np.log(factor_per_step)))"),
+        ("the stability limit taken at kappa ts = 1", "kts_limit = 1.0"),
     ],
     "task5_test1": [
         ("the yaw difference not wrapped into (-pi, pi]", _UNWRAPPED),
