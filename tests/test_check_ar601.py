@@ -247,3 +247,123 @@ def test_ik_solver_wrong_ankle_angles_at_the_right_distance():
 
     r = ck.ik_solver(bad, quiet=True)
     assert r.diagnosis == "ankle_angles", r.message
+
+
+# ---------------------------------------------------------------- every solution: leg_ik
+def _all_solutions(T):
+    """Every solution of a foot pose, written independently of the check: robokin's
+    closed form, whose rows the forward kinematics verifies."""
+    return ar601_leg_ik(T).q
+
+
+def test_leg_ik_reference_is_robokins_closed_form():
+    leg = ar601_leg()
+    for q0 in leg.random_configurations(30, seed=7):
+        T = leg.fk(q0)
+        rows = ck._closed_form(T)
+        assert rows.shape == (8, 6) and np.allclose(leg.fk(rows), T, atol=1e-10)
+        assert ck._same_rows(rows, _all_solutions(T))
+
+
+def test_leg_ik_accepts_every_order_and_full_turns(capsys):
+    assert ck.leg_ik(_all_solutions).passed
+    assert "all 8 solutions" in capsys.readouterr().out
+    assert ck.leg_ik(lambda T: _all_solutions(T)[::-1] + 2 * np.pi, quiet=True).passed
+    assert ck.leg_ik(lambda T: list(map(list, _all_solutions(T))), quiet=True).passed
+
+
+def _hip_angles_xyz(T):
+    """The typical mistake, written out: hip angles (a, b, c) of Rx(a) Ry(b) Rz(c) = R_H."""
+    from robokin.transforms import rotx, roty
+
+    out = []
+    for q in _all_solutions(T):
+        R_H = T[:3, :3] @ (rotx(q[3]) @ roty(q[4]) @ rotx(q[5])).T
+        for sign in (1.0, -1.0):
+            c2 = sign * math.hypot(R_H[1, 2], R_H[2, 2])
+            a = math.atan2(-R_H[1, 2] / c2, R_H[2, 2] / c2)
+            b = math.atan2(R_H[0, 2], c2)
+            c = math.atan2(-R_H[0, 1] / c2, R_H[0, 0] / c2)
+            out.append([c, b, a, *q[3:]])
+    unique = []
+    for row in out:
+        if not any(np.allclose(ck._wrap(np.subtract(row, u)), 0, atol=1e-9) for u in unique):
+            unique.append(row)
+    return np.array(unique)
+
+
+@pytest.mark.parametrize("answer, code", [
+    (lambda T: _all_solutions(T)[_all_solutions(T)[:, 3] > 0], "knee_branch_missing"),
+    (lambda T: _all_solutions(T)[np.cos(_all_solutions(T)[:, 1]) > 0], "hip_branch_missing"),
+    (lambda T: np.rad2deg(_all_solutions(T)), "degrees_output"),
+    (lambda T: np.r_[_all_solutions(T), _all_solutions(T)[:1]], "duplicate"),
+    (lambda T: _all_solutions(T)[:7], "missing"),
+    (_hip_angles_xyz, "hip_order"),
+    (lambda T: ck._closed_form(T, "hip_atan2_swapped"), "hip_atan2_swapped"),
+    (lambda T: ck._closed_form(T, "ankle_atan2_swapped"), "ankle_atan2_swapped"),
+    (lambda T: ck._closed_form(T, "ankle_branch_missing"), "ankle_branch_missing"),
+    (lambda T: ck._closed_form(T, "hip_product_side"), "hip_product_side"),
+])
+def test_leg_ik_names_the_mistake(answer, code):
+    result = ck.leg_ik(answer, quiet=True)
+    assert not result.passed and result.diagnosis == code, result.message
+    assert "my_leg_ik" in result.message
+
+
+def test_leg_ik_hip_atan2_swapped_written_out():
+    def swapped(T):
+        rows = _all_solutions(T).copy()
+        rows[:, 0] = np.pi / 2 - rows[:, 0]  # atan2(x, y) = pi/2 - atan2(y, x)
+        rows[:, 2] = np.pi / 2 - rows[:, 2]
+        return rows
+
+    result = ck.leg_ik(swapped, quiet=True)
+    assert result.diagnosis == "hip_atan2_swapped", result.message
+
+
+@pytest.mark.parametrize("answer, code", [
+    (None, "error"), (3.0, "constant"), (lambda T: 1 / 0, "error"),
+    (lambda T: np.zeros((8, 5)), "shape"), (lambda T: np.full((8, 6), np.nan), "not_finite"),
+    (lambda T: np.zeros((0, 6)), "missing"),
+])
+def test_leg_ik_bad_answers(answer, code):
+    result = ck.leg_ik(answer, quiet=True)
+    assert not result.passed and result.diagnosis == code
+
+
+def test_leg_ik_raises_on_fail():
+    with pytest.raises(AssertionError, match="knee"):
+        ck.leg_ik(lambda T: _all_solutions(T)[_all_solutions(T)[:, 3] > 0], raise_on_fail=True)
+
+
+# ---------------------------------------------------------------- unreachable_reason
+def _reason_by_robokin(T):
+    res = ar601_leg_ik(T, within_limits=True)
+    return None if res.success else res.reason
+
+
+def test_unreachable_reason_targets_cover_every_reason_and_agree_with_robokin():
+    targets = ck._reason_targets(0)
+    assert {reason for _, reason in targets} == {None, "too_far", "ankle_range", "joint_limits"}
+    for T, reason in targets:
+        assert _reason_by_robokin(T) == reason
+
+
+def test_unreachable_reason_correct(capsys):
+    assert ck.unreachable_reason(_reason_by_robokin).passed
+    assert "16 targets" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("answer, code", [
+    (lambda T: "too_far" if _reason_by_robokin(T) == "ankle_range" else _reason_by_robokin(T),
+     "ankle_range_as_too_far"),
+    (lambda T: None if _reason_by_robokin(T) == "joint_limits" else _reason_by_robokin(T),
+     "joint_limits_as_reachable"),
+    (lambda T: "far" if _reason_by_robokin(T) == "too_far" else _reason_by_robokin(T),
+     "unknown_reason"),
+    (lambda T: 0, "type"), (None, "error"), ("too_far", "constant"),
+    (lambda T: [][1], "error"),
+])
+def test_unreachable_reason_mistakes(answer, code):
+    result = ck.unreachable_reason(answer, quiet=True)
+    assert not result.passed and result.diagnosis == code, result.message

@@ -4,17 +4,20 @@ Every reference comes from :func:`robokin.models.ar601_leg` (lengths
 ``L1 = L2 = 0.3 m``, ``L3 = 0.1 m``) and
 :func:`robokin.models.ar601_ik.ar601_leg_ik`.
 
-===================  ==========================================================  ======================
-check                the student's answer                                         inputs
-===================  ==========================================================  ======================
-``foot_transform``   B T_F(q): sympy Matrix in q1..q6 (L1, L2, L3 allowed) or      q = (q1, ..., q6)
-                     a function f(q) -> 4×4
-``knee_angle``       function f(d, l1, l2) -> q4 ≥ 0 (rad) from the hip–ankle      d, l1, l2
-                     distance d
-``ik_solution``      q (6,) or several solutions (k, 6) for :data:`T_GOAL`          --
-``ik_solver``        function f(T) -> q (6,) or (k, 6): every returned row must     20 random foot poses
-                     reproduce T (any solution is accepted)
-===================  ==========================================================  ======================
+======================  ==========================================================  ======================
+check                   the student's answer                                        inputs
+======================  ==========================================================  ======================
+``foot_transform``      B T_F(q): sympy Matrix in q1..q6 (L1, L2, L3 allowed) or    q = (q1, ..., q6)
+                        a function f(q) -> 4×4
+``knee_angle``          function f(d, l1, l2) -> q4 ≥ 0 (rad) from the hip–ankle    d, l1, l2
+                        distance d
+``ik_solution``         q (6,) or several solutions (k, 6) for :data:`T_GOAL`        --
+``ik_solver``           function f(T) -> q (6,) or (k, 6): every returned row must   20 random foot poses
+                        reproduce T (any solution is accepted)
+``leg_ik``              function my_leg_ik(T) -> (k, 6): every solution, each once   20 random foot poses
+``unreachable_reason``  function f(T) -> None, or why T is out of reach:             targets near the
+                        ``"too_far"``, ``"ankle_range"`` or ``"joint_limits"``       boundaries
+======================  ==========================================================  ======================
 
 A solution that puts the foot at the right *place* but with the wrong
 *orientation* is recognised and explained (a 6-DOF leg has to match all six
@@ -58,6 +61,8 @@ __all__ = [
     "ik_solution",
     "ik_solver",
     "knee_angle",
+    "leg_ik",
+    "unreachable_reason",
 ]
 
 _CHAPTER = "ar601"
@@ -449,3 +454,296 @@ def _judge_ik_function(f: Any, name: str, samples: int, seed: int) -> CheckResul
             f"(checked at {samples} random poses; {per} solution{'s' if hi > 1 else ''} per pose{more}).")
     return CheckResult(name, True, text, None, samples)
 
+
+
+# ------------------------------------------------------------------ every solution
+#: check -> {robokin function that solves its task: how the review report names it}
+#: (an answer that hands one back is flagged for review by hand).
+DELEGATION = {
+    "leg_ik": {"ar601_leg_ik": "robokin.models.ar601_leg_ik",
+               "ar601_leg_ik_batch": "robokin.models.ar601_leg_ik_batch",
+               "solve_ik": "robokin.motion.solve_ik"},
+    "unreachable_reason": {"ar601_leg_ik": "robokin.models.ar601_leg_ik",
+                           "ar601_leg_ik_batch": "robokin.models.ar601_leg_ik_batch"},
+}
+
+
+def _wrap(a: np.ndarray) -> np.ndarray:
+    return (np.asarray(a, dtype=float) + np.pi) % (2.0 * np.pi) - np.pi
+
+
+def _closed_form(T: np.ndarray, mistake: str = "") -> np.ndarray:
+    """Every solution (k, 6) of the foot pose ``T`` by the construction of Task 3, or the
+    rows a typical ``mistake`` leaves (the codes of :data:`leg_ik`'s diagnoses)."""
+    from robokin.transforms import rotx, roty
+
+    l1, l2, l3 = LENGTHS
+    R = T[:3, :3]
+    a = T[:3, 3] + l3 * R[:, 2]
+    c4 = (float(a @ a) - l1 * l1 - l2 * l2) / (2.0 * l1 * l2)
+    if abs(c4) > 1.0 + 1e-9:
+        return np.zeros((0, 6))
+    q4_abs = math.acos(min(1.0, max(-1.0, c4)))
+    rows = []
+    for q4 in ((q4_abs,) if mistake == "knee_branch_missing" else (q4_abs, -q4_abs)):
+        u = R.T @ a
+        rho, phi = math.hypot(u[1], u[2]), math.atan2(u[2], u[1])
+        c6 = -l1 * math.sin(q4) / rho
+        if abs(c6) > 1.0:
+            continue
+        k = l1 * math.cos(q4) + l2
+        q6s = (math.acos(c6) - phi, -math.acos(c6) - phi)
+        for q6 in (q6s[:1] if mistake == "ankle_branch_missing" else q6s):
+            w = rotx(q6) @ u
+            q5 = (math.atan2(-w[2] / k, w[0] / k) if mistake == "ankle_atan2_swapped"
+                  else math.atan2(w[0] / k, -w[2] / k))
+            M = rotx(q4) @ roty(q5) @ rotx(q6)
+            R_H = M.T @ R if mistake == "hip_product_side" else R @ M.T
+            if mistake == "hip_order":  # R_H read as Rx(q3) Ry(q2) Rz(q1)
+                R_H = R_H.T
+            for sign in ((1.0,) if mistake == "hip_branch_missing" else (1.0, -1.0)):
+                c2 = sign * math.hypot(R_H[0, 0], R_H[1, 0])
+                q2 = math.atan2(-R_H[2, 0], c2)
+                if mistake == "hip_atan2_swapped":
+                    q1 = math.atan2(R_H[0, 0] / c2, R_H[1, 0] / c2)
+                    q3 = math.atan2(R_H[2, 2] / c2, R_H[2, 1] / c2)
+                else:
+                    q1 = math.atan2(R_H[1, 0] / c2, R_H[0, 0] / c2)
+                    q3 = math.atan2(R_H[2, 1] / c2, R_H[2, 2] / c2)
+                # hip_order: Rx(a) Ry(b) Rz(c) = R_H read off R_Hᵀ = Rz(−c) Ry(−b) Rx(−a),
+                # and c (about z) taken as q1, a (about x) as q3
+                hip = (-q1, -q2, -q3) if mistake == "hip_order" else (q1, q2, q3)
+                rows.append([*hip, q4, q5, q6])
+    return np.array(rows, dtype=float).reshape(-1, 6)
+
+
+def _same_rows(A: np.ndarray, B: np.ndarray, atol: float = 1e-6) -> bool:
+    """Equal as sets of configurations (angles modulo 2π), each row once."""
+    if A.shape != B.shape:
+        return False
+    unused = list(range(len(B)))
+    for row in A:
+        hit = [j for j in unused if np.abs(_wrap(row - B[j])).max() <= atol]
+        if not hit:
+            return False
+        unused.remove(hit[0])
+    return True
+
+
+def _distinct(A: np.ndarray, atol: float = 1e-6) -> int:
+    kept: list[np.ndarray] = []
+    for row in A:
+        if not any(np.abs(_wrap(row - k)).max() <= atol for k in kept):
+            kept.append(row)
+    return len(kept)
+
+
+_LEG_IK_MISTAKES = [
+    ("knee_branch_missing",
+     "{name} returns only the knee solutions with q4 ≥ 0 (4 per pose). The law of cosines fixes "
+     "cos q4 only: q4 and −q4 both put the ankle at the hip–ankle distance d, so each pose has "
+     "4 solutions with the knee bent each way."),
+    ("ankle_branch_missing",
+     "{name} takes one of the two arccos branches of q6 only (4 solutions per pose). "
+     "c6 u_y − s6 u_z = −L1 s4 has two solutions, q6 = −φ ± arccos(−L1 s4 / ρ): keep both."),
+    ("hip_branch_missing",
+     "{name} keeps only the hip triple with cos q2 > 0 (4 solutions per pose). The same hip "
+     "rotation R_H is also (q1 + π, π − q2, q3 + π): take both signs of cos q2."),
+    ("hip_atan2_swapped",
+     "{name} swaps the arguments of atan2 in the hip angles: atan2(y, x) takes the sine-like "
+     "entry first, q1 = atan2(r21, r11) and q3 = atan2(r32, r33) (each divided by cos q2)."),
+    ("ankle_atan2_swapped",
+     "{name} swaps the arguments of atan2 for q5: with w = R_x(q6) u = k (s5, ·, −c5), "
+     "q5 = atan2(w_x / k, −w_z / k) (the sine first)."),
+    ("hip_order",
+     "{name} reads the hip angles of R_H as if R_H = R_x(q3) R_y(q2) R_z(q1). The hip yaw q1 "
+     "comes first from the body: R_H = R_z(q1) R_y(q2) R_x(q3) (ZYX), so q2 = atan2(−r31, "
+     "±√(r11² + r21²)) and q1, q3 from the first column and the last row."),
+    ("hip_product_side",
+     "{name} computes R_H = (R_x(q4) R_y(q5) R_x(q6))ᵀ R. The hip comes first in the product, "
+     "R = R_H R_x(q4) R_y(q5) R_x(q6), so R_H = R (R_x(q4) R_y(q5) R_x(q6))ᵀ."),
+]
+
+
+class _LegIKCheck(Check):
+    """``my_leg_ik(T) -> (k, 6)``: every solution of a foot pose, each once, in any order."""
+
+    def evaluate(self, answer: Any) -> CheckResult:
+        X = self.sample_points()
+        name = self.name
+        if answer is None:
+            return CheckResult(name, False, f"{FAIL} {name} is None: did you forget to define it?",
+                               "error", len(X))
+        if not callable(answer):
+            return CheckResult(name, False, f"{FAIL} {name} should be a Python function "
+                               f"my_leg_ik(T) -> (k, 6) array; got {type(answer).__name__}.",
+                               "constant", len(X))
+        poses = [_fk(x) for x in X]
+        got = []
+        for k, T in enumerate(poses):
+            try:
+                S = np.asarray(answer(T.copy()), dtype=float)
+            except Exception as exc:  # noqa: BLE001 - report the student's error
+                return CheckResult(name, False, f"{FAIL} calling {name} at pose {k + 1} (the foot "
+                                   f"pose of q = {fmt(X[k])}) raised {type(exc).__name__}: {exc}",
+                                   "error", len(X))
+            if S.size == 0:
+                S = S.reshape(0, 6)
+            if S.ndim == 1 and S.size == 6:
+                S = S[None, :]
+            if S.ndim != 2 or S.shape[1] != 6:
+                return CheckResult(name, False, f"{FAIL} {name} should return an array (k, 6), one "
+                                   f"solution per row; got shape {S.shape} at pose {k + 1}.",
+                                   "shape", len(X))
+            if not np.all(np.isfinite(S)):
+                return CheckResult(name, False, f"{FAIL} {name} returns NaN or infinite angles at "
+                                   f"pose {k + 1} (the foot pose of q = {fmt(X[k])}).",
+                                   "not_finite", len(X))
+            got.append(S)
+        refs = [_closed_form(T) for T in poses]
+        if all(_same_rows(S, R) for S, R in zip(got, refs)):
+            return CheckResult(name, True, f"{PASS} {name} is correct: all 8 solutions, each once "
+                               f"(checked at {len(X)} random foot poses).", None, len(X))
+        if all(_same_rows(np.deg2rad(S), R) for S, R in zip(got, refs)):
+            return CheckResult(name, False, f"{FAIL} {name} returns degrees: np.deg2rad of it "
+                               "solves the problem. robokin works in radians.", "degrees_output",
+                               len(X))
+        for code, text in _LEG_IK_MISTAKES:
+            if all(_same_rows(S, _closed_form(T, code)) for S, T in zip(got, poses)):
+                return CheckResult(name, False, f"{FAIL} " + text.format(name=name), code, len(X))
+        k = next(i for i, (S, R) in enumerate(zip(got, refs)) if not _same_rows(S, R))
+        S, T, where = got[k], poses[k], f"{name} at pose {k + 1}"
+        if len(S):
+            passed, code, msg = _verdict(S, T, where)
+            if not passed:
+                return CheckResult(name, False, f"{FAIL} {msg}", code, len(X))
+        n_distinct = _distinct(S)
+        if n_distinct < len(S):
+            return CheckResult(name, False, (
+                f"{FAIL} {where} returns {len(S)} rows but only {n_distinct} different "
+                "solutions (angles compared modulo 2π): each solution once, the pose has 8."),
+                "duplicate", len(X))
+        return CheckResult(name, False, (
+            f"{FAIL} {where} (the foot pose of q = {fmt(X[k])}) returns {len(S)} solution(s); "
+            "every one reproduces the pose, but the pose has 8: two knee signs × two q6 "
+            "branches × two hip branches (cos q2 of either sign)."), "missing", len(X))
+
+
+leg_ik = exercise(_CHAPTER, "leg_ik", _LegIKCheck(
+    name="my_leg_ik",
+    reference=lambda x: np.zeros(1),
+    variables=_Q,
+    groups=[("q", list(range(6)))],
+    noun="foot poses",
+    doc=("Check a function my_leg_ik(T) -> (k, 6) that returns every solution of a foot pose "
+         "T (4×4) of the leg, each once (angles compared modulo 2π), at 20 random poses."),
+))
+
+
+# ------------------------------------------------------------------ why a target is out of reach
+_REASONS = (None, "too_far", "ankle_range", "joint_limits")
+
+
+def _reason(T: np.ndarray) -> str | None:
+    """Why the foot pose ``T`` has no solution within the joint limits (None: it has one)."""
+    rows = _closed_form(T)
+    if len(rows) == 0:
+        l1, l2, l3 = LENGTHS
+        a = T[:3, 3] + l3 * T[:3, 2]
+        c4 = (float(a @ a) - l1 * l1 - l2 * l2) / (2.0 * l1 * l2)
+        return "too_far" if abs(c4) > 1.0 + 1e-9 else "ankle_range"
+    return None if np.any(_leg().within_limits(rows)) else "joint_limits"
+
+
+def _reason_targets(seed: int, per_reason: int = 4) -> list[tuple[np.ndarray, str | None]]:
+    """``per_reason`` foot poses of each reason (None first), from a seeded random pool:
+    configurations within and beyond the joint limits, feet tilted far about y, and
+    ankle points 1 mm to 5 cm beyond the reach L1 + L2."""
+    from robokin.transforms import rotation_from_rpy, roty, transform
+
+    rng = np.random.default_rng(seed)
+    found: dict[str | None, list[np.ndarray]] = {r: [] for r in _REASONS}
+    for _ in range(400):
+        kind = rng.integers(4)
+        if kind == 0:
+            T = _fk(rng.uniform(-1.5, 1.5, 6))
+        elif kind == 1:
+            T = _fk(rng.uniform(-math.pi, math.pi, 6))
+        elif kind == 2:
+            R = roty(rng.choice([-1.0, 1.0]) * rng.uniform(1.2, 1.55))
+            a = np.array([rng.uniform(-0.05, 0.05), rng.uniform(-0.05, 0.05), -rng.uniform(0.35, 0.55)])
+            T = transform(R, a - LENGTHS[2] * R[:, 2])
+        else:
+            R = rotation_from_rpy(rng.uniform(-0.4, 0.4, 3))
+            direction = np.array([rng.uniform(-0.3, 0.3), rng.uniform(-0.3, 0.3), -1.0])
+            a = direction / np.linalg.norm(direction) * (sum(LENGTHS[:2]) + rng.uniform(0.001, 0.05))
+            T = transform(R, a - LENGTHS[2] * R[:, 2])
+        reason = _reason(T)
+        if len(found[reason]) < per_reason:
+            found[reason].append(T)
+        if all(len(v) == per_reason for v in found.values()):
+            break
+    return [(T, r) for r in _REASONS for T in found[r]]
+
+
+_REASON_HELP = {
+    None: "a solution within the joint limits exists: return None",
+    "too_far": ("the hip–ankle distance d = |p + L3 R e_z| exceeds L1 + L2 (|cos q4| > 1): "
+                "\"too_far\""),
+    "ankle_range": ("the knee reaches (|cos q4| <= 1), but no (q5, q6) turns the foot to R at "
+                    "that distance (ankle_angles returns [] for both knee signs): \"ankle_range\""),
+    "joint_limits": ("all 8 solutions exist, but none is within the joint limits "
+                     "(leg.within_limits): \"joint_limits\""),
+}
+
+
+class _ReasonCheck(Check):
+    """``unreachable_reason(T) -> None | "too_far" | "ankle_range" | "joint_limits"``."""
+
+    def evaluate(self, answer: Any) -> CheckResult:
+        name = self.name
+        targets = _reason_targets(self.seed if self.seed is not None else 0)
+        if answer is None:
+            return CheckResult(name, False, f"{FAIL} {name} is None: did you forget to define it?",
+                               "error", len(targets))
+        if not callable(answer):
+            return CheckResult(name, False, f"{FAIL} {name} should be a Python function "
+                               f"unreachable_reason(T) -> None or a reason; got "
+                               f"{type(answer).__name__}.", "constant", len(targets))
+        for k, (T, expected) in enumerate(targets):
+            try:
+                got = answer(T.copy())
+            except Exception as exc:  # noqa: BLE001 - report the student's error
+                return CheckResult(name, False, f"{FAIL} calling {name} at target {k + 1} "
+                                   f"(expected {expected!r}) raised {type(exc).__name__}: {exc}",
+                                   "error", len(targets))
+            if got is None or isinstance(got, str):
+                if got == expected:
+                    continue
+                where = (f"{FAIL} {name} returns {got!r} for a target whose answer is "
+                         f"{expected!r} (foot at {fmt(T[:3, 3], 3)} m)")
+                if got is not None and got not in _REASONS:
+                    return CheckResult(name, False, where + ": the reasons are \"too_far\", "
+                                       "\"ankle_range\" and \"joint_limits\" (None when "
+                                       "reachable within the limits).", "unknown_reason",
+                                       len(targets))
+                code = f"{expected}_as_{got}".replace("None", "reachable")
+                return CheckResult(name, False, where + ": " + _REASON_HELP[expected] + ".",
+                                   code, len(targets))
+            return CheckResult(name, False, f"{FAIL} {name} should return None or one of "
+                               "\"too_far\", \"ankle_range\", \"joint_limits\"; got "
+                               f"{type(got).__name__} at target {k + 1}.", "type", len(targets))
+        return CheckResult(name, True, f"{PASS} {name} is correct (checked at {len(targets)} "
+                           "targets: reachable, too far, beyond the ankle's range, beyond the "
+                           "joint limits).", None, len(targets))
+
+
+unreachable_reason = exercise(_CHAPTER, "unreachable_reason", _ReasonCheck(
+    name="unreachable_reason",
+    reference=lambda x: np.zeros(1),
+    variables=[Variable("unused", "other", 0.0, 1.0)],
+    noun="targets",
+    doc=("Check a function unreachable_reason(T) -> None (a solution within the joint limits "
+         "exists) or why the foot pose T is out of reach: \"too_far\", \"ankle_range\", "
+         "\"joint_limits\"."),
+))

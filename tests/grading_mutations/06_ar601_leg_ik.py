@@ -64,31 +64,87 @@ MUTATIONS = {
          "    return _leg_ik_right(T, lambda T: T[:3, 3] + np.array([0.0, 0.0, L3]))"),
     ],
     "task4_test1": [
-        ("the solutions array instead of the result object",
-         "res_goal = ar601_leg_ik(T_goal).q"),
-        ("only the solutions within the limits",
-         "res_goal = ar601_leg_ik(T_goal, within_limits=True)"),
-        ("one knee per solution, duplicates kept",
-         "distinct_knees = np.array([leg.frames(q)[4][:3, 3] for q in res_goal.q])"),
+        ("the hip branch with cos q2 < 0 dropped (4 solutions)",
+         "_leg_ik_right = my_leg_ik\n\n"
+         "def my_leg_ik(T, ankle=ankle_point):\n"
+         "    Q = _leg_ik_right(T, ankle)\n"
+         "    return Q[np.cos(Q[:, 1]) > 0]"),
+        ("atan2's arguments swapped in the hip angles",
+         "def hip_angles(R_H):\n"
+         "    out = []\n"
+         "    for sign in (1, -1):\n"
+         "        c2 = sign * np.hypot(R_H[0, 0], R_H[1, 0])\n"
+         "        out.append((np.arctan2(R_H[0, 0] / c2, R_H[1, 0] / c2),\n"
+         "                    np.arctan2(-R_H[2, 0], c2),\n"
+         "                    np.arctan2(R_H[2, 2] / c2, R_H[2, 1] / c2)))\n"
+         "    return out"),
+        ("the hip angles read as if R_H = Rx(q3) Ry(q2) Rz(q1)",
+         "_hip_angles_right = hip_angles\n\n"
+         "def hip_angles(R_H):\n"
+         "    return [(-a, -b, -c) for a, b, c in _hip_angles_right(R_H.T)]"),
+        ("the solutions returned in degrees",
+         "_leg_ik_right = my_leg_ik\n\n"
+         "def my_leg_ik(T, ankle=ankle_point):\n"
+         "    return np.rad2deg(_leg_ik_right(T, ankle))"),
+        ("one q6 branch returned twice (8 rows, 4 different)",
+         "_ankle_angles_right = ankle_angles\n\n"
+         "def ankle_angles(u, q4, l1_=L1, l2_=L2):\n"
+         "    pairs = _ankle_angles_right(u, q4, l1_, l2_)\n"
+         "    return pairs[:1] * len(pairs)"),
+    ],
+    "task4_test2": [
+        ("every knee kept, duplicates included",
+         "def distinct_knees_of(Q):\n"
+         "    return leg.frames(np.reshape(Q, (-1, 6)))[:, 4, :3, 3]\n\n"
+         "distinct_knees = distinct_knees_of(Q_mine)"),
+        ("the hip point (frame 3) taken for the knee",
+         "def distinct_knees_of(Q):\n"
+         "    return np.unique(leg.frames(np.reshape(Q, (-1, 6)))[:, 3, :3, 3].round(9), axis=0)\n\n"
+         "distinct_knees = distinct_knees_of(Q_mine)"),
+        ("every solution counted as within the limits",
+         "in_limits = Q_mine"),
     ],
     "task5_test1": [
-        ("q2 = pi/4: no gimbal lock",
+        ("q2 = pi/4: no gimbal lock, and the family moves q2 too",
          "q_lock = np.array([0.3, np.pi / 4, -0.2, 0.8, 0.1, -0.3])\n"
-         "res_lock = ar601_leg_ik(leg.fk(q_lock))"),
+         "family = [np.array([t, np.pi / 4 + t, t - 0.5, 0.8, 0.1, -0.3]) for t in (0.0, 0.1)]"),
         ("solutions counted within the joint limits only",
          "n_solutions = np.array([\n"
-         "    len(ar601_leg_ik(transform(np.eye(3), [0.0, 0.0, -h]), within_limits=True))\n"
+         "    int(np.sum(leg.within_limits(my_leg_ik(transform(np.eye(3), [0.0, 0.0, -h])))))\n"
          "    for h in heights\n"
          "])"),
-        ("the closed form called without within_limits=True",
-         "unreachable = {name: (ar601_leg_ik(T), pair[1]) for name, (T, pair) in\n"
-         "               zip(out_of_reach, zip(out_of_reach.values(), unreachable.values()))}"),
+        ("no clip at the stretched knee: rounding leaves the stretched leg without solutions",
+         "_leg_ik_right = my_leg_ik\n\n"
+         "def my_leg_ik(T, ankle=ankle_point):\n"
+         "    a = ankle(T)\n"
+         "    if (a @ a - L1**2 - L2**2) / (2 * L1 * L2) > 1:\n"
+         "        return np.zeros((0, 6))\n"
+         "    return _leg_ik_right(T, ankle)\n\n"
+         "stretched = my_leg_ik(transform(np.eye(3), [0.0, 0.0, -(L1 + L2 + L3)]))"),
+        ("the ankle's range not checked: every failure called too_far",
+         "_reason_right = unreachable_reason\n\n"
+         "def unreachable_reason(T):\n"
+         "    reason = _reason_right(T)\n"
+         "    return \"too_far\" if reason == \"ankle_range\" else reason\n\n"
+         "unreachable = {name: (unreachable_reason(T), unreachable[name][1])\n"
+         "               for name, T in out_of_reach.items()}"),
+        ("the joint limits not checked",
+         "_reason_right = unreachable_reason\n\n"
+         "def unreachable_reason(T):\n"
+         "    reason = _reason_right(T)\n"
+         "    return None if reason == \"joint_limits\" else reason\n\n"
+         "unreachable = {name: (unreachable_reason(T), unreachable[name][1])\n"
+         "               for name, T in out_of_reach.items()}"),
     ],
     "task6_test1": [
         ("closed form counted within the joint limits (fewer than 8)",
-         "closed_all8 = [len(ar601_leg_ik(T, within_limits=True)) == 8 for T in T_bench]"),
+         "closed_all8 = [int(np.sum(leg.within_limits(my_leg_ik(T)))) == 8 for T in T_bench]"),
         ("the generator compared with the first closed-form solution only",
-         "found_generator = [np.abs(wrap(ar601_leg_ik(T).q[0] - q)).max() < 1e-8\n"
+         "found_generator = [np.abs(wrap(my_leg_ik(T)[0] - q)).max() < 1e-8\n"
          "                   for q, T in zip(Q_bench, T_bench)]"),
+        ("only the positive knee branch (4 solutions)",
+         "_leg_ik_right = my_leg_ik\n\n"
+         "def my_leg_ik(T, ankle=ankle_point):\n"
+         "    return _leg_ik_right(T, ankle)[:4]"),
     ],
 }
