@@ -25,8 +25,10 @@ from collections.abc import Iterable
 #: Only tasks whose point is to write the function robokin already has are listed.
 #: Where a chapter asks for robokin's own tools (chapter 1's Jacobian and IK through
 #: ``position_jacobian`` and ``solve_ik``, chapter 4's frames through
-#: ``transform_from_rpy``, chapter 6's ``T_sym`` through ``ar601_leg(...).fk`` and its
-#: task 4 through ``ar601_leg_ik``), calling them is the answer, not a delegation.
+#: ``transform_from_rpy``, chapter 6's ``T_sym`` through ``ar601_leg(...).fk``), calling them
+#: is the answer, not a delegation. The chapters' check modules add their own tables
+#: (``DELEGATION``, read below): chapter 6's ``leg_ik`` and ``unreachable_reason``, chapter 2's
+#: ``ik_restarts`` and ``bisect``.
 REFERENCES: dict[str, dict[str, str]] = {}
 
 _IK = {"solve_ik": "robokin.motion.solve_ik", "solve_ik_once": "robokin.motion.solve_ik_once",
