@@ -384,3 +384,12 @@ def test_every_registered_chapter_imports_and_has_checks():
         module = getattr(check, chapter)
         for attr, chk in checks.items():
             assert getattr(module, attr) is chk
+
+
+def test_a_wrong_number_per_input_is_explained_with_both_values():
+    """A check whose answer is one number per input (a duration): the message gives the
+    expected and the given number, not entries of an array."""
+    chk = check.Check("T", lambda x: float(2.0 * np.sum(x)), [Variable("alpha")], seed=3)
+    assert chk(lambda x: float(2.0 * np.sum(x)), quiet=True).passed
+    r = chk(lambda x: float(3.0 * np.sum(x)), quiet=True)
+    assert not r.passed and "expected" in r.message and "got" in r.message, r.message

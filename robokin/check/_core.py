@@ -826,15 +826,15 @@ class Check:
     def _mismatch_message(self, X: np.ndarray, S: np.ndarray, R: np.ndarray) -> str:
         with np.errstate(all="ignore"):
             bad = ~np.isclose(S, R, atol=max(self.atol, 1e-9), rtol=self.rtol)
-        wrong = [tuple(int(i) for i in idx) for idx in zip(*np.nonzero(bad.any(axis=0)))]
         k = int(np.argmax(bad.reshape(len(X), -1).any(axis=1)))
         where = self._point_text(X[k])
         where = f" at {where}" if where else ""
-        if R.ndim == 1 or R[0].size == 1:
+        if R.ndim == 1 or R[0].size == 1:   # one number per input: no entries to name
             return (
                 f"{self.name} is not correct{where}: expected {fmt(R[k])}, got {fmt(S[k])}."
                 + (f" {self.hint}" if self.hint else "")
             )
+        wrong = [tuple(int(i) for i in idx) for idx in zip(*np.nonzero(bad.any(axis=0)))]
         if len(wrong) == R[0].size:
             head = f"{self.name} is not correct: every entry differs from the reference."
         else:

@@ -81,20 +81,6 @@ PROBLEM = {
 }
 
 
-class _ScalarCheck(Check):
-    """A :class:`Check` whose answer is one number per input (a time, a duration)."""
-
-    def _mismatch_message(self, X: np.ndarray, S: np.ndarray, R: np.ndarray) -> str:
-        if R.ndim > 1:
-            return super()._mismatch_message(X, S, R)
-        with np.errstate(all="ignore"):
-            k = int(np.argmax(~np.isclose(S, R, atol=max(self.atol, 1e-9), rtol=self.rtol)))
-        where = self._point_text(X[k])
-        where = f" at {where}" if where else ""
-        return (f"{self.name} is not correct{where}: expected {fmt(R[k])}, got {fmt(S[k])}."
-                + (f" {self.hint}" if self.hint else ""))
-
-
 # ------------------------------------------------------------------ timing laws
 def _law(tau: np.ndarray, law: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """s, ds/dτ, d²s/dτ² of a rest-to-rest law on τ in [0, 1], written out (no robokin call)."""
@@ -239,7 +225,7 @@ def _trapezoid_mistakes():
     ]
 
 
-trapezoid_time = exercise(_CHAPTER, "trapezoid_time", _ScalarCheck(
+trapezoid_time = exercise(_CHAPTER, "trapezoid_time", Check(
     name="trapezoid_time",
     reference=lambda x: np.asarray(_trapezoid_time(*x)),
     variables=_TRAPEZOID,
@@ -270,7 +256,7 @@ def _moving_min(times: np.ndarray) -> float:
     return float(np.min(times[times > 0]))
 
 
-ptp_duration = exercise(_CHAPTER, "ptp_duration", _ScalarCheck(
+ptp_duration = exercise(_CHAPTER, "ptp_duration", Check(
     name="ptp_duration",
     reference=lambda x: np.asarray(np.max(_ptp_times())),
     diagnoses=[
