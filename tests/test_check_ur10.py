@@ -141,7 +141,8 @@ def test_references_match_robokin_solvers():
 def test_registered():
     from robokin.check._registry import _REGISTRY
 
-    assert set(_REGISTRY["ur10"]) == {"weighted_pinv", "dls_step", "nullspace_projector", "ik_position"}
+    assert set(_REGISTRY["ur10"]) == {"weighted_pinv", "dls_step", "nullspace_projector", "ik_position",
+                                      "summary", "self_motion", "ik_restarts", "bisect"}
 
 
 # ---------------------------------------------------------------- the IK loop
@@ -224,3 +225,221 @@ def test_loop_reference_matches_solve_ik():
             np.testing.assert_allclose(out[:6], res.q, atol=1e-9)
             compared += 1
     assert compared >= 4
+
+
+# ---------------------------------------------------------------- bisection (task 6)
+def bisect_written(f, low, high, tol=1e-13, *, keep="sign", fixed_halvings=0, check_bracket=True):
+    """A bisection written independently of the check (a recursion on the bracket), and
+    its typical mistakes."""
+    f_low, f_high = f(low), f(high)
+    if f_low * f_high > 0:
+        if check_bracket:
+            raise ValueError("f(low) and f(high) have the same sign")
+        return (low + high) / 2
+    for _ in range(fixed_halvings or 10_000):
+        if not fixed_halvings and high - low <= 2 * tol:
+            break
+        middle = low + (high - low) / 2
+        if middle in (low, high):
+            break
+        f_middle = f(middle)
+        root_right = (f_middle * f_low > 0) if keep == "sign" else (f_middle < 0)
+        if keep == "wrong_half":
+            root_right = not root_right
+        if root_right:
+            low, f_low = middle, f_middle
+        else:
+            high = middle
+    return (low + high) / 2
+
+
+def test_bisect_correct(capsys):
+    assert ur.bisect(bisect_written).passed
+    assert "✔ bisect is correct" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("kwargs, code", [
+    (dict(keep="wrong_half"), "wrong_half"),
+    (dict(keep="rising"), "rising_only"),
+    (dict(fixed_halvings=20), "tolerance"),
+    (dict(check_bracket=False), "no_value_error"),
+])
+def test_bisect_mistakes(kwargs, code):
+    r = ur.bisect(lambda f, low, high, tol=1e-13: bisect_written(f, low, high, tol, **kwargs), quiet=True)
+    assert not r.passed and r.diagnosis == code, r.message
+    assert "bisect" in r.message
+
+
+def test_bisect_wrong_exception_and_bad_answers():
+    def raises_runtime(f, low, high, tol=1e-13):
+        if f(low) * f(high) > 0:
+            raise RuntimeError("no bracket")
+        return bisect_written(f, low, high, tol)
+
+    assert ur.bisect(raises_runtime, quiet=True).diagnosis == "wrong_exception"
+    assert ur.bisect(lambda f, low, high, tol=1e-13: (low, high), quiet=True).diagnosis == "type"
+    assert ur.bisect(None, quiet=True).diagnosis == "error"
+    assert ur.bisect(0.5, quiet=True).diagnosis == "constant"
+    with pytest.raises(AssertionError, match="ValueError"):
+        ur.bisect(lambda f, low, high, tol=1e-13: bisect_written(f, low, high, tol, check_bracket=False),
+                  raise_on_fail=True)
+
+
+def test_bisect_cases_bracket_their_roots():
+    for _, f, low, high, _, root, rising in ur._bisect_cases():
+        assert low < root < high and f(low) * f(high) < 0 and abs(f(root)) < 1e-12
+        assert (f(high) > 0) == rising
+
+
+# ---------------------------------------------------------------- restarts (task 5)
+def restarts_written(chain, p_goal, starts, step, *, variant=""):
+    """ik_restarts written independently of the check (a while loop over the starts), on the
+    independently written loop above, and its typical mistakes."""
+    k, total, q_from, first_q = 0, 0, starts[0], None
+    converged = False
+    while k < len(starts):
+        q, ok, iterations = loop_for(chain, p_goal, q_from if variant == "continue_from_last" else starts[k],
+                                     step)
+        first_q = q if first_q is None else first_q
+        total = iterations if variant == "last_attempt_only" else total + iterations
+        converged = converged or ok
+        k += 1
+        q_from = q
+        if variant == "no_restart" or (ok and variant != "no_break"):
+            break
+    if variant == "first_attempt_q":
+        q = first_q
+    return q, converged, k - 1 if variant == "attempts_from_zero" else k, total
+
+
+def test_restarts_correct(capsys):
+    assert ur.ik_restarts(restarts_written).passed
+    assert "✔ ik_restarts is correct" in capsys.readouterr().out
+
+
+def test_restart_cases_cover_the_three_outcomes():
+    outcomes = [tuple(ur._restarts(goal, starts)[6:8]) for _, goal, starts in ur._restart_cases()]
+    assert outcomes == [(1.0, 1.0), (1.0, 2.0), (0.0, 3.0)]
+
+
+@pytest.mark.parametrize("code", ["last_attempt_only", "no_restart", "continue_from_last",
+                                  "attempts_from_zero", "no_break", "first_attempt_q"])
+def test_restarts_mistakes(code):
+    r = ur.ik_restarts(lambda *args: restarts_written(*args, variant=code), quiet=True)
+    assert not r.passed and r.diagnosis == code, r.message
+
+
+def test_restarts_bad_answers():
+    assert ur.ik_restarts(lambda *args: restarts_written(*args)[:3], quiet=True).diagnosis == "type"
+    off_by_one = ur.ik_restarts(lambda *args: (lambda r: (*r[:3], r[3] + 1))(restarts_written(*args)),
+                                quiet=True)
+    assert off_by_one.diagnosis == "mismatch" and "iterations (expected 6)" in off_by_one.message
+    assert ur.ik_restarts(lambda *args: 1 / 0, quiet=True).diagnosis == "error"
+
+
+# ---------------------------------------------------------------- the figures of a run (task 3)
+def summary_written(chain, p_goal, path, wrong=None):
+    """summary written independently of the check: robokin's own measures of a run."""
+    from robokin.motion import JointLimitDistance
+
+    path = np.asarray(path, dtype=float)
+    lower, upper = chain.limits.T
+    near = np.array([min((q - lower).min(), (upper - q).min()) for q in path])
+    w = chain.manipulability(path, position_only=True)
+    out = dict(
+        iterations=path.shape[0] - 1,
+        error_nm=np.linalg.norm(chain.fk(path[-1])[:3, 3] - p_goal) * 1e9,
+        path=sum(np.linalg.norm(b - a) for a, b in zip(path[:-1], path[1:])),
+        min_limit=near[1:].min(), end_limit=near[-1],
+        end_H=JointLimitDistance(chain.limits).value(path[-1]),
+        min_w=w[1:].min(), end_w=w[-1],
+    )
+    for key, value in (wrong or {}).items():
+        out[key] = value(chain, p_goal, path)
+    return out
+
+
+def test_summary_correct():
+    assert ur.summary(summary_written, quiet=True).passed
+
+
+def test_summary_cases_tell_the_start_apart():
+    for _, chain, _, path in ur._summary_cases():
+        near = ur._limit_distance(path, chain.limits)
+        w = chain.manipulability(path, position_only=True)
+        assert near[0] < near[1:].min() and w[0] < w[1:].min()
+
+
+@pytest.mark.parametrize("wrong, code", [
+    (dict(iterations=lambda c, p, path: len(path)), "iterations_rows"),
+    (dict(error_nm=lambda c, p, path: np.linalg.norm(c.fk(path[-1])[:3, 3] - p)), "error_in_m"),
+    (dict(path=lambda c, p, path: np.linalg.norm(path[-1] - path[0])), "path_chord"),
+    (dict(path=lambda c, p, path: np.abs(np.diff(path, axis=0)).sum()), "path_l1"),
+    (dict(min_limit=lambda c, p, path: np.min(np.minimum(path - c.limits[:, 0], c.limits[:, 1] - path))),
+     "min_limit_with_start"),
+    (dict(min_limit=lambda c, p, path: np.min(path - c.limits[:, 0], axis=1)[1:].min()), "lower_limits_only"),
+    (dict(end_H=lambda c, p, path: ur._objective(path[-1], ur.WORK_LIMITS)), "H_default_limits"),
+    (dict(min_w=lambda c, p, path: c.manipulability(path, position_only=True).min()), "min_w_with_start"),
+    (dict(end_w=lambda c, p, path: c.manipulability(path[-1], position_only=True) ** 2), "w_squared"),
+])
+def test_summary_mistakes(wrong, code):
+    r = ur.summary(lambda c, p, path: summary_written(c, p, path, wrong), quiet=True)
+    assert not r.passed and r.diagnosis == code, r.message
+
+
+def test_summary_bad_answers():
+    assert ur.summary(lambda c, p, path: [1, 2], quiet=True).diagnosis == "type"
+    short = ur.summary(lambda c, p, path: {k: v for k, v in summary_written(c, p, path).items() if k != "end_w"},
+                       quiet=True)
+    assert short.diagnosis == "missing_key" and "end_w" in short.message
+    assert ur.summary(lambda c, p, path: dict(summary_written(c, p, path), min_w=7.0),
+                      quiet=True).diagnosis == "min_w_wrong"
+
+
+# ---------------------------------------------------------------- self-motion (task 4)
+def self_motion_written(chain, p_goal, q_start, gain, steps, *, variant=""):
+    """The self-motion written independently of the check: robokin's gradient and projector
+    by the SVD, and its typical mistakes."""
+    from robokin.motion import JointLimitDistance
+
+    limits = ur.WORK_LIMITS if variant == "default_limits" else chain.limits
+    H = JointLimitDistance(limits)
+    q, rows = np.asarray(q_start, dtype=float), []
+    for _ in range(steps):
+        if variant != "rows_after_step":
+            rows.append(q)
+        J = chain.position_jacobian(q)
+        kernel = np.linalg.svd(J)[2][3:]
+        e = p_goal - chain.fk(q)[:3, 3]
+        push = {"gradient_sign": -gain, "no_gain": 1.0}.get(variant, gain) * H.gradient(q)
+        q = q + (0 if variant == "no_correction" else np.linalg.lstsq(J, e, rcond=None)[0]) + (
+            push if variant == "not_projected" else kernel.T @ (kernel @ push))
+        if variant == "rows_after_step":
+            rows.append(q)
+    return np.array(rows)
+
+
+def test_self_motion_correct():
+    assert ur.self_motion(self_motion_written, quiet=True).passed
+
+
+@pytest.mark.parametrize("code", ["no_correction", "not_projected", "gradient_sign", "no_gain",
+                                  "rows_after_step", "default_limits"])
+def test_self_motion_mistakes(code):
+    r = ur.self_motion(lambda *args: self_motion_written(*args, variant=code), quiet=True)
+    assert not r.passed and r.diagnosis == code, r.message
+
+
+def test_self_motion_bad_answers():
+    r = ur.self_motion(lambda *args: self_motion_written(*args)[:-1], quiet=True)
+    assert r.diagnosis == "shape" and "q_start" in r.message
+    assert ur.self_motion(lambda *args: "rows", quiet=True).diagnosis == "type"
+    assert ur.self_motion(None, quiet=True).diagnosis == "error"
+
+
+def test_self_motion_keeps_the_flange_and_climbs_H():
+    for _, chain, goal, q0, gain, steps in ur._self_motion_cases():
+        rows = ur._self_motion(chain, goal, q0, gain, steps)
+        H = [ur._objective(q, chain.limits) for q in rows]
+        assert np.all(np.diff(H) > 0)
+        assert np.linalg.norm(chain.fk(rows[-1])[:3, 3] - goal) < 1e-3

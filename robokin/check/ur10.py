@@ -32,6 +32,24 @@ steps; the returned ``(q, converged, iterations)`` is compared with this loop.
 Diagnosed: the error's sign flipped, no step cap, the cap applied joint by
 joint, no joint limits, no early stop.
 
+Four more checks call the student's functions of Tasks 3 to 6 on inputs of their own
+and name the typical mistake:
+
+- ``summary(chain, p_goal, path)``: the figures of one run, on random iterates whose
+  start is the nearest to a limit and the least manipulable, on the work cell and on a
+  chain with other limits (the start included in a minimum, the chord for the path, the
+  default limits for the chain's, det for its square root, ...);
+- ``self_motion(chain, p_goal, q_start, gain, steps)``: the self-motion
+  :math:`q \leftarrow q + J^+e + N k \nabla H(q)` (no :math:`J^+e`, :math:`\nabla H` not
+  projected or descended, the gain left out, the rows recorded after the step, the
+  default limits);
+- ``ik_restarts(chain, p_goal, starts, step)``: ``ik_position`` from each start in turn
+  (the steps of the last attempt only, no restart, a restart from the last attempt's end,
+  attempts counted from 0, no stop after success, the first attempt's q);
+- ``bisect(f, low, high, tol)``: a root within ``tol`` on rising and falling functions,
+  ``ValueError`` without a bracket (the wrong half kept, a fixed number of halvings, the
+  sign of ``f(middle)`` alone, no ``ValueError``).
+
 Usage::
 
     from robokin.check import ur10 as check_ur10
@@ -47,10 +65,11 @@ from typing import Any
 
 import numpy as np
 
-from robokin.check._core import CheckResult, MatrixArgumentsCheck, Variable, alternatives
+from robokin.check._core import FAIL, PASS, Check, CheckResult, MatrixArgumentsCheck, Variable, alternatives
 from robokin.check._registry import exercise
 
-__all__ = ["weighted_pinv", "dls_step", "nullspace_projector", "ik_position", "N_JOINTS", "WORK_LIMITS"]
+__all__ = ["weighted_pinv", "dls_step", "nullspace_projector", "ik_position", "summary", "self_motion",
+           "ik_restarts", "bisect", "N_JOINTS", "WORK_LIMITS"]
 
 _CHAPTER = "ur10"
 #: Number of joints of the UR10.
@@ -444,3 +463,570 @@ ik_position = exercise(_CHAPTER, "ik_position", LoopCheck(
     atol=1e-7,
     doc="Check an IK loop ik_position(chain, p_goal, q0, step, max_step, tol, max_iterations).",
 ))
+
+
+# ------------------------------------------------------------------ helpers of the checks below
+def _call(answer: Any, name: str, args: tuple, where: str) -> tuple[Any, CheckResult | None]:
+    """``answer(*args)``, or a failed result that says where the call raised."""
+    try:
+        return answer(*args), None
+    except Exception as exc:  # noqa: BLE001 - report the student's error
+        return None, CheckResult(name, False, f"{FAIL} calling {name} {where} raised "
+                                 f"{type(exc).__name__}: {exc}", "error", 1)
+
+
+def _not_a_function(answer: Any, name: str, signature: str) -> CheckResult | None:
+    if answer is None:
+        return CheckResult(name, False, f"{FAIL} {name} is None: did you forget to define it?",
+                           "error", 0)
+    if not callable(answer):
+        return CheckResult(name, False, f"{FAIL} {name} should be a Python function {signature}; "
+                           f"got {type(answer).__name__}.", "constant", 0)
+    return None
+
+
+def _other_limits_chain():
+    """The UR10 with joint ranges other than :data:`WORK_LIMITS` (to tell the chain's limits
+    from the defaults)."""
+    from robokin.chains import SerialChain
+
+    robot = _robot()
+    limits = np.array([[-2.5, 2.0], [-2.8, -0.2], [0.2, 2.9], [-2.6, 0.4], [-2.9, -0.1], [-1.0, 3.0]])
+    return SerialChain(robot.elements, limits=limits, frame_names=robot.frame_names, name="ur10_other")
+
+
+def _objective(q: np.ndarray, limits: np.ndarray) -> float:
+    """Siciliano's joint-limit objective H(q) = −1/(2n) Σ ((q_i − q̄_i)/(q_M,i − q_m,i))²."""
+    middle, span = limits.mean(axis=1), limits[:, 1] - limits[:, 0]
+    return float(-np.sum(((np.asarray(q) - middle) / span) ** 2) / (2 * len(middle)))
+
+
+def _gradient(q: np.ndarray, limits: np.ndarray) -> np.ndarray:
+    """∇H of :func:`_objective`, shape (n,)."""
+    middle, span = limits.mean(axis=1), limits[:, 1] - limits[:, 0]
+    return -(np.asarray(q) - middle) / span**2 / len(middle)
+
+
+class _FunctionCheck(Check):
+    """A registered check whose ``evaluate`` calls the answer on inputs of its own."""
+
+    signature = ""
+
+    def evaluate(self, answer: Any) -> CheckResult:  # pragma: no cover - overridden
+        raise NotImplementedError
+
+
+# ------------------------------------------------------------------ bisection (task 6)
+def _bisect_cases() -> list[tuple[str, Any, float, float, float | None, float, bool]]:
+    """(description, f, low, high, tol or None for the default, root, f rises through it)."""
+    return [
+        ("f(x) = x³ − 2 on [0, 2]", lambda x: x**3 - 2.0, 0.0, 2.0, 1e-12, 2.0 ** (1 / 3), True),
+        ("f(x) = e^x − 3 on [−1, 4]", lambda x: math.exp(x) - 3.0, -1.0, 4.0, 1e-11, math.log(3.0),
+         True),
+        ("f(x) = cos x on [0, 3], the default tol", np.cos, 0.0, 3.0, None, math.pi / 2, False),
+        ("f(x) = 0.7 − x on [−3, 5]", lambda x: 0.7 - x, -3.0, 5.0, 1e-12, 0.7, False),
+        ("f(x) = sin x on [2, 4.5], tol = 1e-4", np.sin, 2.0, 4.5, 1e-4, math.pi, False),
+        ("f(x) = sin x on [2, 4.5], tol = 1e-10", np.sin, 2.0, 4.5, 1e-10, math.pi, False),
+    ]
+
+
+class _BisectCheck(_FunctionCheck):
+    """``bisect(f, low, high, tol=1e-13)``: a root within tol; ValueError without a bracket."""
+
+    def evaluate(self, answer: Any) -> CheckResult:
+        name = self.name
+        bad = _not_a_function(answer, name, "bisect(f, low, high, tol=1e-13) -> x")
+        if bad is not None:
+            return bad
+        cases = _bisect_cases()
+        misses = []
+        for text, f, low, high, tol, root, rising in cases:
+            args = (f, low, high) if tol is None else (f, low, high, tol)
+            x, failed = _call(answer, name, args, f"for {text}")
+            if failed is not None:
+                return failed
+            try:
+                x = float(x)
+            except (TypeError, ValueError):
+                return CheckResult(name, False, f"{FAIL} {name} should return one number x (the "
+                                   f"root); for {text} it returned {type(x).__name__}.", "type", 1)
+            tol_used = 1e-13 if tol is None else tol
+            if not abs(x - root) <= tol_used + 1e-15:
+                misses.append((text, low, high, tol_used, root, x, rising))
+        if misses:
+            if not any(miss[6] for miss in misses):
+                return CheckResult(name, False, (
+                    f"{FAIL} {name} finds the roots of functions that rise through 0 but not of "
+                    f"those that fall ({misses[0][0]}): it keeps the half by the sign of "
+                    "f(middle) alone (f(middle) < 0 → low = middle). Compare with the sign of "
+                    "f(low): when f(middle) has the sign of f(low) the root is in [middle, high]."),
+                    "rising_only", len(cases))
+            text, low, high, tol_used, root, x, _ = misses[0]
+            head = f"{FAIL} {name} for {text} returns {x!r}; the root is {root!r}"
+            if min(abs(x - low), abs(x - high)) < 1e-6:
+                return CheckResult(name, False, head + (
+                    ", an end of the bracket: it keeps the half WITHOUT the sign change. When "
+                    "f(middle) has the sign of f(low), the root is in [middle, high] (low = "
+                    "middle), else in [low, middle]."), "wrong_half", len(cases))
+            if abs(x - root) < 1e-3:
+                return CheckResult(name, False, head + (
+                    f" (off by {abs(x - root):.1e}, tol = {tol_used:g}): it stops before the "
+                    "bracket is narrow enough. Halve until high − low <= 2 tol and return the "
+                    "middle, which is then within tol of the root; a fixed number of halvings "
+                    "ignores tol."), "tolerance", len(cases))
+            return CheckResult(name, False, head + ". Keep a bracket [low, high] with f(low) and "
+                               "f(high) of opposite signs and halve it until it is 2 tol wide.",
+                               "mismatch", len(cases))
+        x, failed = None, None
+        try:
+            x = answer(lambda t: t * t + 1.0, -1.0, 1.0)
+        except Exception as exc:  # noqa: BLE001 - the student's exception is the answer here
+            described = f"{type(exc).__name__}: {exc}"
+            if isinstance(exc, ValueError) or "ValueError" in described:
+                return CheckResult(name, True, f"{PASS} {name} is correct (checked on "
+                                   f"{len(cases)} brackets, rising and falling functions, several "
+                                   "tolerances, and a bracket without a sign change).", None,
+                                   len(cases) + 1)
+            return CheckResult(name, False, (
+                f"{FAIL} {name} raises {type(exc).__name__} when f(low) and f(high) have the same "
+                "sign (f(x) = x² + 1 on [−1, 1]); raise ValueError, the error for a value that is "
+                "not allowed."), "wrong_exception", len(cases) + 1)
+        return CheckResult(name, False, (
+            f"{FAIL} {name} returns {x!r} for f(x) = x² + 1 on [−1, 1], which has no root: when "
+            "f(low) and f(high) have the same sign there is no bracket, and it should raise "
+            "ValueError instead of returning a number."), "no_value_error", len(cases) + 1)
+
+
+bisect = exercise(_CHAPTER, "bisect", _BisectCheck(
+    name="bisect",
+    reference=lambda x: np.zeros(1),
+    variables=[Variable("unused", "other", 0.0, 1.0)],
+    noun="brackets",
+    doc=("Check a bisection bisect(f, low, high, tol=1e-13) -> x within tol of a root of f in "
+         "[low, high]; ValueError when f(low) and f(high) have the same sign."),
+))
+
+
+# ------------------------------------------------------------------ restarts (task 5)
+#: The chapter's step cap (rad), tolerance (m) and iteration budget: ``ik_position``'s defaults,
+#: with which ``ik_restarts`` runs it.
+_RESTART_MAX_STEP, _RESTART_TOL, _RESTART_BUDGET = 0.5, 1e-9, 100
+
+
+def _attempt(p_goal: np.ndarray, q_start: np.ndarray) -> tuple[np.ndarray, bool, int]:
+    """One attempt of the chapter's loop with the pseudoinverse step, from ``q_start``."""
+    packed = _loop(_cell(), p_goal, q_start, _pinv_step, _RESTART_MAX_STEP, _RESTART_TOL,
+                   _RESTART_BUDGET)
+    return packed[:6], bool(packed[6]), int(packed[7])
+
+
+def _restarts(p_goal: np.ndarray, starts: np.ndarray, variant: str = "") -> np.ndarray:
+    """The reference restart loop (or a typical mistake), packed as
+    ``[q (6), converged, attempts, iterations]``."""
+    total, runs = 0, []
+    q_from = starts[0]
+    for q_start in starts:
+        q, converged, iterations = _attempt(p_goal, q_from if variant == "continue_from_last" else q_start)
+        runs.append((q, converged, iterations))
+        total += iterations
+        q_from = q
+        if variant == "no_restart" or (converged and variant != "no_break"):
+            break
+    q, converged, iterations = runs[-1]
+    if variant == "no_break":
+        converged = any(run[1] for run in runs)
+    if variant == "first_attempt_q":
+        q = runs[0][0]
+    counted = {"last_attempt_only": iterations}.get(variant, total)
+    attempts = len(runs)
+    made = attempts - 1 if variant == "attempts_from_zero" else attempts
+    return np.r_[q, float(converged), float(made), float(counted)]
+
+
+@lru_cache(maxsize=1)
+def _restart_cases() -> tuple[tuple[str, np.ndarray, np.ndarray], ...]:
+    """(what, p_goal, starts (3, 6)): the first start converges; the first misses and the
+    second converges; no start converges (a goal out of reach)."""
+    cell = _cell()
+    starts = cell.random_configurations(3, seed=23)
+    cases = [("a goal the first start reaches", cell.fk(starts[0] + 0.3)[:3, 3], starts)]
+    for goal in cell.fk(cell.random_configurations(60, seed=22))[:, :3, 3]:
+        first, second = _attempt(goal, starts[0]), _attempt(goal, starts[1])
+        if not first[1] and second[1]:
+            cases.append(("a goal the first start misses and the second reaches", goal, starts))
+            break
+    cases.append(("a goal out of reach", np.array([2.0, 1.0, 1.0]), starts))
+    return tuple(cases)
+
+
+_RESTART_MISTAKES = [
+    ("last_attempt_only",
+     "{name} counts the steps of the last attempt only: iterations is the number of steps over "
+     "ALL the attempts made (add each attempt's iterations)."),
+    ("no_restart",
+     "{name} makes one attempt only: when ik_position does not converge from a start, try the "
+     "next row of starts, until one converges or the starts run out."),
+    ("continue_from_last",
+     "{name} starts each new attempt from where the last one ended: a restart begins at the "
+     "next row of starts, q_start = starts[k]."),
+    ("attempts_from_zero",
+     "{name} counts the attempts from 0: attempts is the number of attempts made, 1 when the "
+     "first start converges, s (the number of starts) when none does."),
+    ("no_break",
+     "{name} goes on after an attempt converged: stop at the first attempt that converges and "
+     "return its q."),
+    ("first_attempt_q",
+     "{name} returns the first attempt's q: return the configuration of the LAST attempt made "
+     "(the one that converged, if any)."),
+]
+
+
+class _RestartsCheck(_FunctionCheck):
+    """``ik_restarts(chain, p_goal, starts, step) -> (q, converged, attempts, iterations)``."""
+
+    def evaluate(self, answer: Any) -> CheckResult:
+        name = self.name
+        bad = _not_a_function(answer, name, "ik_restarts(chain, p_goal, starts, step) -> (q, "
+                              "converged, attempts, iterations)")
+        if bad is not None:
+            return bad
+        cases = _restart_cases()
+        got = []
+        for what, goal, starts in cases:
+            out, failed = _call(answer, name, (_cell(), goal.copy(), starts.copy(), _pinv_step),
+                                f"for {what}")
+            if failed is not None:
+                return failed
+            if not isinstance(out, tuple) or len(out) != 4:
+                return CheckResult(name, False, (
+                    f"{FAIL} {name} should return the tuple (q, converged, attempts, iterations); "
+                    f"for {what} it returned {type(out).__name__}"
+                    + (f" of length {len(out)}." if isinstance(out, tuple) else ".")), "type", len(cases))
+            q, converged, attempts, iterations = out
+            try:
+                got.append(np.r_[np.asarray(q, dtype=float).ravel(), float(bool(converged)),
+                                 float(attempts), float(iterations)])
+            except (TypeError, ValueError):
+                return CheckResult(name, False, f"{FAIL} {name}'s q should be 6 joint angles and "
+                                   "attempts, iterations numbers.", "type", len(cases))
+
+        def same(a: np.ndarray, b: np.ndarray) -> bool:
+            return a.shape == b.shape and bool(np.allclose(a, b, rtol=0.0, atol=1e-7))
+
+        refs = [_restarts(goal, starts) for _, goal, starts in cases]
+        if all(same(g, r) for g, r in zip(got, refs)):
+            return CheckResult(name, True, f"{PASS} {name} is correct (checked on {len(cases)} "
+                               "goals: reached from the first start, from the second, and out of "
+                               "reach).", None, len(cases))
+        for code, text in _RESTART_MISTAKES:
+            if all(same(g, _restarts(goal, starts, code)) for g, (_, goal, starts) in zip(got, cases)):
+                return CheckResult(name, False, f"{FAIL} " + text.format(name=name), code, len(cases))
+        k = next(i for i, (g, r) in enumerate(zip(got, refs)) if not same(g, r))
+        fields = ["q", "converged", "attempts", "iterations"]
+        g, r = got[k], refs[k]
+        if g.shape != r.shape:
+            wrong = "q"
+        else:
+            parts = [g[:6], g[6], g[7], g[8]], [r[:6], r[6], r[7], r[8]]
+            wrong = next(f for f, a, b in zip(fields, *parts) if not np.allclose(a, b, atol=1e-7))
+        expected = {"q": "", "converged": f" (expected {bool(r[6])})",
+                    "attempts": f" (expected {int(r[7])})", "iterations": f" (expected {int(r[8])})"}
+        return CheckResult(name, False, (
+            f"{FAIL} {name} for {cases[k][0]} (3 starts, the pseudoinverse step) returns a wrong "
+            f"{wrong}{expected[wrong]}: run ik_position from each start in turn, with its "
+            "defaults, stop at the first that converges, and return that attempt's q, whether it "
+            "converged, the attempts made and the steps over all of them."), "mismatch", len(cases))
+
+
+ik_restarts = exercise(_CHAPTER, "ik_restarts", _RestartsCheck(
+    name="ik_restarts",
+    reference=lambda x: np.zeros(1),
+    variables=[Variable("unused", "other", 0.0, 1.0)],
+    noun="goals",
+    doc=("Check ik_restarts(chain, p_goal, starts, step) -> (q, converged, attempts, "
+         "iterations): ik_position from each row of starts in turn until one converges."),
+))
+
+
+# ------------------------------------------------------------------ the figures of a run (task 3)
+_SUMMARY_KEYS = ("iterations", "error_nm", "path", "min_limit", "end_limit", "end_H", "min_w", "end_w")
+
+
+def _limit_distance(path: np.ndarray, limits: np.ndarray) -> np.ndarray:
+    return np.min(np.minimum(path - limits[:, 0], limits[:, 1] - path), axis=1)
+
+
+def _manipulability(chain, path: np.ndarray, full: bool = False, squared: bool = False) -> np.ndarray:
+    out = []
+    for q in path:
+        J = chain.jacobian(q) if full else chain.position_jacobian(q)
+        det = max(float(np.linalg.det(J @ J.T)), 0.0)
+        out.append(det if squared else math.sqrt(det))
+    return np.array(out)
+
+
+def _summary(chain, p_goal: np.ndarray, path: np.ndarray) -> dict[str, float]:
+    near, w = _limit_distance(path, chain.limits), _manipulability(chain, path)
+    return dict(
+        iterations=float(len(path) - 1),
+        error_nm=1e9 * float(np.linalg.norm(p_goal - chain.fk(path[-1])[:3, 3])),
+        path=float(np.linalg.norm(np.diff(path, axis=0), axis=1).sum()),
+        min_limit=float(near[1:].min()), end_limit=float(near[-1]),
+        end_H=_objective(path[-1], chain.limits),
+        min_w=float(w[1:].min()), end_w=float(w[-1]),
+    )
+
+
+def _summary_mistakes(chain, p_goal: np.ndarray, path: np.ndarray) -> dict[str, list[tuple[str, float, str]]]:
+    """Per key, (code, the value the mistake gives, message)."""
+    near = _limit_distance(path, chain.limits)
+    near_default = _limit_distance(path, WORK_LIMITS)
+    lower_only = np.min(path - chain.limits[:, 0], axis=1)
+    w = _manipulability(chain, path)
+    error_m = float(np.linalg.norm(p_goal - chain.fk(path[-1])[:3, 3]))
+    steps = np.diff(path, axis=0)
+    return {
+        "iterations": [("iterations_rows", float(len(path)),
+                        "counts the rows of path: k + 1 iterates are k steps (iterations = len(path) − 1)")],
+        "error_nm": [
+            ("error_in_m", error_m, "is in metres: the key asks for nanometres (× 1e9)"),
+            ("error_in_mm", 1e3 * error_m, "is in millimetres: the key asks for nanometres (× 1e9 from m)"),
+            ("error_at_start", 1e9 * float(np.linalg.norm(p_goal - chain.fk(path[0])[:3, 3])),
+             "is the error at the start path[0]: the final error is at the last iterate path[-1]"),
+        ],
+        "path": [
+            ("path_chord", float(np.linalg.norm(path[-1] - path[0])),
+             "is the distance from the start to the end: the path length is the sum of the lengths "
+             "of the k steps, Σ‖q_(i+1) − q_i‖"),
+            ("path_l1", float(np.abs(steps).sum()),
+             "adds the joints' |Δq_j|: a step's length is its Euclidean norm ‖Δq‖"),
+            ("path_squared", float((steps**2).sum()),
+             "adds the squared step lengths: the path length is Σ‖Δq‖, not Σ‖Δq‖²"),
+        ],
+        "min_limit": [
+            ("min_limit_with_start", float(near.min()),
+             "is taken over every iterate, the start included: the smallest over the iterates "
+             "AFTER the start, path[1:]"),
+            ("limits_not_the_chains", float(near_default[1:].min()),
+             "uses WORK_LIMITS, not the chain's limits: measure with chain.limits"),
+            ("lower_limits_only", float(lower_only[1:].min()),
+             "measures from the lower limits only: a joint is near a limit when it is near "
+             "either end, min(q − lower, upper − q)"),
+        ],
+        "end_limit": [
+            ("end_limit_at_start", float(near[0]), "is the value at the start: the key asks for the last iterate"),
+            ("limits_not_the_chains", float(near_default[-1]),
+             "uses WORK_LIMITS, not the chain's limits: measure with chain.limits"),
+        ],
+        "end_H": [
+            ("H_default_limits", _objective(path[-1], WORK_LIMITS),
+             "is H with the default limits WORK_LIMITS: pass the chain's, "
+             "joint_limit_objective(q, chain.limits)"),
+            ("H_at_start", _objective(path[0], chain.limits), "is H at the start: the key asks for the last iterate"),
+        ],
+        "min_w": [
+            ("min_w_with_start", float(w.min()),
+             "is taken over every iterate, the start included: the smallest over path[1:]"),
+            ("w_squared", float(_manipulability(chain, path[1:], squared=True).min()),
+             "is det(J_v J_vᵀ): the manipulability is its square root, w = √det(J_v J_vᵀ)"),
+            ("w_full_jacobian", float(_manipulability(chain, path[1:], full=True).min()),
+             "uses the full 6×6 Jacobian: the position manipulability uses J_v (3×6)"),
+        ],
+        "end_w": [
+            ("end_w_at_start", float(w[0]), "is the value at the start: the key asks for the last iterate"),
+            ("w_squared", float(_manipulability(chain, path[-1:], squared=True)[0]),
+             "is det(J_v J_vᵀ): the manipulability is its square root, w = √det(J_v J_vᵀ)"),
+        ],
+    }
+
+
+@lru_cache(maxsize=1)
+def _summary_cases() -> tuple[tuple[str, Any, np.ndarray, np.ndarray], ...]:
+    """(what, chain, p_goal, path (6, 6)): random iterates whose start is the nearest to a joint
+    limit and has the smallest manipulability (so that a figure taken with the start differs),
+    on the work cell and on a chain with other limits."""
+    out = []
+    for seed, chain, what in ((11, _cell(), "the work cell"), (12, _other_limits_chain(),
+                                                               "a chain with other joint limits")):
+        path = chain.random_configurations(6, seed=seed)
+        path = path[np.argsort(_manipulability(chain, path))]  # the start has the smallest w
+        # and its last joint 1 mrad from a limit (q6 turns the flange about its own point,
+        # so w does not change)
+        path[0, 5] = chain.limits[5, 0] + 0.001
+        goal = chain.fk(chain.random_configurations(1, seed=seed + 10)[0])[:3, 3]
+        out.append((what, chain, goal, path))
+    return tuple(out)
+
+
+class _SummaryCheck(_FunctionCheck):
+    """``summary(chain, p_goal, path) -> dict`` of the figures of one IK run."""
+
+    def evaluate(self, answer: Any) -> CheckResult:
+        name = self.name
+        bad = _not_a_function(answer, name, "summary(chain, p_goal, path) -> dict")
+        if bad is not None:
+            return bad
+        cases = _summary_cases()
+        for what, chain, goal, path in cases:
+            out, failed = _call(answer, name, (chain, goal.copy(), path.copy()),
+                                f"on random iterates ({what})")
+            if failed is not None:
+                return failed
+            if not isinstance(out, dict):
+                return CheckResult(name, False, f"{FAIL} {name} should return a dict with the keys "
+                                   f"{', '.join(_SUMMARY_KEYS)}; got {type(out).__name__}.", "type",
+                                   len(cases))
+            missing = [key for key in _SUMMARY_KEYS if key not in out]
+            if missing:
+                return CheckResult(name, False, f"{FAIL} {name}'s dict lacks the key(s) "
+                                   f"{', '.join(missing)}.", "missing_key", len(cases))
+            reference = _summary(chain, goal, path)
+            for key in _SUMMARY_KEYS:
+                try:
+                    value = float(out[key])
+                except (TypeError, ValueError):
+                    return CheckResult(name, False, f"{FAIL} {name}['{key}'] should be a number; "
+                                       f"got {type(out[key]).__name__}.", "type", len(cases))
+                if math.isclose(value, reference[key], rel_tol=1e-7, abs_tol=1e-9):
+                    continue
+                head = (f"{FAIL} {name}['{key}'] on {len(path) - 1}-step random iterates ({what}) "
+                        f"is {value:.6g}, expected {reference[key]:.6g}")
+                for code, wrong, text in _summary_mistakes(chain, goal, path)[key]:
+                    if math.isclose(value, wrong, rel_tol=1e-7, abs_tol=1e-9):
+                        return CheckResult(name, False, f"{head}: it {text}.", code, len(cases))
+                return CheckResult(name, False, head + ".", f"{key}_wrong", len(cases))
+        return CheckResult(name, True, f"{PASS} {name} is correct (checked on random iterates of the "
+                           "work cell and of a chain with other joint limits).", None, len(cases))
+
+
+summary = exercise(_CHAPTER, "summary", _SummaryCheck(
+    name="summary",
+    reference=lambda x: np.zeros(1),
+    variables=[Variable("unused", "other", 0.0, 1.0)],
+    noun="runs",
+    doc=("Check summary(chain, p_goal, path) -> dict with iterations, error_nm, path, min_limit, "
+         "end_limit, end_H, min_w, end_w of the iterates path (k + 1, n)."),
+))
+
+
+# ------------------------------------------------------------------ self-motion (task 4)
+def _self_motion(chain, p_goal, q_start, gain, steps, variant: str = "") -> np.ndarray:
+    """The reference self-motion q ← q + J⁺e + N k ∇H(q) (or a typical mistake): the
+    configurations before each step, shape (steps, n)."""
+    limits = WORK_LIMITS if variant == "default_limits" else chain.limits
+    q = np.array(q_start, dtype=float)
+    rows = []
+    for _ in range(steps + (1 if variant == "rows_after_step" else 0)):
+        rows.append(q)
+        e = p_goal - chain.fk(q)[:3, 3]
+        J = chain.position_jacobian(q)
+        J_pinv = np.linalg.pinv(J)
+        N = np.eye(len(q)) - J_pinv @ J
+        g = {"gradient_sign": -1.0, "no_gain": 1.0 / gain}.get(variant, 1.0) * gain * _gradient(q, limits)
+        correction = np.zeros_like(q) if variant == "no_correction" else J_pinv @ e
+        q = q + correction + (g if variant == "not_projected" else N @ g)
+    out = np.array(rows)
+    return out[1:] if variant == "rows_after_step" else out
+
+
+_SELF_MISTAKES = [
+    ("no_correction",
+     "{name} leaves out the correction J⁺e: each finite null-space step moves the flange to "
+     "second order, and without q ← q + J⁺e + N k ∇H the drift adds up."),
+    ("not_projected",
+     "{name} adds k ∇H(q) without projecting it: only N k ∇H (N = I − J⁺J) leaves the flange in "
+     "place."),
+    ("gradient_sign",
+     "{name} descends H: the step N k ∇H(q) with k > 0 climbs H, moving the joints towards the "
+     "middle of their ranges."),
+    ("no_gain",
+     "{name} leaves out the gain: the null-space term is N k ∇H(q) with k = gain."),
+    ("rows_after_step",
+     "{name} records the configurations AFTER each step: row i is the configuration before "
+     "step i, so the first row is q_start."),
+    ("default_limits",
+     "{name} takes ∇H with the default limits WORK_LIMITS: use the chain's, "
+     "joint_limit_gradient(q, chain.limits)."),
+]
+
+
+@lru_cache(maxsize=1)
+def _self_motion_cases() -> tuple[tuple[str, Any, np.ndarray, np.ndarray, float, int], ...]:
+    """(what, chain, p_goal, q_start, gain, steps)."""
+    out = []
+    for seed, chain, gain, steps, offset, what in (
+        (31, _cell(), 1.5, 6, 0.0, "a start on its goal, on the work cell"),
+        (32, _cell(), 0.75, 4, 0.002, "a goal 2 mm off the start, on the work cell"),
+        (33, _other_limits_chain(), 1.0, 5, 0.0, "a chain with other joint limits"),
+    ):
+        q_start = chain.random_configurations(1, seed=seed)[0]
+        goal = chain.fk(q_start)[:3, 3] + offset
+        out.append((what, chain, goal, q_start, gain, steps))
+    return tuple(out)
+
+
+class _SelfMotionCheck(_FunctionCheck):
+    """``self_motion(chain, p_goal, q_start, gain, steps) -> (steps, n)``."""
+
+    def evaluate(self, answer: Any) -> CheckResult:
+        name = self.name
+        bad = _not_a_function(answer, name, "self_motion(chain, p_goal, q_start, gain, steps) -> "
+                              "(steps, n) array")
+        if bad is not None:
+            return bad
+        cases = _self_motion_cases()
+        got = []
+        for what, chain, goal, q_start, gain, steps in cases:
+            out, failed = _call(answer, name, (chain, goal.copy(), q_start.copy(), gain, steps),
+                                f"for {what}")
+            if failed is not None:
+                return failed
+            try:
+                got.append(np.asarray(out, dtype=float))
+            except (TypeError, ValueError):
+                return CheckResult(name, False, f"{FAIL} {name} should return an array (steps, n) "
+                                   f"of configurations; got {type(out).__name__}.", "type", len(cases))
+
+        def same(a: np.ndarray, b: np.ndarray) -> bool:
+            return a.shape == b.shape and bool(np.allclose(a, b, rtol=0.0, atol=1e-9))
+
+        refs = [_self_motion(chain, goal, q0, gain, steps) for _, chain, goal, q0, gain, steps in cases]
+        if all(same(g, r) for g, r in zip(got, refs)):
+            return CheckResult(name, True, f"{PASS} {name} is correct (checked on {len(cases)} starts, "
+                               "gains and step counts, one on a chain with other joint limits).", None,
+                               len(cases))
+        for code, text in _SELF_MISTAKES:
+            if all(same(g, _self_motion(chain, goal, q0, gain, steps, code))
+                   for g, (_, chain, goal, q0, gain, steps) in zip(got, cases)):
+                return CheckResult(name, False, f"{FAIL} " + text.format(name=name), code, len(cases))
+        k = next(i for i, (g, r) in enumerate(zip(got, refs)) if not same(g, r))
+        g, r = got[k], refs[k]
+        if g.shape != r.shape:
+            return CheckResult(name, False, (
+                f"{FAIL} {name} for {cases[k][0]} with steps = {cases[k][5]} returns shape {g.shape}; "
+                f"expected {r.shape}: one row per step, the configuration before it (the first row "
+                "is q_start)."), "shape", len(cases))
+        row = int(np.argmax(np.abs(g - r).max(axis=1) > 1e-9))
+        return CheckResult(name, False, (
+            f"{FAIL} {name} for {cases[k][0]} differs from q ← q + J⁺e + N k ∇H(q) from row {row} "
+            f"on (row 0 is q_start): check the step e = p_goal − p(q), J⁺, N = I − J⁺J and ∇H with "
+            "the chain's limits."), "mismatch", len(cases))
+
+
+self_motion = exercise(_CHAPTER, "self_motion", _SelfMotionCheck(
+    name="self_motion",
+    reference=lambda x: np.zeros(1),
+    variables=[Variable("unused", "other", 0.0, 1.0)],
+    noun="starts",
+    doc=("Check self_motion(chain, p_goal, q_start, gain, steps) -> the configurations before "
+         "each step q ← q + J⁺e + N k ∇H(q), shape (steps, n)."),
+))
+
+
+#: check -> {robokin (or SciPy) function that solves its task: how the review report names it}
+#: (an answer that hands one back is flagged for review by hand).
+DELEGATION = {
+    "ik_restarts": {"solve_ik": "robokin.motion.solve_ik", "solve_ik_batch": "robokin.motion.solve_ik_batch"},
+    "bisect": {"brentq": "scipy.optimize.brentq", "root_scalar": "scipy.optimize.root_scalar",
+               "brenth": "scipy.optimize.brenth", "ridder": "scipy.optimize.ridder"},
+}

@@ -2,8 +2,90 @@
 
 Each entry rebinds names of the student's answers (functions or values) to a
 typical mistake, computed in the notebook's namespace just before the test cell;
-the test cell must then raise.
+the test cell must then raise. The helpers below write the shapes that recur (an answer
+function changed in one place, and the names computed from it recomputed as its answer cell
+does).
 """
+
+from textwrap import indent
+
+#: the figures of Task 3 from ``summary``, recomputed as the answer cell does
+_STATS3 = "stats3 = {(t, m): summary(cell, TARGETS[t], res.history.q) for (t, m), res in runs.items()}"
+
+#: the figures of Task 4 from ``self_q``, recomputed as the answer cell does
+_SELF_FIGURES = (
+    "self_q = self_motion(cell, TARGETS['B'], runs['B', 'weighted'].q, K_SELF, 121)\n"
+    "self_H = np.array([joint_limit_objective(q) for q in self_q])\n"
+    "self_err = np.array([np.linalg.norm(TARGETS['B'] - cell.fk(q)[:3, 3]) for q in self_q])\n"
+    "self_dist = np.min(np.minimum(self_q - WORK_LIMITS[:, 0], WORK_LIMITS[:, 1] - self_q), axis=1)"
+)
+
+
+def _summary_with(change: str) -> str:
+    """``summary`` with some of its figures changed: ``change`` is code on the right dict ``s``
+    (and ``chain``, ``p_goal``, ``path`` as an array); ``stats3`` is recomputed."""
+    return (
+        "_right_summary = summary\n"
+        "def summary(chain, p_goal, path):\n"
+        "    s = dict(_right_summary(chain, p_goal, path))\n"
+        "    path = np.asarray(path)\n"
+        + indent(change, "    ") + "\n"
+        "    return s\n"
+        + _STATS3
+    )
+
+
+def _self_motion_with(update: str, record: str = "before") -> str:
+    """``self_motion`` whose step is ``q = <update>`` (in terms of ``q``, ``e``, ``J``, ``N``,
+    ``g`` = ∇H with the chain's limits and ``gain``), recording ``q`` before (or after) each
+    step; the figures of Task 4 are recomputed."""
+    before, after = ("        path.append(q)\n", "") if record == "before" else ("", "        path.append(q)\n")
+    return (
+        "def self_motion(chain, p_goal, q_start, gain, steps):\n"
+        "    q = np.array(q_start, dtype=float)\n"
+        "    path = []\n"
+        "    for step in range(steps):\n"
+        + before
+        + "        e = p_goal - chain.fk(q)[:3, 3]\n"
+        "        J = chain.position_jacobian(q)\n"
+        "        N = nullspace_projector(J)\n"
+        "        g = joint_limit_gradient(q, chain.limits)\n"
+        f"        q = {update}\n"
+        + after
+        + "    return np.array(path)\n"
+        + _SELF_FIGURES
+    )
+
+
+def _restarts_with(result: str) -> str:
+    """``ik_restarts`` that returns ``result``, an expression of the right answer's
+    ``(q, converged, attempts, iterations)``."""
+    return (
+        "_right_restarts = ik_restarts\n"
+        "def ik_restarts(chain, p_goal, starts, step):\n"
+        "    q, converged, attempts, iterations = _right_restarts(chain, p_goal, starts, step)\n"
+        f"    return {result}"
+    )
+
+
+def _bisect_with(*, no_bracket: str = "raise ValueError('same sign')",
+                 loop: str = "while high - low > 2 * tol:",
+                 root_right: str = "np.sign(f(middle)) == np.sign(f(low))") -> str:
+    """A bisection with one part changed: what it does without a bracket, its loop, and the
+    test that the root lies in [middle, high]."""
+    return (
+        "def bisect(f, low, high, tol=1e-13):\n"
+        "    if np.sign(f(low)) == np.sign(f(high)):\n"
+        f"        {no_bracket}\n"
+        f"    {loop}\n"
+        "        middle = 0.5 * (low + high)\n"
+        f"        if {root_right}:\n"
+        "            low = middle\n"
+        "        else:\n"
+        "            high = middle\n"
+        "    return 0.5 * (low + high)"
+    )
+
 
 MUTATIONS = {
     "task1_test1": [
@@ -78,121 +160,35 @@ MUTATIONS = {
         ),
     ],
     "task3_test1": [
-        (
-            "min_w over every iterate, the start q0 included",
-            "_right_summary = summary\n"
-            "def summary(chain, p_goal, path):\n"
-            "    s = dict(_right_summary(chain, p_goal, path))\n"
-            "    s['min_w'] = min(s['min_w'], chain.manipulability(path[0], position_only=True))\n"
-            "    return s\n"
-            "stats3 = {(t, m): summary(cell, TARGETS[t], res.history.q) for (t, m), res in runs.items()}",
-        ),
-        (
-            "the path length as the distance from the start to the end",
-            "_right_summary = summary\n"
-            "def summary(chain, p_goal, path):\n"
-            "    s = dict(_right_summary(chain, p_goal, path))\n"
-            "    s['path'] = np.linalg.norm(np.asarray(path)[-1] - np.asarray(path)[0])\n"
-            "    return s\n"
-            "stats3 = {(t, m): summary(cell, TARGETS[t], res.history.q) for (t, m), res in runs.items()}",
-        ),
-        (
-            "the distance to the limits measured from the lower limits only",
-            "_right_summary = summary\n"
-            "def summary(chain, p_goal, path):\n"
-            "    s = dict(_right_summary(chain, p_goal, path))\n"
-            "    near = np.min(np.asarray(path) - chain.limits[:, 0], axis=1)\n"
-            "    s['min_limit'], s['end_limit'] = near[1:].min(), near[-1]\n"
-            "    return s\n"
-            "stats3 = {(t, m): summary(cell, TARGETS[t], res.history.q) for (t, m), res in runs.items()}",
-        ),
-        (
-            "H with limits other than the chain's",
-            "_right_summary = summary\n"
-            "def summary(chain, p_goal, path):\n"
-            "    s = dict(_right_summary(chain, p_goal, path))\n"
-            "    s['end_H'] = joint_limit_objective(np.asarray(path)[-1], np.array([[-2.0, 2.0]] * 6))\n"
-            "    return s\n"
-            "stats3 = {(t, m): summary(cell, TARGETS[t], res.history.q) for (t, m), res in runs.items()}",
-        ),
+        ("min_w over every iterate, the start q0 included",
+         _summary_with("s['min_w'] = min(s['min_w'], chain.manipulability(path[0], position_only=True))")),
+        ("the path length as the distance from the start to the end",
+         _summary_with("s['path'] = np.linalg.norm(path[-1] - path[0])")),
+        ("the distance to the limits measured from the lower limits only",
+         _summary_with("near = np.min(path - chain.limits[:, 0], axis=1)\n"
+                       "s['min_limit'], s['end_limit'] = near[1:].min(), near[-1]")),
+        ("H with limits other than the chain's",
+         _summary_with("s['end_H'] = joint_limit_objective(path[-1], np.array([[-2.0, 2.0]] * 6))")),
+        ("H with the default limits, not the chain's (the same on the work cell)",
+         _summary_with("s['end_H'] = joint_limit_objective(path[-1])")),
+        ("the iterates counted, not the steps", _summary_with("s['iterations'] = len(path)")),
+        ("the final error left in metres", _summary_with("s['error_nm'] = s['error_nm'] / 1e9")),
     ],
     "task3_test2": [
         ("DLS read as quadratic", "convergence = {**convergence, 'DLS': 'quadratic'}"),
         ("the null-space method read as quadratic", "convergence = {**convergence, 'null space': 'quadratic'}"),
     ],
     "task4_test1": [
-        (
-            "self-motion without the J+ e correction",
-            "def self_motion(chain, p_goal, q_start, gain, steps):\n"
-            "    q = np.array(q_start, dtype=float)\n"
-            "    path = []\n"
-            "    for step in range(steps):\n"
-            "        path.append(q)\n"
-            "        e = p_goal - chain.fk(q)[:3, 3]\n"
-            "        J = chain.position_jacobian(q)\n"
-            "        N = nullspace_projector(J)\n"
-            "        g = joint_limit_gradient(q, chain.limits)\n"
-            "        q = q + N @ (gain * g)\n"
-            "    return np.array(path)\n"
-            "self_q = self_motion(cell, TARGETS['B'], runs['B', 'weighted'].q, K_SELF, 121)\n"
-            "self_H = np.array([joint_limit_objective(q) for q in self_q])\n"
-            "self_err = np.array([np.linalg.norm(TARGETS['B'] - cell.fk(q)[:3, 3]) for q in self_q])\n"
-            "self_dist = np.min(np.minimum(self_q - WORK_LIMITS[:, 0], WORK_LIMITS[:, 1] - self_q), axis=1)",
-        ),
-        (
-            "the gradient not projected: the flange moves",
-            "def self_motion(chain, p_goal, q_start, gain, steps):\n"
-            "    q = np.array(q_start, dtype=float)\n"
-            "    path = []\n"
-            "    for step in range(steps):\n"
-            "        path.append(q)\n"
-            "        e = p_goal - chain.fk(q)[:3, 3]\n"
-            "        J = chain.position_jacobian(q)\n"
-            "        N = nullspace_projector(J)\n"
-            "        g = joint_limit_gradient(q, chain.limits)\n"
-            "        q = q + np.linalg.pinv(J) @ e + gain * g\n"
-            "    return np.array(path)\n"
-            "self_q = self_motion(cell, TARGETS['B'], runs['B', 'weighted'].q, K_SELF, 121)\n"
-            "self_H = np.array([joint_limit_objective(q) for q in self_q])\n"
-            "self_err = np.array([np.linalg.norm(TARGETS['B'] - cell.fk(q)[:3, 3]) for q in self_q])\n"
-            "self_dist = np.min(np.minimum(self_q - WORK_LIMITS[:, 0], WORK_LIMITS[:, 1] - self_q), axis=1)",
-        ),
-        (
-            "the gradient's sign flipped: H falls",
-            "def self_motion(chain, p_goal, q_start, gain, steps):\n"
-            "    q = np.array(q_start, dtype=float)\n"
-            "    path = []\n"
-            "    for step in range(steps):\n"
-            "        path.append(q)\n"
-            "        e = p_goal - chain.fk(q)[:3, 3]\n"
-            "        J = chain.position_jacobian(q)\n"
-            "        N = nullspace_projector(J)\n"
-            "        g = joint_limit_gradient(q, chain.limits)\n"
-            "        q = q + np.linalg.pinv(J) @ e - N @ (gain * g)\n"
-            "    return np.array(path)\n"
-            "self_q = self_motion(cell, TARGETS['B'], runs['B', 'weighted'].q, K_SELF, 121)\n"
-            "self_H = np.array([joint_limit_objective(q) for q in self_q])\n"
-            "self_err = np.array([np.linalg.norm(TARGETS['B'] - cell.fk(q)[:3, 3]) for q in self_q])\n"
-            "self_dist = np.min(np.minimum(self_q - WORK_LIMITS[:, 0], WORK_LIMITS[:, 1] - self_q), axis=1)",
-        ),
-        (
-            "the gain left out (k = 1)",
-            "def self_motion(chain, p_goal, q_start, gain, steps):\n"
-            "    q = np.array(q_start, dtype=float)\n"
-            "    path = []\n"
-            "    for step in range(steps):\n"
-            "        path.append(q)\n"
-            "        e = p_goal - chain.fk(q)[:3, 3]\n"
-            "        J = chain.position_jacobian(q)\n"
-            "        N = nullspace_projector(J)\n"
-            "        g = joint_limit_gradient(q, chain.limits)\n"
-            "        q = q + np.linalg.pinv(J) @ e + N @ g\n"
-            "    return np.array(path)\n"
-            "self_q = self_motion(cell, TARGETS['B'], runs['B', 'weighted'].q, K_SELF, 121)\n"
-            "self_H = np.array([joint_limit_objective(q) for q in self_q])\n"
-            "self_err = np.array([np.linalg.norm(TARGETS['B'] - cell.fk(q)[:3, 3]) for q in self_q])\n"
-            "self_dist = np.min(np.minimum(self_q - WORK_LIMITS[:, 0], WORK_LIMITS[:, 1] - self_q), axis=1)",
-        ),
+        ("self-motion without the J+ e correction", _self_motion_with("q + N @ (gain * g)")),
+        ("the gradient not projected: the flange moves",
+         _self_motion_with("q + np.linalg.pinv(J) @ e + gain * g")),
+        ("the gradient's sign flipped: H falls",
+         _self_motion_with("q + np.linalg.pinv(J) @ e - N @ (gain * g)")),
+        ("the gain left out (k = 1)", _self_motion_with("q + np.linalg.pinv(J) @ e + N @ g")),
+        ("the configurations recorded after each step",
+         _self_motion_with("q + np.linalg.pinv(J) @ e + N @ (gain * g)", record="after")),
+        ("grad H with the default limits, not the chain's (the same on the work cell)",
+         _self_motion_with("q + np.linalg.pinv(J) @ e + N @ (gain * joint_limit_gradient(q))")),
     ],
     "task5_test1": [
         (
@@ -221,12 +217,18 @@ MUTATIONS = {
             "            break\n"
             "    return q, converged, attempts, total",
         ),
+        ("the attempts counted from 0", _restarts_with("q, converged, attempts - 1, iterations")),
+        ("the start of the last attempt returned, not where it ended",
+         _restarts_with("starts[attempts - 1], converged, attempts, iterations")),
         (
-            "the attempts counted from 0",
-            "_right_restarts = ik_restarts\n"
+            "no stop after an attempt converged",
             "def ik_restarts(chain, p_goal, starts, step):\n"
-            "    q, converged, attempts, iterations = _right_restarts(chain, p_goal, starts, step)\n"
-            "    return q, converged, attempts - 1, iterations",
+            "    total, ever = 0, False\n"
+            "    for attempts, q_start in enumerate(starts, start=1):\n"
+            "        q, converged, iterations = ik_position(chain, p_goal, q_start, step)\n"
+            "        total += iterations\n"
+            "        ever = ever or converged\n"
+            "    return q, ever, attempts, total",
         ),
     ],
     "task5_test2": [
@@ -235,53 +237,14 @@ MUTATIONS = {
         ("the null-space method for the full pose", "recommend = {**recommend, 'full pose': 'null space'}"),
     ],
     "task6_test1": [
-        (
-            "a fixed number of halvings, not the tolerance",
-            "def bisect(f, low, high, tol=1e-13):\n"
-            "    if np.sign(f(low)) == np.sign(f(high)):\n"
-            "        raise ValueError('same sign')\n"
-            "    for _ in range(20):\n"
-            "        middle = 0.5 * (low + high)\n"
-            "        if np.sign(f(middle)) == np.sign(f(low)):\n"
-            "            low = middle\n"
-            "        else:\n"
-            "            high = middle\n"
-            "    return 0.5 * (low + high)",
-        ),
-        (
-            "keeps the half without the sign change",
-            "def bisect(f, low, high, tol=1e-13):\n"
-            "    if np.sign(f(low)) == np.sign(f(high)):\n"
-            "        raise ValueError('same sign')\n"
-            "    while high - low > 2 * tol:\n"
-            "        middle = 0.5 * (low + high)\n"
-            "        if np.sign(f(middle)) == np.sign(f(low)):\n"
-            "            high = middle\n"
-            "        else:\n"
-            "            low = middle\n"
-            "    return 0.5 * (low + high)",
-        ),
-        (
-            "assumes f rises through its root",
-            "def bisect(f, low, high, tol=1e-13):\n"
-            "    if np.sign(f(low)) == np.sign(f(high)):\n"
-            "        raise ValueError('same sign')\n"
-            "    while high - low > 2 * tol:\n"
-            "        middle = 0.5 * (low + high)\n"
-            "        if f(middle) < 0:\n"
-            "            low = middle\n"
-            "        else:\n"
-            "            high = middle\n"
-            "    return 0.5 * (low + high)",
-        ),
-        (
-            "no check of the bracket: a wrong answer instead of ValueError",
-            "_right_bisect = bisect\n"
-            "def bisect(f, low, high, tol=1e-13):\n"
-            "    if np.sign(f(low)) == np.sign(f(high)):\n"
-            "        return 0.5 * (low + high)\n"
-            "    return _right_bisect(f, low, high, tol)",
-        ),
+        ("a fixed number of halvings, not the tolerance", _bisect_with(loop="for _ in range(20):")),
+        ("keeps the half without the sign change",
+         _bisect_with(root_right="np.sign(f(middle)) != np.sign(f(low))")),
+        ("assumes f rises through its root", _bisect_with(root_right="f(middle) < 0")),
+        ("no check of the bracket: a wrong answer instead of ValueError",
+         _bisect_with(no_bracket="return 0.5 * (low + high)")),
+        ("another error than ValueError without a bracket",
+         _bisect_with(no_bracket="raise RuntimeError('same sign')")),
     ],
     "task6_test2": [
         ("the flange point instead of the wrist point", "wrist_point = lambda q: robot.fk(q)[:3, 3]"),
@@ -307,4 +270,82 @@ MUTATIONS = {
         ("lambda in metres read as sqrt(0.1) m", "lambda_in_m = np.sqrt(0.1)"),
         ("lambda in metres as lambda^2 / 1000", "lambda_in_m = 0.1 / 1000"),
     ],
+}
+
+#: answers computed another way, which must keep full marks (the trust suite reads them for a
+#: chapter that tests/benign_variants.py does not list; each one also passes its registered check,
+#: tests/test_check_ur10.py)
+VARIANTS = {
+    "task3_answer1": ("the figures with robokin's measures of a run and a cumulative sum", '''
+
+def summary(chain, p_goal, path):  # written another way: robokin's distance and manipulability
+    path = np.asarray(path, dtype=float)
+    distance = JointLimitDistance(chain.limits)
+    gaps = np.concatenate([path - chain.limits[:, 0], chain.limits[:, 1] - path], axis=1)
+    nearest = gaps.min(axis=1)
+    w = chain.manipulability(path, position_only=True)
+    travelled = np.cumsum(np.linalg.norm(path[1:] - path[:-1], axis=1))
+    return {
+        "iterations": len(path) - 1,
+        "error_nm": float(np.sqrt(np.sum((p_goal - chain.fk(path[-1])[:3, 3]) ** 2))) * 1e9,
+        "path": travelled[-1],
+        "min_limit": np.sort(nearest[1:])[0],
+        "end_limit": nearest[-1],
+        "end_H": distance.value(path[-1]),
+        "min_w": np.sort(w[1:])[0],
+        "end_w": w[-1],
+    }
+
+
+stats3 = {key: summary(cell, TARGETS[key[0]], run.history.q) for key, run in runs.items()}
+'''),
+    "task4_answer1": ("self-motion with a preallocated array and the projector from the SVD", '''
+
+def self_motion(chain, p_goal, q_start, gain, steps):  # written another way: rows filled in place
+    rows = np.empty((steps, len(q_start)))
+    q = np.asarray(q_start, dtype=float)
+    for i in range(steps):
+        rows[i] = q
+        J = chain.position_jacobian(q)
+        kernel = np.linalg.svd(J)[2][J.shape[0]:]  # full row rank: the null space of J
+        correction = np.linalg.lstsq(J, p_goal - chain.fk(q)[:3, 3], rcond=None)[0]
+        q = q + correction + kernel.T @ (kernel @ (gain * joint_limit_gradient(q, chain.limits)))
+    return rows
+
+
+self_q = self_motion(cell, TARGETS["B"], runs["B", "weighted"].q, K_SELF, 121)
+self_H = np.array([joint_limit_objective(q) for q in self_q])
+self_err = np.array([np.linalg.norm(TARGETS["B"] - cell.fk(q)[:3, 3]) for q in self_q])
+self_JN = np.array([
+    np.abs(J @ nullspace_projector(J)).max()
+    for J in (cell.position_jacobian(q) for q in self_q)
+])
+self_dist = np.min(np.minimum(self_q - WORK_LIMITS[:, 0], WORK_LIMITS[:, 1] - self_q), axis=1)
+'''),
+    "task5_answer1": ("the restarts by recursion on the remaining starts", '''
+
+def ik_restarts(chain, p_goal, starts, step):  # written another way: recursion
+    q, converged, iterations = ik_position(chain, p_goal, starts[0], step)
+    if converged or len(starts) == 1:
+        return q, converged, 1, iterations
+    q, converged, attempts, more = ik_restarts(chain, p_goal, starts[1:], step)
+    return q, converged, attempts + 1, iterations + more
+'''),
+    "task6_answer1": ("bisection by recursion on the bracket", '''
+
+def bisect(f, low, high, tol=1e-13):  # written another way: recursion, signs by comparison
+    f_low, f_high = f(low), f(high)
+    if (f_low > 0) == (f_high > 0) and f_low != 0 and f_high != 0:
+        raise ValueError(f"f({low}) and f({high}) have the same sign")
+    if f_low == 0:
+        return low
+    if f_high == 0:
+        return high
+    middle = low + (high - low) / 2
+    if high - low <= 2 * tol or middle in (low, high):
+        return middle
+    if (f(middle) > 0) == (f_low > 0):
+        return bisect(f, middle, high, tol)
+    return bisect(f, low, middle, tol)
+'''),
 }
