@@ -138,6 +138,20 @@ MUTATIONS = {
          "bad[dls_name] = track_position_batch(arm, starts, TS, p_bad + relative,"
          " v_ref, clamp=False, gain=KP, inverse='dls', damping=2e-5)"),
     ],
+    "task5_test4": [
+        ("the damping added unsquared",
+         "def dls_rate(q, r_des, v_des, kp=KP, damping=LAMBDA):\n"
+         "    J = arm.position_jacobian(q)\n"
+         "    v = v_des + kp * (r_des - arm.fk(q)[:3, 3])\n"
+         "    return J.T @ np.linalg.solve(J @ J.T + damping * np.eye(3), v)"),
+        ("no damping: the pseudoinverse law",
+         "def dls_rate(q, r_des, v_des, kp=KP, damping=LAMBDA):\n"
+         "    return resolved_rate(q, r_des, v_des, kp)"),
+        ("the feedback term left out",
+         "def dls_rate(q, r_des, v_des, kp=KP, damping=LAMBDA):\n"
+         "    J = arm.position_jacobian(q)\n"
+         "    return J.T @ np.linalg.solve(J @ J.T + damping**2 * np.eye(3), v_des)"),
+    ],
     "task5_test2": [
         ("the last step taken for the most singular one",
          "k_s = np.full(len(starts), len(t) - 1)\nq_s = b.q[np.arange(len(starts)), k_s]\n"
