@@ -40,7 +40,6 @@ from robokin.check._core import (
     MatrixArgumentsCheck,
     Variable,
     alternatives,
-    fmt,
 )
 from robokin.check._registry import exercise
 
@@ -150,24 +149,11 @@ def _as_number(answer: Any) -> Any:
     return number
 
 
-def _number_mismatch(check: Check, X: np.ndarray, S: np.ndarray, R: np.ndarray) -> str:
-    """Where a number-valued answer differs first, and by how much."""
-    with np.errstate(all="ignore"):
-        bad = ~np.isclose(S, R, atol=max(check.atol, 1e-9), rtol=check.rtol)
-    k = int(np.argmax(bad.reshape(len(X), -1).any(axis=1)))
-    where = ", ".join(f"{v.label} = {fmt(xi)}" for v, xi in zip(check.variables, X[k]))
-    return (f"{check.name} is not correct at {where}: expected {fmt(R[k])}, got {fmt(S[k])}."
-            + (f" {check.hint}" if check.hint else ""))
-
-
 class _ScalarCheck(Check):
     """A check of a function of scalars with a number for value."""
 
     def evaluate(self, answer: Any) -> CheckResult:
         return super().evaluate(_as_number(answer))
-
-    def _mismatch_message(self, X: np.ndarray, S: np.ndarray, R: np.ndarray) -> str:
-        return _number_mismatch(self, X, S, R)
 
 
 class _ScalarArgumentsCheck(MatrixArgumentsCheck):
@@ -175,9 +161,6 @@ class _ScalarArgumentsCheck(MatrixArgumentsCheck):
 
     def evaluate(self, answer: Any) -> CheckResult:
         return super().evaluate(_as_number(answer))
-
-    def _mismatch_message(self, X: np.ndarray, S: np.ndarray, R: np.ndarray) -> str:
-        return _number_mismatch(self, X, S, R)
 
 
 def _svd(x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
