@@ -223,18 +223,17 @@ MUTATIONS = {
 }
 
 VARIANTS = {
-    "task1_answer1": ("[w] from cross products and the rotation as scipy's matrix exponential", """
+    "task1_answer1": ("[w] from cross products, the rotation from the axis' projector", """
 
-# written another way: column j of [w] is w x e_j, and e^([w] theta) summed by scipy's expm
-from scipy.linalg import expm
-
-
+# written another way: column j of [w] is w x e_j, and R = cos I + sin [w] + (1 - cos) w w^T
 def skew(w):
     return np.cross(np.asarray(w, dtype=float), np.eye(3)).T
 
 
 def rodrigues(omega, theta):
-    return expm(skew(omega) * theta)
+    omega = np.asarray(omega, dtype=float)
+    return (np.cos(theta) * np.eye(3) + np.sin(theta) * skew(omega)
+            + (1.0 - np.cos(theta)) * np.outer(omega, omega))
 """),
     "task2_answer1": ("v as q x w, all six axes at once", """
 
@@ -247,20 +246,21 @@ def screw_axis(omega, point):
 axes, points = home_frames[1:7, :3, 2], home_frames[1:7, :3, 3]
 S_list = np.hstack([axes, np.cross(points, axes)])
 """),
-    "task3_answer1": ("the 4x4 matrix exponential of scipy and a reduce over the joints", """
+    "task3_answer1": ("a turn about the axis point plus a slide along it, the product by reduce", """
 
-# written another way: e^([S] theta) by scipy's expm of the 4x4 matrix, the product by reduce
+# written another way: S = [w; v] is a turn about the axis through q = w x v (the point of
+# the axis nearest the origin) and a slide h theta along w, h = w . v; the product by reduce
 from functools import reduce
-
-from scipy.linalg import expm
 
 
 def exp6(S, theta):
-    S = np.asarray(S, dtype=float)
-    twist = np.zeros((4, 4))
-    twist[:3, :3] = skew(S[:3])
-    twist[:3, 3] = S[3:]
-    return expm(twist * theta)
+    omega, v = np.asarray(S[:3], dtype=float), np.asarray(S[3:], dtype=float)
+    R = rodrigues(omega, theta)
+    point, pitch = np.cross(omega, v), omega @ v
+    T = np.eye(4)
+    T[:3, :3] = R
+    T[:3, 3] = (np.eye(3) - R) @ point + pitch * theta * omega
+    return T
 
 
 def poe_fk(M, S_list, theta):
