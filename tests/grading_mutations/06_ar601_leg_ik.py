@@ -105,9 +105,6 @@ MUTATIONS = {
          "in_limits = Q_mine"),
     ],
     "task5_test1": [
-        ("q2 = pi/4: no gimbal lock, and the family moves q2 too",
-         "q_lock = np.array([0.3, np.pi / 4, -0.2, 0.8, 0.1, -0.3])\n"
-         "family = [np.array([t, np.pi / 4 + t, t - 0.5, 0.8, 0.1, -0.3]) for t in (0.0, 0.1)]"),
         ("solutions counted within the joint limits only",
          "n_solutions = np.array([\n"
          "    int(np.sum(leg.within_limits(my_leg_ik(transform(np.eye(3), [0.0, 0.0, -h])))))\n"
@@ -121,6 +118,21 @@ MUTATIONS = {
          "        return np.zeros((0, 6))\n"
          "    return _leg_ik_right(T, ankle)\n\n"
          "stretched = my_leg_ik(transform(np.eye(3), [0.0, 0.0, -(L1 + L2 + L3)]))"),
+        ("the largest singular value taken for the smallest",
+         "sigma_largest = []\n"
+         "for h in heights:\n"
+         "    Q = my_leg_ik(transform(np.eye(3), [0.0, 0.0, -h]))\n"
+         "    sigma_largest.append(leg.singular_values(Q[0])[0] if len(Q) else np.nan)\n"
+         "sigma_min = np.array(sigma_largest)"),
+    ],
+    "task5_test2": [
+        ("q2 = pi/4: no gimbal lock, and the family moves q2 too",
+         "q_lock = np.array([0.3, np.pi / 4, -0.2, 0.8, 0.1, -0.3])\n"
+         "family = [np.array([t, np.pi / 4 + t, t - 0.5, 0.8, 0.1, -0.3]) for t in (0.0, 0.1)]"),
+        ("q1 + q3 held instead of q1 - q3 (the other sign of the lock)",
+         "family = [np.array([t, np.pi / 2, 0.1 - t, 0.8, 0.1, -0.3]) for t in (-0.5, 0.5)]"),
+    ],
+    "task5_test3": [
         ("the ankle's range not checked: every failure called too_far",
          "_reason_right = unreachable_reason\n\n"
          "def unreachable_reason(T):\n"
