@@ -93,7 +93,7 @@ def test_nbval_starts_its_kernels_with_private_sockets():
 
 
 def test_a_cell_that_logs_twelve_thousand_lines_is_read_whole_and_ends():
-    """A client made by these managers keeps every iopub message the kernel sends: a cell that
+    """A kernel and client made by these managers keep every iopub message the kernel sends: a cell that
     logs 12,000 lines (one message each) reaches nbclient whole, and its ``idle`` status too
     (with ZeroMQ's default limit of 1,000 unread messages some 1,000 lines were lost on a quiet
     machine, and under load the cell ended in "Timeout waiting for IOPub output")."""
@@ -106,7 +106,9 @@ def test_a_cell_that_logs_twelve_thousand_lines_is_read_whole_and_ends():
     assert client.context.getsockopt(zmq.RCVHWM) == 0
     nb = nbformat.v4.new_notebook()
     talkative = "import logging\nfor i in range(12000):\n    logging.warning('line %d', i)\n"
-    nb.cells = [nbformat.v4.new_code_cell(talkative), nbformat.v4.new_code_cell("print('the next cell')")]
+    hwm = "import zmq\nprint(get_ipython().kernel.iopub_thread.socket.getsockopt(zmq.SNDHWM))"
+    nb.cells = [nbformat.v4.new_code_cell(talkative), nbformat.v4.new_code_cell("print('the next cell')"),
+                nbformat.v4.new_code_cell(hwm)]
     # Time limits: the whole test (kernel start, the cell, its 12,000 messages read) takes 5-10 s
     # on the 2-core machine with other jobs running, so 120 s per cell is a ceiling load does not
     # reach. After the cell's reply nbclient waits iopub_timeout for the rest of its output; the
@@ -119,3 +121,4 @@ def test_a_cell_that_logs_twelve_thousand_lines_is_read_whole_and_ends():
     lines = "".join(output.get("text", "") for output in nb.cells[0].outputs).splitlines()
     assert lines == [f"WARNING:root:line {i}" for i in range(12000)]
     assert nb.cells[1].outputs[0]["text"] == "the next cell\n"
+    assert nb.cells[2].outputs[0]["text"] == "0\n"   # the kernel's iopub socket keeps every message too

@@ -26,7 +26,11 @@ output and, at the end, the cell's ``idle`` status, which nbclient waits for and
 reports as "Timeout waiting for IOPub output" (the autograder took a correct but
 talkative notebook for a hang). With no limit on the client's side, its ZeroMQ
 thread takes the messages off the kernel's queue as fast as they come, whatever
-the Python code reading them does.
+the Python code reading them does. The kernel's end is lifted too: an ipykernel started by
+these managers runs with no limit on its iopub socket (:data:`UNLIMITED_IOPUB_KERNEL`), since a
+client's ZeroMQ thread that the machine's load keeps from running for a moment falls 1,000
+messages behind a talkative cell (330 lines of 12,000 were lost that way with three test
+workers on two cores).
 
 Used for the kernels nbval starts (``conftest.py`` at the repository's root), the
 grader's kernels (``grading_bridge``) and the sandboxed student kernel
@@ -46,6 +50,36 @@ from jupyter_core.utils import run_sync
 
 #: Whether this system has ZMQ ``ipc`` sockets (Unix domain sockets).
 AVAILABLE = os.name == "posix"
+
+#: What ``python -m ipykernel_launcher`` does (drop the working folder from the path, launch
+#: ipykernel's app), with no high-water mark on the kernel's sockets: its iopub socket keeps
+#: every message for a client that is behind instead of dropping new ones. Run as ``python -c``.
+UNLIMITED_IOPUB_KERNEL = """\
+import sys
+
+if sys.path[0] == "":
+    del sys.path[0]
+import zmq
+from ipykernel.kernelapp import IPKernelApp
+
+
+class Kernel(IPKernelApp):
+    def init_iopub(self, context):
+        context.setsockopt(zmq.SNDHWM, 0)  # the default of the sockets made from here on
+        super().init_iopub(context)
+
+
+Kernel.launch_instance()
+"""
+
+
+def with_unlimited_iopub(command: list[str]) -> list[str]:
+    """``command`` with ``-m ipykernel_launcher`` replaced by ``-c`` :data:`UNLIMITED_IOPUB_KERNEL`
+    (the command of a kernelspec; another kernel's command is returned as it is)."""
+    for index in range(len(command) - 1):
+        if command[index:index + 2] == ["-m", "ipykernel_launcher"]:
+            return [*command[:index], "-c", UNLIMITED_IOPUB_KERNEL, *command[index + 2:]]
+    return list(command)
 
 
 def new_socket_folder() -> Path:
@@ -74,6 +108,10 @@ class PrivateSocketsMixin:
             self.connection_file = str(self.socket_folder / "kernel.json")
             self.ip = str(self.socket_folder / "socket")
         return await super()._async_pre_start_kernel(**kw)
+
+    def format_kernel_cmd(self, extra_arguments=None):
+        """The kernelspec's command, an ipykernel's with no limit on its iopub socket (see the module)."""
+        return with_unlimited_iopub(super().format_kernel_cmd(extra_arguments))
 
     def client(self, **kwargs):
         """A client of the kernel that keeps any number of unread iopub messages (see the module)."""
