@@ -167,7 +167,7 @@ def test_a_forked_kernel_is_what_a_new_one_is(kernels):
     (the path ``c.BridgedExecute.fork_server = False`` takes)."""
     forked, = kernels(1)
     new, = kernels(1, source=None)
-    assert new.client.km.provisioner.process.args[1:3] == ["-m", "ipykernel_launcher"]
+    assert new.client.km.provisioner.process.args[1:3] == ["-c", fork_server.UNLIMITED_IOPUB_KERNEL]
     seen = {"forked": _probe(forked), "new": _probe(new)}
     assert seen["new"]["parent"] == os.getpid()
     for key in ("env", "path", "argv", "cwd_first", "backend", "rc", "modules", "fds", "threads", "signals",

@@ -51,14 +51,15 @@ from jupyter_core.utils import run_sync
 #: Whether this system has ZMQ ``ipc`` sockets (Unix domain sockets).
 AVAILABLE = os.name == "posix"
 
-#: What ``python -m ipykernel_launcher`` does (drop the working folder from the path, launch
+#: What ``python -m ipykernel_launcher`` does (the working folder first on the path, then
 #: ipykernel's app), with no high-water mark on the kernel's sockets: its iopub socket keeps
 #: every message for a client that is behind instead of dropping new ones. Run as ``python -c``.
 UNLIMITED_IOPUB_KERNEL = """\
+import os
+import runpy  # noqa: F401  python -m imports it: the kernel's modules are those of -m's kernel
 import sys
 
-if sys.path[0] == "":
-    del sys.path[0]
+sys.path[0] = os.getcwd()  # as python -m puts it (python -c puts "")
 import zmq
 from ipykernel.kernelapp import IPKernelApp
 

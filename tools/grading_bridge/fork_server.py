@@ -80,9 +80,13 @@ import time
 import traceback
 from pathlib import Path
 
-from kernel_sockets import AsyncPrivateSocketsKernelManager
+from kernel_sockets import UNLIMITED_IOPUB_KERNEL, AsyncPrivateSocketsKernelManager
+
 from traitlets import Any
 
+#: The kernel commands (after the Python) a fork can stand for: ipykernel's launcher, and the same
+#: with no limit on the iopub socket (what kernel_sockets' managers start).
+KERNEL_COMMANDS = (["-m", "ipykernel_launcher"], ["-c", UNLIMITED_IOPUB_KERNEL])
 LAUNCHER = Path(__file__).resolve().with_name("fork_launcher.py")
 TOOLS = Path(__file__).resolve().parent.parent
 #: Bytes of one request of a launcher's (its environment is most of it).
@@ -177,9 +181,10 @@ class ForkServer:
     def launch_command(self, command: list[str]) -> list[str] | None:
         """The launcher's command for the kernel ``command``; None for a command it cannot fork.
 
-        Only ``python -m ipykernel_launcher ...`` with this Python is forked.
+        Only an ipykernel (``python -m ipykernel_launcher ...``, or kernel_sockets' same kernel with
+        no iopub limit, :data:`KERNEL_COMMANDS`) with this Python is forked.
         """
-        if len(command) < 3 or command[1:3] != ["-m", "ipykernel_launcher"] \
+        if len(command) < 3 or command[1:3] not in KERNEL_COMMANDS \
                 or os.path.realpath(command[0]) != os.path.realpath(sys.executable):
             return None
         return [sys.executable, "-I", "-S", str(LAUNCHER), self.socket_path, "--", *command]
@@ -430,7 +435,7 @@ class _Server:
         if not isinstance(request, dict) or not isinstance(request.get("env"), dict) \
                 or not isinstance(request.get("cwd"), str) or not isinstance(request.get("argv"), list):
             return "the request is not {argv, cwd, env}"
-        if request["argv"][:2] != ["-m", "ipykernel_launcher"]:
+        if request["argv"][:2] not in KERNEL_COMMANDS:
             return f"not an ipykernel command: {request['argv'][:2]}"
         differences = _differences(self.environment, request["env"])
         if differences:
@@ -507,8 +512,12 @@ class _Server:
                 del sys.modules[name]
             if "numpy.random" in sys.modules:   # a new kernel's numpy.random is seeded afresh
                 sys.modules["numpy.random"].seed()
-            sys.argv = ["ipykernel_launcher", *request["argv"][2:]]
-            runpy.run_module("ipykernel_launcher", run_name="__main__", alter_sys=True)
+            if request["argv"][0] == "-c":   # python -c UNLIMITED_IOPUB_KERNEL -f FILE
+                sys.argv = ["-c", *request["argv"][2:]]
+                exec(compile(request["argv"][1], "<kernel>", "exec"), {"__name__": "__main__"})
+            else:
+                sys.argv = ["ipykernel_launcher", *request["argv"][2:]]
+                runpy.run_module("ipykernel_launcher", run_name="__main__", alter_sys=True)
             code = 0
         except SystemExit as exc:
             code = exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
