@@ -368,6 +368,9 @@ class _Server:
         self.wake_read, self.wake_write = os.pipe()
         for fd in (self.wake_read, self.wake_write):
             os.set_blocking(fd, False)
+        #: what a new process started by the grader would have: its dispositions, inherited as ours
+        self.signals_at_start = {signum: signal.getsignal(signum) for signum in (
+            signal.SIGCHLD, signal.SIGTERM, signal.SIGHUP, signal.SIGQUIT, signal.SIGINT)}
         signal.signal(signal.SIGCHLD, lambda signum, frame: None)
         signal.set_wakeup_fd(self.wake_write)
         signal.signal(signal.SIGINT, signal.SIG_IGN)   # a Ctrl-C of the autograde's terminal: its business
@@ -491,9 +494,8 @@ class _Server:
             if not _set_parent_death_signal(server):
                 os._exit(1)
             signal.set_wakeup_fd(-1)
-            for signum in (signal.SIGCHLD, signal.SIGTERM, signal.SIGHUP, signal.SIGQUIT):
-                signal.signal(signum, signal.SIG_DFL)
-            signal.signal(signal.SIGINT, signal.default_int_handler)
+            for signum, handler in self.signals_at_start.items():   # e.g. SIGQUIT ignored by a shell's &
+                signal.signal(signum, handler)
             self.selector.close()
             for item in (self.listener, connection, *self.kernels):
                 item.close()
