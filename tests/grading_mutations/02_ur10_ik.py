@@ -276,6 +276,27 @@ MUTATIONS = {
 #: chapter that tests/benign_variants.py does not list; each one also passes its registered check,
 #: tests/test_check_ur10.py)
 VARIANTS = {
+    "task2_answer1": ("the weighted pseudoinverse by two linear solves, no inverse", '''
+
+def weighted_pinv(J, W):  # written another way: X = W^-1 J^T, then X (J X)^-1 by solving
+    X = np.linalg.solve(W, J.T)
+    return np.linalg.solve((J @ X).T, X.T).T
+'''),
+    "task2_answer2": ("the damped step as a least-squares problem [J; lambda I] dq = [e; 0]", '''
+
+def dls_step(J, e, damping):  # written another way: min |J dq - e|^2 + damping^2 |dq|^2
+    stacked = np.vstack([J, damping * np.eye(J.shape[1])])
+    target = np.concatenate([e, np.zeros(J.shape[1])])
+    return np.linalg.lstsq(stacked, target, rcond=None)[0]
+'''),
+    "task2_answer3": ("the null-space projector from the SVD: V_0 V_0^T", '''
+
+def nullspace_projector(J):  # written another way: the right singular vectors of sigma = 0
+    _, sigma, Vt = np.linalg.svd(J)
+    rank = int(np.sum(sigma > sigma.max() * max(J.shape) * np.finfo(float).eps))
+    kernel = Vt[rank:]
+    return kernel.T @ kernel
+'''),
     "task3_answer1": ("the figures with robokin's measures of a run and a cumulative sum", '''
 
 def summary(chain, p_goal, path):  # written another way: robokin's distance and manipulability
