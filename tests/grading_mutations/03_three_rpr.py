@@ -98,6 +98,7 @@ MUTATIONS = {
         ("Delta without the conjugates", _CRAMER_NO_CONJUGATE),
         ("w itself returned (no Cramer's rule)", _CRAMER_REAL_FORM),
         ("the powers of the real form (order 2 each)", "N_powers, Delta_powers = (-2, 2), (-2, 2)"),
+        ("the naive count of harmonics: order 4, degree 8", "highest_harmonic = 4"),
     ],
     "task2_test4": [
         ("the mirror modes -phi dropped",
