@@ -104,17 +104,19 @@ MUTATIONS = {
          "v_hand = np.gradient(arm.fk(Q_run)[:, :3, 3], TS, axis=0)"),
     ],
     "task4_test1": [
-        ("the sweep tracked open loop",
-         "sweep = track_position_batch(arm, Q_SWEEP, TS, P0_SWEEP[:, None, :] + relative,"
-         " v_ref, gain=0.0)\nworst = sweep.position_error.max(axis=1)"),
+        ("the chosen runs tracked open loop",
+         "Q_CHOSEN = np.array([track(Q_SWEEP[m], P0_SWEEP[m] + relative, v_ref, kp=0.0)"
+         " for m in CHOSEN])"),
+        ("every run given the circle of q_start, not one through its own start",
+         "Q_CHOSEN = np.array([track(Q_SWEEP[m], r_ref, v_ref) for m in CHOSEN])"),
+        ("no two neighbouring starts of one joint", "CHOSEN = [31, 10, 50]"),
     ],
     "task4_test2": [
-        ("every run given the circle of q_start, not one through its own start",
-         "sweep = track_position_batch(arm, Q_SWEEP, TS, np.broadcast_to(r_ref,"
-         " (63,) + r_ref.shape), v_ref, gain=KP)"),
         ("rho measured from the joint's origin, not from its axis",
          "rho = np.array([np.linalg.norm(P_START - arm.frames(Q_START)[j + 1][:3, 3])"
          " for j in range(7)])"),
+        ("the chord taken as the arc rho dtheta", "chord = rho * 0.1 * SPAN"),
+        ("the centres taken as the start points", "centres_chosen = P0_SWEEP[CHOSEN]"),
     ],
     "task4_test3": [
         ("the IK guesses used without solving", "Q_SAME = guesses"),
@@ -125,8 +127,7 @@ MUTATIONS = {
     ],
     "task4_test4": [
         ("five copies of q_start",
-         "same = track_position_batch(arm, np.tile(Q_START, (5, 1)), TS, r_ref,"
-         " v_ref, gain=KP)"),
+         "same_q = np.array([track(Q_START, r_ref, v_ref)] * 5)"),
     ],
     "task5_test1": [
         ("the best-conditioned run taken for the worst",
