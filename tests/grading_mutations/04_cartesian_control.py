@@ -264,6 +264,7 @@ MUTATIONS = {
         ("the step taken before the stop test", _STEP_THEN_TEST),
         ("the stop test on the error instead of the twist", _STOP_ON_ERROR),
         ("the twist stacked [w; v] in the loop", _RUN_COURSE_ORDER),
+        ("k_stop counts samples instead of steps", "k_stop = len(Q_run)"),
     ],
     "task4_test2": [
         ("the report's skip rule instead of clamping", _SKIP_RULE),
@@ -282,6 +283,8 @@ MUTATIONS = {
         ("the naive loop converts the rates with E(phi) after all", _NAIVE_CONVERTED),
     ],
     "task5_test2": [
-        ("k_stop counts samples instead of steps", "k_stop = len(Q_run)"),
+        ("the RPY difference not wrapped into (-pi, pi]",
+         "def rpy_difference(R, R_goal):\n"
+         "    return np.asarray(rpy_from_rotation(R_goal)) - np.asarray(rpy_from_rotation(R))\n"),
     ],
 }
