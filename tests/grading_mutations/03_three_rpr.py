@@ -93,6 +93,7 @@ MUTATIONS = {
     "task2_test2": [
         ("only the odd coefficients named", "vanishing_coefficients = {1, 3, 5}"),
         ("a coefficient named that does not vanish", "vanishing_coefficients = {0, 1, 2, 3, 5}"),
+        ("D's zero put at phi = pi (the root t = infinity)", "D_zero_phi = np.pi"),
     ],
     "task2_test3": [
         ("Delta without the conjugates", _CRAMER_NO_CONJUGATE),
