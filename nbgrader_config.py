@@ -120,7 +120,7 @@ c.RobokinExecute.sandbox = True
 
 # -- generate_feedback: MathJax inlined (the page is read offline, and handed out alone)
 c.GenerateFeedback.exporter_class = OfflineMathJaxHTMLExporter
-# nbgrader's two preprocessors, then the robokin ones (tools/robokin_nbgrader.py)
+# nbgrader's two preprocessors, then the robokin ones (tools/robokin_nbgrader/)
 c.GenerateFeedback.preprocessors = [
     GetGrades,
     CSSHTMLHeaderPreprocessor,

@@ -1,7 +1,7 @@
 """What the feedback page says and how it reads, without nbgrader commands or a kernel.
 
 The preprocessors of ``generate_feedback`` and the notes autograde writes
-(``tools/robokin_nbgrader.py``) on made-up notebooks:
+(``tools/robokin_nbgrader/``) on made-up notebooks:
 
 * MyST markup of the task statements (``{exercise}``, ``{admonition}``, ``{cite}``, ``{doc}``)
   becomes Markdown the page renders, for every chapter notebook in ``notebooks/``;
@@ -212,13 +212,13 @@ def test_a_check_that_names_the_answer_otherwise_says_so():
     """A check's message uses its own name of the answer: the note says which of the student's it is."""
     from nbgrader_metadata import check_names
 
-    from robokin_nbgrader import _called
+    from robokin_nbgrader.checks import called_as
 
     check, own = next(iter(sorted(check_names().items())))
     verdict = {"check": check, "quantity": "found[0]", "status": "wrong", "message": f"✘ {own} is transposed"}
-    assert _called(verdict) == f" (on your `found[0]`, which it calls `{own}`)"
-    assert _called({**verdict, "quantity": own}) == ""
-    assert _called({**verdict, "message": "✘ the value is transposed"}) == ""
+    assert called_as(verdict) == f" (on your `found[0]`, which it calls `{own}`)"
+    assert called_as({**verdict, "quantity": own}) == ""
+    assert called_as({**verdict, "message": "✘ the value is transposed"}) == ""
     from robokin_nbgrader import AutograderReport
 
     nb = nbformat.v4.new_notebook()

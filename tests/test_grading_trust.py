@@ -372,7 +372,7 @@ def test_a_number_shown_by_a_hook_sets_no_score(trusted):
     assert not any(shown(c) for c in nb["cells"] if nbg(c).get("grade"))
 
 
-#: report sections that name something as wrong (tools/robokin_nbgrader.py, tools/grading_bridge)
+#: report sections that name something as wrong (tools/robokin_nbgrader/, tools/grading_bridge)
 WRONG = ("What `robokin.check` says", "Where to start", "Notes on running your notebook",
          "For review by hand", "Answers the grader could not use", "Not run")
 

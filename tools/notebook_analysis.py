@@ -1,7 +1,7 @@
 """Read the exercise structure of a chapter notebook: tasks, solutions, checks.
 
 Shared by ``tools/nbgrader_metadata.py`` (which writes nbgrader's cell metadata
-from it), ``tools/robokin_nbgrader.py`` (nbgrader preprocessors) and the tests.
+from it), ``tools/robokin_nbgrader/`` (nbgrader preprocessors) and the tests.
 Everything is derived from what authors already write (book/for-instructors.md):
 
 * a **task** is a section whose heading is ``## Task k: ...``; it runs to the
@@ -302,14 +302,14 @@ def free_names(code: str) -> set[str]:
 
 
 # ---------------------------------------------------------------- calls of robokin.check
-def _check_aliases(code: str) -> dict[str, str]:
+def check_aliases(code: str) -> dict[str, str]:
     """Local names of check modules: ``{"check_ur10": "ur10", "check": "*"}``."""
     return dict(_check_aliases_of(code))
 
 
 @functools.lru_cache(maxsize=8192)
 def _check_aliases_of(code: str) -> dict[str, str]:
-    """:func:`_check_aliases`, memoised per source string (autograde asks for every cell of every
+    """:func:`check_aliases`, memoised per source string (autograde asks for every cell of every
     submission): read-only."""
     tree = _parse(code)
     out: dict[str, str] = {}
@@ -609,7 +609,7 @@ def analyse(path: Path, nb: dict | None = None, check_names: dict[str, str] | No
     aliases: dict[str, str] = {}
     for cell in cells:
         if cell.cell_type == "code":
-            aliases.update(_check_aliases(cell.source))
+            aliases.update(check_aliases(cell.source))
     student: set[str] = set()
     for cell in cells:
         if cell.cell_type != "code":

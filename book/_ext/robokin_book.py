@@ -46,7 +46,7 @@ from sphinx.application import Sphinx
 from sphinx.util.nodes import make_refnode
 
 # One rule for what the student edition keeps of a markdown cell, shared with nbgrader's
-# edition (tools/robokin_nbgrader.py) and its tests: tools/notebook_analysis.py.
+# edition (tools/robokin_nbgrader/) and its tests: tools/notebook_analysis.py.
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "tools"))
 from notebook_analysis import clear_solution_text
 

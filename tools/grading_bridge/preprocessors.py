@@ -51,7 +51,8 @@ sys.path.insert(0, str(TOOLS))
 
 from kernel_sockets import AsyncPrivateSocketsKernelManager  # noqa: E402
 from notebook_analysis import defined_names, free_names  # noqa: E402
-from robokin_nbgrader import VERDICT_MARK, RobokinExecute, _robokin, _task_of  # noqa: E402
+from robokin_nbgrader import VERDICT_MARK, RobokinExecute  # noqa: E402
+from robokin_nbgrader.cells import robokin_metadata, task_of  # noqa: E402
 
 from grading_bridge import delegation, fork_server  # noqa: E402
 from grading_bridge.grader_side import NOT_CALLED  # noqa: E402
@@ -223,7 +224,7 @@ class BridgedExecute(RobokinExecute):
                      if c.cell_type == "code" and c.locked and c.name not in solutions]
         source = self._source_metadata(info)
         if source is None:
-            source = {_grade_id(c): (_robokin(c), c.metadata.get("tags", [])) for c in nb.cells if _grade_id(c)}
+            source = {_grade_id(c): (robokin_metadata(c), c.metadata.get("tags", [])) for c in nb.cells if _grade_id(c)}
         meta = {key: value[0] for key, value in source.items()}
         _skip_pictures(cells, {key: value[1] for key, value in source.items()})
         # the instructor's robokin metadata replaces the submission's (a student can edit metadata)
@@ -239,7 +240,7 @@ class BridgedExecute(RobokinExecute):
             if entry.get("role") == "test":
                 for check, expression in entry.get("explain", []):
                     task_checks.setdefault(entry.get("task"), {}).setdefault(check, set()).add(expression)
-        answers = [(_task_of(c), c.source, meta.get(_grade_id(c), {}).get("declare", []))
+        answers = [(task_of(c), c.source, meta.get(_grade_id(c), {}).get("declare", []))
                    for c in nb.cells if c.cell_type == "code" and utils.is_solution(c)
                    and meta.get(_grade_id(c), {}).get("role") == "answer"]
         tasks = {name: task for task, _, names in answers for name in names}
@@ -258,7 +259,7 @@ class BridgedExecute(RobokinExecute):
         except Exception as exc:  # noqa: BLE001 - then the submission's metadata is used
             self.log.warning("bridge: no source notebook (%s); using the submission's metadata", exc)
             return None
-        return {_grade_id(c): (_robokin(c), c.metadata.get("tags", [])) for c in source.cells if _grade_id(c)}
+        return {_grade_id(c): (robokin_metadata(c), c.metadata.get("tags", [])) for c in source.cells if _grade_id(c)}
 
     def _start_grader(self) -> None:
         server = fork_server.shared_server(PRELOAD, self.log) if self.fork_server else None
@@ -424,7 +425,7 @@ class BridgeReport(NbGraderPreprocessor):
         if not lines:
             return nb, resources
         for cell in nb.cells:
-            if cell.cell_type == "markdown" and _robokin(cell).get("role") == "report":
+            if cell.cell_type == "markdown" and robokin_metadata(cell).get("role") == "report":
                 cell.source = cell.source.rstrip("\n") + "\n" + "\n".join(lines)
                 break
         else:

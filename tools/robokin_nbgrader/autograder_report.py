@@ -1,0 +1,132 @@
+"""``AutograderReport`` (autograde, after ``SaveAutoGrades``).
+
+A markdown cell on top of the graded notebook (and so of the feedback): the score per task, what
+``robokin.check`` found, and what went wrong outside the tests (a cell that raised, a cell that
+timed out, a test cell that was deleted).
+"""
+
+from __future__ import annotations
+
+from nbformat.notebooknode import from_dict
+from nbgrader import utils
+from nbgrader.preprocessors import NbGraderPreprocessor
+
+from .cells import cell_label, failing_line, markdown_line, task_of
+from .checks import called_as
+
+
+#: What nbgrader writes into a test cell it put back (``OverwriteCells.missing_cell_transform``).
+RESTORED_NOTE = "was missing from the submission"
+
+
+class AutograderReport(NbGraderPreprocessor):
+    """A markdown cell on top of the graded notebook: score per task, diagnoses, incidents."""
+
+    max_notes = 12
+
+    def preprocess(self, nb, resources):
+        report = resources.get("robokin", {})
+        grading = nb.metadata.get("robokin", {}).get("grading", {})
+        titles = {t["task"]: t["title"] for t in grading.get("tasks", [])}
+        scores: dict[int | None, list[float]] = {}
+        for cell in nb.cells:
+            if utils.is_grade(cell):
+                score, maximum = utils.determine_grade(cell, self.log)
+                entry = scores.setdefault(task_of(cell), [0.0, 0.0])
+                entry[0] += score or 0.0
+                entry[1] += maximum
+        total = sum(s for s, _ in scores.values())
+        maximum = sum(m for _, m in scores.values())
+
+        out = ["## Autograder report", "",
+               f"**{_num(total)} of {_num(maximum)} points** from the automatic tests. "
+               "A test scores 0 when it raises an error; the note below a failing test quotes the "
+               "statement that failed, names your answers it depends on (and the earlier answer that "
+               "made it fail, if any) and, where `robokin.check` recognises it, which typical "
+               "mistake your answer looks like.", "",
+               "| task | points |", "|---|---|"]
+        for task in sorted(scores, key=lambda t: (t is None, t or 0)):
+            score, top = scores[task]
+            label = f"Task {task}: {titles.get(task, '')}".rstrip(": ") if task is not None else "other tests"
+            out.append(f"| {label} | {_num(score)} / {_num(top)} |")
+
+        verdicts = report.get("verdicts") or []
+        pairs = report.get("pairs") or []
+        findings = []
+        for (task, _, _), v in zip(pairs, verdicts):
+            lost = scores.get(task, [1, 1])[0] < scores.get(task, [1, 1])[1]
+            if v["status"] == "wrong" or (v["status"] == "missing" and lost):
+                tag = f" *(typical mistake: {v['diagnosis']})*" if v["typical"] else ""
+                text = v["message"] if v["status"] == "wrong" else f"✘ {v['message']}"
+                called = called_as(v)
+                where = f" {markdown_line(called)}" if called else ""
+                findings.append(f"- Task {task}{where}: {markdown_line(text)}{tag}")
+        if findings:
+            out += ["", "**What `robokin.check` says about your answers**", "", *findings]
+        elif verdicts and all(v["status"] == "correct" for v in verdicts):
+            out += ["", f"`robokin.check` finds all {len(verdicts)} answers it can check correct."]
+
+        # an answer this page reports correct is nobody's cause
+        right = {v["quantity"] for v in verdicts if v["status"] == "correct"}
+        right -= {v["quantity"] for v in verdicts if v["status"] in ("wrong", "missing")}
+        causes = {}
+        for key, cause in (report.get("causes") or {}).items():
+            names = [n for n in cause["names"] if n not in right]
+            if names:
+                causes[key] = {**cause, "names": names}
+        if causes:
+            out += ["", "**Where to start**", ""]
+            ordered = sorted(causes.items(), key=lambda kv: (kv[1]["task"] is None, kv[1]["task"] or 0))
+            for _, cause in ordered[: self.max_notes]:
+                task = f" (Task {cause['task']})" if cause["task"] is not None else ""
+                tests = list(dict.fromkeys(cause["tests"]))
+                several = len(cause["names"]) > 1
+                names = ", ".join(f"`{n}`" for n in cause["names"])
+                out.append(f"- {names}{task}: {'their' if several else 'its'} {markdown_line(cause['why'])}; "
+                           f"the failing test{'s' if len(tests) > 1 else ''} {', '.join(tests)} "
+                           f"depend{'' if len(tests) > 1 else 's'} on {'them' if several else 'it'}. "
+                           f"Fix {'them' if several else 'it'} first.")
+            if len(ordered) > self.max_notes:
+                out.append(f"- … and {len(ordered) - self.max_notes} more groups of answers that tests depend on.")
+
+        notes = self._incidents(nb)
+        if notes:
+            shown = notes[: self.max_notes]
+            more = len(notes) - len(shown)
+            out += ["", "**Notes on running your notebook**", "", *shown]
+            if more > 0:
+                out.append(f"- … and {more} more cells that raised an error.")
+        cell = from_dict({"cell_type": "markdown", "metadata": {"robokin": {"role": "report"}},
+                          "source": "\n".join(out)})
+        if nb.cells and "id" in nb.cells[0]:
+            cell["id"] = "robokin-report"
+        nb.cells.insert(0, cell)
+        return nb, resources
+
+    def _incidents(self, nb) -> list[str]:
+        notes = []
+        for cell in nb.cells:
+            if cell.cell_type != "code":
+                continue
+            label = cell_label(cell)
+            if RESTORED_NOTE in cell.source:
+                notes.append(f"- The test cell {label} was missing from your submission: it was put back "
+                             "and run (do not delete test cells).")
+            for output in cell.get("outputs", []):
+                if output.get("output_type") != "error":
+                    continue
+                if output.get("ename") == "CellTimeoutError":
+                    notes.append(f"- {label} ran longer than the time limit and was stopped; the cells after it "
+                                 "ran as usual (look for an endless loop).")
+                elif not utils.is_grade(cell):
+                    evalue = markdown_line(str(output.get("evalue", "")))[:120]
+                    label = cell_label(cell, failing_line(cell, output))
+                    notes.append(f"- {label} (not graded) raised `{output.get('ename')}`"
+                                 + (f": {evalue}" if evalue else "") + "; the notebook ran on.")
+                break
+        # timeouts and deleted tests first, then errors
+        return sorted(notes, key=lambda n: 0 if ("time limit" in n or "missing" in n) else 1)
+
+
+def _num(x: float) -> str:
+    return f"{x:g}"

@@ -1,0 +1,359 @@
+"""``FailureNotes``: the note under a failing test (written by ``RobokinExecute``).
+
+It quotes the failing statement, names the student's answers it depends on (traced through the
+read-only cells), the root cause among them, and what ``robokin.check`` (asked in the student's
+kernel) says about those answers.
+"""
+
+from __future__ import annotations
+
+import re
+import textwrap
+
+from nbgrader import utils
+from notebook_analysis import Binding, defined_names, level2_headings, statement_at, statement_span
+from notebook_analysis import trace as cell_trace
+
+from .cells import ANSI, hidden_lines, robokin_metadata, task_of, visible_source
+from .checks import BUILTIN_NAMES, TYPE_PROBE, called_as, identifier_names
+
+
+def _cell_kinds(nb) -> list[tuple[str, str]]:
+    """``(kind, source)`` of every cell for ``notebook_analysis.trace``: the student's answer
+    cells are ``"answer"``, other code cells (given, tests, the student's own) ``"code"``."""
+    out = []
+    for cell in nb.cells:
+        if cell.cell_type != "code":
+            out.append(("markdown", ""))
+        else:
+            out.append(("answer" if utils.is_solution(cell) else "code", cell.source))
+    return out
+
+
+def _errors(cell) -> list:
+    return [o for o in cell.get("outputs", []) if o.get("output_type") == "error"]
+
+
+class FailureNotes:
+    """The note under a failing test: what failed, which of the student's answers it
+    depends on, which of those is the root cause, and what ``robokin.check`` says.
+
+    * the whole failing statement is quoted (a multi-line ``assert`` too);
+    * the names it reads are traced back (``notebook_analysis.trace``) through the
+      read-only cells and the earlier statements of the test cell to the answer
+      cells: only names bound by an answer cell are called "your answer";
+    * among those answers, the ones whose own earlier test failed, whose cell raised,
+      or that ``robokin.check`` found wrong are named as the root cause (the first
+      in the chain: an answer that is wrong only because it uses another wrong one
+      is left out);
+    * ``robokin.check`` is asked about those answers only, and a typical mistake is
+      named only for a check run on the student's value of those very names;
+    * a test that fails with a wrong type (``AttributeError``, ``TypeError``, ...)
+      says what the answer is and what was expected (the stub's docstring, the
+      task statement, or the check's signature).
+
+    ``report`` is the run's shared record (``resources["robokin"]``): it collects what
+    checks found wrong (``"wrong"``) and the root causes (``"causes"``) for the report.
+    """
+
+    max_statement_lines = 12
+    type_errors = ("AttributeError", "TypeError", "IndexError", "KeyError", "ValueError")
+
+    def __init__(self, nb, index: int, report: dict):
+        self.nb = nb
+        self.index = index
+        self.cell = nb.cells[index]
+        self.report = report
+        self.grade_id = self.cell.metadata.get("nbgrader", {}).get("grade_id", "?")
+        self.task = task_of(self.cell)
+        self._analysed = False
+
+    # -- the static analysis
+    def _failing_line(self, error) -> int | None:
+        traceback = ANSI.sub("", "\n".join(error.get("traceback", [])))
+        count = self.cell.get("execution_count")
+        for number, line in re.findall(r"Cell In\[(\d+)\], line (\d+)", traceback):
+            if str(number) == str(count) and 0 < int(line) <= len(self.cell.source.splitlines()):
+                return int(line)
+        return None
+
+    def analyse(self, error) -> None:
+        if self._analysed:
+            return
+        self._analysed = True
+        self.line = self._failing_line(error)
+        kinds = _cell_kinds(self.nb)[: self.index]
+        self.statement = statement_at(self.cell.source, self.line) if self.line else ""
+        if self.statement:
+            first, _ = statement_span(self.cell.source, self.line)
+            own = [("code", s) for s in _statements("\n".join(self.cell.source.splitlines()[: first - 1]))]
+            reads = trace(kinds + own + [("code", self.statement)])[-1]
+        else:
+            reads = trace(kinds + [("code", self.cell.source)])[-1]
+        student = {n: b for n, b in reads.items() if b.roots}
+        if self.statement and not student:  # the failing line reads nothing of the student's
+            reads = trace(kinds + [("code", self.cell.source)])[-1]
+            student = {n: b for n, b in reads.items() if b.roots}
+        self.yours = {n: b for n, b in student.items() if b.answer and b.cell < self.index}
+        self.derived = {n: b for n, b in student.items() if n not in self.yours}
+        # the answers the whole test reads itself (a test that fails before it reaches its check of
+        # J_lift still checks J_lift: the note gives robokin.check's verdict on it)
+        whole = trace(kinds + [("code", visible_source(self.cell.source))])[-1]
+        self.checked = {n for n, b in whole.items() if b.answer and b.cell < self.index}
+        self.roots = set().union(*(b.roots for b in student.values())) if student else set()
+        table = _bindings(kinds)
+        self.answer_cell = {n: table[n].cell for n in self.roots if n in table}
+        self.root_roots = {n: table[n].roots for n in self.roots if n in table}
+        self._kinds = kinds
+        self.causes = self._causes(kinds)
+
+    def _causes(self, kinds, correct: frozenset[str] = frozenset()) -> dict[str, str]:
+        """``{answer name: why it is suspect}`` for the root causes of this failure (the why
+        reads after "its" or "their": ``"own test task2_test1 failed"``). An answer that
+        ``robokin.check`` finds correct (``correct``) is never a cause, and its own tests are
+        the failing tests of its task that read it."""
+        why: dict[str, str] = {}
+        all_reads = trace(kinds)
+        for name in sorted(self.roots - set(correct)):
+            cell = self.answer_cell.get(name)
+            if cell is not None and _errors(self.nb.cells[cell]):
+                error = _errors(self.nb.cells[cell])[0]
+                count = self.nb.cells[cell].get("execution_count")
+                where = f" In [{count}]" if count else ""
+                why[name] = f"answer cell{where} raised {error.get('ename')}"
+                continue
+            failed = []
+            task = task_of(self.nb.cells[cell]) if cell is not None else None
+            for j in range(cell + 1 if cell is not None else 0, self.index):
+                other = self.nb.cells[j]
+                if other.cell_type == "code" and utils.is_grade(other) and _errors(other) \
+                        and task_of(other) == task:   # a test of another task is not its own
+                    roots = set().union(*(b.roots for b in all_reads[j].values())) if all_reads[j] else set()
+                    if name in roots:
+                        failed.append(other.metadata["nbgrader"]["grade_id"])
+            if failed:
+                why[name] = f"own test {failed[0]} failed" if len(failed) == 1 else \
+                    f"own tests {', '.join(failed)} failed"
+            elif name in self.report.get("wrong", {}):
+                why[name] = f"value is wrong for robokin.check ({self.report['wrong'][name]})"
+        # the first link of the chain: leave out an answer that uses another suspect one
+        return {n: w for n, w in why.items()
+                if not any(other != n and other in self.root_roots.get(n, ()) for other in why)}
+
+    # -- the questions to the kernel
+    def pairs(self, error) -> list[tuple[str, str]]:
+        """``(check, quantity)`` pairs to evaluate in the kernel: the checks of this test and
+        the registered checks, on the student's answers it depends on; type probes."""
+        self.analyse(error)
+        names = self.roots | set(self.yours)
+        out: list[tuple[str, str]] = []
+        own = [tuple(p) for p in robokin_metadata(self.cell).get("explain", [])]
+        candidates = [(check, quantity, names | self.checked) for check, quantity in own]
+        candidates += [(check, name, names) for _, check, name in self.report.get("pairs", [])]
+        for check, quantity, allowed in candidates:
+            used = identifier_names(quantity)
+            if used and used <= allowed | BUILTIN_NAMES and (check, quantity) not in out:
+                out.append((check, quantity))
+        if error.get("ename") in self.type_errors:
+            for name in sorted(self.yours):
+                out.append((TYPE_PROBE, name))
+        return out
+
+    # -- the note
+    def lines(self, error, verdicts: list[dict]) -> list[str]:
+        self.analyse(error)
+        out = []
+        if error.get("ename") == "CellTimeoutError":
+            out.append(f"✘ Task {self.task} ({self.grade_id}) did not finish within the time limit: "
+                       "it was stopped.")
+        elif self.line and self.line in hidden_lines(self.cell.source):
+            # a hidden test: its verdict and diagnosis, never its code (not even the line's number)
+            out.append(f"✘ Task {self.task} ({self.grade_id}) failed in its hidden tests "
+                       "(tests run when grading, whose code is not shown):")
+            message = f"{error.get('ename')}: {error.get('evalue', '')}".strip().rstrip(":")
+            out.append(f"  {message}" if error.get("evalue") else f"  ({error.get('ename')})")
+        else:
+            where = f" at line {self.line}:" if self.line else ""
+            out.append(f"✘ Task {self.task} ({self.grade_id}) failed{where}")
+            statement = self.statement.splitlines()
+            if len(statement) > self.max_statement_lines:
+                statement = statement[: self.max_statement_lines] + ["..."]
+            out += [f"      {line}" for line in textwrap.dedent("\n".join(statement)).splitlines()]
+            message = f"{error.get('ename')}: {error.get('evalue', '')}".strip().rstrip(":")
+            out.append(f"  {message}" if error.get("evalue") else f"  ({error.get('ename')})")
+        if self.yours:
+            out.append(f"  It checks your answer{'s' if len(self.yours) > 1 else ''} "
+                       f"{self._named(self.yours)}.")
+        derived = {n: b for n, b in self.derived.items() if n not in self._hidden_names()}
+        if derived:
+            upstream = sorted(set().union(*(b.roots for b in derived.values())))
+            given = ", ".join(f"`{n}`" for n in sorted(derived))
+            here = [b.cell >= self.index for b in derived.values()]
+            where = ("earlier in this test cell" if all(here) else "by read-only cells" if not any(here)
+                     else "by read-only cells and earlier in this test cell")
+            # what it reads of the student's, not that it is "computed from" them: a finite-difference
+            # reference at the student's q is robokin's value there, not the student's
+            several = len(derived) > 1
+            out.append(f"  It also reads {given}, computed {where}; {'they use' if several else 'it uses'} "
+                       f"your answer{'s' if len(upstream) > 1 else ''} {self._named(upstream)}.")
+        for name in sorted(self.yours):
+            missing = f"name '{name}' is not defined"
+            if error.get("ename") == "NameError" and missing in str(error.get("evalue", "")):
+                cell = self.yours[name].cell
+                out.append(f"  `{name}` was never defined: your answer cell of Task "
+                           f"{task_of(self.nb.cells[cell])} did not finish (see its error above it).")
+        correct = frozenset(v["quantity"] for v in verdicts if v.get("status") == "correct")
+        if correct & set(self.causes):   # robokin.check finds it right: not the cause
+            self.causes = self._causes(self._kinds, correct)
+        if self.causes:
+            groups: dict[tuple, list[str]] = {}
+            for name, why in sorted(self.causes.items()):
+                groups.setdefault((self._task_of_name(name), why), []).append(name)
+            items = "; ".join(f"{self._named(names)}: {'its' if len(names) == 1 else 'their'} {why}"
+                              for (_, why), names in groups.items())
+            out.append(f"  This test failed because of {items}. Fix that first: this test may then pass.")
+            record = self.report.setdefault("causes", {})
+            for (task, why), names in groups.items():
+                entry = record.setdefault(f"{task}|{why}", {"task": task, "why": why, "names": [], "tests": []})
+                entry["names"] = sorted(set(entry["names"]) | set(names))
+                entry["tests"].append(self.grade_id)
+        checked = {name for v in verdicts if v.get("status") not in ("info", "skipped")
+                   for name in identifier_names(v["quantity"])}
+        infos: dict[str, list[str]] = {}
+        for v in verdicts:
+            if v.get("status") == "info" and v["quantity"] not in checked:
+                infos.setdefault(v.get("got") or v.get("message", ""), []).append(v["quantity"])
+        for got, names in infos.items():
+            expected = [_expected_from_notebook(self.nb, self.yours[n].cell, n) for n in names if n in self.yours]
+            listed = ", ".join(f"`{n}`" for n in names)
+            text = f"  Your {listed} {'is' if len(names) == 1 else 'are'} {got}"
+            hints = "; ".join(e for e in expected if e)
+            out.append(text + (f"; expected: {hints}" if hints else "."))
+        names = self.roots | set(self.yours) | self.checked
+        wrong = self.report.setdefault("wrong", {})
+        for v in verdicts:
+            if v.get("status") in ("skipped", "info"):
+                continue
+            used = identifier_names(v["quantity"])
+            mine = bool(used) and used <= names | BUILTIN_NAMES
+            tag = f"  (typical mistake: {v['diagnosis']})" if v.get("typical") and mine else ""
+            text = v["message"] if v["status"] in ("correct", "wrong") else f"✘ {v['message']}"
+            out.append(f"  robokin.check{called_as(v)}: {text}{tag}")
+            if v["status"] in ("wrong", "missing") and v["quantity"].isidentifier():
+                wrong.setdefault(v["quantity"], v.get("diagnosis") or v["status"])
+        return out
+
+    def _hidden_names(self) -> set[str]:
+        """Names bound in this cell's hidden tests only: the note never names them."""
+        hidden = hidden_lines(self.cell.source)
+        if not hidden:
+            return set()
+        lines = self.cell.source.split("\n")
+        code = "\n".join(line for number, line in enumerate(lines, 1) if number in hidden)
+        try:
+            return set(defined_names(textwrap.dedent(code))) - set(defined_names(visible_source(self.cell.source)))
+        except SyntaxError:
+            return set()
+
+    def _task_of_name(self, name: str) -> int | None:
+        cell = self.answer_cell.get(name)
+        return task_of(self.nb.cells[cell]) if cell is not None else None
+
+    def _named(self, names) -> str:
+        """```a`, `b` (Task 2), `c` (Task 3)``: names with their task, grouped by task."""
+        by_task: dict[int | None, list[str]] = {}
+        for name in sorted(names):
+            task = self._task_of_name(name)
+            if task is None and name in self.yours:
+                task = task_of(self.nb.cells[self.yours[name].cell])
+            by_task.setdefault(task, []).append(name)
+        parts = []
+        for task, group in sorted(by_task.items(), key=lambda kv: (kv[0] is None, kv[0] or 0)):
+            listed = ", ".join(f"`{n}`" for n in group)
+            parts.append(f"{listed} (Task {task})" if task is not None else listed)
+        return ", ".join(parts)
+
+
+def trace(cells: list[tuple[str, str]]) -> list[dict[str, Binding]]:
+    """``notebook_analysis.trace`` with each read-only cell read statement by statement.
+
+    A read-only cell that computes ``H_model = leg.frames(q)`` and, in another statement,
+    ``H = R_B1 @ R_12`` gives ``H_model`` no answer of the student's: only the statements that
+    read an answer pass it on. Answer cells stay whole (all they bind is the student's). The
+    result is ``trace``'s, for the cells as given (a binding's ``cell`` is the index in ``cells``).
+    """
+    expanded: list[tuple[str, str]] = []
+    owner: list[int] = []
+    for index, (kind, code) in enumerate(cells):
+        parts = _statements(code) if kind == "code" else [code]
+        for part in parts or [""]:
+            expanded.append((kind, part))
+            owner.append(index)
+    reads = cell_trace(expanded)
+    out: list[dict[str, Binding]] = [{} for _ in cells]
+    for position, found in enumerate(reads):
+        index = owner[position]
+        for name, binding in found.items():
+            cell = owner[binding.cell]
+            if cell < index and name not in out[index]:   # a name bound earlier in the cell is its own
+                out[index][name] = Binding(cell, binding.answer, binding.roots)
+    return out
+
+
+def _statements(code: str) -> list[str]:
+    """The top-level statements of ``code`` (the lines before the failing one), as sources."""
+    import ast
+
+    try:
+        tree = ast.parse(code)
+    except SyntaxError:
+        return [code]
+    lines = code.splitlines()
+    return ["\n".join(lines[s.lineno - 1: s.end_lineno]) for s in tree.body]
+
+
+def _bindings(kinds: list[tuple[str, str]]):
+    """The last binding of every name after ``kinds`` (``notebook_analysis.Binding``)."""
+    marker = "_robokin_every_name_"
+    names = set()
+    for kind, code in kinds:
+        if kind in ("answer", "code"):
+            names |= set(defined_names(code))
+    probe = ", ".join(sorted(names)) or "None"
+    return trace(kinds + [("code", f"{marker} = ({probe},)")])[-1]
+
+
+def _expected_from_notebook(nb, cell_index: int, name: str) -> str:
+    """What the notebook says ``name`` is: the docstring of the function, or the sentence of
+    the task statement above its answer cell that names it in backticks."""
+    import ast
+
+    cell = nb.cells[cell_index]
+    try:
+        tree = ast.parse(cell.source)
+    except SyntaxError:
+        tree = None
+    for node in tree.body if tree else []:
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)) and node.name == name:
+            doc = ast.get_docstring(node) or ""
+            returns = re.search(r"Returns\n-+\n(.*?)(\n\s*\n|\Z)", doc, re.S)
+            text = returns.group(1) if returns else doc.split("\n\n")[0]
+            args = ", ".join(a.arg for a in node.args.args)
+            text = " ".join(text.split())
+            return f"{name}({args})" + (f" returning {text}" if returns else f": {text}" if text else "")
+    mention = re.compile(rf"(?<![\w.]){re.escape(name)}\b")
+    for line in cell.source.splitlines():
+        if "#" in line and mention.search(line[line.index("#"):]) and "YOUR CODE HERE" not in line:
+            comment = " ".join(line[line.index("#") + 1:].split())
+            return f"the notebook says: “{comment[:240]}”"
+    word = re.compile(rf"`[^`]*(?<![\w.]){re.escape(name)}\b[^`]*`")
+    for other in reversed(nb.cells[:cell_index]):
+        if other.cell_type != "markdown":
+            continue
+        text = " ".join(other.source.split())
+        for sentence in re.split(r"(?<=[.!?])\s+", text):
+            if word.search(sentence):
+                return f"the task says: “{sentence[:240]}”"
+        if level2_headings(other.source):
+            break
+    return ""
