@@ -136,10 +136,9 @@ execute: $(STAMP)
 	@for nb in $(NB); do \
 	  test -f "$$nb" || { echo "ERROR [execute]: no notebook $$nb (NB= takes paths such as notebooks/02_ur10_ik.ipynb)"; exit 1; }; \
 	  echo "== executing $$nb"; \
-	  ROBOKIN_VIEWER=static PYTHONPATH="$(CURDIR)/tools$${PYTHONPATH:+:$$PYTHONPATH}" \
-	    $(BIN)/jupyter nbconvert --to notebook --execute --inplace \
+	  ROBOKIN_VIEWER=static $(BIN)/jupyter nbconvert --to notebook --execute --inplace \
 	    --ExecutePreprocessor.timeout=300 --ExecutePreprocessor.record_timing=False \
-	    --ExecutePreprocessor.kernel_manager_class=kernel_sockets.AsyncPrivateSocketsKernelManager "$$nb" || exit 1; \
+	    --ExecutePreprocessor.kernel_manager_class=tools.kernel_sockets.AsyncPrivateSocketsKernelManager "$$nb" || exit 1; \
 	  $(BIN)/jupyter nbconvert --to notebook --inplace --log-level=WARN \
 	    --CoalesceStreamsPreprocessor.enabled=True "$$nb" || exit 1; \
 	done

@@ -11,12 +11,8 @@ sockets, and nothing else of nbval changes.
 
 from __future__ import annotations
 
-import sys
-from pathlib import Path
-
 import nbval.kernel
 
-sys.path.insert(0, str(Path(__file__).resolve().parent / "tools"))
-from kernel_sockets import PrivateSocketsKernelManager
+from tools.kernel_sockets import PrivateSocketsKernelManager
 
 nbval.kernel.KernelManager = PrivateSocketsKernelManager

@@ -6,7 +6,6 @@
 # or here (the root below then points at it). The walk-through is in
 # book/for-instructors.md, "Assigning chapters with nbgrader".
 import os
-import sys
 from pathlib import Path
 
 from nbconvert.preprocessors import ClearMetadataPreprocessor, CSSHTMLHeaderPreprocessor
@@ -30,9 +29,8 @@ from nbgrader.preprocessors import (
 )
 
 ROBOKIN = Path(__file__).resolve().parent
-sys.path.insert(0, str(ROBOKIN / "tools"))
 
-from robokin_nbgrader import (  # noqa: E402
+from tools.robokin_nbgrader import (  # noqa: E402
     AutograderReport,
     GradingIncidents,
     DropSolutionProse,
@@ -48,7 +46,7 @@ from robokin_nbgrader import (  # noqa: E402
 )
 # Verdicts decided in a grader kernel, outside the student's, which a submission could tamper
 # with: tools/grading_bridge/.
-from grading_bridge.preprocessors import BridgeReport, BridgedExecute  # noqa: E402
+from tools.grading_bridge.preprocessors import BridgeReport, BridgedExecute  # noqa: E402
 
 c = get_config()  # noqa: F821 - provided by nbgrader's config loader
 

@@ -19,17 +19,13 @@ from __future__ import annotations
 import html
 import os
 import re
-import sys
 from pathlib import Path
 
 import nbformat
 import pytest
 
 from conftest import ROOT
-
-sys.path.insert(0, str(ROOT / "tools"))
-
-from nbgrader_metadata import chapter_notebooks
+from tools.nbgrader_metadata import chapter_notebooks
 
 NOTEBOOKS = Path(os.environ.get("ROBOKIN_NBGRADER_NOTEBOOKS", ROOT / "notebooks")).resolve()
 CHAPTERS = chapter_notebooks(NOTEBOOKS.parent, NOTEBOOKS.name)
@@ -38,7 +34,7 @@ RAW_MYST = re.compile(r"(```+|:::+)\{[\w:-]+\}|\{[a-z][\w:-]*\}`")
 
 
 def _myst(text: str, notebook: str = "03_example") -> str:
-    from robokin_nbgrader import MystMarkdown
+    from tools.robokin_nbgrader import MystMarkdown
 
     nb = nbformat.v4.new_notebook()
     nb.cells = [nbformat.v4.new_markdown_cell(text)]
@@ -64,7 +60,7 @@ def test_myst_directives_and_roles_become_markdown():
 def test_no_raw_myst_in_a_chapters_feedback(path):
     """Every text cell of the chapter, as the feedback page shows it: no directive or role is left raw,
     and no link points into the book's folder (it does not resolve where the page is read)."""
-    from robokin_nbgrader import MystMarkdown
+    from tools.robokin_nbgrader import MystMarkdown
 
     nb = nbformat.read(path, as_version=4)
     nb, _ = MystMarkdown().preprocess(nb, {"nbgrader": {"notebook": path.stem}})
@@ -81,7 +77,7 @@ def test_feedback_page_wraps_notes_and_spaces_table_columns(tmp_path):
     from nbconvert.exporters import HTMLExporter
     from nbconvert.preprocessors import CSSHTMLHeaderPreprocessor
 
-    from robokin_nbgrader import FeedbackStyle
+    from tools.robokin_nbgrader import FeedbackStyle
 
     nb = nbformat.v4.new_notebook()
     nb.cells = [nbformat.v4.new_markdown_cell("| task | points |\n|---|---|\n| Task 1: foot position | 0 / 2 |")]
@@ -136,7 +132,7 @@ def _leg_notebook():
 
 
 def test_a_model_value_is_not_the_students_and_a_correct_answer_is_no_cause():
-    from robokin_nbgrader import FailureNotes
+    from tools.robokin_nbgrader import FailureNotes
 
     nb = _leg_notebook()
     index = next(i for i, c in enumerate(nb.cells) if c.metadata.get("nbgrader", {}).get("grade_id") == "task2_test1")
@@ -154,7 +150,7 @@ def test_a_model_value_is_not_the_students_and_a_correct_answer_is_no_cause():
 
 
 def test_own_tests_are_the_tests_of_the_answers_task():
-    from robokin_nbgrader import FailureNotes
+    from tools.robokin_nbgrader import FailureNotes
 
     nb = _leg_notebook()
     nb.cells.append(nbformat.v4.new_markdown_cell("## Task 3: later"))
@@ -172,7 +168,7 @@ def test_own_tests_are_the_tests_of_the_answers_task():
 
 
 def test_report_quotes_the_line_that_raised_and_drops_correct_causes():
-    from robokin_nbgrader import AutograderReport
+    from tools.robokin_nbgrader import AutograderReport
 
     nb = nbformat.v4.new_notebook()
     ungraded = _cell("x = 1\ny = 2\nassert y == 3, 'my own experiment'", count=9,
@@ -199,7 +195,7 @@ def test_feedback_page_shows_no_markdown_raw():
     """The report's own Markdown renders (a smoke test of the exporter with the feedback's preprocessors)."""
     from nbconvert.exporters import HTMLExporter
 
-    from robokin_nbgrader import MystMarkdown
+    from tools.robokin_nbgrader import MystMarkdown
 
     nb = nbformat.v4.new_notebook()
     nb.cells = [nbformat.v4.new_markdown_cell("```{admonition} Learning goals\n:class: tip\n- one\n```")]
@@ -210,16 +206,16 @@ def test_feedback_page_shows_no_markdown_raw():
 
 def test_a_check_that_names_the_answer_otherwise_says_so():
     """A check's message uses its own name of the answer: the note says which of the student's it is."""
-    from nbgrader_metadata import check_names
+    from tools.nbgrader_metadata import check_names
 
-    from robokin_nbgrader.checks import called_as
+    from tools.robokin_nbgrader.checks import called_as
 
     check, own = next(iter(sorted(check_names().items())))
     verdict = {"check": check, "quantity": "found[0]", "status": "wrong", "message": f"✘ {own} is transposed"}
     assert called_as(verdict) == f" (on your `found[0]`, which it calls `{own}`)"
     assert called_as({**verdict, "quantity": own}) == ""
     assert called_as({**verdict, "message": "✘ the value is transposed"}) == ""
-    from robokin_nbgrader import AutograderReport
+    from tools.robokin_nbgrader import AutograderReport
 
     nb = nbformat.v4.new_notebook()
     nb.cells = [nbformat.v4.new_markdown_cell("# Chapter"),

@@ -44,18 +44,12 @@ from pathlib import Path
 import pytest
 
 from conftest import ROOT
-
-sys.path.insert(0, str(ROOT / "tools"))
-sys.path.insert(0, str(ROOT / "tools" / "grading_deploy"))
-
-import grade_shard
-import grade_submission
-import gradescope
 import grading_course
-import process_cap
 from benign_variants import with_incident
 from test_grading_tamper import tampered
 from test_nbgrader import correct_submission, mistaken_submission, save
+from tools import grade_submission, gradescope, process_cap
+from tools.grading_deploy import grade_shard
 
 CHAPTER = "03_three_rpr"
 DEPLOY = ROOT / "tools" / "grading_deploy"
@@ -325,7 +319,7 @@ def _bomb_processes() -> list[int]:
 
 def _release(tmp_path: Path) -> tuple[dict, dict]:
     """The chapter's source and its student edition, made by nbgrader as grade_submission does."""
-    from student_edition import add_source, write_course
+    from tools.student_edition import add_source, write_course
 
     source = ROOT / "notebooks" / f"{CHAPTER}.ipynb"
     course = tmp_path / "course"

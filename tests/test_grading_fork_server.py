@@ -28,17 +28,13 @@ import time
 
 import pytest
 
-from conftest import ROOT
-
 psutil = pytest.importorskip("psutil")
 pytest.importorskip("nbgrader", reason="nbgrader is not installed: run `make test` (installs requirements.txt)")
 if not hasattr(os, "fork") or not sys.platform.startswith("linux"):
     pytest.skip("the fork server forks grader kernels on Linux", allow_module_level=True)
 
-sys.path.insert(0, str(ROOT / "tools"))
-
-from grading_bridge import fork_server  # noqa: E402
-from grading_bridge.preprocessors import PRELOAD, BridgedExecute, GraderKernel  # noqa: E402
+from tools.grading_bridge import fork_server  # noqa: E402 - after the skip: it needs fork
+from tools.grading_bridge.preprocessors import PRELOAD, BridgedExecute, GraderKernel  # noqa: E402
 
 pytestmark = pytest.mark.nbgrader
 LOG = logging.getLogger("test_grading_fork_server")
@@ -204,11 +200,10 @@ def test_killing_the_launcher_kills_its_kernel(server, kernels):
 #: An "autograde process": a fork server (few modules: its life is tested here, not its imports)
 #: and a grader kernel forked from it; prints the pids, then waits to be killed.
 AUTOGRADE = """
-import json, sys, tempfile, time
-sys.path.insert(0, {tools!r})
+import json, tempfile, time
 import psutil
 from jupyter_core.utils import run_sync
-from grading_bridge import fork_server
+from tools.grading_bridge import fork_server
 server = fork_server.ForkServer(("numpy",))
 manager = fork_server.ForkedKernelManager(kernel_name="python3", fork_server=server)
 run_sync(manager.start_kernel)(cwd=tempfile.mkdtemp())
@@ -216,14 +211,14 @@ client = manager.client()
 client.start_channels()
 run_sync(client.wait_for_ready)(timeout=60)
 kernels = [p.pid for p in psutil.Process(server.process.pid).children()]
-print(json.dumps({{"server": server.process.pid, "launcher": manager.provisioner.pid, "kernels": kernels}}),
+print(json.dumps({"server": server.process.pid, "launcher": manager.provisioner.pid, "kernels": kernels}),
       flush=True)
 time.sleep(300)
 """
 
 
 def test_killing_the_autograde_process_leaves_no_process_behind(tmp_path):
-    autograde = subprocess.Popen([sys.executable, "-c", AUTOGRADE.format(tools=str(ROOT / "tools"))],
+    autograde = subprocess.Popen([sys.executable, "-c", AUTOGRADE],
                                  stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
     try:
         pids = json.loads(autograde.stdout.readline())
@@ -265,7 +260,7 @@ def test_fork_server_false_starts_each_grader_kernel_anew(monkeypatch):
         def get_connection_info(self):
             return {}
 
-    monkeypatch.setattr("grading_bridge.preprocessors.GraderKernel", Recorder)
+    monkeypatch.setattr("tools.grading_bridge.preprocessors.GraderKernel", Recorder)
     sentinel = object()
     monkeypatch.setattr(fork_server, "shared_server", lambda preload, logger: sentinel)
     for wanted in (False, True):

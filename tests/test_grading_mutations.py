@@ -35,18 +35,14 @@ import importlib.util
 import json
 import os
 import re
-import sys
 from pathlib import Path
 
 import pytest
 
 from conftest import ROOT
-
-sys.path.insert(0, str(ROOT / "tools"))
-
-from kernel_sockets import AsyncPrivateSocketsKernelManager
-from nbgrader_metadata import chapter_notebooks
-from notebook_analysis import defined_names
+from tools.kernel_sockets import AsyncPrivateSocketsKernelManager
+from tools.nbgrader_metadata import chapter_notebooks
+from tools.notebook_analysis import defined_names
 
 NOTEBOOKS = Path(os.environ.get("ROBOKIN_NBGRADER_NOTEBOOKS", ROOT / "notebooks")).resolve()
 MUTATIONS_DIR = Path(os.environ.get("ROBOKIN_GRADING_MUTATIONS", ROOT / "tests" / "grading_mutations")).resolve()

@@ -296,7 +296,7 @@ def test_codec_round_trip_and_refusals():
     import numpy as np
     import sympy as sp
 
-    from grading_bridge import codec
+    from tools.grading_bridge import codec
 
     t = sp.symbols("t", real=True)
     value = {"a": np.arange(6.0).reshape(2, 3), "b": (1, 2.5, None, "x", True), "c": [np.float64(2.0)],
@@ -351,7 +351,7 @@ def test_codec_round_trip_and_refusals():
 
 
 def test_delegation_finder_on_code():
-    from grading_bridge import delegation
+    from tools.grading_bridge import delegation
 
     checks = {1: {"three_rpr.inverse_kinematics"}, 3: {"three_rpr.inverse_jacobian"}}
     answers = [
@@ -411,7 +411,7 @@ NO_DELEGATION: dict[str, str] = {}
 def test_delegation_is_flagged_in_every_chapter(chapter):
     """For every check with robokin references that a chapter's tests explain, an answer
     bound to robokin's solution is flagged; the instructor's solutions are not."""
-    from grading_bridge import delegation
+    from tools.grading_bridge import delegation
 
     answers, checks = _answers_and_checks(load(NOTEBOOKS / f"{chapter}.ipynb"))
     assert delegation.find(answers, checks) == [], f"{chapter}: the solutions are flagged"
@@ -446,7 +446,7 @@ def test_answers_are_handed_over_after_cells_that_printed_thousands_of_lines(tmp
     import shutil
     import time
 
-    from grading_bridge import benchmark, grader_side
+    from tools.grading_bridge import benchmark, grader_side
 
     manager, client = benchmark.start_kernel(shutil.which("bwrap") is not None, str(tmp_path))
     # Time limits: the call limit, 60 s, is what a wait for a status that never comes would
@@ -482,7 +482,7 @@ def test_call_channel_calls_calls_back_and_stops_a_call_that_never_returns(tmp_p
     import numpy as np
     from jupyter_core.utils import run_sync
 
-    from grading_bridge import benchmark, grader_side
+    from tools.grading_bridge import benchmark, grader_side
 
     sandboxed = shutil.which("bwrap") is not None
     manager, client = benchmark.start_kernel(sandboxed, str(tmp_path))

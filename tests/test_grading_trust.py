@@ -65,12 +65,9 @@ from test_nbgrader import (
     rk,
     src,
 )
-
-sys.path.insert(0, str(ROOT / "tools"))
-
 import grading_course
 from benign_variants import CRASH, HANG, VARIANTS, last_try_cell, with_incident, written_another_way
-from robokin_sandbox import PACKAGE, SWITCH, sandbox_arguments, sandbox_wanted
+from tools.robokin_sandbox import PACKAGE, SWITCH, sandbox_arguments, sandbox_wanted
 
 # The tests that read a run are marked with its part of the graded courses (one xdist group each):
 # grading_course.reads(CHAPTER) for chapter 3's, chapter_params for the others.
@@ -463,7 +460,7 @@ def test_tests_after_a_lost_kernel_score_zero_and_say_why():
     """The cells after the one the kernel stopped in are not run: their tests score 0, with the reason."""
     from nbformat.v4 import new_code_cell, new_notebook
     from nbgrader import utils
-    from robokin_nbgrader import NOT_RUN, GradingIncidents, RobokinExecute
+    from tools.robokin_nbgrader import NOT_RUN, GradingIncidents, RobokinExecute
 
     execute = RobokinExecute()
     execute._report = {"incidents": []}
@@ -556,8 +553,8 @@ def test_the_switch(monkeypatch):
 def test_the_switch_off_runs_nbgraders_own_kernel(monkeypatch):
     from jupyter_client.manager import AsyncKernelManager
     from nbformat.v4 import new_notebook
-    from robokin_nbgrader import RobokinExecute
-    from robokin_sandbox import SandboxedKernelManager
+    from tools.robokin_nbgrader import RobokinExecute
+    from tools.robokin_sandbox import SandboxedKernelManager
 
     from traitlets.config import Config
 
@@ -576,7 +573,7 @@ def test_the_switch_off_runs_nbgraders_own_kernel(monkeypatch):
 
 
 def test_a_bwrap_that_cannot_make_a_sandbox_stops_grading(tmp_path, monkeypatch):
-    import robokin_sandbox
+    from tools import robokin_sandbox
 
     fake = tmp_path / "bwrap"
     fake.write_text("#!/bin/sh\necho 'bwrap: No permissions to create new namespace' >&2\nexit 1\n")
@@ -629,7 +626,7 @@ def _graded_test_cell():
 def _execute(cells, manager, replays=0, **state):
     """A RobokinExecute on ``cells`` with ``manager``, as autograde sets it up before the cells run."""
     from nbformat.v4 import new_notebook
-    from robokin_nbgrader import RobokinExecute
+    from tools.robokin_nbgrader import RobokinExecute
 
     execute = RobokinExecute()
     execute.nb, execute.km = new_notebook(cells=cells), manager
@@ -649,7 +646,7 @@ def test_when_the_kernel_cannot_be_restarted_grading_stops_there():
     """_kernel_lost: restart fails -> the kernel is stopped and the cells after it are not run."""
     from nbclient.exceptions import DeadKernelError
     from nbformat.v4 import new_code_cell
-    from robokin_nbgrader import NOT_RUN
+    from tools.robokin_nbgrader import NOT_RUN
 
     crash, test = new_code_cell("import os\nos._exit(1)"), _graded_test_cell()
     manager = _FakeKernelManager(_refuse("no more kernels"))
@@ -669,7 +666,7 @@ def test_after_the_last_test_a_lost_kernel_is_not_restarted():
     """_kernel_lost after the last test: no restart, no replay; the report says nothing graded was lost."""
     from nbclient.exceptions import DeadKernelError
     from nbformat.v4 import new_code_cell, new_notebook
-    from robokin_nbgrader import GradingIncidents
+    from tools.robokin_nbgrader import GradingIncidents
 
     test = _graded_test_cell()
     crash, after = new_code_cell("import os\nos._exit(1)"), new_code_cell("print('a plot')")

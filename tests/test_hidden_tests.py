@@ -17,7 +17,9 @@ nbgrader commands or a kernel:
 
 from __future__ import annotations
 
+import functools
 import html
+import importlib.util
 import json
 import os
 import re
@@ -28,11 +30,18 @@ import nbformat
 import pytest
 
 from conftest import ROOT
+from tools.nbgrader_metadata import chapter_notebooks
 
-sys.path.insert(0, str(ROOT / "tools"))
-sys.path.insert(0, str(ROOT / "book" / "_ext"))
 
-from nbgrader_metadata import chapter_notebooks
+@functools.cache
+def robokin_book():
+    """The book's Sphinx extension, ``book/_ext/robokin_book.py``, loaded from its file (jupyter-book
+    puts ``book/_ext`` on the path when it builds the book, as ``_config.yml`` says; a test does not)."""
+    spec = importlib.util.spec_from_file_location("robokin_book", ROOT / "book" / "_ext" / "robokin_book.py")
+    module = sys.modules["robokin_book"] = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
 
 NOTEBOOKS = Path(os.environ.get("ROBOKIN_NBGRADER_NOTEBOOKS", ROOT / "notebooks")).resolve()
 CHAPTERS = chapter_notebooks(NOTEBOOKS.parent, NOTEBOOKS.name)
@@ -59,7 +68,7 @@ def hidden_only_lines(nb: dict) -> set[str]:
 
 def scaffolded_chapter() -> dict:
     """The notebook ``tools/new_chapter.py`` writes for a new chapter (the next free number)."""
-    import new_chapter
+    from tools import new_chapter
 
     numbers = [int(p.name[:2]) for p in CHAPTERS] or [0]
     return new_chapter.notebook(max(numbers) + 1, "example_arm", "An example arm", "an example arm")
@@ -76,7 +85,7 @@ def _leaks(student_text: str, hidden: set[str]) -> list[str]:
 
 @pytest.mark.parametrize("path", CHAPTERS, ids=[p.stem for p in CHAPTERS])
 def test_student_book_leaves_hidden_tests_out(path):
-    from robokin_book import student_notebook
+    student_notebook = robokin_book().student_notebook
 
     text = path.read_text(encoding="utf-8")
     leaks = _leaks(student_notebook(text), hidden_only_lines(json.loads(text)))
@@ -84,7 +93,7 @@ def test_student_book_leaves_hidden_tests_out(path):
 
 
 def test_student_book_leaves_a_scaffolded_chapters_hidden_tests_out():
-    from robokin_book import student_notebook
+    student_notebook = robokin_book().student_notebook
 
     nb = scaffolded_chapter()
     hidden = hidden_only_lines(nb)
@@ -98,7 +107,7 @@ def test_student_book_downloads_are_student_notebooks(tmp_path):
     student edition the extension writes the student notebook there instead of the instructor's."""
     from types import SimpleNamespace
 
-    from robokin_book import student_notebook, student_sources
+    student_notebook, student_sources = robokin_book().student_notebook, robokin_book().student_sources
 
     path = CHAPTERS[0]
     docname = f"{path.parent.name}/{path.stem}"
@@ -123,7 +132,7 @@ def test_student_book_has_no_launch_buttons():
     has no launch buttons; the instructor edition keeps those of ``_config.yml``."""
     from types import SimpleNamespace
 
-    from robokin_book import configure_edition
+    configure_edition = robokin_book().configure_edition
 
     buttons = {"binderhub_url": "https://mybinder.org", "colab_url": "https://colab.research.google.com"}
     for edition, expected in (("student", {}), ("instructor", buttons)):
@@ -135,7 +144,7 @@ def test_student_book_has_no_launch_buttons():
 # ---------------------------------------------------------------- the feedback page
 def _graded_notebook():
     """A graded notebook whose test cell failed in its hidden tests, with the note autograde writes."""
-    from robokin_nbgrader import FailureNotes
+    from tools.robokin_nbgrader import FailureNotes
 
     def cell(source, grade_id, solution=False, task=1, count=None):
         out = nbformat.v4.new_code_cell(source, execution_count=count)
@@ -182,7 +191,7 @@ def test_failure_note_never_quotes_a_hidden_test():
 def test_feedback_page_keeps_the_verdict_and_not_the_code():
     from nbconvert.exporters import HTMLExporter
 
-    from robokin_nbgrader import HideHiddenTests
+    from tools.robokin_nbgrader import HideHiddenTests
 
     nb, test = _graded_notebook()
     hidden = hidden_only_lines({"cells": [{"source": test}]})
@@ -202,7 +211,7 @@ def test_feedback_page_keeps_the_verdict_and_not_the_code():
 def test_feedback_renumbers_a_visible_failure():
     """A visible assert after the hidden block fails: the note's and the traceback's line numbers are
     those of the cell the student reads, and they quote the visible line only."""
-    from robokin_nbgrader import HideHiddenTests
+    from tools.robokin_nbgrader import HideHiddenTests
 
     source = ("x = 1\n### BEGIN HIDDEN TESTS\nsecret_value = 42\nassert secret_value == 42\n"
               "### END HIDDEN TESTS\nassert x == 2, 'x is not 2'")

@@ -12,18 +12,14 @@ from __future__ import annotations
 
 import asyncio
 import concurrent.futures
-import sys
 from pathlib import Path
 
 import nbval.kernel
 import pytest
 
 from conftest import ROOT
-
-sys.path.insert(0, str(ROOT / "tools"))
-
-import kernel_sockets
-from kernel_sockets import AsyncPrivateSocketsKernelManager, PrivateSocketsKernelManager
+from tools import kernel_sockets
+from tools.kernel_sockets import AsyncPrivateSocketsKernelManager, PrivateSocketsKernelManager
 
 pytestmark = [pytest.mark.notebooks,
               pytest.mark.skipif(not kernel_sockets.AVAILABLE, reason="ipc sockets are POSIX only")]

@@ -46,14 +46,10 @@ from pathlib import Path
 import pytest
 
 from conftest import ROOT
-
-sys.path.insert(0, str(ROOT / "tools"))
-
 import grading_course
-import nbgrader_metadata
 import nbgrader_runner
-import student_edition
-from notebook_analysis import free_names, stub_plan
+from tools import nbgrader_metadata, student_edition
+from tools.notebook_analysis import free_names, stub_plan
 
 pytest.importorskip("nbgrader", reason="nbgrader is not installed: run `make test` (installs requirements.txt)")
 # The graded courses are built in two parts, one xdist group each (tests/grading_course.py):
@@ -184,7 +180,7 @@ def mistake_candidates(source: dict) -> list[dict]:
     for cell in source["cells"]:
         meta = rk(cell)
         if meta.get("role") == "answer":
-            from notebook_analysis import defined_names
+            from tools.notebook_analysis import defined_names
             for name in defined_names(src(cell)):
                 defined[name] = (nbg(cell)["grade_id"], meta.get("task"))
         if meta.get("role") != "test":
@@ -293,7 +289,7 @@ LIST_ATTRIBUTES = set(dir([]))
 
 
 def _analysis(source: dict, chapter: str):
-    from notebook_analysis import analyse, trace
+    from tools.notebook_analysis import analyse, trace
     info = analyse(NOTEBOOKS / f"{chapter}.ipynb", source)
     kinds = [("answer" if c.role == "answer" else "code" if c.cell_type == "code" else "markdown", c.source)
              for c in info.cells]
@@ -839,7 +835,7 @@ def test_walkthrough_resubmission_is_graded_as_the_new_version(graded):
 
 # ---------------------------------------------------------------- 6. what the feedback says
 def _answer_names(source: dict) -> set[str]:
-    from notebook_analysis import defined_names
+    from tools.notebook_analysis import defined_names
     return {n for c in source["cells"] if nbg(c).get("solution") for n in defined_names(src(c))}
 
 
@@ -943,7 +939,7 @@ def test_released_test_cells_are_not_reported_as_changed(graded, chapter):
     that was changed is still reported and restored."""
     import logging
 
-    from robokin_nbgrader import RestoreMissingCells
+    from tools.robokin_nbgrader import RestoreMissingCells
     import nbformat
 
     run = _run(graded, chapter)
@@ -1031,7 +1027,7 @@ def test_feedback_exporter_writes_nbconvert_page(template):
     is made from the memo; "lab" has the JupyterLab cells)."""
     import nbformat
     from nbconvert.exporters import HTMLExporter
-    from robokin_nbgrader import OfflineMathJaxHTMLExporter, inline_mathjax
+    from tools.robokin_nbgrader import OfflineMathJaxHTMLExporter, inline_mathjax
 
     pixel = ("iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAfFcSJAAAADUlEQVR42mNk+M9QDwADhgGAWjR9awAAAABJRU5ErkJggg==")
     nb = nbformat.v4.new_notebook(metadata={"language_info": {"name": "python", "pygments_lexer": "ipython3"}})
@@ -1074,7 +1070,7 @@ def test_points_per_test_in_header_and_report(graded, chapter):
 def test_student_edition_is_what_the_contract_test_predicts(graded, chapter):
     """tests/test_student_edition_contracts.py computes the student edition statically: the
     stubs and the cells left out must be what generate_assignment makes."""
-    from notebook_analysis import stub_source
+    from tools.notebook_analysis import stub_source
 
     run = _run(graded, chapter)
     stubs = {nbg(c)["grade_id"]: stub_source(src(c), set(rk(c).get("declare", [])))
@@ -1085,7 +1081,7 @@ def test_student_edition_is_what_the_contract_test_predicts(graded, chapter):
             assert src(cell) == stubs[grade_id], f"{chapter} {grade_id}: the stub differs from stub_source"
     empty = [i for i, c in enumerate(run.release["cells"]) if c["cell_type"] == "markdown" and not src(c).strip()]
     assert not empty, f"{chapter}: empty markdown cells in the student edition: {empty}"
-    from notebook_analysis import analyse, student_markdown
+    from tools.notebook_analysis import analyse, student_markdown
     predicted = {}
     for info, cell in zip(analyse(NOTEBOOKS / f"{chapter}.ipynb", run.source).cells, run.source["cells"]):
         if info.cell_type == "markdown":
@@ -1102,8 +1098,7 @@ def test_failure_notes_trace_the_root_cause_without_a_kernel():
     earlier answer whose own test failed is the root cause, and the whole assert is quoted."""
     import nbformat
 
-    sys.path.insert(0, str(ROOT / "tools"))
-    from robokin_nbgrader import FailureNotes
+    from tools.robokin_nbgrader import FailureNotes
 
     def code(source, grade_id=None, solution=False, grade=False, task=None, outputs=()):
         cell = nbformat.v4.new_code_cell(source)

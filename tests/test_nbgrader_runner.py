@@ -11,7 +11,6 @@ once following each other, and no process left when the runners are closed.
 from __future__ import annotations
 
 import subprocess
-import sys
 import textwrap
 
 import pytest
@@ -20,10 +19,9 @@ from conftest import ROOT
 
 pytest.importorskip("nbgrader", reason="nbgrader is not installed: run `make test` (installs requirements.txt)")
 psutil = pytest.importorskip("psutil")
-sys.path.insert(0, str(ROOT / "tools"))
 
 import nbgrader_runner  # noqa: E402
-import student_edition  # noqa: E402
+from tools import student_edition  # noqa: E402
 
 pytestmark = pytest.mark.nbgrader
 

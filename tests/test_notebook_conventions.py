@@ -321,10 +321,8 @@ def _trusted_names_problems(path: Path) -> list[str]:
     student can change it.
     """
     import builtins
-    import sys
 
-    sys.path.insert(0, str(ROOT / "tools"))
-    from notebook_analysis import defined_names, free_names
+    from tools.notebook_analysis import defined_names, free_names
 
     declared: set[str] = set()
     read_only: set[str] = set()

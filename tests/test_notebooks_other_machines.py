@@ -88,7 +88,10 @@ def startup_dir(tmp_path: Path) -> Path:
     startup = tmp_path / "ipython" / "profile_default" / "startup"
     startup.mkdir(parents=True)
     (startup / "00-numerical-noise.py").write_text(
-        f"import sys\nsys.path.insert(0, {str(ROOT / 'tests')!r})\nimport numerical_noise\nnumerical_noise.install()\n"
+        "import importlib.util as _util\n"
+        f"_spec = _util.spec_from_file_location('numerical_noise', {str(ROOT / 'tests' / 'numerical_noise.py')!r})\n"
+        "numerical_noise = _util.module_from_spec(_spec)\n_spec.loader.exec_module(numerical_noise)\n"
+        "numerical_noise.install()\ndel _util, _spec\n"
     )
     return startup.parent.parent
 

@@ -23,17 +23,13 @@ from __future__ import annotations
 import ast
 import os
 import re
-import sys
 from pathlib import Path
 
 import pytest
 
 from conftest import ROOT
-
-sys.path.insert(0, str(ROOT / "tools"))
-
-from nbgrader_metadata import chapter_notebooks
-from notebook_analysis import (
+from tools.nbgrader_metadata import chapter_notebooks
+from tools.notebook_analysis import (
     Binding,
     Chapter,
     analyse,

@@ -18,8 +18,6 @@ import argparse
 import sys
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-
 from robokin.models.mesh_store import STORED_ROBOTS, write_record
 from robokin.models.urdf_meshes import DEFAULT_MESH_BYTES, mesh_record, packaged_meshes
 

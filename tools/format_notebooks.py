@@ -23,9 +23,7 @@ import textwrap
 import tokenize
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-
-from notebook_analysis import dump_notebook, load_notebook
+from tools.notebook_analysis import dump_notebook, load_notebook
 
 ROOT = Path(__file__).resolve().parent.parent
 LIMIT = 88

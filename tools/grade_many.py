@@ -21,7 +21,7 @@ import time
 from concurrent.futures import ThreadPoolExecutor, as_completed
 from pathlib import Path
 
-from grade_submission import DEFAULT_CPU_SECONDS, DEFAULT_MEMORY_MIB, grade
+from tools.grade_submission import DEFAULT_CPU_SECONDS, DEFAULT_MEMORY_MIB, grade
 
 
 def submissions(folder: Path, chapter: str) -> list[Path]:

@@ -48,10 +48,10 @@ import tempfile
 import uuid
 from pathlib import Path
 
-import process_cap
-from process_cap import DEFAULT_MAX_PROCESSES, ProcessCapUnavailable
-from robokin_sandbox import sandbox_wanted
-from student_edition import ROOT, add_source, environment, nbgrader_command, write_course
+from tools import process_cap
+from tools.process_cap import DEFAULT_MAX_PROCESSES, ProcessCapUnavailable
+from tools.robokin_sandbox import sandbox_wanted
+from tools.student_edition import ROOT, add_source, environment, nbgrader_command, write_course
 
 #: MiB of address space per process: a grader or student kernel with numpy, sympy and
 #: matplotlib maps about 1 GiB; 4 GiB leaves room for any exercise and lets a 2-core,

@@ -37,9 +37,7 @@ import sys
 import zipfile
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-
-from grade_submission import DEFAULT_CPU_SECONDS, DEFAULT_MEMORY_MIB
+from tools.grade_submission import DEFAULT_CPU_SECONDS, DEFAULT_MEMORY_MIB
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -92,7 +90,9 @@ json.dump({{"score": 0.0, "output": message, "tests": []}}, open(path, "w"), ind
 EOF
   exit 0
 fi
-exec "$PYTHON" "$ROOT/source/tools/grade_submission.py" "$CHAPTER" "${{FOUND[0]}}" --out "$ROOT/results" \
+# from source/, so that the tools and the course are the zip's (python -m: this folder first on sys.path)
+cd "$ROOT/source" || exit 1
+exec "$PYTHON" -m tools.grade_submission "$CHAPTER" "${{FOUND[0]}}" --out "$ROOT/results" \
   --memory {memory} --cpu-seconds {cpu_seconds}
 '''
 

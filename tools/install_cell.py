@@ -26,9 +26,7 @@ from pathlib import Path
 
 import yaml
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-
-from notebook_analysis import dump_notebook, load_notebook
+from tools.notebook_analysis import dump_notebook, load_notebook
 
 ROOT = Path(__file__).resolve().parent.parent
 MARK = 'importlib.util.find_spec("robokin")'

@@ -39,9 +39,7 @@ import json
 import sys
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-
-from notebook_analysis import Chapter, analyse, dump_notebook
+from tools.notebook_analysis import Chapter, analyse, dump_notebook
 
 ROOT = Path(__file__).resolve().parent.parent
 DOC = ROOT / "book" / "for-instructors.md"

@@ -31,6 +31,7 @@ suite enforces on a chapter.
 from __future__ import annotations
 
 import argparse
+import ast
 import json
 import re
 import subprocess
@@ -340,6 +341,18 @@ def insert_after_last(text: str, pattern: str, line: str, where: str) -> str:
     return "".join(lines)
 
 
+def registered_chapters(root: Path) -> dict[str, str]:
+    """``CHAPTERS`` of the tree at ``root`` (``robokin/check/_registry.py``), read from the file, not
+    imported: the tree given by ``--root`` may be another than the one Python imports robokin from."""
+    path = root / "robokin" / "check" / "_registry.py"
+    for node in ast.parse(path.read_text()).body:
+        if isinstance(node, ast.AnnAssign | ast.Assign):
+            targets = [node.target] if isinstance(node, ast.AnnAssign) else node.targets
+            if any(isinstance(target, ast.Name) and target.id == "CHAPTERS" for target in targets):
+                return ast.literal_eval(node.value)
+    raise ValueError(f"{path}: no CHAPTERS = {{...}} (the registry of the chapters' checks)")
+
+
 def register(root: Path, name: str) -> None:
     path = root / "robokin" / "check" / "_registry.py"
     text = path.read_text()
@@ -358,10 +371,9 @@ def execute(path: Path, root: Path) -> None:
     """What ``make execute NB=path`` does: run in a fresh kernel, store outputs, merge streams."""
     import os
 
-    path_list = [str(TOOLS), *filter(None, [os.environ.get("PYTHONPATH")])]
-    env = dict(os.environ, ROBOKIN_VIEWER="static", PYTHONPATH=os.pathsep.join(path_list))
+    env = dict(os.environ, ROBOKIN_VIEWER="static")
     base = [sys.executable, "-m", "nbconvert", "--to", "notebook", "--inplace", "--log-level=WARN"]
-    manager = "--ExecutePreprocessor.kernel_manager_class=kernel_sockets.AsyncPrivateSocketsKernelManager"
+    manager = "--ExecutePreprocessor.kernel_manager_class=tools.kernel_sockets.AsyncPrivateSocketsKernelManager"
     for extra in (["--execute", "--ExecutePreprocessor.timeout=300", "--ExecutePreprocessor.record_timing=False",
                    manager],
                   ["--CoalesceStreamsPreprocessor.enabled=True"]):
@@ -385,10 +397,7 @@ def main(argv: list[str] | None = None) -> int:
     root = args.root.resolve()
     if not NAME_RE.match(args.name):
         parser.error(f"--name must be lower case letters, digits and _ (2-31 characters); got {args.name!r}")
-    sys.path.insert(0, str(root))
-    from robokin.check._registry import CHAPTERS  # the tree's own registry
-
-    if args.name in CHAPTERS or (root / "robokin" / "check" / f"{args.name}.py").exists():
+    if args.name in registered_chapters(root) or (root / "robokin" / "check" / f"{args.name}.py").exists():
         parser.error(f"a chapter with checks named {args.name!r} exists already")
     number = next_number(root)
     stem = f"{number:02d}_{args.name}"

@@ -49,9 +49,10 @@ import subprocess
 import sys
 from pathlib import Path
 
-import process_cap
-from kernel_sockets import AsyncPrivateSocketsKernelManager
 from traitlets import Int, List, Unicode
+
+from tools import process_cap
+from tools.kernel_sockets import AsyncPrivateSocketsKernelManager
 
 PACKAGE = "bubblewrap"
 SWITCH = "ROBOKIN_GRADING_SANDBOX"
@@ -177,7 +178,7 @@ class SandboxedKernelManager(AsyncPrivateSocketsKernelManager):
     """An ``AsyncKernelManager`` whose kernel runs in bwrap and talks over ipc sockets.
 
     The sockets and the connection file are in a private folder
-    (:class:`kernel_sockets.AsyncPrivateSocketsKernelManager`), bound into the sandbox.
+    (:class:`tools.kernel_sockets.AsyncPrivateSocketsKernelManager`), bound into the sandbox.
     """
 
     writable = Unicode(help="the only folder the kernel can write (and read, of the course)").tag(config=True)

@@ -29,10 +29,8 @@ import subprocess
 import sys
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-
-from nbgrader_metadata import chapter_notebooks, check_names, differences
-from notebook_analysis import analyse, load_notebook
+from tools.nbgrader_metadata import chapter_notebooks, check_names, differences
+from tools.notebook_analysis import analyse, load_notebook
 
 ROOT = Path(__file__).resolve().parent.parent
 DEFAULT_COURSE = ROOT / "_build" / "nbgrader" / "course"

@@ -39,7 +39,6 @@ import importlib
 import json
 import os
 import shutil
-import sys
 from pathlib import Path
 
 from sphinx.application import Sphinx
@@ -47,8 +46,7 @@ from sphinx.util.nodes import make_refnode
 
 # One rule for what the student edition keeps of a markdown cell, shared with nbgrader's
 # edition (tools/robokin_nbgrader/) and its tests: tools/notebook_analysis.py.
-sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "tools"))
-from notebook_analysis import clear_solution_text
+from tools.notebook_analysis import clear_solution_text
 
 #: MathJax components copied into the built book (paths relative to ``es5/``).
 MATHJAX_PARTS = (

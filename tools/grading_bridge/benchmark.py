@@ -2,7 +2,7 @@
 
 Starts a student's kernel (in the bubblewrap sandbox, as autograde does, and
 without it), connects the grader side to it in this process, and times calls of
-small functions through the call channel (:mod:`grading_bridge.grader_side`), and
+small functions through the call channel (:mod:`tools.grading_bridge.grader_side`), and
 for comparison through one execute request per call (how the bridge called before
 the channel). Prints a table (milliseconds per call, median of repeated batches)::
 
@@ -16,16 +16,11 @@ from __future__ import annotations
 import argparse
 import queue
 import statistics
-import sys
 import tempfile
 import time
 import uuid
-from pathlib import Path
 
-TOOLS = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(TOOLS))
-
-from grading_bridge import grader_side  # noqa: E402
+from tools.grading_bridge import grader_side
 
 STUDENT_CODE = """
 import numpy as np
@@ -56,7 +51,7 @@ def start_kernel(sandbox: bool, folder: str):
     if sandbox:
         from jupyter_core.utils import run_sync
 
-        from robokin_sandbox import SandboxedKernelManager
+        from tools.robokin_sandbox import SandboxedKernelManager
 
         manager = SandboxedKernelManager(kernel_name="python3", writable=folder, hidden=[])
         run_sync(manager.start_kernel)(cwd=folder)
@@ -125,7 +120,7 @@ def _per_call(function, arguments, calls: int, batches: int = 5) -> float:
 
 def _execute_request_call(link, handle: int, arguments) -> object:
     """One call as one execute request in the student's kernel (the bridge before the channel)."""
-    from grading_bridge import codec
+    from tools.grading_bridge import codec
 
     link.release()
     payload = codec.json.dumps(codec.encode([list(arguments), {}], link.callbacks))

@@ -1,8 +1,8 @@
 """The command jupyter_client runs for a grader kernel forked from the fork server.
 
 Run as ``python -I -S fork_launcher.py SOCKET -- python -m ipykernel_launcher -f FILE``
-(:class:`grading_bridge.fork_server.ForkedKernelManager` puts it in front of the
-kernel spec's command). It sends the fork server (:mod:`grading_bridge.fork_server`)
+(:class:`tools.grading_bridge.fork_server.ForkedKernelManager` puts it in front of the
+kernel spec's command). It sends the fork server (:mod:`tools.grading_bridge.fork_server`)
 the kernel's arguments, its working folder and environment (what jupyter_client
 gave this process) and its standard streams; the server forks a kernel from its
 warm process. This process stays the kernel jupyter_client knows: it forwards

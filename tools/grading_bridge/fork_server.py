@@ -1,6 +1,6 @@
 """Grader kernels forked from a warm process: the imports paid once per ``nbgrader autograde``.
 
-A grader kernel (:class:`grading_bridge.preprocessors.GraderKernel`) is a new
+A grader kernel (:class:`tools.grading_bridge.preprocessors.GraderKernel`) is a new
 Python process that starts ipykernel and imports ``PRELOAD`` (numpy, scipy,
 sympy, matplotlib, robokin, ...) before it runs the instructor's cells: about
 1.5 s of CPU, the same for every submission. With ``c.BridgedExecute.fork_server
@@ -16,7 +16,7 @@ modules imported before any grading.
 How jupyter_client sees it: :class:`ForkedKernelManager` runs, instead of the
 kernel spec's ``python -m ipykernel_launcher -f FILE``, the launcher
 ``python -I -S fork_launcher.py SOCKET -- python -m ipykernel_launcher -f FILE``
-(:mod:`grading_bridge.fork_launcher`, the standard library only). The launcher
+(:mod:`tools.grading_bridge.fork_launcher`, the standard library only). The launcher
 hands the server, over a Unix socket in a private folder (0700), the command's
 arguments, its working folder, its environment (the one jupyter_client gives a
 kernel) and its standard streams; it forwards SIGINT (the interrupt at a cell's
@@ -80,15 +80,13 @@ import time
 import traceback
 from pathlib import Path
 
-from kernel_sockets import UNLIMITED_IOPUB_KERNEL, AsyncPrivateSocketsKernelManager
-
+from tools.kernel_sockets import UNLIMITED_IOPUB_KERNEL, AsyncPrivateSocketsKernelManager
 from traitlets import Any
 
 #: The kernel commands (after the Python) a fork can stand for: ipykernel's launcher, and the same
 #: with no limit on the iopub socket (what kernel_sockets' managers start).
 KERNEL_COMMANDS = (["-m", "ipykernel_launcher"], ["-c", UNLIMITED_IOPUB_KERNEL])
 LAUNCHER = Path(__file__).resolve().with_name("fork_launcher.py")
-TOOLS = Path(__file__).resolve().parent.parent
 #: Bytes of one request of a launcher's (its environment is most of it).
 MAX_REQUEST = 1 << 20
 #: Seconds the server may take to import its modules (more on a loaded machine).
@@ -100,9 +98,8 @@ REQUEST_TIMEOUT = 10.0
 INLINE_BACKEND = "module://matplotlib_inline.backend_inline"
 PR_SET_PDEATHSIG = 1
 #: The server's own modules (and their submodules): a forked kernel drops them, a new one never had them.
-SERVER_MODULES = ("grading_bridge", "kernel_sockets")
-_BOOT = ("import sys; _path = list(sys.path); sys.path.insert(0, {tools!r}); "
-         "from grading_bridge import fork_server; fork_server.serve(_path)")
+SERVER_MODULES = ("tools",)
+_BOOT = "import sys; _path = list(sys.path); from tools.grading_bridge import fork_server; fork_server.serve(_path)"
 
 log = logging.getLogger(__name__)
 
@@ -135,7 +132,7 @@ class ForkServer:
         self.folder = tempfile.mkdtemp(prefix="robokin-forks-")   # mode 0700
         self.socket_path = str(Path(self.folder) / "server")
         in_main_thread = threading.current_thread() is threading.main_thread()
-        command = [sys.executable, "-c", _BOOT.format(tools=str(TOOLS)), self.socket_path,
+        command = [sys.executable, "-c", _BOOT, self.socket_path,
                    json.dumps(self.preload), str(os.getpid()) if in_main_thread else "0"]
         try:
             self.process = subprocess.Popen(command, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
@@ -305,9 +302,9 @@ def _thread_count() -> int:
 def serve(path_at_start: list[str]) -> None:
     """The fork server's life (``python -c`` started by :class:`ForkServer`; arguments in ``sys.argv``).
 
-    ``path_at_start`` is ``sys.path`` as Python set it up, before ``tools/`` was put in
-    front of it: a kernel gets it back, its first entry being its working folder as
-    with ``python -m``.
+    ``path_at_start`` is ``sys.path`` as Python set it up, before the server imported
+    anything: a kernel gets it back, its first entry being its working folder as with
+    ``python -m``.
     """
     socket_path, preload, parent = sys.argv[1], json.loads(sys.argv[2]), int(sys.argv[3])
     if parent and not _set_parent_death_signal(parent):

@@ -5,7 +5,7 @@ imports this module and :func:`connect` s to the student's kernel with a kernel
 client of its own. :func:`import_names` asks the student's kernel for the names
 an answer cell declares and binds them in the grader's namespace:
 
-* plain data (see :mod:`grading_bridge.codec`) is copied;
+* plain data (see :mod:`tools.grading_bridge.codec`) is copied;
 * a function becomes a :class:`Proxy`: calling it sends the (data) arguments to
   the student's kernel, runs the student's function there and returns the (data)
   result, within a time limit per call. Calls travel over a **call channel**: a

@@ -8,7 +8,7 @@
     runs, the answers it reads (names declared by answer cells,
     ``metadata.robokin.declare`` of the instructor's source notebook) are
     imported from the student's kernel through the bridge
-    (:mod:`grading_bridge.grader_side`): data copied, functions as proxies. A
+    (:mod:`tools.grading_bridge.grader_side`): data copied, functions as proxies. A
     test cell's outputs in the graded notebook are the grader kernel's (the
     student's own run of it is discarded), so
     ``SaveAutoGrades`` scores what the grader saw; ``robokin.check``'s verdicts
@@ -35,7 +35,6 @@ import os
 import re
 import secrets
 import shutil
-import sys
 import tempfile
 from pathlib import Path
 
@@ -46,16 +45,12 @@ from nbgrader import utils
 from nbgrader.preprocessors import NbGraderPreprocessor
 from traitlets import Bool, Float, List, Unicode
 
-TOOLS = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(TOOLS))
-
-from kernel_sockets import AsyncPrivateSocketsKernelManager  # noqa: E402
-from notebook_analysis import defined_names, free_names  # noqa: E402
-from robokin_nbgrader import VERDICT_MARK, RobokinExecute  # noqa: E402
-from robokin_nbgrader.cells import robokin_metadata, task_of  # noqa: E402
-
-from grading_bridge import delegation, fork_server  # noqa: E402
-from grading_bridge.grader_side import NOT_CALLED  # noqa: E402
+from tools.grading_bridge import delegation, fork_server
+from tools.grading_bridge.grader_side import NOT_CALLED
+from tools.kernel_sockets import AsyncPrivateSocketsKernelManager
+from tools.notebook_analysis import defined_names, free_names
+from tools.robokin_nbgrader import VERDICT_MARK, RobokinExecute
+from tools.robokin_nbgrader.cells import robokin_metadata, task_of
 
 IMPORT_MARK = "ROBOKIN-BRIDGE-IMPORT "
 #: Modules the grader kernel imports before any student code runs.
@@ -110,9 +105,8 @@ class GraderKernel:
         setup = "\n".join([
             "import sys as _sys",
             "_sys.path[:] = [p for p in _sys.path if p not in ('', '.')]",
-            f"_sys.path.insert(0, {str(TOOLS)!r})",
             *[f"import {m}" for m in PRELOAD],
-            "from grading_bridge import grader_side as _robokin_bridge",
+            "from tools.grading_bridge import grader_side as _robokin_bridge",
             f"_robokin_bridge.connect({info!r}, {float(call_timeout)!r})",
             "del _sys",
         ])

@@ -23,10 +23,8 @@ import sys
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-
-from grade_many import grade_one, submissions
-from grade_submission import DEFAULT_CPU_SECONDS, DEFAULT_MEMORY_MIB
+from tools.grade_many import grade_one, submissions
+from tools.grade_submission import DEFAULT_CPU_SECONDS, DEFAULT_MEMORY_MIB
 
 
 def shard(found: list[Path], index: int, shards: int) -> list[Path]:

@@ -11,7 +11,7 @@ import re
 
 from nbformat.notebooknode import from_dict
 from nbgrader.preprocessors import ClearHiddenTests
-from notebook_analysis import statement_at
+from tools.notebook_analysis import statement_at
 
 
 #: An ANSI colour code of a traceback.

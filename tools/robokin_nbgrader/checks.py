@@ -12,7 +12,7 @@ import functools
 import re
 
 from nbgrader import utils
-from notebook_analysis import check_aliases, defined_names, free_names
+from tools.notebook_analysis import check_aliases, defined_names, free_names
 
 from .cells import robokin_metadata, task_of
 
@@ -33,7 +33,7 @@ def identifier_names(expression: str) -> set[str]:
 def check_names() -> dict[str, str]:
     """``nbgrader_metadata.check_names()``, read once per process (robokin.check's registry does not
     change while a command runs; autograde asks for it for every submission): read-only."""
-    from nbgrader_metadata import check_names as registered_check_names
+    from tools.nbgrader_metadata import check_names as registered_check_names
 
     return registered_check_names()
 

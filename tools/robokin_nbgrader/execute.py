@@ -21,7 +21,7 @@ from nbformat.notebooknode import from_dict
 from nbgrader import utils
 from nbgrader.coursedir import CourseDirectory
 from nbgrader.preprocessors import Execute
-from robokin_sandbox import SandboxedKernelManager, bwrap_executable, sandbox_wanted
+from tools.robokin_sandbox import SandboxedKernelManager, bwrap_executable, sandbox_wanted
 from traitlets import Bool, Unicode
 
 from .cells import cell_label, robokin_metadata, task_of

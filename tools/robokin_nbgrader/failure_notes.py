@@ -11,8 +11,8 @@ import re
 import textwrap
 
 from nbgrader import utils
-from notebook_analysis import Binding, defined_names, level2_headings, statement_at, statement_span
-from notebook_analysis import trace as cell_trace
+from tools.notebook_analysis import Binding, defined_names, level2_headings, statement_at, statement_span
+from tools.notebook_analysis import trace as cell_trace
 
 from .cells import ANSI, hidden_lines, robokin_metadata, task_of, visible_source
 from .checks import BUILTIN_NAMES, TYPE_PROBE, called_as, identifier_names

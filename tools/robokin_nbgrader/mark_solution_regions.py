@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from nbgrader import utils
 from nbgrader.preprocessors import NbGraderPreprocessor
-from notebook_analysis import mark_solution
+from tools.notebook_analysis import mark_solution
 from traitlets import Unicode
 
 from .cells import robokin_metadata
