@@ -28,9 +28,7 @@ from nbgrader.preprocessors import (
     SaveCells,
 )
 
-ROBOKIN = Path(__file__).resolve().parent
-
-from tools.robokin_nbgrader import (  # noqa: E402
+from tools.robokin_nbgrader import (
     AutograderReport,
     GradingIncidents,
     DropSolutionProse,
@@ -46,7 +44,10 @@ from tools.robokin_nbgrader import (  # noqa: E402
 )
 # Verdicts decided in a grader kernel, outside the student's, which a submission could tamper
 # with: tools/grading_bridge/.
-from tools.grading_bridge.preprocessors import BridgeReport, BridgedExecute  # noqa: E402
+from tools.grading_bridge.bridge_report import BridgeReport
+from tools.grading_bridge.preprocessors import BridgedExecute
+
+ROBOKIN = Path(__file__).resolve().parent
 
 c = get_config()  # noqa: F821 - provided by nbgrader's config loader
 

@@ -18,7 +18,7 @@
     ipykernel and ``PRELOAD`` once per autograde run (:mod:`fork_server`;
     ``c.BridgedExecute.fork_server = False``: started anew, as a kernel spec's
     command, each time).
-``BridgeReport`` (after ``AutograderReport``)
+``BridgeReport`` (after ``AutograderReport``; :mod:`bridge_report`)
     Adds to the report on top of the graded notebook: answers for review by hand
     and answers that could not be handed over as data.
 
@@ -40,9 +40,7 @@ from pathlib import Path
 
 import nbformat
 from nbclient import NotebookClient
-from nbformat.notebooknode import from_dict
 from nbgrader import utils
-from nbgrader.preprocessors import NbGraderPreprocessor
 from traitlets import Bool, Float, List, Unicode
 
 from tools.grading_bridge import delegation, fork_server
@@ -394,39 +392,3 @@ def _skip_pictures(cells: list[dict], tags: dict[str, list[str]]) -> None:
         defined = set(defined_names(item["source"]))
         later = set().union(*(free_names(c["source"]) for c in cells[index + 1:]))
         item["skip"] = item.get("skip", False) or not (defined & later)
-
-
-class BridgeReport(NbGraderPreprocessor):
-    """Adds answers for review by hand, and answers that are not plain data, to the report cell."""
-
-    def preprocess(self, nb, resources):
-        report = resources.get("robokin", {})
-        review = report.get("review") or []
-        bridge = report.get("bridge") or {}
-        lines = []
-        if review:
-            lines += ["", "**For review by hand** (the points above stand as tested; the instructor decides)", ""]
-            lines += [f"- Task {item['task']}: {item['line']}" for item in review]
-        refused = {name: status for name, status in (bridge.get("imports") or {}).items()
-                   if status.startswith(("not plain data", "refused"))}
-        if refused or bridge.get("problems"):
-            lines += ["", "**Answers the grader could not use**", ""]
-            for name, status in refused.items():
-                what = status.split(": ", 1)[-1]
-                lines.append(f"- answer `{name}` is not plain data (a {_plain(what)})"
-                             if status.startswith("not plain data") else f"- answer `{name}`: {_plain(what)}")
-            lines += [f"- {_plain(p)}" for p in bridge.get("problems", [])]
-        if not lines:
-            return nb, resources
-        for cell in nb.cells:
-            if cell.cell_type == "markdown" and robokin_metadata(cell).get("role") == "report":
-                cell.source = cell.source.rstrip("\n") + "\n" + "\n".join(lines)
-                break
-        else:
-            nb.cells.insert(0, from_dict({"cell_type": "markdown", "metadata": {"robokin": {"role": "report"}},
-                                          "source": "\n".join(lines).strip()}))
-        return nb, resources
-
-
-def _plain(text: str) -> str:
-    return re.sub(r"\s+", " ", str(text)).replace("|", "\\|").replace("<", "&lt;")[:300]
