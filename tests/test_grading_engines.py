@@ -22,7 +22,9 @@ processes: that task's tests lose their points, the others keep theirs, grading 
 no process of the bomb is left.
 
 The rest is cheap: the zip holds what grading needs and no other chapter, ``run_autograder``
-explains a submission without exactly one notebook, the Kubernetes manifests are valid
+explains a submission without exactly one notebook, the cap on processes (``--max-processes``,
+``make gradescope|grade MAX_PROCESSES=``) reaches run_autograder's command and each of
+grade_many's gradings, the Kubernetes manifests are valid
 against the Kubernetes schema (kubernetes-validate), and the Containerfile (which cannot be
 built here: no container engine) parses and installs what ``run_autograder`` needs.
 """
@@ -48,7 +50,7 @@ import grading_course
 from benign_variants import with_incident
 from test_grading_tamper import tampered
 from test_nbgrader import correct_submission, mistaken_submission, save
-from tools import grade_submission, gradescope, process_cap
+from tools import grade_many, grade_submission, gradescope, process_cap
 from tools.grading_deploy import grade_shard
 
 CHAPTER = "03_three_rpr"
@@ -217,6 +219,65 @@ def test_zip_holds_what_grading_needs_and_no_other_chapter(tmp_path):
 def test_zip_refuses_bad_arguments(tmp_path, chapter, memory):
     with pytest.raises((FileNotFoundError, ValueError), match="chapter" if memory else "memory_mib"):
         gradescope.write_zip(chapter, tmp_path / "a.zip", memory_mib=memory)
+
+
+@pytest.mark.parametrize("argv, expected", [([], 0), (["--max-processes", "256"], 256)])
+def test_run_autograder_passes_the_process_cap(tmp_path, argv, expected):
+    """gradescope.py's ``--max-processes`` (``make gradescope MAX_PROCESSES=``) is run_autograder's; by
+    default 0, Gradescope's container being the cap (root there has no writable pids cgroup)."""
+    assert gradescope.GRADESCOPE_MAX_PROCESSES == 0
+    assert gradescope.main([CHAPTER, "--out", str(tmp_path / "a.zip"), *argv]) == 0
+    with zipfile.ZipFile(tmp_path / "a.zip") as unpacked:
+        script = unpacked.read("run_autograder").decode()
+    command = script[script.index("-m tools.grade_submission"):]
+    assert re.search(rf"--max-processes {expected}\n", command), command
+    assert f"--memory {grade_submission.DEFAULT_MEMORY_MIB} --cpu-seconds {grade_submission.DEFAULT_CPU_SECONDS}" \
+        in command
+
+
+def test_zip_refuses_a_negative_process_cap(tmp_path, capsys):
+    with pytest.raises(ValueError, match=r"max_processes must be 0 \(no cap\) or a positive.*got -1"):
+        gradescope.write_zip(CHAPTER, tmp_path / "a.zip", max_processes=-1)
+    assert gradescope.main([CHAPTER, "--out", str(tmp_path / "a.zip"), "--max-processes", "-1"]) == 2
+    assert "max_processes" in capsys.readouterr().err and not (tmp_path / "a.zip").exists()
+
+
+@pytest.mark.parametrize("argv, expected", [([], process_cap.DEFAULT_MAX_PROCESSES), (["--max-processes", "0"], 0)])
+def test_grade_many_passes_the_process_cap_on(tmp_path, monkeypatch, argv, expected):
+    """grade_many.py's ``--max-processes`` (``make grade MAX_PROCESSES=``) reaches each submission's grading."""
+    for student in ("alice", "bob"):
+        save({"cells": []}, tmp_path / student / f"{CHAPTER}.ipynb")
+    seen = []
+
+    def grade(chapter, notebook, out, memory_mib, cpu_seconds, max_processes):
+        seen.append((notebook.parent.name, max_processes))
+        return {"score": 1.0, "tests": [{"max_score": 2.0}]}
+
+    monkeypatch.setattr(grade_many, "grade", grade)
+    assert grade_many.main([CHAPTER, str(tmp_path), "--jobs", "1", *argv]) == 0
+    assert sorted(seen) == [("alice", expected), ("bob", expected)]
+
+
+def test_grade_many_refuses_a_negative_process_cap(tmp_path, capsys):
+    save({"cells": []}, tmp_path / "alice" / f"{CHAPTER}.ipynb")
+    assert grade_many.main([CHAPTER, str(tmp_path), "--max-processes", "-1"]) == 2
+    assert "--max-processes must be 0 (no cap) or a positive number of processes; got -1" in capsys.readouterr().err
+    assert not (tmp_path / "alice" / "results.json").exists()
+
+
+@pytest.mark.parametrize("target, tool", [("grade", "grade_many.py"), ("gradescope", "gradescope.py")])
+def test_make_passes_max_processes_on(target, tool):
+    """``make grade|gradescope MAX_PROCESSES=n`` runs the tool with ``--max-processes n``, and without
+    the variable the tool's own default (``make -n``: the commands, none run)."""
+    args = ["make", "-n", "-o", ".venv/.installed", target, "CH=" + CHAPTER, "SUBMISSIONS=folder"]
+    commands = {}
+    for extra in ([], ["MAX_PROCESSES=0"]):
+        proc = subprocess.run(args + extra, cwd=ROOT, capture_output=True, text=True, timeout=60)
+        assert proc.returncode == 0, proc.stderr
+        lines = proc.stdout.replace("\\\n", " ").splitlines()   # a recipe's continued lines as one
+        commands[bool(extra)] = next(line for line in lines if tool in line)
+    assert "--max-processes" not in commands[False]
+    assert commands[True].rstrip().endswith("--max-processes 0"), commands[True]
 
 
 @pytest.mark.parametrize("notebooks", [0, 2])

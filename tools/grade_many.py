@@ -1,12 +1,13 @@
 #!/usr/bin/env python3
 """Grade every submission of a chapter in a folder, several at a time (``make grade``).
 
-    make grade CH=03_three_rpr SUBMISSIONS=~/term/03 [JOBS=2]
-    .venv/bin/python tools/grade_many.py 03_three_rpr ~/term/03 --jobs 2
+    make grade CH=03_three_rpr SUBMISSIONS=~/term/03 [JOBS=2] [MAX_PROCESSES=0]
+    .venv/bin/python tools/grade_many.py 03_three_rpr ~/term/03 --jobs 2 --max-processes 256
 
 The folder holds one folder per student, ``<folder>/<student>/<chapter>.ipynb``; each is
-graded on its own by :mod:`grade_submission` (its own temporary course, its own memory and
-CPU caps) into ``<folder>/<student>/results.json`` and ``feedback.html``, ``--jobs`` at a
+graded on its own by :mod:`grade_submission` (its own temporary course, its own memory, CPU
+and process caps: ``--memory``, ``--cpu-seconds`` and ``--max-processes``, passed on as they
+are) into ``<folder>/<student>/results.json`` and ``feedback.html``, ``--jobs`` at a
 time (default: the number of cores). A line per submission reports its score or why it
 could not be graded; the exit code is 1 when any could not be, 0 otherwise. Grading one at
 a time gives the same scores: each submission's grading shares nothing with another's.
@@ -22,6 +23,7 @@ from concurrent.futures import ThreadPoolExecutor, as_completed
 from pathlib import Path
 
 from tools.grade_submission import DEFAULT_CPU_SECONDS, DEFAULT_MEMORY_MIB, grade
+from tools.process_cap import DEFAULT_MAX_PROCESSES
 
 
 def submissions(folder: Path, chapter: str) -> list[Path]:
@@ -29,9 +31,11 @@ def submissions(folder: Path, chapter: str) -> list[Path]:
     return sorted(path for path in folder.glob(f"*/{chapter}.ipynb") if path.is_file())
 
 
-def grade_one(chapter: str, notebook: Path, memory_mib: int, cpu_seconds: int) -> tuple[Path, str, bool]:
+def grade_one(chapter: str, notebook: Path, memory_mib: int, cpu_seconds: int,
+              max_processes: int = DEFAULT_MAX_PROCESSES) -> tuple[Path, str, bool]:
+    """Grade ``notebook`` into its folder: ``(notebook, its score or why it was not graded, graded)``."""
     try:
-        results = grade(chapter, notebook, notebook.parent, memory_mib, cpu_seconds)
+        results = grade(chapter, notebook, notebook.parent, memory_mib, cpu_seconds, max_processes=max_processes)
     except (FileNotFoundError, RuntimeError) as error:
         return notebook, f"not graded: {str(error).splitlines()[0]}", False
     maximum = sum(test["max_score"] for test in results["tests"])
@@ -45,6 +49,10 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="submissions graded at a time")
     parser.add_argument("--memory", type=int, default=DEFAULT_MEMORY_MIB, help="MiB of address space per process")
     parser.add_argument("--cpu-seconds", type=int, default=DEFAULT_CPU_SECONDS, help="CPU seconds per process")
+    parser.add_argument("--max-processes", type=int, default=DEFAULT_MAX_PROCESSES,
+                        help="processes and threads of a submission's kernel and its children "
+                             f"(default {DEFAULT_MAX_PROCESSES}; 0: no cap, with a warning, where none can be "
+                             "made: root in a container with a read-only cgroup, which caps them itself)")
     args = parser.parse_args(argv)
     found = submissions(args.folder, args.chapter)
     if not found:
@@ -53,10 +61,14 @@ def main(argv: list[str] | None = None) -> int:
     if args.jobs < 1:
         print(f"ERROR: --jobs must be at least 1; got {args.jobs}", file=sys.stderr)
         return 2
+    if args.max_processes < 0:
+        print(f"ERROR: --max-processes must be 0 (no cap) or a positive number of processes; got {args.max_processes}",
+              file=sys.stderr)
+        return 2
     started, done, failed = time.monotonic(), 0, 0
     with ThreadPoolExecutor(max_workers=args.jobs) as pool:
-        futures = [pool.submit(grade_one, args.chapter, path.resolve(), args.memory, args.cpu_seconds)
-                   for path in found]
+        futures = [pool.submit(grade_one, args.chapter, path.resolve(), args.memory, args.cpu_seconds,
+                               args.max_processes) for path in found]
         for future in as_completed(futures):
             notebook, verdict, ok = future.result()
             done += 1

@@ -2,7 +2,8 @@
 """Write a Gradescope autograder for one chapter (``make gradescope``).
 
     make gradescope CH=03_three_rpr                 # -> _build/gradescope/03_three_rpr.zip
-    .venv/bin/python tools/gradescope.py 03_three_rpr --out autograder.zip --memory 4096
+    make gradescope CH=03_three_rpr MAX_PROCESSES=256   # the cap on processes made in the container
+    .venv/bin/python tools/gradescope.py 03_three_rpr --out autograder.zip --memory 4096 --max-processes 0
 
 The zip is what Gradescope's "Configure Autograder" page takes (a zip archive with
 ``setup.sh`` and ``run_autograder`` at its top, unpacked into ``/autograder/source``):
@@ -18,6 +19,8 @@ The zip is what Gradescope's "Configure Autograder" page takes (a zip archive wi
     with ``tools/grade_submission.py`` (the course's own pipeline: sandbox, grader kernel,
     restarts, diagnoses, points, memory and CPU caps) and writes
     ``$AUTOGRADER_ROOT/results/results.json`` (Gradescope's format) and ``feedback.html``.
+    Its ``--max-processes`` is this tool's (default :data:`GRADESCOPE_MAX_PROCESSES`, 0: no cap
+    on the kernel's processes, Gradescope's container being the cap; see there why).
     ``AUTOGRADER_ROOT`` defaults to ``/autograder``: set it to run the autograder anywhere
     (tests/test_grading_engines.py does, in a temporary folder).
 
@@ -38,6 +41,7 @@ import zipfile
 from pathlib import Path
 
 from tools.grade_submission import DEFAULT_CPU_SECONDS, DEFAULT_MEMORY_MIB
+from tools.process_cap import DEFAULT_MAX_PROCESSES
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -46,6 +50,15 @@ FOLDERS = ("robokin", "tools")
 #: Single files of the repository that grading (or installing robokin) needs.
 FILES = ("nbgrader_config.py", "pyproject.toml", "README.md", "requirements.txt", "constraints.txt",
          "book/references.bib")
+
+#: ``grade_submission.py --max-processes`` in ``run_autograder``: 0, no cap on the processes of the
+#: submission's kernel. Gradescope grades each submission as root in a container of its own; as root
+#: the cap needs a writable ``pids`` cgroup (tools/process_cap.py), which a container's read-only
+#: ``/sys/fs/cgroup`` does not give, and grading would stop on every submission. The container, thrown
+#: away after the submission and under Gradescope's own limits, is then the cap (grade_submission.py
+#: logs the missing cap on every submission). Where the container does give a writable ``pids``
+#: cgroup, pass :data:`process_cap.DEFAULT_MAX_PROCESSES` (``make gradescope MAX_PROCESSES=256``).
+GRADESCOPE_MAX_PROCESSES = 0
 
 SETUP = r'''#!/usr/bin/env bash
 # Gradescope runs this once, as root, when it builds the autograder's image (Ubuntu with python3).
@@ -93,7 +106,7 @@ fi
 # from source/, so that the tools and the course are the zip's (python -m: this folder first on sys.path)
 cd "$ROOT/source" || exit 1
 exec "$PYTHON" -m tools.grade_submission "$CHAPTER" "${{FOUND[0]}}" --out "$ROOT/results" \
-  --memory {memory} --cpu-seconds {cpu_seconds}
+  --memory {memory} --cpu-seconds {cpu_seconds} --max-processes {max_processes}
 '''
 
 
@@ -118,22 +131,27 @@ def _add(archive: zipfile.ZipFile, name: str, data: bytes, executable: bool = Fa
 
 
 def write_zip(chapter: str, out: Path, memory_mib: int = DEFAULT_MEMORY_MIB,
-              cpu_seconds: int = DEFAULT_CPU_SECONDS) -> Path:
+              cpu_seconds: int = DEFAULT_CPU_SECONDS, max_processes: int = GRADESCOPE_MAX_PROCESSES) -> Path:
     """Write the autograder of ``chapter`` to ``out``; return ``out``.
 
-    Raises ``FileNotFoundError`` naming the chapter when ``notebooks/<chapter>.ipynb`` does not
-    exist, and ``ValueError`` when a cap is not positive.
+    ``memory_mib``, ``cpu_seconds`` and ``max_processes`` are the caps ``run_autograder`` passes
+    to ``grade_submission.py`` (``--memory``, ``--cpu-seconds``, ``--max-processes``; 0 processes:
+    no cap, :data:`GRADESCOPE_MAX_PROCESSES`). Raises ``FileNotFoundError`` naming the chapter when
+    ``notebooks/<chapter>.ipynb`` does not exist, and ``ValueError`` when the memory or CPU cap is
+    not positive or ``max_processes`` is negative.
     """
     if not (ROOT / "notebooks" / f"{chapter}.ipynb").is_file():
         chapters = sorted(p.stem for p in (ROOT / "notebooks").glob("[0-9][0-9]_*.ipynb"))
         raise FileNotFoundError(f"chapter: no notebook notebooks/{chapter}.ipynb (chapters: {', '.join(chapters)})")
     if memory_mib <= 0 or cpu_seconds <= 0:
         raise ValueError(f"memory_mib and cpu_seconds must be positive; got {memory_mib} and {cpu_seconds}")
+    if max_processes < 0:
+        raise ValueError(f"max_processes must be 0 (no cap) or a positive number of processes; got {max_processes}")
     out.parent.mkdir(parents=True, exist_ok=True)
     with zipfile.ZipFile(out, "w") as archive:
         _add(archive, "setup.sh", SETUP.encode(), executable=True)
-        _add(archive, "run_autograder", RUN.format(chapter=chapter, memory=memory_mib,
-                                                   cpu_seconds=cpu_seconds).encode(), executable=True)
+        _add(archive, "run_autograder", RUN.format(chapter=chapter, memory=memory_mib, cpu_seconds=cpu_seconds,
+                                                   max_processes=max_processes).encode(), executable=True)
         for path in contents(chapter):
             _add(archive, path.as_posix(), (ROOT / path).read_bytes(), executable=path.suffix == ".py"
                  and path.parts[0] == "tools")
@@ -150,10 +168,15 @@ def main(argv: list[str] | None = None) -> int:
                         help=f"MiB of address space per grading process (default {DEFAULT_MEMORY_MIB})")
     parser.add_argument("--cpu-seconds", type=int, default=DEFAULT_CPU_SECONDS,
                         help=f"CPU seconds per grading process (default {DEFAULT_CPU_SECONDS})")
+    parser.add_argument("--max-processes", type=int, default=GRADESCOPE_MAX_PROCESSES,
+                        help="processes and threads of the submission's kernel (default "
+                             f"{GRADESCOPE_MAX_PROCESSES}: no cap, Gradescope's container is the cap, since as root "
+                             f"the cap needs a writable pids cgroup; {DEFAULT_MAX_PROCESSES} where the container "
+                             "gives one)")
     args = parser.parse_args(argv)
     out = args.out or ROOT / "_build" / "gradescope" / f"{args.chapter}.zip"
     try:
-        write_zip(args.chapter, out.resolve(), args.memory, args.cpu_seconds)
+        write_zip(args.chapter, out.resolve(), args.memory, args.cpu_seconds, args.max_processes)
     except (FileNotFoundError, ValueError) as error:
         print(f"ERROR [gradescope]: {error}", file=sys.stderr)
         return 2
