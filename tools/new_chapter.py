@@ -346,7 +346,7 @@ def registered_chapters(root: Path) -> dict[str, str]:
     imported: the tree given by ``--root`` may be another than the one Python imports robokin from."""
     path = root / "robokin" / "check" / "_registry.py"
     for node in ast.parse(path.read_text()).body:
-        if isinstance(node, ast.AnnAssign | ast.Assign):
+        if isinstance(node, ast.AnnAssign | ast.Assign) and node.value is not None:
             targets = [node.target] if isinstance(node, ast.AnnAssign) else node.targets
             if any(isinstance(target, ast.Name) and target.id == "CHAPTERS" for target in targets):
                 return ast.literal_eval(node.value)
