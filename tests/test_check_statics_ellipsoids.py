@@ -28,6 +28,20 @@ def jacobian_fd(q):
     return np.column_stack([(tool_position(q + h * e) - tool_position(q - h * e)) / (2 * h) for e in np.eye(2)])
 
 
+def foot_height(q):
+    """z of chapter 1's foot in the body's frame (unit lengths), written out."""
+    alpha, beta, gamma = q
+    return -math.cos(alpha) * (1 + math.cos(beta) + math.cos(beta + gamma))
+
+
+def leg_by_energy(q, m):
+    """The gradient of the body's potential energy −m g z_F(q), by central differences."""
+    q = np.asarray(q, dtype=float)
+    h = 1e-7
+    return np.array([-m * chk.GRAVITY * (foot_height(q + h * e) - foot_height(q - h * e)) / (2 * h)
+                     for e in np.eye(3)])
+
+
 def velocity_by_eigh(J):
     values, vectors = np.linalg.eigh(J @ J.T)
     return np.sqrt(values[::-1]), vectors[:, ::-1]
@@ -41,6 +55,7 @@ def force_by_eigh(J):
 CORRECT = {
     "tool_jacobian": jacobian_fd,
     "joint_torques": lambda q, F: jacobian_fd(q).T @ F,
+    "leg_torques": leg_by_energy,
     "velocity_ellipse": velocity_by_eigh,
     "force_ellipse": force_by_eigh,
     "manipulability": lambda J: math.sqrt(np.linalg.det(J @ J.T)),
@@ -74,6 +89,9 @@ WRONG = [
     ("joint_torques", lambda q, F: jacobian_fd(q) @ F, "jacobian_not_transposed"),
     ("joint_torques", lambda q, F: -jacobian_fd(q).T @ F, "sign"),
     ("joint_torques", lambda q, F: jacobian_fd(np.deg2rad(q)).T @ F, "degrees_input"),
+    ("leg_torques", lambda q, m: -leg_by_energy(q, m), "sign"),
+    ("leg_torques", lambda q, m: leg_by_energy(q, m) / chk.GRAVITY, "no_gravity"),
+    ("leg_torques", lambda q, m: leg_by_energy(np.rad2deg(q), m), "degrees_evaluated"),
     ("velocity_ellipse", lambda J: (velocity_by_eigh(J)[0] ** 2, velocity_by_eigh(J)[1]), "squared"),
     ("velocity_ellipse", lambda J: (np.sqrt(np.linalg.eigh(J @ J.T)[0]), np.linalg.eigh(J @ J.T)[1]),
      "ascending"),
@@ -142,3 +160,22 @@ def test_delegation_names_robokin_functions():
         assert hasattr(chk, check)
         for attribute in references:
             assert hasattr(ellipsoids, attribute) or attribute in ("position_jacobian", "jacobian")
+
+
+def test_leg_torques_j_instead_of_transpose_is_named():
+    from robokin.models import eth_leg
+
+    leg = eth_leg()
+    r = chk.leg_torques(lambda q, m: leg.position_jacobian(q) @ [0.0, 0.0, -m * chk.GRAVITY], quiet=True)
+    assert not r.passed and r.diagnosis == "jacobian_not_transposed", r.message
+
+
+def test_leg_torques_mass_arrives_as_a_number():
+    seen = []
+
+    def answer(q, m):
+        seen.append(m)
+        return leg_by_energy(q, m)
+
+    assert chk.leg_torques(answer, quiet=True).passed
+    assert all(isinstance(m, float) for m in seen)

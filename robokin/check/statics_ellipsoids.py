@@ -9,6 +9,8 @@ check                    the student's answer                                   
 =======================  =========================================================  ==============
 ``tool_jacobian``        J(q) = ∂p/∂q of the tool position, 2×2, m/rad              q1, q2
 ``joint_torques``        τ(q, F) = J(q)ᵀ F, N·m, for the tool force F (N)           q1, q2, Fx, Fy
+``leg_torques``          τ(q, m) = J_F(q)ᵀ (0, 0, −m g): chapter 1's leg holding    α, β, γ, m
+                         a body of mass m (kg) on its foot, N·m
 ``velocity_ellipse``     (radii, axes) of {J q̇ : ‖q̇‖ ≤ 1}: σ_i descending, u_i      J (2×2)
 ``force_ellipse``        (radii, axes) of {F : ‖Jᵀ F‖ ≤ 1}: 1/σ_i descending, u_i   J (2×2)
 ``manipulability``       w(J) = √det(J Jᵀ)                                          J (2×2)
@@ -48,6 +50,7 @@ __all__ = [
     "condition_number",
     "force_ellipse",
     "joint_torques",
+    "leg_torques",
     "manipulability",
     "push_capacity",
     "tool_jacobian",
@@ -60,6 +63,9 @@ _CHAPTER = "statics_ellipsoids"
 #: the exercise arm's link lengths l1, l2 (m)
 LINKS = (1.0, 0.6)
 
+#: the gravity of the chapter (m/s²)
+GRAVITY = 9.81
+
 #: check -> {the robokin function that solves its task: how the grading report names it}: an
 #: answer that hands one back (``tool_jacobian = ...position_jacobian``) is flagged for review by
 #: hand (tools/grading_bridge/delegation.py reads this literal table without importing the module).
@@ -69,6 +75,7 @@ LINKS = (1.0, 0.6)
 DELEGATION = {
     "tool_jacobian": {"position_jacobian": "SerialChain.position_jacobian", "jacobian": "SerialChain.jacobian"},
     "joint_torques": {"static_torques": "robokin.chains.ellipsoids.static_torques"},
+    "leg_torques": {"static_torques": "robokin.chains.ellipsoids.static_torques"},
     "velocity_ellipse": {"velocity_ellipsoid": "robokin.chains.ellipsoids.velocity_ellipsoid"},
     "force_ellipse": {"force_ellipsoid": "robokin.chains.ellipsoids.force_ellipsoid"},
 }
@@ -291,6 +298,60 @@ joint_torques = exercise(_CHAPTER, "joint_torques", Check(
     noun="configurations and forces",
     hint="τ = J(q)ᵀ F (virtual work).",
     doc="Check joint_torques(q, F): the torques τ = J(q)ᵀ F (N·m) with which the arm's tool pushes with F (N).",
+))
+
+
+@lru_cache(maxsize=1)
+def _leg():
+    from robokin.models import eth_leg
+
+    return eth_leg()
+
+
+def _foot_jacobian(x: np.ndarray) -> np.ndarray:
+    return np.asarray(_leg().position_jacobian(np.asarray(x[:3], dtype=float)), dtype=float)
+
+
+def _leg_force(x: np.ndarray) -> np.ndarray:
+    """The force (N) with which the foot pushes on the ground: the body's weight, down."""
+    return np.array([0.0, 0.0, -x[3] * GRAVITY])
+
+
+class _MassCheck(Check):
+    """A check of a function ``f(q, m)`` whose mass ``m`` is handed over as a number."""
+
+    def evaluate(self, answer: Any) -> CheckResult:
+        if callable(answer) and not isinstance(answer, np.ndarray):
+            student = answer
+
+            def with_number(q: np.ndarray, m: np.ndarray) -> Any:
+                return student(q, float(np.asarray(m, dtype=float).reshape(-1)[0]))
+
+            return super().evaluate(with_number)
+        return super().evaluate(answer)
+
+
+leg_torques = exercise(_CHAPTER, "leg_torques", _MassCheck(
+    name="leg_torques",
+    reference=lambda x: _foot_jacobian(x).T @ _leg_force(x),
+    variables=[Variable("alpha", "angle", -0.5, 0.5), Variable("beta", "angle", -1.2, 0.8),
+               Variable("gamma", "angle", 0.3, 2.0), Variable("m", "other", 1.0, 30.0)],
+    groups=[("q", [0, 1, 2]), ("m", [3])],
+    diagnoses=[
+        alternatives("sign", [(lambda x: -_foot_jacobian(x).T @ _leg_force(x), (
+            "{name} has the opposite sign: the foot pushes the ground down with the body's "
+            "weight, F = (0, 0, −m g) in the body's frame (the ground pushes it up); (0, 0, +m g) "
+            "is a hand holding a load up. The energy agrees: the body's height above the foot is "
+            "−z_F(q), and τ = ∂(m g (−z_F))/∂q."))]),
+        alternatives("jacobian_not_transposed", [(lambda x: _foot_jacobian(x) @ _leg_force(x), (
+            "{name} multiplies the force by J instead of Jᵀ: τ = Jᵀ F by virtual work."))]),
+        alternatives("no_gravity", [(lambda x: _foot_jacobian(x).T @ _leg_force(x) / GRAVITY, (
+            "{name} uses the mass m (kg) as a force: the weight is m g, g = 9.81 m/s²."))]),
+        dg.degrees(),
+    ],
+    noun="configurations of the leg and body masses",
+    hint="τ = J_F(q)ᵀ F with the force F that the foot exerts on the ground.",
+    doc="Check leg_torques(q, m): the torques (N·m) of chapter 1's leg holding a body of m kg on its foot.",
 ))
 
 

@@ -24,6 +24,14 @@ MUTATIONS = {
         ("degrees for radians",
          "joint_torques = (lambda f: lambda q, F: f(np.rad2deg(q), F))(joint_torques)"),
     ],
+    "task1_test3": [
+        ("the foot pushing up, as a hand holding a load",
+         "leg_torques = (lambda f: lambda q, m: -f(q, m))(leg_torques)"),
+        ("J instead of J^T",
+         "leg_torques = lambda q, m: leg.position_jacobian(q) @ np.array([0.0, 0.0, -m * GRAVITY])"),
+        ("the mass for the weight (no g)",
+         "leg_torques = lambda q, m: leg.position_jacobian(q).T @ np.array([0.0, 0.0, -m])"),
+    ],
     "task2_test1": [
         ("the eigenvalues of J J^T as semi-axes (squared lengths)",
          "velocity_ellipse = (lambda f: lambda J: (f(J)[0] ** 2, f(J)[1]))(velocity_ellipse)"),
@@ -101,6 +109,20 @@ def joint_torques(q, F):
 
 
 tau0 = joint_torques(Q0, F0)
+"""),
+    "task1_answer2": ("the torques as minus the gradient of the foot height, by sympy", """
+
+# written another way: tau = dV/dq with V = -m g z_F(q), z_F differentiated symbolically
+_angles = sp.symbols("alpha beta gamma", real=True)
+_z_foot = -sp.cos(_angles[0]) * (1 + sp.cos(_angles[1]) + sp.cos(_angles[1] + _angles[2]))
+_dz_dq = sp.lambdify(_angles, [sp.diff(_z_foot, angle) for angle in _angles], "numpy")
+
+
+def leg_torques(q, m):
+    return -m * GRAVITY * np.array(_dz_dq(*np.asarray(q, dtype=float)), dtype=float)
+
+
+tau_stand = leg_torques(Q_STAND, BODY_MASS)
 """),
     "task2_answer1": ("the singular value decomposition of J", """
 
