@@ -55,7 +55,7 @@ LONG = 1.0
 #: From the per-unit durations of a full run (2 workers, 2 cores), the book builds as
 #: they are now (stored outputs, nothing executed: about 15 s of CPU per edition).
 ESTIMATES = [
-    (r"test_notebooks_other_machines\.py", 100.0),
+    (r"test_notebooks_other_machines\.py", 80.0),   # each of the three machines
     (r"^module:tests/test_new_chapter\.py$", 60.0),
     (r"test_book\.py::test_book_builds", 20.0),
     (r"test_grading_mutations\.py", 15.0),
