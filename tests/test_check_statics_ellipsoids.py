@@ -62,6 +62,8 @@ CORRECT = {
     "w_formula": lambda q2, l1, l2: abs(l1 * l2 * math.sin(q2)),
     "condition_number": lambda J: np.linalg.cond(J),
     "push_capacity": lambda J, d: 1 / np.linalg.norm(J.T @ d),
+    "posture_measures": lambda J: (math.sqrt(np.linalg.det(J @ J.T)), np.linalg.cond(J),
+                                   math.sqrt(np.linalg.eigvalsh(J @ J.T)[0])),
 }
 
 
@@ -112,6 +114,12 @@ WRONG = [
     ("push_capacity", lambda J, d: np.linalg.norm(J.T @ d), "not_inverted"),
     ("push_capacity", lambda J, d: 1 / np.linalg.norm(J @ d), "jacobian_not_transposed"),
     ("push_capacity", lambda J, d: 1 / np.linalg.norm(J.T @ d) ** 2, "squared"),
+    ("posture_measures", lambda J: (np.linalg.det(J @ J.T), np.linalg.cond(J) ** 2,
+                                    np.linalg.eigvalsh(J @ J.T)[0]), "squared"),
+    ("posture_measures", lambda J: (abs(np.linalg.det(J)), 1 / np.linalg.cond(J),
+                                    np.linalg.svd(J, compute_uv=False)[-1]), "inverted"),
+    ("posture_measures", lambda J: (abs(np.linalg.det(J)), np.linalg.cond(J), np.linalg.norm(J, 2)),
+     "sigma_max"),
 ]
 
 

@@ -17,6 +17,7 @@ check                    the student's answer                                   
 ``w_formula``            w of the two-link arm in closed form, f(q2, l1, l2)        q2, l1, l2
 ``condition_number``     κ(J) = σ_max / σ_min                                       J (2×2)
 ``push_capacity``        the largest force along the unit d with ‖Jᵀ F‖ ≤ 1          J (2×2), d
+``posture_measures``     (w, κ, σ_min) of a Jacobian                                J (2×2)
 =======================  =========================================================  ==============
 
 An ellipse answer is compared with its axes' signs made canonical (each column's
@@ -52,6 +53,7 @@ __all__ = [
     "joint_torques",
     "leg_torques",
     "manipulability",
+    "posture_measures",
     "push_capacity",
     "tool_jacobian",
     "velocity_ellipse",
@@ -457,4 +459,43 @@ push_capacity = exercise(_CHAPTER, "push_capacity", _ScalarArgumentsCheck(
     arguments=lambda x: (_jacobian(x), _direction(x)),
     signature="push_capacity(J, d) -> float",
     doc="Check push_capacity(J, d) -> 1/‖Jᵀ d‖, the largest force along the unit d with ‖Jᵀ F‖ ≤ 1.",
+))
+
+
+# ------------------------------------------------------------------ Task 6: choosing a posture
+def _measures(x: np.ndarray) -> np.ndarray:
+    sigma = _sigma(x)
+    return np.array([np.prod(sigma), sigma[0] / sigma[-1], sigma[-1]])
+
+
+def _measures_mistakes() -> list:
+    def with_sigma(change: Callable[[np.ndarray], np.ndarray]) -> Callable[[np.ndarray], np.ndarray]:
+        def mistaken(x: np.ndarray) -> np.ndarray:
+            sigma = change(_sigma(x))
+            return np.array([np.prod(sigma), sigma[0] / sigma[-1], sigma[-1]])
+        return mistaken
+
+    return [
+        alternatives("squared", [(with_sigma(lambda s: s ** 2), (
+            "{name} works with the eigenvalues of J Jᵀ, σ_i²: the measures are those of the "
+            "semi-axes σ_i, their square roots."))]),
+        alternatives("inverted", [(lambda x: _measures(x) ** np.array([1.0, -1.0, 1.0]), (
+            "{name}'s condition number is σ_min/σ_max ≤ 1: κ = σ_max/σ_min ≥ 1."))]),
+        alternatives("sigma_max", [(lambda x: np.array([*_measures(x)[:2], _sigma(x)[0]]), (
+            "{name}'s third value is σ_max: the minimum singular value σ_min is the speed in the "
+            "slowest direction."))]),
+    ]
+
+
+posture_measures = exercise(_CHAPTER, "posture_measures", MatrixArgumentsCheck(
+    name="posture_measures",
+    reference=_measures,
+    variables=_Q,
+    groups=[("x", [0, 1])],
+    diagnoses=_measures_mistakes(),
+    noun="Jacobians of the arm",
+    arguments=_one_jacobian,
+    signature="posture_measures(J) -> (w, kappa, sigma_min)",
+    hint="From the singular values σ_i of J: w = ∏ σ_i, κ = σ_max/σ_min, σ_min.",
+    doc="Check posture_measures(J) -> (w, κ, σ_min): manipulability, condition number, minimum singular value.",
 ))

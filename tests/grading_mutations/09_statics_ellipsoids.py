@@ -86,6 +86,24 @@ MUTATIONS = {
         ("the eigenvalues of J_v J_v^T for sigma_line", "sigma_line = sigma_line ** 2"),
         ("sigma_line ascending", "sigma_line = sigma_line[:, ::-1]"),
     ],
+    "task6_test1": [
+        ("the eigenvalues of J J^T for the singular values",
+         "posture_measures = (lambda f: lambda J: tuple(v ** 2 for v in f(J)))(posture_measures)"),
+        ("sigma_min / sigma_max for the condition number",
+         "posture_measures = (lambda f: lambda J: (f(J)[0], 1 / f(J)[1], f(J)[2]))(posture_measures)"),
+        ("sigma_max for sigma_min",
+         "posture_measures = (lambda f: lambda J: (*f(J)[:2], f(J)[0] / f(J)[2]))(posture_measures)"),
+    ],
+    "task6_test2": [
+        ("the largest condition number preferred",
+         "preferred_postures = (lambda f: lambda jacobians: {**f(jacobians), 'condition_number': int("
+         "np.argmax([posture_measures(J)[1] for J in jacobians]))})(preferred_postures)"),
+        ("one posture for all three measures",
+         "preferred_postures = (lambda f: lambda jacobians: dict.fromkeys(f(jacobians),"
+         " f(jacobians)['manipulability']))(preferred_postures)"),
+        ("the verdict at POSTURES_6 typed in, w at 90 degrees for all",
+         "choice_6 = {'manipulability': 1, 'condition_number': 1, 'sigma_min': 1}"),
+    ],
 }
 
 VARIANTS = {
@@ -175,5 +193,24 @@ def push_capacity(J, d):
 push_down = np.array([push_capacity(ur10.position_jacobian(q), DOWN) for q in q_line])
 z_strongest = float(z_line[int(np.argmax(push_down))])
 sigma_line = np.array([np.linalg.svd(ur10.position_jacobian(q), compute_uv=False) for q in q_line])
+"""),
+    "task6_answer1": ("the measures from the eigenvalues of J J^T, the choice by sorting", """
+
+# written another way: sigma_i^2 are the eigenvalues of J J^T; each measure ranks by sorting
+def posture_measures(J):
+    values = np.linalg.eigvalsh(np.asarray(J, dtype=float) @ np.asarray(J, dtype=float).T)
+    return (float(np.sqrt(np.prod(values))), float(np.sqrt(values[-1] / values[0])),
+            float(np.sqrt(values[0])))
+
+
+def preferred_postures(jacobians):
+    rows = [posture_measures(J) for J in jacobians]
+    order = range(len(rows))
+    return {"manipulability": max(order, key=lambda i: rows[i][0]),
+            "condition_number": min(order, key=lambda i: rows[i][1]),
+            "sigma_min": max(order, key=lambda i: rows[i][2])}
+
+
+choice_6 = preferred_postures(J_6)
 """),
 }
