@@ -28,9 +28,9 @@ MUTATIONS = {
         ("the foot pushing up, as a hand holding a load",
          "leg_torques = (lambda f: lambda q, m: -f(q, m))(leg_torques)"),
         ("J instead of J^T",
-         "leg_torques = lambda q, m: leg.position_jacobian(q) @ np.array([0.0, 0.0, -m * GRAVITY])"),
+         "leg_torques = lambda q, m: foot_jacobian(q) @ np.array([0.0, 0.0, -m * GRAVITY])"),
         ("the mass for the weight (no g)",
-         "leg_torques = lambda q, m: leg.position_jacobian(q).T @ np.array([0.0, 0.0, -m])"),
+         "leg_torques = lambda q, m: foot_jacobian(q).T @ np.array([0.0, 0.0, -m])"),
     ],
     "task2_test1": [
         ("the eigenvalues of J J^T as semi-axes (squared lengths)",
