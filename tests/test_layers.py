@@ -55,7 +55,7 @@ KNOWN_CYCLES: dict[frozenset, str] = {}
 #: The modules of robokin.views, bottom up: each imports only views modules listed before it
 #: (the layers of the robokin.views docstring). ``_server`` runs in its own process and imports none.
 VIEWS_ORDER = ["optional", "record", "arguments", "geometry", "ellipsoids", "meshcat_draw", "static_html", "plots",
-               "meshes", "live", "sphinx_extension", "display", "scene", "sliders", "_server", ""]
+               "ellipse_plots", "meshes", "live", "sphinx_extension", "display", "scene", "sliders", "_server", ""]
 
 #: Modules allowed to import inside functions (all other views modules import at the top).
 FUNCTION_IMPORTS_ALLOWED = {

@@ -49,6 +49,7 @@ checks the order):
    :mod:`~robokin.views.ellipsoids` (the curves of velocity and force ellipsoids: numpy only);
 3. backends: :mod:`~robokin.views.meshcat_draw` (MeshCat commands),
    :mod:`~robokin.views.static_html`, :mod:`~robokin.views.plots` (matplotlib),
+   :mod:`~robokin.views.ellipse_plots` (planar ellipses in matplotlib),
    :mod:`~robokin.views.meshes` (URDF meshes), :mod:`~robokin.views.live` (live server),
    :mod:`~robokin.views.sphinx_extension`;
 4. :mod:`~robokin.views.display` (choosing the mode, showing);
