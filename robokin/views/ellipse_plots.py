@@ -1,7 +1,7 @@
 r"""matplotlib drawing of planar velocity and force ellipses.
 
 A planar ellipse is given as robokin returns it (the first two rows and columns of
-:meth:`robokin.chains.SerialChain.velocity_ellipsoid` for a planar arm, or a student's
+:func:`robokin.chains.ellipsoids.velocity_ellipsoid` for a planar arm, or a student's
 ``(radii, axes)``): its semi-axes ``radii`` and its unit axes as the columns of ``axes``. Its
 curve is :math:`\mathbf{c} + \mathbf{A}\,\mathrm{diag}(s\mathbf{r})(\cos t, \sin t)^\mathsf{T}`
 (:func:`robokin.views.ellipsoids.ellipse_points`)::
