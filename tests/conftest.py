@@ -220,6 +220,9 @@ def pytest_sessionfinish(session, exitstatus):
         session.exitstatus = 1
 
 
+#: the CPU-seconds of each test with ROBOKIN_CPU_REPORT=FILE (tests/cpu_accounting.py)
+pytest_plugins = ("cpu_accounting",)
+
 from parallel_plan import (  # noqa: E402,F401 - pytest hooks and a fixture of the parallel run
     pytest_cmdline_main,
     pytest_collection_modifyitems,
