@@ -29,6 +29,8 @@ from pathlib import Path
 import pytest
 
 VARIABLE = "ROBOKIN_CPU_REPORT"
+#: set by the run's controller (its pid): the processes started below it know they are counted
+COUNTING = "ROBOKIN_CPU_COUNTING"
 PROPERTY = "cpu_seconds"
 V1_ROOT = Path("/sys/fs/cgroup/cpuacct")
 V2_ROOT = Path("/sys/fs/cgroup")
@@ -85,6 +87,12 @@ def pytest_configure(config) -> None:
                 except OSError:
                     pass
     worker = getattr(config, "workerinput", {}).get("workerid", "main")
+    counting = os.environ.get(COUNTING)
+    if counting and not (worker != "main" and os.getppid() == int(counting)):
+        # a pytest run started by a test (the other machines, the scaffolded chapters): it stays in
+        # the group of the worker that started it, whose test it is part of
+        return
+    os.environ[COUNTING] = str(os.getpid()) if worker == "main" else counting or ""
     counter = Counter(f"robokin-{os.getpid()}-{worker}")
     config.robokin_cpu_counter = counter if counter.available else None
     if not hasattr(config, "workerinput"):
