@@ -39,7 +39,6 @@ import tempfile
 from pathlib import Path
 
 import nbformat
-from nbclient import NotebookClient
 from nbgrader import utils
 from traitlets import Bool, Float, List, Unicode
 
@@ -49,6 +48,7 @@ from tools.kernel_sockets import AsyncPrivateSocketsKernelManager
 from tools.notebook_analysis import defined_names, free_names
 from tools.robokin_nbgrader import VERDICT_MARK, RobokinExecute
 from tools.robokin_nbgrader.cells import robokin_metadata, task_of
+from tools.robokin_nbgrader.streams import JoinedStreamsClient
 
 IMPORT_MARK = "ROBOKIN-BRIDGE-IMPORT "
 #: Modules the grader kernel imports before any student code runs.
@@ -74,7 +74,7 @@ class GraderKernel:
         self.nb = nbformat.v4.new_notebook()
         self.server = server
         manager = fork_server.ForkedKernelManager if server is not None else AsyncPrivateSocketsKernelManager
-        self.client = NotebookClient(self.nb, timeout=timeout, interrupt_on_timeout=True, allow_errors=True,
+        self.client = JoinedStreamsClient(self.nb, timeout=timeout, interrupt_on_timeout=True, allow_errors=True,
                                      kernel_name="python3", record_timing=False, log=log,
                                      resources={"metadata": {"path": self.folder}}, kernel_manager_class=manager)
         self.started = False

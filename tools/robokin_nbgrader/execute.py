@@ -27,6 +27,7 @@ from traitlets import Bool, Unicode
 from .cells import cell_label, robokin_metadata, task_of
 from .checks import VERDICT_MARK, registered_pairs
 from .failure_notes import FailureNotes
+from .streams import JoinedStreamsClient
 
 
 #: The repository (hidden from the sandboxed kernel: its notebooks hold the solutions).
@@ -38,7 +39,7 @@ NOT_RUN = "TestNotRun"
 KERNEL_LOST = "KernelLost"
 
 
-class RobokinExecute(Execute):
+class RobokinExecute(JoinedStreamsClient, Execute):
     """nbgrader's ``Execute`` in a sandbox, scoring a test by pass/fail, plus robokin.check's verdicts.
 
     - The kernel runs in bubblewrap (``tools/robokin_sandbox.py``) unless ``sandbox`` is
