@@ -203,6 +203,12 @@ def submissions(correct: dict, course: Path) -> dict[str, dict]:
     }
 
 
+#: how many calls of each function of a ``noisy`` submission log, warn and write to stderr: in
+#: the student's kernel and again in the grader kernel's calls. Every call talking made chapter
+#: 5's run grade ~40,000 messages (80 CPU-s, three times its solution's); a flood of output is
+#: tested on its own (test_grading_tamper: cells that printed thousands of lines;
+#: test_kernel_sockets: 12,000 lines), so here the talk shows that talking costs no marks.
+TALKING_CALLS = 20
 #: appended to every answer cell of a chapter's ``noisy`` submission (:func:`talkative`)
 TALKATIVE = """
 
@@ -217,11 +223,15 @@ def _my_identity(value):  # a helper of my own
 
 
 def _talkative(function):
+    calls = []
+
     @functools.wraps(function)
     def talking(*args, **kwargs):
-        logging.warning("noisy: %s called", function.__name__)
-        warnings.warn(f"noisy: {{function.__name__}} warns", RuntimeWarning, stacklevel=2)
-        print(f"noisy: debugging {{function.__name__}}", file=sys.stderr)
+        calls.append(None)
+        if len(calls) <= {talking_calls}:  # a student's debugging prints of the first calls
+            logging.warning("noisy: %s called", function.__name__)
+            warnings.warn(f"noisy: {{function.__name__}} warns", RuntimeWarning, stacklevel=2)
+            print(f"noisy: debugging {{function.__name__}}", file=sys.stderr)
         return _my_identity(function(*args, **kwargs))
 
     return talking
@@ -249,7 +259,8 @@ def talkative(correct: dict, source: dict) -> dict:
         grade_id = nbg(cell).get("grade_id")
         if grade_id in functions:
             wraps = "".join(f"{name} = _talkative({name})\n" for name in functions[grade_id])
-            cell["source"] = src(cell).rstrip() + "\n" + TALKATIVE.format(wraps=wraps, grade_id=grade_id)
+            cell["source"] = src(cell).rstrip() + "\n" + TALKATIVE.format(wraps=wraps, grade_id=grade_id,
+                                                                             talking_calls=TALKING_CALLS)
     return nb
 
 
@@ -377,7 +388,8 @@ WRONG = ("What `robokin.check` says", "Where to start", "Notes on running your n
 @pytest.mark.parametrize("chapter", grading_course.chapter_params((c for c in CHAPTERS if c != CHAPTER),
                                                                   lambda chapter: ("noisy",)))
 def test_talkative_solutions_keep_full_marks(request, tmp_path_factory, chapter):
-    """Every chapter's solutions, logging, warning and printing to stderr in every answer and call."""
+    """Every chapter's solutions, logging, warning and printing to stderr in every answer and in
+    the first calls of every function (TALKING_CALLS)."""
     _require_bwrap()
     run = grading_course.graded_courses(request, tmp_path_factory)[chapter]
     if run.error:
