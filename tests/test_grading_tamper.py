@@ -432,10 +432,37 @@ def test_delegation_is_flagged_in_every_chapter(chapter):
             found = [item for item in delegation.find(changed, checks) if item["name"] == name]
             assert found and found[0]["reference"] == how, (chapter, check, name, found)
             tried += 1
+    # answers named in delegation.ANSWERS (tasks whose tests explain no check)
+    for index, (task, code, declared) in enumerate(answers):
+        for name in set(declared) & set(delegation.ANSWERS):
+            for attr, how in delegation.ANSWERS[name].items():
+                changed = list(answers)
+                changed[index] = (task, code + f"\n\n{name} = robokin_object.{attr}\n", declared)
+                found = [item for item in delegation.find(changed, checks) if item["name"] == name]
+                assert found and found[0]["reference"] == how, (chapter, name, attr, found)
+                tried += 1
     if chapter in NO_DELEGATION:
         assert tried == 0, f"{chapter}: NO_DELEGATION is out of date"
     else:
         assert tried, f"{chapter}: no graded task has robokin references (delegation.REFERENCES)"
+
+
+def test_delegation_answer_names_belong_to_one_chapter():
+    """Each name of ``delegation.ANSWERS`` is declared by the answers of exactly one chapter
+    (it is looked at wherever it is declared), and a call through a helper is flagged too."""
+    from tools.grading_bridge import delegation
+
+    declaring = {name: [chapter for chapter in CHAPTERS
+                        if name in {n for _, _, names in _answers_and_checks(load(NOTEBOOKS / f"{chapter}.ipynb"))[0]
+                                    for n in names}]
+                 for name in delegation.ANSWERS}
+    assert all(len(chapters) == 1 for chapters in declaring.values()), declaring
+    answers = [(3, "def transport(J, R, p):\n    return tool_jacobian(J, R, p)\n\n"
+                   "def my_tool_jacobian(q):\n    return transport(arm.jacobian(q), R, p)\n", ["my_tool_jacobian"])]
+    (item,) = delegation.find(answers, {})
+    assert item["through"] == "transport" and item["reference"] == "robokin.motion.tool_jacobian"
+    written = [(3, "def my_tool_jacobian(q):\n    return rigid(q) @ arm.jacobian(q)\n", ["my_tool_jacobian"])]
+    assert delegation.find(written, {}) == []
 
 
 def test_answers_are_handed_over_after_cells_that_printed_thousands_of_lines(tmp_path):

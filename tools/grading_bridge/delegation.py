@@ -12,7 +12,8 @@ solve the task it checks. A task's reference list is that of the checks its test
 cells explain (``metadata.robokin.explain``). A declared name of an answer cell of
 the task is flagged when its definition -- or a helper it uses that the answer
 cells define and do not declare -- mentions one of those methods (an attribute,
-a name, or a string as in ``getattr(robot, "inverse_kinematics")``).
+a name, or a string as in ``getattr(robot, "inverse_kinematics")``). A task whose
+tests explain no check names its answers in :data:`ANSWERS` instead.
 """
 
 from __future__ import annotations
@@ -23,12 +24,11 @@ from collections.abc import Iterable
 #: check -> {robokin method or function name: how the report names it}.
 #:
 #: Only tasks whose point is to write the function robokin already has are listed.
-#: Where a chapter asks for robokin's own tools (chapter 1's Jacobian and IK through
-#: ``position_jacobian`` and ``solve_ik``, chapter 4's frames through
-#: ``transform_from_rpy``, chapter 6's ``T_sym`` through ``ar601_leg(...).fk``), calling them
-#: is the answer, not a delegation. The chapters' check modules add their own tables
-#: (``DELEGATION``, read below): chapter 6's ``leg_ik`` and ``unreachable_reason``, chapter 2's
-#: ``ik_restarts`` and ``bisect``.
+#: Where a chapter asks for robokin's own tools (chapter 4's frames through
+#: ``transform_from_rpy``, the end-effector Jacobian ``arm.jacobian`` its tool Jacobian starts
+#: from), calling them is the answer, not a delegation. The chapters' check modules add their
+#: own tables (``DELEGATION``, read below): chapter 6's ``leg_ik`` and ``unreachable_reason``,
+#: chapter 2's ``ik_restarts`` and ``bisect``.
 REFERENCES: dict[str, dict[str, str]] = {}
 
 _IK = {"solve_ik": "robokin.motion.solve_ik", "solve_ik_once": "robokin.motion.solve_ik_once",
@@ -52,7 +52,10 @@ REFERENCES["three_rpr.inverse_jacobian"] = {"jacobian": "Planar3RPR.jacobian",
 REFERENCES["baxter.resolved_rate"] = {"CartesianController": "robokin.motion.CartesianController",
                                       "simulate": "robokin.motion.simulate",
                                       "track_position_batch": "robokin.motion.track_position_batch"}
-# chapter 6, the AR-601 leg: the knee angle and the IK solver written by hand
+# chapter 6, the AR-601 leg: the forward kinematics multiplied factor by factor (T_sym), the
+# knee angle and the IK solver written by hand
+REFERENCES["ar601.foot_transform"] = {"ar601_leg": "robokin.models.ar601_leg (its fk)",
+                                      "fk": "SerialChain.fk", "frames": "SerialChain.frames"}
 REFERENCES["ar601.knee_angle"] = {"ar601_leg_ik": "robokin.models.ar601_leg_ik"}
 REFERENCES["ar601.ik_solver"] = {"ar601_leg_ik": "robokin.models.ar601_leg_ik",
                                  "ar601_leg_ik_batch": "robokin.models.ar601_leg_ik_batch", **_IK}
@@ -103,6 +106,15 @@ def declared_references(check_folder: str | None = None) -> dict[str, dict[str, 
 # the tables of the check modules, for the checks not listed above
 for _check, _references in declared_references().items():
     REFERENCES.setdefault(_check, _references)
+
+#: answer name -> {robokin function: how the report names it}, for a task whose tests explain
+#: no check (so :data:`REFERENCES` cannot reach it). The name is looked at wherever an answer cell
+#: declares it: keep to names only one chapter declares (tests/test_grading_tamper.py checks it).
+ANSWERS: dict[str, dict[str, str]] = {
+    # chapter 4, Task 3: the tool's Jacobian transported by hand from the end-effector's
+    "my_tool_jacobian": {"tool_jacobian": "robokin.motion.tool_jacobian",
+                         "rigid_body_jacobian": "robokin.motion.rigid_body_jacobian"},
+}
 
 
 def _mentions(node: ast.AST) -> set[str]:
@@ -195,14 +207,17 @@ def find(answers: Iterable[tuple[int | None, str, list[str]]],
             for expression in (checks[check] if isinstance(checks, dict) else [None]):
                 read = None if expression is None else _names(expression)
                 tested = None if tested is None or read is None else tested | read
-        if not references:
+        if not references and not set(names) & set(ANSWERS):
             continue
         local = _definitions(code)
         for name in names:
-            if name in seen or name not in local or (tested is not None and name not in tested):
+            own = ANSWERS.get(name, {})
+            if name in seen or name not in local or (not own and (
+                    not references or (tested is not None and name not in tested))):
                 continue
             node, bound = local[name]
-            direct = _mentions(node) & set(references)
+            name_references = {**references, **own}
+            direct = _mentions(node) & set(name_references)
             through = None
             if not direct:   # helpers the answers define and do not declare
                 stack, visited = [n for n in _mentions(node) if n in defined and n not in declared], set()
@@ -212,14 +227,14 @@ def find(answers: Iterable[tuple[int | None, str, list[str]]],
                         continue
                     visited.add(helper)
                     mentions = _mentions(defined[helper][0])
-                    hit = mentions & set(references)
+                    hit = mentions & set(name_references)
                     if hit:
                         direct, through = hit, helper
                     stack += [n for n in mentions if n in defined and n not in declared]
             if direct:
                 seen.add(name)
                 attr = sorted(direct)[0]
-                found.append({"task": task, "name": name, "reference": references[attr],
+                found.append({"task": task, "name": name, "reference": name_references[attr],
                               "how": "is" if bound and through is None else "calls", "through": through})
     return found
 
