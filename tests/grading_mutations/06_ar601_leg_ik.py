@@ -62,6 +62,7 @@ MUTATIONS = {
          "_leg_ik_right = my_leg_ik\n\n"
          "def my_leg_ik(T, ankle=ankle_point):\n"
          "    return _leg_ik_right(T, lambda T: T[:3, 3] + np.array([0.0, 0.0, L3]))"),
+        ("the two hip branches counted as one posture: 4 solutions", "k_regular = 4"),
     ],
     "task4_test1": [
         ("the hip branch with cos q2 < 0 dropped (4 solutions)",
