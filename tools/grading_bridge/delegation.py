@@ -133,13 +133,13 @@ def _mentions(node: ast.AST) -> set[str]:
     return out
 
 
-def _definitions(code: str) -> dict[str, tuple[ast.AST, bool]]:
+def _definitions(code: str) -> dict[str, tuple[ast.stmt | ast.Module, bool]]:
     """Top-level name -> (its defining statement, True when it is bound to an attribute or name)."""
     try:
         tree = ast.parse(code)
     except (SyntaxError, ValueError, RecursionError, MemoryError):
         return {}
-    out: dict[str, tuple[ast.AST, bool]] = {}
+    out: dict[str, tuple[ast.stmt | ast.Module, bool]] = {}
     for stmt in tree.body:
         if isinstance(stmt, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
             out[stmt.name] = (stmt, False)
@@ -153,8 +153,12 @@ def _definitions(code: str) -> dict[str, tuple[ast.AST, bool]]:
                 for sub in ast.walk(target):
                     if isinstance(sub, ast.Name):
                         previous = out.get(sub.id)
-                        # a name assigned twice: both statements count
-                        node = stmt if previous is None else ast.Module(body=[previous[0], stmt], type_ignores=[])
+                        # a name assigned twice: all its statements count
+                        if previous is None:
+                            node: ast.stmt | ast.Module = stmt
+                        else:
+                            earlier = previous[0].body if isinstance(previous[0], ast.Module) else [previous[0]]
+                            node = ast.Module(body=[*earlier, stmt], type_ignores=[])
                         out[sub.id] = (node, bound)
         elif isinstance(stmt, (ast.Import, ast.ImportFrom)):
             for alias in stmt.names:
@@ -190,7 +194,7 @@ def find(answers: Iterable[tuple[int | None, str, list[str]]],
         ``{"task", "name", "reference", "how", "through"}`` per flagged name.
     """
     cells = list(answers)
-    defined: dict[str, tuple[ast.AST, bool]] = {}
+    defined: dict[str, tuple[ast.stmt | ast.Module, bool]] = {}
     for _, code, _ in cells:
         defined.update(_definitions(code))
     declared = {name for _, _, names in cells for name in names}
