@@ -42,7 +42,8 @@ def _wrap_comment(line: str) -> list[str]:
 
 def _line_kinds(code: str) -> tuple[set[int], set[int]]:
     """Line numbers (1-based) of whole-line comments, and of lines inside a triple-quoted string."""
-    comments, inside = set(), set()
+    comments: set[int] = set()
+    inside: set[int] = set()
     try:
         for tok in tokenize.generate_tokens(io.StringIO(code).readline):
             if tok.type == tokenize.COMMENT and not tok.line[: tok.start[1]].strip():

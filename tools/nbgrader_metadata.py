@@ -38,6 +38,7 @@ import copy
 import json
 import sys
 from pathlib import Path
+from typing import Any
 
 from tools.notebook_analysis import Chapter, analyse, dump_notebook
 
@@ -109,7 +110,7 @@ def expected(chapter: Chapter) -> tuple[list[tuple[dict | None, dict | None]], d
             out.append((None, None))
         else:  # text, given, check
             out.append((_nbgrader(locked_id, locked=True), None))
-    task_points = [
+    task_points: list[dict[str, Any]] = [
         {"points": sum(c.points for c in chapter.tests(k)), "task": k, "tests": len(chapter.tests(k)),
          "title": title}
         for k, title in sorted(chapter.tasks.items())

@@ -25,6 +25,7 @@ import ast
 import functools
 import json
 import re
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -141,7 +142,7 @@ class _Names(ast.NodeVisitor):
         else:  # attribute or subscript: reads its base
             self.visit(node)
 
-    def _scope(self, params: set[str], body: list[ast.AST]) -> None:
+    def _scope(self, params: set[str], body: Sequence[ast.AST]) -> None:
         """Free names of a nested scope: read there, bound neither there nor as parameters."""
         inner = _Names()
         inner.bound = set(params)
@@ -181,7 +182,7 @@ class _Names(ast.NodeVisitor):
         self.visit(node.value)
         self._targets(node.target)
 
-    def visit_For(self, node: ast.For) -> None:
+    def visit_For(self, node: ast.For | ast.AsyncFor) -> None:
         self.visit(node.iter)
         self._targets(node.target)
         for stmt in node.body + node.orelse:
@@ -189,7 +190,7 @@ class _Names(ast.NodeVisitor):
 
     visit_AsyncFor = visit_For
 
-    def visit_With(self, node: ast.With) -> None:
+    def visit_With(self, node: ast.With | ast.AsyncWith) -> None:
         for item in node.items:
             self.visit(item.context_expr)
             if item.optional_vars is not None:
@@ -258,7 +259,7 @@ class _Names(ast.NodeVisitor):
         for name in inner.free:
             self._read(name)
 
-    def visit_ListComp(self, node: ast.ListComp) -> None:
+    def visit_ListComp(self, node: ast.ListComp | ast.SetComp | ast.GeneratorExp) -> None:
         self._comprehension(node, [node.elt])
 
     visit_SetComp = visit_GeneratorExp = visit_ListComp
@@ -277,6 +278,18 @@ def _parse(code: str) -> ast.Module | None:
         return ast.parse("\n".join(lines))
     except SyntaxError:
         return None
+
+
+def _end_line(node: ast.stmt) -> int:
+    """The last line of a statement of a parsed tree (``ast.parse`` sets ``end_lineno`` on every
+    statement; the type says ``int | None`` for nodes built by hand)."""
+    return node.end_lineno if node.end_lineno is not None else node.lineno
+
+
+def _indent(line: str) -> str:
+    """The leading white space of ``line`` (empty if none)."""
+    match = re.match(r"\s*", line)
+    return match.group(0) if match else ""
 
 
 @functools.lru_cache(maxsize=8192)
@@ -354,6 +367,7 @@ def check_calls(code: str, aliases: dict[str, str]) -> list[tuple[str, str]]:
             return None
         parts.append(func.id)
         parts.reverse()
+        base: str | None
         if parts[:2] == ["robokin", "check"]:
             parts = ["check"] + parts[2:]
             base = "*"
@@ -440,7 +454,7 @@ def stub_plan(code: str, interface: set[str] | None = None) -> StubPlan | None:
     def flush() -> None:
         if not run:
             return
-        first, last = run[0].lineno, run[-1].end_lineno
+        first, last = run[0].lineno, _end_line(run[-1])
         # comments directly above the run belong to it
         while first > 1 and lines[first - 2].lstrip().startswith("#"):
             first -= 1
@@ -455,7 +469,7 @@ def stub_plan(code: str, interface: set[str] | None = None) -> StubPlan | None:
     for stmt in tree.body:
         if isinstance(stmt, (ast.Import, ast.ImportFrom)):
             flush()
-            plan.kept.extend(range(stmt.lineno, stmt.end_lineno + 1))
+            plan.kept.extend(range(stmt.lineno, _end_line(stmt) + 1))
         elif isinstance(stmt, (ast.FunctionDef, ast.AsyncFunctionDef)):
             flush()
             body = stmt.body
@@ -466,7 +480,7 @@ def stub_plan(code: str, interface: set[str] | None = None) -> StubPlan | None:
                 and isinstance(body[0].value, ast.Constant)
                 and isinstance(body[0].value.value, str)
             ):
-                doc_end = body[0].end_lineno
+                doc_end = _end_line(body[0])
                 body = body[1:]
             else:
                 doc_end = body[0].lineno - 1
@@ -474,9 +488,9 @@ def stub_plan(code: str, interface: set[str] | None = None) -> StubPlan | None:
                 while doc_end > stmt.lineno and lines[doc_end - 1].lstrip().startswith("#"):
                     doc_end -= 1
             plan.kept.extend(range(start, doc_end + 1))
-            indent = re.match(r"\s*", lines[stmt.body[0].lineno - 1]).group(0)
-            if body or doc_end < stmt.end_lineno:
-                plan.regions.append((doc_end + 1, stmt.end_lineno, indent, []))
+            indent = _indent(lines[stmt.body[0].lineno - 1])
+            if body or doc_end < _end_line(stmt):
+                plan.regions.append((doc_end + 1, _end_line(stmt), indent, []))
         else:
             run.append(stmt)
     flush()
@@ -568,11 +582,12 @@ def analyse(path: Path, nb: dict | None = None, check_names: dict[str, str] | No
             if heads and not in_span:
                 section = heads[-1]
                 m = TASK_RE.match("## " + section)
-                task = int(m.group(1)) if m else None
+                task = None
                 if m:
-                    if task in tasks:
-                        problems.append(f"cell {index}: a second heading for Task {task}")
-                    tasks[task] = m.group(2)
+                    task = number = int(m.group(1))
+                    if number in tasks:
+                        problems.append(f"cell {index}: a second heading for Task {number}")
+                    tasks[number] = m.group(2)
             if starts:
                 if in_span:
                     problems.append(f"cell {index}: solution-start inside an open solution block")
@@ -726,9 +741,9 @@ def statement_span(code: str, line: int) -> tuple[int, int]:
     tree = _parse(code)
     if tree is not None:
         for stmt in tree.body:
-            if stmt.lineno <= line <= stmt.end_lineno:
+            if stmt.lineno <= line <= _end_line(stmt):
                 decorators = getattr(stmt, "decorator_list", None)
-                return (decorators[0].lineno if decorators else stmt.lineno), stmt.end_lineno
+                return (decorators[0].lineno if decorators else stmt.lineno), _end_line(stmt)
     return line, line
 
 
@@ -774,7 +789,7 @@ def clear_solution_text(text: str, stub: str = "") -> str:
     for line in text.split("\n"):
         if "BEGIN SOLUTION" in line:
             inside = True
-            indent = re.match(r"\s*", line).group(0)
+            indent = _indent(line)
             out.extend(indent + s for s in stub.split("\n"))
         elif "END SOLUTION" in line:
             inside = False
