@@ -78,11 +78,11 @@ class AutograderReport(NbGraderPreprocessor):
             out += ["", "**Where to start**", ""]
             ordered = sorted(causes.items(), key=lambda kv: (kv[1]["task"] is None, kv[1]["task"] or 0))
             for _, cause in ordered[: self.max_notes]:
-                task = f" (Task {cause['task']})" if cause["task"] is not None else ""
+                of_task = f" (Task {cause['task']})" if cause["task"] is not None else ""
                 tests = list(dict.fromkeys(cause["tests"]))
                 several = len(cause["names"]) > 1
-                names = ", ".join(f"`{n}`" for n in cause["names"])
-                out.append(f"- {names}{task}: {'their' if several else 'its'} {markdown_line(cause['why'])}; "
+                listed = ", ".join(f"`{n}`" for n in cause["names"])
+                out.append(f"- {listed}{of_task}: {'their' if several else 'its'} {markdown_line(cause['why'])}; "
                            f"the failing test{'s' if len(tests) > 1 else ''} {', '.join(tests)} "
                            f"depend{'' if len(tests) > 1 else 's'} on {'them' if several else 'it'}. "
                            f"Fix {'them' if several else 'it'} first.")

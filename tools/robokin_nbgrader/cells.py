@@ -79,7 +79,7 @@ def cell_label(cell, line: int | None = None) -> str:
     cell raised) instead of the first -- never a line of its hidden tests."""
     count = cell.get("execution_count")
     where = f"In [{count}]" if count else "a cell"
-    role = robokin_metadata(cell).get("role")
+    role = robokin_metadata(cell).get("role", "")
     task = task_of(cell)
     kind = {"answer": f"your answer to Task {task}", "test": f"a test of Task {task}"}.get(role)
     if line is not None and line not in hidden_lines(cell.source):

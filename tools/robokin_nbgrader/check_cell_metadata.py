@@ -7,6 +7,7 @@ process instead of once per cell (the same verdicts).
 from __future__ import annotations
 
 import traceback
+from typing import Any
 
 import jsonschema
 from nbgrader.nbgraderformat import MetadataValidator, ValidationError
@@ -22,7 +23,7 @@ class _SchemaCheckedOnce(BaseMetadataValidator):
     does it (the same best-matching error); a cell without metadata, or of another schema version
     (an error), goes to nbgrader's own code."""
 
-    _validators: dict[int, object] = {}
+    _validators: dict[int, Any] = {}   # jsonschema validators, per schema version
 
     def validate_cell(self, cell) -> None:
         meta = cell.metadata.get("nbgrader")

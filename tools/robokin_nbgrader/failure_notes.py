@@ -81,11 +81,11 @@ class FailureNotes:
         if self._analysed:
             return
         self._analysed = True
-        self.line = self._failing_line(error)
+        line = self.line = self._failing_line(error)
         kinds = _cell_kinds(self.nb)[: self.index]
-        self.statement = statement_at(self.cell.source, self.line) if self.line else ""
-        if self.statement:
-            first, _ = statement_span(self.cell.source, self.line)
+        self.statement = statement_at(self.cell.source, line) if line else ""
+        if line and self.statement:
+            first, _ = statement_span(self.cell.source, line)
             own = [("code", s) for s in _statements("\n".join(self.cell.source.splitlines()[: first - 1]))]
             reads = trace(kinds + own + [("code", self.statement)])[-1]
         else:
@@ -229,13 +229,13 @@ class FailureNotes:
             text = f"  Your {listed} {'is' if len(names) == 1 else 'are'} {got}"
             hints = "; ".join(e for e in expected if e)
             out.append(text + (f"; expected: {hints}" if hints else "."))
-        names = self.roots | set(self.yours) | self.checked
+        known = self.roots | set(self.yours) | self.checked
         wrong = self.report.setdefault("wrong", {})
         for v in verdicts:
             if v.get("status") in ("skipped", "info"):
                 continue
             used = identifier_names(v["quantity"])
-            mine = bool(used) and used <= names | BUILTIN_NAMES
+            mine = bool(used) and used <= known | BUILTIN_NAMES
             tag = f"  (typical mistake: {v['diagnosis']})" if v.get("typical") and mine else ""
             text = v["message"] if v["status"] in ("correct", "wrong") else f"✘ {v['message']}"
             out.append(f"  robokin.check{called_as(v)}: {text}{tag}")

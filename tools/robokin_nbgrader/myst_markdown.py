@@ -108,7 +108,8 @@ class MystMarkdown(NbGraderPreprocessor):
         depth = 0
         for k in range(start, len(lines)):
             stripped = lines[k].strip()
-            if DIRECTIVE_OPEN.match(lines[k]) and DIRECTIVE_OPEN.match(lines[k]).group("fence") == fence:
+            opening = DIRECTIVE_OPEN.match(lines[k])
+            if opening and opening.group("fence") == fence:
                 depth += 1
             elif stripped and set(stripped) == {fence[0]} and len(stripped) >= len(fence):
                 if depth == 0:
