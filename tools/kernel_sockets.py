@@ -43,6 +43,7 @@ import os
 import shutil
 import tempfile
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import zmq
 from jupyter_client.manager import AsyncKernelManager, KernelManager
@@ -92,7 +93,14 @@ def new_socket_folder() -> Path:
     return Path(tempfile.mkdtemp(prefix="robokin-kernel-", dir="/tmp" if os.path.isdir("/tmp") else None))
 
 
-class PrivateSocketsMixin:
+if TYPE_CHECKING:
+    # the class the mixin is mixed into, for mypy: its methods call that class's through super()
+    _KernelManagerHost = KernelManager
+else:
+    _KernelManagerHost = object
+
+
+class PrivateSocketsMixin(_KernelManagerHost):
     """For a jupyter_client kernel manager: the kernel's sockets are ipc files in a private folder.
 
     ``socket_folder`` is the folder (None before the first start and after

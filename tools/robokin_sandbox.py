@@ -47,6 +47,7 @@ import os
 import shutil
 import subprocess
 import sys
+from collections.abc import Awaitable, Callable
 from pathlib import Path
 
 from traitlets import Int, List, Unicode
@@ -202,6 +203,9 @@ class SandboxedKernelManager(AsyncPrivateSocketsKernelManager):
         cmd = super().format_kernel_cmd(extra_arguments)
         home = os.environ.get("HOME", "/home/grader") or "/home/grader"
         readable = [*python_folders(), *package_folders(), *(Path(p) for p in self.readable)]
+        if self.socket_folder is None:   # _async_pre_start_kernel makes it where ipc sockets exist
+            raise RuntimeError("SandboxedKernelManager: the kernel has no private socket folder to bind "
+                               "(the sandbox needs ipc sockets, a POSIX system)")
         prefix = sandbox_arguments(writable=Path(self.writable).resolve(), runtime=self.socket_folder,
                                    hidden=[Path(p).resolve() for p in self.hidden], readable=readable,
                                    home=home, bwrap=self._bwrap)
@@ -226,7 +230,7 @@ class SandboxedKernelManager(AsyncPrivateSocketsKernelManager):
 
     cleanup_resources = _async_cleanup_resources
 
-    async def _async_interrupt_kernel(self):
+    async def _async_interrupt_kernel(self) -> None:
         # The kernel is in a session of its own (bwrap --new-session): a signal to the
         # process group jupyter_client started reaches bwrap, not the kernel. Ask the kernel.
         if not self.has_kernel:
@@ -235,4 +239,6 @@ class SandboxedKernelManager(AsyncPrivateSocketsKernelManager):
         self._connect_control_socket()
         self.session.send(self._control_socket, msg)
 
-    interrupt_kernel = _async_interrupt_kernel
+    # a coroutine in the async manager where KernelManager has a plain method, as jupyter_client's
+    # AsyncKernelManager declares it (with the same ignore)
+    interrupt_kernel: Callable[..., Awaitable[None]] = _async_interrupt_kernel  # type: ignore[assignment]
