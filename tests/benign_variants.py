@@ -253,7 +253,35 @@ def hand_to(q, target, tol=1e-10, max_steps=50):  # written another way
 
 
 Q_SAME = np.array([hand_to(guess, P_START) for guess in guesses])
-same = track_position_batch(arm, Q_SAME, TS, r_ref, v_ref, gain=KP)
+same_q = np.array([track(q, r_ref, v_ref) for q in Q_SAME])
+# written another way: the hand as the origin of the last of the chain's frames
+same_hand = arm.frames(same_q.reshape(-1, 7))[:, -1, :3, 3].reshape(len(Q_SAME), -1, 3)
+'''),
+        "task5_answer1": ("sigma_min as the root of the smallest eigenvalue of J_v J_v^T", '''
+
+def sigma_min_of(q):  # written another way: sigma_i^2 are the eigenvalues of J J^T
+    J = arm.position_jacobian(q)
+    return float(np.sqrt(max(np.linalg.eigvalsh(J @ J.T)[0], 0.0)))
+
+
+smin_start = np.array([sigma_min_of(q) for q in Q_SWEEP]).reshape(7, 9)
+smin_worst = np.array([sigma_min_of(q) for q in Q_worst])
+'''),
+        "task5_answer3": ("DLS as the least-squares solution of [J; lambda I] qdot = [v; 0]", '''
+
+def dls_rate(q, r_des, v_des, kp=KP, damping=LAMBDA):  # written another way: augmented lstsq
+    J = arm.position_jacobian(q)
+    v = v_des + kp * (r_des - arm.fk(q)[:3, 3])
+    stacked = np.vstack([J, damping * np.eye(7)])
+    return np.linalg.lstsq(stacked, np.r_[v, np.zeros(7)], rcond=None)[0]
+
+
+def track_damped(q0, r_des, v_des, kp=KP, ts=TS, damping=LAMBDA):  # rows filled in place
+    Q = np.empty((len(r_des), 7))
+    Q[0] = q0
+    for k in range(len(r_des) - 1):
+        Q[k + 1] = Q[k] + ts * dls_rate(Q[k], r_des[k], v_des[k], kp, damping)
+    return Q
 '''),
     },
     "06_ar601_leg_ik": {

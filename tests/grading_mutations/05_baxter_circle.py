@@ -130,16 +130,34 @@ MUTATIONS = {
          "same_q = np.array([track(Q_START, r_ref, v_ref)] * 5)"),
     ],
     "task5_test1": [
-        ("the best-conditioned run taken for the worst",
-         "m_w = int(np.argmax(smin.min(axis=1)))\nj_w, i_w = divmod(m_w, 9)"),
+        ("sigma_min taken as the largest singular value",
+         "def sigma_min_of(q):\n"
+         "    return np.linalg.svd(arm.position_jacobian(q), compute_uv=False)[0]\n\n"
+         "smin_start = np.array([sigma_min_of(q) for q in Q_SWEEP]).reshape(7, 9)\n"
+         "j_w, i_w = (int(k) for k in np.unravel_index(np.argmin(smin_start), (7, 9)))\n"
+         "m_w = 9 * j_w + i_w"),
+        ("the best-conditioned start taken for the worst",
+         "j_w, i_w = (int(k) for k in np.unravel_index(np.argmax(smin_start), (7, 9)))\n"
+         "m_w = 9 * j_w + i_w\n"
+         "Q_worst = track(Q_SWEEP[m_w], P0_SWEEP[m_w] + relative, v_ref)\n"
+         "smin_worst = np.array([sigma_min_of(q) for q in Q_worst])\n"
+         "speed_worst = joint_speed(Q_worst)"),
+        ("the worst run tracked open loop",
+         "Q_worst = track(Q_SWEEP[m_w], P0_SWEEP[m_w] + relative, v_ref, kp=0.0)\n"
+         "smin_worst = np.array([sigma_min_of(q) for q in Q_worst])\n"
+         "speed_worst = joint_speed(Q_worst)"),
+    ],
+    "task5_test2": [
+        ("the last step taken for the most singular one",
+         "k_s = len(t) - 1\nq_s = Q_fail[k_s]\nJ_s = arm.position_jacobian(q_s)\n"
+         "w1_s = float(np.angle(np.exp(1j * q_s[5])))\n"
+         "column_w0 = 1e3 * np.linalg.norm(J_s[:, 4])"),
+        ("the failing run tracked closed loop, not with the exercise's open-loop law",
+         "Q_fail = track(q_bad, p_bad + relative, v_ref)"),
+        ("W2's column taken for W0's (the hand's own axis)",
+         "column_w0 = 1e3 * np.linalg.norm(J_s[:, 6])"),
     ],
     "task5_test3": [
-        ("damping of 0.02 mm instead of 0.02 m",
-         "bad = dict(bad)\n"
-         "bad[dls_name] = track_position_batch(arm, starts, TS, p_bad + relative,"
-         " v_ref, clamp=False, gain=KP, inverse='dls', damping=2e-5)"),
-    ],
-    "task5_test4": [
         ("the damping added unsquared",
          "def dls_rate(q, r_des, v_des, kp=KP, damping=LAMBDA):\n"
          "    J = arm.position_jacobian(q)\n"
@@ -152,11 +170,21 @@ MUTATIONS = {
          "def dls_rate(q, r_des, v_des, kp=KP, damping=LAMBDA):\n"
          "    J = arm.position_jacobian(q)\n"
          "    return J.T @ np.linalg.solve(J @ J.T + damping**2 * np.eye(3), v_des)"),
+        ("the damped loop ignores its time step",
+         "_track_damped_right = track_damped\n\n"
+         "def track_damped(q0, r_des, v_des, kp=KP, ts=TS, damping=LAMBDA):\n"
+         "    return _track_damped_right(q0, r_des, v_des, kp, TS, damping)"),
     ],
-    "task5_test2": [
-        ("the last step taken for the most singular one",
-         "k_s = np.full(len(starts), len(t) - 1)\nq_s = b.q[np.arange(len(starts)), k_s]\n"
-         "J_s = arm.position_jacobian(q_s)\n"
-         "column_w0 = 1e3 * np.linalg.norm(J_s[:, :, 4], axis=1)"),
+    "task5_test4": [
+        ("damping of 0.02 mm instead of 0.02 m",
+         "runs = dict(runs)\n"
+         "runs['DLS'] = np.array([track_damped(q, circle_bad, v_ref, damping=2e-5) for q in starts])\n"
+         "peak_speed = dict(peak_speed)\n"
+         "peak_speed['DLS'] = (np.linalg.norm(np.diff(runs['DLS'], axis=1), axis=2) / TS).max(axis=1)"),
+        ("the damped runs without feedback",
+         "runs = dict(runs)\n"
+         "runs['DLS'] = np.array([track_damped(q, circle_bad, v_ref, kp=0.0) for q in starts])"),
+        ("the joint speed taken per step, not per second",
+         "peak_speed = {name: value * TS for name, value in peak_speed.items()}"),
     ],
 }
