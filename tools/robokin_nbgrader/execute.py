@@ -14,7 +14,10 @@ from __future__ import annotations
 import json
 import os
 from pathlib import Path
+from typing import Any, cast
 
+from jupyter_client.asynchronous import AsyncKernelClient
+from jupyter_client.manager import AsyncKernelManager
 from jupyter_core.utils import run_sync
 from nbclient.exceptions import CellTimeoutError, DeadKernelError
 from nbformat.notebooknode import from_dict
@@ -61,6 +64,19 @@ class RobokinExecute(JoinedStreamsClient, Execute):
     sandbox = Bool(True, help="run each submission's kernel in bubblewrap (bwrap); "
                    "ROBOKIN_GRADING_SANDBOX=off|on overrides it").tag(config=True)
 
+    # the notebook being graded, set by preprocess
+    _sandboxed: bool
+    _stopped: dict[str, Any] | None   # the incident that stopped grading (the kernel was lost)
+    _replays: int
+    _timed_out: set[int]
+    _report: dict[str, Any]           # resources["robokin"]
+    _last_code: int
+
+    def _async_manager(self) -> AsyncKernelManager:
+        """The kernel manager of the notebook being graded. nbclient types it as a ``KernelManager``;
+        it is an async one (nbclient's default class, the sandbox's), whose methods are coroutines."""
+        return cast(AsyncKernelManager, self.km)
+
     def create_kernel_manager(self):
         if not self._sandboxed:
             return super().create_kernel_manager()
@@ -80,7 +96,9 @@ class RobokinExecute(JoinedStreamsClient, Execute):
         Its stderr (warnings, log messages) becomes one stdout note, where the first stderr
         output was; a result it shows (``execute_result``) becomes a display.
         """
-        outputs, stderr, position = [], [], None
+        outputs: list = []
+        stderr: list[str] = []
+        position: int | None = None   # where the first stderr output was
         for output in cell.get("outputs", []):
             if output.get("output_type") == "stream" and output.get("name") == "stderr":
                 position = len(outputs) if position is None else position
@@ -90,7 +108,7 @@ class RobokinExecute(JoinedStreamsClient, Execute):
                 output["output_type"] = "display_data"
                 output.pop("execution_count", None)
             outputs.append(output)
-        if stderr:
+        if position is not None:   # some stderr
             outputs.insert(position, from_dict({"output_type": "stream", "name": "stdout",
                                                 "text": f"{STDERR_NOTE}\n{''.join(stderr)}"}))
             self._report["incidents"].append({"kind": "stderr", "label": cell_label(cell)})
@@ -130,7 +148,7 @@ class RobokinExecute(JoinedStreamsClient, Execute):
             self._replays += 1
             return
         try:
-            run_sync(self.km.shutdown_kernel)(now=True)
+            run_sync(self._async_manager().shutdown_kernel)(now=True)
         except Exception as kill_error:  # noqa: BLE001 - it is already gone
             self.log.warning("Stopping the kernel: %s", kill_error)
         self._stopped = incident
@@ -139,8 +157,8 @@ class RobokinExecute(JoinedStreamsClient, Execute):
         """A fresh kernel in the state before cell ``index``: True if that worked."""
         self.log.warning("Restarting the kernel and running the %d cells before cell %d again", index, index)
         try:
-            run_sync(self.km.restart_kernel)(now=True)
-            run_sync(self.kc.wait_for_ready)(timeout=self.startup_timeout)
+            run_sync(self._async_manager().restart_kernel)(now=True)
+            run_sync(cast(AsyncKernelClient, self.kc).wait_for_ready)(timeout=self.startup_timeout)  # its client: async
         except Exception as restart_error:  # noqa: BLE001 - then grading stops at this cell
             self.log.error("Restarting the kernel failed: %s", restart_error)
             return False
@@ -159,12 +177,14 @@ class RobokinExecute(JoinedStreamsClient, Execute):
         return True
 
     def _not_run(self, cell):
+        """``cell`` emptied, after grading stopped (``_stopped``); a test scores 0 and says why."""
         if cell.cell_type != "code":
             return cell
         cell.outputs = []
         cell.execution_count = None
         if utils.is_grade(cell):
-            why = f"not run: the kernel had stopped in {self._stopped['label']}"
+            where = self._stopped["label"] if self._stopped is not None else "an earlier cell"
+            why = f"not run: the kernel had stopped in {where}"
             cell.outputs.append(from_dict({"output_type": "error", "ename": NOT_RUN, "evalue": why,
                                            "traceback": [f"{NOT_RUN}: {why}"]}))
             self._report["incidents"].append({"kind": "not_run", "label": cell_label(cell)})
@@ -181,9 +201,9 @@ class RobokinExecute(JoinedStreamsClient, Execute):
         self._sandboxed = km is None and sandbox_wanted(self.sandbox)
         if self._sandboxed:
             bwrap_executable()   # stops grading with a message naming the package when it is missing
-        self._stopped: dict | None = None
+        self._stopped = None
         self._replays = 0
-        self._timed_out: set[int] = set()
+        self._timed_out = set()
         self._report = {"explained": {}, "verdicts": None, "pairs": [], "incidents": []}
         pairs = []
         for cell in nb.cells:
