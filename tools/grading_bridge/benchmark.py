@@ -48,6 +48,7 @@ def start_kernel(sandbox: bool, folder: str):
     import zmq
     from jupyter_client.manager import KernelManager
 
+    manager: KernelManager
     if sandbox:
         from jupyter_core.utils import run_sync
 

@@ -48,6 +48,10 @@ import math
 import sys
 import types
 import warnings
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    import socket
 
 MAX_DEPTH = 24
 MAX_ITEMS = 200_000            # elements of one list/tuple/dict/set
@@ -463,7 +467,8 @@ class Untransferable:
     __add__ = __radd__ = __sub__ = __rsub__ = __mul__ = __rmul__ = __matmul__ = __rmatmul__ = _fail
     __truediv__ = __rtruediv__ = __pow__ = __neg__ = __lt__ = __le__ = __gt__ = __ge__ = _fail
     __eq__ = __ne__ = _fail
-    __hash__ = None
+    # unhashable, as ``__eq__`` is ``_fail``; mypy wants a method in object's ``__hash__`` slot
+    __hash__ = None  # type: ignore[assignment]
 
 
 # ---------------------------------------------------------------- sympy
@@ -745,7 +750,8 @@ def serve(path, token):
         channel.close()
 
 
-CHANNEL = None
+#: The call server's socket while it serves the grader (None outside a session).
+CHANNEL: socket.socket | None = None
 #: Seconds a call server waits for the grader to welcome it (a request left over from a
 #: session the grader gave up on is then not served).
 WELCOME_TIMEOUT = 5.0

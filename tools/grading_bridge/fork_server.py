@@ -79,6 +79,7 @@ import threading
 import time
 import traceback
 from pathlib import Path
+from typing import cast
 
 from tools.kernel_sockets import UNLIMITED_IOPUB_KERNEL, AsyncPrivateSocketsKernelManager
 from traitlets import Any
@@ -148,9 +149,12 @@ class ForkServer:
 
     def _ready(self) -> dict:
         """The server's report once it listens (pid, threads), read from its stdout."""
+        stdout = self.process.stdout
+        if stdout is None:   # never: the server is started with stdout=PIPE
+            raise ForkServerError("the fork server has no stdout to report on")
         deadline = time.monotonic() + START_TIMEOUT
         selector = selectors.DefaultSelector()
-        selector.register(self.process.stdout, selectors.EVENT_READ)
+        selector.register(stdout, selectors.EVENT_READ)
         try:
             while not selector.select(timeout=1.0):
                 if self.process.poll() is not None or time.monotonic() > deadline:
@@ -159,7 +163,7 @@ class ForkServer:
                                           f"the fork server was not ready after {START_TIMEOUT:.0f} s")
         finally:
             selector.close()
-        line = self.process.stdout.readline()
+        line = stdout.readline()
         try:
             info = json.loads(line)
         except ValueError:
@@ -190,7 +194,8 @@ class ForkServer:
         """End the server (it kills the kernels it forked that still run) and remove its folder."""
         if self.process.poll() is None:
             try:
-                self.process.stdin.close()   # the server's signal to end
+                if self.process.stdin is not None:   # always (stdin=PIPE)
+                    self.process.stdin.close()   # the server's signal to end
                 self.process.wait(timeout=5)
             except (OSError, subprocess.TimeoutExpired):
                 self.process.kill()
@@ -389,8 +394,8 @@ class _Server:
                     except BlockingIOError:
                         pass   # woken by another event: the children are reaped below anyway
                     self._reap()
-                else:
-                    self._from_launcher(key.fileobj)
+                else:   # "launcher": a launcher's connection (registered by _accept)
+                    self._from_launcher(cast(socket.socket, key.fileobj))
 
     def _end(self) -> None:
         for pid in list(self.alive):

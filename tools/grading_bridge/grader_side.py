@@ -36,6 +36,7 @@ import time
 from pathlib import Path
 
 from jupyter_client import BlockingKernelClient
+from jupyter_client.connect import KernelConnectionInfo
 
 from . import codec
 
@@ -67,7 +68,7 @@ class AnswerError(Exception):
 class _Link:
     """A kernel client of the student's kernel, used only by the bridge."""
 
-    def __init__(self, connection_info: dict, call_timeout: float) -> None:
+    def __init__(self, connection_info: KernelConnectionInfo, call_timeout: float) -> None:
         self.client = BlockingKernelClient()
         self.client.load_connection_info(connection_info)
         self.client.start_channels(shell=True, iopub=True, stdin=True, hb=False, control=False)
@@ -84,7 +85,7 @@ class _Link:
         self.serve_id: str | None = None            # the execute request that serves it
 
     # ------------------------------------------------------------ the call channel
-    def _listen(self, connection_info: dict) -> None:
+    def _listen(self, connection_info: KernelConnectionInfo) -> None:
         """A Unix socket for the call channel, in a folder the student's kernel reaches."""
         if connection_info.get("transport") == "ipc":
             # the sandboxed kernel's runtime folder (robokin_sandbox), bound into the sandbox
@@ -180,7 +181,7 @@ class _Link:
             return
         session.close()
         self.stuck = True   # until the student's kernel is seen idle (else the autograder interrupts it)
-        if self._idle(self.serve_id, RELEASE_TIMEOUT):
+        if self.serve_id is not None and self._idle(self.serve_id, RELEASE_TIMEOUT):
             self.stuck, self.stopped = False, None
 
     def _busy(self) -> AnswerError:
@@ -285,7 +286,8 @@ class _Link:
         session, self.session = self.session, None
         if session is not None:
             session.close()
-            self._idle(self.serve_id, RELEASE_TIMEOUT)
+            if self.serve_id is not None:   # set when the session was opened
+                self._idle(self.serve_id, RELEASE_TIMEOUT)
         self.stuck, self.stopped = False, None
 
     # ------------------------------------------------------------ execute requests
@@ -409,7 +411,7 @@ def _drain(get_message, timeout: float) -> None:
 _LINK: _Link | None = None
 
 
-def connect(connection_info: dict, call_timeout: float = 30.0) -> None:
+def connect(connection_info: KernelConnectionInfo, call_timeout: float = 30.0) -> None:
     """Open the link to the student's kernel (called once by the autograder)."""
     global _LINK
     _LINK = _Link(connection_info, call_timeout)
@@ -526,8 +528,8 @@ def import_names(namespace: dict, names: list[str], marker: str, extra: tuple = 
     handed over (data, or a function as a proxy).
     """
     summary: dict[str, str] = {}
-    extra = [n for n in extra if n not in namespace and n not in names]
-    names = list(names) + extra
+    extras = [n for n in extra if n not in namespace and n not in names]
+    names = list(names) + extras
     link = _LINK
     if link is None:
         raise AnswerError("the grader is not connected to the student's kernel")
@@ -538,7 +540,7 @@ def import_names(namespace: dict, names: list[str], marker: str, extra: tuple = 
         summary["*"] = f"error: {exc}"
     for name in names:
         entry = reply.get(name)
-        if name in extra and not (isinstance(entry, dict) and "value" in entry):
+        if name in extras and not (isinstance(entry, dict) and "value" in entry):
             continue
         namespace.pop(name, None)
         if not isinstance(entry, dict) or entry.get("missing"):

@@ -37,8 +37,10 @@ import secrets
 import shutil
 import tempfile
 from pathlib import Path
+from typing import cast
 
 import nbformat
+from jupyter_client.connect import KernelConnectionInfo
 from nbgrader import utils
 from traitlets import Bool, Float, List, Unicode
 
@@ -69,7 +71,7 @@ class GraderKernel:
     private folder (``kernel_sockets``), not TCP ports.
     """
 
-    def __init__(self, timeout: int, log, server: fork_server.ForkServer | None = None) -> None:
+    def __init__(self, timeout: int | None, log, server: fork_server.ForkServer | None = None) -> None:
         self.folder = tempfile.mkdtemp(prefix="robokin-grader-")
         self.nb = nbformat.v4.new_notebook()
         self.server = server
@@ -83,8 +85,8 @@ class GraderKernel:
         """Start the kernel (forked, or a new process) and its client; remove its connection file."""
         client = self.client
         client.km = client.create_kernel_manager()
-        if self.server is not None:
-            client.km.fork_server = self.server
+        if self.server is not None:   # then the client's kernel_manager_class is ForkedKernelManager
+            cast(fork_server.ForkedKernelManager, client.km).fork_server = self.server
         client.start_new_kernel(cwd=self.folder)
         client.start_new_kernel_client()
         self.started = True
@@ -95,7 +97,7 @@ class GraderKernel:
         except OSError:
             pass
 
-    def start(self, student_connection: dict, call_timeout: float) -> None:
+    def start(self, student_connection: KernelConnectionInfo, call_timeout: float) -> None:
         self.start_kernel()
         info = {k: (v.decode() if isinstance(v, bytes) else v) for k, v in student_connection.items()
                 if k in ("transport", "ip", "shell_port", "iopub_port", "stdin_port", "control_port",
@@ -155,6 +157,18 @@ class BridgedExecute(RobokinExecute):
                        "PRELOAD once per autograde run (grading_bridge.fork_server); False: start each as a new "
                        "process").tag(config=True)
 
+    # the notebook being graded, set by preprocess: the bridge's plan and the grader kernel (None
+    # when the notebook is not graded through the bridge; the kernel also before it starts)
+    _plan: dict | None
+    _grader: GraderKernel | None
+
+    def _bridge(self) -> tuple[dict, GraderKernel]:
+        """The plan and the grader kernel, while a notebook is graded through the bridge."""
+        if self._plan is None or self._grader is None:
+            raise RuntimeError("BridgedExecute: no grader kernel (the notebook is not graded through the bridge, "
+                               "or its grader kernel has not started)")
+        return self._plan, self._grader
+
     # ------------------------------------------------------------ set-up
     def preprocess(self, nb, resources=None, km=None):
         self._grader = None
@@ -183,16 +197,16 @@ class BridgedExecute(RobokinExecute):
             if self._grader is not None:
                 self._grader.stop()
         if self._plan is not None:
-            kinds = {}
+            kinds: dict[str, int] = {}
             for status in self._plan["imports"].values():
                 kinds[status.split(":")[0]] = kinds.get(status.split(":")[0], 0) + 1
             self.log.info("bridge: %s graded in a grader kernel (%d of %d instructor cells run; answers: %s; "
                           "%s calls of the student's functions)",
                           notebook, sum(1 for c in self._plan["cells"][: self._plan["done"]] if not c.get("skip")),
                           len(self._plan["cells"]), kinds, calls)
-            flagged = {item["name"] for item in self._plan["review"]}
+            reviewed = {item["name"] for item in self._plan["review"]}
             for name, status in self._plan["imports"].items():   # an answer that IS a robokin function
-                if status.startswith("function of ") and name not in flagged:
+                if status.startswith("function of ") and name not in reviewed:
                     self._plan["review"].append({"task": self._plan["tasks"].get(name), "name": name,
                                                  "reference": status[len("function of "):], "how": "runtime",
                                                  "through": None})
@@ -256,7 +270,7 @@ class BridgedExecute(RobokinExecute):
     def _start_grader(self) -> None:
         server = fork_server.shared_server(PRELOAD, self.log) if self.fork_server else None
         self._grader = GraderKernel(self.timeout, self.log, server)
-        self._grader.start(self.km.get_connection_info(), self.call_timeout)
+        self._grader.start(self._async_manager().get_connection_info(), self.call_timeout)
 
     # ------------------------------------------------------------ running
     def execute_cell(self, cell, cell_index, execution_count=None, store_history=True):
@@ -265,9 +279,10 @@ class BridgedExecute(RobokinExecute):
         if self._grader is None:
             self._start_grader()   # before any code of the submission runs
         cell = super().execute_cell(cell, cell_index, execution_count, store_history)
+        plan, _ = self._bridge()
         grade_id = _grade_id(cell)
-        ids = [c["grade_id"] for c in self._plan["cells"]]
-        if grade_id in ids[self._plan["done"]:]:
+        ids = [c["grade_id"] for c in plan["cells"]]
+        if grade_id in ids[plan["done"]:]:
             graded = self._run_instructor_cells(ids.index(grade_id) + 1)
             if utils.is_grade(cell) and cell.cell_type == "code":
                 student_count = cell.get("execution_count")
@@ -285,52 +300,55 @@ class BridgedExecute(RobokinExecute):
 
     def _run_instructor_cells(self, upto: int):
         """Run the instructor's cells not yet run, up to index ``upto`` (exclusive); the last one run."""
-        plan, last = self._plan, None
+        plan, grader = self._bridge()
+        last = None
         while plan["done"] < upto:
             item = plan["cells"][plan["done"]]
             plan["done"] += 1
             if item.get("skip"):
                 continue
             self._import(free_names(item["source"]), item["grade_id"], extra=item["test"])
-            last = self._grader.run(item["source"])
+            last = grader.run(item["source"])
             plan["instructor_names"].update(defined_names(item["source"]))
             self._unstick()
         return last
 
     def _import(self, names, where: str, extra: bool = False) -> None:
         self._unstick()   # a call stopped earlier (in a test or in robokin.check) must not block this one
-        wanted = [n for n in self._plan["declared"] if n in names]
+        plan, grader = self._bridge()
+        wanted = [n for n in plan["declared"] if n in names]
         # a test that reads a name no answer declares and no instructor cell defines relies on a
         # side effect of the student's code (e.g. an import in a cell of theirs): taken if it can be handed over
-        others = sorted(n for n in names if n not in self._plan["declared"]
-                        and n not in self._plan["instructor_names"] and not hasattr(builtins, n)) if extra else []
+        others = sorted(n for n in names if n not in plan["declared"]
+                        and n not in plan["instructor_names"] and not hasattr(builtins, n)) if extra else []
         if others:
             self.log.info("bridge: %s reads %s, which no answer declares", where, ", ".join(others))
-            self._plan["side_effects"].setdefault(where, others)
+            plan["side_effects"].setdefault(where, others)
         if not wanted and not others:
             return
-        summary, cell = self._grader.marked(
+        summary, cell = grader.marked(
             f"_robokin_bridge.import_names(globals(), {wanted!r}, {self._import_mark!r}, {tuple(others)!r})",
             self._import_mark)
         if summary is None:
             errors = [f"{o.ename}: {o.evalue}" for o in cell.outputs if o.get("output_type") == "error"]
-            self._plan["problems"].append(f"answers {', '.join(wanted)} could not be imported before {where}: "
+            plan["problems"].append(f"answers {', '.join(wanted)} could not be imported before {where}: "
                                           + ("; ".join(errors) or "no reply"))
             return
         for name, status in summary.items():
-            self._plan["imports"][name] = status
+            plan["imports"][name] = status
         self._unstick()
 
     def _unstick(self) -> None:
         """A call of a student's function timed out: interrupt the student's kernel."""
-        status, _ = self._grader.marked(f"print({self._import_mark!r} + __import__('json').dumps("
-                                        "_robokin_bridge.status()))", self._import_mark)
+        _, grader = self._bridge()
+        status, _ = grader.marked(f"print({self._import_mark!r} + __import__('json').dumps("
+                                  "_robokin_bridge.status()))", self._import_mark)
         if status and status.get("stuck"):
             self.log.warning("bridge: a call of the student's function timed out; interrupting its kernel")
             from jupyter_core.utils import run_sync
 
-            run_sync(self.km.interrupt_kernel)()
-            self._grader.run("_robokin_bridge.unstick()")
+            run_sync(self._async_manager().interrupt_kernel)()
+            grader.run("_robokin_bridge.unstick()")
 
     def _verdicts(self, pairs, index):
         """robokin.check's verdicts, computed in the grader kernel on the imported answers.
@@ -364,7 +382,7 @@ class BridgedExecute(RobokinExecute):
         code = (f"__import__('robokin.check.grading', fromlist=['_']).print_verdicts("
                 f"globals(), {[list(p) for p in pairs]!r}, {self._verdict_mark!r})")
         try:
-            cell = self._grader.run(code)
+            cell = self._bridge()[1].run(code)
             self._unstick()
         except Exception as exc:  # noqa: BLE001 - feedback is a bonus; grading goes on
             self.log.warning("robokin.check verdicts failed: %s", exc)
