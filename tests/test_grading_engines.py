@@ -24,7 +24,7 @@ no process of the bomb is left.
 The rest is cheap: the zip holds what grading needs and no other chapter, ``run_autograder``
 explains a submission without exactly one notebook, the cap on processes (``--max-processes``,
 ``make gradescope|grade MAX_PROCESSES=``) reaches run_autograder's command and each of
-grade_many's gradings, the Kubernetes manifests are valid
+grade_many's and grade_shard's gradings, the Kubernetes manifests are valid
 against the Kubernetes schema (kubernetes-validate), and the Containerfile (which cannot be
 built here: no container engine) parses and installs what ``run_autograder`` needs.
 """
@@ -325,6 +325,30 @@ def test_shards_grade_every_student_once(students, shards):
 def test_shard_refuses_bad_arguments(index, shards, name):
     with pytest.raises(ValueError, match=f"^{name} must"):
         grade_shard.shard([], index, shards)
+
+
+@pytest.mark.parametrize("argv, expected", [([], process_cap.DEFAULT_MAX_PROCESSES), (["--max-processes", "0"], 0),
+                                            (["--max-processes", "64"], 64)])
+def test_grade_shard_passes_the_process_cap_on(tmp_path, monkeypatch, argv, expected):
+    """grade_shard.py's ``--max-processes`` reaches the grading of each student of its shard."""
+    for student in ("alice", "bob", "carol"):
+        save({"cells": []}, tmp_path / student / f"{CHAPTER}.ipynb")
+    seen = []
+
+    def grade_one(chapter, notebook, memory_mib, cpu_seconds, max_processes):
+        seen.append((notebook.parent.name, max_processes))
+        return notebook, "1 / 2", True
+
+    monkeypatch.setattr(grade_shard, "grade_one", grade_one)
+    assert grade_shard.main([CHAPTER, str(tmp_path), "--shards", "2", "--index", "0", "--jobs", "1", *argv]) == 0
+    assert sorted(seen) == [("alice", expected), ("carol", expected)]
+
+
+def test_grade_shard_refuses_a_negative_process_cap(tmp_path, monkeypatch, capsys):
+    save({"cells": []}, tmp_path / "alice" / f"{CHAPTER}.ipynb")
+    monkeypatch.setattr(grade_shard, "grade_one", lambda *args: pytest.fail("graded despite a bad cap"))
+    assert grade_shard.main([CHAPTER, str(tmp_path), "--shards", "1", "--index", "0", "--max-processes", "-1"]) == 2
+    assert "--max-processes must be 0 (no cap) or a positive number of processes; got -1" in capsys.readouterr().err
 
 
 def containerfile_instructions(text: str) -> list[tuple[str, str]]:

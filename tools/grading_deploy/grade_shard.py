@@ -3,16 +3,22 @@
 
     python tools/grading_deploy/grade_shard.py 03_three_rpr /submissions/03_three_rpr --shards 8 --jobs 2
     python tools/grading_deploy/grade_shard.py 03_three_rpr folder --shards 8 --index 3   # shard 3 by hand
+    python tools/grading_deploy/grade_shard.py 03_three_rpr folder --shards 8 --max-processes 0   # root
 
 The folder holds ``<student>/<chapter>.ipynb`` as for ``make grade`` (tools/grade_many.py). The
 students, sorted by name, are dealt to ``--shards`` shards like cards: shard ``i`` grades
 students ``i``, ``i + shards``, ``i + 2 shards``, ... (``--index``, default the
 ``JOB_COMPLETION_INDEX`` Kubernetes gives each pod of an indexed Job), ``--jobs`` at a time,
-each into ``<student>/results.json`` and ``feedback.html`` beside its notebook. A student
-whose ``results.json`` is newer than the notebook is skipped (a pod that is retried does not
-grade its shard again), unless ``--force``. The exit code is 1 when a submission could not
-be graded (Kubernetes then retries the pod, within the Job's ``backoffLimitPerIndex``), 2 for
-bad arguments, 0 otherwise.
+each into ``<student>/results.json`` and ``feedback.html`` beside its notebook. The caps of
+tools/grade_submission.py are passed on as they are: ``--memory``, ``--cpu-seconds`` and
+``--max-processes``. The manifest's pods run as an ordinary user, where the default process
+cap holds (``RLIMIT_NPROC`` in the sandbox); ``--max-processes 0`` (no cap, with a warning on
+every submission) is for a grader run as root in a container whose ``/sys/fs/cgroup`` is
+read-only, where the container's own process limit (a node's ``podPidsLimit``) is the cap. A
+student whose ``results.json`` is newer than the notebook is skipped (a pod that is retried
+does not grade its shard again), unless ``--force``. The exit code is 1 when a submission
+could not be graded (Kubernetes then retries the pod, within the Job's
+``backoffLimitPerIndex``), 2 for bad arguments, 0 otherwise.
 """
 
 from __future__ import annotations
@@ -25,6 +31,7 @@ from pathlib import Path
 
 from tools.grade_many import grade_one, submissions
 from tools.grade_submission import DEFAULT_CPU_SECONDS, DEFAULT_MEMORY_MIB
+from tools.process_cap import DEFAULT_MAX_PROCESSES
 
 
 def shard(found: list[Path], index: int, shards: int) -> list[Path]:
@@ -55,6 +62,10 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="submissions graded at a time")
     parser.add_argument("--memory", type=int, default=DEFAULT_MEMORY_MIB, help="MiB of address space per process")
     parser.add_argument("--cpu-seconds", type=int, default=DEFAULT_CPU_SECONDS, help="CPU seconds per process")
+    parser.add_argument("--max-processes", type=int, default=DEFAULT_MAX_PROCESSES,
+                        help="processes and threads of a submission's kernel and its children "
+                             f"(default {DEFAULT_MAX_PROCESSES}; 0: no cap, with a warning, where none can be "
+                             "made: root in a container with a read-only cgroup, which caps them itself)")
     parser.add_argument("--force", action="store_true", help="grade students that have a newer results.json too")
     args = parser.parse_args(argv)
     index = args.index
@@ -68,6 +79,10 @@ def main(argv: list[str] | None = None) -> int:
     if args.jobs < 1:
         print(f"ERROR: --jobs must be at least 1; got {args.jobs}", file=sys.stderr)
         return 2
+    if args.max_processes < 0:
+        print(f"ERROR: --max-processes must be 0 (no cap) or a positive number of processes; got {args.max_processes}",
+              file=sys.stderr)
+        return 2
     try:
         mine = shard(submissions(args.folder, args.chapter), index, args.shards)
     except ValueError as error:
@@ -79,7 +94,8 @@ def main(argv: list[str] | None = None) -> int:
     failed = 0
     with ThreadPoolExecutor(max_workers=args.jobs) as pool:
         for notebook, verdict, ok in pool.map(
-                lambda path: grade_one(args.chapter, path.resolve(), args.memory, args.cpu_seconds), todo):
+                lambda path: grade_one(args.chapter, path.resolve(), args.memory, args.cpu_seconds,
+                                       args.max_processes), todo):
             failed += not ok
             print(f"{notebook.parent.name}: {verdict}", flush=True)
     return 1 if failed else 0
