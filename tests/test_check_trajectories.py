@@ -3,9 +3,9 @@
 The correct answers are written here independently of the check module: the timing laws
 from their closed forms, the trapezoid's time from the peak speed min(v_max, √(D a_max)),
 the synchronised motion by integrating its piecewise-constant acceleration numerically, and
-slerp as q0 (q0* q1)^s through the axis and angle of the relative rotation. The check's own
-references are compared with robokin's ``time_law``, ``joint_trajectory`` and
-``quaternion_slerp``.
+the via-point cubics from each segment's 4 × 4 linear system, slerp as q0 (q0* q1)^s through
+the axis and angle of the relative rotation. The check's own references are compared with
+robokin's ``time_law``, ``joint_trajectory``, ``via_point_trajectory`` and ``quaternion_slerp``.
 """
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ import math
 import numpy as np
 import pytest
 
-from robokin.motion import joint_trajectory, joint_trajectory_duration, time_law
+from robokin.motion import joint_trajectory, joint_trajectory_duration, time_law, via_point_trajectory
 from robokin.transforms import quaternion_slerp
 
 chk = importlib.import_module("robokin.check.trajectories")
@@ -336,3 +336,117 @@ def test_line_and_track_any_answer_gets_a_result(answer):
     for check in (chk.line_reference, chk.track):
         result = check(answer, quiet=True)
         assert not result.passed and result.message
+
+
+# ---------------------------------------------------------------- via points
+def via_by_linear_system(points, durations):
+    """Each segment's cubic from the 4 × 4 system of its end conditions, the rule's velocities in a loop."""
+    points, durations = np.asarray(points, float), np.asarray(durations, float)
+    m, n = len(durations), points.shape[1]
+    velocities = np.zeros((m + 1, n))
+    for k in range(1, m):
+        for j in range(n):
+            before = (points[k, j] - points[k - 1, j]) / durations[k - 1]
+            after = (points[k + 1, j] - points[k, j]) / durations[k]
+            velocities[k, j] = 0.5 * (before + after) if before * after > 0 else 0.0
+    out = np.empty((m, 4, n))
+    for k, T in enumerate(durations):
+        system = np.array([[1, 0, 0, 0], [0, 1, 0, 0], [1, T, T * T, T**3], [0, 1, 2 * T, 3 * T * T]])
+        out[k] = np.linalg.solve(system, np.stack([points[k], velocities[k], points[k + 1], velocities[k + 1]]))
+    return out
+
+
+def _evaluate(coefficients, durations, t):
+    """Positions and velocities (N, n) of the piecewise cubics at the times t (N,)."""
+    knots = np.concatenate([[0.0], np.cumsum(durations)])
+    k = np.clip(np.searchsorted(knots, t, side="right") - 1, 0, len(durations) - 1)
+    sigma = (t - knots[k])[:, None]
+    a = coefficients[k]
+    return (a[:, 0] + sigma * (a[:, 1] + sigma * (a[:, 2] + sigma * a[:, 3])),
+            a[:, 1] + sigma * (2 * a[:, 2] + 3 * sigma * a[:, 3]))
+
+
+@pytest.mark.parametrize("case", range(len(chk._via_cases())))
+def test_via_reference_is_robokins_via_point_trajectory(case):
+    points, durations = chk._via_cases()[case]
+    coefficients = chk._via_coefficients(points, durations)
+    assert np.allclose(coefficients, via_by_linear_system(points, durations), atol=1e-12)
+    t = np.linspace(0.0, durations.sum(), 97)
+    knots = np.concatenate([[0.0], np.cumsum(durations)])
+    positions, velocities = _evaluate(coefficients, durations, t)
+    padded = np.zeros((len(points), 3 * ((points.shape[1] + 2) // 3)))   # robokin's takes 3 columns
+    padded[:, :points.shape[1]] = points
+    for first in range(0, padded.shape[1], 3):
+        theirs = via_point_trajectory(t, padded[:, first:first + 3], knots)
+        n = min(3, points.shape[1] - first)
+        assert np.allclose(positions[:, first:first + n], theirs.positions[:, :n])
+        assert np.allclose(velocities[:, first:first + n], theirs.velocities[:, :n])
+
+
+def test_via_cases_have_a_turn_back_and_a_pause():
+    points, durations = chk._via_cases()[-1]
+    slopes = np.diff(points, axis=0) / durations[:, None]
+    products = slopes[:-1] * slopes[1:]
+    assert np.any(products < 0) and np.any(products == 0) and np.any(products > 0)
+
+
+def test_via_correct_answer_passes():
+    result = chk.via_point_cubics(via_by_linear_system, quiet=True)
+    assert result.passed and result.diagnosis is None, result.message
+
+
+@pytest.mark.parametrize("code", list(chk._VIA_MISTAKES))
+def test_via_mistakes_are_diagnosed(code):
+    def wrong(points, durations):
+        return chk._via_coefficients(np.asarray(points, float), np.asarray(durations, float), code)
+
+    result = chk.via_point_cubics(wrong, quiet=True)
+    assert not result.passed and result.diagnosis == code, result.message
+
+
+def _cubics(points, durations, starts, ends):
+    """Cubics (m, 4, n) through the via points with the velocities starts[k], ends[k] of segment k."""
+    out = np.empty((len(durations), 4, points.shape[1]))
+    for k, T in enumerate(durations):
+        step = points[k + 1] - points[k]
+        out[k] = [points[k], starts[k], (3 * step / T - 2 * starts[k] - ends[k]) / T,
+                  (-2 * step / T + starts[k] + ends[k]) / T**2]
+    return out
+
+
+def _with_velocities(change_start, change_end):
+    def answer(points, durations):
+        points, durations = np.asarray(points, float), np.asarray(durations, float)
+        v = chk._via_velocities(points, durations)
+        return _cubics(points, durations, change_start(v[:-1].copy()), change_end(v[1:].copy()))
+    return answer
+
+
+def _bump(rows, amount):
+    def change(v):
+        v[rows] += amount
+        return v
+    return change
+
+
+@pytest.mark.parametrize("answer, phrase", [
+    (lambda p, d: via_by_linear_system(p, d) + np.array([0.0, 0.0, 0.0, 0.01])[:, None], "misses via point 1"),
+    (lambda p, d: via_by_linear_system(p, d) + np.array([0.01, 0.0, 0.0, 0.0])[:, None],
+     "does not start at via point 0"),
+    (_with_velocities(_bump(1, 0.1), lambda v: v), "jumps at via point 1"),
+    (_with_velocities(_bump(0, 0.1), lambda v: v), "does not start and end at rest"),
+    (_with_velocities(_bump(slice(1, None), 0.1), _bump(slice(None, -1), 0.1)), "at via point 1 is"),
+    (lambda p, d: via_by_linear_system(p, d)[:, :3], "shape"),
+    (lambda p, d: 1 / 0, "ZeroDivisionError"),
+    ("not a function", "Python function"),
+])
+def test_via_bad_answers_are_explained(answer, phrase):
+    result = chk.via_point_cubics(answer, quiet=True)
+    assert not result.passed and phrase in result.message, result.message
+
+
+@pytest.mark.parametrize("answer", [None, "text", 3.0, np.zeros((2, 2)), lambda *args: None,
+                                    lambda p, d: np.full((len(d), 4, np.shape(p)[1]), np.nan)])
+def test_via_any_answer_gets_a_result(answer):
+    result = chk.via_point_cubics(answer, quiet=True)
+    assert not result.passed and isinstance(result.message, str) and result.message

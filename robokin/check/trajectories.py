@@ -10,6 +10,8 @@ check                    the student's answer                                   
 ``synchronised_motion``  ``synchronised_motion(t, q_start, q_end, v_max,        ``joint_trajectory``
                          a_max)`` -> positions, velocities, accelerations
 ``ptp_duration``         the UR10 move's duration (s)                           the slowest joint
+``via_point_cubics``     ``via_point_cubics(points, durations)`` -> (m, 4, n)   cubics through the via
+                         coefficients a0..a3 per segment and joint              points, rule's velocities
 ``slerp``                ``slerp(q0, q1, s)`` -> unit quaternion (4,)           ``quaternion_slerp``
 ``line_reference``       ``line_reference(t, T_start, T_end, duration)``        ``pose_trajectory``
                          -> pose (4, 4), twist [v; ω] (6,)
@@ -19,10 +21,14 @@ check                    the student's answer                                   
 The timing laws are those of Siciliano et al. (2009), §4.2.1, and Lynch & Park (2017), §9.2.2;
 the synchronised trapezoids keep each joint's acceleration limit and lower its cruise speed so
 that every joint arrives at the slowest joint's minimum time (robokin's
-:func:`~robokin.motion.joint_trajectory`). Each check names the typical mistakes: derivatives
-with respect to τ instead of t, the triangular case missed (a negative cruise time), v_max and
-a_max swapped, the motion synchronised by the fastest joint, slerp the long way round (no sign
-flip), NaN for nearly equal rotations, degrees for radians.
+:func:`~robokin.motion.joint_trajectory`). The via-point cubics take the velocity at an interior
+via point as the mean of the two adjacent slopes, or 0 where their signs differ, and rest at both
+ends (Siciliano et al. 2009, ch. 4; robokin's :func:`~robokin.motion.via_point_trajectory`).
+Each check names the typical mistakes: derivatives with respect to τ instead of t, the
+triangular case missed (a negative cruise time), v_max and a_max swapped, the motion
+synchronised by the fastest joint, a velocity that jumps at a via point, the sign rule left
+out, the ends not at rest, the durations mixed up, slerp the long way round (no sign flip), NaN
+for nearly equal rotations, degrees for radians.
 """
 
 from __future__ import annotations
@@ -48,7 +54,7 @@ from robokin.check._core import (
 from robokin.check._registry import exercise
 
 __all__ = ["cubic_scaling", "quintic_scaling", "peak_factors", "trapezoid_time", "synchronised_motion",
-           "ptp_duration", "slerp", "line_reference", "track", "PROBLEM"]
+           "ptp_duration", "via_point_cubics", "slerp", "line_reference", "track", "PROBLEM"]
 
 _CHAPTER = "trajectories"
 
@@ -63,6 +69,7 @@ DELEGATION = {
                        "joint_trajectory": "robokin.motion.joint_trajectory"},
     "synchronised_motion": {"joint_trajectory": "robokin.motion.joint_trajectory",
                             "joint_trajectory_duration": "robokin.motion.joint_trajectory_duration"},
+    "via_point_cubics": {"via_point_trajectory": "robokin.motion.via_point_trajectory"},
     "slerp": {"quaternion_slerp": "robokin.transforms.quaternion_slerp",
               "pose_trajectory": "robokin.motion.pose_trajectory"},
     "line_reference": {"pose_trajectory": "robokin.motion.pose_trajectory",
@@ -450,6 +457,163 @@ class _MotionCheck:
 
 
 synchronised_motion = exercise(_CHAPTER, "synchronised_motion", _MotionCheck())  # type: ignore[arg-type]
+
+
+# ------------------------------------------------------------------ via points
+def _via_velocities(points: np.ndarray, durations: np.ndarray, mistake: str = "") -> np.ndarray:
+    """Velocities (m + 1, n) at the via points by the chapter's rule, or a typical mistake of it."""
+    if mistake == "durations_reversed":
+        durations = durations[::-1]
+    steps = np.diff(points, axis=0)
+    slopes = steps if mistake == "differences" else steps / durations[:, None]
+    velocities = np.zeros_like(points)
+    before, after = slopes[:-1], slopes[1:]
+    if mistake == "no_sign_rule":
+        velocities[1:-1] = 0.5 * (before + after)
+    elif mistake == "central_difference":
+        velocities[1:-1] = (points[2:] - points[:-2]) / (durations[:-1] + durations[1:])[:, None]
+    elif mistake != "stop_at_via":
+        velocities[1:-1] = np.where(before * after > 0, 0.5 * (before + after), 0.0)
+    if mistake == "ends_moving":
+        velocities[0], velocities[-1] = slopes[0], slopes[-1]
+    return velocities
+
+
+def _via_coefficients(points: np.ndarray, durations: np.ndarray, mistake: str = "") -> np.ndarray:
+    """Coefficients (m, 4, n) [a0, a1, a2, a3] of q = Σ a_i σ^i, σ = t − t_k in s, or a mistake."""
+    velocities = _via_velocities(points, durations, mistake)
+    out = np.empty((len(durations), 4, points.shape[1]))
+    for k, duration in enumerate(durations):
+        step = points[k + 1] - points[k]
+        start, end = velocities[k], velocities[k + 1]
+        if mistake == "segment_slope":          # each segment's own slope at both of its ends
+            start = end = step / duration
+        if mistake == "normalised_time":        # coefficients in τ = σ / T_k
+            start, end, duration, step = start * duration, end * duration, 1.0, step
+        out[k] = [points[k], start, (3 * step / duration - 2 * start - end) / duration,
+                  (-2 * step / duration + start + end) / duration**2]
+    if mistake == "reversed_order":
+        out = out[:, ::-1]
+    return out
+
+
+_VIA_MISTAKES = {
+    "segment_slope": ("{name} gives each segment its own slope (q_k+1 − q_k)/T_k at both of its ends: straight "
+                      "lines whose velocity jumps at every via point, and the ends are not at rest. Use one "
+                      "velocity per via point, the same for the segment that ends there and the one that starts."),
+    "no_sign_rule": ("the velocity of {name} at a via point where the joint turns back is the mean of the two "
+                     "slopes: by the rule it is 0 where the slopes do not have the same sign (else the joint "
+                     "overshoots the via point)."),
+    "central_difference": ("the velocity of {name} at via point k is the chord's slope (q_k+1 − q_k−1)/(T_k−1 + "
+                           "T_k): the rule takes the mean of the two slopes, ½(v_k + v_k+1), or 0 where their "
+                           "signs differ."),
+    "stop_at_via": ("{name} stops at every via point (a rest-to-rest cubic per segment): the interior velocities "
+                    "follow the rule, ½(v_k + v_k+1) where the two slopes have the same sign."),
+    "ends_moving": ("{name} does not start and end at rest: the velocity at the first and the last via point "
+                    "must be 0, not the adjacent segment's slope."),
+    "differences": ("the slopes of {name} are the position differences q_k − q_k−1 without dividing by the "
+                    "durations: v_k = (q_k − q_k−1)/T_k−1 (rad/s)."),
+    "durations_reversed": ("{name} uses the durations in reverse order: segment k, from q_k to q_k+1, lasts "
+                           "durations[k]."),
+    "normalised_time": ("the coefficients of {name} are for the normalised time τ = (t − t_k)/T_k: the task asks "
+                        "for them in the time since the segment's start in seconds, σ = t − t_k in [0, T_k] "
+                        "(a_k1 = q̇_k, a_k2 and a_k3 divided by T_k and T_k²)."),
+    "reversed_order": ("{name} gives the coefficients highest power first (np.polyval's order): row i must be "
+                       "a_i, the coefficient of σ^i (a_0 = q_k first)."),
+}
+
+
+def _via_cases() -> list[tuple[np.ndarray, np.ndarray]]:
+    """Via points (m + 1, n) and durations (m,): random ones, a turn back and a pause in one joint."""
+    rng = np.random.default_rng(12)
+    cases = []
+    for m, n in ((2, 1), (4, 2), (5, 3), (3, 6)):
+        cases.append((rng.uniform(-2.0, 2.0, (m + 1, n)), rng.uniform(0.4, 2.5, m)))
+    # joint 1 turns back at via point 2, joint 2 pauses (a zero slope), joint 3 climbs throughout
+    points = np.array([[0.0, 0.5, -1.0], [0.8, 0.9, -0.6], [1.1, 0.9, 0.1], [0.4, 1.5, 0.3], [0.2, 1.0, 1.2]])
+    cases.append((points, np.array([0.7, 1.6, 1.1, 0.5])))
+    return cases
+
+
+def _polynomial(coefficients: np.ndarray, sigma: float) -> tuple[np.ndarray, np.ndarray]:
+    """Value and derivative (n,) of the cubics with rows a0..a3 (4, n) at σ."""
+    a0, a1, a2, a3 = coefficients
+    return a0 + sigma * (a1 + sigma * (a2 + sigma * a3)), a1 + sigma * (2 * a2 + 3 * sigma * a3)
+
+
+class _ViaCheck:
+    """Check ``via_point_cubics(points, durations)`` against the rule's cubics on cases of its own."""
+
+    name = "via_point_cubics"
+
+    def __init__(self) -> None:
+        self.__doc__ = ("Check via_point_cubics(points, durations) -> coefficients (m, 4, n): per segment k and "
+                        "joint j the cubic a0 + a1 σ + a2 σ² + a3 σ³ in σ = t − t_k (s), through the via points "
+                        "with the velocities of the rule (mean of adjacent slopes, 0 where their signs differ, "
+                        "at rest at both ends).")
+
+    def __call__(self, answer: Any, *, raise_on_fail: bool = False, quiet: bool = False) -> CheckResult:
+        return report(self.evaluate(answer), raise_on_fail=raise_on_fail, quiet=quiet)
+
+    def evaluate(self, answer: Any) -> CheckResult:
+        cases = _via_cases()
+        n_cases = len(cases)
+
+        def fail(code: str, message: str) -> CheckResult:
+            return CheckResult(self.name, False, f"{FAIL} {message}", code, n_cases)
+
+        if not callable(answer):
+            return fail("constant", f"{self.name} should be a Python function via_point_cubics(points, "
+                                    f"durations) -> coefficients (m, 4, n); got {type(answer).__name__}.")
+        for k, (points, durations) in enumerate(cases):
+            where = f" (case {k + 1}: points = {fmt(points)}, durations = {fmt(durations)})"
+            try:
+                with np.errstate(all="ignore"):
+                    got = np.asarray(answer(points.copy(), durations.copy()), dtype=float)
+            except Exception as exc:  # noqa: BLE001 - report the student's error
+                return fail("error", f"calling {self.name} raised {type(exc).__name__}: {exc}{where}")
+            m, n = len(durations), points.shape[1]
+            if got.shape != (m, 4, n):
+                return fail("shape", f"{self.name} should return the coefficients of shape (m, 4, n) = ({m}, 4, "
+                                     f"{n}) for {m + 1} via points of {n} joints; got {got.shape}{where}.")
+            if not np.all(np.isfinite(got)):
+                return fail("nan", f"the coefficients of {self.name} contain NaN or infinite values{where}.")
+            reference = _via_coefficients(points, durations)
+            if np.allclose(got, reference, atol=1e-8):
+                continue
+            for code, message in _VIA_MISTAKES.items():
+                wrong = _via_coefficients(points, durations, code)
+                if not np.allclose(wrong, reference, atol=1e-8) and np.allclose(got, wrong, atol=1e-8):
+                    return fail(code, message.format(name=self.name) + where)
+            return fail("mismatch", self._describe(got, reference, points, durations) + where)
+        return CheckResult(self.name, True, f"{PASS} {self.name} is correct (checked on {n_cases} sets of via "
+                                            "points, a turn back and a pause included).", None, n_cases)
+
+    def _describe(self, got: np.ndarray, reference: np.ndarray, points: np.ndarray, durations: np.ndarray) -> str:
+        """The first property the cubics break: a via point missed, ends moving, a velocity jump, a value."""
+        ends = [_polynomial(got[k], 0.0) + _polynomial(got[k], float(T)) for k, T in enumerate(durations)]
+        for k, (start, _, end, _) in enumerate(ends):
+            if not np.allclose(start, points[k], atol=1e-8):
+                return (f"segment {k} of {self.name} does not start at via point {k}: q = {fmt(start)} at σ = 0, "
+                        f"expected {fmt(points[k])}.")
+            if not np.allclose(end, points[k + 1], atol=1e-8):
+                return (f"segment {k} of {self.name} misses via point {k + 1}: q = {fmt(end)} at σ = T_{k}, "
+                        f"expected {fmt(points[k + 1])}.")
+        if not (np.allclose(ends[0][1], 0.0, atol=1e-8) and np.allclose(ends[-1][3], 0.0, atol=1e-8)):
+            return f"{self.name} does not start and end at rest: the velocity at the first and last via point is 0."
+        for k in range(1, len(durations)):
+            if not np.allclose(ends[k - 1][3], ends[k][1], atol=1e-8):
+                return (f"the velocity of {self.name} jumps at via point {k}: {fmt(ends[k - 1][3])} at the end of "
+                        f"segment {k - 1}, {fmt(ends[k][1])} at the start of segment {k}. Give both segments the "
+                        "same velocity there.")
+        expected = reference[:, 1]
+        k = int(np.argmax(np.abs(got[:, 1] - expected).max(axis=1) > 1e-8))
+        return (f"the velocity of {self.name} at via point {k} is {fmt(got[k, 1])}, expected {fmt(expected[k])} by "
+                "the rule: ½(v_k + v_k+1) where the slopes v_k = (q_k − q_k−1)/T_k−1 and v_k+1 have the same "
+                "sign, else 0.")
+
+
+via_point_cubics = exercise(_CHAPTER, "via_point_cubics", _ViaCheck())  # type: ignore[arg-type]
 
 
 # ------------------------------------------------------------------ slerp
