@@ -11,6 +11,7 @@ import sympy as sp
 
 from robokin import check
 from robokin.check import CheckResult, Variable, alternatives, matrix_function, mistake, value
+from robokin.check._core import FunctionCheck, MatrixArgumentsCheck
 from robokin.check.diagnoses import standard
 
 a, b, g = sp.symbols("alpha beta gamma", real=True)
@@ -251,6 +252,66 @@ def test_non_numeric_answer():
 
 
 # ---------------------------------------------------------------- extension points
+class _Doubles(FunctionCheck):
+    """A FunctionCheck of f(x) -> 2 x on three cases, with one named mistake."""
+
+    def judge(self, answer):
+        cases = (1.0, 2.0, -3.0)
+        got = [self.call(answer, (x,), f"at x = {x}") for x in cases]
+        if got == [2 * x for x in cases]:
+            return self.success(f"{self.name} is correct.", len(cases))
+        named = self.diagnose([("halves", "{name} halves x."), ("same", "{name} returns x.")],
+                              lambda code: got == [x / 2 if code == "halves" else x for x in cases],
+                              len(cases))
+        if named is not None:   # not `named or ...`: a failed CheckResult is falsy
+            return named
+        return self.failure("mismatch", f"{self.name} is not 2 x.", len(cases))
+
+
+def test_function_check_refuses_none_and_non_functions_without_judging():
+    doubles = _Doubles(name="double", signature="double(x) -> 2 x")
+    none, number = doubles(None, quiet=True), doubles(3.0, quiet=True)
+    assert (none.diagnosis, none.message, none.samples) == (
+        "error", "✘ double is None: did you forget to define it?", 0)
+    assert (number.diagnosis, number.message) == (
+        "constant", "✘ double should be a Python function double(x) -> 2 x; got float.")
+    assert doubles(np.zeros(3), quiet=True).diagnosis == "constant"
+
+
+def test_function_check_calls_reports_and_names_mistakes():
+    doubles = _Doubles(name="double", signature="double(x) -> 2 x")
+    assert doubles(lambda x: 2 * x, quiet=True).message == "✔ double is correct."
+    assert doubles(lambda x: x / 2, quiet=True).message == "✘ double halves x."
+    assert doubles(lambda x: x, quiet=True).diagnosis == "same"
+    assert doubles(lambda x: x + 1, quiet=True).diagnosis == "mismatch"
+
+    def broken(x):
+        if x < 0:
+            raise ValueError("negative")
+        return 2 * x
+
+    r = doubles(broken, quiet=True)
+    assert (r.diagnosis, r.message, r.samples) == (
+        "error", "✘ calling double at x = -3.0 raised ValueError: negative", 1)
+    with pytest.raises(NotImplementedError, match="judge"):
+        FunctionCheck(name="f").evaluate(abs)
+
+
+def test_matrix_arguments_check_compares_the_packed_value():
+    def pack(out):
+        if not isinstance(out, tuple):
+            raise TypeError(f"return a pair; got {type(out).__name__}")
+        return np.r_[out[0], out[1]]
+
+    check_pair = MatrixArgumentsCheck(
+        name="pair(v)", reference=lambda x: np.r_[2 * x, x.sum()], variables=["a", "b"],
+        arguments=lambda x: (x,), signature="pair(v) -> (2 v, sum)", pack=pack)
+    assert check_pair(lambda v: (2 * v, v.sum()), quiet=True).passed
+    assert check_pair(lambda v: (v, v.sum()), quiet=True).diagnosis == "mismatch"
+    r = check_pair(lambda v: 2 * v, quiet=True)
+    assert r.diagnosis == "error" and "raised TypeError: return a pair; got ndarray" in r.message
+
+
 def test_custom_mistake_and_alternatives():
     ref = sp.Matrix([sp.cos(a), sp.sin(a)])
     half = mistake("half_angle", lambda f: (lambda x: f(np.asarray(x) / 2)),

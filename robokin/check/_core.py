@@ -69,6 +69,7 @@ __all__ = [
     "Diagnosis",
     "Check",
     "MatrixArgumentsCheck",
+    "FunctionCheck",
     "report",
     "mistake",
     "alternatives",
@@ -854,8 +855,10 @@ class MatrixArgumentsCheck(Check):
 
     ``arguments(x)`` turns the sampled scalars ``x`` (shape ``(nvars,)``) into the
     arguments of the student's function, e.g. ``(J, W)``; the answer is called as
-    ``answer(*arguments(x))``. Anything that is not a function fails with a message
-    quoting ``signature``; ``None`` goes to :meth:`Check.evaluate`, which explains it.
+    ``answer(*arguments(x))``, and its value, passed through ``pack`` when there is one,
+    is compared with ``reference(x)``. Anything that is not a function fails with a
+    message quoting ``signature``; ``None`` goes to :meth:`Check.evaluate`, which
+    explains it.
 
     Parameters
     ----------
@@ -863,18 +866,26 @@ class MatrixArgumentsCheck(Check):
         ``arguments(x) -> tuple`` of the student's function's arguments.
     signature : str
         The expected call, e.g. ``"weighted_pinv(J, W) -> (6, 3) array"``.
+    pack : callable, optional
+        ``pack(value) -> array``: what of the answer's value is compared, when it is not
+        the value itself: a loop's ``(q, converged, iterations)`` as one vector, its
+        iterates flattened, the pose its joint angles reach. The reference returns the
+        same packed form; an exception ``pack`` raises (a ``TypeError`` that says what
+        the value should be) is reported like one the answer raised.
     """
 
     arguments: Callable[[np.ndarray], tuple] | None = None
     signature: str = ""
+    pack: Callable[[Any], Any] | None = None
 
     def evaluate(self, answer: Any) -> CheckResult:
         """Call ``answer(*arguments(x))`` at the sample points and compare (see :meth:`Check.evaluate`)."""
         if callable(answer) and not isinstance(answer, np.ndarray) and self.arguments is not None:
-            build, student = self.arguments, answer
+            build, student, pack = self.arguments, answer, self.pack
 
             def call_with_arguments(x: np.ndarray) -> Any:
-                return student(*build(np.asarray(x, dtype=float)))
+                out = student(*build(np.asarray(x, dtype=float)))
+                return out if pack is None else pack(out)
 
             return super().evaluate(call_with_arguments)
         if answer is not None and not callable(answer):
@@ -885,6 +896,141 @@ class MatrixArgumentsCheck(Check):
                 "constant", 0,
             )
         return super().evaluate(answer)
+
+
+class _Refused(Exception):
+    """Carries the verdict of a :class:`FunctionCheck` out of its ``judge`` (see :meth:`FunctionCheck.call`)."""
+
+    def __init__(self, result: CheckResult):
+        super().__init__(result.message)
+        self.result = result
+
+
+def _no_reference(x: np.ndarray) -> np.ndarray:
+    """The reference of a check that compares in its own ``judge``: never used for a verdict."""
+    return np.zeros(1)
+
+
+@dataclass
+class FunctionCheck(Check):
+    """A check whose answer is a Python function that it calls on inputs of its own.
+
+    What every such check did by itself before, it does once: refuse ``None`` and
+    anything that is not a function (the messages below, quoting ``signature``), call
+    the answer and report what it raised, and build the ``✔``/``✘`` messages. A subclass
+    writes only :meth:`judge`: the inputs (seeded cases, or :meth:`Check.sample_points`),
+    the comparison, and the typical mistakes it names, with :meth:`call`,
+    :meth:`success`, :meth:`failure` and :meth:`diagnose`.
+
+    Use it where the answer cannot be compared as values of the check's variables:
+    a loop whose result has several parts, a function returning every solution or a
+    dict of figures, a function that must raise. Where it can (a function of arrays
+    whose value, packed into one array, equals a reference), a :class:`MatrixArgumentsCheck`
+    with ``pack`` is shorter and brings the generic diagnoses.
+
+    Parameters
+    ----------
+    name, variables, groups, samples, seed, noun, doc
+        As for :class:`Check`; ``variables`` only where :meth:`judge` samples them.
+    reference : callable, optional
+        Unused by the verdict (``judge`` compares); kept for what reads every check.
+    signature : str
+        The expected call, e.g. ``"bisect(f, low, high, tol=1e-13) -> x"``, quoted when
+        the answer is not a function (and by :func:`robokin.check.grading.expected_form`).
+
+    Notes
+    -----
+    ``None`` fails with ``"<name> is None: did you forget to define it?"`` (diagnosis
+    ``"error"``), another non-function with ``"<name> should be a Python function
+    <signature>; got <type>."`` (``"constant"``); neither calls :meth:`judge`.
+    """
+
+    reference: RefFn = _no_reference
+    signature: str = ""
+
+    def evaluate(self, answer: Any) -> CheckResult:
+        """Refuse ``None`` or a non-function, else :meth:`judge` the answer (neither prints nor raises)."""
+        if answer is None:
+            return self.failure("error", f"{self.name} is None: did you forget to define it?", 0)
+        if not callable(answer):
+            return self.failure("constant", f"{self.name} should be a Python function {self.signature}; "
+                                f"got {type(answer).__name__}.", 0)
+        try:
+            return self.judge(answer)
+        except _Refused as refused:
+            return refused.result
+
+    def judge(self, answer: Callable[..., Any]) -> CheckResult:
+        """The verdict on a function ``answer``; written by each subclass.
+
+        Parameters
+        ----------
+        answer : callable
+            The student's function (never ``None``).
+
+        Returns
+        -------
+        CheckResult
+        """
+        raise NotImplementedError(f"{type(self).__name__} must define judge(answer)")
+
+    def call(self, answer: Callable[..., Any], arguments: tuple, where: str = "", samples: int = 1) -> Any:
+        """``answer(*arguments)``; what it raises ends :meth:`judge` with a failure that says where.
+
+        Parameters
+        ----------
+        answer : callable
+            The student's function.
+        arguments : tuple
+            Its arguments (pass copies of arrays the check reuses).
+        where : str, optional
+            Where the call was, after the name: ``"for f(x) = x³ − 2 on [0, 2]"``.
+        samples : int, optional
+            The failure's :attr:`CheckResult.samples`.
+
+        Returns
+        -------
+        object
+            What the answer returned.
+        """
+        try:
+            return answer(*arguments)
+        except Exception as exc:  # noqa: BLE001 - report the student's error
+            place = f" {where}" if where else ""
+            raise _Refused(self.failure(
+                "error", f"calling {self.name}{place} raised {type(exc).__name__}: {exc}", samples)) from None
+
+    def success(self, text: str, samples: int) -> CheckResult:
+        """A passed result whose message is ``"✔ " + text``."""
+        return CheckResult(self.name, True, f"{PASS} {text}", None, samples)
+
+    def failure(self, code: str, text: str, samples: int) -> CheckResult:
+        """A failed result with diagnosis ``code`` whose message is ``"✘ " + text`` (as written)."""
+        return CheckResult(self.name, False, f"{FAIL} {text}", code, samples)
+
+    def diagnose(self, mistakes: Iterable[tuple[str, str]], explains: Callable[[str], bool],
+                 samples: int) -> CheckResult | None:
+        """The failure of the first mistake that ``explains`` the answer, or None.
+
+        Parameters
+        ----------
+        mistakes : iterable of (str, str)
+            ``(code, message)``; ``{name}`` in the message is replaced by the check's name.
+        explains : callable
+            ``explains(code) -> bool``: the answer equals what the mistake ``code`` gives
+            (on every case).
+        samples : int
+            The failure's :attr:`CheckResult.samples`.
+
+        Returns
+        -------
+        CheckResult or None
+            Test it with ``is not None``: a failed :class:`CheckResult` is falsy.
+        """
+        for code, text in mistakes:
+            if explains(code):
+                return self.failure(code, text.format(name=self.name), samples)
+        return None
 
 
 # ---------------------------------------------------------------- generic entry points

@@ -34,7 +34,6 @@ from __future__ import annotations
 
 import math
 from functools import lru_cache
-from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -457,25 +456,6 @@ tracking_controller = exercise(_CHAPTER, "tracking_controller", Check(
 
 
 # ------------------------------------------------------------------ the student's own loops
-class _PackedLoopCheck(MatrixArgumentsCheck):
-    """A check of a loop whose result is packed into one vector by ``pack`` (same for the
-    student's function and the reference), so that iterations of any length compare."""
-
-    def __init__(self, *args: Any, pack: Callable[[Any], np.ndarray], **kwargs: Any) -> None:
-        super().__init__(*args, **kwargs)
-        self.pack = pack
-
-    def evaluate(self, answer: Any) -> CheckResult:
-        if callable(answer) and not isinstance(answer, np.ndarray):
-            student, pack = answer, self.pack
-
-            def packed(*args: Any) -> np.ndarray:
-                return pack(student(*args))
-
-            return super().evaluate(packed)
-        return super().evaluate(answer)
-
-
 def _iterates(out: Any, name: str) -> np.ndarray:
     """The iterates a loop returned, as an array (K + 1, 3); a clear error otherwise."""
     if isinstance(out, tuple):
@@ -542,7 +522,7 @@ def _newton_variant(**kwargs):
     return lambda x: _pack_iterates(_newton_loop(*_newton_args(x), **kwargs))
 
 
-newton_ik = exercise(_CHAPTER, "newton_ik", _PackedLoopCheck(
+newton_ik = exercise(_CHAPTER, "newton_ik", MatrixArgumentsCheck(
     name="newton_ik(r_goal, q0, damping, tol, max_iterations)",
     reference=_newton_variant(),
     variables=[*_Q_START, *_DQ_GOAL, *_NEWTON_MORE],
@@ -629,7 +609,7 @@ def _track_variant(**kwargs):
     return lambda x: _pack_track(_track_loop(*_track_args(x), **kwargs))
 
 
-tracking_loop = exercise(_CHAPTER, "tracking_loop", _PackedLoopCheck(
+tracking_loop = exercise(_CHAPTER, "tracking_loop", MatrixArgumentsCheck(
     name="track(q0, r_des, v_des, kp, ts, feedforward)",
     reference=_track_variant(),
     variables=[
