@@ -59,13 +59,12 @@ Usage::
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from functools import lru_cache
 from typing import Any
 
 import numpy as np
 
-from robokin.check._core import FAIL, PASS, Check, CheckResult, MatrixArgumentsCheck, Variable, alternatives
+from robokin.check._core import CheckResult, FunctionCheck, MatrixArgumentsCheck, Variable, alternatives
 from robokin.check._registry import exercise
 
 __all__ = ["weighted_pinv", "dls_step", "nullspace_projector", "ik_position", "summary", "self_motion",
@@ -409,32 +408,16 @@ def _loop_mistakes():
     ]
 
 
-@dataclass
-class LoopCheck(MatrixArgumentsCheck):
-    """Check of an IK loop ``f(chain, p_goal, q0, step, max_step, tol, max_iterations)``.
-
-    The loop returns ``(q, converged, iterations)``: ``q`` (6,) rad, a bool and an
-    int; the three are packed into one vector (6 + 2,) and compared with the
-    reference loop's on the check's sample arguments (see :class:`MatrixArgumentsCheck`).
-    """
-
-    def evaluate(self, answer: Any) -> CheckResult:
-        if callable(answer) and not isinstance(answer, np.ndarray):
-            student = answer
-
-            def packed(*args):
-                out = student(*args)
-                if not isinstance(out, tuple) or len(out) != 3:
-                    raise TypeError(
-                        "the loop should return a tuple (q, converged, iterations); got "
-                        f"{type(out).__name__}"
-                        + (f" of length {len(out)}" if isinstance(out, tuple) else "")
-                    )
-                q, converged, iterations = out
-                return np.r_[np.asarray(q, dtype=float).ravel(), float(bool(converged)), float(iterations)]
-
-            return super().evaluate(packed)
-        return super().evaluate(answer)
+def _pack_loop(out: Any) -> np.ndarray:
+    """The loop's ``(q, converged, iterations)`` packed as ``[q (6), converged, iterations]``."""
+    if not isinstance(out, tuple) or len(out) != 3:
+        raise TypeError(
+            "the loop should return a tuple (q, converged, iterations); got "
+            f"{type(out).__name__}"
+            + (f" of length {len(out)}" if isinstance(out, tuple) else "")
+        )
+    q, converged, iterations = out
+    return np.r_[np.asarray(q, dtype=float).ravel(), float(bool(converged)), float(iterations)]
 
 
 _Q0 = [
@@ -448,7 +431,7 @@ _Q0 = [
 _DQ = [Variable(f"dq{i}", "other", -0.9, 0.9) for i in range(1, N_JOINTS + 1)]
 _BUDGET = [Variable("max_iterations", "other", 1.0, 12.999)]
 
-ik_position = exercise(_CHAPTER, "ik_position", LoopCheck(
+ik_position = exercise(_CHAPTER, "ik_position", MatrixArgumentsCheck(
     name="ik_position(chain, p_goal, q0, step, ...)",
     reference=_loop_ref,
     variables=[*_Q0, *_DQ, *_BUDGET],
@@ -462,29 +445,11 @@ ik_position = exercise(_CHAPTER, "ik_position", LoopCheck(
           "recompute e; return (q, ‖e‖ <= tol, steps taken)."),
     atol=1e-7,
     doc="Check an IK loop ik_position(chain, p_goal, q0, step, max_step, tol, max_iterations).",
+    pack=_pack_loop,
 ))
 
 
 # ------------------------------------------------------------------ helpers of the checks below
-def _call(answer: Any, name: str, args: tuple, where: str) -> tuple[Any, CheckResult | None]:
-    """``answer(*args)``, or a failed result that says where the call raised."""
-    try:
-        return answer(*args), None
-    except Exception as exc:  # noqa: BLE001 - report the student's error
-        return None, CheckResult(name, False, f"{FAIL} calling {name} {where} raised "
-                                 f"{type(exc).__name__}: {exc}", "error", 1)
-
-
-def _not_a_function(answer: Any, name: str, signature: str) -> CheckResult | None:
-    if answer is None:
-        return CheckResult(name, False, f"{FAIL} {name} is None: did you forget to define it?",
-                           "error", 0)
-    if not callable(answer):
-        return CheckResult(name, False, f"{FAIL} {name} should be a Python function {signature}; "
-                           f"got {type(answer).__name__}.", "constant", 0)
-    return None
-
-
 def _other_limits_chain():
     """The UR10 with joint ranges other than :data:`WORK_LIMITS` (to tell the chain's limits
     from the defaults)."""
@@ -507,15 +472,6 @@ def _gradient(q: np.ndarray, limits: np.ndarray) -> np.ndarray:
     return -(np.asarray(q) - middle) / span**2 / len(middle)
 
 
-class _FunctionCheck(Check):
-    """A registered check whose ``evaluate`` calls the answer on inputs of its own."""
-
-    signature = ""
-
-    def evaluate(self, answer: Any) -> CheckResult:  # pragma: no cover - overridden
-        raise NotImplementedError
-
-
 # ------------------------------------------------------------------ bisection (task 6)
 def _bisect_cases() -> list[tuple[str, Any, float, float, float | None, float, bool]]:
     """(description, f, low, high, tol or None for the default, root, f rises through it)."""
@@ -530,77 +486,68 @@ def _bisect_cases() -> list[tuple[str, Any, float, float, float | None, float, b
     ]
 
 
-class _BisectCheck(_FunctionCheck):
+class _BisectCheck(FunctionCheck):
     """``bisect(f, low, high, tol=1e-13)``: a root within tol; ValueError without a bracket."""
 
-    def evaluate(self, answer: Any) -> CheckResult:
+    def judge(self, answer: Any) -> CheckResult:
         name = self.name
-        bad = _not_a_function(answer, name, "bisect(f, low, high, tol=1e-13) -> x")
-        if bad is not None:
-            return bad
         cases = _bisect_cases()
+        n = len(cases)
         misses = []
         for text, f, low, high, tol, root, rising in cases:
             args = (f, low, high) if tol is None else (f, low, high, tol)
-            x, failed = _call(answer, name, args, f"for {text}")
-            if failed is not None:
-                return failed
+            x = self.call(answer, args, f"for {text}")
             try:
                 x = float(x)
             except (TypeError, ValueError):
-                return CheckResult(name, False, f"{FAIL} {name} should return one number x (the "
-                                   f"root); for {text} it returned {type(x).__name__}.", "type", 1)
+                return self.failure("type", f"{name} should return one number x (the root); for {text} "
+                                    f"it returned {type(x).__name__}.", 1)
             tol_used = 1e-13 if tol is None else tol
             if not abs(x - root) <= tol_used + 1e-15:
                 misses.append((text, low, high, tol_used, root, x, rising))
         if misses:
             if not any(miss[6] for miss in misses):
-                return CheckResult(name, False, (
-                    f"{FAIL} {name} finds the roots of functions that rise through 0 but not of "
+                return self.failure("rising_only", (
+                    f"{name} finds the roots of functions that rise through 0 but not of "
                     f"those that fall ({misses[0][0]}): it keeps the half by the sign of "
                     "f(middle) alone (f(middle) < 0 → low = middle). Compare with the sign of "
-                    "f(low): when f(middle) has the sign of f(low) the root is in [middle, high]."),
-                    "rising_only", len(cases))
+                    "f(low): when f(middle) has the sign of f(low) the root is in [middle, high]."), n)
             text, low, high, tol_used, root, x, _ = misses[0]
-            head = f"{FAIL} {name} for {text} returns {x!r}; the root is {root!r}"
+            head = f"{name} for {text} returns {x!r}; the root is {root!r}"
             if min(abs(x - low), abs(x - high)) < 1e-6:
-                return CheckResult(name, False, head + (
+                return self.failure("wrong_half", head + (
                     ", an end of the bracket: it keeps the half WITHOUT the sign change. When "
                     "f(middle) has the sign of f(low), the root is in [middle, high] (low = "
-                    "middle), else in [low, middle]."), "wrong_half", len(cases))
+                    "middle), else in [low, middle]."), n)
             if abs(x - root) < 1e-3:
-                return CheckResult(name, False, head + (
+                return self.failure("tolerance", head + (
                     f" (off by {abs(x - root):.1e}, tol = {tol_used:g}): it stops before the "
                     "bracket is narrow enough. Halve until high − low <= 2 tol and return the "
                     "middle, which is then within tol of the root; a fixed number of halvings "
-                    "ignores tol."), "tolerance", len(cases))
-            return CheckResult(name, False, head + ". Keep a bracket [low, high] with f(low) and "
-                               "f(high) of opposite signs and halve it until it is 2 tol wide.",
-                               "mismatch", len(cases))
-        x, failed = None, None
+                    "ignores tol."), n)
+            return self.failure("mismatch", head + ". Keep a bracket [low, high] with f(low) and "
+                                "f(high) of opposite signs and halve it until it is 2 tol wide.", n)
         try:
             x = answer(lambda t: t * t + 1.0, -1.0, 1.0)
         except Exception as exc:  # noqa: BLE001 - the student's exception is the answer here
             described = f"{type(exc).__name__}: {exc}"
             if isinstance(exc, ValueError) or "ValueError" in described:
-                return CheckResult(name, True, f"{PASS} {name} is correct (checked on "
-                                   f"{len(cases)} brackets, rising and falling functions, several "
-                                   "tolerances, and a bracket without a sign change).", None,
-                                   len(cases) + 1)
-            return CheckResult(name, False, (
-                f"{FAIL} {name} raises {type(exc).__name__} when f(low) and f(high) have the same "
+                return self.success(f"{name} is correct (checked on {n} brackets, rising and falling "
+                                    "functions, several tolerances, and a bracket without a sign "
+                                    "change).", n + 1)
+            return self.failure("wrong_exception", (
+                f"{name} raises {type(exc).__name__} when f(low) and f(high) have the same "
                 "sign (f(x) = x² + 1 on [−1, 1]); raise ValueError, the error for a value that is "
-                "not allowed."), "wrong_exception", len(cases) + 1)
-        return CheckResult(name, False, (
-            f"{FAIL} {name} returns {x!r} for f(x) = x² + 1 on [−1, 1], which has no root: when "
+                "not allowed."), n + 1)
+        return self.failure("no_value_error", (
+            f"{name} returns {x!r} for f(x) = x² + 1 on [−1, 1], which has no root: when "
             "f(low) and f(high) have the same sign there is no bracket, and it should raise "
-            "ValueError instead of returning a number."), "no_value_error", len(cases) + 1)
+            "ValueError instead of returning a number."), n + 1)
 
 
 bisect = exercise(_CHAPTER, "bisect", _BisectCheck(
     name="bisect",
-    reference=lambda x: np.zeros(1),
-    variables=[Variable("unused", "other", 0.0, 1.0)],
+    signature="bisect(f, low, high, tol=1e-13) -> x",
     noun="brackets",
     doc=("Check a bisection bisect(f, low, high, tol=1e-13) -> x within tol of a root of f in "
          "[low, high]; ValueError when f(low) and f(high) have the same sign."),
@@ -681,46 +628,40 @@ _RESTART_MISTAKES = [
 ]
 
 
-class _RestartsCheck(_FunctionCheck):
+class _RestartsCheck(FunctionCheck):
     """``ik_restarts(chain, p_goal, starts, step) -> (q, converged, attempts, iterations)``."""
 
-    def evaluate(self, answer: Any) -> CheckResult:
+    def judge(self, answer: Any) -> CheckResult:
         name = self.name
-        bad = _not_a_function(answer, name, "ik_restarts(chain, p_goal, starts, step) -> (q, "
-                              "converged, attempts, iterations)")
-        if bad is not None:
-            return bad
         cases = _restart_cases()
+        n = len(cases)
         got = []
         for what, goal, starts in cases:
-            out, failed = _call(answer, name, (_cell(), goal.copy(), starts.copy(), _pinv_step),
-                                f"for {what}")
-            if failed is not None:
-                return failed
+            out = self.call(answer, (_cell(), goal.copy(), starts.copy(), _pinv_step), f"for {what}")
             if not isinstance(out, tuple) or len(out) != 4:
-                return CheckResult(name, False, (
-                    f"{FAIL} {name} should return the tuple (q, converged, attempts, iterations); "
+                return self.failure("type", (
+                    f"{name} should return the tuple (q, converged, attempts, iterations); "
                     f"for {what} it returned {type(out).__name__}"
-                    + (f" of length {len(out)}." if isinstance(out, tuple) else ".")), "type", len(cases))
+                    + (f" of length {len(out)}." if isinstance(out, tuple) else ".")), n)
             q, converged, attempts, iterations = out
             try:
                 got.append(np.r_[np.asarray(q, dtype=float).ravel(), float(bool(converged)),
                                  float(attempts), float(iterations)])
             except (TypeError, ValueError):
-                return CheckResult(name, False, f"{FAIL} {name}'s q should be 6 joint angles and "
-                                   "attempts, iterations numbers.", "type", len(cases))
+                return self.failure("type", f"{name}'s q should be 6 joint angles and attempts, "
+                                    "iterations numbers.", n)
 
         def same(a: np.ndarray, b: np.ndarray) -> bool:
             return a.shape == b.shape and bool(np.allclose(a, b, rtol=0.0, atol=1e-7))
 
         refs = [_restarts(goal, starts) for _, goal, starts in cases]
         if all(same(g, r) for g, r in zip(got, refs)):
-            return CheckResult(name, True, f"{PASS} {name} is correct (checked on {len(cases)} "
-                               "goals: reached from the first start, from the second, and out of "
-                               "reach).", None, len(cases))
-        for code, text in _RESTART_MISTAKES:
-            if all(same(g, _restarts(goal, starts, code)) for g, (_, goal, starts) in zip(got, cases)):
-                return CheckResult(name, False, f"{FAIL} " + text.format(name=name), code, len(cases))
+            return self.success(f"{name} is correct (checked on {n} goals: reached from the first "
+                                "start, from the second, and out of reach).", n)
+        named = self.diagnose(_RESTART_MISTAKES, lambda code: all(
+            same(g, _restarts(goal, starts, code)) for g, (_, goal, starts) in zip(got, cases)), n)
+        if named is not None:
+            return named
         k = next(i for i, (g, r) in enumerate(zip(got, refs)) if not same(g, r))
         fields = ["q", "converged", "attempts", "iterations"]
         g, r = got[k], refs[k]
@@ -731,17 +672,16 @@ class _RestartsCheck(_FunctionCheck):
             wrong = next(f for f, a, b in zip(fields, *parts) if not np.allclose(a, b, atol=1e-7))
         expected = {"q": "", "converged": f" (expected {bool(r[6])})",
                     "attempts": f" (expected {int(r[7])})", "iterations": f" (expected {int(r[8])})"}
-        return CheckResult(name, False, (
-            f"{FAIL} {name} for {cases[k][0]} (3 starts, the pseudoinverse step) returns a wrong "
+        return self.failure("mismatch", (
+            f"{name} for {cases[k][0]} (3 starts, the pseudoinverse step) returns a wrong "
             f"{wrong}{expected[wrong]}: run ik_position from each start in turn, with its "
             "defaults, stop at the first that converges, and return that attempt's q, whether it "
-            "converged, the attempts made and the steps over all of them."), "mismatch", len(cases))
+            "converged, the attempts made and the steps over all of them."), n)
 
 
 ik_restarts = exercise(_CHAPTER, "ik_restarts", _RestartsCheck(
     name="ik_restarts",
-    reference=lambda x: np.zeros(1),
-    variables=[Variable("unused", "other", 0.0, 1.0)],
+    signature="ik_restarts(chain, p_goal, starts, step) -> (q, converged, attempts, iterations)",
     noun="goals",
     doc=("Check ik_restarts(chain, p_goal, starts, step) -> (q, converged, attempts, "
          "iterations): ik_position from each row of starts in turn until one converges."),
@@ -858,51 +798,43 @@ def _summary_cases() -> tuple[tuple[str, Any, np.ndarray, np.ndarray], ...]:
     return tuple(out)
 
 
-class _SummaryCheck(_FunctionCheck):
+class _SummaryCheck(FunctionCheck):
     """``summary(chain, p_goal, path) -> dict`` of the figures of one IK run."""
 
-    def evaluate(self, answer: Any) -> CheckResult:
+    def judge(self, answer: Any) -> CheckResult:
         name = self.name
-        bad = _not_a_function(answer, name, "summary(chain, p_goal, path) -> dict")
-        if bad is not None:
-            return bad
         cases = _summary_cases()
+        n = len(cases)
         for what, chain, goal, path in cases:
-            out, failed = _call(answer, name, (chain, goal.copy(), path.copy()),
-                                f"on random iterates ({what})")
-            if failed is not None:
-                return failed
+            out = self.call(answer, (chain, goal.copy(), path.copy()), f"on random iterates ({what})")
             if not isinstance(out, dict):
-                return CheckResult(name, False, f"{FAIL} {name} should return a dict with the keys "
-                                   f"{', '.join(_SUMMARY_KEYS)}; got {type(out).__name__}.", "type",
-                                   len(cases))
+                return self.failure("type", f"{name} should return a dict with the keys "
+                                    f"{', '.join(_SUMMARY_KEYS)}; got {type(out).__name__}.", n)
             missing = [key for key in _SUMMARY_KEYS if key not in out]
             if missing:
-                return CheckResult(name, False, f"{FAIL} {name}'s dict lacks the key(s) "
-                                   f"{', '.join(missing)}.", "missing_key", len(cases))
+                return self.failure("missing_key", f"{name}'s dict lacks the key(s) {', '.join(missing)}.", n)
             reference = _summary(chain, goal, path)
             for key in _SUMMARY_KEYS:
                 try:
                     value = float(out[key])
                 except (TypeError, ValueError):
-                    return CheckResult(name, False, f"{FAIL} {name}['{key}'] should be a number; "
-                                       f"got {type(out[key]).__name__}.", "type", len(cases))
+                    return self.failure("type", f"{name}['{key}'] should be a number; got "
+                                        f"{type(out[key]).__name__}.", n)
                 if math.isclose(value, reference[key], rel_tol=1e-7, abs_tol=1e-9):
                     continue
-                head = (f"{FAIL} {name}['{key}'] on {len(path) - 1}-step random iterates ({what}) "
+                head = (f"{name}['{key}'] on {len(path) - 1}-step random iterates ({what}) "
                         f"is {value:.6g}, expected {reference[key]:.6g}")
                 for code, wrong, text in _summary_mistakes(chain, goal, path)[key]:
                     if math.isclose(value, wrong, rel_tol=1e-7, abs_tol=1e-9):
-                        return CheckResult(name, False, f"{head}: it {text}.", code, len(cases))
-                return CheckResult(name, False, head + ".", f"{key}_wrong", len(cases))
-        return CheckResult(name, True, f"{PASS} {name} is correct (checked on random iterates of the "
-                           "work cell and of a chain with other joint limits).", None, len(cases))
+                        return self.failure(code, f"{head}: it {text}.", n)
+                return self.failure(f"{key}_wrong", head + ".", n)
+        return self.success(f"{name} is correct (checked on random iterates of the work cell and of "
+                            "a chain with other joint limits).", n)
 
 
 summary = exercise(_CHAPTER, "summary", _SummaryCheck(
     name="summary",
-    reference=lambda x: np.zeros(1),
-    variables=[Variable("unused", "other", 0.0, 1.0)],
+    signature="summary(chain, p_goal, path) -> dict",
     noun="runs",
     doc=("Check summary(chain, p_goal, path) -> dict with iterations, error_nm, path, min_limit, "
          "end_limit, end_H, min_w, end_w of the iterates path (k + 1, n)."),
@@ -965,58 +897,51 @@ def _self_motion_cases() -> tuple[tuple[str, Any, np.ndarray, np.ndarray, float,
     return tuple(out)
 
 
-class _SelfMotionCheck(_FunctionCheck):
+class _SelfMotionCheck(FunctionCheck):
     """``self_motion(chain, p_goal, q_start, gain, steps) -> (steps, n)``."""
 
-    def evaluate(self, answer: Any) -> CheckResult:
+    def judge(self, answer: Any) -> CheckResult:
         name = self.name
-        bad = _not_a_function(answer, name, "self_motion(chain, p_goal, q_start, gain, steps) -> "
-                              "(steps, n) array")
-        if bad is not None:
-            return bad
         cases = _self_motion_cases()
+        n = len(cases)
         got = []
         for what, chain, goal, q_start, gain, steps in cases:
-            out, failed = _call(answer, name, (chain, goal.copy(), q_start.copy(), gain, steps),
-                                f"for {what}")
-            if failed is not None:
-                return failed
+            out = self.call(answer, (chain, goal.copy(), q_start.copy(), gain, steps), f"for {what}")
             try:
                 got.append(np.asarray(out, dtype=float))
             except (TypeError, ValueError):
-                return CheckResult(name, False, f"{FAIL} {name} should return an array (steps, n) "
-                                   f"of configurations; got {type(out).__name__}.", "type", len(cases))
+                return self.failure("type", f"{name} should return an array (steps, n) of "
+                                    f"configurations; got {type(out).__name__}.", n)
 
         def same(a: np.ndarray, b: np.ndarray) -> bool:
             return a.shape == b.shape and bool(np.allclose(a, b, rtol=0.0, atol=1e-9))
 
         refs = [_self_motion(chain, goal, q0, gain, steps) for _, chain, goal, q0, gain, steps in cases]
         if all(same(g, r) for g, r in zip(got, refs)):
-            return CheckResult(name, True, f"{PASS} {name} is correct (checked on {len(cases)} starts, "
-                               "gains and step counts, one on a chain with other joint limits).", None,
-                               len(cases))
-        for code, text in _SELF_MISTAKES:
-            if all(same(g, _self_motion(chain, goal, q0, gain, steps, code))
-                   for g, (_, chain, goal, q0, gain, steps) in zip(got, cases)):
-                return CheckResult(name, False, f"{FAIL} " + text.format(name=name), code, len(cases))
+            return self.success(f"{name} is correct (checked on {n} starts, gains and step counts, one "
+                                "on a chain with other joint limits).", n)
+        named = self.diagnose(_SELF_MISTAKES, lambda code: all(
+            same(g, _self_motion(chain, goal, q0, gain, steps, code))
+            for g, (_, chain, goal, q0, gain, steps) in zip(got, cases)), n)
+        if named is not None:
+            return named
         k = next(i for i, (g, r) in enumerate(zip(got, refs)) if not same(g, r))
         g, r = got[k], refs[k]
         if g.shape != r.shape:
-            return CheckResult(name, False, (
-                f"{FAIL} {name} for {cases[k][0]} with steps = {cases[k][5]} returns shape {g.shape}; "
+            return self.failure("shape", (
+                f"{name} for {cases[k][0]} with steps = {cases[k][5]} returns shape {g.shape}; "
                 f"expected {r.shape}: one row per step, the configuration before it (the first row "
-                "is q_start)."), "shape", len(cases))
+                "is q_start)."), n)
         row = int(np.argmax(np.abs(g - r).max(axis=1) > 1e-9))
-        return CheckResult(name, False, (
-            f"{FAIL} {name} for {cases[k][0]} differs from q ← q + J⁺e + N k ∇H(q) from row {row} "
+        return self.failure("mismatch", (
+            f"{name} for {cases[k][0]} differs from q ← q + J⁺e + N k ∇H(q) from row {row} "
             f"on (row 0 is q_start): check the step e = p_goal − p(q), J⁺, N = I − J⁺J and ∇H with "
-            "the chain's limits."), "mismatch", len(cases))
+            "the chain's limits."), n)
 
 
 self_motion = exercise(_CHAPTER, "self_motion", _SelfMotionCheck(
     name="self_motion",
-    reference=lambda x: np.zeros(1),
-    variables=[Variable("unused", "other", 0.0, 1.0)],
+    signature="self_motion(chain, p_goal, q_start, gain, steps) -> (steps, n) array",
     noun="starts",
     doc=("Check self_motion(chain, p_goal, q_start, gain, steps) -> the configurations before "
          "each step q ← q + J⁺e + N k ∇H(q), shape (steps, n)."),
