@@ -38,6 +38,10 @@ def test_every_urdf_file_of_the_package_is_listed_once():
     ("z1", "world", "gripperStator", 6),                            # the gripper's body, not its jaw
     ("so100", "base", "gripper", 5),
     ("talos_left_arm", "arm_left_1_link", "gripper_left_base_link", 6),   # the link carrying the gripper
+    ("baxter", "base", "left_gripper_base_link", 7),               # not the hand's camera
+    ("tiago", "base_footprint", "hand_tool_link", 8),               # the hand's tool frame, not a finger
+    ("romeo", "base_link", "l_wrist", 8),                           # the link carrying the hand (LHand)
+    ("alexander_v1.lowerBodyOnly", "PELVIS_LINK", "LEFT_FOOT", 6),  # the foot, not its IMU
 ])
 def test_listed_links_give_the_arm(name, base, tip, joints):
     info = {r.name: r for r in available_robots()}[name]
@@ -68,12 +72,30 @@ def test_unknown_robot_names_some_and_points_to_the_list():
 @pytest.mark.parametrize("name, finger, joints", [
     ("panda", "panda_leftfinger", 8),
     ("talos_left_arm", "gripper_left_motor_double_link", 7),
+    ("tiago", "hand_index_link", 9),
 ])
 def test_a_gripper_joint_only_when_asked(name, finger, joints):
     """A gripper's own links come after the end-effectors; a chain to one has the gripper joint."""
     info = available_robots()[name]
     assert finger in info.tip_links and info.tip_links.index(finger) > 0
     assert from_urdf(robot_description(name), info.base_link, finger).n == joints == info.movable_joints + 1
+
+
+#: Words of a sensor's frame, written here independently of robokin.models.robot_library.
+SENSOR_WORDS = {"camera", "cam", "imu", "accelerometer", "range", "sonar", "optical", "depth", "laser", "led"}
+
+
+def test_no_first_tip_is_a_sensors_frame():
+    """An end-effector is a tool frame or what carries a gripper, a hand or a foot: never a camera
+    or an IMU, which come after the end-effectors."""
+    import re
+
+    sensor = lambda link: bool(set(re.split(r"[^a-z0-9]+", link.lower())) & SENSOR_WORDS)  # noqa: E731
+    for info in available_robots():
+        if info.tip_links:
+            assert not sensor(info.tip_links[0]), (info.name, info.tip_links[:3])
+    baxter = available_robots()["baxter"].tip_links
+    assert baxter.index("right_gripper_base_link") < baxter.index("right_hand_camera_link")
 
 
 def test_notes_say_what_a_file_lacks():

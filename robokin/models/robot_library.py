@@ -4,10 +4,13 @@ r"""The robots of the installed ``example-robot-data`` package, listed with thei
 arms, legged robots, humanoids, hands, drones) and reads, without building
 anything, its link tree: the root link (the natural ``base_link`` of
 :func:`robokin.models.from_urdf`) and its candidate ``tip_link``\ s, the deepest
-first -- for an arm, the first one is its flange or tool frame. A gripper's
-joints (a movable joint named for a finger or gripper) are not counted in: where
-the tool is a gripper, the link that carries it is a tip, ahead of the gripper's
-own links (asking for one of those adds the gripper joint to the chain).
+first -- for an arm, the first one is its flange or tool frame. A gripper's or a
+hand's joints (a movable joint named for a finger, a thumb, a gripper or a hand)
+are not counted in: where the tool is a gripper or a hand, the link that carries it
+is a tip, ahead of the gripper's own links (asking for one of those adds the
+gripper joint to the chain). A sensor's frame (a camera, an IMU, a range finder)
+is no end-effector: it comes last, and the link it is fixed to is a tip where that
+link carries nothing else (a foot with its IMU).
 :func:`robokin.models.robot_description` accepts any of their names.
 
 The list shows as a short table (``available_robots()`` in a notebook);
@@ -21,6 +24,7 @@ whole package, once per process.
 from __future__ import annotations
 
 import importlib.metadata
+import re
 import xml.etree.ElementTree as ElementTree
 from collections import Counter
 from dataclasses import dataclass
@@ -39,8 +43,36 @@ NOTES = {
                        "joints; talos_full_v2 has the whole arm (base torso_2_link)"),
 }
 
-#: Words that name a gripper's joint or link (a movable joint so named is not an arm joint).
-_GRIPPER_WORDS = ("finger", "gripper")
+#: Words that name a gripper's or a hand's joint or link (a movable joint so named is not an arm
+#: joint): anywhere in the name (``LThumb1``, ``r_gripper_l_finger_joint``) ...
+_GRIPPER_WORDS = ("finger", "gripper", "thumb")
+#: ... or, with the word "hand", as a whole word of it (``hand_index_flex_1_joint``; not the
+#: spine's ``middle_lumbar_Z``, not "steering") ...
+_FINGER_WORDS = frozenset({"index", "middle", "ring", "little", "pinky", "mrl"})
+#: ... or a movable joint whose name ends with "hand": a hand's closing joint (``LHand``).
+_HAND_JOINT_END = "hand"
+#: Whole words of a sensor's frame (a camera, an IMU, a range finder): such a leaf is no
+#: end-effector. It comes after the others; the link it is fixed to is an end-effector when
+#: that link carries nothing but sensors (a foot with its IMU).
+_SENSOR_WORDS = frozenset({"camera", "cam", "imu", "accelerometer", "range", "sonar", "optical", "depth",
+                           "rgb", "laser", "lidar", "led", "stereo", "xtion", "d435", "antenna", "sensor"})
+
+
+def _words(name: str) -> set[str]:
+    """The words of a link or joint name, lower case (``right_hand_camera_link``: right, hand, camera, link)."""
+    return set(re.split(r"[^a-z0-9]+", name.lower()))
+
+
+def _names_a_gripper(name: str, joint: bool) -> bool:
+    """Whether a joint's (``joint``) or a link's name is that of a gripper's or a hand's part."""
+    lower, words = name.lower(), _words(name)
+    return (any(word in lower for word in _GRIPPER_WORDS) or ("hand" in words and bool(words & _FINGER_WORDS))
+            or (joint and lower.endswith(_HAND_JOINT_END)))
+
+
+def _is_sensor(link: str) -> bool:
+    """Whether ``link`` names a sensor's frame (a camera, an IMU, ...)."""
+    return bool(_words(link) & _SENSOR_WORDS)
 
 
 @dataclass(frozen=True)
@@ -59,11 +91,10 @@ class RobotInfo:
     base_link : str
         The root of its link tree (the first root if the file holds several trees).
     tip_links : tuple of str
-        Its leaf links, the one with the most movable joints above it first.
-    tip_links : tuple of str
         Its end-effector links, the one with the most movable joints above it first: the
         leaf links reached without a gripper joint, and the links that carry a gripper;
-        then the gripper's own leaf links (a chain to one of those has a gripper joint).
+        then sensors' frames, and the gripper's own leaf links (a chain to one of those has
+        a gripper joint).
     movable_joints : int
         Revolute, continuous and prismatic joints from ``base_link`` to ``tip_links[0]``.
     note : str
@@ -146,7 +177,8 @@ def _tree(path: Path) -> tuple[str, tuple[str, ...], int] | None:
     """``(root, tip links deepest first, movable joints to the first tip)``, or None if unreadable.
 
     The tips: the leaves reached without a gripper joint and the links that carry a gripper
-    (by their movable joints, gripper joints not counted), then the gripper's own leaves.
+    (by their movable joints, gripper joints not counted; sensors' frames last), then the
+    gripper's own leaves.
     """
     try:
         root = ElementTree.parse(path).getroot()
@@ -184,9 +216,13 @@ def _tree(path: Path) -> tuple[str, tuple[str, ...], int] | None:
             depth[below] = count
     leaves = [link for link in links if link not in children and link in parent]
 
-    def named(link: str, joint_only: bool = False) -> bool:   # named for a gripper or finger
-        text = joint_names.get(link, "") + ("" if joint_only else " " + link)
-        return any(word in text.lower() for word in _GRIPPER_WORDS)
+    def named(link: str, joint_only: bool = False) -> bool:   # named for a gripper, a finger or a hand
+        return (_names_a_gripper(joint_names.get(link, ""), joint=True)
+                or (not joint_only and _names_a_gripper(link, joint=False)))
+
+    child_links: dict[str, list[str]] = {}   # link -> its child links
+    for child, (holder, _) in parent.items():
+        child_links.setdefault(holder, []).append(child)
 
     ends: dict[str, int] = {}      # end-effector link -> movable joints above it (gripper joints not counted)
     gripped: dict[str, int] = {}   # a gripper's own leaf -> movable joints above it
@@ -200,14 +236,18 @@ def _tree(path: Path) -> tuple[str, tuple[str, ...], int] | None:
                       if parent[up_to_root[k]][1] and named(up_to_root[k], joint_only=True)), None)
         if first is None:
             ends.setdefault(leaf, depth.get(leaf, 0))
+            holder = parent[leaf][0]   # a link that carries nothing but sensors is an end-effector
+            if (_is_sensor(leaf) and holder in parent and not _is_sensor(holder)
+                    and all(_is_sensor(child) for child in child_links[holder])):
+                ends.setdefault(holder, depth.get(holder, 0))
         else:
             ends.setdefault(up_to_root[first + 1], depth.get(up_to_root[first + 1], 0))
             carriers.add(up_to_root[first + 1])
             gripped[leaf] = depth.get(leaf, 0)
-    # deepest first; at equal depth a leaf of the arm (a tool frame), then a link carrying a
-    # gripper, then a leaf named for a finger or gripper fixed to it
-    order = lambda item: (-item[1], item[0] not in carriers and named(item[0]),  # noqa: E731
-                          item[0] in carriers, links.index(item[0]))
+    # deepest first, sensors' frames last; at equal depth a leaf of the arm (a tool frame), then a
+    # link carrying a gripper, then a leaf named for a finger or gripper fixed to it
+    order = lambda item: (_is_sensor(item[0]), -item[1],  # noqa: E731
+                          item[0] not in carriers and named(item[0]), item[0] in carriers, links.index(item[0]))
     tips = [link for link, _ in sorted(ends.items(), key=order)]
     tips += [link for link, _ in sorted(gripped.items(), key=order) if link not in ends]
     return roots[0], tuple(tips), ends[tips[0]] if tips else 0
