@@ -44,6 +44,7 @@ from robokin.check._core import (
     PASS,
     Check,
     CheckResult,
+    FunctionCheck,
     Variable,
     alternatives,
     report,
@@ -425,35 +426,31 @@ def ik_solver(
     """
     samples = check_int(samples, "samples", 1, 10_000)
     seed = seed if seed is None else check_int(seed, "seed", 0)
-    return report(_judge_ik_function(f, "ik(T)", samples, seed), raise_on_fail=raise_on_fail, quiet=quiet)
+    checker = _IKSolverCheck(name="ik(T)", signature="f(T) -> q", samples=samples, seed=seed)
+    return report(checker.evaluate(f), raise_on_fail=raise_on_fail, quiet=quiet)
 
 
-def _judge_ik_function(f: Any, name: str, samples: int, seed: int) -> CheckResult:
+class _IKSolverCheck(FunctionCheck):
     """The verdict on an IK function at ``samples`` random reachable poses (see :func:`ik_solver`)."""
-    if not callable(f):
-        return CheckResult(name, False, f"{FAIL} {name} should be a Python function f(T) "
-                           f"-> q; got {type(f).__name__}.", "constant", 0)
-    counts = []
-    for k, T in enumerate(_random_targets(samples, seed)):
-        try:
-            out = f(T.copy())
-        except Exception as exc:  # noqa: BLE001 - report the student's error
-            return CheckResult(name, False, f"{FAIL} calling {name} raised {type(exc).__name__}: {exc}",
-                               "error", k + 1)
-        rows, code, msg = _as_rows(out, "the value returned by ik(T)")
-        if rows is None:
-            return CheckResult(name, False, f"{FAIL} {msg}", code, k + 1)
-        passed, code, msg = _verdict(rows, T, f"{name} at pose {k + 1}")
-        if not passed:
-            return CheckResult(name, False, f"{FAIL} {msg}", code, k + 1)
-        counts.append(len(rows))
-    lo, hi = min(counts), max(counts)
-    per = f"{lo}" if lo == hi else f"{lo} to {hi}"
-    more = "" if lo >= 8 else "; the leg has up to 8"
-    text = (f"{PASS} {name} is correct: every returned solution reproduces its pose "
-            f"(checked at {samples} random poses; {per} solution{'s' if hi > 1 else ''} per pose{more}).")
-    return CheckResult(name, True, text, None, samples)
 
+    def judge(self, answer: Any) -> CheckResult:
+        name, samples = self.name, self.samples
+        counts = []
+        for k, T in enumerate(_random_targets(samples, self.seed)):
+            out = self.call(answer, (T.copy(),), samples=k + 1)
+            rows, code, msg = _as_rows(out, "the value returned by ik(T)")
+            if rows is None:
+                return self.failure(code, msg, k + 1)
+            passed, code, msg = _verdict(rows, T, f"{name} at pose {k + 1}")
+            if not passed:
+                return self.failure(code, msg, k + 1)
+            counts.append(len(rows))
+        lo, hi = min(counts), max(counts)
+        per = f"{lo}" if lo == hi else f"{lo} to {hi}"
+        more = "" if lo >= 8 else "; the leg has up to 8"
+        return self.success(f"{name} is correct: every returned solution reproduces its pose (checked at "
+                            f"{samples} random poses; {per} solution{'s' if hi > 1 else ''} per pose{more}).",
+                            samples)
 
 
 # ------------------------------------------------------------------ every solution
@@ -565,75 +562,60 @@ _LEG_IK_MISTAKES = [
 ]
 
 
-class _LegIKCheck(Check):
+class _LegIKCheck(FunctionCheck):
     """``my_leg_ik(T) -> (k, 6)``: every solution of a foot pose, each once, in any order."""
 
-    def evaluate(self, answer: Any) -> CheckResult:
+    def judge(self, answer: Any) -> CheckResult:
         X = self.sample_points()
-        name = self.name
-        if answer is None:
-            return CheckResult(name, False, f"{FAIL} {name} is None: did you forget to define it?",
-                               "error", len(X))
-        if not callable(answer):
-            return CheckResult(name, False, f"{FAIL} {name} should be a Python function "
-                               f"my_leg_ik(T) -> (k, 6) array; got {type(answer).__name__}.",
-                               "constant", len(X))
+        name, n = self.name, len(X)
         poses = [_fk(x) for x in X]
         got = []
         for k, T in enumerate(poses):
-            try:
-                S = np.asarray(answer(T.copy()), dtype=float)
-            except Exception as exc:  # noqa: BLE001 - report the student's error
-                return CheckResult(name, False, f"{FAIL} calling {name} at pose {k + 1} (the foot "
-                                   f"pose of q = {fmt(X[k])}) raised {type(exc).__name__}: {exc}",
-                                   "error", len(X))
+            S = np.asarray(self.call(answer, (T.copy(),), f"at pose {k + 1} (the foot pose of q = {fmt(X[k])})",
+                                     n), dtype=float)
             if S.size == 0:
                 S = S.reshape(0, 6)
             if S.ndim == 1 and S.size == 6:
                 S = S[None, :]
             if S.ndim != 2 or S.shape[1] != 6:
-                return CheckResult(name, False, f"{FAIL} {name} should return an array (k, 6), one "
-                                   f"solution per row; got shape {S.shape} at pose {k + 1}.",
-                                   "shape", len(X))
+                return self.failure("shape", f"{name} should return an array (k, 6), one solution per "
+                                    f"row; got shape {S.shape} at pose {k + 1}.", n)
             if not np.all(np.isfinite(S)):
-                return CheckResult(name, False, f"{FAIL} {name} returns NaN or infinite angles at "
-                                   f"pose {k + 1} (the foot pose of q = {fmt(X[k])}).",
-                                   "not_finite", len(X))
+                return self.failure("not_finite", f"{name} returns NaN or infinite angles at pose {k + 1} "
+                                    f"(the foot pose of q = {fmt(X[k])}).", n)
             got.append(S)
         refs = [_closed_form(T) for T in poses]
         if all(_same_rows(S, R) for S, R in zip(got, refs)):
-            return CheckResult(name, True, f"{PASS} {name} is correct: all 8 solutions, each once "
-                               f"(checked at {len(X)} random foot poses).", None, len(X))
+            return self.success(f"{name} is correct: all 8 solutions, each once (checked at {n} random "
+                                "foot poses).", n)
         if all(_same_rows(np.deg2rad(S), R) for S, R in zip(got, refs)):
-            return CheckResult(name, False, f"{FAIL} {name} returns degrees: np.deg2rad of it "
-                               "solves the problem. robokin works in radians.", "degrees_output",
-                               len(X))
-        for code, text in _LEG_IK_MISTAKES:
-            if all(_same_rows(S, _closed_form(T, code)) for S, T in zip(got, poses)):
-                return CheckResult(name, False, f"{FAIL} " + text.format(name=name), code, len(X))
+            return self.failure("degrees_output", f"{name} returns degrees: np.deg2rad of it solves the "
+                                "problem. robokin works in radians.", n)
+        named = self.diagnose(_LEG_IK_MISTAKES, lambda code: all(
+            _same_rows(S, _closed_form(T, code)) for S, T in zip(got, poses)), n)
+        if named is not None:
+            return named
         k = next(i for i, (S, R) in enumerate(zip(got, refs)) if not _same_rows(S, R))
         S, T, where = got[k], poses[k], f"{name} at pose {k + 1}"
         if len(S):
             passed, code, msg = _verdict(S, T, where)
             if not passed:
-                return CheckResult(name, False, f"{FAIL} {msg}", code, len(X))
+                return self.failure(code, msg, n)
         n_distinct = _distinct(S)
         if n_distinct < len(S):
-            return CheckResult(name, False, (
-                f"{FAIL} {where} returns {len(S)} rows but only {n_distinct} different "
-                "solutions (angles compared modulo 2π): each solution once, the pose has 8."),
-                "duplicate", len(X))
-        return CheckResult(name, False, (
-            f"{FAIL} {where} (the foot pose of q = {fmt(X[k])}) returns {len(S)} solution(s); "
+            return self.failure("duplicate", (
+                f"{where} returns {len(S)} rows but only {n_distinct} different "
+                "solutions (angles compared modulo 2π): each solution once, the pose has 8."), n)
+        return self.failure("missing", (
+            f"{where} (the foot pose of q = {fmt(X[k])}) returns {len(S)} solution(s); "
             "every one reproduces the pose, but the pose has 8: two knee signs × two q6 "
-            "branches × two hip branches (cos q2 of either sign)."), "missing", len(X))
+            "branches × two hip branches (cos q2 of either sign)."), n)
 
 
 leg_ik = exercise(_CHAPTER, "leg_ik", _LegIKCheck(
     name="my_leg_ik",
-    reference=lambda x: np.zeros(1),
+    signature="my_leg_ik(T) -> (k, 6) array",
     variables=_Q,
-    groups=[("q", list(range(6)))],
     noun="foot poses",
     doc=("Check a function my_leg_ik(T) -> (k, 6) that returns every solution of a foot pose "
          "T (4×4) of the leg, each once (angles compared modulo 2π), at 20 random poses."),
@@ -697,51 +679,36 @@ _REASON_HELP = {
 }
 
 
-class _ReasonCheck(Check):
+class _ReasonCheck(FunctionCheck):
     """``unreachable_reason(T) -> None | "too_far" | "ankle_range" | "joint_limits"``."""
 
-    def evaluate(self, answer: Any) -> CheckResult:
+    def judge(self, answer: Any) -> CheckResult:
         name = self.name
         targets = _reason_targets(self.seed if self.seed is not None else 0)
-        if answer is None:
-            return CheckResult(name, False, f"{FAIL} {name} is None: did you forget to define it?",
-                               "error", len(targets))
-        if not callable(answer):
-            return CheckResult(name, False, f"{FAIL} {name} should be a Python function "
-                               f"unreachable_reason(T) -> None or a reason; got "
-                               f"{type(answer).__name__}.", "constant", len(targets))
+        n = len(targets)
         for k, (T, expected) in enumerate(targets):
-            try:
-                got = answer(T.copy())
-            except Exception as exc:  # noqa: BLE001 - report the student's error
-                return CheckResult(name, False, f"{FAIL} calling {name} at target {k + 1} "
-                                   f"(expected {expected!r}) raised {type(exc).__name__}: {exc}",
-                                   "error", len(targets))
+            got = self.call(answer, (T.copy(),), f"at target {k + 1} (expected {expected!r})", n)
             if got is None or isinstance(got, str):
                 if got == expected:
                     continue
-                where = (f"{FAIL} {name} returns {got!r} for a target whose answer is "
+                where = (f"{name} returns {got!r} for a target whose answer is "
                          f"{expected!r} (foot at {fmt(T[:3, 3], 3)} m)")
                 if got is not None and got not in _REASONS:
-                    return CheckResult(name, False, where + ": the reasons are \"too_far\", "
-                                       "\"ankle_range\" and \"joint_limits\" (None when "
-                                       "reachable within the limits).", "unknown_reason",
-                                       len(targets))
+                    return self.failure("unknown_reason", where + ": the reasons are \"too_far\", "
+                                        "\"ankle_range\" and \"joint_limits\" (None when reachable "
+                                        "within the limits).", n)
                 code = f"{expected}_as_{got}".replace("None", "reachable")
-                return CheckResult(name, False, where + ": " + _REASON_HELP[expected] + ".",
-                                   code, len(targets))
-            return CheckResult(name, False, f"{FAIL} {name} should return None or one of "
-                               "\"too_far\", \"ankle_range\", \"joint_limits\"; got "
-                               f"{type(got).__name__} at target {k + 1}.", "type", len(targets))
-        return CheckResult(name, True, f"{PASS} {name} is correct (checked at {len(targets)} "
-                           "targets: reachable, too far, beyond the ankle's range, beyond the "
-                           "joint limits).", None, len(targets))
+                return self.failure(code, where + ": " + _REASON_HELP[expected] + ".", n)
+            return self.failure("type", f"{name} should return None or one of \"too_far\", "
+                                f"\"ankle_range\", \"joint_limits\"; got {type(got).__name__} at "
+                                f"target {k + 1}.", n)
+        return self.success(f"{name} is correct (checked at {n} targets: reachable, too far, beyond the "
+                            "ankle's range, beyond the joint limits).", n)
 
 
 unreachable_reason = exercise(_CHAPTER, "unreachable_reason", _ReasonCheck(
     name="unreachable_reason",
-    reference=lambda x: np.zeros(1),
-    variables=[Variable("unused", "other", 0.0, 1.0)],
+    signature="unreachable_reason(T) -> None or a reason",
     noun="targets",
     doc=("Check a function unreachable_reason(T) -> None (a solution within the joint limits "
          "exists) or why the foot pose T is out of reach: \"too_far\", \"ankle_range\", "
