@@ -48,7 +48,7 @@ from typing import Any
 import numpy as np
 
 from robokin.check import diagnoses as dg
-from robokin.check._core import Check, CheckResult, MatrixArgumentsCheck, Variable, alternatives
+from robokin.check._core import Check, MatrixArgumentsCheck, Variable, alternatives
 from robokin.check._registry import exercise
 
 __all__ = [
@@ -362,21 +362,7 @@ def _track_variant(**kwargs):
     return lambda x: _pack_track(_track_loop(*_track_args(x), **kwargs))
 
 
-class _PackedTrackCheck(MatrixArgumentsCheck):
-    """The loop's joint angles (N, 7), packed into one vector, compared as a whole."""
-
-    def evaluate(self, answer: Any) -> CheckResult:
-        if callable(answer) and not isinstance(answer, np.ndarray):
-            student = answer
-
-            def packed(*args: Any) -> np.ndarray:
-                return _pack_track(student(*args))
-
-            return super().evaluate(packed)
-        return super().evaluate(answer)
-
-
-tracking_loop = exercise(_CHAPTER, "tracking_loop", _PackedTrackCheck(
+tracking_loop = exercise(_CHAPTER, "tracking_loop", MatrixArgumentsCheck(
     name="track(q0, r_des, v_des, kp, ts)",
     reference=_track_variant(),
     variables=[
@@ -418,6 +404,7 @@ tracking_loop = exercise(_CHAPTER, "tracking_loop", _PackedTrackCheck(
     doc=("Check a resolved-rate tracking loop track(q0, r_des, v_des, kp, ts) that returns "
          "the joint angles at the samples, shape (N, 7), row 0 = q0 (Baxter left arm, "
          "shoulder frame, hand flange)."),
+    pack=_pack_track,
 ))
 
 
