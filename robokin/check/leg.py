@@ -40,7 +40,7 @@ import numpy as np
 
 from robokin.check import diagnoses as dg
 from robokin.check._core import (
-    FAIL, PASS, Check, CheckResult, MatrixArgumentsCheck, Variable, alternatives, fmt, report, show,
+    FAIL, PASS, Check, CheckResult, FunctionCheck, MatrixArgumentsCheck, Variable, alternatives, fmt, report, show,
 )
 from robokin.check._registry import exercise
 from robokin.validation import as_vector, check_positive
@@ -694,64 +694,57 @@ def _same_set(A: np.ndarray, B: np.ndarray, atol: float = 1e-7) -> bool:
     return True
 
 
-class _SolutionSetCheck(Check):
+_CLOSED_FORM_MISTAKES = {
+    "one_branch": (lambda x: _closed_form(x, branches=(1.0,)),
+                   "{name} misses the solutions with the foot above the hip's x axis (α + π, the "
+                   "leg swung over the top): where that branch is in reach, a goal has 4 solutions."),
+    "one_knee": (lambda x: _closed_form(x, knees=(1.0,)),
+                 "{name} returns one knee per leg plane: the planar arm of β and γ reaches a "
+                 "point with the knee bent either way (±γ)."),
+}
+
+
+class _SolutionSetCheck(FunctionCheck):
     """``ik_closed_form(p) -> (m, 3)``: every solution, each once, in any order."""
 
-    def evaluate(self, answer: Any) -> CheckResult:
+    def judge(self, answer: Any) -> CheckResult:
         X = self.sample_points()
-        name = self.name
-        if answer is None:
-            return CheckResult(name, False, f"{FAIL} {name} is None: did you forget to define it?",
-                               "error", len(X))
-        if not callable(answer):
-            return CheckResult(name, False, f"{FAIL} {name} should be a Python function "
-                               f"ik_closed_form(p) -> (m, 3) array; got {type(answer).__name__}.",
-                               "constant", len(X))
+        name, n = self.name, len(X)
         got = []
         for x in X:
-            try:
-                S = np.asarray(answer(np.array(x, dtype=float)), dtype=float)
-            except Exception as exc:  # noqa: BLE001 - report the student's error
-                return CheckResult(name, False, f"{FAIL} calling {name} at p = {fmt(x)} raised "
-                                   f"{type(exc).__name__}: {exc}", "error", len(X))
+            S = np.asarray(self.call(answer, (np.array(x, dtype=float),), f"at p = {fmt(x)}", n), dtype=float)
             if S.size == 0:
                 S = S.reshape(0, 3)
             if S.ndim != 2 or S.shape[1] != 3:
-                return CheckResult(name, False, f"{FAIL} {name} should return an array (m, 3), "
-                                   f"one solution per row (m may be 0); got shape {S.shape} at "
-                                   f"p = {fmt(x)}.", "shape", len(X))
+                return self.failure("shape", f"{name} should return an array (m, 3), one solution per "
+                                    f"row (m may be 0); got shape {S.shape} at p = {fmt(x)}.", n)
             got.append(S)
         refs = [_closed_form(x) for x in X]
         if all(_same_set(S, R) for S, R in zip(got, refs)):
-            return CheckResult(name, True, f"{PASS} {name} is correct (checked at {len(X)} random "
-                               "goals, with 0, 2 and 4 solutions).", None, len(X))
+            return self.success(f"{name} is correct (checked at {n} random goals, with 0, 2 and 4 "
+                                "solutions).", n)
         if all(_same_set(np.deg2rad(S), R) for S, R in zip(got, refs)):
-            return CheckResult(name, False, f"{FAIL} {name} returns degrees: np.deg2rad of it "
-                               "solves the problem. robokin works in radians.", "degrees_output",
-                               len(X))
-        mistakes = [
-            ("one_branch", lambda x: _closed_form(x, branches=(1.0,)),
-             "{name} misses the solutions with the foot above the hip's x axis (α + π, the "
-             "leg swung over the top): where that branch is in reach, a goal has 4 solutions."),
-            ("one_knee", lambda x: _closed_form(x, knees=(1.0,)),
-             "{name} returns one knee per leg plane: the planar arm of β and γ reaches a "
-             "point with the knee bent either way (±γ)."),
-        ]
-        for code, transform, text in mistakes:
-            if all(_same_set(S, np.asarray(transform(x), dtype=float).reshape(-1, 3))
-                   for S, x in zip(got, X)):
-                return CheckResult(name, False, f"{FAIL} " + text.format(name=name), code, len(X))
+            return self.failure("degrees_output", f"{name} returns degrees: np.deg2rad of it solves the "
+                                "problem. robokin works in radians.", n)
+        named = self.diagnose(((code, text) for code, (_, text) in _CLOSED_FORM_MISTAKES.items()),
+                              lambda code: all(_same_set(S, _closed_form_of(code, x)) for S, x in zip(got, X)), n)
+        if named is not None:
+            return named
         k = next(i for i, (S, R) in enumerate(zip(got, refs)) if not _same_set(S, R))
-        return CheckResult(name, False, (
-            f"{FAIL} {name} is not correct: at p = {fmt(X[k])} it returns {len(got[k])} "
+        return self.failure("mismatch", (
+            f"{name} is not correct: at p = {fmt(X[k])} it returns {len(got[k])} "
             f"solution(s), the goal has {len(refs[k])}"
-            + (": " + "; ".join(fmt(row) for row in refs[k]) + " (rad)." if len(refs[k]) else ".")
-        ), "mismatch", len(X))
+            + (": " + "; ".join(fmt(row) for row in refs[k]) + " (rad)." if len(refs[k]) else ".")), n)
+
+
+def _closed_form_of(code: str, x: np.ndarray) -> np.ndarray:
+    """The solutions (m, 3) that the mistake ``code`` of :data:`_CLOSED_FORM_MISTAKES` gives at ``x``."""
+    return np.asarray(_CLOSED_FORM_MISTAKES[code][0](x), dtype=float).reshape(-1, 3)
 
 
 ik_closed_form = exercise(_CHAPTER, "ik_closed_form", _SolutionSetCheck(
     name="ik_closed_form",
-    reference=lambda x: np.zeros(1),
+    signature="ik_closed_form(p) -> (m, 3) array",
     variables=_CLOSED_GOALS,
     samples=40,
     noun="goals",
