@@ -38,6 +38,7 @@ from robokin.check._core import (
     PASS,
     Check,
     CheckResult,
+    FunctionCheck,
     Variable,
     alternatives,
     fmt,
@@ -306,15 +307,8 @@ def _judge(poses: Any, rho: np.ndarray, robot, name: str, tol: float, n: int = 1
                             f"{_modes_text(modes) or 'none'}.")
 
 
-class _ForwardKinematicsCheck:
+class _ForwardKinematicsCheck(FunctionCheck):
     """Check a function ``fk(rho)`` -> one assembly mode (3,) or several (k, 3)."""
-
-    name = "fk(rho)"
-
-    def __init__(self, samples: int = 10, seed: int = 0) -> None:
-        self.samples, self.seed = samples, seed
-        self.__doc__ = ("Check a function fk(rho) -> pose (3,) or poses (k, 3) of the exercise robot: "
-                        "every pose must reproduce the leg lengths (any assembly mode is accepted).")
 
     def leg_lengths(self) -> np.ndarray:
         """The leg lengths (N, 3) at which the answer is tested (from seeded random poses)."""
@@ -323,31 +317,27 @@ class _ForwardKinematicsCheck:
         hi = np.array([v.high for v in _POSE])
         return _robot().inverse_kinematics(lo + (hi - lo) * rng.random((self.samples, 3)))
 
-    def __call__(self, answer: Any, *, raise_on_fail: bool = False, quiet: bool = False) -> CheckResult:
-        return report(self.evaluate(answer), raise_on_fail=raise_on_fail, quiet=quiet)
-
-    def evaluate(self, answer: Any) -> CheckResult:
+    def judge(self, answer: Any) -> CheckResult:
         robot = _robot()
         R = self.leg_lengths()
         n = len(R)
-        if not callable(answer):
-            return CheckResult(self.name, False, f"{FAIL} {self.name} should be a Python function "
-                               f"fk(rho) -> pose; got {type(answer).__name__}.", "constant", n)
         found = 0
         for rho in R:
-            try:
-                out = answer(rho.copy())
-            except Exception as exc:  # noqa: BLE001 - report the student's error
-                return CheckResult(self.name, False, f"{FAIL} calling {self.name} raised "
-                                   f"{type(exc).__name__}: {exc}", "error", n)
+            out = self.call(answer, (rho.copy(),), samples=n)
             res = _judge(out, rho, robot, self.name, 1e-6, n)
             if not res.passed:
-                return CheckResult(self.name, False, res.message + f" (at ρ = {fmt(rho)})",
-                                   res.diagnosis, n)
+                return CheckResult(self.name, False, res.message + f" (at ρ = {fmt(rho)})", res.diagnosis, n)
             found += np.atleast_2d(np.asarray(out, dtype=float)).shape[0]
         total = sum(robot.forward_kinematics(rho).count for rho in R)
-        return CheckResult(self.name, True, f"{PASS} {self.name} is correct (checked at {n} random leg "
-                           f"lengths; you returned {found} of the {total} assembly modes).", None, n)
+        return self.success(f"{self.name} is correct (checked at {n} random leg lengths; you returned "
+                            f"{found} of the {total} assembly modes).", n)
 
 
-forward_kinematics = exercise(_CHAPTER, "forward_kinematics", _ForwardKinematicsCheck())  # type: ignore[arg-type]
+forward_kinematics = exercise(_CHAPTER, "forward_kinematics", _ForwardKinematicsCheck(
+    name="fk(rho)",
+    signature="fk(rho) -> pose",
+    samples=10,
+    noun="leg lengths",
+    doc=("Check a function fk(rho) -> pose (3,) or poses (k, 3) of the exercise robot: "
+         "every pose must reproduce the leg lengths (any assembly mode is accepted)."),
+))
