@@ -359,3 +359,109 @@ def test_grid_is_a_floor_under_a_hanging_arm():
     standing = {c["path"]: c for c in _demo_scene().commands() if c["type"] == "set_transform"}
     assert np.array(standing["/Grid"]["matrix"]).reshape(4, 4).T[2, 3] == pytest.approx(
         np.array(standing["/meshcat"]["matrix"]).reshape(4, 4).T[2, 3])
+
+
+# ------------------------------------------------------------------ ellipsoids
+def _ellipsoid_transform(scene, name="ellipsoid"):
+    """The (4, 4) transform MeshCat receives for the ellipsoid item ``name`` (from the scene's commands)."""
+    (command,) = [c for c in scene.commands() if c["type"] == "set_transform" and c["path"] == f"/meshcat/{name}"]
+    return np.array(command["matrix"]).reshape(4, 4).T     # column-major, as three.js reads it
+
+
+def _random_axes(rng):
+    Q, _ = np.linalg.qr(rng.normal(size=(3, 3)))
+    return Q                                               # det +1 or -1: both are accepted
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_ellipsoid_is_the_unit_sphere_moved_by_axes_times_radii(seed):
+    rng = np.random.default_rng(seed)
+    center, radii, axes = rng.uniform(-1, 1, 3), np.sort(rng.uniform(0.05, 0.5, 3))[::-1], _random_axes(rng)
+    s = Scene()
+    assert s.add_ellipsoid(center, radii, axes, color=0xD62728, opacity=0.5) == "ellipsoid"
+    T = _ellipsoid_transform(s)
+    assert np.allclose(T[:3, :3], axes @ np.diag(radii), atol=1e-6)
+    assert np.allclose(T[:3, 3], center, atol=1e-6) and np.array_equal(T[3], [0, 0, 0, 1])
+    (obj,) = [c["object"] for c in s.commands() if c["type"] == "set_object" and c["path"] == "/meshcat/ellipsoid"]
+    assert obj["geometries"][0]["type"] == "SphereGeometry" and obj["geometries"][0]["radius"] == 1.0
+    assert obj["materials"][0]["color"] == 0xD62728 and obj["materials"][0]["opacity"] == 0.5
+    # the static page holds the sphere and the same transform (in float32)
+    stored = [c for c in _decode(s.to_html()) if c["path"] == "/meshcat/ellipsoid"]
+    assert [c["type"] for c in stored] == ["set_object", "set_transform"]
+    assert np.allclose(np.array(stored[1]["matrix"]).reshape(4, 4).T, T, atol=1e-6)
+    # the camera frames it: the scene's box holds the ellipsoid's farthest points along every base axis
+    from robokin.views.geometry import scene_points
+    P = scene_points(s)
+    reach = np.linalg.norm(axes * radii, axis=1)
+    assert np.allclose(P.max(axis=0), np.maximum(center + reach, 0.0))
+    assert np.allclose(P.min(axis=0), np.minimum(center - reach, 0.0))
+
+
+def test_ellipsoid_of_a_chain_at_its_tool():
+    ur10 = pytest.importorskip("robokin.models").ur10()
+    q = np.array([0.3, -1.2, 1.0, -0.6, 1.1, 0.4])
+    radii, axes = ur10.velocity_ellipsoid(q)
+    s = Scene()
+    s.add_chain(ur10, q)
+    s.add_ellipsoid(ur10.fk(q)[:3, 3], 0.2 * radii, axes, name="velocity")
+    T = _ellipsoid_transform(s, "velocity")
+    sigma = np.linalg.svd(ur10.position_jacobian(q), compute_uv=False)
+    assert np.allclose(np.linalg.norm(T[:3, :3], axis=0), 0.2 * sigma, atol=2e-6)
+    assert np.allclose(T[:3, 3], ur10.fk(q)[:3, 3], atol=1e-6)
+    assert "ellipsoid 'velocity'" in repr(s)
+
+
+@pytest.mark.parametrize("radii, drawn", [
+    ([0.3, 0.1, 0.0], [0.3, 0.1, 3e-4]),           # a velocity ellipsoid at a singularity: a flat disc
+    ([0.2, 0.0, 0.0], [0.2, 2e-4, 2e-4]),          # a needle
+    ([1e-7, 0.0, 0.0], [1e-5, 1e-5, 1e-5]),        # shorter than a 6-decimal transform keeps
+])
+def test_ellipsoid_zero_radius_is_drawn_flat_not_singular(radii, drawn):
+    s = Scene()
+    s.add_ellipsoid([0.1, 0.2, 0.3], radii, np.eye(3))
+    T = _ellipsoid_transform(s)
+    assert np.allclose(T[:3, :3], np.diag(drawn), atol=1e-12)
+    assert np.all(np.linalg.norm(T[:3, :3], axis=0) > 0)       # three.js decomposes it without NaN
+    assert np.array_equal(s.item("ellipsoid").radii, radii)    # the record keeps what was given
+
+
+@pytest.mark.parametrize("arguments, error, match", [
+    (([0, 0], [1, 1, 1], np.eye(3)), ValueError, r"center must have shape \(3,\).*got shape \(2,\)"),
+    (([0, 0, np.nan], [1, 1, 1], np.eye(3)), ValueError, "center must be finite"),
+    (("origin", [1, 1, 1], np.eye(3)), TypeError, "center must be a position"),
+    (([0, 0, 0], [1, 1], np.eye(3)), ValueError, r"radii must have shape \(3,\).*got shape \(2,\)"),
+    (([0, 0, 0], [1, -1, 1], np.eye(3)), ValueError, r"radii must be non-negative.*-1\.0"),
+    (([0, 0, 0], [1, np.nan, 1], np.eye(3)), ValueError, "radii must be non-negative"),
+    (([0, 0, 0], [np.inf, 1, 1], np.eye(3)), ValueError, "infinite semi-axis.*np.minimum"),
+    (([0, 0, 0], [0, 0, 0], np.eye(3)), ValueError, "at least one positive"),
+    (([0, 0, 0], "big", np.eye(3)), TypeError, "radii must be three semi-axes"),
+    (([0, 0, 0], [1, 1, 1], np.eye(2)), ValueError, r"axes must have shape \(3, 3\).*got shape \(2, 2\)"),
+    (([0, 0, 0], [1, 1, 1], 2 * np.eye(3)), ValueError, "axes must hold orthonormal unit axes.*3"),
+    (([0, 0, 0], [1, 1, 1], [[1, 1, 0], [0, 1, 0], [0, 0, 1]]), ValueError, "orthonormal"),
+    (([0, 0, 0], [2e6, 1, 1], np.eye(3)), ValueError, "reaches 2e\\+06 m"),
+])
+def test_ellipsoid_bad_input_names_the_argument(arguments, error, match):
+    s = Scene()
+    with pytest.raises(error, match=match):
+        s.add_ellipsoid(*arguments)
+    assert s.items == []
+
+
+def test_ellipsoid_bad_style_and_name():
+    s = Scene()
+    s.add_ellipsoid([0, 0, 0], [1, 1, 1], np.eye(3))
+    with pytest.raises(ValueError, match="already used"):
+        s.add_ellipsoid([0, 0, 0], [1, 1, 1], np.eye(3), name="ellipsoid")
+    with pytest.raises(ValueError, match=r"opacity must be in \(0, 1\]"):
+        s.add_ellipsoid([0, 0, 0], [1, 1, 1], np.eye(3), opacity=0.0)
+    with pytest.raises(TypeError, match="color"):
+        s.add_ellipsoid([0, 0, 0], [1, 1, 1], np.eye(3), color="blue")
+    assert s.add_ellipsoid([0, 0, 0], [1, 1, 1], np.eye(3)) == "ellipsoid_2"
+
+
+def test_ellipsoid_in_the_matplotlib_figure(mpl):
+    s = Scene()
+    s.add_ellipsoid([0.5, 0, 0.2], [0.3, 0.2, 0.0], np.eye(3))
+    ax = s.plot()
+    assert len(ax.lines) == 3                      # its three principal ellipses, the flat one too
+    assert np.isclose(max(line.get_data_3d()[0].max() for line in ax.lines), 0.8)

@@ -12,10 +12,10 @@ import numpy as np
 
 from robokin.chains.protocol import DrawableChain
 from robokin.errors import DomainError
-from robokin.views.record import ChainItem, PathItem, PointsItem, SceneRecord, TargetItem
+from robokin.views.record import ChainItem, EllipsoidItem, PathItem, PointsItem, SceneRecord, TargetItem
 
-__all__ = ["chain_frames", "chain_frames_batch", "chain_layout", "mesh_box_points", "quaternion_xyzw",
-           "sample_configurations", "scene_bounds", "scene_floor", "scene_points", "scene_scale"]
+__all__ = ["chain_frames", "chain_frames_batch", "chain_layout", "ellipsoid_box_points", "mesh_box_points",
+           "quaternion_xyzw", "sample_configurations", "scene_bounds", "scene_floor", "scene_points", "scene_scale"]
 
 
 def chain_frames(chain: DrawableChain, q: np.ndarray) -> np.ndarray:
@@ -159,6 +159,7 @@ def scene_scale(scene: SceneRecord) -> float:
         return max(reaches)
     pts = [it.points for it in scene.items if isinstance(it, (PathItem, PointsItem))]
     pts += [it.T[None, :3, 3] for it in scene.items if isinstance(it, TargetItem)]
+    pts += [ellipsoid_box_points(it) for it in scene.items if isinstance(it, EllipsoidItem)]
     if pts:
         ext = float(np.abs(np.vstack(pts)).max())
         if ext > 0:
@@ -208,7 +209,8 @@ def scene_floor(scene: SceneRecord, points: np.ndarray | None = None) -> float:
 
 
 def scene_points(scene: SceneRecord) -> np.ndarray:
-    """Every point drawn: the origin, the chains' frames (over their animations), mesh boxes, targets, paths.
+    """Every point drawn: the origin, the chains' frames (over their animations), mesh boxes, targets, paths,
+    the boxes around ellipsoids.
 
     Parameters
     ----------
@@ -234,7 +236,29 @@ def scene_points(scene: SceneRecord) -> np.ndarray:
             pts.append(it.T[None, :3, 3])
         elif isinstance(it, (PathItem, PointsItem)):
             pts.append(it.points)
+        elif isinstance(it, EllipsoidItem):
+            pts.append(ellipsoid_box_points(it))
     return np.vstack(pts)
+
+
+def ellipsoid_box_points(item: EllipsoidItem) -> np.ndarray:
+    r"""Two opposite corners of the smallest box, along the base axes, around an ellipsoid.
+
+    The ellipsoid :math:`\mathbf{c} + \mathbf{M}\mathbf{s}`, :math:`\|\mathbf{s}\| = 1`, with
+    :math:`\mathbf{M} = \mathbf{A}\,\mathrm{diag}(\mathbf{r})`, reaches along base axis :math:`k`
+    the half-width :math:`\|\mathbf{M}_{k,:}\|` (the largest of :math:`\mathbf{M}_{k,:}\mathbf{s}`).
+
+    Parameters
+    ----------
+    item : EllipsoidItem
+
+    Returns
+    -------
+    numpy.ndarray, shape (2, 3)
+        The lowest and the highest corner (m).
+    """
+    half = np.linalg.norm(item.axes * item.radii, axis=1)
+    return np.stack([item.center - half, item.center + half])
 
 
 def mesh_box_points(meshes: Any, F: np.ndarray) -> list[np.ndarray]:

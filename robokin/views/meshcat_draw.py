@@ -25,6 +25,10 @@ hold byte-identical mesh commands (their path is the same for the same item name
 which the book stores once.  A frame whose mesh files could not be read keeps its
 stick-figure parts.
 
+An ellipsoid item is MeshCat's unit sphere (``SphereGeometry``) at ``/meshcat/<item>``,
+shaped by the node's transform :func:`ellipsoid_transform`,
+``axes @ diag(radii)`` and its centre.
+
 Sizes are proportional to the chain's reach (sum of link lengths).  Commands are
 plain dicts in MeshCat's wire format; ids are derived from paths, so the output is
 deterministic.  Only numpy is needed here (``umsgpack`` is used for packing).
@@ -50,9 +54,10 @@ from robokin.views.geometry import (
     scene_points,
     scene_scale,
 )
-from robokin.views.record import ChainItem, PathItem, PointsItem, SceneRecord, TargetItem
+from robokin.views.record import ChainItem, EllipsoidItem, PathItem, PointsItem, SceneRecord, TargetItem
 
-__all__ = ["animation_command", "chain_commands", "chain_transforms", "scene_commands", "set_transform_command"]
+__all__ = ["animation_command", "chain_commands", "chain_transforms", "ellipsoid_transform", "scene_commands",
+           "set_transform_command"]
 # chain_layout, quaternion_xyzw, scene_bounds, scene_floor and scene_scale live in robokin.views.geometry;
 # they are imported here too for code written when they lived here.
 
@@ -66,6 +71,10 @@ AXIS_COLORS = (0xE41A1C, 0x2CA02C, 0x1F77B4)   # x red, y green, z blue
 _DIGITS = 6
 #: Up to this many points, ``Scene.add_points`` draws spheres; more are one point cloud (squares).
 SPHERES_UP_TO = 500
+#: An ellipsoid's semi-axis shorter than this fraction of its longest one is drawn at that length.
+FLAT_FRACTION = 1e-3
+#: ... and one shorter than this (m) at this length: a transform of 6 decimals keeps it non-zero.
+SHORTEST_DRAWN_RADIUS = 1e-5
 
 
 def _r(x):
@@ -226,6 +235,35 @@ def set_transform_command(path: str, T: np.ndarray) -> dict:
         ``{"type": "set_transform", "path": path, "matrix": [16 floats, column-major]}``.
     """
     return {"type": "set_transform", "path": path, "matrix": _matrix_list(T)}
+
+
+def ellipsoid_transform(center: np.ndarray, radii: np.ndarray, axes: np.ndarray) -> np.ndarray:
+    r"""The transform that makes MeshCat's unit sphere the ellipsoid: :math:`\mathbf{A}\,\mathrm{diag}(\mathbf{r})`.
+
+    The viewer splits a node's transform into position, rotation and scale (three.js
+    ``Matrix4.decompose``), which a zero scale turns into NaN: a semi-axis shorter than
+    :data:`FLAT_FRACTION` times the longest one, or than :data:`SHORTEST_DRAWN_RADIUS`, is
+    drawn at that length (a flat disc for a velocity ellipsoid at a singularity). A
+    reflection (:math:`\det\mathbf{A} = -1`, as singular vectors may come) is kept: the
+    viewer splits it too, and the sphere's mirror image is itself.
+
+    Parameters
+    ----------
+    center : numpy.ndarray, shape (3,)
+        The centre (m).
+    radii : numpy.ndarray, shape (3,)
+        Semi-axes (m), finite, ≥ 0, the largest positive.
+    axes : numpy.ndarray, shape (3, 3)
+        Orthonormal unit axes as columns.
+
+    Returns
+    -------
+    numpy.ndarray, shape (4, 4)
+        ``[[A @ diag(drawn radii), center], [0, 0, 0, 1]]`` (m).
+    """
+    radii = np.asarray(radii, dtype=float)
+    drawn = np.maximum(radii, max(FLAT_FRACTION * float(radii.max()), SHORTEST_DRAWN_RADIUS))
+    return _pose(np.asarray(axes, dtype=float), np.asarray(center, dtype=float), scale=drawn)
 
 
 def _triad_commands(path, size, opacity=1.0, label=None):
@@ -506,6 +544,12 @@ def scene_commands(scene: SceneRecord) -> list[dict]:
         elif isinstance(it, PathItem):
             path = f"{ROOT}/{it.name}"
             cmds.append(_set_object(path, _line(path, it.points, it.color)))
+        elif isinstance(it, EllipsoidItem):
+            path = f"{ROOT}/{it.name}"
+            sphere = {"type": "SphereGeometry", "radius": 1.0, "widthSegments": 32, "heightSegments": 16}
+            cmds.append(_set_object(path, _object(path, sphere, _material("MeshPhongMaterial", it.color,
+                                                                          it.opacity))))
+            cmds.append(set_transform_command(path, ellipsoid_transform(it.center, it.radii, it.axes)))
     for anim in scene.animations:
         if anim.trace:
             cmds += _trace_commands(scene, anim)

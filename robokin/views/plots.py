@@ -17,8 +17,9 @@ from robokin.chains.protocol import DrawableChain
 from robokin.errors import DomainError, ShapeError
 from robokin.views import optional
 from robokin.views.arguments import as_chain, as_numbers
-from robokin.views.geometry import scene_scale
-from robokin.views.record import ChainItem, PathItem, PointsItem, SceneRecord, TargetItem
+from robokin.views.ellipsoids import ellipsoid_wireframe
+from robokin.views.geometry import ellipsoid_box_points, scene_scale
+from robokin.views.record import ChainItem, EllipsoidItem, PathItem, PointsItem, SceneRecord, TargetItem
 
 __all__ = ["PLOT_LIMIT", "SINGULAR_COLOR", "plot_chain", "plot_planar", "plot_history", "plot_scene"]
 
@@ -420,7 +421,8 @@ def plot_scene(scene: SceneRecord, ax: Any = None, *, frames: bool | None = None
     """matplotlib version of a :class:`~robokin.views.Scene` (3D stick figures).
 
     Chains at their configuration (the first step of an animation), targets as
-    triads, points as dots, paths and animation traces as lines.
+    triads, points as dots, paths and animation traces as lines, ellipsoids as their
+    three principal ellipses.
 
     Parameters
     ----------
@@ -466,6 +468,10 @@ def plot_scene(scene: SceneRecord, ax: Any = None, *, frames: bool | None = None
         elif isinstance(it, PathItem):
             ax.plot(it.points[:, 0], it.points[:, 1], it.points[:, 2], "-", color="0.3", lw=1.2)
             pts.append(it.points)
+        elif isinstance(it, EllipsoidItem):
+            for curve in ellipsoid_wireframe(it.radii, it.axes, it.center):
+                ax.plot(curve[:, 0], curve[:, 1], curve[:, 2], "-", color=f"#{it.color:06x}", lw=1.2)
+            pts.append(ellipsoid_box_points(it))
     for anim in scene.animations:
         item = scene.chain_item(anim.chain_name)
         if anim.trace:

@@ -16,8 +16,8 @@ import numpy as np
 
 from robokin.chains.protocol import DrawableChain
 
-__all__ = ["DEFAULT_HEIGHT", "AnimationItem", "ChainItem", "Item", "PathItem", "PointsItem", "SceneOptions",
-           "SceneRecord", "TargetItem"]
+__all__ = ["DEFAULT_HEIGHT", "AnimationItem", "ChainItem", "EllipsoidItem", "Item", "PathItem", "PointsItem",
+           "SceneOptions", "SceneRecord", "TargetItem"]
 
 #: Height (CSS pixels) of a scene shown in a page.
 DEFAULT_HEIGHT = 420
@@ -124,6 +124,34 @@ class PathItem:
 
 
 @dataclass
+class EllipsoidItem:
+    r"""A solid ellipsoid: the unit sphere moved by :math:`\mathbf{A}\,\mathrm{diag}(\mathbf{r})` and ``center``.
+
+    Attributes
+    ----------
+    name : str
+        Item name, unique in its scene.
+    center : numpy.ndarray, shape (3,)
+        Its centre in the base frame (m).
+    radii : numpy.ndarray, shape (3,)
+        Its semi-axes (m), finite, ≥ 0, at least one positive.
+    axes : numpy.ndarray, shape (3, 3)
+        Orthonormal unit axes as columns, in the order of ``radii`` (base frame).
+    color : int
+        ``0xRRGGBB``.
+    opacity : float
+        In (0, 1]; below 1 the ellipsoid is translucent.
+    """
+
+    name: str
+    center: np.ndarray
+    radii: np.ndarray
+    axes: np.ndarray
+    color: int = 0x1F77B4
+    opacity: float = 0.4
+
+
+@dataclass
 class AnimationItem:
     """A joint trajectory played by a chain item.
 
@@ -149,7 +177,7 @@ class AnimationItem:
 
 
 #: Any item of a scene.
-Item = ChainItem | TargetItem | PointsItem | PathItem
+Item = ChainItem | TargetItem | PointsItem | PathItem | EllipsoidItem
 
 
 @dataclass
@@ -204,7 +232,7 @@ class SceneRecord:
 
         Returns
         -------
-        ChainItem, TargetItem, PointsItem or PathItem
+        ChainItem, TargetItem, PointsItem, PathItem or EllipsoidItem
 
         Raises
         ------

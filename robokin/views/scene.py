@@ -1,4 +1,4 @@
-"""A recorded 3D scene: chains, ghosts, targets, points, paths and animations.
+"""A recorded 3D scene: chains, ghosts, targets, points, paths, ellipsoids and animations.
 
 A :class:`Scene` only *records* what should be drawn; it imports neither MeshCat
 nor matplotlib.  The backends turn the record into pictures:
@@ -30,6 +30,7 @@ from robokin.views.arguments import (
     as_configuration,
     as_height,
     as_length,
+    as_numbers,
     as_opacity,
     as_points,
     as_pose,
@@ -48,6 +49,7 @@ from robokin.views.record import (
     DEFAULT_HEIGHT,
     AnimationItem,
     ChainItem,
+    EllipsoidItem,
     PathItem,
     PointsItem,
     SceneOptions,
@@ -374,6 +376,80 @@ class Scene(SceneRecord):
         self.items.append(item)
         return item.name
 
+    def add_ellipsoid(self, center: Any, radii: Any, axes: Any, *, name: str | None = None,
+                      color: Any = 0x1F77B4, opacity: float = 0.4) -> str:
+        r"""A solid ellipsoid: the points :math:`\mathbf{c} + \mathbf{A}\,\mathrm{diag}(\mathbf{r})\,\mathbf{s}`,
+        :math:`\|\mathbf{s}\| \le 1`.
+
+        ``radii`` and ``axes`` are what :meth:`~robokin.chains.SerialChain.velocity_ellipsoid`
+        and :meth:`~robokin.chains.SerialChain.force_ellipsoid` return, times the drawing's
+        scale (m per m/s, m per N, ...), so that a velocity ellipsoid is drawn at the tool with::
+
+            radii, axes = chain.velocity_ellipsoid(q)
+            scene.add_ellipsoid(chain.fk(q)[:3, 3], 0.2 * radii, axes)   # 0.2 m per m/s
+
+        MeshCat draws its unit sphere moved by the transform
+        :math:`\mathbf{A}\,\mathrm{diag}(\mathbf{r})` and the centre
+        (:func:`~robokin.views.meshcat_draw.ellipsoid_transform`); a zero semi-axis (a velocity
+        ellipsoid at a singularity) is drawn as a flat disc, 10⁻³ times the longest semi-axis
+        thick. An infinite semi-axis (a force ellipsoid at a singularity: any force along it is
+        held with no torque) cannot be drawn and raises :class:`~robokin.errors.DomainError`;
+        clip it first, e.g. ``np.minimum(radii, 0.5)``, and say so in the figure's text.
+
+        Parameters
+        ----------
+        center : array_like, shape (3,)
+            The centre in the base frame (m), e.g. the tool position ``chain.fk(q)[:3, 3]``.
+        radii : array_like, shape (3,)
+            The semi-axes (m), finite and ≥ 0, at least one positive; in the order of the
+            columns of ``axes`` (robokin's ellipsoids give them descending).
+        axes : array_like, shape (3, 3)
+            Orthonormal unit axes as the columns, in the base frame (a reflection,
+            ``det = -1``, is accepted: it draws the same ellipsoid).
+        name : str, optional
+            Item name; default ``"ellipsoid"`` (then ``"ellipsoid_2"``, ...).
+        color : int, optional
+            ``0xRRGGBB`` (default blue).
+        opacity : float, optional
+            In (0, 1]; the default 0.4 shows the robot through it.
+
+        Returns
+        -------
+        str
+            The item's name.
+
+        Raises
+        ------
+        ShapeError
+            ``center``, ``radii`` or ``axes`` of another shape.
+        DomainError
+            NaN, a negative or infinite radius, radii all zero, axes that are not orthonormal
+            (:math:`\mathbf{A}^\mathsf{T}\mathbf{A} \ne \mathbf{I}` within 10⁻⁶), an ellipsoid
+            reaching beyond :data:`~robokin.views.arguments.MAX_COORDINATE`, an opacity outside
+            (0, 1], a colour outside [0, 0xFFFFFF] or a taken name.
+        TypeError
+            Arguments that are not numbers, or ``color`` not an int.
+        """
+        c = as_numbers(center, "center", "a position of shape (3,)")
+        if c.shape != (3,):
+            raise ShapeError(f"center must have shape (3,) (a position in m); got shape {c.shape}")
+        r = _as_radii(radii)
+        A = as_numbers(axes, "axes", "unit axes as the columns of a (3, 3) array")
+        if A.shape != (3, 3):
+            raise ShapeError(f"axes must have shape (3, 3) (unit axes as columns); got shape {A.shape}")
+        defect = float(np.abs(A.T @ A - np.eye(3)).max())
+        if defect > 1e-6:
+            raise DomainError(f"axes must hold orthonormal unit axes as its columns (axesᵀ axes = I within 1e-06); "
+                              f"got axesᵀ axes - I with max |entry| {defect:.3g}")
+        reach = np.abs(c) + np.linalg.norm(A * r, axis=1)
+        if reach.max() > arguments.MAX_COORDINATE:
+            raise DomainError(f"center and radii: the ellipsoid reaches {reach.max():.3g} m from the origin, more "
+                              f"than a scene draws ({arguments.MAX_COORDINATE:g} m)")
+        item = EllipsoidItem(self._name(name, "ellipsoid"), c.copy(), r, A.copy(), as_color(color),
+                             as_opacity(opacity))
+        self.items.append(item)
+        return item.name
+
     def animate(self, chain: DrawableChain | str, trajectory: Any, dt: float = 0.05, *, times: Any = None,
                 trace: bool = True, name: str | None = None, trace_color: Any = 0xFFFF66, play: bool = True,
                 loop: bool = False) -> str:
@@ -690,6 +766,27 @@ def show(chain: DrawableChain | None = None, q: Any = None, *, targets: Sequence
     if trajectory is not None:
         scene.animate("robot", trajectory, dt=dt)
     scene.show(mode=mode, height=height)
+
+
+def _as_radii(radii: Any) -> np.ndarray:
+    """The semi-axes of an ellipsoid, (3,), finite, ≥ 0, one positive (an infinite one named as such)."""
+    if isinstance(radii, (str, bytes, dict, set)) or radii is None:
+        raise TypeError(f"radii must be three semi-axes (m); got {type(radii).__name__} {radii!r}"[:200])
+    try:   # not as_numbers: an infinite radius gets its own message
+        r = np.array(radii, dtype=float)
+    except (TypeError, ValueError):
+        raise TypeError(f"radii must be three semi-axes (m), numbers; got {type(radii).__name__} "
+                        f"{radii!r}"[:200]) from None
+    if r.shape != (3,):
+        raise ShapeError(f"radii must have shape (3,) (three semi-axes in m); got shape {r.shape}")
+    if np.isnan(r).any() or (r < 0).any():
+        raise DomainError(f"radii must be non-negative numbers (m); got {r.tolist()}")
+    if np.isinf(r).any():
+        raise DomainError(f"radii has an infinite semi-axis ({r.tolist()}), as a force ellipsoid has at a "
+                          "singularity, which no scene can draw: clip it first, e.g. np.minimum(radii, 0.5)")
+    if not (r > 0).any():
+        raise DomainError(f"radii must have at least one positive semi-axis; got {r.tolist()}")
+    return r
 
 
 def _as_list(items, name, stacked=2):
