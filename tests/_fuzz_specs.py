@@ -918,6 +918,16 @@ class _Pose(Tf):
         return super().corrupt(kind, ctx)
 
 
+class _Axes(Rot):
+    """Unit axes as columns (3, 3): a rotation, or a reflection (singular vectors come as either)."""
+
+    def __init__(self, name: str) -> None:
+        super().__init__(name, batch=False)
+
+    def default_bad(self, ctx: Ctx) -> tuple[str, ...]:
+        return tuple(kind for kind in super().default_bad(ctx) if kind != "reflect")
+
+
 def _view_chain(ctx: Ctx) -> Any:
     return models.planar_two_link()
 
@@ -960,6 +970,9 @@ def view_specs() -> list[Spec]:
              {"radius": Num("radius", positive=True, optional=True)}, finite=False, weight=0.3),
         Spec("views.Scene.add_path", scene_call("add_path"), [_Points("path", (3,), labels=("points",))],
              finite=False, weight=0.3),
+        Spec("views.Scene.add_ellipsoid", scene_call("add_ellipsoid"),
+             [Arr("center", (3,), batch=False), Arr("radii", (3,), batch=False, lo=0.0, hi=1.0, sign=1),
+              _Axes("axes")], finite=False, weight=0.2),
         Spec("views.Scene.animate", scene_call("animate"), [chain, steps],
              {"dt": Num("dt", 0.01, 0.5, positive=True)}, finite=False, weight=0.3),
         Spec("views.show", views.show, [chain, q],
