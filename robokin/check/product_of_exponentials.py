@@ -40,7 +40,7 @@ from typing import Any
 import numpy as np
 
 from robokin.check import diagnoses as dg
-from robokin.check._core import Check, CheckResult, MatrixArgumentsCheck, Variable, alternatives
+from robokin.check._core import Check, MatrixArgumentsCheck, Variable, alternatives
 from robokin.check._registry import exercise
 
 __all__ = [
@@ -662,19 +662,9 @@ def _configuration(result: Any) -> np.ndarray:
     return np.asarray(result, dtype=float)
 
 
-class _PoseReachedCheck(MatrixArgumentsCheck):
-    """A :class:`MatrixArgumentsCheck` of an IK loop: the pose its joint angles reach is compared."""
-
-    def evaluate(self, answer: Any) -> CheckResult:
-        """Compare ``fk(theta)`` of the answer's ``theta`` with the goal (see :meth:`Check.evaluate`)."""
-        if callable(answer) and not isinstance(answer, np.ndarray):
-            student = answer
-
-            def reached(*args: Any) -> np.ndarray:
-                return np.asarray(_ur10().fk(_configuration(student(*args))), dtype=float)
-
-            return super().evaluate(reached)
-        return super().evaluate(answer)
+def _pose_reached(result: Any) -> np.ndarray:
+    """The pose (4×4) that the joint angles of an answer ``(theta, iterations)`` reach."""
+    return np.asarray(_ur10().fk(_configuration(result)), dtype=float)
 
 
 def _ik_mistakes():
@@ -689,7 +679,7 @@ def _ik_mistakes():
     ]
 
 
-ik_body = exercise(_CHAPTER, "ik_body", _PoseReachedCheck(
+ik_body = exercise(_CHAPTER, "ik_body", MatrixArgumentsCheck(
     name="ik_body(M, S_list, T_goal, theta_start)",
     reference=_ik_reference,
     variables=[*_Q, *_OFFSET],
@@ -701,4 +691,5 @@ ik_body = exercise(_CHAPTER, "ik_body", _PoseReachedCheck(
     hint=("The pose reached, T(θ) of the angles returned, is compared with the goal; Newton's step "
           "solves J_b(θ) Δθ = V_b with [V_b] = log(T(θ)⁻¹ T_goal)."),
     doc="Check ik_body(M, S_list, T_goal, theta_start) -> (theta, iterations): T(theta) must be the goal.",
+    pack=_pose_reached,
 ))
