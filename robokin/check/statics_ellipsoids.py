@@ -30,7 +30,7 @@ taken for semi-axes (squared lengths), force lengths not inverted, the radii in 
 from __future__ import annotations
 
 from collections.abc import Callable
-from functools import lru_cache
+from functools import lru_cache, partial
 from typing import Any
 
 import numpy as np
@@ -123,23 +123,26 @@ def _canonical(pair: Any, name: str) -> np.ndarray:
 
 
 class _EllipseCheck(MatrixArgumentsCheck):
-    """A check of a function ``f(J) -> (radii, axes)``, compared in canonical form."""
+    """A check of a function ``f(J) -> (radii, axes)``, compared in canonical form (``pack``)."""
 
     def evaluate(self, answer: Any) -> CheckResult:
         if callable(answer) and not isinstance(answer, np.ndarray):
-            student = answer
             try:   # the form of the pair, told as such (not as an error raised by the answer)
-                _canonical(student(_jacobian(self.sample_points()[0])), self.name)
+                _canonical(answer(_jacobian(self.sample_points()[0])), self.name)
             except AnswerError as exc:
                 return self._fail(exc.code, exc.message, 1)
             except Exception:  # noqa: BLE001 - the evaluation below reports the student's error
                 pass
-
-            def canonical_answer(J: np.ndarray) -> np.ndarray:
-                return _canonical(student(J), self.name)
-
-            return super().evaluate(canonical_answer)
         return super().evaluate(answer)
+
+
+def _number(value: Any) -> Any:
+    """A value of one entry ((), (1,), (1, 1)) as a number; any other value as it is."""
+    try:
+        array = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        return value   # reported by the check as it is
+    return array.reshape(()) if array.size == 1 else value
 
 
 def _as_number(answer: Any) -> Any:
@@ -148,25 +151,13 @@ def _as_number(answer: Any) -> Any:
         return answer
 
     def number(*arguments: Any) -> Any:
-        value = answer(*arguments)
-        try:
-            array = np.asarray(value, dtype=float)
-        except (TypeError, ValueError):
-            return value   # reported by the check as it is
-        return array.reshape(()) if array.size == 1 else value
+        return _number(answer(*arguments))
 
     return number
 
 
 class _ScalarCheck(Check):
     """A check of a function of scalars with a number for value."""
-
-    def evaluate(self, answer: Any) -> CheckResult:
-        return super().evaluate(_as_number(answer))
-
-
-class _ScalarArgumentsCheck(MatrixArgumentsCheck):
-    """A check of a function of arrays with a number for value."""
 
     def evaluate(self, answer: Any) -> CheckResult:
         return super().evaluate(_as_number(answer))
@@ -255,6 +246,7 @@ def _ellipse_check(name: str, force: bool, doc: str) -> _EllipseCheck:
         noun="Jacobians of the arm",
         arguments=_one_jacobian,
         signature=f"{name}(J) -> (radii (m,), axes (m, m))",
+        pack=partial(_canonical, name=name),
         hint=("radii 1/σ_i descending, axes u_i (columns) from J = U Σ Vᵀ" if force
               else "radii σ_i descending, axes u_i (columns) from J = U Σ Vᵀ"),
         doc=doc,
@@ -374,7 +366,7 @@ def _sigma(x: np.ndarray) -> np.ndarray:
     return np.linalg.svd(_jacobian(x), compute_uv=False)
 
 
-manipulability = exercise(_CHAPTER, "manipulability", _ScalarArgumentsCheck(
+manipulability = exercise(_CHAPTER, "manipulability", MatrixArgumentsCheck(
     name="manipulability",
     reference=lambda x: np.sqrt(np.linalg.det(_jacobian(x) @ _jacobian(x).T)),
     variables=_Q,
@@ -391,6 +383,7 @@ manipulability = exercise(_CHAPTER, "manipulability", _ScalarArgumentsCheck(
     arguments=_one_jacobian,
     signature="manipulability(J) -> float",
     doc="Check manipulability(J) -> w = √det(J Jᵀ).",
+    pack=_number,
 ))
 
 w_formula = exercise(_CHAPTER, "w_formula", _ScalarCheck(
@@ -410,7 +403,7 @@ w_formula = exercise(_CHAPTER, "w_formula", _ScalarCheck(
     doc="Check w_formula(q2, l1, l2): the two-link arm's manipulability in closed form.",
 ))
 
-condition_number = exercise(_CHAPTER, "condition_number", _ScalarArgumentsCheck(
+condition_number = exercise(_CHAPTER, "condition_number", MatrixArgumentsCheck(
     name="condition_number",
     reference=lambda x: _sigma(x)[0] / _sigma(x)[-1],
     variables=_Q,
@@ -427,6 +420,7 @@ condition_number = exercise(_CHAPTER, "condition_number", _ScalarArgumentsCheck(
     arguments=_one_jacobian,
     signature="condition_number(J) -> float",
     doc="Check condition_number(J) -> κ = σ_max / σ_min.",
+    pack=_number,
 ))
 
 
@@ -439,7 +433,7 @@ def _push_reference(x: np.ndarray) -> np.ndarray:
     return np.asarray(1.0 / np.linalg.norm(_jacobian(x).T @ _direction(x)))
 
 
-push_capacity = exercise(_CHAPTER, "push_capacity", _ScalarArgumentsCheck(
+push_capacity = exercise(_CHAPTER, "push_capacity", MatrixArgumentsCheck(
     name="push_capacity",
     reference=_push_reference,
     variables=[*_Q, _ANGLE_D],
@@ -459,6 +453,7 @@ push_capacity = exercise(_CHAPTER, "push_capacity", _ScalarArgumentsCheck(
     arguments=lambda x: (_jacobian(x), _direction(x)),
     signature="push_capacity(J, d) -> float",
     doc="Check push_capacity(J, d) -> 1/‖Jᵀ d‖, the largest force along the unit d with ‖Jᵀ F‖ ≤ 1.",
+    pack=_number,
 ))
 
 
