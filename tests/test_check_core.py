@@ -310,6 +310,8 @@ def test_matrix_arguments_check_compares_the_packed_value():
     assert check_pair(lambda v: (v, v.sum()), quiet=True).diagnosis == "mismatch"
     r = check_pair(lambda v: 2 * v, quiet=True)
     assert r.diagnosis == "error" and "raised TypeError: return a pair; got ndarray" in r.message
+    assert check_pair([1.0, 2.0], quiet=True).message == (
+        "✘ pair(v) should be a Python function pair(v) -> (2 v, sum); got list.")
 
 
 def test_custom_mistake_and_alternatives():

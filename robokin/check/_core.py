@@ -70,6 +70,7 @@ __all__ = [
     "Check",
     "MatrixArgumentsCheck",
     "FunctionCheck",
+    "not_a_function",
     "report",
     "mistake",
     "alternatives",
@@ -849,6 +850,27 @@ class Check:
         return head + ex + (f" {self.hint}" if self.hint else "")
 
 
+def not_a_function(name: str, signature: str, answer: Any) -> CheckResult:
+    """The verdict on an answer that should be a function and is not (diagnosis ``"constant"``).
+
+    Parameters
+    ----------
+    name : str
+        The check's name.
+    signature : str
+        The expected call, e.g. ``"weighted_pinv(J, W) -> (n, m) array"``.
+    answer : object
+        What came in instead.
+
+    Returns
+    -------
+    CheckResult
+        ``"✘ <name> should be a Python function <signature>; got <type>."``, 0 samples.
+    """
+    return CheckResult(name, False, f"{FAIL} {name} should be a Python function {signature}; "
+                       f"got {type(answer).__name__}.", "constant", 0)
+
+
 @dataclass
 class MatrixArgumentsCheck(Check):
     """A :class:`Check` whose answer is a function of arrays (matrices, vectors, gains).
@@ -858,7 +880,7 @@ class MatrixArgumentsCheck(Check):
     ``answer(*arguments(x))``, and its value, passed through ``pack`` when there is one,
     is compared with ``reference(x)``. Anything that is not a function fails with a
     message quoting ``signature``; ``None`` goes to :meth:`Check.evaluate`, which
-    explains it.
+    explains it. ``groups`` plays no part: the answer's arguments are ``arguments(x)``.
 
     Parameters
     ----------
@@ -889,12 +911,7 @@ class MatrixArgumentsCheck(Check):
 
             return super().evaluate(call_with_arguments)
         if answer is not None and not callable(answer):
-            return CheckResult(
-                self.name, False,
-                f"{FAIL} {self.name} should be a Python function {self.signature}; "
-                f"got {type(answer).__name__}.",
-                "constant", 0,
-            )
+            return not_a_function(self.name, self.signature, answer)
         return super().evaluate(answer)
 
 
@@ -953,8 +970,7 @@ class FunctionCheck(Check):
         if answer is None:
             return self.failure("error", f"{self.name} is None: did you forget to define it?", 0)
         if not callable(answer):
-            return self.failure("constant", f"{self.name} should be a Python function {self.signature}; "
-                                f"got {type(answer).__name__}.", 0)
+            return not_a_function(self.name, self.signature, answer)
         try:
             return self.judge(answer)
         except _Refused as refused:
