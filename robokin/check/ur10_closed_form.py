@@ -40,7 +40,9 @@ from typing import Any
 import numpy as np
 
 from robokin.check import diagnoses as dg
-from robokin.check._core import FAIL, AnswerError, CheckResult, MatrixArgumentsCheck, Variable, alternatives
+from robokin.check._core import (
+    AnswerError, CheckResult, MatrixArgumentsCheck, Variable, alternatives, not_a_function,
+)
 from robokin.check._registry import exercise
 from robokin.check.solutions import SolutionSetCheck
 
@@ -191,8 +193,7 @@ class _PoseSetCheck(SolutionSetCheck):
     def evaluate(self, answer: Any) -> CheckResult:
         """Call ``answer(*arguments(q))`` at the sampled configurations and compare the sets."""
         if answer is not None and not callable(answer):
-            return CheckResult(self.name, False, f"{FAIL} {self.name} should be a Python function "
-                               f"{self.signature}; got {type(answer).__name__}.", "constant", 0)
+            return not_a_function(self.name, self.signature, answer)
         if answer is None or self.arguments is None:
             return super().evaluate(answer)
         build, student = self.arguments, answer
