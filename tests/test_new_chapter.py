@@ -11,7 +11,8 @@ their student edition, nbgrader (student edition, blank = 0, solution = full mar
 typical mistake diagnosed), the trust suite (correct answers written another way, talkative
 answers: full marks) and the tamper suite's delegation check. Every per-chapter registry
 those tests read is written by the scaffold or derived from the notebook. They run in ONE
-pytest process (:func:`chapter_tests`).
+pytest process (:func:`chapter_tests`). The guide, book/authoring.md, names every file the
+scaffold wrote or changed, and only ``make`` targets and files that exist.
 """
 
 from __future__ import annotations
@@ -56,7 +57,8 @@ def _stems(folder: Path) -> set[str]:
 
 @pytest.fixture(scope="module")
 def new_chapters(tmp_path_factory) -> tuple[Path, list[tuple[str, str]]]:
-    """The copy, and ``[(name, notebook stem), ...]`` of the chapters made in it."""
+    """The copy, and ``[(name, notebook stem), ...]`` of the chapters made in it (the files the
+    scaffold wrote or changed: :data:`SCAFFOLDED`)."""
     copy = tmp_path_factory.mktemp("repository")
     for name in _tracked_files():
         source = ROOT / name
@@ -64,6 +66,7 @@ def new_chapters(tmp_path_factory) -> tuple[Path, list[tuple[str, str]]]:
             target = copy / name
             target.parent.mkdir(parents=True, exist_ok=True)
             target.write_bytes(source.read_bytes())
+    copied = contents(copy)
     env = dict(os.environ, PYTHONPATH=str(copy))
     made: list[tuple[str, str]] = []
     for wanted, title, robot in WANTED:
@@ -78,7 +81,20 @@ def new_chapters(tmp_path_factory) -> tuple[Path, list[tuple[str, str]]]:
         new = _stems(copy / "notebooks") - before
         assert len(new) == 1, f"the scaffold made the notebooks {sorted(new)} for {name}"
         made.append((name, new.pop()))
+    after = contents(copy)
+    SCAFFOLDED[str(copy)] = sorted(name for name in after if copied.get(name) != after[name])
     return copy, made
+
+
+#: copy -> the files the scaffold wrote or changed in it, read as soon as it ran (the chapter
+#: tests run in the copy afterwards and leave files of their own)
+SCAFFOLDED: dict[str, list[str]] = {}
+
+
+def contents(copy: Path) -> dict[str, bytes]:
+    """``{file: its bytes}`` of ``copy``, caches left out."""
+    return {path.relative_to(copy).as_posix(): path.read_bytes() for path in copy.rglob("*")
+            if path.is_file() and "__pycache__" not in path.parts and ".ipynb_checkpoints" not in path.parts}
 
 
 def test_scaffold_writes_every_place_of_a_chapter(new_chapters):
@@ -104,6 +120,42 @@ def test_scaffold_writes_every_place_of_a_chapter(new_chapters):
                            cwd=copy, env=dict(os.environ, PYTHONPATH=str(copy)),
                            capture_output=True, text=True)
     assert again.returncode != 0 and "exists already" in again.stderr
+
+
+AUTHORING = ROOT / "book" / "authoring.md"
+
+
+def test_the_guide_names_every_file_the_scaffold_writes(new_chapters):
+    """book/authoring.md's table names each file the scaffold wrote or changed, as ``NN_scara`` and
+    ``scara`` for the chapter's stem and name (a chapter notebook of the repository whose nbgrader
+    metadata the scaffold's metadata run refreshed is not the scaffold's own file)."""
+    copy, made = new_chapters
+    guide = AUTHORING.read_text(encoding="utf-8")
+    stems = {stem for _, stem in made}
+    named = set()
+    for relative in SCAFFOLDED[str(copy)]:
+        if relative.startswith("notebooks/") and Path(relative).stem not in stems:
+            continue
+        for name, stem in made:
+            relative = relative.replace(stem, "NN_scara").replace(name, "scara")
+        named.add(relative)
+    assert "notebooks/NN_scara.ipynb" in named and "robokin/check/scara.py" in named, sorted(named)
+    missing = sorted(relative for relative in named if f"`{relative}`" not in guide)
+    assert not missing, f"book/authoring.md does not name these files the scaffold changed: {missing}"
+
+
+def test_the_guide_names_commands_and_files_that_exist():
+    """Every ``make`` target book/authoring.md names is one of the Makefile's, and every file it
+    names (without a placeholder: ``NN_``, ``<...>``, ``scara``) is in the repository."""
+    guide = AUTHORING.read_text(encoding="utf-8")
+    targets = set(re.findall(r"^([a-z][a-z-]*):", (ROOT / "Makefile").read_text(encoding="utf-8"), re.M))
+    named_targets = set(re.findall(r"(?:`|^\s*)make ([a-z][a-z-]*)", guide, re.M))   # in code
+    assert named_targets and named_targets <= targets, sorted(named_targets - targets)
+    paths = set(re.findall(r"((?:book|notebooks|robokin|tests|tools)/[\w./<>-]+\.(?:py|md|ipynb|bib))", guide))
+    concrete = {path for path in paths if not re.search(r"NN_|<|scara", path)}
+    assert concrete, "no file named in book/authoring.md"
+    absent = sorted(path for path in concrete if not (ROOT / path).is_file())
+    assert not absent, f"book/authoring.md names files that do not exist: {absent}"
 
 
 def test_free_name_avoids_every_existing_chapter():
