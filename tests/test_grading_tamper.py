@@ -463,6 +463,16 @@ def test_delegation_answer_names_belong_to_one_chapter():
     assert item["through"] == "transport" and item["reference"] == "robokin.motion.tool_jacobian"
     written = [(3, "def my_tool_jacobian(q):\n    return rigid(q) @ arm.jacobian(q)\n", ["my_tool_jacobian"])]
     assert delegation.find(written, {}) == []
+    # the arm with the tool has the tool's Jacobian: its method, or the arm's for a point of E,
+    # is flagged; the arm with the tool used for a position is not
+    for body, reference in [("tool_arm.jacobian(q)", "tool_arm.jacobian"),
+                            ("getattr(tool_arm, 'jacobian')(q)", "tool_arm.jacobian"),
+                            ("arm.jacobian(q, point=TOOL_OFFSET)", "SerialChain.jacobian(q, point=...)")]:
+        (item,) = delegation.find([(3, f"def my_tool_jacobian(q):\n    return {body}\n", ["my_tool_jacobian"])], {})
+        assert item["reference"] == reference, body
+    by_position = "def my_tool_jacobian(q):\n    r = tool_arm.fk(q)[:3, 3] - arm.fk(q)[:3, 3]\n" \
+                  "    return rigid(r) @ arm.jacobian(q)\n"
+    assert delegation.find([(3, by_position, ["my_tool_jacobian"])], {}) == []
 
 
 def test_answers_are_handed_over_after_cells_that_printed_thousands_of_lines(tmp_path):

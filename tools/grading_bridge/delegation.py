@@ -110,10 +110,18 @@ for _check, _references in declared_references().items():
 #: answer name -> {robokin function: how the report names it}, for a task whose tests explain
 #: no check (so :data:`REFERENCES` cannot reach it). The name is looked at wherever an answer cell
 #: declares it: keep to names only one chapter declares (tests/test_grading_tamper.py checks it).
+#: A key ``"owner.method"`` names a method of one object (``tool_arm.jacobian``, also as
+#: ``self.tool_arm.jacobian`` or ``getattr(tool_arm, "jacobian")``) where the method alone
+#: (``arm.jacobian``) may be the answer's legitimate start; ``"method.keyword"`` names a call
+#: of the method with that keyword argument (``arm.jacobian(q, point=p)``).
 ANSWERS: dict[str, dict[str, str]] = {
     # chapter 4, Task 3: the tool's Jacobian transported by hand from the end-effector's
+    # (arm.jacobian); the arm with the tool attached has the tool's Jacobian already
     "my_tool_jacobian": {"tool_jacobian": "robokin.motion.tool_jacobian",
-                         "rigid_body_jacobian": "robokin.motion.rigid_body_jacobian"},
+                         "rigid_body_jacobian": "robokin.motion.rigid_body_jacobian",
+                         "tool_arm.jacobian": "tool_arm.jacobian",
+                         "jacobian.point": "SerialChain.jacobian(q, point=...)",
+                         "chain_with_tool": "robokin.motion.tool.chain_with_tool"},
 }
 
 
@@ -122,6 +130,22 @@ def _mentions(node: ast.AST) -> set[str]:
     for sub in ast.walk(node):
         if isinstance(sub, ast.Attribute):
             out.add(sub.attr)
+            owner = sub.value   # "owner.attr" too: a method of one named object
+            if isinstance(owner, ast.Name):
+                out.add(f"{owner.id}.{sub.attr}")
+            elif isinstance(owner, ast.Attribute):
+                out.add(f"{owner.attr}.{sub.attr}")
+        elif isinstance(sub, ast.Call):
+            method = sub.func.attr if isinstance(sub.func, ast.Attribute) else None
+            if (isinstance(sub.func, ast.Name) and sub.func.id == "getattr" and len(sub.args) >= 2
+                    and isinstance(sub.args[1], ast.Constant) and isinstance(sub.args[1].value, str)):
+                method, target = sub.args[1].value, sub.args[0]
+                if isinstance(target, ast.Name):
+                    out.add(f"{target.id}.{method}")
+                elif isinstance(target, ast.Attribute):
+                    out.add(f"{target.attr}.{method}")
+            if method is not None:
+                out.update(f"{method}.{keyword.arg}" for keyword in sub.keywords if keyword.arg)
         elif isinstance(sub, ast.Name):
             out.add(sub.id)
         elif isinstance(sub, ast.alias):
