@@ -112,10 +112,6 @@ _E = [Variable(f"e_{c}", "length", -0.1, 0.1) for c in "xyz"]
 _LAM = [Variable("damping", "length", 0.01, 0.5, aliases=("lambda", "lam"))]
 
 
-def _group(nvar: int) -> list[tuple[str, list[int]]]:
-    return [("x", list(range(nvar)))]
-
-
 # ------------------------------------------------------------------ weighted pseudoinverse
 def _weighted_pinv_arguments(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return _position_jacobian(x[:6]), np.diag(x[6:12])
@@ -184,7 +180,6 @@ weighted_pinv = exercise(_CHAPTER, "weighted_pinv", MatrixArgumentsCheck(
     name="weighted_pinv(J, W)",
     reference=_weighted_pinv_reference,
     variables=[*_Q, *_W],
-    groups=_group(12),
     diagnoses=_weighted_pinv_mistakes(),
     noun="configurations and weights",
     arguments=_weighted_pinv_arguments,
@@ -262,7 +257,6 @@ dls_step = exercise(_CHAPTER, "dls_step", MatrixArgumentsCheck(
     name="dls_step(J, e, damping)",
     reference=_damped_least_squares_reference,
     variables=[*_Q, *_E, *_LAM],
-    groups=_group(10),
     diagnoses=_damped_least_squares_mistakes(),
     noun="configurations, errors and dampings",
     arguments=_damped_least_squares_arguments,
@@ -311,7 +305,6 @@ nullspace_projector = exercise(_CHAPTER, "nullspace_projector", MatrixArgumentsC
     name="nullspace_projector(J)",
     reference=_nullspace_projector_reference,
     variables=_Q,
-    groups=_group(6),
     diagnoses=_nullspace_projector_mistakes(),
     noun="configurations",
     arguments=_nullspace_projector_arguments,
@@ -435,7 +428,6 @@ ik_position = exercise(_CHAPTER, "ik_position", MatrixArgumentsCheck(
     name="ik_position(chain, p_goal, q0, step, ...)",
     reference=_loop_ref,
     variables=[*_Q0, *_DQ, *_BUDGET],
-    groups=_group(13),
     diagnoses=_loop_mistakes(),
     noun="starts, goals and iteration budgets",
     arguments=_loop_args,
