@@ -153,10 +153,6 @@ _ANGLE = [Variable("theta", "angle", -np.pi, np.pi, aliases=("θ",))]
 _Q = [Variable(f"theta{i}", "angle", -np.pi, np.pi, aliases=(f"q{i}",)) for i in range(1, 7)]
 
 
-def _group(nvar: int) -> list[tuple[str, list[int]]]:
-    return [("x", list(range(nvar)))]
-
-
 # ------------------------------------------------------------------ Task 1: Rodrigues' formula
 def _rodrigues_arguments(x: np.ndarray) -> tuple[np.ndarray, float]:
     return _unit(x[:3]), float(x[3])
@@ -202,7 +198,6 @@ rodrigues = exercise(_CHAPTER, "rodrigues", MatrixArgumentsCheck(
     name="rodrigues(omega, theta)",
     reference=_rodrigues_reference,
     variables=[*_AXIS, *_ANGLE],
-    groups=_group(4),
     diagnoses=_rodrigues_mistakes(),
     noun="axes and angles",
     arguments=_rodrigues_arguments,
@@ -265,7 +260,6 @@ screw_axis = exercise(_CHAPTER, "screw_axis", MatrixArgumentsCheck(
     name="screw_axis(omega, point)",
     reference=_screw_axis_reference,
     variables=[*_AXIS, *_POINT],
-    groups=_group(6),
     diagnoses=_screw_axis_mistakes(),
     noun="axes and points",
     arguments=_screw_axis_arguments,
@@ -378,7 +372,6 @@ exp6 = exercise(_CHAPTER, "exp6", MatrixArgumentsCheck(
     name="exp6(S, theta)",
     reference=_exp6_reference,
     variables=[*_AXIS, *_POINT, *_ANGLE],
-    groups=_group(7),
     diagnoses=_exp6_mistakes(),
     noun="screw axes and angles",
     arguments=_exp6_arguments,
@@ -428,7 +421,6 @@ forward_kinematics = exercise(_CHAPTER, "forward_kinematics", MatrixArgumentsChe
     name="poe_fk(M, S_list, theta)",
     reference=_fk_reference,
     variables=_Q,
-    groups=_group(6),
     diagnoses=_fk_mistakes(),
     noun="configurations",
     arguments=_fk_arguments,
@@ -489,7 +481,6 @@ adjoint = exercise(_CHAPTER, "adjoint", MatrixArgumentsCheck(
     name="adjoint_matrix(T)",
     reference=_adjoint_reference,
     variables=_POSE,
-    groups=_group(6),
     diagnoses=_adjoint_mistakes(),
     noun="transforms",
     arguments=_adjoint_arguments,
@@ -538,7 +529,6 @@ space_jacobian = exercise(_CHAPTER, "space_jacobian", MatrixArgumentsCheck(
     name="jacobian_in_space(S_list, theta)",
     reference=_space_reference,
     variables=_Q,
-    groups=_group(6),
     diagnoses=_space_mistakes(),
     noun="configurations",
     arguments=_space_arguments,
@@ -584,7 +574,6 @@ geometric_from_space = exercise(_CHAPTER, "geometric_from_space", MatrixArgument
     name="geometric_from_space(J_s, T)",
     reference=_geometric_reference,
     variables=_Q,
-    groups=_group(6),
     diagnoses=_geometric_mistakes(),
     noun="configurations",
     arguments=_geometric_arguments,
@@ -631,7 +620,6 @@ body_jacobian = exercise(_CHAPTER, "body_jacobian", MatrixArgumentsCheck(
     name="jacobian_in_body(M, S_list, theta)",
     reference=_body_reference,
     variables=_Q,
-    groups=_group(6),
     diagnoses=_body_mistakes(),
     noun="configurations",
     arguments=_fk_arguments,
@@ -683,7 +671,6 @@ ik_body = exercise(_CHAPTER, "ik_body", MatrixArgumentsCheck(
     name="ik_body(M, S_list, T_goal, theta_start)",
     reference=_ik_reference,
     variables=[*_Q, *_OFFSET],
-    groups=_group(12),
     diagnoses=_ik_mistakes(),
     noun="goals and starts",
     arguments=_ik_arguments,
