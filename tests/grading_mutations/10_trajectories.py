@@ -21,6 +21,17 @@ def _motion_mistake(code: str) -> str:
     )
 
 
+def _via_mistake(code: str) -> str:
+    """via_point_cubics replaced by the check module's typical mistake ``code``."""
+    return (
+        "from robokin.check.trajectories import _via_coefficients as _wrong_via\n"
+        "def via_point_cubics(points, durations):\n"
+        "    args = [np.asarray(x, dtype=float) for x in (points, durations)]\n"
+        f"    return _wrong_via(*args, mistake={code!r})\n"
+        "via_coefficients = via_point_cubics(Q_VIA, T_VIA)"
+    )
+
+
 MUTATIONS = {
     "task1_test1": [
         ("the rates taken with respect to tau, not t",
@@ -61,6 +72,31 @@ MUTATIONS = {
         ("the slowest joint's profile stretched for every joint", _motion_mistake("same_shape")),
     ],
     "task4_test1": [
+        ("each segment's own slope at both ends (velocity jumps, ends moving)", _via_mistake("segment_slope")),
+        ("the coefficients in the normalised time tau = sigma/T_k", _via_mistake("normalised_time")),
+        ("the coefficients highest power first", _via_mistake("reversed_order")),
+    ],
+    "task4_test2": [
+        ("the mean of the slopes also where the joint turns back", _via_mistake("no_sign_rule")),
+        ("the chord's slope at a via point", _via_mistake("central_difference")),
+        ("a stop at every via point", _via_mistake("stop_at_via")),
+        ("the slopes with the durations in reverse order", _via_mistake("durations_reversed")),
+        ("the slopes without dividing by the durations", _via_mistake("differences")),
+        ("the velocity at via point k taken as the slope of the segment before it",
+         "def via_point_cubics(points, durations, _right=via_point_cubics):\n"
+         "    points, durations = np.asarray(points, dtype=float), np.asarray(durations, dtype=float)\n"
+         "    out = np.asarray(_right(points, durations), dtype=float).copy()\n"
+         "    slopes = np.diff(points, axis=0) / durations[:, None]\n"
+         "    for k, T in enumerate(durations):\n"
+         "        start = slopes[k - 1] if k > 0 else 0 * slopes[0]\n"
+         "        end = slopes[k] if k < len(durations) - 1 else 0 * slopes[0]\n"
+         "        step = points[k + 1] - points[k]\n"
+         "        out[k] = [points[k], start, (3 * step / T - 2 * start - end) / T,\n"
+         "                  (-2 * step / T + start + end) / T**2]\n"
+         "    return out\n"
+         "via_coefficients = via_point_cubics(Q_VIA, T_VIA)"),
+    ],
+    "task5_test1": [
         ("slerp without the sign flip (the long way round)",
          "def slerp(q0, q1, s):\n"
          "    q0, q1 = np.asarray(q0, dtype=float), np.asarray(q1, dtype=float)\n"
@@ -81,7 +117,7 @@ MUTATIONS = {
          "    omega = np.arccos(np.clip(q0 @ q1, -1.0, 1.0))\n"
          "    return (np.sin((1 - s) * omega) * q0 + np.sin(s * omega) * q1) / np.sin(omega)"),
     ],
-    "task5_test1": [
+    "task6_test1": [
         ("the angular velocity in the tool's start frame",
          "def line_reference(t, T_start, T_end, duration, _right=line_reference):\n"
          "    pose, twist = _right(t, T_start, T_end, duration)\n"
@@ -92,7 +128,7 @@ MUTATIONS = {
          "    w = T_start[:3, :3] @ rotation_log(T_start[:3, :3].T @ T_end[:3, :3])\n"
          "    return pose, np.concatenate([twist[:3], w / duration])"),
     ],
-    "task5_test2": [
+    "task6_test2": [
         ("no feed-forward twist",
          "track = (lambda f: lambda q0, poses, twists, ts, gain: f(q0, poses, 0 * np.asarray(twists), ts, gain))"
          "(track)\n"
@@ -167,7 +203,29 @@ def synchronised_motion(t, q_start, q_end, v_max, a_max):
 
 Q_ptp, Qd_ptp, Qdd_ptp = synchronised_motion(t_ptp, Q_A, Q_B, V_MAX, A_MAX)
 """),
-    "task4_answer1": ("slerp as q0 (q0* q1)^s, through the axis and angle", """
+    "task4_answer1": ("each segment's cubic from its 4 x 4 linear system, joint by joint", """
+
+# written another way: the rule joint by joint, each cubic from the linear system of its end conditions
+def via_point_cubics(points, durations):
+    points, durations = np.asarray(points, dtype=float), np.asarray(durations, dtype=float)
+    m, n = len(durations), points.shape[1]
+    rates = np.zeros((m + 1, n))
+    for j in range(n):
+        for k in range(1, m):
+            before = (points[k, j] - points[k - 1, j]) / durations[k - 1]
+            after = (points[k + 1, j] - points[k, j]) / durations[k]
+            if before * after > 0:
+                rates[k, j] = (before + after) / 2
+    out = np.zeros((m, 4, n))
+    for k, T in enumerate(durations):
+        system = np.array([[1, 0, 0, 0], [0, 1, 0, 0], [1, T, T**2, T**3], [0, 1, 2 * T, 3 * T**2]])
+        out[k] = np.linalg.solve(system, np.stack([points[k], rates[k], points[k + 1], rates[k + 1]]))
+    return out
+
+
+via_coefficients = via_point_cubics(Q_VIA, T_VIA)
+"""),
+    "task5_answer1": ("slerp as q0 (q0* q1)^s, through the axis and angle", """
 
 # written another way: the relative rotation q0* q1 raised to the power s
 def slerp(q0, q1, s):
@@ -184,7 +242,7 @@ def slerp(q0, q1, s):
     wp, vp = part[0], part[1:]
     return np.concatenate([[w0 * wp - v0 @ vp], w0 * vp + wp * v0 + np.cross(v0, vp)])
 """),
-    "task5_answer1": ("the orientation by the matrix exponential, the loop by least squares", """
+    "task6_answer1": ("the orientation by the matrix exponential, the loop by least squares", """
 
 # written another way: R(t) = R0 exp([w] s) with rotation_exp, and the step by lstsq
 from robokin.transforms import rotation_exp
