@@ -242,8 +242,8 @@ def ellipsoid_transform(center: np.ndarray, radii: np.ndarray, axes: np.ndarray)
 
     The viewer splits a node's transform into position, rotation and scale (three.js
     ``Matrix4.decompose``), which a zero scale turns into NaN: a semi-axis shorter than
-    :data:`FLAT_FRACTION` times the longest one, or than :data:`SHORTEST_DRAWN_RADIUS`, is
-    drawn at that length (a flat disc for a velocity ellipsoid at a singularity). A
+    ``FLAT_FRACTION`` (10⁻³) times the longest one, or than ``SHORTEST_DRAWN_RADIUS``
+    (10⁻⁵ m), is drawn at that length (a flat disc for a velocity ellipsoid at a singularity). A
     reflection (:math:`\det\mathbf{A} = -1`, as singular vectors may come) is kept: the
     viewer splits it too, and the sphere's mirror image is itself.
 
