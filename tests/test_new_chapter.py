@@ -4,9 +4,10 @@ In a temporary copy of the repository, ``tools/new_chapter.py`` creates two chap
 after the other (the README's example name, ``scara``, and a second one; a name an existing
 chapter holds is taken with a suffix, and the numbers are the next free ones: nothing here
 names a chapter of the repository). Then the parts of ``make test-all`` that concern a
-chapter run on both, untouched: nbval (stored outputs equal a fresh run), the notebook
-conventions, the table of contents, the robustness suite's coverage of their checks, their
-grading mutations (each graded test rejects the scaffold's wrong answers), the contracts of
+chapter run on both, untouched: nbval (stored outputs equal a fresh run), the tests of
+their check modules, the notebook conventions, the table of contents, the robustness suite's
+coverage of their checks, their grading mutations (each graded test rejects the scaffold's
+wrong answers), the contracts of
 their student edition, nbgrader (student edition, blank = 0, solution = full marks, the
 typical mistake diagnosed), the trust suite (correct answers written another way, talkative
 answers: full marks) and the tamper suite's delegation check. Every per-chapter registry
@@ -105,6 +106,7 @@ def test_scaffold_writes_every_place_of_a_chapter(new_chapters):
     for (name, stem), number, (_, _, robot) in zip(made, numbers, WANTED):
         nb = copy / "notebooks" / f"{stem}.ipynb"
         assert nb.is_file() and (copy / "robokin" / "check" / f"{name}.py").is_file()
+        assert (copy / "tests" / f"test_check_{name}.py").is_file()
         assert f"notebooks/{stem}" in (copy / "_toc.yml").read_text()
         assert f"| {number} | {robot} |" in (copy / "book" / "intro.md").read_text()
         assert f"`notebooks/{stem}.ipynb`" in (copy / "README.md").read_text()
@@ -172,6 +174,7 @@ def chapter_tests(made: list[tuple[str, str]]) -> dict[str, str | None]:
     names = " or ".join(name for name, _ in made)
     return {
         **{f"notebooks/{stem}.ipynb": None for _, stem in made},   # nbval: stored outputs equal a fresh run
+        **{f"tests/test_check_{name}.py": None for name, _ in made},   # the tests of the check module
         "tests/test_notebook_conventions.py": f"{names} or solution or set or there_are",
         "tests/test_check_solutions.py": None,
         "tests/test_book.py::test_every_notebook_is_in_the_toc": None,

@@ -12,7 +12,8 @@ What it writes (and nothing else; it refuses to overwrite an existing chapter):
   robokin.check), a pitfall, a *Try it yourself* cell and *Going further*; the
   Colab install cell; formatted, with nbgrader metadata, executed top to bottom;
 * ``robokin/check/<name>.py`` with the task's check (``check.<name>.tool_position``),
-  registered in ``robokin/check/_registry.py``'s ``CHAPTERS``;
+  registered in ``robokin/check/_registry.py``'s ``CHAPTERS``, and its tests,
+  ``tests/test_check_<name>.py``;
 * ``tests/grading_mutations/NN_<name>.py``: the wrong answers each graded test must reject
   (``MUTATIONS``) and each answer computed by another method, which must keep full marks
   (``VARIANTS``, read by the trust suite through ``tests/benign_variants.py``);
@@ -280,6 +281,60 @@ tool_jacobian = exercise(_CHAPTER, "tool_jacobian", Check(
 '''
 
 
+def check_tests(number: int, name: str) -> str:
+    """``tests/test_check_<name>.py``: the tests of the chapter's check module (one test file per module)."""
+    return f'''"""Tests of the chapter-{number} exercise checks (robokin.check.{name}).
+
+A right answer passes, a typical mistake is named, a function that forgets ``return`` is told
+so. Written by tools/new_chapter.py for the chapter's first tasks: change it with the checks.
+"""
+
+from __future__ import annotations
+
+import importlib
+
+import numpy as np
+import pytest
+
+checks = importlib.import_module("robokin.check.{name}")
+
+
+def tool_position(q):
+    """The two-link arm's tool position (l1 = l2 = 1 m), written out."""
+    q1, q2 = q
+    return np.array([np.cos(q1) + np.cos(q1 + q2), np.sin(q1) + np.sin(q1 + q2)])
+
+
+def tool_jacobian(q):
+    """Its Jacobian by central finite differences (independent of the check's reference)."""
+    q, h = np.asarray(q, dtype=float), 1e-6
+    return np.column_stack([(tool_position(q + h * e) - tool_position(q - h * e)) / (2 * h) for e in np.eye(2)])
+
+
+def test_right_answers_pass():
+    assert checks.tool_position(tool_position, quiet=True).passed
+    assert checks.tool_jacobian(tool_jacobian, quiet=True).passed
+
+
+@pytest.mark.parametrize("check, answer, diagnosis", [
+    ("tool_position", lambda q: tool_position(np.rad2deg(q)), "degrees_evaluated"),
+    ("tool_jacobian", lambda q: tool_jacobian(q).T, "transpose"),
+    ("tool_jacobian", lambda q: -tool_jacobian(q), "sign"),
+])
+def test_typical_mistakes_are_named(check, answer, diagnosis):
+    result = getattr(checks, check)(answer, quiet=True)
+    assert not result.passed and result.diagnosis == diagnosis, result.message
+
+
+def test_a_function_without_return_is_told_to_return():
+    def forgot(q):
+        tool_position(q)
+
+    result = checks.tool_position(forgot, quiet=True)
+    assert not result.passed and "forget `return`" in result.message, result.message
+'''
+
+
 def mutations(name: str) -> str:
     return '''"""Wrong answers that each autograded test of the chapter must reject (``MUTATIONS``,
 tests/test_grading_mutations.py), and correct answers written another way that must keep
@@ -397,7 +452,8 @@ def main(argv: list[str] | None = None) -> int:
     root = args.root.resolve()
     if not NAME_RE.match(args.name):
         parser.error(f"--name must be lower case letters, digits and _ (2-31 characters); got {args.name!r}")
-    if args.name in registered_chapters(root) or (root / "robokin" / "check" / f"{args.name}.py").exists():
+    if (args.name in registered_chapters(root) or (root / "robokin" / "check" / f"{args.name}.py").exists()
+            or (root / "tests" / f"test_check_{args.name}.py").exists()):
         parser.error(f"a chapter with checks named {args.name!r} exists already")
     number = next_number(root)
     stem = f"{number:02d}_{args.name}"
@@ -406,6 +462,7 @@ def main(argv: list[str] | None = None) -> int:
     nb_path.write_text(json.dumps(notebook(number, args.name, args.title, args.robot), indent=1,
                                   ensure_ascii=False) + "\n")
     (root / "robokin" / "check" / f"{args.name}.py").write_text(check_module(number, args.name, args.title))
+    (root / "tests" / f"test_check_{args.name}.py").write_text(check_tests(number, args.name))
     register(root, args.name)
     mutation_dir = root / "tests" / "grading_mutations"
     mutation_dir.mkdir(exist_ok=True)
@@ -430,7 +487,8 @@ def main(argv: list[str] | None = None) -> int:
     if not args.no_execute:
         execute(nb_path, root)
     print(f"\nNew chapter {number}: {nb_path.relative_to(root)}, robokin/check/{args.name}.py, "
-          f"tests/grading_mutations/{stem}.py; listed in _toc.yml, book/intro.md and README.md.")
+          f"tests/test_check_{args.name}.py, tests/grading_mutations/{stem}.py; listed in _toc.yml, "
+          f"book/intro.md and README.md.")
     print(f"Next: write the exercise (book/authoring.md), tidy it (format, metadata, make execute), "
           f"then `make test-chapter CH={stem}`.")
     return 0
