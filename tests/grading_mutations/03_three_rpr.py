@@ -94,6 +94,8 @@ MUTATIONS = {
         ("only the odd coefficients named", "vanishing_coefficients = {1, 3, 5}"),
         ("a coefficient named that does not vanish", "vanishing_coefficients = {0, 1, 2, 3, 5}"),
         ("D's zero put at phi = pi (the root t = infinity)", "D_zero_phi = np.pi"),
+        ("the twin pose taken as the mirror image (x, -y, -phi)",
+         "def twin_pose(pose):\n    return np.array([pose[0], -pose[1], -pose[2]])\n"),
     ],
     "task2_test3": [
         ("Delta without the conjugates", _CRAMER_NO_CONJUGATE),
