@@ -37,9 +37,11 @@ def assert_private_sockets(manager) -> Path:
     return folder
 
 
-def test_a_kernel_has_its_sockets_in_its_own_folder_kept_across_a_restart(tmp_path):
+def test_a_kernel_has_its_sockets_in_its_own_folder_kept_across_a_restart(tmp_path, tmp_path_factory):
     manager = PrivateSocketsKernelManager(kernel_name="python3")
-    manager.start_kernel(cwd=str(tmp_path))
+    log = tmp_path_factory.mktemp("kernel-log") / "stderr.txt"
+    stderr = open(log, "w", encoding="utf-8")  # the restart below writes to it too
+    manager.start_kernel(cwd=str(tmp_path), stderr=stderr)
     client = manager.client()
     client.start_channels()
     try:
@@ -54,9 +56,13 @@ def test_a_kernel_has_its_sockets_in_its_own_folder_kept_across_a_restart(tmp_pa
     finally:
         client.stop_channels()
         manager.shutdown_kernel(now=True)
+        stderr.close()
     assert not folder.exists(), "the socket folder outlives the kernel"
     assert manager.socket_folder is None
     assert list(tmp_path.iterdir()) == [], "sockets were made in the kernel's working folder"
+    # what `make execute` and every notebook run print: nothing (no warning on the kernel's
+    # options, none on TCP without encryption)
+    assert "WARNING" not in log.read_text(encoding="utf-8"), log.read_text(encoding="utf-8")
 
 
 def test_the_async_manager_too():

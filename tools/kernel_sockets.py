@@ -65,13 +65,13 @@ import zmq
 from ipykernel.kernelapp import IPKernelApp
 
 
-class Kernel(IPKernelApp):
+class UnlimitedIOPubKernelApp(IPKernelApp):
     def init_iopub(self, context):
         context.setsockopt(zmq.SNDHWM, 0)  # the default of the sockets made from here on
         super().init_iopub(context)
 
 
-Kernel.launch_instance()
+UnlimitedIOPubKernelApp.launch_instance()
 """
 
 
