@@ -932,12 +932,15 @@ def _no_reference(x: np.ndarray) -> np.ndarray:
 class FunctionCheck(Check):
     """A check whose answer is a Python function that it calls on inputs of its own.
 
-    What every such check did by itself before, it does once: refuse ``None`` and
-    anything that is not a function (the messages below, quoting ``signature``), call
-    the answer and report what it raised, and build the ``✔``/``✘`` messages. A subclass
-    writes only :meth:`judge`: the inputs (seeded cases, or :meth:`Check.sample_points`),
-    the comparison, and the typical mistakes it names, with :meth:`call`,
-    :meth:`success`, :meth:`failure` and :meth:`diagnose`.
+    The design: the base class holds what every such check repeats -- refusing ``None``
+    and anything that is not a function (the messages below, quoting ``signature``),
+    calling the answer and reporting what it raised, building the ``✔``/``✘`` messages,
+    trying a table of typical mistakes -- and a subclass writes only :meth:`judge`: its
+    inputs (seeded cases, or :meth:`Check.sample_points`), its comparison and its
+    mistakes, with :meth:`call`, :meth:`success`, :meth:`failure` and :meth:`diagnose`.
+    :meth:`call` ends ``judge`` by itself when the answer raises (no result to test
+    after every call); :meth:`failure` keeps the text as written (no capital added), so
+    that a check moved onto this class prints what it printed before.
 
     Use it where the answer cannot be compared as values of the check's variables:
     a loop whose result has several parts, a function returning every solution or a
