@@ -167,7 +167,8 @@ distclean: clean
 # One chapter's tests, with only that chapter graded: make test-chapter CH=03_three_rpr
 # (its notebook under nbval, its notebook conventions, the tests of its check modules
 # (tests/test_check_<module>.py), its grading mutations, the contracts of its student
-# edition, nbgrader, the trust suite and the delegation check; every tier).
+# edition, its hidden tests kept out of the student book, nbgrader, the trust suite and the
+# delegation check; every tier).
 .PHONY: test-chapter
 test-chapter: $(STAMP)
 	@test -n "$(CH)" -a -f "notebooks/$(CH).ipynb" || { \
@@ -180,7 +181,8 @@ test-chapter: $(STAMP)
 	KEYS=$$(for name in $$CHECKS; do if test -f "tests/$$name.py"; then printf ' or %s' "$$name"; fi; done) && \
 	ROBOKIN_NBGRADER_NOTEBOOKS="$$ALONE/notebooks" $(BIN)/python -m pytest $(PYTEST_ARGS) "notebooks/$(CH).ipynb" \
 	  tests/test_notebook_conventions.py $$FILES tests/test_grading_mutations.py tests/test_student_edition_contracts.py \
-	  tests/test_nbgrader.py tests/test_grading_trust.py tests/test_grading_tamper.py -k "$(CH)$$KEYS"; \
+	  tests/test_hidden_tests.py tests/test_nbgrader.py tests/test_grading_trust.py tests/test_grading_tamper.py \
+	  -k "$(CH)$$KEYS"; \
 	status=$$?; rm -rf "$$ALONE"; test $$status -eq 0 || { \
 	  echo "ERROR [test-chapter]: some tests of $(CH) failed (see the summary above)."; exit 1; }
 
