@@ -151,7 +151,8 @@ MUTATIONS = {
     ],
     "task6_test1": [
         ("closed form counted within the joint limits (fewer than 8)",
-         "closed_all8 = [int(np.sum(leg.within_limits(my_leg_ik(T)))) == 8 for T in T_bench]"),
+         "closed_complete = [int(np.sum(leg.within_limits(my_leg_ik(T)))) == k_regular\n"
+         "                   for T in T_bench]"),
         ("the generator compared with the first closed-form solution only",
          "found_generator = [np.abs(wrap(my_leg_ik(T)[0] - q)).max() < 1e-8\n"
          "                   for q, T in zip(Q_bench, T_bench)]"),
