@@ -526,7 +526,6 @@ newton_ik = exercise(_CHAPTER, "newton_ik", MatrixArgumentsCheck(
     name="newton_ik(r_goal, q0, damping, tol, max_iterations)",
     reference=_newton_variant(),
     variables=[*_Q_START, *_DQ_GOAL, *_NEWTON_MORE],
-    groups=[(f"x{k}", [k]) for k in range(9)],
     diagnoses=[
         alternatives("error_sign", [(_newton_variant(sign=-1.0), (
             "{name} steps away from the goal: the error is e = r_goal − r(q) (goal minus "
@@ -620,7 +619,6 @@ tracking_loop = exercise(_CHAPTER, "tracking_loop", MatrixArgumentsCheck(
         Variable("ts", "other", 0.005, 0.04),
         Variable("feedforward_choice", "other", 0.0, 1.0),
     ],
-    groups=[(f"x{k}", [k]) for k in range(12)],
     diagnoses=[
         alternatives("no_feedforward", [(_track_variant(ff=False), (
             "{name} never adds the feed-forward velocity: with feedforward=True the "
