@@ -372,7 +372,6 @@ tracking_loop = exercise(_CHAPTER, "tracking_loop", MatrixArgumentsCheck(
         Variable("kp", "other", 2.0, 20.0),
         Variable("ts", "other", 0.005, 0.04),
     ],
-    groups=[(f"x{k}", [k]) for k in range(15)],
     diagnoses=[
         alternatives("open_loop", [(_track_variant(open_loop=True), (
             "{name} ignores the gain kp: it integrates the open-loop law q̇ = J⁺ ṙ_des. The "
