@@ -241,7 +241,6 @@ def _ellipse_check(name: str, force: bool, doc: str) -> _EllipseCheck:
         name=name,
         reference=reference,
         variables=_Q,
-        groups=[("x", [0, 1])],
         diagnoses=_ellipse_mistakes(force),
         noun="Jacobians of the arm",
         arguments=_one_jacobian,
@@ -370,7 +369,6 @@ manipulability = exercise(_CHAPTER, "manipulability", MatrixArgumentsCheck(
     name="manipulability",
     reference=lambda x: np.sqrt(np.linalg.det(_jacobian(x) @ _jacobian(x).T)),
     variables=_Q,
-    groups=[("x", [0, 1])],
     diagnoses=[
         alternatives("squared", [(lambda x: np.linalg.det(_jacobian(x) @ _jacobian(x).T), (
             "{name} returns det(J Jᵀ) = w²: take the square root, w = √det(J Jᵀ) (the product of "
@@ -407,7 +405,6 @@ condition_number = exercise(_CHAPTER, "condition_number", MatrixArgumentsCheck(
     name="condition_number",
     reference=lambda x: _sigma(x)[0] / _sigma(x)[-1],
     variables=_Q,
-    groups=[("x", [0, 1])],
     diagnoses=[
         alternatives("squared", [(lambda x: (_sigma(x)[0] / _sigma(x)[-1]) ** 2, (
             "{name} is the ratio of the eigenvalues of J Jᵀ, σ_max²/σ_min²: the condition number "
@@ -437,7 +434,6 @@ push_capacity = exercise(_CHAPTER, "push_capacity", MatrixArgumentsCheck(
     name="push_capacity",
     reference=_push_reference,
     variables=[*_Q, _ANGLE_D],
-    groups=[("x", [0, 1, 2])],
     diagnoses=[
         alternatives("not_inverted", [(lambda x: np.asarray(np.linalg.norm(_jacobian(x).T @ _direction(x))), (
             "{name} returns ‖Jᵀ d‖, the torque norm a unit force along d costs: the largest force "
@@ -486,7 +482,6 @@ posture_measures = exercise(_CHAPTER, "posture_measures", MatrixArgumentsCheck(
     name="posture_measures",
     reference=_measures,
     variables=_Q,
-    groups=[("x", [0, 1])],
     diagnoses=_measures_mistakes(),
     noun="Jacobians of the arm",
     arguments=_one_jacobian,
