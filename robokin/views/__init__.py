@@ -12,6 +12,8 @@ Quick use::
     scene.add_chain(chain, q, meshes="ur10", name="real")   # its URDF meshes (robokin[robots])
     scene.add_target(T_goal, label="goal")
     scene.add_ghost(chain, q_other)           # translucent copy (other IK solution)
+    radii, axes = chain.velocity_ellipsoid(q)
+    scene.add_ellipsoid(chain.fk(q)[:3, 3], 0.3 * radii, axes)   # at the tool point, 0.3 m per m/s
     scene.animate("robot", Q, dt=0.05)        # (T, n) joint trajectory, play/pause in the viewer
     scene.show()
     scene.save("robot.html")                  # the view as a standalone page (what show() draws)
