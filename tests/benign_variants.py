@@ -128,6 +128,12 @@ def ik(pose):  # written another way: leg by leg, the platform point rotated by 
 
 rho0 = ik(POSE0)
 '''),
+        "task2_answer1": ("the twin pose through complex numbers, w' = -conj(z) w", '''
+
+def twin_pose(pose):  # written another way: B1 - A1 as a complex number w, z = e^(i phi)
+    w = complex(pose[0], pose[1]) * -np.exp(-1j * pose[2])
+    return np.array([w.real, w.imag, -pose[2]])
+'''),
         "task2_answer2": ("modes with phi in [0, 2 pi), N and Delta both times z", '''
 
 _my_fk_principal = my_fk
