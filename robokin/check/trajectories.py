@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from functools import partial
 from typing import Any
 
 import numpy as np
@@ -42,6 +43,7 @@ import numpy as np
 from robokin.check import diagnoses as dg
 from robokin.check._core import (
     FAIL,
+    FunctionCheck,
     PASS,
     Check,
     CheckResult,
@@ -366,51 +368,41 @@ def _cases() -> list[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]]:
     return cases
 
 
-class _MotionCheck:
+class _MotionCheck(FunctionCheck):
     """Check ``synchronised_motion(t, q_start, q_end, v_max, a_max)`` against the synchronised trapezoids."""
 
-    name = "synchronised_motion"
-
-    def __init__(self) -> None:
-        self.__doc__ = ("Check synchronised_motion(t, q_start, q_end, v_max, a_max) -> (positions, "
-                        "velocities, accelerations), each (len(t), n): synchronised minimum-time trapezoids.")
-
-    def __call__(self, answer: Any, *, raise_on_fail: bool = False, quiet: bool = False) -> CheckResult:
-        return report(self.evaluate(answer), raise_on_fail=raise_on_fail, quiet=quiet)
-
-    def _fail(self, code: str, message: str, n: int) -> CheckResult:
-        return CheckResult(self.name, False, f"{FAIL} {message}", code, n)
-
-    def evaluate(self, answer: Any) -> CheckResult:
+    def judge(self, answer: Callable[..., Any]) -> CheckResult:
         cases = _cases()
         n = len(cases)
-        if not callable(answer):
-            return self._fail("constant", f"{self.name} should be a Python function synchronised_motion(t, "
-                              f"q_start, q_end, v_max, a_max); got {type(answer).__name__}.", n)
         rng = np.random.default_rng(3)
         for k, (start, end, v_max, a_max) in enumerate(cases):
-            ref = _motion(np.zeros(1), start, end, v_max, a_max)
             duration = max(_trapezoid_time(abs(e - s), v, a) for s, e, v, a in zip(start, end, v_max, a_max))
             t = np.concatenate([[0.0], np.sort(rng.uniform(0.0, duration, 40)), [duration]])
             ref = _motion(t, start, end, v_max, a_max)
-            where = (f" (move {k + 1}: q_start = {fmt(start)}, q_end = {fmt(end)}, v_max = {fmt(v_max)}, "
+            where = (f"(move {k + 1}: q_start = {fmt(start)}, q_end = {fmt(end)}, v_max = {fmt(v_max)}, "
                      f"a_max = {fmt(a_max)})")
-            try:
-                out = answer(t.copy(), start.copy(), end.copy(), v_max.copy(), a_max.copy())
-            except Exception as exc:  # noqa: BLE001 - report the student's error
-                return self._fail("error", f"calling {self.name} raised {type(exc).__name__}: {exc}{where}", n)
+            out = self.call(answer, (t.copy(), start.copy(), end.copy(), v_max.copy(), a_max.copy()), where, n)
             got = self._arrays(out, len(t), len(start))
             if isinstance(got, str):
-                return self._fail("shape", got, n)
+                return self.failure("shape", got, n)
             inner = slice(1, -1)    # accelerations jump at the ends: compared inside
             if self._same(got, ref, inner):
                 continue
-            for code, message in _MOTION_MISTAKES.items():
-                wrong = _motion(t, start, end, v_max, a_max, mistake=code)
-                if not self._same(wrong, ref, inner) and self._same(got, wrong, inner):
-                    return self._fail(code, message.format(name=self.name) + where, n)
-            return self._fail("mismatch", self._describe(t, got, ref, start, end, v_max, a_max, duration) + where, n)
-        return CheckResult(self.name, True, f"{PASS} {self.name} is correct (checked on {n} moves).", None, n)
+            explains = partial(self._explains, got, ref, (t, start, end, v_max, a_max))
+            diagnosed = self.diagnose(((code, f"{message} {where}") for code, message in _MOTION_MISTAKES.items()),
+                                      explains, n)
+            if diagnosed is not None:
+                return diagnosed
+            return self.failure("mismatch", self._describe(t, got, ref, start, end, v_max, a_max, duration)
+                                + " " + where, n)
+        return self.success(f"{self.name} is correct (checked on {n} moves).", n)
+
+    def _explains(self, got: tuple, ref: tuple, case: tuple, code: str) -> bool:
+        """The mistake ``code`` on the move ``case`` = (t, q_start, q_end, v_max, a_max) gives ``got``."""
+        inner = slice(1, -1)
+        t, start, end, v_max, a_max = case
+        wrong = _motion(t, start, end, v_max, a_max, mistake=code)
+        return not self._same(wrong, ref, inner) and self._same(got, wrong, inner)
 
     @staticmethod
     def _same(a, b, inner) -> bool:
@@ -456,7 +448,12 @@ class _MotionCheck:
                 "arrive at T.")
 
 
-synchronised_motion = exercise(_CHAPTER, "synchronised_motion", _MotionCheck())  # type: ignore[arg-type]
+synchronised_motion = exercise(_CHAPTER, "synchronised_motion", _MotionCheck(
+    name="synchronised_motion",
+    signature="synchronised_motion(t, q_start, q_end, v_max, a_max)",
+    doc=("Check synchronised_motion(t, q_start, q_end, v_max, a_max) -> (positions, velocities, "
+         "accelerations), each (len(t), n): synchronised minimum-time trapezoids."),
+))
 
 
 # ------------------------------------------------------------------ via points
