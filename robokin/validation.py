@@ -263,7 +263,7 @@ def check_rotation_matrix(R: Any, tol: float = 1e-6, name: str = "R") -> np.ndar
     r"""Check that ``R`` is a rotation matrix (or a stack of them).
 
     A rotation matrix satisfies :math:`R R^\mathsf{T} = I` and
-    :math:`\det R = +1` (Siciliano et al. 2009, §2.1).
+    :math:`\det R = +1` (Siciliano et al. 2009, §2.2).
 
     Parameters
     ----------

@@ -3,7 +3,7 @@ r"""Build :class:`~robokin.chains.SerialChain` objects from DH and link tables.
 All builders translate their table into elementary transforms, the chain's only
 internal representation.
 
-Standard DH (Siciliano et al. 2009, §2.8.2; Corke 2017, §7.2)
+Standard DH (Siciliano et al. 2009, §2.8.2; Corke 2017, ch. 7)
     table rows ``(d, theta_offset, a, alpha[, type])``; row i is
 
     .. math:: {}^{i-1}\mathbf{T}_i = R_z(\theta_i)\,T_z(d_i)\,T_x(a_i)\,R_x(\alpha_i),
@@ -11,7 +11,7 @@ Standard DH (Siciliano et al. 2009, §2.8.2; Corke 2017, §7.2)
     with :math:`\theta_i = q_i + \theta_{off,i}` for a revolute joint and
     :math:`d_i = q_i + d` for a prismatic joint.
 
-Modified DH (Craig 2005, §3.4)
+Modified DH (Craig 2005, §3.4; the link transform, §3.5)
     same column order ``(d, theta_offset, a, alpha[, type])`` where ``a`` and
     ``alpha`` are :math:`a_{i-1}, \alpha_{i-1}` of row i:
 
@@ -70,7 +70,7 @@ def from_dh(
 
     Notes
     -----
-    Siciliano et al. 2009, §2.8.2, eq. (2.52); Corke 2017, §7.2.
+    Siciliano et al. 2009, §2.8.2, eq. (2.52); Corke 2017, ch. 7.
     Frame i of the chain (after joint i) has the origin and z axis of DH frame
     i−1, so the joint axis passes through it.
     """
@@ -103,7 +103,7 @@ def from_modified_dh(
 
     Notes
     -----
-    Craig 2005, §3.4, eq. (3.6).
+    Craig 2005, §3.5, eq. (3.6).
     """
     return SerialChain(dh_elements(table, joint_names, modified=True), limits=limits, tool=tool, base=base,
                        frame_names=frame_names, name=name)

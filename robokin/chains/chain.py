@@ -158,7 +158,7 @@ class SerialChain:
 
     Notes
     -----
-    Forward kinematics is the product of the elements (Corke 2017, §7.1.1):
+    Forward kinematics is the product of the elements (Corke 2017, ch. 7):
 
     .. math::  {}^B\mathbf{T}_E(\mathbf{q}) = E_1 E_2 \cdots E_m\, \mathbf{T}_{tool}
 

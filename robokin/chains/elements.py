@@ -1,7 +1,7 @@
 r"""Elementary transforms: the building blocks of a serial chain.
 
 A serial chain is written as a product of *elementary transforms* (ETS, Corke
-2017, §7.1.1; Haviland & Corke 2021): translations along and rotations about the
+2017, ch. 7; Haviland & Corke 2021): translations along and rotations about the
 x, y, z axes of the current frame, read from left (base) to right (tool)::
 
     T_BF(q) = Ty(1) Rx(alpha) Tz(-1) Ry(beta) Tz(-1) Ry(gamma) Tz(-1)

@@ -2,8 +2,8 @@ r"""Statics and the velocity and force ellipsoids of a serial chain.
 
 By virtual work, the joint torques with which the end-effector, at rest, exerts the wrench
 :math:`\mathbf{w} = [\mathbf{f}; \boldsymbol{\mu}]` on its environment are
-:math:`\boldsymbol\tau = \mathbf{J}^\mathsf{T}\mathbf{w}` (Siciliano et al. 2009, §3.8.1,
-eq. 3.111; Lynch & Park 2017, §5.2): the power :math:`\dot{\mathbf{q}}^\mathsf{T}\boldsymbol\tau
+:math:`\boldsymbol\tau = \mathbf{J}^\mathsf{T}\mathbf{w}` (Siciliano et al. 2009, §3.8;
+Lynch & Park 2017, §5.2): the power :math:`\dot{\mathbf{q}}^\mathsf{T}\boldsymbol\tau
 = \mathbf{v}^\mathsf{T}\mathbf{f} + \boldsymbol\omega^\mathsf{T}\boldsymbol\mu` is the same on
 both sides. With this book's :math:`\mathbf{J} = [\mathbf{J}_v; \mathbf{J}_\omega]` the wrench
 is ``[f; μ]`` in that order, in the base frame, the force applied at the end-effector's origin.
@@ -59,7 +59,7 @@ def velocity_ellipsoid(chain: Chain, q: Any, part: str = "position") -> tuple[np
 
     The image of the unit ball of joint velocities, :math:`\{\mathbf{J}_p\dot{\mathbf{q}} :
     \|\dot{\mathbf{q}}\| \le 1\}`: semi-axes :math:`\sigma_i`, axes the left singular vectors
-    :math:`\mathbf{u}_i` of :math:`\mathbf{J}_p` (Siciliano et al. 2009, §3.9, eq. 3.124).
+    :math:`\mathbf{u}_i` of :math:`\mathbf{J}_p` (Siciliano et al. 2009, §3.9).
     A chain with fewer than three joints gives zero radii (a flat ellipsoid).
 
     Parameters
@@ -88,8 +88,8 @@ def force_ellipsoid(chain: Chain, q: Any, part: str = "position") -> tuple[np.nd
 
     The forces (``part="position"``) or moments (``"orientation"``) balanced by joint torques of
     unit norm, :math:`\{\mathbf{f} : \|\mathbf{J}_p^\mathsf{T}\mathbf{f}\| \le 1\}`: the same
-    axes as the velocity ellipsoid, semi-axes :math:`1/\sigma_i` (Siciliano et al. 2009, §3.9,
-    eq. 3.128). Along a direction the chain cannot move (a singular value below numpy's rank
+    axes as the velocity ellipsoid, semi-axes :math:`1/\sigma_i` (Siciliano et al. 2009,
+    §3.9). Along a direction the chain cannot move (a singular value below numpy's rank
     tolerance, :math:`\sigma_1 \max(3, n)\,\epsilon`) the radius is ``inf``: every force along it
     is held with no torque.
 
@@ -128,8 +128,8 @@ def _decomposition(chain: Chain, q: Any, part: str) -> tuple[np.ndarray, np.ndar
 def static_torques(chain: Chain, q: Any, wrench: Any) -> np.ndarray:
     r"""Joint torques (forces) with which the end-effector exerts a wrench, at rest.
 
-    :math:`\boldsymbol\tau = \mathbf{J}^\mathsf{T}\mathbf{w}` (Siciliano et al. 2009, §3.8.1,
-    eq. 3.111; Lynch & Park 2017, §5.2): the torques the joints
+    :math:`\boldsymbol\tau = \mathbf{J}^\mathsf{T}\mathbf{w}` (Siciliano et al. 2009, §3.8;
+    Lynch & Park 2017, §5.2): the torques the joints
     must exert to hold the end-effector still while the environment pushes on it with
     :math:`-\mathbf{w}` (equivalently: the torques that make the end-effector exert
     :math:`\mathbf{w}`). A load of mass :math:`m` hanging at the end-effector under gravity

@@ -2,12 +2,12 @@ r"""A serial chain in the product-of-exponentials form (Lynch & Park 2017, ch. 4
 
 A chain's forward kinematics is a product of screw motions about the joints' axes,
 read once at the home configuration :math:`\mathbf{q} = 0` (the space form,
-Lynch & Park 2017, §4.1.1, eq. 4.14):
+Lynch & Park 2017, §4.1.1):
 
 .. math::
     T(\mathbf{q}) = e^{[\mathcal{S}_1]q_1} e^{[\mathcal{S}_2]q_2} \cdots e^{[\mathcal{S}_n]q_n} M
 
-and its Jacobians follow column by column (§5.1.1, eq. 5.11; §5.1.2, eq. 5.18):
+and its Jacobians follow column by column (§5.1.1 and §5.1.2; their relation, §5.1.4):
 
 .. math::
     J_{s,i} = [\mathrm{Ad}_{e^{[\mathcal{S}_1]q_1}\cdots e^{[\mathcal{S}_{i-1}]q_{i-1}}}]\,\mathcal{S}_i,
@@ -127,7 +127,7 @@ def space_jacobian(chain: DrawableChain, q: Any) -> np.ndarray:
         J_{s,1} = \mathcal{S}_1, \qquad
         J_{s,i} = [\mathrm{Ad}_{e^{[\mathcal{S}_1]q_1}\cdots e^{[\mathcal{S}_{i-1}]q_{i-1}}}]\,\mathcal{S}_i
 
-    (Lynch & Park 2017, §5.1.1, eq. 5.11.) :math:`\mathcal{V}_s = J_s \dot{\mathbf{q}}` is the
+    (Lynch & Park 2017, §5.1.1.) :math:`\mathcal{V}_s = J_s \dot{\mathbf{q}}` is the
     spatial twist ``[ω; v_s]``: ``v_s`` is the velocity of the body point at the base origin.
 
     Parameters
@@ -156,9 +156,9 @@ def space_jacobian(chain: DrawableChain, q: Any) -> np.ndarray:
 def body_jacobian(chain: DrawableChain, q: Any) -> np.ndarray:
     r"""Body Jacobian :math:`J_b(\mathbf{q}) = [\mathrm{Ad}_{T^{-1}}]\, J_s(\mathbf{q})`.
 
-    (Lynch & Park 2017, §5.1.3, eq. 5.22.) :math:`\mathcal{V}_b = J_b \dot{\mathbf{q}}` is the
-    end-effector's twist ``[ω_b; v_b]`` in its own frame: ``v_b`` is the velocity of its
-    origin, in the end-effector frame.
+    (Lynch & Park 2017, §5.1.2; its relation to :math:`J_s`, §5.1.4.)
+    :math:`\mathcal{V}_b = J_b \dot{\mathbf{q}}` is the end-effector's twist ``[ω_b; v_b]`` in its own
+    frame: ``v_b`` is the velocity of its origin, in the end-effector frame.
 
     Parameters
     ----------

@@ -10,7 +10,7 @@ with the pose error :math:`e = [p_{goal} - p;\ \theta h]` of
 :func:`~robokin.motion.pose_error`, and maps it to joint velocities through
 the pseudoinverse, :math:`\dot q = J^+ \nu_d`, or damped least squares,
 :math:`\dot q = J^T(JJ^T + \lambda^2 I)^{-1}\nu_d` (Siciliano et al. 2009,
-§3.7.1, eq. 3.70; §3.5.2 / 3.59).  With :math:`J\dot q = \nu_d` the error
+§3.7.1; §3.5.2, eq. 3.59).  With :math:`J\dot q = \nu_d` the error
 obeys :math:`\dot e = -K e` (for a constant goal), i.e. it decays as
 :math:`e(t) = e^{-Kt} e(0)`; the Euler-discretised loop with step
 :math:`t_s` gives :math:`e_k \approx (1 - K t_s)^k e_0` (stable for

@@ -1,7 +1,7 @@
 r"""Pose error between a current and a goal pose, in several representations.
 
 The IK solvers and the Cartesian controller use the angle–axis form
-(Siciliano et al. 2009, §3.7.3, eq. 3.84–3.88):
+(Siciliano et al. 2009, §3.7.3):
 
 .. math::
     e = \begin{bmatrix} e_P \\ e_O \end{bmatrix}
@@ -66,7 +66,7 @@ def pose_error(T_current: Any, T_goal: Any, representation: str = "angle_axis") 
             :math:`2\sin(\theta/2)\,h`: the same direction as the angle–axis
             error and the same to first order (:math:`\approx\theta h` for
             small :math:`\theta`), but its norm saturates at 2 for
-            :math:`\theta = \pi`.  Siciliano et al. 2009, eq. 3.91 (up to the
+            :math:`\theta = \pi`.  Siciliano et al. 2009, §3.7.3 (up to the
             factor 2).
         ``"rpy"``
             :math:`e_O = \phi_{goal} - \phi` with :math:`\phi` = (roll, pitch,

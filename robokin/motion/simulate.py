@@ -10,7 +10,7 @@ rule
 where ``sat`` clamps to the joint limits.  Explicit Euler is first-order
 accurate: for the Cartesian P controller it turns the continuous decay
 :math:`e^{-Kt}` into :math:`(1 - K t_s)^k`, which is stable only for
-:math:`K t_s < 2` (Siciliano et al. 2009, §3.7.1 discuss the discrete-time
+:math:`K t_s < 2` (Siciliano et al. 2009, §3.7 discuss the discrete-time
 closed-loop inverse kinematics).
 """
 

@@ -16,7 +16,7 @@ it starts:
     \qquad
     \mathbf q_{k+1} = \operatorname{sat}(\mathbf q_k + t_s\,\dot{\mathbf q}_k)
 
-(Siciliano et al. 2009, §3.7.1, eq. 3.70, with the position Jacobian; ``K = 0``
+(Siciliano et al. 2009, §3.7.1, with the position Jacobian; ``K = 0``
 is the open-loop integration of :math:`\mathbf J_v^+\dot{\mathbf r}_{des}`, which
 drifts). For one run it reproduces :func:`robokin.motion.simulate` with a
 position-only :class:`~robokin.motion.CartesianController`.
@@ -293,7 +293,7 @@ def track_position_batch(
     :math:`\mathbf V\boldsymbol\Sigma^{+}\mathbf U^T` (singular values below
     ``rcond`` times the largest set to zero) or the damped least-squares
     inverse :math:`\mathbf J_v^T(\mathbf J_v\mathbf J_v^T + \lambda^2\mathbf I)^{-1}`
-    (Siciliano et al. 2009, eq. 3.59 and 3.70), both from the singular value
+    (Siciliano et al. 2009, §3.7.1 and eq. 3.59), both from the singular value
     decomposition :math:`\mathbf J_v = \mathbf U\boldsymbol\Sigma\mathbf V^T`
     (which also gives the singular values that are logged). For a spatial arm
     the step is computed from the eigen-decomposition

@@ -3,7 +3,7 @@ r"""Planar 3-RPR parallel robot: inverse and forward kinematics, Jacobian.
 A moving platform is connected to the ground by three legs. Leg :math:`i` turns
 about a passive revolute joint at the base anchor :math:`A_i`, has an actuated
 prismatic joint of length :math:`\rho_i` and is attached by a passive revolute
-joint to the platform at :math:`B_i` (Merlet 2006, §3.1 and §4.x;
+joint to the platform at :math:`B_i` (Merlet 2006, ch. 3 and 4;
 Gosselin & Merlet 1994).
 
 Parameterisation
@@ -28,7 +28,7 @@ given leg lengths: the real roots of the orientation equation :math:`F(\varphi) 
 that is left after the position is eliminated from the three loop equations. With
 :math:`t = \tan(\varphi/2)`, :math:`(1 + t^2)^3 F` is a polynomial of degree 6
 (:meth:`Planar3RPR.orientation_polynomial`), so there are at most six real assembly
-modes (Gosselin & Merlet 1994; Merlet 2006, §4.2). The solver finds the roots as those of
+modes (Gosselin & Merlet 1994; Merlet 2006, ch. 4). The solver finds the roots as those of
 a polynomial in :math:`z = e^{i\varphi}` (no special case for :math:`\varphi = \pi`,
 where :math:`t \to \infty`), then polishes every pose with Newton's method on the three
 loop equations. The derivation of the equation and of its degree is chapter 3 of the
@@ -39,7 +39,7 @@ Velocities
 :meth:`Planar3RPR.jacobian` returns the *inverse Jacobian* :math:`\mathbf{A}(\mathbf{x})`
 of the robot, :math:`\dot{\boldsymbol\rho} = \mathbf{A}\,\dot{\mathbf{x}}` with
 :math:`\dot{\mathbf{x}} = (\dot x, \dot y, \dot\varphi)`: it maps the platform velocity to the
-leg rates (Merlet 2006, §5.2), the opposite direction to ``jacobian`` of a serial chain
+leg rates (Merlet 2006, ch. 5), the opposite direction to ``jacobian`` of a serial chain
 (:meth:`robokin.chains.SerialChain.jacobian`), which maps the joint rates to the twist.
 :meth:`Planar3RPR.direct_jacobian` returns :math:`\mathbf{A}^{-1}`. Where
 :math:`\det\mathbf{A} = 0` the robot is at a parallel (type-2) singularity
@@ -155,8 +155,8 @@ class Planar3RPR:
 
     Notes
     -----
-    Geometry follows Merlet (2006), *Parallel Robots*, 2nd ed., §3.1 and
-    §4.2 (direct kinematics of planar robots), and Gosselin & Merlet (1994).
+    Geometry follows Merlet (2006), *Parallel Robots*, 2nd ed., ch. 3 (inverse
+    kinematics) and ch. 4 (direct kinematics), and Gosselin & Merlet (1994).
     """
 
     def __init__(self, base_anchors: Any, platform_anchors: Any, stroke: Any = (0.0, np.inf),
@@ -280,7 +280,7 @@ class Planar3RPR:
         :math:`\dot y` in m/s and :math:`\dot\varphi` in rad/s), while ``jacobian`` of a
         serial chain maps the joint rates to the twist. :meth:`direct_jacobian` is
         :math:`\mathbf{A}^{-1}`, the map from leg rates to platform velocity
-        (Merlet 2006, §5.2).
+        (Merlet 2006, ch. 5).
 
         Parameters
         ----------
@@ -484,7 +484,7 @@ class Planar3RPR:
         roots close to the unit circle, solve the linear equations for the position,
         polish each pose with Newton's method on the three loop equations, keep poses
         whose leg lengths match to ``tol`` (relative to the robot's size), remove duplicates.
-        Gosselin & Merlet (1994); Merlet (2006), §4.2.
+        Gosselin & Merlet (1994); Merlet (2006), ch. 4.
 
         Parameters
         ----------

@@ -12,7 +12,7 @@ of robokin writes a twist linear part first, :math:`[v; \omega]`;
     0 & 1 \end{bmatrix}, \qquad
     G(\theta) = I\theta + (1 - \cos\theta)[\omega] + (\theta - \sin\theta)[\omega]^2
 
-for a unit :math:`\omega` (Lynch & Park 2017, §3.3.3.2, eq. 3.88); for
+for a unit :math:`\omega` (Lynch & Park 2017, §3.3.3.1, Proposition 3.25); for
 :math:`\omega = 0` it is the translation :math:`v\theta`. The functions take the
 product :math:`\mathcal{V} = \mathcal{S}\theta = [w; u]` with :math:`w = \omega\theta`,
 :math:`u = v\theta`, and write :math:`G(\theta)v` as
@@ -73,7 +73,7 @@ def transform_exp(V: Any) -> Any:
         B = \frac{1 - \cos\theta}{\theta^2},\; C = \frac{\theta - \sin\theta}{\theta^3},\;
         \theta = \|w\|
 
-    (Lynch & Park 2017, §3.3.3.2, Proposition 3.25; the module docstring derives this form.)
+    (Lynch & Park 2017, §3.3.3.1, Proposition 3.25; the module docstring derives this form.)
     Below ``SERIES_ANGLE`` the coefficients are their Taylor series, so a pure translation
     (:math:`w = 0`) gives :math:`[I, u; 0, 1]` exactly.
 
@@ -137,7 +137,7 @@ def transform_log(T: Any, check: bool = True) -> np.ndarray:
         u = \Big(I - \tfrac12 [w] + D\,[w]^2\Big)\, p, \quad
         D = \frac{1}{\theta^2}\Big(1 - \frac{\theta}{2}\cot\frac{\theta}{2}\Big)
 
-    (Lynch & Park 2017, §3.3.3.2, Algorithm, with :math:`G^{-1}(\theta)` of eq. 3.92 written
+    (Lynch & Park 2017, §3.3.3.2, Algorithm, with its :math:`G^{-1}(\theta)` written
     for :math:`w = \omega\theta`.) Exact near both ends:
 
     - :math:`\theta \to 0`: :math:`D` is its series :math:`1/12 + \theta^2/720 + \theta^4/30240`
@@ -191,7 +191,7 @@ def adjoint(T: Any, check: bool = True) -> np.ndarray:
         [\mathrm{Ad}_T] = \begin{bmatrix} R & 0 \\ [p] R & R \end{bmatrix}, \qquad
         \mathcal{V}_a = [\mathrm{Ad}_{T_{ab}}]\, \mathcal{V}_b
 
-    (Lynch & Park 2017, §3.3.2.1, Definition 3.20): it changes the frame of a twist, angular
+    (Lynch & Park 2017, §3.3.2, the adjoint representation): it changes the frame of a twist, angular
     part first. For robokin's order ``[v; ω]`` the blocks trade places:
     ``[[R, [p] R], [0, R]]``.
 

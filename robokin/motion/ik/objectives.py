@@ -2,7 +2,7 @@ r"""Secondary objectives for null-space IK (:class:`robokin.motion.ik.NullSpace`
 
 A secondary objective is a scalar function :math:`H(q)` to be *maximised* by
 self-motion, :math:`\dot q = J^+ e + (I - J^+ J)\, k\, \nabla H(q)`
-(Liégeois 1977; Siciliano et al. 2009, §3.5.1, eq. 3.55).  Every objective
+(Liégeois 1977; Siciliano et al. 2009, §3.5.1).  Every objective
 here offers ``value(q, ctx)`` and ``gradient(q, ctx)``, both broadcasting over
 a batch ``q`` of shape ``(N, n)``.  ``ctx`` is what the solver knows about the
 problem (an :class:`~robokin.motion.ik.problem.IKContext`); it is optional

@@ -457,7 +457,7 @@ def solve_ik_once(
     until :math:`\|e_{P,k}\| \le` ``tol`` and :math:`\|e_{O,k}\| \le`
     ``tol`` (converged), the error stops decreasing (stalled) or
     ``max_iterations`` steps are taken.  :math:`\Delta q` is the step of
-    ``method``, e.g. :math:`J^+ e` for ``"pinv"`` (Siciliano eq. 3.70),
+    ``method``, e.g. :math:`J^+ e` for ``"pinv"`` (Siciliano §3.7.1),
     :math:`J^T(JJ^T + \lambda^2 I)^{-1} e` for ``"dls"`` (eq. 3.59),
     :math:`(J^TJ + (\tfrac{c}{2}\|e\|^2 + \bar w) I)^{-1} J^T e` for
     ``"lm"`` (Sugihara 2011); :math:`J` (6, n) is the geometric Jacobian of the
