@@ -538,53 +538,42 @@ def _polynomial(coefficients: np.ndarray, sigma: float) -> tuple[np.ndarray, np.
     return a0 + sigma * (a1 + sigma * (a2 + sigma * a3)), a1 + sigma * (2 * a2 + 3 * sigma * a3)
 
 
-class _ViaCheck:
+def _explains_via(got: np.ndarray, reference: np.ndarray, points: np.ndarray, durations: np.ndarray,
+                  code: str) -> bool:
+    """The mistake ``code`` gives the coefficients ``got`` (and not the reference's)."""
+    wrong = _via_coefficients(points, durations, code)
+    return not np.allclose(wrong, reference, atol=1e-8) and np.allclose(got, wrong, atol=1e-8)
+
+
+class _ViaCheck(FunctionCheck):
     """Check ``via_point_cubics(points, durations)`` against the rule's cubics on cases of its own."""
 
-    name = "via_point_cubics"
-
-    def __init__(self) -> None:
-        self.__doc__ = ("Check via_point_cubics(points, durations) -> coefficients (m, 4, n): per segment k and "
-                        "joint j the cubic a0 + a1 σ + a2 σ² + a3 σ³ in σ = t − t_k (s), through the via points "
-                        "with the velocities of the rule (mean of adjacent slopes, 0 where their signs differ, "
-                        "at rest at both ends).")
-
-    def __call__(self, answer: Any, *, raise_on_fail: bool = False, quiet: bool = False) -> CheckResult:
-        return report(self.evaluate(answer), raise_on_fail=raise_on_fail, quiet=quiet)
-
-    def evaluate(self, answer: Any) -> CheckResult:
+    def judge(self, answer: Callable[..., Any]) -> CheckResult:
         cases = _via_cases()
         n_cases = len(cases)
-
-        def fail(code: str, message: str) -> CheckResult:
-            return CheckResult(self.name, False, f"{FAIL} {message}", code, n_cases)
-
-        if not callable(answer):
-            return fail("constant", f"{self.name} should be a Python function via_point_cubics(points, "
-                                    f"durations) -> coefficients (m, 4, n); got {type(answer).__name__}.")
         for k, (points, durations) in enumerate(cases):
-            where = f" (case {k + 1}: points = {fmt(points)}, durations = {fmt(durations)})"
-            try:
-                with np.errstate(all="ignore"):
-                    got = np.asarray(answer(points.copy(), durations.copy()), dtype=float)
-            except Exception as exc:  # noqa: BLE001 - report the student's error
-                return fail("error", f"calling {self.name} raised {type(exc).__name__}: {exc}{where}")
+            where = f"(case {k + 1}: points = {fmt(points)}, durations = {fmt(durations)})"
+            with np.errstate(all="ignore"):
+                raw = self.call(answer, (points.copy(), durations.copy()), where, n_cases)
+            got = self.call(np.asarray, (raw, float), where, n_cases)
             m, n = len(durations), points.shape[1]
             if got.shape != (m, 4, n):
-                return fail("shape", f"{self.name} should return the coefficients of shape (m, 4, n) = ({m}, 4, "
-                                     f"{n}) for {m + 1} via points of {n} joints; got {got.shape}{where}.")
+                return self.failure("shape", f"{self.name} should return the coefficients of shape (m, 4, n) = "
+                                    f"({m}, 4, {n}) for {m + 1} via points of {n} joints; got {got.shape} {where}.",
+                                    n_cases)
             if not np.all(np.isfinite(got)):
-                return fail("nan", f"the coefficients of {self.name} contain NaN or infinite values{where}.")
+                return self.failure("nan", f"the coefficients of {self.name} contain NaN or infinite values "
+                                    f"{where}.", n_cases)
             reference = _via_coefficients(points, durations)
             if np.allclose(got, reference, atol=1e-8):
                 continue
-            for code, message in _VIA_MISTAKES.items():
-                wrong = _via_coefficients(points, durations, code)
-                if not np.allclose(wrong, reference, atol=1e-8) and np.allclose(got, wrong, atol=1e-8):
-                    return fail(code, message.format(name=self.name) + where)
-            return fail("mismatch", self._describe(got, reference, points, durations) + where)
-        return CheckResult(self.name, True, f"{PASS} {self.name} is correct (checked on {n_cases} sets of via "
-                                            "points, a turn back and a pause included).", None, n_cases)
+            diagnosed = self.diagnose(((code, f"{message} {where}") for code, message in _VIA_MISTAKES.items()),
+                                      partial(_explains_via, got, reference, points, durations), n_cases)
+            if diagnosed is not None:
+                return diagnosed
+            return self.failure("mismatch", f"{self._describe(got, reference, points, durations)} {where}", n_cases)
+        return self.success(f"{self.name} is correct (checked on {n_cases} sets of via points, a turn back and a "
+                            "pause included).", n_cases)
 
     def _describe(self, got: np.ndarray, reference: np.ndarray, points: np.ndarray, durations: np.ndarray) -> str:
         """The first property the cubics break: a via point missed, ends moving, a velocity jump, a value."""
@@ -610,7 +599,13 @@ class _ViaCheck:
                 "sign, else 0.")
 
 
-via_point_cubics = exercise(_CHAPTER, "via_point_cubics", _ViaCheck())  # type: ignore[arg-type]
+via_point_cubics = exercise(_CHAPTER, "via_point_cubics", _ViaCheck(
+    name="via_point_cubics",
+    signature="via_point_cubics(points, durations) -> coefficients (m, 4, n)",
+    doc=("Check via_point_cubics(points, durations) -> coefficients (m, 4, n): per segment k and joint j the "
+         "cubic a0 + a1 σ + a2 σ² + a3 σ³ in σ = t − t_k (s), through the via points with the velocities of "
+         "the rule (mean of adjacent slopes, 0 where their signs differ, at rest at both ends)."),
+))
 
 
 # ------------------------------------------------------------------ slerp
