@@ -684,65 +684,62 @@ _SLERP_MISTAKES: list[tuple[str, Callable[..., np.ndarray], str]] = [
 ]
 
 
-class _SlerpCheck:
+def _same_rotation(a: np.ndarray, b: np.ndarray, tol: float = 1e-8) -> bool:
+    """Two quaternions (4,) of the same rotation: equal, or opposite."""
+    return a.shape == b.shape == (4,) and bool(min(np.abs(a - b).max(), np.abs(a + b).max()) < tol)
+
+
+def _explains_slerp(got: np.ndarray, reference: np.ndarray, case: tuple[np.ndarray, np.ndarray, float],
+                    code: str) -> bool:
+    """The mistake ``code`` of slerp gives the rotation ``got`` (and not the reference's)."""
+    with np.errstate(all="ignore"):
+        mistaken = np.asarray(_SLERP_WRONG[code](*case), dtype=float)
+    return (bool(np.all(np.isfinite(mistaken))) and not _same_rotation(mistaken, reference)
+            and _same_rotation(got, mistaken))
+
+
+_SLERP_WRONG = {code: wrong for code, wrong, _ in _SLERP_MISTAKES}
+
+
+class _SlerpCheck(FunctionCheck):
     """Check ``slerp(q0, q1, s)`` on generic, opposite-sign, equal and nearly equal pairs."""
 
-    name = "slerp"
-
-    def __init__(self) -> None:
-        self.__doc__ = ("Check slerp(q0, q1, s) -> unit quaternion (4,): the short way, at a constant rate, "
-                        "also for equal and nearly equal rotations (a quaternion or its negative accepted).")
-
-    def __call__(self, answer: Any, *, raise_on_fail: bool = False, quiet: bool = False) -> CheckResult:
-        return report(self.evaluate(answer), raise_on_fail=raise_on_fail, quiet=quiet)
-
-    @staticmethod
-    def _same_rotation(a: np.ndarray, b: np.ndarray, tol: float = 1e-8) -> bool:
-        return a.shape == b.shape == (4,) and bool(min(np.abs(a - b).max(), np.abs(a + b).max()) < tol)
-
-    def evaluate(self, answer: Any) -> CheckResult:
+    def judge(self, answer: Callable[..., Any]) -> CheckResult:
         cases = _slerp_cases()
         n = len(cases)
-
-        def fail(code: str, message: str) -> CheckResult:
-            return CheckResult(self.name, False, f"{FAIL} {message}", code, n)
-
-        if not callable(answer):
-            return fail("constant", f"{self.name} should be a Python function slerp(q0, q1, s) -> (4,); "
-                                    f"got {type(answer).__name__}.")
         for k, (q0, q1, s) in enumerate(cases):
-            where = f" (at q0 = {fmt(q0)}, q1 = {fmt(q1)}, s = {s:.3g})"
-            try:
-                with np.errstate(all="ignore"):
-                    raw = answer(q0.copy(), q1.copy(), s)
-                got = np.asarray(raw, dtype=float).reshape(-1)
-            except Exception as exc:  # noqa: BLE001 - report the student's error
-                return fail("error", f"calling {self.name} raised {type(exc).__name__}: {exc}{where}")
+            where = f"(at q0 = {fmt(q0)}, q1 = {fmt(q1)}, s = {s:.3g})"
+            with np.errstate(all="ignore"):
+                raw = self.call(answer, (q0.copy(), q1.copy(), s), where, n)
+            got = self.call(np.asarray, (raw, float), where, n).reshape(-1)
             if got.shape != (4,):
-                return fail("shape", f"{self.name} should return a quaternion (w, x, y, z) of shape (4,); "
-                                     f"got {got.size} numbers{where}.")
+                return self.failure("shape", f"{self.name} should return a quaternion (w, x, y, z) of shape (4,); "
+                                    f"got {got.size} numbers {where}.", n)
             if not np.all(np.isfinite(got)):
                 near = " for (nearly) equal rotations: sin Ω ≈ 0 there; use (1 − s) q0 + s q1" if k >= 12 else ""
-                return fail("nan", f"{self.name} gives NaN or infinite values{near}{where}.")
+                return self.failure("nan", f"{self.name} gives NaN or infinite values{near} {where}.", n)
             reference = _slerp(q0, q1, s)
-            if self._same_rotation(got, reference):
+            if _same_rotation(got, reference):
                 continue
-            for code, wrong, message in _SLERP_MISTAKES:
-                with np.errstate(all="ignore"):
-                    mistaken = np.asarray(wrong(q0, q1, s), dtype=float)
-                if (np.all(np.isfinite(mistaken)) and not self._same_rotation(mistaken, reference)
-                        and self._same_rotation(got, mistaken)):
-                    return fail(code, message.format(name=self.name) + where)
+            diagnosed = self.diagnose(((code, f"{message} {where}") for code, _, message in _SLERP_MISTAKES),
+                                      partial(_explains_slerp, got, reference, (q0, q1, s)), n)
+            if diagnosed is not None:
+                return diagnosed
             if abs(np.linalg.norm(got) - 1.0) > 1e-8:
-                return fail("not_unit", f"{self.name} returns a quaternion of norm {np.linalg.norm(got):.6g}, "
-                                        f"not 1{where}.")
-            return fail("mismatch", f"{self.name} = {fmt(got)}, expected {fmt(reference)} (or its "
-                                    f"negative){where}.")
-        return CheckResult(self.name, True, f"{PASS} {self.name} is correct (checked at {n} pairs of "
-                                            "rotations, the nearly equal ones included).", None, n)
+                return self.failure("not_unit", f"{self.name} returns a quaternion of norm "
+                                    f"{np.linalg.norm(got):.6g}, not 1 {where}.", n)
+            return self.failure("mismatch", f"{self.name} = {fmt(got)}, expected {fmt(reference)} (or its "
+                                f"negative) {where}.", n)
+        return self.success(f"{self.name} is correct (checked at {n} pairs of rotations, the nearly equal ones "
+                            "included).", n)
 
 
-slerp = exercise(_CHAPTER, "slerp", _SlerpCheck())  # type: ignore[arg-type]
+slerp = exercise(_CHAPTER, "slerp", _SlerpCheck(
+    name="slerp",
+    signature="slerp(q0, q1, s) -> (4,)",
+    doc=("Check slerp(q0, q1, s) -> unit quaternion (4,): the short way, at a constant rate, also for equal "
+         "and nearly equal rotations (a quaternion or its negative accepted)."),
+))
 
 
 # ------------------------------------------------------------------ the straight line
