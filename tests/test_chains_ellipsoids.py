@@ -16,7 +16,7 @@ import pytest
 from robokin.chains.ellipsoids import force_ellipsoid, static_torques, velocity_ellipsoid
 from robokin.errors import ShapeError
 from robokin.models import baxter_left, eth_leg, planar_two_link, ur10
-from tests.finite_differences import pose_jacobian
+from finite_differences import pose_jacobian
 
 CHAINS = {"ur10": ur10, "baxter_left": baxter_left, "eth_leg": eth_leg, "planar_two_link": planar_two_link}
 TOLERANCE = 1e-12
