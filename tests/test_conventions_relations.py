@@ -130,6 +130,6 @@ def test_body_jacobian_relation(ur10, configurations):
 
 
 def test_body_and_space_jacobians_differ_by_the_adjoint(ur10, configurations):
-    """L&P §5.1.3, J_s = Ad_T J_b: ties the two finite-difference Jacobians together."""
+    """L&P §5.1.4, J_s = Ad_T J_b: ties the two finite-difference Jacobians together."""
     for q in configurations:
         assert np.allclose(space_jacobian_fd(ur10, q), adjoint(ur10.fk(q)) @ body_jacobian_fd(ur10, q), atol=1e-7)

@@ -33,7 +33,7 @@ def twists(count: int, seed: int, largest_angle: float = 3.0) -> np.ndarray:
 
 
 def hat(V: np.ndarray) -> np.ndarray:
-    """The 4×4 matrix [V] of a twist [ω; v] (Lynch & Park 2017, eq. 3.70)."""
+    """The 4×4 matrix [V] of a twist [ω; v] (Lynch & Park 2017, §3.3.2)."""
     out = np.zeros((4, 4))
     out[:3, :3] = skew(V[:3])
     out[:3, 3] = V[3:]
