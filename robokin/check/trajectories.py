@@ -787,57 +787,55 @@ _LINE_MISTAKES = {
 }
 
 
-class _LineCheck:
+def _pose_and_twist(out: Any) -> tuple[np.ndarray, np.ndarray]:
+    """The two parts of what line_reference returns, as float arrays (raises as unpacking does)."""
+    pose, twist = (np.asarray(x, dtype=float) for x in out)
+    return pose, twist
+
+
+def _explains_line(pose: np.ndarray, twist: np.ndarray, case: tuple[float, np.ndarray, np.ndarray, float],
+                   code: str) -> bool:
+    """The mistake ``code`` of the line gives ``pose`` and ``twist``."""
+    wrong_pose, wrong_twist = _line_reference(*case, mistake=code)
+    return np.allclose(pose, wrong_pose, atol=1e-8) and np.allclose(twist, wrong_twist, atol=1e-8)
+
+
+class _LineCheck(FunctionCheck):
     """Check ``line_reference(t, T_start, T_end, duration)`` on lines of its own."""
 
-    name = "line_reference"
-
-    def __init__(self) -> None:
-        self.__doc__ = ("Check line_reference(t, T_start, T_end, duration) -> (pose (4, 4), "
-                        "twist (6,)): the straight line with the slerped orientation and the quintic law.")
-
-    def __call__(self, answer: Any, *, raise_on_fail: bool = False, quiet: bool = False) -> CheckResult:
-        return report(self.evaluate(answer), raise_on_fail=raise_on_fail, quiet=quiet)
-
-    def evaluate(self, answer: Any) -> CheckResult:
+    def judge(self, answer: Callable[..., Any]) -> CheckResult:
         n = 3
-
-        def fail(code: str, message: str) -> CheckResult:
-            return CheckResult(self.name, False, f"{FAIL} {message}", code, n)
-
-        if not callable(answer):
-            return fail("constant", f"{self.name} should be a Python function (t, T_start, T_end, duration) "
-                                    f"-> (pose, twist); got {type(answer).__name__}.")
         for seed in range(n):
             _, _, start, end = _line_case(seed)
             duration = 1.5 + seed
             for t in (0.0, 0.23 * duration, 0.61 * duration, duration):
-                where = f" (at t = {t:.3g} s of a line of {duration:.3g} s)"
-                try:
-                    out = answer(t, start.copy(), end.copy(), duration)
-                    pose, twist = (np.asarray(x, dtype=float) for x in out)
-                except Exception as exc:  # noqa: BLE001 - report the student's error
-                    return fail("error", f"calling {self.name} raised {type(exc).__name__}: {exc}{where}")
+                where = f"(at t = {t:.3g} s of a line of {duration:.3g} s)"
+                out = self.call(answer, (t, start.copy(), end.copy(), duration), where, n)
+                pose, twist = self.call(_pose_and_twist, (out,), where, n)
                 if pose.shape != (4, 4) or twist.shape != (6,):
-                    return fail("shape", f"{self.name} should return a pose (4, 4) and a twist (6,); got "
-                                         f"{pose.shape} and {twist.shape}{where}.")
+                    return self.failure("shape", f"{self.name} should return a pose (4, 4) and a twist (6,); got "
+                                        f"{pose.shape} and {twist.shape} {where}.", n)
                 ref_pose, ref_twist = _line_reference(t, start, end, duration)
                 if np.allclose(pose, ref_pose, atol=1e-8) and np.allclose(twist, ref_twist, atol=1e-8):
                     continue
-                for code, message in _LINE_MISTAKES.items():
-                    wrong_pose, wrong_twist = _line_reference(t, start, end, duration, mistake=code)
-                    if np.allclose(pose, wrong_pose, atol=1e-8) and np.allclose(twist, wrong_twist, atol=1e-8):
-                        return fail(code, message.format(name=self.name) + where)
+                diagnosed = self.diagnose(((code, f"{message} {where}") for code, message in _LINE_MISTAKES.items()),
+                                          partial(_explains_line, pose, twist, (t, start, end, duration)), n)
+                if diagnosed is not None:
+                    return diagnosed
                 part = "pose" if not np.allclose(pose, ref_pose, atol=1e-8) else "twist"
                 expected = ref_pose if part == "pose" else ref_twist
                 got = pose if part == "pose" else twist
-                return fail("mismatch", f"the {part} of {self.name} is not correct{where}: expected "
-                                        f"{fmt(expected)}, got {fmt(got)}.")
-        return CheckResult(self.name, True, f"{PASS} {self.name} is correct (checked on {n} lines of its own).",
-                           None, n)
+                return self.failure("mismatch", f"the {part} of {self.name} is not correct {where}: expected "
+                                    f"{fmt(expected)}, got {fmt(got)}.", n)
+        return self.success(f"{self.name} is correct (checked on {n} lines of its own).", n)
 
 
-line_reference = exercise(_CHAPTER, "line_reference", _LineCheck())  # type: ignore[arg-type]
+line_reference = exercise(_CHAPTER, "line_reference", _LineCheck(
+    name="line_reference",
+    signature="(t, T_start, T_end, duration) -> (pose, twist)",
+    doc=("Check line_reference(t, T_start, T_end, duration) -> (pose (4, 4), twist (6,)): the straight line "
+         "with the slerped orientation and the quintic law."),
+))
 
 
 def _track_reference(robot, q0, poses, twists, ts, gain, mistake: str = "") -> np.ndarray:
