@@ -42,16 +42,13 @@ import numpy as np
 
 from robokin.check import diagnoses as dg
 from robokin.check._core import (
-    FAIL,
-    FunctionCheck,
-    PASS,
     Check,
     CheckResult,
+    FunctionCheck,
     MatrixArgumentsCheck,
     Variable,
     alternatives,
     fmt,
-    report,
 )
 from robokin.check._registry import exercise
 
@@ -873,29 +870,20 @@ _TRACK_MISTAKES = {
 }
 
 
-class _TrackCheck:
+def _explains_track(got: np.ndarray, case: tuple, code: str) -> bool:
+    """The mistake ``code`` of the loop, run on ``case`` = (robot, q0, poses, twists, ts, gain), gives ``got``."""
+    robot, q0, poses, twists, ts, gain = case
+    wrong = _track_reference(robot, q0, poses, twists, ts, gain, mistake=code)
+    return bool(np.all(np.isfinite(wrong))) and np.allclose(got, wrong, atol=1e-8)
+
+
+class _TrackCheck(FunctionCheck):
     """Check ``track(q0, poses, twists, ts, gain)`` against the resolved-rate loop on lines of its own."""
 
-    name = "track"
-
-    def __init__(self) -> None:
-        self.__doc__ = ("Check track(q0, poses, twists, ts, gain) -> joint angles (N, 6): resolved rates "
-                        "with feed-forward and Euler steps on the UR10.")
-
-    def __call__(self, answer: Any, *, raise_on_fail: bool = False, quiet: bool = False) -> CheckResult:
-        return report(self.evaluate(answer), raise_on_fail=raise_on_fail, quiet=quiet)
-
-    def evaluate(self, answer: Any) -> CheckResult:
+    def judge(self, answer: Callable[..., Any]) -> CheckResult:
         from robokin.motion import pose_trajectory
 
         n = 3
-
-        def fail(code: str, message: str) -> CheckResult:
-            return CheckResult(self.name, False, f"{FAIL} {message}", code, n)
-
-        if not callable(answer):
-            return fail("constant", f"{self.name} should be a Python function track(q0, poses, twists, ts, "
-                                    f"gain); got {type(answer).__name__}.")
         for seed, (ts, gain) in enumerate([(0.01, 20.0), (0.02, 10.0), (0.005, 40.0)]):
             robot, q0, start, end = _line_case(seed + 10)
             times = ts * np.arange(25)
@@ -903,28 +891,30 @@ class _TrackCheck:
             poses, twists = line.poses, line.twists
             # start 1 cm and a little turned away from the line, so that the gain matters
             q_start = q0 + np.array([0.01, -0.01, 0.01, 0.02, -0.02, 0.02])
-            where = f" (a line of its own, ts = {ts:g} s, gain = {gain:g} 1/s)"
-            try:
-                got = np.asarray(answer(q_start.copy(), poses.copy(), twists.copy(), ts, gain), dtype=float)
-            except Exception as exc:  # noqa: BLE001 - report the student's error
-                return fail("error", f"calling {self.name} raised {type(exc).__name__}: {exc}{where}")
+            where = f"(a line of its own, ts = {ts:g} s, gain = {gain:g} 1/s)"
+            out = self.call(answer, (q_start.copy(), poses.copy(), twists.copy(), ts, gain), where, n)
+            got = self.call(np.asarray, (out, float), where, n)
             if got.shape != (len(times), 6):
-                return fail("shape", f"{self.name} should return the joint angles at the {len(times)} samples, "
-                                     f"shape ({len(times)}, 6); got {got.shape}{where}.")
+                return self.failure("shape", f"{self.name} should return the joint angles at the {len(times)} "
+                                    f"samples, shape ({len(times)}, 6); got {got.shape} {where}.", n)
             reference = _track_reference(robot, q_start, poses, twists, ts, gain)
             if np.allclose(got, reference, atol=1e-8):
                 continue
-            for code, message in _TRACK_MISTAKES.items():
-                wrong = _track_reference(robot, q_start, poses, twists, ts, gain, mistake=code)
-                if np.all(np.isfinite(wrong)) and np.allclose(got, wrong, atol=1e-8):
-                    return fail(code, message.format(name=self.name) + where)
+            diagnosed = self.diagnose(((code, f"{message} {where}") for code, message in _TRACK_MISTAKES.items()),
+                                      partial(_explains_track, got, (robot, q_start, poses, twists, ts, gain)), n)
+            if diagnosed is not None:
+                return diagnosed
             if not np.allclose(got[0], q_start, atol=1e-12):
-                return fail("start", f"row 0 of what {self.name} returns must be q0{where}.")
+                return self.failure("start", f"row 0 of what {self.name} returns must be q0 {where}.", n)
             k = int(np.argmax(np.abs(got - reference).max(axis=1) > 1e-8))
-            return fail("mismatch", f"{self.name} differs from the resolved-rate loop at sample {k}{where}: "
-                                    f"expected {fmt(reference[k])}, got {fmt(got[k])}.")
-        return CheckResult(self.name, True, f"{PASS} {self.name} is correct (checked on {n} lines of its own).",
-                           None, n)
+            return self.failure("mismatch", f"{self.name} differs from the resolved-rate loop at sample {k} "
+                                f"{where}: expected {fmt(reference[k])}, got {fmt(got[k])}.", n)
+        return self.success(f"{self.name} is correct (checked on {n} lines of its own).", n)
 
 
-track = exercise(_CHAPTER, "track", _TrackCheck())  # type: ignore[arg-type]
+track = exercise(_CHAPTER, "track", _TrackCheck(
+    name="track",
+    signature="track(q0, poses, twists, ts, gain)",
+    doc=("Check track(q0, poses, twists, ts, gain) -> joint angles (N, 6): resolved rates with feed-forward "
+         "and Euler steps on the UR10."),
+))
