@@ -450,3 +450,21 @@ def test_via_bad_answers_are_explained(answer, phrase):
 def test_via_any_answer_gets_a_result(answer):
     result = chk.via_point_cubics(answer, quiet=True)
     assert not result.passed and isinstance(result.message, str) and result.message
+
+
+# ---------------------------------------------------------------- the refusals of FunctionCheck
+@pytest.mark.parametrize("check_name", ["synchronised_motion", "via_point_cubics", "slerp", "line_reference",
+                                        "track"])
+def test_function_checks_refuse_and_report_as_every_chapter(check_name):
+    from robokin.check._core import FunctionCheck
+
+    check = getattr(chk, check_name)
+    assert isinstance(check, FunctionCheck) and check.name == check_name and check.__doc__.startswith("Check ")
+    none = check(None, quiet=True)
+    assert (none.diagnosis, none.message) == ("error", f"✘ {check_name} is None: did you forget to define it?")
+    text = check("text", quiet=True)
+    assert (text.diagnosis, text.message) == (
+        "constant", f"✘ {check_name} should be a Python function {check.signature}; got str.")
+    raised = check(lambda *args: 1 / 0, quiet=True)
+    assert raised.diagnosis == "error" and raised.message.startswith(f"✘ calling {check_name} (")
+    assert raised.message.endswith(") raised ZeroDivisionError: division by zero"), raised.message
