@@ -71,6 +71,8 @@ __all__ = [
     "MatrixArgumentsCheck",
     "FunctionCheck",
     "not_a_function",
+    "pack_joint_rows",
+    "packed_variants",
     "report",
     "mistake",
     "alternatives",
@@ -1050,6 +1052,64 @@ class FunctionCheck(Check):
             if explains(code):
                 return self.failure(code, text.format(name=self.name), samples)
         return None
+
+
+# ---------------------------------------------------------------- loops checked by their packed value
+def pack_joint_rows(function: str, samples: int, joints: int) -> Callable[[Any], np.ndarray]:
+    """A ``pack`` for a loop that returns the joint angles at its samples, one row a sample.
+
+    Parameters
+    ----------
+    function : str
+        The student's function as the messages name it (``"track"``).
+    samples : int
+        N, the rows expected: one per sample of the reference ``r_des``.
+    joints : int
+        n, the joint count: the columns expected.
+
+    Returns
+    -------
+    callable
+        ``pack(value) -> (N n,) array``: the rows flattened; a ``TypeError`` that says what the
+        value should be when it is a tuple or not of shape ``(N, n)`` (see
+        :class:`MatrixArgumentsCheck`).
+    """
+    def pack(out: Any) -> np.ndarray:
+        if isinstance(out, tuple):
+            raise TypeError(f"{function} should return one array of joint angles (N, {joints}), not a tuple of "
+                            f"{len(out)} items")
+        rows = np.asarray(out, dtype=float)
+        if rows.shape != (samples, joints):
+            raise TypeError(f"{function} should return the joint angles at the N = {samples} samples of r_des, "
+                            f"shape ({samples}, {joints}); got shape {rows.shape}")
+        return rows.ravel()
+
+    return pack
+
+
+def packed_variants(loop: Callable[..., Any], arguments: Callable[[np.ndarray], tuple],
+                    pack: Callable[[Any], Any]) -> Callable[..., RefFn]:
+    """The reference of a loop check and its typical mistakes, from one written-out loop.
+
+    Parameters
+    ----------
+    loop : callable
+        ``loop(*arguments(x), **mistake)``: the reference loop; its keywords turn it into a mistake.
+    arguments : callable
+        ``arguments(x) -> tuple``, as the check's (see :class:`MatrixArgumentsCheck`).
+    pack : callable
+        The check's ``pack``.
+
+    Returns
+    -------
+    callable
+        ``variant(**mistake) -> (x -> pack(loop(*arguments(x), **mistake)))``: ``variant()`` is the
+        reference, ``variant(sign=-1.0)`` the loop with that mistake.
+    """
+    def variant(**mistake: Any) -> RefFn:
+        return lambda x: pack(loop(*arguments(x), **mistake))
+
+    return variant
 
 
 # ---------------------------------------------------------------- generic entry points

@@ -43,12 +43,11 @@ from __future__ import annotations
 
 import math
 from functools import cache
-from typing import Any
 
 import numpy as np
 
 from robokin.check import diagnoses as dg
-from robokin.check._core import Check, MatrixArgumentsCheck, Variable, alternatives
+from robokin.check._core import Check, MatrixArgumentsCheck, Variable, alternatives, pack_joint_rows, packed_variants
 from robokin.check._registry import exercise
 
 __all__ = [
@@ -347,19 +346,8 @@ def _track_args(x: np.ndarray) -> tuple:
     return q0, r_des, v_des, kp, ts
 
 
-def _pack_track(out: Any) -> np.ndarray:
-    if isinstance(out, tuple):
-        raise TypeError(f"track should return one array of joint angles (N, 7), not a tuple of "
-                        f"{len(out)} items")
-    Q = np.asarray(out, dtype=float)
-    if Q.shape != (_TRACK_SAMPLES, 7):
-        raise TypeError(f"track should return the joint angles at the N = {_TRACK_SAMPLES} "
-                        f"samples of r_des, shape ({_TRACK_SAMPLES}, 7); got shape {Q.shape}")
-    return Q.ravel()
-
-
-def _track_variant(**kwargs):
-    return lambda x: _pack_track(_track_loop(*_track_args(x), **kwargs))
+_pack_track = pack_joint_rows("track", _TRACK_SAMPLES, 7)
+_track_variant = packed_variants(_track_loop, _track_args, _pack_track)
 
 
 tracking_loop = exercise(_CHAPTER, "tracking_loop", MatrixArgumentsCheck(

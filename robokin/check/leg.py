@@ -40,7 +40,8 @@ import numpy as np
 
 from robokin.check import diagnoses as dg
 from robokin.check._core import (
-    FAIL, PASS, Check, CheckResult, FunctionCheck, MatrixArgumentsCheck, Variable, alternatives, fmt, report, show,
+    FAIL, PASS, Check, CheckResult, FunctionCheck, MatrixArgumentsCheck, Variable, alternatives, fmt, pack_joint_rows,
+    packed_variants, report, show,
 )
 from robokin.check._registry import exercise
 from robokin.validation import as_vector, check_positive
@@ -518,8 +519,7 @@ def _newton_args(x: np.ndarray) -> tuple:
     return r_goal, q0, damping, 10.0 ** -x[8], int(x[7])
 
 
-def _newton_variant(**kwargs):
-    return lambda x: _pack_iterates(_newton_loop(*_newton_args(x), **kwargs))
+_newton_variant = packed_variants(_newton_loop, _newton_args, _pack_iterates)
 
 
 newton_ik = exercise(_CHAPTER, "newton_ik", MatrixArgumentsCheck(
@@ -593,19 +593,8 @@ def _track_args(x: np.ndarray) -> tuple:
     return q0, r_des, v_des, kp, ts, feedforward
 
 
-def _pack_track(out: Any) -> np.ndarray:
-    if isinstance(out, tuple):
-        raise TypeError(f"track should return one array of joint angles (N, 3), not a tuple of "
-                        f"{len(out)} items")
-    Q = np.asarray(out, dtype=float)
-    if Q.shape != (_TRACK_SAMPLES, 3):
-        raise TypeError(f"track should return the joint angles at the N = {_TRACK_SAMPLES} "
-                        f"samples of r_des, shape ({_TRACK_SAMPLES}, 3); got shape {Q.shape}")
-    return Q.ravel()
-
-
-def _track_variant(**kwargs):
-    return lambda x: _pack_track(_track_loop(*_track_args(x), **kwargs))
+_pack_track = pack_joint_rows("track", _TRACK_SAMPLES, 3)
+_track_variant = packed_variants(_track_loop, _track_args, _pack_track)
 
 
 tracking_loop = exercise(_CHAPTER, "tracking_loop", MatrixArgumentsCheck(
