@@ -171,7 +171,7 @@ class Arr(Arg):
         return a if a.ndim else float(a)
 
     def default_bad(self, ctx: Ctx) -> tuple[str, ...]:
-        kinds = NONNUMERIC + NONFINITE + ("complex",)
+        kinds: tuple[str, ...] = NONNUMERIC + NONFINITE + ("complex",)
         if self.shape_bad:
             kinds += ("shape", "ragged") if self.core else ("shape",)
         return kinds
@@ -203,7 +203,7 @@ class Num(Arr):
         self.positive, self.allow_zero = positive, allow_zero
 
     def default_bad(self, ctx: Ctx) -> tuple[str, ...]:
-        kinds = NONNUMERIC + NONFINITE + ("complex", "shape")
+        kinds: tuple[str, ...] = NONNUMERIC + NONFINITE + ("complex", "shape")
         if self.positive:
             kinds += ("negative",) + (() if self.allow_zero else ("zero",))
         return kinds
@@ -480,6 +480,7 @@ def run_example(spec: Spec, data: Any) -> None:
     values: dict[Any, Any] = {}
     for k, a in slots:
         if k == bad_key:
+            assert kind is not None  # drawn with bad_key
             values[k] = a.make_bad(kind, ctx)
         elif k in extreme:
             values[k] = a.extreme(ctx)

@@ -36,12 +36,20 @@ import traceback
 from pathlib import Path
 
 
+#: The longest a runner may take to start a command or report a killed one's exit (its own
+#: start-up, importing nbgrader, included: 1.1 s of CPU, about 5 s at a load of 10 on two
+#: cores): a ceiling no load reaches by accident, not a time limit of the command's.
+START_CEILING = 300.0
+
+
 class Runner:
     """One warm process that forks a child per nbgrader command (see the module's docstring)."""
 
     def __init__(self, env: dict[str, str]) -> None:
         self.process = subprocess.Popen([sys.executable, __file__, "--serve"], stdin=subprocess.PIPE,
                                         stdout=subprocess.PIPE, env=env, bufsize=0)
+        assert self.process.stdin is not None and self.process.stdout is not None  # both piped above
+        self._stdin, self._stdout = self.process.stdin, self.process.stdout
         self._unread = b""   # what the runner wrote and no reply has taken yet
 
     def run(self, args: list[str], cwd: Path, env: dict[str, str], timeout: float) -> subprocess.CompletedProcess:
@@ -49,15 +57,22 @@ class Runner:
         with tempfile.TemporaryDirectory(prefix="robokin-nbgrader-") as folder:
             output = Path(folder) / "output.txt"
             request = {"args": args, "cwd": str(cwd), "env": env, "output": str(output)}
-            self.process.stdin.write(json.dumps(request).encode() + b"\n")
-            deadline = time.monotonic() + timeout
-            started = self._reply(deadline)
-            ended = started and self._reply(deadline)
-            if not ended:
-                if started:
-                    os.kill(started["pid"], signal.SIGKILL)
-                    self._reply(time.monotonic() + 60.0)   # the killed child's exit
-                raise subprocess.TimeoutExpired(command, timeout, output.read_text(errors="replace"))
+            self._stdin.write(json.dumps(request).encode() + b"\n")
+            # the time limit is the command's, from its start: a runner still importing
+            # nbgrader on a busy machine takes none of it (a limit counted from the request
+            # ran out before the command existed, and its output file did not exist)
+            started = self._reply(time.monotonic() + START_CEILING)
+            if started is None:
+                self._abandon()
+                raise RuntimeError(f"the nbgrader runner (pid {self.process.pid}) did not start "
+                                   f"`{' '.join(command)}` within {START_CEILING:.0f} s")
+            ended = self._reply(time.monotonic() + timeout)
+            if ended is None:
+                os.kill(started["pid"], signal.SIGKILL)
+                if self._reply(time.monotonic() + START_CEILING) is None:   # the killed child's exit
+                    self._abandon()
+                raise subprocess.TimeoutExpired(command, timeout, output.read_text(errors="replace")
+                                                if output.exists() else "")
             text = output.read_text(encoding="utf-8", errors="replace")
         return subprocess.CompletedProcess(command, ended["exit"], text, "")
 
@@ -68,7 +83,7 @@ class Runner:
         take both of a command's lines at once, and ``select`` would then wait for the
         second one, already read, until the deadline.
         """
-        fd = self.process.stdout.fileno()
+        fd = self._stdout.fileno()
         while b"\n" not in self._unread:
             ready, _, _ = select.select([fd], [], [], max(0.0, deadline - time.monotonic()))
             if not ready:
@@ -81,10 +96,15 @@ class Runner:
         line, _, self._unread = self._unread.partition(b"\n")
         return json.loads(line)
 
+    def _abandon(self) -> None:
+        """Kill a runner that did not answer: a reply it owes would be read as the next command's."""
+        self.process.kill()
+        self.process.wait()
+
     def close(self) -> None:
-        self.process.stdin.close()
+        self._stdin.close()
         self.process.wait(timeout=30)
-        self.process.stdout.close()
+        self._stdout.close()
 
 
 _RUNNERS: dict[tuple, Runner] = {}
@@ -98,7 +118,9 @@ def _interpreter_settings(env: dict[str, str]) -> tuple:
 def run(args: list[str], cwd: Path, env: dict[str, str], timeout: float) -> subprocess.CompletedProcess:
     """``nbgrader <args>`` in ``cwd`` with the environment ``env`` (all of it): its exit code
     and its output (stdout and stderr, in order, as ``stdout``). Raises
-    ``subprocess.TimeoutExpired`` after ``timeout`` seconds, the command killed."""
+    ``subprocess.TimeoutExpired`` when the command runs ``timeout`` seconds (counted from its
+    start, the runner's own start-up not included), the command killed; ``RuntimeError`` when
+    the runner does not start it within :data:`START_CEILING` seconds."""
     key = (threading.get_ident(), _interpreter_settings(env))
     with _LOCK:
         runner = _RUNNERS.get(key)

@@ -40,7 +40,7 @@ import tiers
 try:
     from _pytest.nodeid import NodeId, coerce_node_id
 except ImportError:  # pytest < 9.2 keeps the node id in item._nodeid
-    NodeId = coerce_node_id = None
+    NodeId = coerce_node_id = None  # type: ignore[assignment,misc]  # the names exist from pytest 9.2 on
 
 #: Workers when ``-n`` is not given. Measured on the 2-core machine the timings in
 #: the README come from; ``-n auto`` uses one per core.

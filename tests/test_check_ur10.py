@@ -9,6 +9,7 @@ orthonormal basis of the null space (SVD).
 from __future__ import annotations
 
 import importlib
+from typing import Any
 
 import numpy as np
 import pytest
@@ -169,7 +170,7 @@ def loop_for(chain, p_goal, q0, step, max_step=0.5, tol=1e-9, max_iterations=100
             q = np.minimum(np.maximum(q, lower), upper)
 
 
-WRONG_LOOP = {
+WRONG_LOOP: dict[str, dict[str, Any]] = {
     "error_sign": dict(sign=-1.0),
     "no_step_cap": dict(cap=False),
     "step_cap_per_joint": dict(per_joint=True),
@@ -219,6 +220,7 @@ def test_loop_reference_matches_solve_ik():
         out = ur._loop(chain, p_goal, q0, ur._pinv_step, max_step, tol, 100)
         res = solve_ik(chain, p_goal, q0=q0, method="pinv", max_step=max_step, tol=tol,
                        restarts=0, polish=False, max_iterations=100)
+        assert res.history is not None
         touched = np.any(np.isclose(res.history.q, chain.limits[:, 0]) | np.isclose(res.history.q, chain.limits[:, 1]))
         if res.success and not touched:
             assert out[6] == 1.0 and out[7] == res.iterations

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 import pytest
 from ik_support import baxter_left, planar_3r, reachable_targets, ur10, within_limits
@@ -28,7 +30,7 @@ from robokin.motion.ik.solve import classify_stall
 from robokin.motion.pose_error import pose_error_unchecked
 from robokin.transforms import rotation_exp, rotation_log, rotx, transform
 
-METHOD_OPTIONS = {
+METHOD_OPTIONS: dict[str, dict[str, Any]] = {
     "lm": {},
     "pinv": {},
     "dls": {"damping": 0.01},
@@ -99,6 +101,7 @@ def test_lm_damping_follows_the_error(arm):
     chain, Q, T = arm
     res = solve_ik(chain, T[4], q0=Q[4] + 0.3, restarts=0)
     h = res.history
+    assert h is not None
     lam2 = 0.5 * 0.1 * h.error_norm[:-1] ** 2 + 1e-7
     assert np.allclose(h.damping[:-1] ** 2, lam2)
 
@@ -108,7 +111,7 @@ def test_success_is_never_claimed_above_tolerance(arm):
     for tol in (1e-3, 1e-8, (1e-4, 1e-2)):
         for it in (1, 2, 5, 50):
             res = solve_ik(chain, T[5], q0=Q[5] + 0.5, tol=tol, max_iterations=it, restarts=0, polish=False)
-            tp, to = (tol, tol) if np.ndim(tol) == 0 else tol
+            tp, to = tol if isinstance(tol, tuple) else (tol, tol)
             within = res.position_error <= tp and res.orientation_error <= to
             assert res.success == within
             assert (res.reason == "converged") == res.success
@@ -128,6 +131,7 @@ def test_unreachable_target_returns_best_configuration(make):
     assert res.position_error > 3.0
     # the best configuration is at least as good as the start and as every attempt
     h = res.history
+    assert h is not None
     assert res.position_error <= h.position_error[0] + 1e-12
     assert np.linalg.norm(res.errors) <= h.error_norm.min() + 1e-9
     # the reported error is that of the returned configuration
@@ -151,6 +155,7 @@ def test_joint_limits_are_respected_and_reported():
     assert not res.success
     assert res.reason == "joint_limits"
     assert within_limits(chain, res.q)
+    assert res.history is not None
     assert np.all(within_limits(chain, res.history.q))
     assert res.q[0] == pytest.approx(0.3)
 
@@ -161,6 +166,7 @@ def test_iterates_stay_within_limits(method):
     Q, T = reachable_targets(chain, 5, seed=5)
     for i in range(5):
         res = solve_ik(chain, T[i], method=method, max_iterations=30, restarts=1)
+        assert res.history is not None
         assert np.all(within_limits(chain, res.history.q))
 
 
@@ -168,6 +174,7 @@ def test_wrap_option_keeps_angles_in_minus_pi_pi(arm):
     chain, Q, T = arm
     res = solve_ik(chain, T[6], q0=np.full(6, 3.0), wrap=True)
     assert res.success
+    assert res.history is not None
     assert np.all(np.abs(res.history.q) <= np.pi + 1e-12)
     with pytest.raises(ValueError, match="wrap"):
         solve_ik(chain, T[6], wrap="sometimes")
@@ -179,7 +186,9 @@ def test_restarts_are_seeded(arm):
     a = solve_ik(chain, T[7], max_iterations=1, restarts=5, seed=1, polish=False)
     b = solve_ik(chain, T[7], max_iterations=1, restarts=5, seed=1, polish=False)
     c = solve_ik(chain, T[7], max_iterations=1, restarts=5, seed=2, polish=False)
+    assert a.history is not None and b.history is not None
     assert a.attempts == 6 and np.array_equal(a.history.q, b.history.q)
+    assert c.history is not None
     assert not np.array_equal(a.history.q, c.history.q)
     assert np.array_equal(np.unique(a.history.attempt), np.arange(6))
     lim = np.asarray(chain.limits)
@@ -230,6 +239,7 @@ def test_transpose_reduces_the_error():
     target = chain.fk([0.4, 0.5, -0.3])[:3, 3]
     res = solve_ik(chain, target, q0=[0.1, 0.1, 0.1], method="transpose", tol=1e-4, restarts=0, polish=False)
     h = res.history
+    assert h is not None
     assert res.success and h.error_norm[-1] < 1e-4
     assert h.error_norm[-1] < 1e-2 * h.error_norm[0]
     # Buss' step length: the error never grows much
@@ -341,8 +351,7 @@ def test_self_motion_increases_the_objective_and_keeps_the_pose():
         dq, _ = method.step(chain.jacobian(q), e, q, ctx)
         q = q + dq
         values.append(H.value(q, ctx))
-    values = np.array(values)
-    assert np.all(np.diff(values) > -1e-12)
+    assert np.all(np.diff(np.array(values)) > -1e-12)
     assert values[-1] > values[0] + 1e-3
     assert np.allclose(chain.fk(q), T0, atol=1e-6)
     assert np.all(within_limits(chain, q))
@@ -358,7 +367,7 @@ def test_nullspace_solve_prefers_mid_range():
         a = solve_ik(chain, T[i], q0=Q[i] * 0.5, method="pinv")
         b = solve_ik(chain, T[i], q0=Q[i] * 0.5, method="nullspace")
         assert a.success and b.success
-        better += H.value(b.q, ctx) > H.value(a.q, ctx)
+        better += int(H.value(b.q, ctx) > H.value(a.q, ctx))
     assert better >= 8
 
 
@@ -419,8 +428,8 @@ def test_pose_error_uses_the_one_rotation_log_for_one_pose_and_for_stacks():
 def test_pose_error_at_exactly_pi_makes_the_largest_axis_component_positive():
     """At theta = pi both axis signs are right; pose_error returns the one whose largest-magnitude
     component is positive (as its docstring says)."""
-    for h in ([0.0, 0.0, -1.0], [0.6, -0.8, 0.0], [-1.0, 0.0, 0.0]):
-        h = np.asarray(h)
+    for axis in ([0.0, 0.0, -1.0], [0.6, -0.8, 0.0], [-1.0, 0.0, 0.0]):
+        h = np.asarray(axis)
         R = 2.0 * np.outer(h, h) - np.eye(3)  # rotation by pi about h, exactly symmetric
         e = pose_error(np.eye(4), transform(R, np.zeros(3)))[3:]
         expected = np.pi * h * np.sign(h[np.argmax(np.abs(h))])

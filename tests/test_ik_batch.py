@@ -3,6 +3,8 @@ limits respected, success never claimed above tolerance, unreachable targets."""
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 import pytest
 from ik_support import baxter_left, reachable_targets, ur10, within_limits
@@ -24,7 +26,7 @@ ROBOTS = {"ur10": ur10, "baxter_left": baxter_left}
 # configuration has sigma_min >= 5e-3 (about 95 % of them).
 PATIENT = {"stall_iterations": 50, "max_iterations": 600}
 DAMPED = {"dls", "dls-manipulability"}
-CONVERGING = {
+CONVERGING: dict[str, dict[str, Any]] = {
     "lm": {},
     "pinv": {"restarts": 60, "polish": False},
     "weighted": {"weights": "ramp", "restarts": 60, "polish": False},

@@ -6,6 +6,7 @@ objective (a gradient written by hand once moved half as fast as the named one).
 from __future__ import annotations
 
 from types import SimpleNamespace
+from typing import Any
 
 import numpy as np
 import pytest
@@ -57,11 +58,12 @@ def test_a_plain_gradient_gets_the_joint_limit_gain(cell):
 def test_own_gradient_runs_like_the_named_objective(cell):
     """Chapter 2, Task 3 with objective=joint_limit_gradient: same gain, same run (no silent stall)."""
     target = cell.fk(np.array([0.4, -1.2, 1.9, -2.0, -1.4, 0.3]))[:3, 3]
-    common = dict(q0=Q_PARKED, method="nullspace", max_step=0.5, restarts=0, polish=False, tol=1e-9)
+    common: dict[str, Any] = dict(q0=Q_PARKED, method="nullspace", max_step=0.5, restarts=0, polish=False, tol=1e-9)
     named = solve_ik(cell, target, objective="joint_limits", **common)
     own = solve_ik(cell, target, objective=joint_limit_gradient, **common)
     assert named.success and own.success
     assert own.iterations == named.iterations
+    assert own.history is not None and named.history is not None
     assert np.allclose(own.history.q, named.history.q, atol=1e-9)
     # what the silent drop to k = 1 did: the run stalls, with a worse objective
     weak = solve_ik(cell, target, objective=joint_limit_gradient, gain=1.0, **common)
@@ -129,7 +131,7 @@ def test_nullspace_step_with_limits_in_the_objective(jacobian_and_error):
     q = np.clip(q, WORK_LIMITS[:, 0], WORK_LIMITS[:, 1])
     Jv = J[:3]
     ctx = SimpleNamespace(lower=WORK_LIMITS[:, 0], upper=WORK_LIMITS[:, 1])
-    via_ctx = NullSpace().step(Jv, e[:3], q, ctx)
+    via_ctx = NullSpace().step(Jv, e[:3], q, ctx)  # type: ignore[arg-type]  # a stand-in: the bounds step reads
     direct = NullSpace(objective=JointLimitDistance(WORK_LIMITS)).step(Jv, e[:3], q)
     assert np.array_equal(via_ctx.step, direct.step)
     # the secondary term lies in the null space: J dq equals J J^+ e

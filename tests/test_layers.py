@@ -209,7 +209,7 @@ def test_no_import_cycles():
     for component in cycles:
         if frozenset(component) in KNOWN_CYCLES:
             continue
-        lines = []
+        lines: list[str] = []
         for module in component:
             for line, target, _name, inside in _imports(module):
                 if target in component and target != module and not any(f":{line} " in x for x in lines

@@ -30,6 +30,7 @@ import time
 import urllib.error
 import urllib.request
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -95,7 +96,7 @@ NumPy's `cos` takes radians.
 
 
 def _notebook():
-    cells = [{"cell_type": "markdown", "id": "task", "metadata": {}, "source": MYST_CELL}]
+    cells: list[dict[str, Any]] = [{"cell_type": "markdown", "id": "task", "metadata": {}, "source": MYST_CELL}]
     cells += [{"cell_type": "code", "execution_count": None, "id": f"cell{k}", "metadata": {},
                "outputs": [], "source": src} for k, src in enumerate(CELLS)]
     return {"cells": cells, "nbformat": 4, "nbformat_minor": 5,
@@ -134,7 +135,8 @@ class Lab:
                    PATH=f"{JUPYTER_LAB.parent}{os.pathsep}{env.get('PATH', '')}",
                    PYDEVD_DISABLE_FILE_VALIDATION="1")
         self.runtime = dirs["runtime"]
-        self.port = self.base = None   # the server picks a free port (--port=0): wait_ready reads it
+        self.port: int | None = None   # the server picks a free port (--port=0): wait_ready reads it
+        self.base: str | None = None
         self.token = secrets.token_hex(16)
         self.log = (tmp / "jupyter-lab.log").open("wb")
         self.proc = subprocess.Popen(

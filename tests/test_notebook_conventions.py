@@ -10,6 +10,7 @@ from __future__ import annotations
 import json
 import re
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -383,9 +384,10 @@ def test_formatter_gives_a_cell_without_an_id_a_stable_one():
     import importlib.util
 
     spec = importlib.util.spec_from_file_location("format_notebooks", ROOT / "tools" / "format_notebooks.py")
+    assert spec is not None and spec.loader is not None
     formatter = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(formatter)
-    nb = {"nbformat": 4, "nbformat_minor": 4,
+    nb: dict[str, Any] = {"nbformat": 4, "nbformat_minor": 4,
           "cells": [{"cell_type": "markdown", "metadata": {}, "source": "kept", "id": "kept"},
                     {"cell_type": "markdown", "metadata": {}, "source": "new"},
                     {"cell_type": "markdown", "metadata": {}, "source": "new"}]}

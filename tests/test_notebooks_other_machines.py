@@ -120,6 +120,7 @@ def test_notebook_outputs_hold_on_other_machines(tmp_path, machine):
     started = time.perf_counter()
     with open(tmp_path / "run.log", "w+") as log:
         process = subprocess.Popen(command, cwd=ROOT, env=env, stdout=log, stderr=subprocess.STDOUT)
+        code: int | str
         try:
             code = process.wait(timeout=TIMEOUT)
         except subprocess.TimeoutExpired:

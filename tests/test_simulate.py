@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 import pytest
 from ik_support import planar_3r, ur10
@@ -117,7 +119,7 @@ def test_plain_callable_controller():
 )
 def test_simulate_bad_input(kwargs, exc, word):
     chain = planar_3r()
-    args = {"q0": np.zeros(3), "ts": 0.01, "t_end": 1.0}
+    args: dict[str, Any] = {"q0": np.zeros(3), "ts": 0.01, "t_end": 1.0}
     args.update(kwargs)
     ctrl = CartesianController(chain, [1.5, 0.5, 0.0])
     with pytest.raises(exc, match=word):

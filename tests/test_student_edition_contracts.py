@@ -79,7 +79,7 @@ def statement_before(chapter: Chapter, answer: int) -> list[tuple[int, str]]:
     """The task statement an answer cell follows: the markdown cells of the student edition
     in the same section (``## Task k``), above the answer cell."""
     section = chapter.cells[answer].section
-    return [(c.index, student_markdown(c)) for c in chapter.cells[:answer]
+    return [(c.index, student_markdown(c) or "") for c in chapter.cells[:answer]
             if c.section == section and c.cell_type == "markdown" and not removed_in_student_edition(c)]
 
 
@@ -131,7 +131,8 @@ def contract_problems(path: Path) -> list[str]:
                        f"comment that names it on a line the stub keeps (e.g. an import line or a signature)")
                 problems.append(f"{where}, but the student edition does not say what `{name}` is: {fix}.")
     for cell in chapter.cells:
-        if cell.cell_type == "markdown" and not removed_in_student_edition(cell) and not student_markdown(cell).strip():
+        if (cell.cell_type == "markdown" and not removed_in_student_edition(cell)
+                and not (student_markdown(cell) or "").strip()):
             problems.append(f"{chapter.name}: markdown cell {cell.index} (section {cell.section!r}) is empty "
                             "in the student edition: delete it or give it text.")
     return problems
