@@ -4,12 +4,14 @@ The grading suites run their nbgrader commands through the runner; the
 walk-through of tests/test_nbgrader.py runs the console script itself. Here: the
 same output and exit code as the console script, the request's folder and
 environment (a course's ``nbgrader_config.py`` is Python, so it can print them),
-a command past its time limit killed without harming the next one, commands that end at
-once following each other, and no process left when the runners are closed.
+a command past its time limit killed without harming the next one, a runner slow to start
+taking none of a command's time limit, commands that end at once following each other, and
+no process left when the runners are closed.
 """
 
 from __future__ import annotations
 
+import os
 import subprocess
 import textwrap
 
@@ -77,6 +79,18 @@ def test_a_command_past_its_time_limit_is_killed_and_the_next_one_runs(tmp_path)
     assert "PROBE" in caught.value.output
     after = nbgrader_runner.run(["--version"], tmp_path, environment(), timeout=ENDS)
     assert after.returncode == 0 and "nbgrader version" in after.stdout
+
+
+def test_a_runner_slow_to_start_takes_none_of_the_commands_time_limit(tmp_path):
+    """A command's time limit counts from its start: a runner that is still importing nbgrader
+    (seconds on a busy machine; here it sleeps past the limit first) does not use it up."""
+    slow = tmp_path / "slow"
+    slow.mkdir()
+    (slow / "sitecustomize.py").write_text(f"import time\ntime.sleep({NEVER_ENDS + 2})\n")
+    env = environment()
+    env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(slow), env.get("PYTHONPATH")]))
+    run = nbgrader_runner.run(["--version"], tmp_path, env, timeout=NEVER_ENDS)
+    assert run.returncode == 0 and "nbgrader version" in run.stdout
 
 
 def test_commands_that_end_at_once_follow_each_other_without_waiting(tmp_path):
