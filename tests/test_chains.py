@@ -177,7 +177,7 @@ def test_chain_needs_joints_and_unique_names():
     with pytest.raises(ValueError, match="unique"):
         SerialChain([Rz("a"), Rz("a")])
     with pytest.raises(TypeError, match="elements"):
-        SerialChain([Rz("a"), "Tx(1)"])
+        SerialChain([Rz("a"), "Tx(1)"])  # type: ignore[list-item]  # a wrong type on purpose
 
 
 # --------------------------------------------------------------------------- q validation

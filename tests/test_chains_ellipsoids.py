@@ -9,16 +9,19 @@ isotropic design of Salisbury & Craig (1982), l₂ = l₁/√2 at θ₂ = ±135�
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import numpy as np
 import pytest
 
+from robokin.chains import SerialChain
 from robokin.chains.ellipsoids import force_ellipsoid, static_torques, velocity_ellipsoid
 from robokin.errors import ShapeError
 from robokin.models import baxter_left, eth_leg, planar_two_link, ur10
 from finite_differences import pose_jacobian
 
-CHAINS = {"ur10": ur10, "baxter_left": baxter_left, "eth_leg": eth_leg, "planar_two_link": planar_two_link}
+CHAINS: dict[str, Callable[[], SerialChain]] = {"ur10": ur10, "baxter_left": baxter_left, "eth_leg": eth_leg,
+                                                "planar_two_link": planar_two_link}
 TOLERANCE = 1e-12
 
 

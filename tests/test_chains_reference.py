@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import inspect
 import math
+from collections.abc import Callable
 
 import numpy as np
 import pytest
@@ -28,7 +29,7 @@ from finite_differences import pose_jacobian
 TOLERANCE = 1e-12
 SAMPLES = 40
 
-MODELS = {
+MODELS: dict[str, Callable[[], SerialChain]] = {
     "planar_two_link": planar_two_link,
     "eth_leg": eth_leg,
     "ur10": ur10,
@@ -116,13 +117,13 @@ def test_reference_jacobian_equals_finite_differences(chain):
 def test_reference_known_poses():
     # the ETH leg: foot 3 m below the hip's 1 m offset at q = 0, 2 m behind with the knee at 90°
     leg = eth_leg()
-    np.testing.assert_allclose(forward_kinematics(leg, [0.0, 0.0, 0.0])[:3, 3], [0.0, 1.0, -3.0], atol=1e-15)
-    np.testing.assert_allclose(forward_kinematics(leg, [0.0, math.pi / 2, 0.0])[:3, 3], [-2.0, 1.0, -1.0],
+    np.testing.assert_allclose(forward_kinematics(leg, np.array([0.0, 0.0, 0.0]))[:3, 3], [0.0, 1.0, -3.0], atol=1e-15)
+    np.testing.assert_allclose(forward_kinematics(leg, np.array([0.0, math.pi / 2, 0.0]))[:3, 3], [-2.0, 1.0, -1.0],
                                atol=1e-15)
     # planar RR arm, unit links: J_v = [[-s1 - s12, -s12], [c1 + c12, c12]], ω = z
     arm = planar_two_link()
     q1, q2 = 0.3, 0.7
-    J = geometric_jacobian(arm, [q1, q2])
+    J = geometric_jacobian(arm, np.array([q1, q2]))
     s1, c1, s12, c12 = math.sin(q1), math.cos(q1), math.sin(q1 + q2), math.cos(q1 + q2)
     np.testing.assert_allclose(J[:2], [[-s1 - s12, -s12], [c1 + c12, c12]], atol=1e-15)
     np.testing.assert_allclose(J[2:], [[0, 0], [0, 0], [0, 0], [1, 1]], atol=1e-15)
@@ -140,6 +141,6 @@ def test_prismatic_column_and_joint_sign_and_offset():
 
 def test_bad_configuration_names_q():
     with pytest.raises(ShapeError, match="q"):
-        forward_kinematics(ur10(), [0.0, 1.0])
+        forward_kinematics(ur10(), np.array([0.0, 1.0]))
     with pytest.raises(ShapeError, match="q"):
         geometric_jacobian(ur10(), np.zeros(7))

@@ -10,6 +10,7 @@ axes (a test-only dependency).
 from __future__ import annotations
 
 import inspect
+from collections.abc import Callable
 
 import numpy as np
 import pytest
@@ -26,9 +27,9 @@ mr = pytest.importorskip("modern_robotics", reason="modern_robotics (requirement
 TOLERANCE = 1e-12
 
 
-def model_factories() -> dict[str, object]:
+def model_factories() -> dict[str, Callable[[], SerialChain]]:
     """Every factory of robokin.models that builds a SerialChain without arguments."""
-    out = {}
+    out: dict[str, Callable[[], SerialChain]] = {}
     for name in robokin.models.__all__:
         factory = getattr(robokin.models, name)
         if not inspect.isfunction(factory):

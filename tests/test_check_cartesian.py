@@ -74,8 +74,8 @@ def tool_pose(q):
 
 
 def orientation_error_quat(R, R_goal):
-    w, *v = quaternion_from_rotation(R_goal @ R.T)
-    v = np.array(v)
+    w, *vector = quaternion_from_rotation(R_goal @ R.T)
+    v = np.array(vector)
     s = np.linalg.norm(v)
     return np.zeros(3) if s < 1e-15 else 2 * np.arctan2(s, w) * v / s
 

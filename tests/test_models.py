@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import numpy as np
 import pytest
@@ -40,7 +41,7 @@ def fd_jacobian(pose_fn, Q: np.ndarray, h: float = 1e-6) -> np.ndarray:
     return J
 
 
-MODELS = {
+MODELS: dict[str, Callable[[], SerialChain]] = {
     "planar_two_link": planar_two_link,
     "eth_leg": eth_leg,
     "ur10": ur10,

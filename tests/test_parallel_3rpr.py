@@ -53,8 +53,8 @@ def test_ik_batch_and_shapes():
     assert np.allclose(rho, [robot.inverse_kinematics(p) for p in P])
     assert robot.platform_points(P).shape == (7, 3, 2)
     assert robot.jacobian(P).shape == (7, 3, 3)
-    assert robot.condition_number(P).shape == (7,)
-    assert robot.within_stroke(rho).shape == (7,)
+    assert np.shape(robot.condition_number(P)) == (7,)
+    assert np.shape(robot.within_stroke(rho)) == (7,)
 
 
 def test_reference_point_is_b1():
@@ -246,7 +246,7 @@ def test_bad_input():
 def test_within_stroke():
     robot = three_rpr(stroke=(0.2, 1.0))
     assert robot.within_stroke([0.5, 0.5, 0.5]) and not robot.within_stroke([0.1, 0.5, 0.5])
-    assert list(robot.within_stroke([[0.5, 0.5, 0.5], [0.5, 1.5, 0.5]])) == [True, False]
+    assert np.asarray(robot.within_stroke([[0.5, 0.5, 0.5], [0.5, 1.5, 0.5]])).tolist() == [True, False]
 
 
 @pytest.mark.parametrize("pose, leg, where", [
@@ -269,4 +269,5 @@ def test_jacobian_maps_platform_velocity_to_leg_rates():
     rho_dot = (robot.inverse_kinematics(pose + h * x_dot) - robot.inverse_kinematics(pose - h * x_dot)) / (2 * h)
     assert np.allclose(robot.jacobian(pose) @ x_dot, rho_dot, atol=1e-9)
     assert np.allclose(robot.direct_jacobian(pose) @ rho_dot, x_dot, atol=1e-9)
-    assert "leg rates" in Planar3RPR.jacobian.__doc__ and "serial chain" in Planar3RPR.jacobian.__doc__
+    doc = Planar3RPR.jacobian.__doc__ or ""
+    assert "leg rates" in doc and "serial chain" in doc

@@ -135,7 +135,8 @@ class OpenedFiles:
     """Paths opened while :attr:`active` (an audit hook: it sees every ``open`` of the process)."""
 
     def __init__(self) -> None:
-        self.active, self.paths = False, []
+        self.active = False
+        self.paths: list[str] = []
         sys.addaudithook(self)
 
     def __call__(self, event, args) -> None:

@@ -21,6 +21,7 @@ matplotlib.use("Agg")
 from robokin import models, views
 from robokin.errors import DomainError, ShapeError, ViewWarning
 from robokin.views import Scene, arguments
+from robokin.views.record import PathItem, PointsItem
 
 ARM = models.planar_two_link()
 UR10 = models.ur10()
@@ -40,7 +41,7 @@ BAD_CALLS = {
     "string path": (lambda: Scene().add_path("abc"), TypeError, ["points", "str"]),
     "string target": (lambda: Scene().add_target("abc"), TypeError, ["T", "str"]),
     "string q": (lambda: Scene().add_chain(ARM, "abc"), TypeError, ["q", "str"]),
-    "string chain": (lambda: Scene().add_chain("ur10"), TypeError, ["chain", "kinematic chain"]),
+    "string chain": (lambda: Scene().add_chain("ur10"), TypeError, ["chain", "kinematic chain"]),  # type: ignore[arg-type]  # a wrong type on purpose
     "string animation": (lambda: Scene().animate(ARM, "abc"), TypeError, ["trajectory", "str"]),
     "string plot_chain": (lambda: views.plot_chain(ARM, "abc"), TypeError, ["q", "str"]),
     "scaled target": (lambda: Scene().add_target(2 * np.eye(4)), DomainError, ["T", "homogeneous transform"]),
@@ -50,13 +51,13 @@ BAD_CALLS = {
     "NaN history": (lambda: views.plot_history(error=np.full(5, np.nan)), DomainError, ["error", "no finite"]),
     "string color": (lambda: Scene().add_points(np.zeros((2, 3)), color="red"), TypeError, ["color"]),
     "unknown chain item": (lambda: Scene().animate("robot", np.zeros((3, 2))), DomainError, ["chain", "robot"]),
-    "string height": (lambda: Scene(height="abc"), TypeError, ["height"]),
+    "string height": (lambda: Scene(height="abc"), TypeError, ["height"]),  # type: ignore[arg-type]  # a wrong type on purpose
     "negative height": (lambda: Scene(height=-5), DomainError, ["height"]),
-    "html height": (lambda: Scene().to_html(height="x"), TypeError, ["height"]),
-    "plot_scene str": (lambda: views.plot_scene("abc"), TypeError, ["scene"]),
+    "html height": (lambda: Scene().to_html(height="x"), TypeError, ["height"]),  # type: ignore[arg-type]  # a wrong type on purpose
+    "plot_scene str": (lambda: views.plot_scene("abc"), TypeError, ["scene"]),  # type: ignore[arg-type]  # a wrong type on purpose
     "save_page str": (lambda: views.save_page("x.html", "abc"), TypeError, ["scenes"]),
     "plot_planar str": (lambda: views.plot_planar(segments="abc"), TypeError, ["segments"]),
-    "int name": (lambda: Scene().add_points([[0, 0, 0]], name=5), TypeError, ["name"]),
+    "int name": (lambda: Scene().add_points([[0, 0, 0]], name=5), TypeError, ["name"]),  # type: ignore[arg-type]  # a wrong type on purpose
     "endless animation": (lambda: Scene().animate(ARM, np.zeros((3, 2)), dt=1e300), DomainError, ["dt"]),
 }
 
@@ -79,7 +80,9 @@ def test_points_past_the_cap_are_subsampled_with_a_warning(monkeypatch, method, 
     scene = Scene()
     with pytest.warns(ViewWarning, match=r"1,000 points are more than a scene keeps \(100\); drawing 100"):
         getattr(scene, method)(points) if method == "add_points" else scene.add_path(points)
-    kept = scene.items[0].points
+    item = scene.items[0]
+    assert isinstance(item, (PointsItem, PathItem))
+    kept = item.points
     assert len(kept) == 100 and np.array_equal(kept[0], points[0]) and np.array_equal(kept[-1], points[-1])
 
 
@@ -125,8 +128,8 @@ print(peak, *sizes)
 
 
 def test_caps_are_stated_in_the_docstrings():
-    assert "100 000" in Scene.add_points.__doc__ and "100 000" in Scene.add_path.__doc__
-    assert "20 000" in Scene.animate.__doc__
+    assert "100 000" in (Scene.add_points.__doc__ or "") and "100 000" in (Scene.add_path.__doc__ or "")
+    assert "20 000" in (Scene.animate.__doc__ or "")
     assert arguments.MAX_POINTS == 100_000 and arguments.MAX_ANIMATION_STEPS == 20_000
 
 

@@ -19,6 +19,7 @@ import math
 import subprocess
 import sys
 from pathlib import Path
+from collections.abc import Callable
 
 import numpy as np
 import pytest
@@ -395,7 +396,7 @@ def test_robot_description_bad_names():
                                           r"example-robot-data .*available_robots\(\).*; got 'ur5'"):
         robot_description("ur5")
     with pytest.raises(TypeError, match="name must be"):
-        robot_description(10)
+        robot_description(10)  # type: ignore[arg-type]  # a wrong type on purpose
 
 
 def test_robot_description_without_the_package(monkeypatch):
@@ -428,7 +429,7 @@ BAXTER_MOUNT = np.array([0.024645, 0.219645, 0.118588])
 BAXTER_TORSO = trans(*BAXTER_MOUNT) @ rz(0.7854 - PI / 4) @ trans(*-BAXTER_MOUNT)
 BAXTER_S0_OFFSET = trans(0.055695, 0.0, 0.011038)
 
-CROSS = {
+CROSS: dict[str, tuple[str, Callable[[], SerialChain], str, str, np.ndarray, np.ndarray]] = {
     # id: (robot_description name, hand-built model, base link, tip link, BASE, TOOL)
     "ur10 base-tool0": ("ur10", ur10, "base", "tool0", I4, I4),
     "ur10 base_link-ee_link": ("ur10", ur10, "base_link", "ee_link", UR10_BASE_LINK_TO_BASE, UR10_TOOL0_TO_EE_LINK),

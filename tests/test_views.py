@@ -7,6 +7,7 @@ import json
 import re
 import subprocess
 import sys
+from typing import Any
 
 import numpy as np
 import pytest
@@ -17,10 +18,12 @@ umsgpack = pytest.importorskip("umsgpack")
 views = pytest.importorskip("robokin.views")
 from robokin.views import Scene  # noqa: E402
 from robokin.views.meshcat_draw import chain_layout  # noqa: E402
+from robokin.views.record import EllipsoidItem  # noqa: E402
 
 
 def _decode(html):
     payload = re.search(r'<script type="application/json" class="robokin-scene-data">(.*?)</script>', html, re.S)
+    assert payload is not None, "no scene data in the page"
     return [umsgpack.unpackb(base64.b64decode(s)) for s in json.loads(payload.group(1))]
 
 
@@ -100,8 +103,8 @@ def test_prismatic_link_is_animated_with_scale():
 
 
 def test_layout_skips_zero_length_links_and_sizes_scale_with_reach():
-    small = chain_layout(two_link(0.1, 0.08), [0.0, 0.0])
-    big = chain_layout(two_link(1.0, 0.8), [0.0, 0.0])
+    small = chain_layout(two_link(0.1, 0.08), np.zeros(2))
+    big = chain_layout(two_link(1.0, 0.8), np.zeros(2))
     assert big["reach"] == pytest.approx(10 * small["reach"])
     assert [i for i, _, _ in big["segments"]] == [1, 2]     # base -> frame 1 has zero length
     r_small = Scene()
@@ -162,7 +165,7 @@ def test_mode_selection(monkeypatch):
 def test_show_static_and_matplotlib_display(monkeypatch):
     from robokin.views import display as disp
 
-    shown = []
+    shown: list[Any] = []
     monkeypatch.setattr(disp, "display", shown.append)
     s = _demo_scene()
     s.show(mode="static")
@@ -181,7 +184,7 @@ def test_live_failure_falls_back_to_static(monkeypatch):
     def broken(*a, **k):
         raise live.MeshcatUnavailable("no zmq today")
     monkeypatch.setattr(live, "LiveViewer", broken)
-    shown = []
+    shown: list[Any] = []
     monkeypatch.setattr(disp, "display", shown.append)
     s = _demo_scene()
     s.show(mode="live")
@@ -252,7 +255,7 @@ def test_slider_update_sends_only_transforms():
         def send_transforms(self, transforms):
             sent.extend(transforms)
 
-    js = JointSliders(two_link(), [0.0, 0.0], viewer=FakeViewer())
+    js = JointSliders(two_link(), [0.0, 0.0], viewer=FakeViewer())  # type: ignore[arg-type]  # a stand-in: send_transforms only
     text = js.update(np.array([np.pi / 2, 0.0]))
     assert "p = (+0.000, +1.800, +0.000) m" in text and "+90.0" in text
     assert {p for p, _ in sent} == {"/meshcat/robot/0_base", "/meshcat/robot/1_link1",
@@ -278,7 +281,7 @@ def test_book_models_draw_and_animate(model):
 def test_module_show_one_call(monkeypatch):
     from robokin.views import display as disp
 
-    shown = []
+    shown: list[Any] = []
     monkeypatch.setattr(disp, "display", shown.append)
     chain = two_link()
     T = np.eye(4)
@@ -422,7 +425,9 @@ def test_ellipsoid_zero_radius_is_drawn_flat_not_singular(radii, drawn):
     T = _ellipsoid_transform(s)
     assert np.allclose(T[:3, :3], np.diag(drawn), atol=1e-12)
     assert np.all(np.linalg.norm(T[:3, :3], axis=0) > 0)       # three.js decomposes it without NaN
-    assert np.array_equal(s.item("ellipsoid").radii, radii)    # the record keeps what was given
+    ellipsoid = s.item("ellipsoid")
+    assert isinstance(ellipsoid, EllipsoidItem)
+    assert np.array_equal(ellipsoid.radii, radii)               # the record keeps what was given
 
 
 @pytest.mark.parametrize("arguments, error, match", [

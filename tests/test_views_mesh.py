@@ -7,6 +7,7 @@ import io
 import subprocess
 import sys
 import warnings
+from collections.abc import Callable
 
 import numpy as np
 import pytest
@@ -15,9 +16,11 @@ from browser_waits import WAIT_MS, poll_until
 from conftest import watched_page
 
 from robokin import models
+from robokin.chains import SerialChain
 from robokin.errors import DomainError, MeshWarning, ShapeError
 from robokin.models import ROBOT_DESCRIPTIONS, from_urdf, robot_description, visual_meshes
 from robokin.views import Scene
+from robokin.views.record import ChainItem
 from robokin.views.static_html import pack_commands
 
 pytest.importorskip("yourdfpy", reason="yourdfpy is not installed: pip install 'robokin[robots]'")
@@ -32,7 +35,8 @@ needs_robots = pytest.mark.skipif(not HAVE_ROBOTS,
                                   reason="example-robot-data is not installed: pip install 'robokin[robots]'")
 
 ROBOTS = ["ur10", "panda", "baxter"]
-HAND_BUILT = {"ur10": models.ur10, "panda": models.panda, "baxter": models.baxter_left}
+HAND_BUILT: dict[str, Callable[[], SerialChain]] = {"ur10": models.ur10, "panda": models.panda,
+                                                    "baxter": models.baxter_left}
 BUDGET = 150_000
 Q = {"ur10": [0.3, -1.2, 1.4, -1.0, -1.57, 0.4], "panda": [0.0, -0.5, 0.0, -2.0, 0.0, 1.6, 0.8],
      "baxter": [0.3, -0.5, 0.0, 1.0, 0.0, 0.5, 0.0]}
@@ -176,7 +180,7 @@ def test_style_and_meshes_arguments():
     with pytest.raises(DomainError, match="chain has 7 joints but the URDF chain"):
         robot_meshes("ur10", models.panda())
     with pytest.raises(TypeError, match="meshes must be"):
-        scene.add_chain(models.ur10(), meshes=3)
+        scene.add_chain(models.ur10(), meshes=3)  # type: ignore[arg-type]  # a wrong type on purpose
     assert scene.items == []
     scene.add_chain(models.ur10(), style="mesh")                 # the name picks the robot
     scene.add_ghost(models.ur10(), np.ones(6), meshes="ur10")    # translucent meshes
@@ -215,7 +219,9 @@ def test_unreadable_mesh_files_fall_back_to_the_stick_figure(tmp_path):
     assert len(mesh_warnings) == 1, [str(w.message) for w in caught]
     message = str(mesh_warnings[0].message)
     assert "missing.stl" in message and "garbage.stl" in message and "stick figure" in message
-    meshes = scene.item("robot").meshes
+    robot = scene.item("robot")
+    assert isinstance(robot, ChainItem)
+    meshes = robot.meshes
     assert meshes.unreadable[0] == () and meshes.unreadable[1] and meshes.unreadable[2]
     assert len(meshes.frames[0]) == 1 and meshes.frames[0][0].color == 0x0000CC   # the box, URDF colour
     paths = [c["path"] for c in commands if c["type"] == "set_object"]
@@ -238,7 +244,7 @@ def test_missing_mesh_library_names_the_extra(tmp_path, monkeypatch):
     with pytest.raises(ImportError, match=r"pip install 'robokin\[robots\]'"):
         visual_meshes(path, "base", "tip", max_bytes=1234)
     with pytest.raises(TypeError, match="max_bytes"):
-        visual_meshes(path, "base", "tip", max_bytes=1.5)
+        visual_meshes(path, "base", "tip", max_bytes=1.5)  # type: ignore[arg-type]  # a wrong type on purpose
     with pytest.raises(DomainError, match="max_bytes"):
         visual_meshes(path, "base", "tip", max_bytes=0)
 
@@ -272,7 +278,9 @@ def test_static_mesh_scene_renders_in_chromium(tmp_path, browser):
         document.querySelector('.robokin-scene').robokinViewer.scene.traverse(function (o) {
           if (o.isMesh && o.geometry.index && o.geometry.index.array instanceof Uint32Array) n++; });
         return n; }""")
-    assert indexed == sum(len(ms) for ms in scene.item("robot").meshes.frames)
+    robot = scene.item("robot")
+    assert isinstance(robot, ChainItem) and robot.meshes is not None
+    assert indexed == sum(len(ms) for ms in robot.meshes.frames)
     canvases = pg.query_selector_all(".robokin-scene canvas")
 
     def robot_pixels(a):
