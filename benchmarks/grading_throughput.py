@@ -6,7 +6,10 @@ For each chapter (default: every ``notebooks/NN_*.ipynb`` from 01 on), the stude
 made by ``nbgrader generate_assignment`` and filled with the instructor's answers (as
 tests/test_nbgrader.py's ``correct_submission`` does); then ``tools/grade_submission.py`` grades
 it as ``make grade`` grades each submission (the sandbox, the grader kernels, the process cap,
-the feedback page), in a process of its own. Its CPU time is counted two ways:
+the feedback page), in a process of its own, in a copy of a template course in which the chapter
+is assigned (``--template``), made before and not counted: ``make grade`` and a Kubernetes shard
+make it once per run. ``--no-template`` grades as one ``grade_submission.py`` alone does (the
+chapter assigned for the submission, about 2 CPU-seconds more). Its CPU time is counted two ways:
 
 * in a cpuacct control group of its own (cgroup v1 ``cpuacct.usage``, or v2 ``cpu.stat``), made
   under this process's group where the control-group file system is writable (root): every
@@ -40,6 +43,7 @@ from pathlib import Path
 
 from yardstick import yardstick_seconds
 
+from tools.grade_submission import assign
 from tools.student_edition import ROOT, add_source, generate, write_course
 
 NOTEBOOKS = ROOT / "notebooks"
@@ -139,13 +143,15 @@ def children_seconds() -> float:
     return usage.ru_utime + usage.ru_stime
 
 
-def grade(chapter: str, notebook: Path, timeout: float) -> dict:
-    """Grade ``notebook`` with tools/grade_submission.py: its score and what it cost."""
+def grade(chapter: str, notebook: Path, timeout: float, template: Path | None = None) -> dict:
+    """Grade ``notebook`` with tools/grade_submission.py (in a copy of ``template``, a course made by
+    ``grade_submission.assign``, where one is given): its score and what it cost."""
     group = CpuGroup.make()
     out = notebook.parent / "out"
+    copied = ["--template", str(template)] if template else []
     before, started = children_seconds(), time.perf_counter()
     process = subprocess.Popen([sys.executable, str(ROOT / "tools" / "grade_submission.py"), chapter,
-                                str(notebook), "--out", str(out)], cwd=ROOT, stdout=subprocess.PIPE,
+                                str(notebook), "--out", str(out), *copied], cwd=ROOT, stdout=subprocess.PIPE,
                                stderr=subprocess.STDOUT, text=True, start_new_session=True,
                                preexec_fn=group.join if group else None)
     try:
@@ -173,6 +179,8 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("chapters", nargs="*", help="chapters, e.g. 03_three_rpr (default: every exercise chapter)")
     parser.add_argument("--timeout", type=float, default=600, help="seconds one grading may take (default 600)")
+    parser.add_argument("--no-template", action="store_true",
+                        help="assign the chapter for the submission, as grade_submission.py alone does")
     args = parser.parse_args(argv)
     chosen = args.chapters or chapters()
     unknown = [chapter for chapter in chosen if not (NOTEBOOKS / f"{chapter}.ipynb").is_file()]
@@ -183,7 +191,9 @@ def main(argv: list[str] | None = None) -> int:
     rows = {}
     for chapter in chosen:
         with tempfile.TemporaryDirectory(prefix="robokin-throughput-") as folder:
-            rows[chapter] = grade(chapter, correct_submission(chapter, Path(folder)), args.timeout)
+            notebook = correct_submission(chapter, Path(folder))
+            template = None if args.no_template else assign(chapter, Path(folder) / "template")
+            rows[chapter] = grade(chapter, notebook, args.timeout, template)
         print(f"{chapter}: graded", flush=True)
     yardsticks.append(yardstick_seconds())
     yard = min(yardsticks)
@@ -191,7 +201,7 @@ def main(argv: list[str] | None = None) -> int:
     print(f"{os.cpu_count()} CPUs, load average {load[0]:.2f} {load[1]:.2f} {load[2]:.2f}; "
           f"yardstick {yard * 1e6:.1f} us; CPU counted "
           f"{'in a control group and' if any(r['cgroup'] == r['cgroup'] for r in rows.values()) else 'only'} "
-          "by getrusage(RUSAGE_CHILDREN)")
+          f"by getrusage(RUSAGE_CHILDREN); {'no template' if args.no_template else 'a copy of a template course'}")
     header = (f"{'chapter':28s} {'score':>9s} {'CPU-s':>7s} {'rusage':>7s} {'wall s':>7s} "
               f"{'per min/core':>12s} {'cores, 1000/h':>13s} {'Myardsticks':>11s}")
     print(header)

@@ -215,6 +215,13 @@ def test_zip_holds_what_grading_needs_and_no_other_chapter(tmp_path):
     assert "bubblewrap" in setup and "pip install -r requirements.txt" in setup
 
 
+def test_a_template_that_is_not_an_assigned_course_is_refused(tmp_path):
+    (tmp_path / "template" / "source" / CHAPTER).mkdir(parents=True)
+    with pytest.raises(FileNotFoundError, match=r"^template must be a course in which .* no gradebook\.db, release/"):
+        grade_submission.grade(CHAPTER, tmp_path / "any.ipynb", tmp_path / "out", template=tmp_path / "template")
+    assert not (tmp_path / "out").exists()
+
+
 @pytest.mark.parametrize("chapter, memory", [("99_no_such_chapter", 4096), (CHAPTER, 0)])
 def test_zip_refuses_bad_arguments(tmp_path, chapter, memory):
     with pytest.raises((FileNotFoundError, ValueError), match="chapter" if memory else "memory_mib"):
@@ -244,18 +251,21 @@ def test_zip_refuses_a_negative_process_cap(tmp_path, capsys):
 
 @pytest.mark.parametrize("argv, expected", [([], process_cap.DEFAULT_MAX_PROCESSES), (["--max-processes", "0"], 0)])
 def test_grade_many_passes_the_process_cap_on(tmp_path, monkeypatch, argv, expected):
-    """grade_many.py's ``--max-processes`` (``make grade MAX_PROCESSES=``) reaches each submission's grading."""
+    """grade_many.py's ``--max-processes`` (``make grade MAX_PROCESSES=``) reaches each submission's grading,
+    and so does the template course, made once per run."""
     for student in ("alice", "bob"):
         save({"cells": []}, tmp_path / student / f"{CHAPTER}.ipynb")
-    seen = []
+    seen, assigned = [], []
 
-    def grade(chapter, notebook, out, memory_mib, cpu_seconds, max_processes):
-        seen.append((notebook.parent.name, max_processes))
+    def grade(chapter, notebook, out, memory_mib, cpu_seconds, max_processes, template):
+        seen.append((notebook.parent.name, max_processes, template))
         return {"score": 1.0, "tests": [{"max_score": 2.0}]}
 
     monkeypatch.setattr(grade_many, "grade", grade)
+    monkeypatch.setattr(grade_many, "assign", lambda chapter, folder: assigned.append(folder) or folder / "course")
     assert grade_many.main([CHAPTER, str(tmp_path), "--jobs", "1", *argv]) == 0
-    assert sorted(seen) == [("alice", expected), ("bob", expected)]
+    assert len(assigned) == 1
+    assert sorted(seen) == [("alice", expected, assigned[0] / "course"), ("bob", expected, assigned[0] / "course")]
 
 
 def test_grade_many_refuses_a_negative_process_cap(tmp_path, capsys):
@@ -330,18 +340,21 @@ def test_shard_refuses_bad_arguments(index, shards, name):
 @pytest.mark.parametrize("argv, expected", [([], process_cap.DEFAULT_MAX_PROCESSES), (["--max-processes", "0"], 0),
                                             (["--max-processes", "64"], 64)])
 def test_grade_shard_passes_the_process_cap_on(tmp_path, monkeypatch, argv, expected):
-    """grade_shard.py's ``--max-processes`` reaches the grading of each student of its shard."""
+    """grade_shard.py's ``--max-processes`` reaches the grading of each student of its shard, and so does
+    the template course, made once per shard."""
     for student in ("alice", "bob", "carol"):
         save({"cells": []}, tmp_path / student / f"{CHAPTER}.ipynb")
-    seen = []
+    seen, assigned = [], []
 
-    def grade_one(chapter, notebook, memory_mib, cpu_seconds, max_processes):
-        seen.append((notebook.parent.name, max_processes))
+    def grade_one(chapter, notebook, memory_mib, cpu_seconds, max_processes, template):
+        seen.append((notebook.parent.name, max_processes, template))
         return notebook, "1 / 2", True
 
     monkeypatch.setattr(grade_shard, "grade_one", grade_one)
+    monkeypatch.setattr(grade_shard, "assign", lambda chapter, folder: assigned.append(folder) or folder / "course")
     assert grade_shard.main([CHAPTER, str(tmp_path), "--shards", "2", "--index", "0", "--jobs", "1", *argv]) == 0
-    assert sorted(seen) == [("alice", expected), ("carol", expected)]
+    assert len(assigned) == 1
+    assert sorted(seen) == [("alice", expected, assigned[0] / "course"), ("carol", expected, assigned[0] / "course")]
 
 
 def test_grade_shard_refuses_a_negative_process_cap(tmp_path, monkeypatch, capsys):

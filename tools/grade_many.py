@@ -8,9 +8,13 @@ The folder holds one folder per student, ``<folder>/<student>/<chapter>.ipynb``;
 graded on its own by :mod:`grade_submission` (its own temporary course, its own memory, CPU
 and process caps: ``--memory``, ``--cpu-seconds`` and ``--max-processes``, passed on as they
 are) into ``<folder>/<student>/results.json`` and ``feedback.html``, ``--jobs`` at a
-time (default: the number of cores). A line per submission reports its score or why it
-could not be graded; the exit code is 1 when any could not be, 0 otherwise. Grading one at
-a time gives the same scores: each submission's grading shares nothing with another's.
+time (default: the number of cores). The chapter is assigned once per run, in a template
+course (:func:`grade_submission.assign`) that each submission's course is a copy of: its
+gradebook, ``source/`` and ``release/``, the state ``nbgrader generate_assignment`` would
+give it, without the CPU of assigning the chapter again for every submission. A line per
+submission reports its score or why it could not be graded; the exit code is 1 when any could
+not be, 0 otherwise. Grading one at a time gives the same scores: each submission is graded in
+a course of its own, and the template, which every course is copied from, no grading changes.
 """
 
 from __future__ import annotations
@@ -18,11 +22,12 @@ from __future__ import annotations
 import argparse
 import os
 import sys
+import tempfile
 import time
 from concurrent.futures import ThreadPoolExecutor, as_completed
 from pathlib import Path
 
-from tools.grade_submission import DEFAULT_CPU_SECONDS, DEFAULT_MEMORY_MIB, grade
+from tools.grade_submission import DEFAULT_CPU_SECONDS, DEFAULT_MEMORY_MIB, assign, grade
 from tools.process_cap import DEFAULT_MAX_PROCESSES
 
 
@@ -32,10 +37,14 @@ def submissions(folder: Path, chapter: str) -> list[Path]:
 
 
 def grade_one(chapter: str, notebook: Path, memory_mib: int, cpu_seconds: int,
-              max_processes: int = DEFAULT_MAX_PROCESSES) -> tuple[Path, str, bool]:
-    """Grade ``notebook`` into its folder: ``(notebook, its score or why it was not graded, graded)``."""
+              max_processes: int = DEFAULT_MAX_PROCESSES, template: Path | None = None) -> tuple[Path, str, bool]:
+    """Grade ``notebook`` into its folder: ``(notebook, its score or why it was not graded, graded)``.
+
+    ``template``: the chapter's course made by :func:`grade_submission.assign`, copied for the
+    submission (``None``: the chapter is assigned for it)."""
     try:
-        results = grade(chapter, notebook, notebook.parent, memory_mib, cpu_seconds, max_processes=max_processes)
+        results = grade(chapter, notebook, notebook.parent, memory_mib, cpu_seconds, max_processes=max_processes,
+                        template=template)
     except (FileNotFoundError, RuntimeError) as error:
         return notebook, f"not graded: {str(error).splitlines()[0]}", False
     maximum = sum(test["max_score"] for test in results["tests"])
@@ -66,9 +75,15 @@ def main(argv: list[str] | None = None) -> int:
               file=sys.stderr)
         return 2
     started, done, failed = time.monotonic(), 0, 0
-    with ThreadPoolExecutor(max_workers=args.jobs) as pool:
+    with tempfile.TemporaryDirectory(prefix="robokin-template-") as folder, \
+            ThreadPoolExecutor(max_workers=args.jobs) as pool:
+        try:
+            template = assign(args.chapter, Path(folder))
+        except (FileNotFoundError, RuntimeError) as error:
+            print(f"ERROR: cannot assign {args.chapter}: {error}", file=sys.stderr)
+            return 1
         futures = [pool.submit(grade_one, args.chapter, path.resolve(), args.memory, args.cpu_seconds,
-                               args.max_processes) for path in found]
+                               args.max_processes, template) for path in found]
         for future in as_completed(futures):
             notebook, verdict, ok = future.result()
             done += 1

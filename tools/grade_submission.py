@@ -4,6 +4,9 @@
     .venv/bin/python tools/grade_submission.py 03_three_rpr submission.ipynb --out results/alice
     .venv/bin/python tools/grade_submission.py 03_three_rpr submission.ipynb --out . --memory 4096 \
         --max-processes 256
+    .venv/bin/python tools/grade_submission.py 03_three_rpr --assign template    # once, then:
+    .venv/bin/python tools/grade_submission.py 03_three_rpr submission.ipynb --out . \
+        --template template/course
 
 The course's own pipeline grades it (nbgrader_config.py: the bubblewrap sandbox, the
 verdicts decided in a grader kernel of their own, restarts after a lost kernel, the
@@ -11,8 +14,11 @@ diagnoses of typical mistakes, the points of each test): the chapter is assigned
 temporary course, the notebook submitted there as one student's, ``nbgrader autograde``
 and ``nbgrader generate_feedback`` run, and the course is thrown away. nbgrader's three
 steps run in one process, by its Python API (one start-up of nbgrader instead of three,
-about 4 CPU-seconds less per submission), under the caps below. What is kept, in
-``--out``:
+about 4 CPU-seconds less per submission), under the caps below. ``--assign FOLDER`` assigns the
+chapter once, in a template course ``FOLDER/course``; ``--template FOLDER/course`` then copies it
+for the submission (its gradebook, ``source/`` and ``release/``) instead of assigning the chapter
+again (about 2 CPU-seconds less: nbgrader makes a new gradebook with a process of its own,
+``alembic heads``). What is kept, in ``--out``:
 
 ``results.json``
     Gradescope's autograder format: ``score``, and ``tests``, one per graded test cell,
@@ -236,6 +242,12 @@ def grade(chapter: str, notebook: Path, out: Path, memory_mib: int = DEFAULT_MEM
     source = notebooks / f"{chapter}.ipynb"
     if not source.is_file():
         raise FileNotFoundError(f"no chapter {chapter!r}: {source} does not exist")
+    if template is not None:
+        missing = [part for part in ("gradebook.db", f"source/{chapter}", f"release/{chapter}")
+                   if not (template / part).exists()]
+        if missing:
+            raise FileNotFoundError(f"template must be a course in which {chapter} is assigned (made by "
+                                    f"assign or --assign); {template} has no {', '.join(missing)}")
     capped = process_cap_environment(max_processes)
     out.mkdir(parents=True, exist_ok=True)
     log: list[str] = []
@@ -281,8 +293,13 @@ def grade(chapter: str, notebook: Path, out: Path, memory_mib: int = DEFAULT_MEM
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("chapter", help="the chapter, e.g. 03_three_rpr")
-    parser.add_argument("notebook", type=Path, help="the submitted notebook (.ipynb)")
-    parser.add_argument("--out", type=Path, required=True, help="folder for results.json and feedback.html")
+    parser.add_argument("notebook", type=Path, nargs="?", help="the submitted notebook (.ipynb)")
+    parser.add_argument("--out", type=Path, help="folder for results.json and feedback.html")
+    parser.add_argument("--template", type=Path, default=None,
+                        help="a course in which the chapter is assigned (FOLDER/course of --assign), copied "
+                             "for the submission instead of assigning the chapter again")
+    parser.add_argument("--assign", type=Path, default=None, metavar="FOLDER",
+                        help="only assign the chapter, in a template course FOLDER/course, and exit")
     parser.add_argument("--memory", type=int, default=DEFAULT_MEMORY_MIB,
                         help=f"MiB of address space per process (default {DEFAULT_MEMORY_MIB})")
     parser.add_argument("--cpu-seconds", type=int, default=DEFAULT_CPU_SECONDS,
@@ -294,12 +311,24 @@ def main(argv: list[str] | None = None) -> int:
     logging.basicConfig(format="%(levelname)s [robokin grading] %(message)s")
     if args.max_processes < 0:
         parser.error(f"--max-processes must be 0 (no cap) or positive, not {args.max_processes}")
+    if args.assign is not None:
+        if args.notebook is not None or args.template is not None:
+            parser.error("--assign takes no notebook and no --template: it makes the template")
+        try:
+            print(f"{args.chapter} assigned in {assign(args.chapter, args.assign.resolve())}")
+        except (FileNotFoundError, RuntimeError) as error:
+            print(f"ERROR: {error}", file=sys.stderr)
+            return 1
+        return 0
+    if args.notebook is None or args.out is None:
+        parser.error("a notebook and --out are needed (or --assign FOLDER)")
     if not args.notebook.is_file():
         print(f"ERROR: no notebook {args.notebook}", file=sys.stderr)
         return 2
     try:
         results = grade(args.chapter, args.notebook.resolve(), args.out.resolve(), args.memory, args.cpu_seconds,
-                        max_processes=args.max_processes)
+                        max_processes=args.max_processes,
+                        template=args.template.resolve() if args.template else None)
     except (FileNotFoundError, RuntimeError) as error:
         print(f"ERROR: {error}", file=sys.stderr)
         return 1

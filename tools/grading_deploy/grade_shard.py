@@ -11,14 +11,15 @@ students ``i``, ``i + shards``, ``i + 2 shards``, ... (``--index``, default the
 ``JOB_COMPLETION_INDEX`` Kubernetes gives each pod of an indexed Job), ``--jobs`` at a time,
 each into ``<student>/results.json`` and ``feedback.html`` beside its notebook. The caps of
 tools/grade_submission.py are passed on as they are: ``--memory``, ``--cpu-seconds`` and
-``--max-processes``. The manifest's pods run as an ordinary user, where the default process
-cap holds (``RLIMIT_NPROC`` in the sandbox); ``--max-processes 0`` (no cap, with a warning on
-every submission) is for a grader run as root in a container whose ``/sys/fs/cgroup`` is
-read-only, where the container's own process limit (a node's ``podPidsLimit``) is the cap. A
-student whose ``results.json`` is newer than the notebook is skipped (a pod that is retried
-does not grade its shard again), unless ``--force``. The exit code is 1 when a submission
-could not be graded (Kubernetes then retries the pod, within the Job's
-``backoffLimitPerIndex``), 2 for bad arguments, 0 otherwise.
+``--max-processes``; the chapter is assigned once per shard, in a template course that each
+submission's course is a copy of (as ``make grade`` does). The manifest's pods run as an
+ordinary user, where the default process cap holds (``RLIMIT_NPROC`` in the sandbox);
+``--max-processes 0`` (no cap, with a warning on every submission) is for a grader run as root
+in a container whose ``/sys/fs/cgroup`` is read-only, where the container's own process limit
+(a node's ``podPidsLimit``) is the cap. A student whose ``results.json`` is newer than the
+notebook is skipped (a pod that is retried does not grade its shard again), unless ``--force``.
+The exit code is 1 when a submission could not be graded (Kubernetes then retries the pod,
+within the Job's ``backoffLimitPerIndex``), 2 for bad arguments, 0 otherwise.
 """
 
 from __future__ import annotations
@@ -26,11 +27,12 @@ from __future__ import annotations
 import argparse
 import os
 import sys
+import tempfile
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 from tools.grade_many import grade_one, submissions
-from tools.grade_submission import DEFAULT_CPU_SECONDS, DEFAULT_MEMORY_MIB
+from tools.grade_submission import DEFAULT_CPU_SECONDS, DEFAULT_MEMORY_MIB, assign
 from tools.process_cap import DEFAULT_MAX_PROCESSES
 
 
@@ -91,11 +93,19 @@ def main(argv: list[str] | None = None) -> int:
     todo = [path for path in mine if args.force or not graded_already(path)]
     print(f"shard {index} of {args.shards}: {len(mine)} submissions, {len(mine) - len(todo)} graded already",
           flush=True)
+    if not todo:
+        return 0
     failed = 0
-    with ThreadPoolExecutor(max_workers=args.jobs) as pool:
+    with tempfile.TemporaryDirectory(prefix="robokin-template-") as folder, \
+            ThreadPoolExecutor(max_workers=args.jobs) as pool:
+        try:
+            template = assign(args.chapter, Path(folder))
+        except (FileNotFoundError, RuntimeError) as error:
+            print(f"ERROR: cannot assign {args.chapter}: {error}", file=sys.stderr)
+            return 1
         for notebook, verdict, ok in pool.map(
                 lambda path: grade_one(args.chapter, path.resolve(), args.memory, args.cpu_seconds,
-                                       args.max_processes), todo):
+                                       args.max_processes, template), todo):
             failed += not ok
             print(f"{notebook.parent.name}: {verdict}", flush=True)
     return 1 if failed else 0
