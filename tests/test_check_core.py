@@ -457,3 +457,28 @@ def test_a_wrong_number_per_input_is_explained_with_both_values():
     assert chk(lambda x: float(2.0 * np.sum(x)), quiet=True).passed
     r = chk(lambda x: float(3.0 * np.sum(x)), quiet=True)
     assert not r.passed and "expected" in r.message and "got" in r.message, r.message
+
+
+def test_pack_joint_rows_flattens_and_refuses_with_the_expected_form():
+    from robokin.check._core import pack_joint_rows
+
+    pack = pack_joint_rows("track", 4, 3)
+    rows = np.arange(12.0).reshape(4, 3)
+    assert np.array_equal(pack(rows), rows.ravel()) and np.array_equal(pack(rows.tolist()), rows.ravel())
+    with pytest.raises(TypeError, match=r"^track should return one array of joint angles \(N, 3\), not a tuple "
+                                        r"of 2 items$"):
+        pack((rows, 1))
+    with pytest.raises(TypeError, match=r"^track should return the joint angles at the N = 4 samples of r_des, "
+                                        r"shape \(4, 3\); got shape \(3, 3\)$"):
+        pack(rows[1:])
+
+
+def test_packed_variants_are_the_loop_with_its_mistake_packed():
+    from robokin.check._core import packed_variants
+
+    def loop(a, b, *, sign=1.0):
+        return [sign * a, b]
+
+    variant = packed_variants(loop, lambda x: (x[0], x[1]), np.asarray)
+    x = np.array([2.0, 5.0])
+    assert np.array_equal(variant()(x), [2.0, 5.0]) and np.array_equal(variant(sign=-1.0)(x), [-2.0, 5.0])
