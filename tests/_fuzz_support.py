@@ -399,7 +399,7 @@ class Spec:
     args: list[Arg] = dataclasses.field(default_factory=list)
     kwargs: dict[str, Arg] = dataclasses.field(default_factory=dict)
     shape: Callable[[Ctx, dict], Any] | None = None
-    check: Callable[[Any, Ctx, dict], None] | None = None
+    check: Callable[[Any, Ctx, dict], object] | None = None
     batch: bool = False
     empty: bool = True
     weight: float = 1.0

@@ -285,7 +285,7 @@ def _hip_angles_xyz(T):
             b = math.atan2(R_H[0, 2], c2)
             c = math.atan2(-R_H[0, 1] / c2, R_H[0, 0] / c2)
             out.append([c, b, a, *q[3:]])
-    unique = []
+    unique: list[list[float]] = []
     for row in out:
         if not any(np.allclose(ck._wrap(np.subtract(row, u)), 0, atol=1e-9) for u in unique):
             unique.append(row)

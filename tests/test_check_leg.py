@@ -252,7 +252,7 @@ def test_ik_solution_names_the_answer_as_the_notebook_does():
     r = L.ik_solution(np.rad2deg(_ik_solutions()[0]), name="found[0]", quiet=True)
     assert r.name == "found[0]" and r.message.startswith("✘ found[0] is in degrees")
     with pytest.raises(TypeError, match="name must be a str"):
-        L.ik_solution(_ik_solutions()[0], name=3, quiet=True)
+        L.ik_solution(_ik_solutions()[0], name=3, quiet=True)  # type: ignore[arg-type]  # a wrong type on purpose
 
 
 # ---------------------------------------------------------------- tracking controller

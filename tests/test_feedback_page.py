@@ -20,6 +20,7 @@ import html
 import os
 import re
 from pathlib import Path
+from typing import Any
 
 import nbformat
 import pytest
@@ -138,7 +139,7 @@ def test_a_model_value_is_not_the_students_and_a_correct_answer_is_no_cause():
     index = next(i for i, c in enumerate(nb.cells) if c.metadata.get("nbgrader", {}).get("grade_id") == "task2_test1")
     # the test fails at its last line (J_fd against foot)
     failure = nbformat.from_dict(_error("AssertionError", 5, 4))
-    report = {"pairs": [], "explained": {}}
+    report: dict[str, Any] = {"pairs": [], "explained": {}}
     notes = FailureNotes(nb, index, report)
     notes.pairs(failure)
     assert "H_model" not in notes.derived and "H_model" not in notes.yours, "leg_frames(q) is not the student's"
@@ -157,7 +158,7 @@ def test_own_tests_are_the_tests_of_the_answers_task():
     nb.cells.append(_cell("assert foot[2] < 0", "task3_test1", grade=True, task=3, count=7))
     failed = next(c for c in nb.cells if c.metadata.get("nbgrader", {}).get("grade_id") == "task2_test1")
     failed.outputs = [nbformat.from_dict(_error("AssertionError", 5, 4))]
-    report = {"pairs": [], "explained": {}}
+    report: dict[str, Any] = {"pairs": [], "explained": {}}
     notes = FailureNotes(nb, len(nb.cells) - 1, report)
     text = "\n".join(notes.lines(nbformat.from_dict(_error("AssertionError", 7, 1)), []))
     # foot's own test task2_test1 failed; R_a, R_b (Task 1) are named for task1_test1 only, never task2_test1

@@ -61,6 +61,7 @@ def load_mutations(chapter: str) -> dict[str, list[tuple[str, str]]]:
             f"answer per graded test (grade ids: `tools/nbgrader_metadata.py --list notebooks/{chapter}.ipynb`)."
         )
     spec = importlib.util.spec_from_file_location(f"grading_mutations_{chapter}", path)
+    assert spec is not None and spec.loader is not None
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     mutations = getattr(module, "MUTATIONS", None)

@@ -25,6 +25,7 @@ import os
 import re
 import sys
 from pathlib import Path
+from typing import Any
 
 import nbformat
 import pytest
@@ -38,6 +39,7 @@ def robokin_book():
     """The book's Sphinx extension, ``book/_ext/robokin_book.py``, loaded from its file (jupyter-book
     puts ``book/_ext`` on the path when it builds the book, as ``_config.yml`` says; a test does not)."""
     spec = importlib.util.spec_from_file_location("robokin_book", ROOT / "book" / "_ext" / "robokin_book.py")
+    assert spec is not None and spec.loader is not None
     module = sys.modules["robokin_book"] = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
@@ -172,7 +174,7 @@ def _graded_notebook():
                                 "evalue": "not the value of the closed form",
                                 "traceback": ["-" * 75, "AssertionError    Traceback (most recent call last)", frame,
                                               "AssertionError: not the value of the closed form"]})
-    report = {"pairs": [], "explained": {}}
+    report: dict[str, Any] = {"pairs": [], "explained": {}}
     note = "\n".join(FailureNotes(nb, 3, report).lines(error, [])) + "\n"
     nb.cells[3].outputs = [nbformat.v4.new_output("stream", name="stdout", text="shape checked\n"),
                            nbformat.v4.new_output("stream", name="stdout", text=note), error]

@@ -32,7 +32,7 @@ def test_controller_call_validates_q(q, exc, text):
     with pytest.raises(exc, match=text):
         ctrl(0.0, q)
     with pytest.raises(TypeError, match="t must"):
-        ctrl(None, Q)
+        ctrl(None, Q)  # type: ignore[arg-type]  # a wrong type on purpose
 
 
 @pytest.mark.parametrize("chain", [None, "ur10", 3])
@@ -89,7 +89,7 @@ def test_norms_do_not_overflow_into_a_wrong_answer():
 
 def test_scalar_parameters_reject_arrays_and_nonsense():
     with pytest.raises(ShapeError, match="tol must be a single number"):
-        UR10.within_limits(Q, tol=[0.1, 0.2])
+        UR10.within_limits(Q, tol=[0.1, 0.2])  # type: ignore[arg-type]  # a wrong type on purpose
     with pytest.raises(DomainError, match="tol must be non-negative"):
         UR10.within_limits(Q, tol=-1.0)
     with pytest.raises(TypeError, match="tau"):

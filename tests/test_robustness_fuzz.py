@@ -38,11 +38,11 @@ from robokin.check._registry import CHAPTERS, checks_of
 SPECS = all_specs()
 #: Examples per function: the active profile's max_examples (100 by default) times this share.
 SHARE = 1.0
-SCALE = settings.default.max_examples / 100.0
+SCALE = settings().max_examples / 100.0
 
 
 def _settings(spec) -> settings:
-    n = max(3, math.ceil(settings.default.max_examples * SHARE * spec.weight))
+    n = max(3, math.ceil(settings().max_examples * SHARE * spec.weight))
     return settings(max_examples=n, deadline=None, database=None, derandomize=SCALE <= 1.0,
                     suppress_health_check=list(HealthCheck), print_blob=True)
 

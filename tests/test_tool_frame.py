@@ -11,6 +11,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from robokin.chains import SerialChain
 from robokin.errors import DomainError, ShapeError
 from robokin.models import ur10
 from robokin.models.panda import panda
@@ -121,6 +122,7 @@ def test_tool_jacobian_batch_and_unrotated_offset_is_wrong():
 def test_chain_with_tool_keeps_the_robot():
     robot = panda()
     tooled = chain_with_tool(robot, transform_from_rpy(ETA_TOOL, OFFSET), name="panda_tool")
+    assert isinstance(tooled, SerialChain)
     assert tooled.name == "panda_tool" and tooled.n == 7
     assert np.allclose(tooled.limits, robot.limits)
     assert tooled.joint_names == robot.joint_names and tooled.frame_names == robot.frame_names

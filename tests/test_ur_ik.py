@@ -171,7 +171,6 @@ def test_solution_set_equals_multistart_search(q):
         num = solve_ik(UR10, T, q0=start, restarts=0, tol=1e-10, record_history=False)
         if num.success:
             found.append(wrapped(num.q))
-    found = np.array(found)
     assert len(found) > 50
     for qn in found:  # no solution outside the closed form's set
         assert gap_to(res.q, qn) < 1e-6
