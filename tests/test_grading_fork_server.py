@@ -106,7 +106,7 @@ def kernels(server):
 
     def make(count: int = 1, timeout: int = 30, source=server) -> list[GraderKernel]:
         # pytest's PYTEST_CURRENT_TEST names the test: the server's is the one of the test that started it
-        current = os.environ.get(CURRENT_TEST)
+        current = os.environ.get(CURRENT_TEST, "")
         os.environ[CURRENT_TEST] = server.environment.get(CURRENT_TEST, current)
         try:
             for _ in range(count):
@@ -221,6 +221,7 @@ def test_killing_the_autograde_process_leaves_no_process_behind(tmp_path):
     autograde = subprocess.Popen([sys.executable, "-c", AUTOGRADE],
                                  stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
     try:
+        assert autograde.stdout is not None  # piped
         pids = json.loads(autograde.stdout.readline())
         assert len(pids["kernels"]) == 1 and all(_alive(pid) for pid in (pids["server"], *pids["kernels"]))
         autograde.kill()
@@ -264,8 +265,9 @@ def test_fork_server_false_starts_each_grader_kernel_anew(monkeypatch):
     sentinel = object()
     monkeypatch.setattr(fork_server, "shared_server", lambda preload, logger: sentinel)
     for wanted in (False, True):
-        execute = BridgedExecute(fork_server=wanted)
-        execute.km = StudentKernel()
+        # mypy takes nbclient's __init__(nb); nbgrader's Execute (untyped) puts nbconvert's __init__(**kw) first
+        execute = BridgedExecute(fork_server=wanted)  # type: ignore[call-arg]
+        execute.km = StudentKernel()  # type: ignore[assignment]  # a stand-in kernel manager
         execute._start_grader()
     assert made == [None, sentinel]
 
