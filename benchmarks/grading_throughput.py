@@ -9,7 +9,7 @@ it as ``make grade`` grades each submission (the sandbox, the grader kernels, th
 the feedback page), in a process of its own, in a copy of a template course in which the chapter
 is assigned (``--template``), made before and not counted: ``make grade`` and a Kubernetes shard
 make it once per run. ``--no-template`` grades as one ``grade_submission.py`` alone does (the
-chapter assigned for the submission, about 2 CPU-seconds more). Its CPU time is counted two ways:
+chapter assigned for the submission, about 0.7 CPU-seconds more). Its CPU time is counted two ways:
 
 * in a cpuacct control group of its own (cgroup v1 ``cpuacct.usage``, or v2 ``cpu.stat``), made
   under this process's group where the control-group file system is writable (root): every

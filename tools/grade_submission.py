@@ -17,8 +17,8 @@ steps run in one process, by its Python API (one start-up of nbgrader instead of
 about 4 CPU-seconds less per submission), under the caps below. ``--assign FOLDER`` assigns the
 chapter once, in a template course ``FOLDER/course``; ``--template FOLDER/course`` then copies it
 for the submission (its gradebook, ``source/`` and ``release/``) instead of assigning the chapter
-again (about 2 CPU-seconds less: nbgrader makes a new gradebook with a process of its own,
-``alembic heads``). What is kept, in ``--out``:
+again (the step costs about 0.7 CPU-seconds, the new gradebook's ``alembic heads`` process
+included; the log gives each step's CPU time). What is kept, in ``--out``:
 
 ``results.json``
     Gradescope's autograder format: ``score``, and ``tests``, one per graded test cell,
@@ -100,6 +100,12 @@ STEPS_SCRIPT = ("import sys\nfrom tools.grade_submission import run_steps\n"
                 "sys.exit(run_steps(sys.argv[1], sys.argv[2], sys.argv[3:]))")
 
 
+def cpu_seconds_so_far() -> float:
+    """CPU seconds of this process and of the children it waited for."""
+    own, children = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
+    return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
+
+
 def run_steps(chapter: str, student: str, steps: list[str]) -> int:
     """Run nbgrader's ``steps`` on the course in the working folder, in this process; print their logs.
 
@@ -119,13 +125,15 @@ def run_steps(chapter: str, student: str, steps: list[str]) -> int:
     loader.load_config_file()
     api = NbGraderAPI(config=loader.config)
     for done, step in enumerate(steps):
+        before = cpu_seconds_so_far()
         if step == "generate_assignment":
             result = api.generate_assignment(chapter, force=True)
         elif step == "autograde":
             result = api.autograde(chapter, student, force=True)
         else:
             result = api.generate_feedback(chapter, student, force=True)
-        print(f"{STEP_MARK}{step} {chapter}   [{'ok' if result['success'] else 'failed'}]\n"
+        print(f"{STEP_MARK}{step} {chapter}   [{'ok' if result['success'] else 'failed'}, "
+              f"{cpu_seconds_so_far() - before:.1f} CPU-s with the processes it waited for]\n"
               f"{result.get('log', '')}{result.get('error', '')}", flush=True)
         if not result["success"]:
             return len(steps) - done
@@ -136,7 +144,7 @@ def run_steps_process(chapter: str, steps: list[str], course: Path, log: list[st
                       env: dict[str, str] | None = None) -> dict[str, str]:
     """Run nbgrader's ``steps`` for :data:`STUDENT` in one process of their own (:func:`run_steps`),
     in ``course``; append its output to ``log`` and return ``{step: its log}`` of the steps it ran.
-    A step that failed has ``[failed]`` in its log's first line; the steps after it did not run."""
+    A step that failed has ``[failed,`` in its log's first line; the steps after it did not run."""
     proc = subprocess.run([sys.executable, "-c", STEPS_SCRIPT, chapter, STUDENT, *steps], cwd=course,
                           capture_output=True, text=True, env={**environment(), **(env or {})},
                           preexec_fn=preexec, check=False)
@@ -162,7 +170,7 @@ def assign(chapter: str, folder: Path, notebooks: Path = ROOT / "notebooks") -> 
     add_source(course, source)
     log: list[str] = []
     logs = run_steps_process(chapter, ["generate_assignment"], course, log)
-    if "[ok]" not in logs.get("generate_assignment", "").split("\n", 1)[0]:
+    if "[ok," not in logs.get("generate_assignment", "").split("\n", 1)[0]:
         raise RuntimeError("nbgrader generate_assignment failed:\n" + log[-1][-4000:])
     return course
 
@@ -273,10 +281,10 @@ def grade(chapter: str, notebook: Path, out: Path, memory_mib: int = DEFAULT_MEM
             killed = process_cap.remove_leftovers(tag) if tag else 0
             if killed:
                 logger.warning("%d processes of the submission's kernel were left after grading; killed", killed)
-        if "generate_assignment" in steps and "[ok]" not in logs.get("generate_assignment", "").split("\n", 1)[0]:
+        if "generate_assignment" in steps and "[ok," not in logs.get("generate_assignment", "").split("\n", 1)[0]:
             raise RuntimeError("nbgrader generate_assignment failed:\n" + log[-1][-4000:])
         autograded = course / "autograded" / STUDENT / chapter / f"{chapter}.ipynb"
-        if "[ok]" not in logs.get("autograde", "").split("\n", 1)[0] or not autograded.is_file():
+        if "[ok," not in logs.get("autograde", "").split("\n", 1)[0] or not autograded.is_file():
             raise RuntimeError("nbgrader autograde failed:\n" + log[-1][-4000:])
         outputs = test_outputs(json.loads(autograded.read_text(encoding="utf-8")))
         tests = [{**row, "output": outputs.get(row["name"], "")} for row in read_scores(course, chapter)]
