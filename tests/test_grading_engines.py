@@ -206,6 +206,7 @@ def test_zip_holds_what_grading_needs_and_no_other_chapter(tmp_path):
         names = set(unpacked.namelist())
         modes = {info.filename: info.external_attr >> 16 for info in unpacked.infolist()}
         setup = unpacked.read("setup.sh").decode()
+        run = unpacked.read("run_autograder").decode()
     assert {"setup.sh", "run_autograder", "nbgrader_config.py", "pyproject.toml", "requirements.txt",
             "constraints.txt", "book/references.bib", "tools/grade_submission.py", "robokin/__init__.py",
             f"notebooks/{CHAPTER}.ipynb"} <= names
@@ -213,6 +214,9 @@ def test_zip_holds_what_grading_needs_and_no_other_chapter(tmp_path):
     assert not [name for name in names if "__pycache__" in name or name.startswith(("tests/", "_build/"))]
     assert modes["setup.sh"] & stat.S_IXUSR and modes["run_autograder"] & stat.S_IXUSR
     assert "bubblewrap" in setup and "pip install -r requirements.txt" in setup
+    # the chapter assigned once at set-up, in the template course run_autograder copies for each submission
+    assert setup.rstrip().endswith('-m tools.grade_submission "$CHAPTER" --assign "$ROOT/template"'), setup
+    assert '(--template "$ROOT/template/course")' in run and 'TEMPLATE[@]+"${TEMPLATE[@]}"' in run, run
 
 
 def test_a_template_that_is_not_an_assigned_course_is_refused(tmp_path):
