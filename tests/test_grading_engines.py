@@ -266,7 +266,11 @@ def test_grade_many_passes_the_process_cap_on(tmp_path, monkeypatch, argv, expec
         return {"score": 1.0, "tests": [{"max_score": 2.0}]}
 
     monkeypatch.setattr(grade_many, "grade", grade)
-    monkeypatch.setattr(grade_many, "assign", lambda chapter, folder: assigned.append(folder) or folder / "course")
+    def assign(chapter: str, folder: Path) -> Path:
+        assigned.append(folder)
+        return folder / "course"
+
+    monkeypatch.setattr(grade_many, "assign", assign)
     assert grade_many.main([CHAPTER, str(tmp_path), "--jobs", "1", *argv]) == 0
     assert len(assigned) == 1
     assert sorted(seen) == [("alice", expected, assigned[0] / "course"), ("bob", expected, assigned[0] / "course")]
@@ -355,7 +359,11 @@ def test_grade_shard_passes_the_process_cap_on(tmp_path, monkeypatch, argv, expe
         return notebook, "1 / 2", True
 
     monkeypatch.setattr(grade_shard, "grade_one", grade_one)
-    monkeypatch.setattr(grade_shard, "assign", lambda chapter, folder: assigned.append(folder) or folder / "course")
+    def assign(chapter: str, folder: Path) -> Path:
+        assigned.append(folder)
+        return folder / "course"
+
+    monkeypatch.setattr(grade_shard, "assign", assign)
     assert grade_shard.main([CHAPTER, str(tmp_path), "--shards", "2", "--index", "0", "--jobs", "1", *argv]) == 0
     assert len(assigned) == 1
     assert sorted(seen) == [("alice", expected, assigned[0] / "course"), ("carol", expected, assigned[0] / "course")]
