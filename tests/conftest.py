@@ -165,11 +165,15 @@ def browser():
 
 #: The Chromium instances the ``browser`` fixture launched in this process (one per worker).
 _BROWSERS: list = []
+#: Browser contexts that live for the whole session (the book's page checks reuse one tab,
+#: tests/test_book.py); their owner leaves them on about:blank after each test.
+KEPT_CONTEXTS: list = []
 
 
 @pytest.fixture(autouse=True)
 def _close_browser_pages():
-    """Close every tab a test opened in the session's Chromium when the test ends.
+    """Close every tab a test opened in the session's Chromium when the test ends
+    (except the contexts in ``KEPT_CONTEXTS``).
 
     A tab left open with a live WebGL scene keeps Chromium's GPU process drawing
     (about 40 % of a core) for the rest of the run.
@@ -177,7 +181,8 @@ def _close_browser_pages():
     yield
     for instance in _BROWSERS:
         for context in list(instance.contexts):
-            context.close()
+            if context not in KEPT_CONTEXTS:
+                context.close()
 
 
 def _stop_survivors() -> list[str]:
