@@ -329,6 +329,7 @@ def file_variants(chapter: str) -> dict[str, tuple[str, str]] | None:
     if not path.is_file():
         return None
     spec = importlib.util.spec_from_file_location(f"grading_variants_{chapter}", path)
+    assert spec is not None and spec.loader is not None
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     found = getattr(module, "VARIANTS", None)
@@ -409,7 +410,7 @@ def written_another_way(correct: dict, chapter: str) -> dict:
     nb = copy.deepcopy(correct)
     missing = set(VARIANTS[chapter])
     for cell in nb["cells"]:
-        variant = VARIANTS[chapter].get(_grade_id(cell))
+        variant = VARIANTS[chapter].get(_grade_id(cell) or "")
         if variant:
             cell["source"] = _source(cell).rstrip() + "\n" + variant[1]
             missing.discard(_grade_id(cell))
