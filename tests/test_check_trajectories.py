@@ -459,7 +459,7 @@ def test_function_checks_refuse_and_report_as_every_chapter(check_name):
     from robokin.check._core import FunctionCheck
 
     check = getattr(chk, check_name)
-    assert isinstance(check, FunctionCheck) and check.name == check_name and check.__doc__.startswith("Check ")
+    assert isinstance(check, FunctionCheck) and check.name == check_name and (check.__doc__ or "").startswith("Check ")
     none = check(None, quiet=True)
     assert (none.diagnosis, none.message) == ("error", f"✘ {check_name} is None: did you forget to define it?")
     text = check("text", quiet=True)
