@@ -42,6 +42,7 @@ from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from functools import partial
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -175,7 +176,7 @@ def mistake_candidates(source: dict) -> list[dict]:
     """
     from robokin.check.grading import _resolve
 
-    defined: dict[str, tuple[str, int]] = {}  # name -> (grade_id of the answer, task)
+    defined: dict[str, tuple[str, int | None]] = {}  # name -> (grade_id of the answer, task)
     out = []
     for cell in source["cells"]:
         meta = rk(cell)
@@ -341,7 +342,7 @@ def wrong_type_candidate(source: dict, chapter: str) -> dict | None:
 
 def chapter_submissions(chapter: str, source: dict, correct: dict, run: Run) -> dict[str, dict]:
     """The knock-on and wrong-type submissions of FEEDBACK_CHAPTER."""
-    out = {}
+    out: dict[str, dict] = {}
     if chapter != FEEDBACK_CHAPTER:
         return out
     knock, wrong = knock_on_candidate(source, chapter), wrong_type_candidate(source, chapter)
@@ -520,10 +521,11 @@ def run_walkthrough(base: Path) -> Run:
                 save(nb, fetched)
                 submitted += 1
             if args[0] == "collect" and "--update" in args:   # what collect does without it
-                proc = nbgrader([a for a in args if a != "--update"], course, run.log, new_process=True, **env)
+                proc = nbgrader([a for a in args if a != "--update"], course, run.log, new_process=True,
+                                **env)  # type: ignore[arg-type]  # env holds environment variables, never check or new_process
                 run.log.append("plain collect of a resubmission: " + (proc.stdout + proc.stderr)[-2000:])
             # each command a new `nbgrader` process, as the instructor and the student type them
-            nbgrader(args, home if who == "student" else course, run.log, new_process=True, **env)
+            nbgrader(args, home if who == "student" else course, run.log, new_process=True, **env)  # type: ignore[arg-type]  # env holds environment variables, never check or new_process
             if args[0] == "autograde":
                 snapshot = Run(chapter, course)
                 read_gradebook(course, chapter, snapshot)
@@ -589,7 +591,7 @@ def grade_everything(base: Path, suites=(), chapters=(), own=(), extras=()) -> d
 
 
 @pytest.fixture(scope="session")
-def graded(request, tmp_path_factory) -> dict[str, Run]:
+def graded(request, tmp_path_factory) -> Mapping[str, Run]:
     """Every chapter generated, submitted, autograded and given feedback (tests/grading_course.py);
     each chapter's run as this file sees it: its own submissions only."""
     return _OwnView(grading_course.graded_courses(request, tmp_path_factory))
@@ -801,6 +803,7 @@ def test_walkthrough_with_a_bad_submission(graded):
     assert "Autograder report" in page, "the student did not get the feedback"
     assert "ran longer than the time limit" in page, "the endless loop is not reported"
     assert "my own experiment went wrong" in page and "(not graded) raised" in page
+    assert run.mistake is not None, "the run made no mistake to restore"
     assert f"id:{run.mistake['deleted']}" in page and "was missing from your submission" in page
     assert scores[run.mistake["deleted"]] == run.maximum[run.mistake["deleted"]], "the restored test did not run"
 
@@ -949,7 +952,7 @@ def test_released_test_cells_are_not_reported_as_changed(graded, chapter):
         def emit(self, record):
             warnings.append(record.getMessage())
 
-    def overwrite(nb: dict) -> dict:
+    def overwrite(nb: dict) -> nbformat.NotebookNode:
         processor = RestoreMissingCells(add_missing_cells=True)
         processor.log.addHandler(Collect())
         processor.log.setLevel(logging.WARNING)
@@ -1126,7 +1129,7 @@ def test_failure_notes_trace_the_root_cause_without_a_kernel():
     nb.cells[2].execution_count = 2
     nb.cells[6].execution_count = 5
     failure = nbformat.from_dict(error("AssertionError", 5, 2))
-    report = {"pairs": [], "explained": {}}
+    report: dict[str, Any] = {"pairs": [], "explained": {}}
     notes_ = FailureNotes(nb, 6, report)
     assert notes_.pairs(failure) == []
     text = "\n".join(notes_.lines(failure, []))
