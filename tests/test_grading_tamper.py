@@ -34,6 +34,7 @@ from __future__ import annotations
 import copy
 import json
 import re
+from typing import Any
 
 import pytest
 
@@ -171,7 +172,7 @@ def wrong_submission(correct: dict, source: dict) -> dict:
 def delegating_submission(correct: dict) -> dict:
     nb = copy.deepcopy(correct)
     for cell in nb["cells"]:
-        change = DELEGATE.get(nbg(cell).get("grade_id"))
+        change = DELEGATE.get(nbg(cell).get("grade_id", ""))
         if change:
             new, count = re.subn(change[0], change[1], src(cell) + "\n", count=1)
             assert count == 1, f"{nbg(cell)['grade_id']}: the answer to replace is not there"
@@ -323,7 +324,7 @@ def test_codec_round_trip_and_refusals():
                 {"$poly": ["Symbol('x')", ["Integer(1)"]]}, {"$what": 1}, 10**50):
         with pytest.raises(codec.BridgeError):
             codec.decode(bad)
-    deep = []
+    deep: list[Any] = []
     for _ in range(100):
         deep = [deep]
     with pytest.raises(codec.BridgeError):
@@ -353,7 +354,8 @@ def test_codec_round_trip_and_refusals():
 def test_delegation_finder_on_code():
     from tools.grading_bridge import delegation
 
-    checks = {1: {"three_rpr.inverse_kinematics"}, 3: {"three_rpr.inverse_jacobian"}}
+    checks: dict[int | None, set[str] | dict[str, set[str]]] = {
+        1: {"three_rpr.inverse_kinematics"}, 3: {"three_rpr.inverse_jacobian"}}
     answers = [
         (1, "ik = robot.inverse_kinematics\nrho0 = ik(POSE0)\n", ["ik", "rho0"]),
         (3, "def helper(p):\n    return getattr(robot, 'jacobian')(p)\n\n"
