@@ -120,25 +120,8 @@ def encode(value, registry=None, depth=0):
     if type(value) is complex:
         return {"$complex": [encode(value.real), encode(value.imag)]}
     numpy = sys.modules.get("numpy")
-    if numpy is not None:
-        if isinstance(value, numpy.ndarray) and value.dtype.kind == "U":
-            if value.size > MAX_ITEMS or value.dtype.itemsize // 4 > MAX_TEXT // 100:
-                raise BridgeError(f"a numpy array of {value.size} strings")
-            return {"$strarray": [list(value.shape), [str(v) for v in value.ravel().tolist()]]}
-        if isinstance(value, numpy.ndarray):
-            dtype = value.dtype.name
-            if dtype not in DTYPES:
-                raise BridgeError(f"a numpy array of dtype {dtype}")
-            if value.size > MAX_ARRAY_ELEMENTS:
-                raise BridgeError(f"a numpy array of {value.size} elements")
-            data = numpy.ascontiguousarray(value, dtype=value.dtype.newbyteorder("<"))
-            return {"$ndarray": [dtype, list(value.shape), base64.b64encode(data.tobytes()).decode()]}
-        if isinstance(value, numpy.generic):
-            dtype = value.dtype.name
-            if dtype not in DTYPES:
-                raise BridgeError(f"a numpy scalar of dtype {dtype}")
-            raw = numpy.asarray(value, dtype=value.dtype.newbyteorder("<")).tobytes()
-            return {"$npscalar": [dtype, base64.b64encode(raw).decode()]}
+    if numpy is not None and isinstance(value, (numpy.ndarray, numpy.generic)):
+        return _encode_numpy(value, numpy)
     if type(value) is list:
         _count(value)
         return [encode(v, registry, depth + 1) for v in value]
@@ -150,6 +133,32 @@ def encode(value, registry=None, depth=0):
         _count(value)
         return {"$dict": [[encode(k, registry, depth + 1), encode(v, registry, depth + 1)]
                           for k, v in value.items()]}
+    return _encode_object(value, registry, depth)
+
+
+def _encode_numpy(value, numpy):
+    """A numpy array (of strings, or of a dtype of :data:`DTYPES`) or numpy scalar as data."""
+    if isinstance(value, numpy.ndarray) and value.dtype.kind == "U":
+        if value.size > MAX_ITEMS or value.dtype.itemsize // 4 > MAX_TEXT // 100:
+            raise BridgeError(f"a numpy array of {value.size} strings")
+        return {"$strarray": [list(value.shape), [str(v) for v in value.ravel().tolist()]]}
+    dtype = value.dtype.name
+    if isinstance(value, numpy.ndarray):
+        if dtype not in DTYPES:
+            raise BridgeError(f"a numpy array of dtype {dtype}")
+        if value.size > MAX_ARRAY_ELEMENTS:
+            raise BridgeError(f"a numpy array of {value.size} elements")
+        data = numpy.ascontiguousarray(value, dtype=value.dtype.newbyteorder("<"))
+        return {"$ndarray": [dtype, list(value.shape), base64.b64encode(data.tobytes()).decode()]}
+    if dtype not in DTYPES:
+        raise BridgeError(f"a numpy scalar of dtype {dtype}")
+    raw = numpy.asarray(value, dtype=value.dtype.newbyteorder("<")).tobytes()
+    return {"$npscalar": [dtype, base64.b64encode(raw).decode()]}
+
+
+def _encode_object(value, registry, depth):
+    """A value that is no plain data, collection or numpy value: a sympy object, a robokin
+    module, a caught warning, a robokin object, a function (into ``registry``), or opaque."""
     sympy = sys.modules.get("sympy")
     if sympy is not None and isinstance(value, sympy.Basic):
         return _encode_sympy(value, sympy)
@@ -248,144 +257,189 @@ def decode(data, make_callable=None, depth=0, handles=None):
 
     ``make_callable(handle, name)`` makes a proxy of a function; without it a
     function is an error. An ``$opaque`` value becomes an :class:`Untransferable`.
+    A tagged value (``{"$tag": body}``) is decoded by the function :data:`DECODERS`
+    holds for its tag.
     """
     if depth > MAX_DEPTH:
         raise BridgeError(f"nested more than {MAX_DEPTH} levels deep")
-    if data is None or isinstance(data, bool):
+    if isinstance(data, list):
+        _count(data)
+        return [decode(v, make_callable, depth + 1, handles) for v in data]
+    if not isinstance(data, dict) or len(data) != 1:
+        return _decode_plain(data)
+    (tag, body), = data.items()
+    decoder = DECODERS.get(tag)
+    if decoder is None:
+        raise BridgeError(f"unknown kind of data {str(tag)[:40]!r}")
+    return decoder(body, make_callable, depth, handles)
+
+
+def _decode_plain(data):
+    """None, a bool, an int, a float or a str as it is (within the caps); anything else is malformed."""
+    if data is None or isinstance(data, (bool, float)):
         return data
     if isinstance(data, int):
         if abs(data) > MAX_INT:
             raise BridgeError("an integer larger than 10**40")
         return data
-    if isinstance(data, float):
-        return data
     if isinstance(data, str):
         if len(data) > MAX_TEXT:
             raise BridgeError(f"a string of {len(data)} characters")
         return data
-    if isinstance(data, list):
-        _count(data)
-        return [decode(v, make_callable, depth + 1, handles) for v in data]
-    if not isinstance(data, dict) or len(data) != 1:
-        raise BridgeError(f"malformed data ({type(data).__name__})")
-    (tag, body), = data.items()
-    if tag in ("$tuple", "$set", "$frozenset"):
-        if not isinstance(body, list):
-            raise BridgeError("malformed collection")
-        _count(body)
-        items = [decode(v, make_callable, depth + 1, handles) for v in body]
-        return {"$tuple": tuple, "$set": set, "$frozenset": frozenset}[tag](items)
-    if tag == "$dict":
-        if not isinstance(body, list):
-            raise BridgeError("malformed dict")
-        _count(body)
-        out = {}
-        for pair in body:
-            if not isinstance(pair, list) or len(pair) != 2:
-                raise BridgeError("malformed dict item")
-            key = decode(pair[0], None, depth + 1)
-            try:
-                hash(key)
-            except TypeError as exc:
-                raise BridgeError(f"a dict key of type {type(key).__name__}") from exc
-            out[key] = decode(pair[1], make_callable, depth + 1, handles)
-        return out
-    if tag == "$float":
-        if body not in ("nan", "inf", "-inf"):
-            raise BridgeError("malformed float")
-        return float(body)
-    if tag == "$complex":
-        if not (isinstance(body, list) and len(body) == 2):
-            raise BridgeError("malformed complex")
-        re_part, im_part = (decode(v, None, depth + 1) for v in body)
-        if not all(isinstance(v, (int, float)) for v in (re_part, im_part)):
-            raise BridgeError("malformed complex")
-        return complex(re_part, im_part)
-    if tag == "$ndarray":
-        return _decode_array(body)
-    if tag == "$strarray":
-        import numpy
+    raise BridgeError(f"malformed data ({type(data).__name__})")
 
-        if not (isinstance(body, list) and len(body) == 2 and isinstance(body[0], list)
-                and isinstance(body[1], list) and len(body[1]) <= MAX_ITEMS and len(body[0]) <= 32
-                and all(isinstance(n, int) and not isinstance(n, bool) and n >= 0 for n in body[0])
-                and all(isinstance(v, str) and len(v) <= MAX_TEXT // 100 for v in body[1])):
-            raise BridgeError("malformed array of strings")
-        size = 1
-        for n in body[0]:
-            size *= n
-        if size != len(body[1]):
-            raise BridgeError("malformed array of strings")
-        return numpy.array(body[1], dtype=str).reshape(body[0])
-    if tag == "$npscalar":
-        if not (isinstance(body, list) and len(body) == 2):
-            raise BridgeError("malformed numpy scalar")
-        array = _decode_array([body[0], [], body[1]])
-        return array[()]
-    if tag == "$sympy":
-        return parse_sympy(body)
-    if tag == "$poly":
-        if not (isinstance(body, list) and len(body) == 2 and isinstance(body[1], list) and len(body[1]) <= 50):
-            raise BridgeError("malformed polynomial")
-        import sympy
 
-        expr = parse_sympy(body[0])
-        gens = [parse_sympy(g) for g in body[1]]
-        if not all(isinstance(g, sympy.Symbol) for g in gens):
-            raise BridgeError("a polynomial whose generators are not symbols")
-        return sympy.Poly(expr, *gens)
-    if tag == "$robokin":
-        return _decode_robokin(body, make_callable, depth)
-    if tag == "$callable":
-        if make_callable is None:
-            raise BridgeError("a function cannot be passed here")
-        if not (isinstance(body, list) and len(body) in (2, 3, 4) and isinstance(body[0], int)
-                and isinstance(body[1], str)):
-            raise BridgeError("malformed function handle")
-        proxy = make_callable(body[0], body[1][:200])
-        if len(body) == 4 and isinstance(body[3], str):
-            try:   # where the function says it comes from (a claim of the student's kernel)
-                proxy.__robokin_module__ = body[3][:200]
-            except AttributeError:
-                pass
-        signature = signature_of(body[2]) if len(body) >= 3 else None
-        if signature is not None:
-            try:
-                proxy.__signature__ = signature
-            except AttributeError:
-                pass
-        return proxy
-    if tag == "$handle":
-        if handles is None or type(body) is not int or body not in handles:
-            raise BridgeError("a function handle where none is expected")
-        return handles[body]
-    if tag == "$module":
-        if not (isinstance(body, str) and (body == "robokin" or body.startswith("robokin."))
-                and all(part.isidentifier() for part in body.split("."))):
-            raise BridgeError("not a robokin module")
+def _decode_items(body, what, make_callable, depth, handles) -> list:
+    if not isinstance(body, list):
+        raise BridgeError(f"malformed {what}")
+    _count(body)
+    return [decode(v, make_callable, depth + 1, handles) for v in body]
+
+
+def _decode_tuple(body, make_callable, depth, handles):
+    return tuple(_decode_items(body, "collection", make_callable, depth, handles))
+
+
+def _decode_set(body, make_callable, depth, handles):
+    return set(_decode_items(body, "collection", make_callable, depth, handles))
+
+
+def _decode_frozenset(body, make_callable, depth, handles):
+    return frozenset(_decode_items(body, "collection", make_callable, depth, handles))
+
+
+def _decode_dict(body, make_callable, depth, handles):
+    if not isinstance(body, list):
+        raise BridgeError("malformed dict")
+    _count(body)
+    out = {}
+    for pair in body:
+        if not isinstance(pair, list) or len(pair) != 2:
+            raise BridgeError("malformed dict item")
+        key = decode(pair[0], None, depth + 1)
         try:
-            return importlib.import_module(body)
-        except ImportError as exc:
-            raise BridgeError(f"no robokin module {body[:80]}") from exc
-    if tag == "$warning":
-        if not (isinstance(body, list) and len(body) == 5 and all(isinstance(v, str) for v in body[:4])
-                and type(body[4]) is int):
-            raise BridgeError("malformed warning")
-        module_name, class_name, message, filename, lineno = body
-        if module_name == "builtins" and class_name.isidentifier():
-            import builtins
+            hash(key)
+        except TypeError as exc:
+            raise BridgeError(f"a dict key of type {type(key).__name__}") from exc
+        out[key] = decode(pair[1], make_callable, depth + 1, handles)
+    return out
 
-            category = getattr(builtins, class_name, None)
-        elif module_name == "robokin.errors" and class_name.isidentifier():
-            category = getattr(importlib.import_module("robokin.errors"), class_name, None)
-        else:
-            category = None
-        if not (isinstance(category, type) and issubclass(category, Warning)):
-            category = UserWarning
-        return warnings.WarningMessage(category(message), category, filename, lineno)
-    if tag == "$opaque":
-        return Untransferable(str(body)[:200])
-    raise BridgeError(f"unknown kind of data {str(tag)[:40]!r}")
+
+def _decode_float(body, make_callable, depth, handles):
+    if body not in ("nan", "inf", "-inf"):
+        raise BridgeError("malformed float")
+    return float(body)
+
+
+def _decode_complex(body, make_callable, depth, handles):
+    if not (isinstance(body, list) and len(body) == 2):
+        raise BridgeError("malformed complex")
+    re_part, im_part = (decode(v, None, depth + 1) for v in body)
+    if not all(isinstance(v, (int, float)) for v in (re_part, im_part)):
+        raise BridgeError("malformed complex")
+    return complex(re_part, im_part)
+
+
+def _decode_ndarray(body, make_callable, depth, handles):
+    return _decode_array(body)
+
+
+def _decode_string_array(body, make_callable, depth, handles):
+    import numpy
+
+    if not (isinstance(body, list) and len(body) == 2 and isinstance(body[0], list)
+            and isinstance(body[1], list) and len(body[1]) <= MAX_ITEMS and len(body[0]) <= 32
+            and all(isinstance(n, int) and not isinstance(n, bool) and n >= 0 for n in body[0])
+            and all(isinstance(v, str) and len(v) <= MAX_TEXT // 100 for v in body[1])):
+        raise BridgeError("malformed array of strings")
+    size = 1
+    for n in body[0]:
+        size *= n
+    if size != len(body[1]):
+        raise BridgeError("malformed array of strings")
+    return numpy.array(body[1], dtype=str).reshape(body[0])
+
+
+def _decode_numpy_scalar(body, make_callable, depth, handles):
+    if not (isinstance(body, list) and len(body) == 2):
+        raise BridgeError("malformed numpy scalar")
+    array = _decode_array([body[0], [], body[1]])
+    return array[()]
+
+
+def _decode_sympy(body, make_callable, depth, handles):
+    return parse_sympy(body)
+
+
+def _decode_polynomial(body, make_callable, depth, handles):
+    if not (isinstance(body, list) and len(body) == 2 and isinstance(body[1], list) and len(body[1]) <= 50):
+        raise BridgeError("malformed polynomial")
+    import sympy
+
+    expr = parse_sympy(body[0])
+    gens = [parse_sympy(g) for g in body[1]]
+    if not all(isinstance(g, sympy.Symbol) for g in gens):
+        raise BridgeError("a polynomial whose generators are not symbols")
+    return sympy.Poly(expr, *gens)
+
+
+def _decode_callable(body, make_callable, depth, handles):
+    if make_callable is None:
+        raise BridgeError("a function cannot be passed here")
+    if not (isinstance(body, list) and len(body) in (2, 3, 4) and isinstance(body[0], int)
+            and isinstance(body[1], str)):
+        raise BridgeError("malformed function handle")
+    proxy = make_callable(body[0], body[1][:200])
+    if len(body) == 4 and isinstance(body[3], str):
+        try:   # where the function says it comes from (a claim of the student's kernel)
+            proxy.__robokin_module__ = body[3][:200]
+        except AttributeError:
+            pass
+    signature = signature_of(body[2]) if len(body) >= 3 else None
+    if signature is not None:
+        try:
+            proxy.__signature__ = signature
+        except AttributeError:
+            pass
+    return proxy
+
+
+def _decode_handle(body, make_callable, depth, handles):
+    if handles is None or type(body) is not int or body not in handles:
+        raise BridgeError("a function handle where none is expected")
+    return handles[body]
+
+
+def _decode_module(body, make_callable, depth, handles):
+    if not (isinstance(body, str) and (body == "robokin" or body.startswith("robokin."))
+            and all(part.isidentifier() for part in body.split("."))):
+        raise BridgeError("not a robokin module")
+    try:
+        return importlib.import_module(body)
+    except ImportError as exc:
+        raise BridgeError(f"no robokin module {body[:80]}") from exc
+
+
+def _decode_warning(body, make_callable, depth, handles):
+    if not (isinstance(body, list) and len(body) == 5 and all(isinstance(v, str) for v in body[:4])
+            and type(body[4]) is int):
+        raise BridgeError("malformed warning")
+    module_name, class_name, message, filename, lineno = body
+    if module_name == "builtins" and class_name.isidentifier():
+        import builtins
+
+        category = getattr(builtins, class_name, None)
+    elif module_name == "robokin.errors" and class_name.isidentifier():
+        category = getattr(importlib.import_module("robokin.errors"), class_name, None)
+    else:
+        category = None
+    if not (isinstance(category, type) and issubclass(category, Warning)):
+        category = UserWarning
+    return warnings.WarningMessage(category(message), category, filename, lineno)
+
+
+def _decode_opaque(body, make_callable, depth, handles):
+    return Untransferable(str(body)[:200])
 
 
 def _decode_array(body):
@@ -413,7 +467,7 @@ def _decode_array(body):
     return numpy.frombuffer(raw, dtype=kind).astype(numpy.dtype(dtype)).reshape(shape)
 
 
-def _decode_robokin(body, make_callable, depth):
+def _decode_robokin(body, make_callable, depth, handles):
     if not (isinstance(body, list) and len(body) == 3 and isinstance(body[0], str)
             and isinstance(body[1], str) and isinstance(body[2], dict)):
         raise BridgeError("malformed robokin object")
@@ -440,6 +494,18 @@ def _decode_robokin(body, make_callable, depth):
         return cls(**values)
     except Exception as exc:
         raise BridgeError(f"{class_name} could not be rebuilt: {type(exc).__name__}: {exc}") from exc
+
+
+#: The decoder of each tag of a tagged value (``{"$tag": body}``): ``(body, make_callable,
+#: depth, handles) -> value``, raising :class:`BridgeError` on a malformed body.
+DECODERS = {
+    "$tuple": _decode_tuple, "$set": _decode_set, "$frozenset": _decode_frozenset, "$dict": _decode_dict,
+    "$float": _decode_float, "$complex": _decode_complex,
+    "$ndarray": _decode_ndarray, "$strarray": _decode_string_array, "$npscalar": _decode_numpy_scalar,
+    "$sympy": _decode_sympy, "$poly": _decode_polynomial, "$robokin": _decode_robokin,
+    "$callable": _decode_callable, "$handle": _decode_handle, "$module": _decode_module,
+    "$warning": _decode_warning, "$opaque": _decode_opaque,
+}
 
 
 class Untransferable:
