@@ -566,13 +566,24 @@ def analyse(path: Path, nb: dict | None = None, check_names: dict[str, str] | No
     """
     path = Path(path)
     nb = nb if nb is not None else load_notebook(path)
+    cells, tasks, problems = _read_cells(nb["cells"])
+    _trace_student_values(cells)
+    _mark_interfaces(cells)
+    _explain_tests(cells, check_names or {})
+    problems += _task_problems(cells, tasks)
+    return Chapter(path, cells, tasks, problems)
+
+
+def _read_cells(raw_cells: list[dict]) -> tuple[list[Cell], dict[int, str], list[str]]:
+    """Each cell's role, section and task (headings and solution blocks read in order), the
+    tasks ``{number: title}``, and the problems of the notebook's structure."""
     cells: list[Cell] = []
     tasks: dict[int, str] = {}
     problems: list[str] = []
     section, task = "", None
     in_span = False
     after_try = False
-    for index, raw in enumerate(nb["cells"]):
+    for index, raw in enumerate(raw_cells):
         text = source(raw)
         kind = raw["cell_type"]
         role = ""
@@ -581,13 +592,7 @@ def analyse(path: Path, nb: dict | None = None, check_names: dict[str, str] | No
             heads = level2_headings(text)
             if heads and not in_span:
                 section = heads[-1]
-                m = TASK_RE.match("## " + section)
-                task = None
-                if m:
-                    task = number = int(m.group(1))
-                    if number in tasks:
-                        problems.append(f"cell {index}: a second heading for Task {number}")
-                    tasks[number] = m.group(2)
+                task = _task_heading(section, index, tasks, problems)
             if starts:
                 if in_span:
                     problems.append(f"cell {index}: solution-start inside an open solution block")
@@ -599,15 +604,7 @@ def analyse(path: Path, nb: dict | None = None, check_names: dict[str, str] | No
                 in_span = False
             after_try = bool(TRY_RE.search(text)) and not in_span
         elif kind == "code":
-            t = tags(raw)
-            if "solution" in t:
-                role = "answer"
-            elif "check" in t:
-                role = "check"
-            elif after_try:
-                role = "try"
-            else:
-                role = "given"
+            role = _code_role(tags(raw), after_try)
         else:  # raw cells
             role = "text"
         cell = Cell(index, kind, role, section, task, text, raw.get("id"))
@@ -618,13 +615,34 @@ def analyse(path: Path, nb: dict | None = None, check_names: dict[str, str] | No
         cells.append(cell)
     if in_span:
         problems.append("a solution-start block is never closed (no solution-end)")
+    return cells, tasks, problems
 
-    # which values come from the student's work: names bound by answers, and by
-    # given code that reads them (a given cell that recomputes a name cleans it)
-    aliases: dict[str, str] = {}
-    for cell in cells:
-        if cell.cell_type == "code":
-            aliases.update(check_aliases(cell.source))
+
+def _task_heading(section: str, index: int, tasks: dict[int, str], problems: list[str]) -> int | None:
+    """The task number of the level-2 heading ``section`` (None if it is no task), recorded in ``tasks``."""
+    m = TASK_RE.match("## " + section)
+    if not m:
+        return None
+    number = int(m.group(1))
+    if number in tasks:
+        problems.append(f"cell {index}: a second heading for Task {number}")
+    tasks[number] = m.group(2)
+    return number
+
+
+def _code_role(cell_tags: set[str], after_try: bool) -> str:
+    """The role of a code cell from its tags, and whether it follows a *Try it yourself* heading."""
+    if "solution" in cell_tags:
+        return "answer"
+    if "check" in cell_tags:
+        return "check"
+    return "try" if after_try else "given"
+
+
+def _trace_student_values(cells: list[Cell]) -> None:
+    """Which values come from the student's work: names bound by answers, and by given code
+    that reads them (a given cell that recomputes a name cleans it). A check of a task that
+    reads such a value is that task's test."""
     student: set[str] = set()
     for cell in cells:
         if cell.cell_type != "code":
@@ -639,7 +657,9 @@ def analyse(path: Path, nb: dict | None = None, check_names: dict[str, str] | No
         if cell.role == "check" and cell.task is not None and cell.depends_on:
             cell.role = "test"
 
-    # the names of an answer that later cells read: kept in the stub (declared = None)
+
+def _mark_interfaces(cells: list[Cell]) -> None:
+    """The names of an answer that later cells read: kept in the stub (declared = None)."""
     for k, cell in enumerate(cells):
         if cell.role != "answer":
             continue
@@ -649,8 +669,14 @@ def analyse(path: Path, nb: dict | None = None, check_names: dict[str, str] | No
                 later |= other.reads
         cell.interface = {n for n in cell.defines if n in later}
 
-    # what explains a failing test: checks called on the task's answers, and checks
-    # whose quantity has the name of an answer's variable
+
+def _explain_tests(cells: list[Cell], check_names: dict[str, str]) -> None:
+    """What explains a failing test: checks called on the task's answers, and checks whose
+    quantity has the name of an answer's variable."""
+    aliases: dict[str, str] = {}
+    for cell in cells:
+        if cell.cell_type == "code":
+            aliases.update(check_aliases(cell.source))
     calls: list[tuple[str, str]] = []
     for cell in cells:
         if cell.cell_type == "code" and cell.role != "answer":
@@ -673,7 +699,7 @@ def analyse(path: Path, nb: dict | None = None, check_names: dict[str, str] | No
                 used = free_names(expr)
                 if used & names and used <= defined_before | _BUILTINS and (check, expr) not in pairs:
                     pairs.append((check, expr))
-            for check, quantity in sorted((check_names or {}).items()):
+            for check, quantity in sorted(check_names.items()):
                 if check.split(".")[0] in chapters_used and quantity in names:
                     if not any(c == check for c, _ in pairs):
                         pairs.append((check, quantity))
@@ -682,6 +708,10 @@ def analyse(path: Path, nb: dict | None = None, check_names: dict[str, str] | No
             task_answers.setdefault(cell.task, set()).update(cell.defines)
         defined_before.update(cell.defines)
 
+
+def _task_problems(cells: list[Cell], tasks: dict[int, str]) -> list[str]:
+    """Tasks without a solution cell or without a test of it; a notebook without tasks."""
+    problems = []
     for number in sorted(tasks):
         if not [c for c in cells if c.task == number and c.role == "answer"]:
             problems.append(f"Task {number} has no solution cell (tag a code cell `solution`)")
@@ -692,7 +722,7 @@ def analyse(path: Path, nb: dict | None = None, check_names: dict[str, str] | No
             )
     if not tasks:
         problems.append("no task headings (`## Task k: ...`)")
-    return Chapter(path, cells, tasks, problems)
+    return problems
 
 
 # ---------------------------------------------------------------- where a value comes from
