@@ -48,7 +48,10 @@ from pathlib import Path
 
 import pytest
 
-CHAPTER3 = "03_three_rpr"
+from tiers import EVERYDAY_CHAPTER
+
+#: the chapter the grading suites' own submissions are written for (tests/tiers.py)
+CHAPTER3 = EVERYDAY_CHAPTER
 XDIST_GROUP = "nbgrader"
 
 #: test files that add submissions to the chapters' runs (their ``SUITES``, or ``SUITE``)

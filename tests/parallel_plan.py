@@ -76,8 +76,8 @@ NBGRADER_GROUPS = r"^nbgrader($|[:_-])"
 #: run (its submissions and the trust suite's) about 100 s, chapter 3's with the other engines'
 #: re-gradings (tests/test_grading_engines.py) and the tamper suite's own course more.
 NBGRADER_ESTIMATES = [
-    (r"^nbgrader:03_three_rpr\+tamper$", 240.0),
-    (r"^nbgrader:03_three_rpr$", 220.0),
+    (rf"^nbgrader:{tiers.EVERYDAY_CHAPTER}\+tamper$", 240.0),
+    (rf"^nbgrader:{tiers.EVERYDAY_CHAPTER}$", 220.0),
     (r"^nbgrader:walkthrough$", 60.0),
     (NBGRADER_GROUPS, 100.0),
 ]

@@ -53,7 +53,7 @@ from test_nbgrader import correct_submission, mistaken_submission, save
 from tools import grade_many, grade_submission, gradescope, process_cap
 from tools.grading_deploy import grade_shard
 
-CHAPTER = "03_three_rpr"
+CHAPTER = grading_course.CHAPTER3
 DEPLOY = ROOT / "tools" / "grading_deploy"
 #: a correct submission's experiment, in an ungraded cell: 8 GB of address space (np.empty maps it
 #: without writing it: were the cap missing, the test would not fill the machine's memory either)

@@ -39,7 +39,7 @@ import pytest
 import grading_course
 from test_nbgrader import CHAPTERS, NOTEBOOKS, Run, load, nbg, src
 
-CHAPTER = "03_three_rpr"
+CHAPTER = grading_course.CHAPTER3
 
 #: code put at the top of the first answer cell, by kind of tampering
 TAMPER = {

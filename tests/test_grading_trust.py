@@ -72,7 +72,7 @@ from tools.robokin_sandbox import PACKAGE, SWITCH, sandbox_arguments, sandbox_wa
 # The tests that read a run are marked with its part of the graded courses (one xdist group each):
 # grading_course.reads(CHAPTER) for chapter 3's, chapter_params for the others.
 
-CHAPTER = "03_three_rpr"
+CHAPTER = grading_course.CHAPTER3
 #: seconds per cell in chapter 3's run: the hang is killed after it (+ nbclient's 4 s for the
 #: interrupt). Every other submission of that run (the solutions too) must finish each cell in
 #: it: chapter 3's slowest cell, the imports, takes a few seconds on a quiet machine but passed

@@ -58,7 +58,7 @@ pytest.importorskip("nbgrader", reason="nbgrader is not installed: run `make tes
 
 NOTEBOOKS = Path(os.environ.get("ROBOKIN_NBGRADER_NOTEBOOKS", ROOT / "notebooks")).resolve()
 CHAPTERS = [p.stem for p in nbgrader_metadata.chapter_notebooks(NOTEBOOKS.parent, NOTEBOOKS.name)]
-WALKTHROUGH_CHAPTER = "03_three_rpr"
+WALKTHROUGH_CHAPTER = grading_course.CHAPTER3
 HIDDEN_TESTS = re.compile(r"### BEGIN HIDDEN TESTS\n.*?### END HIDDEN TESTS\n?", re.S)
 #: autograde runs at a time in one pytest process (three were measured slower in the full suite:
 #: 344 s instead of 287 s for the chapter 3 part, the machine's two cores being busy anyway)
@@ -578,7 +578,7 @@ def grade_everything(base: Path, suites=(), chapters=(), own=(), extras=()) -> d
     for key in extras:
         jobs[key] = partial(extra_jobs[key], base)
     # the slow chapters first, so that the workers finish together
-    order = sorted(jobs, key=lambda k: {"03_three_rpr": -1 if suites else 5, "01_leg_kinematics": 0,
+    order = sorted(jobs, key=lambda k: {grading_course.CHAPTER3: -1 if suites else 5, "01_leg_kinematics": 0,
                                         "05_baxter_circle": 1, "walkthrough": 2}.get(k, 5))
 
     with ThreadPoolExecutor(max_workers=WORKERS) as pool:
