@@ -1,7 +1,7 @@
 """Shared fixtures: the built book, a headless Chromium, and a process-leak guard.
 
 The suite runs on two workers (pytest-xdist, ``--dist loadgroup``) unless ``-n`` says
-otherwise; ``tests/parallel_plan.py`` sets that up, keeps what must share one process
+otherwise; ``tests/support/parallel_plan.py`` sets that up, keeps what must share one process
 together (the cells of a notebook under nbval, a module's expensive fixtures) and
 starts the longest parts first.
 """
@@ -18,7 +18,7 @@ from pathlib import Path
 
 import pytest
 
-import nbgrader_runner
+from support import nbgrader_runner
 
 ROOT = Path(__file__).resolve().parent.parent
 BUILD_DIR = ROOT / "_build"
@@ -124,7 +124,7 @@ def build_book_once(edition: str, run_id: str) -> Path:
 
 @pytest.fixture(scope="session")
 def suite_run_id(pytestconfig) -> str:
-    """One name for this test run, the same in every pytest-xdist worker (tests/parallel_plan.py)."""
+    """One name for this test run, the same in every pytest-xdist worker (tests/support/parallel_plan.py)."""
     return pytestconfig.robokin_run_id
 
 
@@ -207,10 +207,10 @@ def pytest_sessionfinish(session, exitstatus):
     """Fail the run if a kernel, server or browser started by the tests survived them.
 
     Under pytest-xdist each worker looks at the processes it started and hands the
-    survivors to the controller (tests/parallel_plan.py), which reports them here.
+    survivors to the controller (tests/support/parallel_plan.py), which reports them here.
     """
     config = session.config
-    nbgrader_runner.close_all()   # the warm nbgrader processes of this one (tests/nbgrader_runner.py)
+    nbgrader_runner.close_all()   # the warm nbgrader processes of this one (tests/support/nbgrader_runner.py)
     if hasattr(config, "workerinput"):
         config.workeroutput["robokin_survivors"] = _stop_survivors()
         return
@@ -225,10 +225,10 @@ def pytest_sessionfinish(session, exitstatus):
         session.exitstatus = 1
 
 
-#: the CPU-seconds of each test with ROBOKIN_CPU_REPORT=FILE (tests/cpu_accounting.py)
-pytest_plugins = ("cpu_accounting",)
+#: the CPU-seconds of each test with ROBOKIN_CPU_REPORT=FILE (tests/support/cpu_accounting.py)
+pytest_plugins = ("support.cpu_accounting",)
 
-from parallel_plan import (  # noqa: E402,F401 - pytest hooks and a fixture of the parallel run
+from support.parallel_plan import (  # noqa: E402,F401 - pytest hooks and a fixture of the parallel run
     pytest_cmdline_main,
     pytest_collection_modifyitems,
     pytest_configure,

@@ -18,7 +18,7 @@ from urllib.parse import unquote, urlparse
 import pytest
 import yaml
 
-from browser_waits import DRAW_TIMEOUT, WAIT_MS, next_frames, poll_until
+from support.browser_waits import DRAW_TIMEOUT, WAIT_MS, next_frames, poll_until
 from conftest import EDITION_HTML, KEPT_CONTEXTS, ROOT
 
 pytestmark = pytest.mark.book

@@ -18,7 +18,7 @@ from robokin.chains import SerialChain
 from robokin.chains.ellipsoids import force_ellipsoid, static_torques, velocity_ellipsoid
 from robokin.errors import ShapeError
 from robokin.models import baxter_left, eth_leg, planar_two_link, ur10
-from finite_differences import pose_jacobian
+from support.finite_differences import pose_jacobian
 
 CHAINS: dict[str, Callable[[], SerialChain]] = {"ur10": ur10, "baxter_left": baxter_left, "eth_leg": eth_leg,
                                                 "planar_two_link": planar_two_link}

@@ -23,7 +23,7 @@ from robokin.chains.reference import forward_kinematics, geometric_jacobian, lin
 from robokin.errors import ShapeError
 from robokin.models import ar601_leg, baxter_left, eth_leg, genova_arm, panda, planar_two_link, ur10
 from robokin.models.baxter import baxter_left_urdf
-from finite_differences import pose_jacobian
+from support.finite_differences import pose_jacobian
 
 #: engine against reference: both are products of the same float matrices, in other orders
 TOLERANCE = 1e-12

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from ik_support import planar_3r, ur10
+from support.ik_support import planar_3r, ur10
 
 from robokin.errors import DomainError, ShapeError
 from robokin.motion import CartesianController, ControlOutput, pose_error

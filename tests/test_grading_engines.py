@@ -1,6 +1,6 @@
 """Grading on other engines: Gradescope's autograder, ``make grade``'s jobs, a Kubernetes Job.
 
-One chapter (:data:`CHAPTER`, the everyday chapter of tests/tiers.py) is graded end to end
+One chapter (:data:`CHAPTER`, the everyday chapter of tests/support/tiers.py) is graded end to end
 (each graded submission costs about a minute of CPU):
 
 * ``run_autograder`` from the zip ``make gradescope`` writes (tools/gradescope.py), unpacked
@@ -8,7 +8,7 @@ One chapter (:data:`CHAPTER`, the everyday chapter of tests/tiers.py) is graded 
   PATH), grades a correct, a blank, a typical-mistake and a tampering submission, each in a
   folder of its own and all at once (as Gradescope, one container per submission); each
   test's score is the one ``nbgrader autograde`` gives in the chapter's shared course
-  (tests/grading_course.py: its ``correct``, ``unanswered`` and ``mistake``; the tampering
+  (tests/support/grading_course.py: its ``correct``, ``unanswered`` and ``mistake``; the tampering
   submission is a blank one with forged verdicts, which the tamper suite,
   tests/test_grading_tamper.py, shows scores what the blank scores);
 * ``tools/grade_many.py`` (``make grade``) with two jobs grades the typical mistake again and
@@ -46,10 +46,10 @@ from pathlib import Path
 import pytest
 
 from conftest import ROOT
-import grading_course
-from benign_variants import with_incident
+from support import grading_course
+from support.benign_variants import with_incident
 from test_grading_tamper import tampered
-from test_nbgrader import correct_submission, mistaken_submission, save
+from support.nbgrader_course import correct_submission, mistaken_submission, save
 from tools import grade_many, grade_submission, gradescope, process_cap
 from tools.grading_deploy import grade_shard
 

@@ -5,7 +5,7 @@ Chapter 3 is graded through the bridge (``tools/grading_bridge``): its test cell
 robokin.check's verdicts run in a grader kernel, the answers handed over as data and
 functions as proxies. Each submission below is one the old pipeline (verdicts in the
 student's kernel) scored well with blank or wrong answers; all are graded in one
-``nbgrader autograde`` run, chapter 3's run of tests/grading_course.py (with the
+``nbgrader autograde`` run, chapter 3's run of tests/support/grading_course.py (with the
 submissions of test_nbgrader.py and test_grading_trust.py):
 
 * blank answers with one line in the first answer cell that
@@ -36,8 +36,8 @@ import re
 
 import pytest
 
-import grading_course
-from test_nbgrader import CHAPTERS, NOTEBOOKS, Run, load, nbg, src
+from support import grading_course
+from support.nbgrader_course import CHAPTERS, NOTEBOOKS, Run, load, nbg, src
 
 CHAPTER = grading_course.CHAPTER3
 
@@ -191,14 +191,14 @@ def submissions(run: Run, correct: dict, course) -> dict[str, dict]:
     return out
 
 
-#: graded in a course of chapter 3 of its own (tests/grading_course.py), with the unanswered and
+#: graded in a course of chapter 3 of its own (tests/support/grading_course.py), with the unanswered and
 #: correct submissions, and with a short time limit per call of a student's function
 SUITE = grading_course.Suite("tamper", submissions,
                              options=[f"--BridgedExecute.call_timeout={CALL_TIMEOUT}"], own_course=True)
 # this file's course of chapter 3 is a part of the graded courses of its own (one xdist group):
 # its never-returning call waits the call limit in every test, in parallel with the other parts.
 # Each test names the submissions it reads: a session grades only those (make test: one kind of
-# tampering, tests/tiers.py), besides the unanswered and correct ones every course has.
+# tampering, tests/support/tiers.py), besides the unanswered and correct ones every course has.
 KEY = SUITE.key(CHAPTER)
 
 

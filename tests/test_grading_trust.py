@@ -2,7 +2,7 @@
 
 Crafted submissions go through the course's own pipeline (the course built as in
 tests/test_nbgrader.py, then ``nbgrader autograde``, ``generate_feedback`` and
-``export``), each in its chapter's ONE autograde run (tests/grading_course.py), with
+``export``), each in its chapter's ONE autograde run (tests/support/grading_course.py), with
 the submissions of test_nbgrader.py (and, for chapter 3, of test_grading_tamper.py):
 
 benign, chapter 3 (the instructor's solutions, plus ...) -- each keeps full marks:
@@ -11,7 +11,7 @@ benign, chapter 3 (the instructor's solutions, plus ...) -- each keeps full mark
                 and a post-run hook that shows a number (``0.0``) under every cell,
                 which nbgrader would take for partial credit; and ``os._exit(1)`` at
                 the end of the ungraded *Try it yourself* cell (the kernel dies);
-    ``hang``    answers written another way (tests/benign_variants.py: other
+    ``hang``    answers written another way (tests/support/benign_variants.py: other
                 intermediate names, another valid method), and a loop that ignores
                 SIGINT at the end of that cell (the kernel is killed at the time limit);
                 in both no test comes after that cell: grading stops there, with no
@@ -24,7 +24,7 @@ benign, every other chapter (in that chapter's one autograde run):
                 (``os._exit``) at the end of the last *Try it yourself* cell -- where
                 tests follow (chapters 4 and 5), the kernel is restarted and the cells
                 before are run again, elsewhere grading stops there;
-    ``written`` answers written another way (tests/benign_variants.py), and a cell that
+    ``written`` answers written another way (tests/support/benign_variants.py), and a cell that
                 never ends at the end of the last *Try it yourself* cell (interrupted at
                 the time limit, ``OTHER_TIMEOUT`` s in these runs; the notebook goes on);
 sandbox:
@@ -55,7 +55,7 @@ from pathlib import Path
 import pytest
 
 from conftest import ROOT
-from test_nbgrader import (
+from support.nbgrader_course import (
     CHAPTERS,
     NOTEBOOKS,
     Run,
@@ -65,8 +65,8 @@ from test_nbgrader import (
     rk,
     src,
 )
-import grading_course
-from benign_variants import CRASH, HANG, VARIANTS, last_try_cell, with_incident, written_another_way
+from support import grading_course
+from support.benign_variants import CRASH, HANG, VARIANTS, last_try_cell, with_incident, written_another_way
 from tools.robokin_sandbox import PACKAGE, SWITCH, sandbox_arguments, sandbox_wanted
 
 # The tests that read a run are marked with its part of the graded courses (one xdist group each):
@@ -300,7 +300,7 @@ def _export(run: Run, course: Path, base: Path) -> None:
     run.exported = exported  # type: ignore[attr-defined]  # the job's hooks keep their findings on the Run
 
 
-#: this file's submissions, graded in chapter 3's one autograde run (tests/grading_course.py),
+#: this file's submissions, graded in chapter 3's one autograde run (tests/support/grading_course.py),
 #: with a time limit of TIMEOUT s per cell and a secret in the grader's environment
 SUITE = grading_course.Suite(
     "trust", lambda run, correct, course: submissions(correct, course),
@@ -431,7 +431,7 @@ def _kernel_died_in_the_last_try_cell(run: Run, student: str, report: str) -> No
     CHAPTERS, lambda chapter: ("hang",) if chapter == CHAPTER else ("written",)))
 def test_correct_answers_written_another_way_keep_full_marks(request, tmp_path_factory, chapter):
     """Every chapter's solutions with answers computed by another valid method, other
-    intermediate names (tests/benign_variants.py), ending with a hang in the last ungraded cell."""
+    intermediate names (tests/support/benign_variants.py), ending with a hang in the last ungraded cell."""
     _require_bwrap()
     run = grading_course.graded_courses(request, tmp_path_factory)[chapter]
     if run.error:

@@ -6,7 +6,7 @@ from typing import Any
 
 import numpy as np
 import pytest
-from ik_support import baxter_left, planar_3r, reachable_targets, ur10, within_limits
+from support.ik_support import baxter_left, planar_3r, reachable_targets, ur10, within_limits
 
 from robokin.errors import DomainError, ShapeError
 from robokin.motion import (

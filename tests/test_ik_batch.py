@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 import pytest
-from ik_support import baxter_left, reachable_targets, ur10, within_limits
+from support.ik_support import baxter_left, reachable_targets, ur10, within_limits
 
 from robokin.motion import solve_ik_batch
 

@@ -10,7 +10,7 @@ from typing import Any
 
 import numpy as np
 import pytest
-from ik_support import reachable_targets, ur10
+from support.ik_support import reachable_targets, ur10
 
 from robokin.chains import SerialChain
 from robokin.motion import (

@@ -1,7 +1,7 @@
 """The IK solvers give the recorded results on 1,000 seeded cases: bit for bit on the recording
 platform, to a stated tolerance on any other.
 
-The cases (``tests/ik_identity_cases.py``) span the methods, five robots, pose
+The cases (``tests/support/ik_identity_cases.py``) span the methods, five robots, pose
 and position targets (reachable or not), masks, tools, wrapping, step caps,
 restarts and the LM polish. ``tests/data/ik_identity_golden.npz`` holds, for every
 case, the SHA-256 of the result's arrays (q, errors, every history array, the
@@ -16,7 +16,7 @@ scalars) and its outcome as values (q, success, reason).
   most ``VALUE_BUDGET`` (1 %) of them allowed to differ. Sensitive cases (under 2 % of them, whose
   outcome changed when the recording ran them again with other kernels) are left out of it.
 
-A deliberate change of arithmetic regenerates the file (``python tests/ik_identity_cases.py``)
+A deliberate change of arithmetic regenerates the file (``python tests/support/ik_identity_cases.py``)
 in its own commit that says so.
 """
 
@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from ik_identity_cases import (
+from support.ik_identity_cases import (
     GOLDEN,
     Q_TOLERANCE,
     VALUE_BUDGET,

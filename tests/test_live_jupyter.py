@@ -34,7 +34,7 @@ from typing import Any
 
 import numpy as np
 import pytest
-from browser_waits import DRAW_TIMEOUT, WAIT_MS, poll_until
+from support.browser_waits import DRAW_TIMEOUT, WAIT_MS, poll_until
 from conftest import _skip_or_fail, chromium_path
 
 pytestmark = pytest.mark.browser

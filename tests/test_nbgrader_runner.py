@@ -1,4 +1,4 @@
-"""nbgrader commands forked from a warm process (tests/nbgrader_runner.py) behave as new processes.
+"""nbgrader commands forked from a warm process (tests/support/nbgrader_runner.py) behave as new processes.
 
 The grading suites run their nbgrader commands through the runner; the
 walk-through of tests/test_nbgrader.py runs the console script itself. Here: the
@@ -22,7 +22,7 @@ from conftest import ROOT
 pytest.importorskip("nbgrader", reason="nbgrader is not installed: run `make test` (installs requirements.txt)")
 psutil = pytest.importorskip("psutil")
 
-import nbgrader_runner  # noqa: E402
+from support import nbgrader_runner  # noqa: E402
 from tools import student_edition  # noqa: E402
 
 pytestmark = pytest.mark.nbgrader

@@ -10,7 +10,7 @@ nbval as three other machines, one test each:
 1. another OpenBLAS kernel, one thread;
 2. a third OpenBLAS kernel, two threads;
 3. the default kernel with every ``numpy.linalg`` result perturbed by a relative
-   1e-14 (``tests/numerical_noise.py``), about a hundred times what real machines
+   1e-14 (``tests/support/numerical_noise.py``), about a hundred times what real machines
    differ by.
 
 A notebook passes only if every printed digit survives all three. When one does

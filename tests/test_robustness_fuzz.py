@@ -1,14 +1,14 @@
 """Robustness property suite: every public entry point either works or says what is wrong.
 
 For every public function of ``robokin.transforms``, ``chains``, ``models``,
-``motion``, ``parallel`` and ``check`` (the table is in ``_fuzz_specs``), hypothesis
+``motion``, ``parallel`` and ``check`` (the table is in ``fuzz_specs``), hypothesis
 draws arguments that are valid, valid but extreme (huge and tiny finite numbers,
 empty batches) or corrupted (NaN, inf, wrong shapes, None, strings, lists of
 strings, non-orthonormal and reflected rotations, ...). Each call must either
 return finite values of the documented shape, or raise a robokin error /
 ``ValueError`` / ``TypeError`` whose message names the offending argument (an
 exercise check given a broken *student answer* returns a failed ``CheckResult``
-instead). ``_fuzz_support.run_example`` is the oracle.
+instead). ``fuzz_support.run_example`` is the oracle.
 
 Budget: the default hypothesis profile runs about 25 examples per function
 (derandomised, so CI is reproducible) in well under a minute;
@@ -22,8 +22,8 @@ import inspect
 import math
 
 import pytest
-from _fuzz_specs import all_specs
-from _fuzz_support import Outcome, run_example
+from support.fuzz_specs import all_specs
+from support.fuzz_support import Outcome, run_example
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -124,7 +124,7 @@ def test_every_public_entry_point_has_a_spec():
     missing = [m for m in missing if m not in {"SerialChain.from_dh", "SerialChain.from_modified_dh",
                                                "SerialChain.from_link_table"}]
     assert not missing, (f"public entry points without a robustness spec: {missing}. Add a Spec for each to "
-                         f"tests/_fuzz_specs.py (how to call it with valid input; the suite corrupts each "
+                         f"tests/support/fuzz_specs.py (how to call it with valid input; the suite corrupts each "
                          f"argument), or list a result container in NOT_ENTRY_POINTS in "
                          f"tests/test_robustness_fuzz.py")
 

@@ -6,7 +6,7 @@ from typing import Any
 
 import numpy as np
 import pytest
-from ik_support import planar_3r, ur10
+from support.ik_support import planar_3r, ur10
 
 from robokin.errors import DomainError, ShapeError
 from robokin.motion import CartesianController, SimulationLog, circle_trajectory, simulate

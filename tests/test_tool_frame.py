@@ -22,7 +22,7 @@ from robokin.motion.tool import (
     tool_jacobian,
 )
 from robokin.transforms import rotx, roty, rotz, transform_from_rpy
-from finite_differences import pose_jacobian
+from support.finite_differences import pose_jacobian
 
 # A tool turned by pi/10 about z_E (rpy = (0, 0, pi/10)) and offset 0.2 m along x_E. (The course reads
 # its own triple as (yaw, pitch, roll), i.e. a roll about x_E: see Chapter 4 and genova_arm.)

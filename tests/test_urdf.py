@@ -29,7 +29,7 @@ from robokin.errors import DomainError, URDFError, URDFNotFoundError
 from robokin.models import baxter_left, from_urdf, panda, robot_description, ur10
 from robokin.models.baxter import BAXTER_LEFT_LIMITS
 from robokin.models.panda import PANDA_LIMITS
-from finite_differences import pose_jacobian
+from support.finite_differences import pose_jacobian
 
 HAVE_YOURDFPY = importlib.util.find_spec("yourdfpy") is not None
 try:

@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 import pytest
 
-from views_doubles import scara_like, two_link, zero_length
+from support.views_doubles import scara_like, two_link, zero_length
 
 umsgpack = pytest.importorskip("umsgpack")
 views = pytest.importorskip("robokin.views")

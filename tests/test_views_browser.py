@@ -6,10 +6,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from browser_waits import WAIT_MS, pixels, poll_until, wait_drawn
+from support.browser_waits import WAIT_MS, pixels, poll_until, wait_drawn
 from conftest import watched_page
 
-from views_doubles import two_link
+from support.views_doubles import two_link
 
 pytestmark = pytest.mark.browser
 

@@ -15,7 +15,7 @@ import json
 import numpy as np
 import pytest
 
-from views_doubles import scara_like
+from support.views_doubles import scara_like
 
 pytest.importorskip("umsgpack")
 from robokin import models, views

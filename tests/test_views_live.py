@@ -10,7 +10,7 @@ import time
 import numpy as np
 import pytest
 
-from views_doubles import two_link
+from support.views_doubles import two_link
 
 pytest.importorskip("meshcat")
 pytest.importorskip("zmq")

@@ -12,7 +12,7 @@ from collections.abc import Callable
 import numpy as np
 import pytest
 
-from browser_waits import WAIT_MS, poll_until
+from support.browser_waits import WAIT_MS, poll_until
 from conftest import watched_page
 
 from robokin import models

@@ -273,7 +273,7 @@ MUTATIONS = {
 }
 
 #: answers computed another way, which must keep full marks (the trust suite reads them for a
-#: chapter that tests/benign_variants.py does not list; each one also passes its registered check,
+#: chapter that tests/support/benign_variants.py does not list; each one also passes its registered check,
 #: tests/test_check_ur10.py)
 VARIANTS = {
     "task2_answer1": ("the weighted pseudoinverse by two linear solves, no inverse", '''

@@ -1,6 +1,6 @@
 """Wrong answers that each autograded test of chapter 8 (the product of exponentials) must
 reject (``MUTATIONS``, tests/test_grading_mutations.py), and correct answers written another
-way that must keep full marks (``VARIANTS``, tests/benign_variants.py and
+way that must keep full marks (``VARIANTS``, tests/support/benign_variants.py and
 tests/test_grading_trust.py).
 
 ``MUTATIONS``: ``{grade id of a test cell: [(what is wrong, code appended to the answer

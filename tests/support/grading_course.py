@@ -19,7 +19,7 @@ all (and the walk-through's two).
 selected in the session: only the jobs (a chapter's run, a suite's own course, the
 walk-through, the chapter without metadata) that a selected test reads. Each job is a
 part of its own, one pytest-xdist group (``nbgrader:<job>``), so that under xdist the
-jobs spread over the workers, longest first (tests/parallel_plan.py), and a worker
+jobs spread over the workers, longest first (tests/support/parallel_plan.py), and a worker
 grades only the jobs its tests read (:class:`Courses` grades a job when it is first
 read; without xdist, all jobs at once, in one thread pool). A job's run waits on
 purpose (the time limits of its hanging submissions) as much as it computes: many
@@ -48,9 +48,9 @@ from pathlib import Path
 
 import pytest
 
-from tiers import EVERYDAY_CHAPTER
+from support.tiers import EVERYDAY_CHAPTER
 
-#: the chapter the grading suites' own submissions are written for (tests/tiers.py)
+#: the chapter the grading suites' own submissions are written for (tests/support/tiers.py)
 CHAPTER3 = EVERYDAY_CHAPTER
 XDIST_GROUP = "nbgrader"
 
@@ -85,7 +85,7 @@ def part_mark(part: str) -> list:
 def job_marks(key: str = CHAPTER3, students: tuple[str, ...] | None = None) -> list:
     """The marks of a test that reads the job ``key``'s run: ``grades(key)``, from which the
     session learns which runs to grade (:class:`Courses`) and the tiers which chapter the test
-    checks (tests/tiers.py), and its part's xdist group (none without xdist).
+    checks (tests/support/tiers.py), and its part's xdist group (none without xdist).
 
     ``students``: the submissions of a suite that the test reads (None: any of them); a suite
     grades only the submissions the session's tests read (:meth:`Suite.chosen`)."""
@@ -183,19 +183,19 @@ class Courses(Mapping):
     jobs is first read (all parts at once outside pytest-xdist, where one pool grades them all).
 
     The jobs are those the selected tests read (their ``grades`` marks, :func:`job_marks`):
-    ``make test``, which selects chapter 3's grading tests only (tests/tiers.py), grades chapter
+    ``make test``, which selects chapter 3's grading tests only (tests/support/tiers.py), grades chapter
     3 only; a suite adds its submissions to the runs of the chapters it joins when a selected
     test of its file reads a run."""
 
     def __init__(self, request, tmp_path_factory) -> None:
-        import test_nbgrader
+        from support import nbgrader_course
 
         read = jobs_read(request.session.items)
         files = set().union(*read.values()) if read else set()
         self.suites = [suite for name in SUITES if name in files for suite in module_suites(name)]
-        self.chapters = [c for c in test_nbgrader.CHAPTERS if c in read]
+        self.chapters = [c for c in nbgrader_course.CHAPTERS if c in read]
         own = [suite.key(c) for suite in self.suites if suite.own_course
-               for c in test_nbgrader.CHAPTERS if suite.key(c) in read]
+               for c in nbgrader_course.CHAPTERS if suite.key(c) in read]
         for name in files & set(SUITES):   # a suite's submissions: those its own file's tests read
             wanted = students_read(item for item in request.session.items if Path(str(item.fspath)).stem == name)
             for suite in module_suites(name):
@@ -205,7 +205,7 @@ class Courses(Mapping):
         self.factory = tmp_path_factory
 
     def _build(self, parts: set[str]) -> None:
-        import test_nbgrader
+        from support import nbgrader_course
 
         with _LOCK:
             parts -= _BUILT
@@ -214,7 +214,7 @@ class Courses(Mapping):
             chapters = [c for c in self.chapters if part_of(c) in parts]
             own = [key for key in self.jobs if OWN in key and part_of(key) in parts]
             extras = [job for job in self.extras if part_of(job) in parts]
-            _RUNS.update(test_nbgrader.grade_everything(self.factory.mktemp("nbgrader"), suites=self.suites,
+            _RUNS.update(nbgrader_course.grade_everything(self.factory.mktemp("nbgrader"), suites=self.suites,
                                                         chapters=chapters, own=own, extras=extras))
             _BUILT.update(parts)
 

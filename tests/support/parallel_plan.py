@@ -13,7 +13,7 @@
   BLAS kernels) runs in one process too: the outer run already uses the cores.
 * **Markers** ``notebooks``, ``nbgrader``, ``book`` and ``browser`` are added from what a
   test uses (the fast loop, ``make quick``, deselects them), and ``exhaustive`` by the rules
-  of ``tests/tiers.py`` (``make test`` deselects it, ``make test-all`` keeps it).
+  of ``tests/support/tiers.py`` (``make test`` deselects it, ``make test-all`` keeps it).
 * **Groups** (``xdist_group``; one group runs in one worker, in collection order):
   the cells of one notebook under nbval (``nbval:<stem>``: its kernel lives in the
   worker, cell after cell), and the tests of a module with module- or class-scoped
@@ -35,7 +35,7 @@ from collections import defaultdict
 
 import pytest
 
-import tiers
+from support import tiers
 
 try:
     from _pytest.nodeid import NodeId, coerce_node_id
@@ -70,7 +70,7 @@ ESTIMATES = [
     (r"test_book\.py::test_page_in_browser", 8.0),
     (r"test_views_(browser|mesh)\.py", 3.0),
 ]
-#: The xdist groups of the graded courses: "nbgrader:<job>", one per job (tests/grading_course.py).
+#: The xdist groups of the graded courses: "nbgrader:<job>", one per job (tests/support/grading_course.py).
 NBGRADER_GROUPS = r"^nbgrader($|[:_-])"
 #: Expected seconds of each job's group, from the full runs on the 2-core machine: a chapter's
 #: run (its submissions and the trust suite's) about 100 s, chapter 3's with the other engines'

@@ -12,7 +12,7 @@ With ``ROBOKIN_CPU_REPORT`` set to a file name, each pytest process (the control
 without xdist, else every worker) moves itself into a ``cpuacct`` control group of
 its own (cgroup v1 ``cpuacct.usage`` or v2 ``cpu.stat``; the processes it starts
 inherit it) and reads the group's counter around each test's set-up, call and
-teardown. The controller adds the phases up per work unit (tests/parallel_plan.py),
+teardown. The controller adds the phases up per work unit (tests/support/parallel_plan.py),
 per test file and per chapter, prints the largest in the terminal summary and writes
 them all to the file as JSON. Where no control group can be made (no permission),
 the summary says so and nothing else changes. The tests run as they would without it.

@@ -14,7 +14,7 @@ on any other platform, see :func:`value_differences`).
 Regenerate the golden file (only when a change of arithmetic is intended, and
 say so in the commit message)::
 
-    PYTHONPATH=. python tests/ik_identity_cases.py
+    PYTHONPATH=. python tests/support/ik_identity_cases.py
 
 It runs the cases twice: here, and in a child process with other SIMD kernels
 of numpy and another BLAS kernel (:data:`OTHER_KERNELS`). A case whose outcome
@@ -49,7 +49,7 @@ from robokin.motion import (
 )
 from robokin.transforms import rotation_exp, transform
 
-GOLDEN = Path(__file__).parent / "data" / "ik_identity_golden.npz"
+GOLDEN = Path(__file__).parent.parent / "data" / "ik_identity_golden.npz"
 SINGLE_CASES = 1000
 BATCH_CASES = 40
 #: Widest joint columns of the robots (Baxter's 7): q is stored padded with NaN to this width.
@@ -330,9 +330,9 @@ def _compute_with_other_kernels() -> dict[str, np.ndarray]:
     """:func:`compute` in a child process with :data:`OTHER_KERNELS` set."""
     with tempfile.TemporaryDirectory() as folder:
         out = Path(folder) / "other.npz"
-        code = (f"import numpy as np, ik_identity_cases as c; np.savez({str(out)!r}, **c.compute())")
+        code = (f"import numpy as np, support.ik_identity_cases as c; np.savez({str(out)!r}, **c.compute())")
         env = {**os.environ, **OTHER_KERNELS,
-               "PYTHONPATH": os.pathsep.join([str(Path(__file__).parent), str(Path(__file__).parent.parent)])}
+               "PYTHONPATH": os.pathsep.join([str(Path(__file__).parents[1]), str(Path(__file__).parents[2])])}
         subprocess.run([sys.executable, "-c", code], env=env, check=True)
         with np.load(out) as data:
             return {k: data[k] for k in data.files}

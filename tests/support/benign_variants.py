@@ -317,10 +317,10 @@ d_goal = float(np.sqrt(np.sum(ankle_point(T_goal) ** 2)))
 
 #: the chapters' grading-mutation files (as tests/test_grading_mutations.py reads them)
 MUTATIONS_DIR = Path(os.environ.get("ROBOKIN_GRADING_MUTATIONS",
-                                    Path(__file__).resolve().parent / "grading_mutations")).resolve()
+                                    Path(__file__).resolve().parent.parent / "grading_mutations")).resolve()
 #: the chapter notebooks (as tests/test_nbgrader.py reads them)
 NOTEBOOKS = Path(os.environ.get("ROBOKIN_NBGRADER_NOTEBOOKS",
-                                Path(__file__).resolve().parent.parent / "notebooks")).resolve()
+                                Path(__file__).resolve().parents[2] / "notebooks")).resolve()
 
 
 def file_variants(chapter: str) -> dict[str, tuple[str, str]] | None:

@@ -1,6 +1,6 @@
 """The public functions covered by the robustness property suite, one :class:`Spec` each.
 
-See ``_fuzz_support`` for the argument generators and the oracle. ``batch``
+See ``fuzz_support`` for the argument generators and the oracle. ``batch``
 specs are also called with batches of 0, 1 and 3 items and must keep the
 documented shapes (an empty batch gives an empty result).
 """
@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import Any, NoReturn
 
 import numpy as np
-from _fuzz_support import (
+from support.fuzz_support import (
     NONFINITE,
     NONNUMERIC,
     Arg,

@@ -80,7 +80,7 @@ EVERYDAY_SUBMISSIONS = {
                               "sandbox escapes)"),
 }
 
-#: Grading jobs that are not a chapter (tests/grading_course.py).
+#: Grading jobs that are not a chapter (tests/support/grading_course.py).
 EXHAUSTIVE_JOBS = {"walkthrough": "the instructors' walk-through", "unmarked": "a chapter without metadata"}
 
 CHAPTER_STEM = re.compile(r"^\d\d_[a-z0-9_]+$")
