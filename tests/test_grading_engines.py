@@ -48,7 +48,7 @@ import pytest
 from conftest import ROOT
 from support import grading_course
 from support.benign_variants import with_incident
-from test_grading_tamper import tampered
+from support.tampering import tampered
 from support.nbgrader_course import correct_submission, mistaken_submission, save
 from tools import grade_many, grade_submission, gradescope, process_cap
 from tools.grading_deploy import grade_shard

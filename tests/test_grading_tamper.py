@@ -38,42 +38,9 @@ import pytest
 
 from support import grading_course
 from support.nbgrader_course import CHAPTERS, NOTEBOOKS, Run, load, nbg, src
+from support.tampering import TAMPER, tampered
 
 CHAPTER = grading_course.CHAPTER3
-
-#: code put at the top of the first answer cell, by kind of tampering
-TAMPER = {
-    "input_transformer": (
-        "get_ipython().input_transformers_post.append("
-        "lambda lines: ['pass\\n'] if 'assert' in ''.join(lines) else lines)\n"),
-    "ast_transformer": (
-        "import ast as _ast\n"
-        "class _NoAsserts(_ast.NodeTransformer):\n"
-        "    def visit_Assert(self, node):\n"
-        "        return _ast.Pass()\n"
-        "get_ipython().ast_transformers.append(_NoAsserts())\n"),
-    "display_hook": (
-        "import sys as _sys\n"
-        "get_ipython().events.register('pre_run_cell', lambda info: _sys.displayhook('full marks'))\n"),
-    "patched_numpy": (
-        "import numpy as _np\n"
-        "_np.allclose = lambda *a, **k: True\n"
-        "_np.isclose = lambda *a, **k: _np.True_\n"),
-    "forged_check": (
-        "import json as _json, sys as _sys\n"
-        "import robokin.check.grading as _grading, robokin.check._core as _core\n"
-        "def _all_correct(namespace, pairs, marker='ROBOKIN-VERDICTS'):\n"
-        "    data = [{'check': c, 'quantity': q, 'status': 'correct', 'diagnosis': None,\n"
-        "             'typical': False, 'message': 'correct'} for c, q in pairs]\n"
-        "    _sys.stdout.write(marker + ' ' + _json.dumps(data) + '\\n')\n"
-        "_grading.print_verdicts = _all_correct\n"
-        "_grading.require = lambda *a, **k: None\n"
-        "_core.CheckResult.passed = property(lambda self: True)\n"),
-    "forged_outputs": (
-        "get_ipython().showtraceback = lambda *a, **k: None\n"
-        "get_ipython().showsyntaxerror = lambda *a, **k: None\n"
-        "get_ipython().events.register('post_run_cell', lambda result: setattr(result, 'error_in_exec', None))\n"),
-}
 
 #: appended to every answer cell of the "wrong" submission: each answer off by 1 %
 WRONG_CODE = '''
@@ -136,21 +103,6 @@ def slow_submission(correct: dict) -> dict:
         if nbg(cell).get("grade_id") == "task1_answer1":
             cell["source"] = src(cell).replace("\n\nrho0 = ", SLOW_IK + "\n\nrho0 = ", 1)
             assert SLOW_IK in cell["source"]
-    return nb
-
-
-def _first_answer(nb: dict) -> dict:
-    return next(c for c in nb["cells"] if nbg(c).get("solution"))
-
-
-def tampered(base: dict, kind: str) -> dict:
-    nb = copy.deepcopy(base)
-    cell = _first_answer(nb)
-    cell["source"] = TAMPER[kind] + src(cell)
-    if kind == "forged_outputs":   # test cells handed in with a full-marks result
-        for test in (c for c in nb["cells"] if nbg(c).get("grade")):
-            test["outputs"] = [{"output_type": "execute_result", "execution_count": 1, "metadata": {},
-                                "data": {"text/plain": "1.0"}}]
     return nb
 
 
