@@ -103,6 +103,19 @@ _SQUARE_SYSTEM = """
 qdot0 = np.r_[np.linalg.solve(J_T0[:, :6], twist0), 0.0]
 """
 
+# the slide's column given an angular part, as if the slide turned about its axis
+_SLIDE_TURNS = """
+def slide_column(q):
+    z6 = arm.frames(q)[6][:3, 2]
+    return np.r_[z6, z6]
+"""
+
+# the slide's column along the tool's z axis instead of the slide's
+_SLIDE_ALONG_TOOL_Z = """
+def slide_column(q):
+    return np.r_[tool_arm.fk(q)[:3, 2], 0.0, 0.0, 0.0]
+"""
+
 # the loop that steps first and tests afterwards (one step further)
 _STEP_THEN_TEST = '''
 def kinematic_loop(twist_of, q0, ts=TS, t_end=T_END, robot=tool_arm):
@@ -259,6 +272,8 @@ MUTATIONS = {
         ("joint 7 dropped to solve a square 6x6 system", _SQUARE_SYSTEM),
         ("the first right singular vector taken for the null space",
          "spare = np.linalg.svd(J_T0)[2][0]"),
+        ("the slide's column with an angular part (z_6 twice)", _SLIDE_TURNS),
+        ("the slide's column along the tool's z axis", _SLIDE_ALONG_TOOL_Z),
     ],
     "task4_test1": [
         ("the step taken before the stop test", _STEP_THEN_TEST),
