@@ -33,6 +33,7 @@ MUTATIONS = {
     ],
     "task1_test3": [
         ("'as printed' table already carrying the offset", "as_printed = with_offset"),
+        ("the table 'with the offset' left as printed", "with_offset = as_printed"),
     ],
     "task2_test1": [
         ("the circle centred on the hand", "CENTRE = P_START"),
@@ -128,6 +129,11 @@ MUTATIONS = {
     "task4_test4": [
         ("five copies of q_start",
          "same_q = np.array([track(Q_START, r_ref, v_ref)] * 5)"),
+        ("the travel taken as the net change of each joint over the lap",
+         "travel = np.abs(same_q[:, -1] - same_q[:, 0])"),
+        ("every joint negated in the mirror image", "mirror = -np.ones(7)"),
+        ("the pitch joints negated instead of the roll joints",
+         "mirror = np.array([1, -1, 1, -1, 1, -1, 1])"),
     ],
     "task5_test1": [
         ("sigma_min taken as the largest singular value",
