@@ -125,6 +125,8 @@ MUTATIONS = {
          "    Q = my_leg_ik(transform(np.eye(3), [0.0, 0.0, -h]))\n"
          "    sigma_largest.append(leg.singular_values(Q[0])[0] if len(Q) else np.nan)\n"
          "sigma_min = np.array(sigma_largest)"),
+        ("every row of the stretched leg counted as a different solution",
+         "stretched_different = len(stretched)"),
     ],
     "task5_test2": [
         ("q2 = pi/4: no gimbal lock, and the family moves q2 too",
