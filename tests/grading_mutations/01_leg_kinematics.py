@@ -121,6 +121,7 @@ MUTATIONS = {
     "task5_test2": [
         ("the P-only error taken from the feed-forward run", "err_p = err_ff"),
         ("the rule of thumb omega R / Kp as the prediction", "lag_predicted = RADIUS * OMEGA / KP"),
+        ("the measured lag copied as the prediction", "lag_predicted = err_p[t >= 2.0].mean()"),
         ("the lag predicted in millimetres", "lag_predicted = 1e3 * lag_predicted"),
         ("the discrete prediction in the wrong units (the phase in degrees)",
          "lag_predicted = np.rad2deg(np.arctan(OMEGA / KP))"),
