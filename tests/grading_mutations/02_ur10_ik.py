@@ -158,6 +158,19 @@ MUTATIONS = {
             "    np.linalg.pinv(J) @ e + K_NULL * joint_limit_gradient(q))}\n"
             "loop_runs = {**loop_runs, 'c': ik_position(cell, TARGETS['B'], Q0, STEPS['null space'])}",
         ),
+        (
+            "ik_position left as the stub, the runs taken from robokin's solve_ik_once",
+            "def ik_position(chain, p_goal, q0, step, max_step=MAX_STEP, tol=1e-9, max_iterations=100):\n"
+            "    raise NotImplementedError()\n"
+            "loop_runs = {}\n"
+            "for run, target, options in (\n"
+            "    ('a', 'A', dict(method='weighted', weights=W_DIAG)),\n"
+            "    ('b', 'A', dict(method='dls', damping=np.sqrt(0.1))),\n"
+            "    ('c', 'B', dict(method='nullspace', objective='joint_limits')),\n"
+            "):\n"
+            "    res = solve_ik_once(cell, TARGETS[target], q0=Q0, max_step=MAX_STEP, tol=1e-9, **options)\n"
+            "    loop_runs[run] = (res.q, res.success, res.iterations)",
+        ),
     ],
     "task3_test1": [
         ("min_w over every iterate, the start q0 included",
