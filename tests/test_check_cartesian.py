@@ -86,6 +86,11 @@ def tool_jacobian_point(J_e, R_be, p_et):
     return np.vstack([J_e[:3] + np.cross(J_e[3:].T, r).T, J_e[3:]])
 
 
+def my_tool_jacobian(q):
+    # the tool's Jacobian of the exercise, column by column from the arm's J_E(q)
+    return tool_jacobian_point(ROBOT.jacobian(q), fk_table(q)[:3, :3], np.array([0.2, 0.0, 0.0]))
+
+
 def control_lstsq(J, e, gain_linear, gain_angular):
     return np.linalg.lstsq(J, np.r_[gain_linear * e[:3], gain_angular * e[3:]], rcond=None)[0]
 
@@ -96,6 +101,7 @@ CORRECT = {
     "tool_pose": tool_pose,
     "orientation_error": orientation_error_quat,
     "tool_jacobian": tool_jacobian_point,
+    "tool_jacobian_of_q": my_tool_jacobian,
     "control_law": control_lstsq,
 }
 
@@ -147,6 +153,12 @@ WRONG = [
     ("tool_jacobian", lambda J, R, p: np.vstack([J[:3], J[3:] - np.cross(R @ p, J[:3].T).T]), "twist_order"),
     ("tool_jacobian", lambda J, R, p: np.vstack([J[:3], J[3:] + np.cross(R @ p, J[:3].T).T]),
      "transposed_transport"),
+    ("tool_jacobian_of_q", lambda q: tool_jacobian_point(ROBOT.jacobian(q), np.eye(3), [0.2, 0, 0]),
+     "offset_not_rotated"),
+    ("tool_jacobian_of_q", lambda q: tool_jacobian_point(ROBOT.jacobian(q), -fk_table(q)[:3, :3], [0.2, 0, 0]),
+     "cross_sign"),
+    ("tool_jacobian_of_q", lambda q: ROBOT.jacobian(q), "no_transport"),
+    ("tool_jacobian_of_q", lambda q: my_tool_jacobian(q)[:, :6], "shape"),
     ("control_law", lambda J, e, kl, ka: -control_lstsq(J, e, kl, ka), "error_sign"),
     ("control_law", lambda J, e, kl, ka: control_lstsq(J, e, ka, kl), "swapped_gains"),
     ("control_law", lambda J, e, kl, ka: np.linalg.pinv(J) @ np.r_[ka * e[3:], kl * e[:3]], "twist_order"),

@@ -21,6 +21,7 @@ check                    the student's answer                                   
 ``tool_pose``            ``f(q)`` -> :math:`{}^{B}\mathbf{T}_{T}` (4×4)                  :math:`{}^{B}\mathbf{T}_{E}(\mathbf{q})\,{}^{E}\mathbf{T}_{T}`
 ``orientation_error``    ``f(R, R_goal)`` -> :math:`\theta\mathbf{h}` (3,), base frame    :math:`\log(\mathbf{R}_{goal}\mathbf{R}^\top)`
 ``tool_jacobian``        ``f(J_e, R_be, p_et)`` -> :math:`\mathbf{J}_T` (6×n)              :math:`\mathbf{J}_{rb}(\mathbf{R}_{BE}\,{}_E\mathbf{r}_{ET})\,\mathbf{J}_E`
+``tool_jacobian_of_q``   ``f(q)`` -> :math:`\mathbf{J}_T(\mathbf{q})` (6×7)              the same, for the exercise's arm and tool
 ``control_law``          ``f(J, e, gain_linear, gain_angular)`` -> :math:`\dot{\mathbf{q}}`    :math:`\mathbf{J}^+[\kappa_l\mathbf{e}_p;\ \kappa_a\mathbf{e}_o]`
 =======================  ==========================================================  ==========================================
 
@@ -78,6 +79,7 @@ __all__ = [
     "orientation_error",
     "tool_frame",
     "tool_jacobian",
+    "tool_jacobian_of_q",
     "tool_pose",
 ]
 
@@ -426,6 +428,77 @@ tool_jacobian = exercise(_CHAPTER, "tool_jacobian", MatrixArgumentsCheck(
     signature="tool_jacobian(J_e, R_be, p_et) -> (6, n) array",
     hint="J_T = [[I, −[r×]], [0, I]] J_E with r = R_be p_et (rows [v; ω]).",
     doc="Check a function tool_jacobian(J_e, R_be, p_et) -> [[I, −[(R_be p_et)×]], [0, I]] J_e (6×n).",
+))
+
+
+# ------------------------------------------------------------------ tool Jacobian f(q) of the exercise
+def _tool_jacobian_of_q_parts(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The arm's J_E(q) (6×7) and the offset ᴮr_ET = ᴮR_E(q) ₑr_ET (3,) at the configuration x."""
+    q = np.asarray(x[:N_JOINTS], dtype=float)
+    return _robot().jacobian(q), _robot().fk(q)[:3, :3] @ np.array(TOOL_OFFSET)
+
+
+def _tool_jacobian_of_q_reference(x: np.ndarray) -> np.ndarray:
+    J, r = _tool_jacobian_of_q_parts(x)
+    return _rigid_body(r) @ J
+
+
+def _tool_jacobian_of_q_mistakes():
+    """The mistakes of :func:`_tool_jacobian_mistakes`, for the exercise's own tool and arm."""
+    def not_rotated(x):
+        J, _r = _tool_jacobian_of_q_parts(x)
+        return _rigid_body(np.array(TOOL_OFFSET)) @ J
+
+    def plus_skew(x):
+        J, r = _tool_jacobian_of_q_parts(x)
+        return _rigid_body(-r) @ J
+
+    def angular_first_block(x):
+        J, r = _tool_jacobian_of_q_parts(x)
+        M = np.eye(6)
+        M[3:, :3] = skew(r).T
+        return M @ J
+
+    def transposed(x):
+        J, r = _tool_jacobian_of_q_parts(x)
+        return _rigid_body(r).T @ J
+
+    def untouched(x):
+        return _tool_jacobian_of_q_parts(x)[0]
+
+    return [
+        alternatives("offset_not_rotated", [(not_rotated, (
+            "{name} uses the offset ₑr_ET = [0.2, 0, 0] m as if it were written in the base "
+            "frame. The transport needs ᴮr_ET = ᴮR_E(q) ₑr_ET (the two agree only while ᴮR_E = I)."
+        ))]),
+        alternatives("cross_sign", [(plus_skew, (
+            "{name} has the sign of the cross-product block reversed. v_T = v_E + ω × r = "
+            "v_E − [r×] ω, so the top-right block is −[r×] (r from E to T)."
+        ))]),
+        alternatives("twist_order", [(angular_first_block, (
+            "{name} uses [[I, 0], [[r×]ᵀ, I]], the course's transport for twists ordered [ω; v] "
+            "(angular first), on robokin's Jacobian ordered [v; ω]. With linear rows first the same "
+            "map is [[I, −[r×]], [0, I]]."
+        ))]),
+        alternatives("transposed_transport", [(transposed, (
+            "{name} uses the transposed transport matrix [[I, 0], [[r×], I]] (it carries wrenches, "
+            "not twists): J_T = [[I, −[r×]], [0, I]] J_E."
+        ))]),
+        alternatives("no_transport", [(untouched, "{name} is the end-effector Jacobian J_E(q): the tool offset is ignored.")]),
+    ]
+
+
+tool_jacobian_of_q = exercise(_CHAPTER, "tool_jacobian_of_q", Check(
+    name="my_tool_jacobian(q)",
+    reference=_tool_jacobian_of_q_reference,
+    variables=_Q,
+    groups=[("q", list(range(N_JOINTS)))],
+    diagnoses=_tool_jacobian_of_q_mistakes(),
+    noun="configurations",
+    hint="J_T(q) = [[I, −[r×]], [0, I]] J_E(q) with r = ᴮR_E(q) ₑr_ET (rows [v; ω]).",
+    doc=("Check a function my_tool_jacobian(q) -> J_T(q) (6×7) of the course's arm with the "
+         "exercise's tool: the end-effector Jacobian transported by [[I, −[r×]], [0, I]], "
+         "r = ᴮR_E(q) ₑr_ET."),
 ))
 
 
