@@ -842,14 +842,22 @@ class Check:
         if len(wrong) == R[0].size:
             head = f"{self.name} is not correct: every entry differs from the reference."
         else:
-            ent = ", ".join(_entry(i) for i in wrong[:6]) + (" ..." if len(wrong) > 6 else "")
-            head = (
-                f"{self.name} is not correct: entr{'y' if len(wrong) == 1 else 'ies'} {ent} "
-                f"differ{'s' if len(wrong) == 1 else ''} from the reference."
-            )
+            head = f"{self.name} is not correct: {self._entries_text(wrong)} from the reference."
         i0 = wrong[0]
-        ex = f" For example{where}: entry {_entry(i0)} should be {fmt(R[k][i0])}, yours is {fmt(S[k][i0])}."
+        want, got = fmt(R[k][i0]), fmt(S[k][i0])
+        if want == got:  # they differ beyond the digits shown
+            want, got = fmt(R[k][i0], 9), fmt(S[k][i0], 9)
+        ex = f" For example{where}: {self._entry_text(i0)} should be {want}, yours is {got}."
         return head + ex + (f" {self.hint}" if self.hint else "")
+
+    def _entries_text(self, wrong: list[tuple[int, ...]]) -> str:
+        """The wrong entries, for the head of a message: ``"entries [1], [3] differ"``."""
+        ent = ", ".join(_entry(i) for i in wrong[:6]) + (" ..." if len(wrong) > 6 else "")
+        return f"entr{'y' if len(wrong) == 1 else 'ies'} {ent} differ{'s' if len(wrong) == 1 else ''}"
+
+    def _entry_text(self, idx: tuple[int, ...]) -> str:
+        """One entry, for the example of a message: ``"entry [2]"``."""
+        return f"entry {_entry(idx)}"
 
 
 def not_a_function(name: str, signature: str, answer: Any) -> CheckResult:
@@ -896,11 +904,35 @@ class MatrixArgumentsCheck(Check):
         iterates flattened, the pose its joint angles reach. The reference returns the
         same packed form; an exception ``pack`` raises (a ``TypeError`` that says what
         the value should be) is reported like one the answer raised.
+    describe : callable, optional
+        ``describe(x) -> str``: the call at the sample ``x`` in the student's terms
+        (``"newton_ik(r_goal = [...], q0 = [...], ...)"``), written in a failure's example
+        instead of the sampled scalars.
+    entry_label : callable, optional
+        ``entry_label(idx) -> str``: what entry ``idx`` of the packed value is, in the
+        student's terms (``"the number of steps K"``), instead of its index.
     """
 
     arguments: Callable[[np.ndarray], tuple] | None = None
     signature: str = ""
     pack: Callable[[Any], Any] | None = None
+    describe: Callable[[np.ndarray], str] | None = None
+    entry_label: Callable[[tuple[int, ...]], str] | None = None
+
+    def _point_text(self, x: np.ndarray) -> str:
+        if self.describe is not None:
+            return self.describe(x)
+        return super()._point_text(x)
+
+    def _entries_text(self, wrong: list[tuple[int, ...]]) -> str:
+        if self.entry_label is None:
+            return super()._entries_text(wrong)
+        names = list(dict.fromkeys(self.entry_label(i) for i in wrong))  # once each, in order
+        shown = ", ".join(names[:6]) + (" ..." if len(names) > 6 else "")
+        return f"{shown} differ{'s' if len(wrong) == 1 else ''}"
+
+    def _entry_text(self, idx: tuple[int, ...]) -> str:
+        return super()._entry_text(idx) if self.entry_label is None else self.entry_label(idx)
 
     def evaluate(self, answer: Any) -> CheckResult:
         """Call ``answer(*arguments(x))`` at the sample points and compare (see :meth:`Check.evaluate`)."""
