@@ -843,7 +843,8 @@ class Check:
             head = f"{self.name} is not correct: every entry differs from the reference."
         else:
             head = f"{self.name} is not correct: {self._entries_text(wrong)} from the reference."
-        i0 = wrong[0]
+        # the first entry that is wrong at the example's sample k
+        i0 = next(i for i in wrong if bad[k][i])
         want, got = fmt(R[k][i0]), fmt(S[k][i0])
         if want == got:  # they differ beyond the digits shown
             want, got = fmt(R[k][i0], 9), fmt(S[k][i0], 9)
