@@ -193,6 +193,19 @@ def test_loop_mistakes(code):
     assert not r.passed and r.diagnosis == code, r.message
 
 
+def test_loop_mistake_without_a_name_is_shown_in_the_student_terms():
+    """A loop that counts one step too many: the example names the call and the returned
+    `iterations`, not the sampled scalars or a packed index."""
+    def one_too_many(*args):
+        q, converged, iterations = loop_for(*args)
+        return q, converged, iterations + 1
+
+    r = ur.ik_position(one_too_many, quiet=True)
+    assert not r.passed and r.diagnosis == "mismatch", r.message
+    assert "ik_position(cell, p_goal = [" in r.message and "max_iterations = " in r.message
+    assert "iterations should be" in r.message and "dq1" not in r.message
+
+
 def test_loop_must_return_a_tuple():
     r = ur.ik_position(lambda *args: loop_for(*args)[0], quiet=True)
     assert not r.passed and r.diagnosis == "error" and "(q, converged, iterations)" in r.message

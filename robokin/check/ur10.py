@@ -64,7 +64,7 @@ from typing import Any
 
 import numpy as np
 
-from robokin.check._core import CheckResult, FunctionCheck, MatrixArgumentsCheck, Variable, alternatives
+from robokin.check._core import CheckResult, FunctionCheck, MatrixArgumentsCheck, Variable, alternatives, fmt
 from robokin.check._registry import exercise
 
 __all__ = ["weighted_pinv", "dls_step", "nullspace_projector", "ik_position", "summary", "self_motion",
@@ -401,6 +401,19 @@ def _loop_mistakes():
     ]
 
 
+def _describe_loop(x: np.ndarray) -> str:
+    """The call of the student's loop at the sample ``x``, as a failure's example writes it."""
+    _, p_goal, q0, _, max_step, tol, budget = _loop_args(x)
+    return (f"ik_position(cell, p_goal = {fmt(p_goal)} m, q0 = {fmt(q0)} rad, step = the "
+            f"pseudoinverse step J⁺e, max_step = {max_step:g}, tol = {tol:g}, max_iterations = {budget})")
+
+
+def _loop_entry(idx: tuple[int, ...]) -> str:
+    """What entry ``idx`` of the packed ``[q (6), converged, iterations]`` is."""
+    i = idx[0]
+    return f"q[{i}]" if i < N_JOINTS else ("converged" if i == N_JOINTS else "iterations")
+
+
 def _pack_loop(out: Any) -> np.ndarray:
     """The loop's ``(q, converged, iterations)`` packed as ``[q (6), converged, iterations]``."""
     if not isinstance(out, tuple) or len(out) != 3:
@@ -431,6 +444,8 @@ ik_position = exercise(_CHAPTER, "ik_position", MatrixArgumentsCheck(
     diagnoses=_loop_mistakes(),
     noun="starts, goals and iteration budgets",
     arguments=_loop_args,
+    describe=_describe_loop,
+    entry_label=_loop_entry,
     signature="ik_position(chain, p_goal, q0, step, max_step, tol, max_iterations) -> (q, converged, iterations)",
     hint=("The loop: e = p_goal − p(q); while ‖e‖ > tol and fewer than max_iterations steps: "
           "dq = step(J_v(q), e, q), capped to the norm max_step, q = clip(q + dq, limits), "
