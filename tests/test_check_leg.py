@@ -317,6 +317,22 @@ def test_newton_ik(loop, code):
     assert r.diagnosis == code, r.message
 
 
+def test_loop_mistakes_without_a_name_are_shown_in_the_student_terms():
+    """Mistakes the checks have no name for (the undamped step alone flipped; twice the
+    gain): the example writes the call and names the row and column of Q, not the sampled
+    scalars or a packed index."""
+    def undamped_flipped(r_goal, q0, damping, tol, max_iterations):
+        return (newton_ik(r_goal, q0, damping, tol, max_iterations) if damping > 0
+                else _newton_wrong_sign(r_goal, q0, damping, tol, max_iterations))
+
+    r = L.newton_ik(undamped_flipped, quiet=True)
+    assert r.diagnosis == "mismatch", r.message
+    assert "Q = newton_ik(r_goal = [" in r.message and "damping = 0 m" in r.message
+    assert "Q[-1, 0]" in r.message and "tol_exponent" not in r.message
+    r = L.tracking_loop(lambda q0, r, v, kp, ts, ff: track(q0, r, v, 2 * kp, ts, ff), quiet=True)
+    assert r.diagnosis == "mismatch" and "Q = track(q0 = [" in r.message and "Q[1, " in r.message
+
+
 def _newton_wrong_sign(r_goal, q0, damping, tol, max_iterations):
     q = np.array(q0, dtype=float)
     iterates = [q]

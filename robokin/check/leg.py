@@ -69,7 +69,7 @@ _PI = math.pi
 
 #: check -> {the robokin function that solves its task: how the grading report names it}: an
 #: answer that hands one back (a newton_ik that calls solve_ik) is flagged for review by hand
-#: (tools/grading_bridge/delegation.py reads this literal table without importing the module)
+#: (tools/grading/bridge/delegation.py reads this literal table without importing the module)
 DELEGATION = {
     "newton_ik": {"solve_ik": "robokin.motion.solve_ik", "solve_ik_once": "robokin.motion.solve_ik_once",
                   "solve_ik_batch": "robokin.motion.solve_ik_batch"},
@@ -522,6 +522,21 @@ def _newton_args(x: np.ndarray) -> tuple:
 _newton_variant = packed_variants(_newton_loop, _newton_args, _pack_iterates)
 
 
+def _describe_newton(x: np.ndarray) -> str:
+    """The call of the student's Newton loop at the sample ``x``, as a failure's example writes it."""
+    r_goal, q0, damping, tol, budget = _newton_args(x)
+    return (f"Q = newton_ik(r_goal = {fmt(r_goal)} m, q0 = {fmt(q0)} rad, damping = {damping:.3g} m, "
+            f"tol = {tol:.1e} m, max_iterations = {budget})")
+
+
+def _newton_entry(idx: tuple[int, ...]) -> str:
+    """What entry ``idx`` of the packed ``[q^K (3), K, q^0 (3)]`` is, for the iterates ``Q``."""
+    i = idx[0]
+    if i < 3:
+        return f"Q[-1, {i}]"
+    return "len(Q) - 1 (the steps taken)" if i == 3 else f"Q[0, {i - 4}]"
+
+
 newton_ik = exercise(_CHAPTER, "newton_ik", MatrixArgumentsCheck(
     name="newton_ik(r_goal, q0, damping, tol, max_iterations)",
     reference=_newton_variant(),
@@ -549,6 +564,8 @@ newton_ik = exercise(_CHAPTER, "newton_ik", MatrixArgumentsCheck(
     ],
     noun="starts, goals, dampings and iteration budgets",
     arguments=_newton_args,
+    describe=_describe_newton,
+    entry_label=_newton_entry,
     signature="newton_ik(r_goal, q0, damping, tol, max_iterations) -> iterates (K + 1, 3)",
     hint=("The loop: q = q0; log q; repeat at most max_iterations times: e = r_goal − r(q); "
           "stop if ‖e‖ <= tol; J = J_v(q); Δq = J⁺e (λ = 0) or Jᵀ(J Jᵀ + λ² I)⁻¹ e; "
@@ -597,6 +614,20 @@ _pack_track = pack_joint_rows("track", _TRACK_SAMPLES, 3)
 _track_variant = packed_variants(_track_loop, _track_args, _pack_track)
 
 
+def _describe_track(x: np.ndarray) -> str:
+    """The call of the student's tracking loop at the sample ``x``, as a failure's example writes it."""
+    q0, r_des, v_des, kp, ts, feedforward = _track_args(x)
+    return (f"Q = track(q0 = {fmt(q0)} rad, r_des = {len(r_des)} points of a line from "
+            f"{fmt(r_des[0])} m, v_des = {fmt(v_des[0])} m/s at each, kp = {kp:.3g}, ts = {ts:.3g}, "
+            f"feedforward = {feedforward})")
+
+
+def _track_entry(idx: tuple[int, ...]) -> str:
+    """What entry ``idx`` of the flattened joint angles ``Q`` (N, 3) is."""
+    row, column = divmod(idx[0], 3)
+    return f"Q[{row}, {column}]"
+
+
 tracking_loop = exercise(_CHAPTER, "tracking_loop", MatrixArgumentsCheck(
     name="track(q0, r_des, v_des, kp, ts, feedforward)",
     reference=_track_variant(),
@@ -632,6 +663,8 @@ tracking_loop = exercise(_CHAPTER, "tracking_loop", MatrixArgumentsCheck(
     ],
     noun="starts, references, gains and time steps",
     arguments=_track_args,
+    describe=_describe_track,
+    entry_label=_track_entry,
     signature="track(q0, r_des, v_des, kp, ts, feedforward) -> joint angles (N, 3)",
     hint=("The loop: q = q0; for each sample k: log q; e = r_des[k] − r(q); "
           "q̇ = J⁺(q)(v_des[k] + Kp e) (without v_des[k] when feedforward is False); "
