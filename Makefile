@@ -20,13 +20,13 @@
 #                talks over sockets in a private folder: tools/kernel_sockets.py)
 #   make test-chapter CH=03_three_rpr   one chapter's tests, that chapter alone graded (every tier)
 #   make grade CH=03_three_rpr SUBMISSIONS=folder [JOBS=2]  grade <folder>/<student>/<chapter>.ipynb,
-#                JOBS at a time, into results.json and feedback.html beside each (tools/grade_many.py);
+#                JOBS at a time, into results.json and feedback.html beside each (tools/grading/grade_many.py);
 #                MAX_PROCESSES=n caps each submission's kernel at n processes (default 256; 0: no cap)
 #   make gradescope CH=03_three_rpr   the chapter's Gradescope autograder zip, in _build/gradescope/
-#                (tools/gradescope.py; the instructor's: it holds the solutions and hidden tests);
+#                (tools/grading/gradescope.py; the instructor's: it holds the solutions and hidden tests);
 #                MAX_PROCESSES=n for its run_autograder (default 0: Gradescope's container is the cap)
 #   make chapter NAME=scara TITLE="The SCARA arm" [ROBOT="a SCARA arm"]  a new chapter
-#                (tools/new_chapter.py; book/authoring.md explains it)
+#                (tools/authoring/new_chapter.py; book/authoring.md explains it)
 #   make bench   print the benchmark tables
 #   make clean   remove the built book and caches (keeps .venv)
 
@@ -90,18 +90,18 @@ book: $(STAMP)
 	@echo "    file://$(CURDIR)/$(BOOK_HTML)/index.html"
 
 # The student edition of every chapter, made by nbgrader from the chapter notebooks
-# and their nbgrader metadata (tools/nbgrader_metadata.py); see book/for-instructors.md.
+# and their nbgrader metadata (tools/authoring/nbgrader_metadata.py); see book/for-instructors.md.
 student: $(STAMP)
 	@echo "== Making the nbgrader course and the student edition of every chapter =="
-	@$(BIN)/python tools/student_edition.py || { \
+	@$(BIN)/python tools/authoring/student_edition.py || { \
 	  echo "ERROR [student]: see the messages above."; exit 1; }
 
 # Grade every submission of a chapter in a folder of <student>/<chapter>.ipynb, JOBS at a time
 # (default: the number of cores), each into <student>/results.json (Gradescope's format) and
-# feedback.html (tools/grade_many.py; one notebook: tools/grade_submission.py).
+# feedback.html (tools/grading/grade_many.py; one notebook: tools/grading/grade_submission.py).
 grade: $(STAMP)
 	@test -n "$(CH)" -a -n "$(SUBMISSIONS)" || { echo 'usage: make grade CH=03_three_rpr SUBMISSIONS=folder [JOBS=2] [MAX_PROCESSES=256]'; exit 2; }
-	@$(BIN)/python tools/grade_many.py "$(CH)" "$(SUBMISSIONS)" $(if $(JOBS),--jobs $(JOBS)) \
+	@$(BIN)/python tools/grading/grade_many.py "$(CH)" "$(SUBMISSIONS)" $(if $(JOBS),--jobs $(JOBS)) \
 	  $(if $(MAX_PROCESSES),--max-processes $(MAX_PROCESSES))
 
 # Two pytest-xdist workers by default (tests/parallel_plan.py); `make test PYTEST_ARGS=-n0`
@@ -152,7 +152,7 @@ execute: $(STAMP)
 
 chapter: $(STAMP)
 	@test -n "$(NAME)" -a -n "$(TITLE)" || { echo 'usage: make chapter NAME=scara TITLE="The SCARA arm" [ROBOT="a SCARA arm"]'; exit 1; }
-	@$(BIN)/python tools/new_chapter.py --name "$(NAME)" --title "$(TITLE)" $(if $(ROBOT),--robot "$(ROBOT)")
+	@$(BIN)/python tools/authoring/new_chapter.py --name "$(NAME)" --title "$(TITLE)" $(if $(ROBOT),--robot "$(ROBOT)")
 
 bench: $(STAMP)
 	@for script in benchmarks/bench_*.py; do echo "== $$script"; $(BIN)/python "$$script" || exit 1; done
@@ -187,9 +187,9 @@ test-chapter: $(STAMP)
 	  echo "ERROR [test-chapter]: some tests of $(CH) failed (see the summary above)."; exit 1; }
 
 # A Gradescope autograder for one chapter: make gradescope CH=03_three_rpr writes
-# _build/gradescope/<chapter>.zip (setup.sh, run_autograder, the grading files; tools/gradescope.py).
+# _build/gradescope/<chapter>.zip (setup.sh, run_autograder, the grading files; tools/grading/gradescope.py).
 # It holds the chapter's solutions and hidden tests: the instructor's, never given to students.
 .PHONY: gradescope
 gradescope: $(STAMP)
 	@test -n "$(CH)" || { echo 'usage: make gradescope CH=03_three_rpr [MAX_PROCESSES=0]'; exit 2; }
-	@$(BIN)/python tools/gradescope.py "$(CH)" $(if $(MAX_PROCESSES),--max-processes $(MAX_PROCESSES))
+	@$(BIN)/python tools/grading/gradescope.py "$(CH)" $(if $(MAX_PROCESSES),--max-processes $(MAX_PROCESSES))

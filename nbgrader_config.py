@@ -1,6 +1,6 @@
 # nbgrader configuration of the robokin course.
 #
-# `make student` (tools/student_edition.py) writes a course directory, by default
+# `make student` (tools/authoring/student_edition.py) writes a course directory, by default
 # _build/nbgrader/course/, whose own nbgrader_config.py loads this file and sets
 # the course root and the exchange. Run nbgrader's commands in that directory,
 # or here (the root below then points at it). The walk-through is in
@@ -28,7 +28,7 @@ from nbgrader.preprocessors import (
     SaveCells,
 )
 
-from tools.robokin_nbgrader import (
+from tools.grading.robokin_nbgrader import (
     AutograderReport,
     GradingIncidents,
     DropSolutionProse,
@@ -43,9 +43,9 @@ from tools.robokin_nbgrader import (
     RobokinCheckCellMetadata,
 )
 # Verdicts decided in a grader kernel, outside the student's, which a submission could tamper
-# with: tools/grading_bridge/.
-from tools.grading_bridge.bridge_report import BridgeReport
-from tools.grading_bridge.preprocessors import BridgedExecute
+# with: tools/grading/bridge/.
+from tools.grading.bridge.bridge_report import BridgeReport
+from tools.grading.bridge.preprocessors import BridgedExecute
 
 ROBOKIN = Path(__file__).resolve().parent
 
@@ -119,7 +119,7 @@ c.RobokinExecute.sandbox = True
 
 # -- generate_feedback: MathJax inlined (the page is read offline, and handed out alone)
 c.GenerateFeedback.exporter_class = OfflineMathJaxHTMLExporter
-# nbgrader's two preprocessors, then the robokin ones (tools/robokin_nbgrader/)
+# nbgrader's two preprocessors, then the robokin ones (tools/grading/robokin_nbgrader/)
 c.GenerateFeedback.preprocessors = [
     GetGrades,
     CSSHTMLHeaderPreprocessor,
@@ -130,9 +130,9 @@ c.GenerateFeedback.preprocessors = [
 # Chapters whose test cells run in a grader kernel, the answers handed over as data ("*": all;
 # book/for-instructors.md, "Where the verdicts are decided"). A call of a student's function
 # from a test goes over a socket to a call server in the student's kernel (a fraction of a
-# millisecond; tools/grading_bridge/benchmark.py measures it).
+# millisecond; tools/grading/bridge/benchmark.py measures it).
 c.BridgedExecute.chapters = ["*"]
 # Each grader kernel is forked from a process that imported ipykernel, numpy, scipy, sympy,
-# matplotlib and robokin once per autograde run (tools/grading_bridge/fork_server.py; about a
+# matplotlib and robokin once per autograde run (tools/grading/bridge/fork_server.py; about a
 # second of CPU saved per submission). False: each grader kernel starts as a new process.
 c.BridgedExecute.fork_server = True

@@ -4,7 +4,7 @@ Run:  .venv/bin/python benchmarks/grading_throughput.py [CHAPTER ...] [--timeout
 
 For each chapter (default: every ``notebooks/NN_*.ipynb`` from 01 on), the student edition is
 made by ``nbgrader generate_assignment`` and filled with the instructor's answers (as
-tests/test_nbgrader.py's ``correct_submission`` does); then ``tools/grade_submission.py`` grades
+tests/test_nbgrader.py's ``correct_submission`` does); then ``tools/grading/grade_submission.py`` grades
 it as ``make grade`` grades each submission (the sandbox, the grader kernels, the process cap,
 the feedback page), in a process of its own, in a copy of a template course in which the chapter
 is assigned (``--template``), made before and not counted: ``make grade`` and a Kubernetes shard
@@ -43,8 +43,9 @@ from pathlib import Path
 
 from yardstick import yardstick_seconds
 
-from tools.grade_submission import assign
-from tools.student_edition import ROOT, add_source, generate, write_course
+from tools.grading.grade_submission import assign
+from tools.authoring.student_edition import generate
+from tools.grading.course import ROOT, add_source, write_course
 
 NOTEBOOKS = ROOT / "notebooks"
 STUDENTS = 1000
@@ -144,13 +145,13 @@ def children_seconds() -> float:
 
 
 def grade(chapter: str, notebook: Path, timeout: float, template: Path | None = None) -> dict:
-    """Grade ``notebook`` with tools/grade_submission.py (in a copy of ``template``, a course made by
+    """Grade ``notebook`` with tools/grading/grade_submission.py (in a copy of ``template``, a course made by
     ``grade_submission.assign``, where one is given): its score and what it cost."""
     group = CpuGroup.make()
     out = notebook.parent / "out"
     copied = ["--template", str(template)] if template else []
     before, started = children_seconds(), time.perf_counter()
-    process = subprocess.Popen([sys.executable, str(ROOT / "tools" / "grade_submission.py"), chapter,
+    process = subprocess.Popen([sys.executable, str(ROOT / "tools" / "grading" / "grade_submission.py"), chapter,
                                 str(notebook), "--out", str(out), *copied], cwd=ROOT, stdout=subprocess.PIPE,
                                stderr=subprocess.STDOUT, text=True, start_new_session=True,
                                preexec_fn=group.join if group else None)

@@ -1,7 +1,7 @@
 """What the feedback page says and how it reads, without nbgrader commands or a kernel.
 
 The preprocessors of ``generate_feedback`` and the notes autograde writes
-(``tools/robokin_nbgrader/``) on made-up notebooks:
+(``tools/grading/robokin_nbgrader/``) on made-up notebooks:
 
 * MyST markup of the task statements (``{exercise}``, ``{admonition}``, ``{cite}``, ``{doc}``)
   becomes Markdown the page renders, for every chapter notebook in ``notebooks/``;
@@ -26,7 +26,7 @@ import nbformat
 import pytest
 
 from conftest import ROOT
-from tools.nbgrader_metadata import chapter_notebooks
+from tools.authoring.nbgrader_metadata import chapter_notebooks
 
 NOTEBOOKS = Path(os.environ.get("ROBOKIN_NBGRADER_NOTEBOOKS", ROOT / "notebooks")).resolve()
 CHAPTERS = chapter_notebooks(NOTEBOOKS.parent, NOTEBOOKS.name)
@@ -35,7 +35,7 @@ RAW_MYST = re.compile(r"(```+|:::+)\{[\w:-]+\}|\{[a-z][\w:-]*\}`")
 
 
 def _myst(text: str, notebook: str = "03_example") -> str:
-    from tools.robokin_nbgrader import MystMarkdown
+    from tools.grading.robokin_nbgrader import MystMarkdown
 
     nb = nbformat.v4.new_notebook()
     nb.cells = [nbformat.v4.new_markdown_cell(text)]
@@ -61,7 +61,7 @@ def test_myst_directives_and_roles_become_markdown():
 def test_no_raw_myst_in_a_chapters_feedback(path):
     """Every text cell of the chapter, as the feedback page shows it: no directive or role is left raw,
     and no link points into the book's folder (it does not resolve where the page is read)."""
-    from tools.robokin_nbgrader import MystMarkdown
+    from tools.grading.robokin_nbgrader import MystMarkdown
 
     nb = nbformat.read(path, as_version=4)
     nb, _ = MystMarkdown().preprocess(nb, {"nbgrader": {"notebook": path.stem}})
@@ -78,7 +78,7 @@ def test_feedback_page_wraps_notes_and_spaces_table_columns(tmp_path):
     from nbconvert.exporters import HTMLExporter
     from nbconvert.preprocessors import CSSHTMLHeaderPreprocessor
 
-    from tools.robokin_nbgrader import FeedbackStyle
+    from tools.grading.robokin_nbgrader import FeedbackStyle
 
     nb = nbformat.v4.new_notebook()
     nb.cells = [nbformat.v4.new_markdown_cell("| task | points |\n|---|---|\n| Task 1: foot position | 0 / 2 |")]
@@ -133,7 +133,7 @@ def _leg_notebook():
 
 
 def test_a_model_value_is_not_the_students_and_a_correct_answer_is_no_cause():
-    from tools.robokin_nbgrader import FailureNotes
+    from tools.grading.robokin_nbgrader import FailureNotes
 
     nb = _leg_notebook()
     index = next(i for i, c in enumerate(nb.cells) if c.metadata.get("nbgrader", {}).get("grade_id") == "task2_test1")
@@ -151,7 +151,7 @@ def test_a_model_value_is_not_the_students_and_a_correct_answer_is_no_cause():
 
 
 def test_own_tests_are_the_tests_of_the_answers_task():
-    from tools.robokin_nbgrader import FailureNotes
+    from tools.grading.robokin_nbgrader import FailureNotes
 
     nb = _leg_notebook()
     nb.cells.append(nbformat.v4.new_markdown_cell("## Task 3: later"))
@@ -169,7 +169,7 @@ def test_own_tests_are_the_tests_of_the_answers_task():
 
 
 def test_report_quotes_the_line_that_raised_and_drops_correct_causes():
-    from tools.robokin_nbgrader import AutograderReport
+    from tools.grading.robokin_nbgrader import AutograderReport
 
     nb = nbformat.v4.new_notebook()
     ungraded = _cell("x = 1\ny = 2\nassert y == 3, 'my own experiment'", count=9,
@@ -196,7 +196,7 @@ def test_feedback_page_shows_no_markdown_raw():
     """The report's own Markdown renders (a smoke test of the exporter with the feedback's preprocessors)."""
     from nbconvert.exporters import HTMLExporter
 
-    from tools.robokin_nbgrader import MystMarkdown
+    from tools.grading.robokin_nbgrader import MystMarkdown
 
     nb = nbformat.v4.new_notebook()
     nb.cells = [nbformat.v4.new_markdown_cell("```{admonition} Learning goals\n:class: tip\n- one\n```")]
@@ -207,16 +207,16 @@ def test_feedback_page_shows_no_markdown_raw():
 
 def test_a_check_that_names_the_answer_otherwise_says_so():
     """A check's message uses its own name of the answer: the note says which of the student's it is."""
-    from tools.nbgrader_metadata import check_names
+    from tools.grading.course import check_names
 
-    from tools.robokin_nbgrader.checks import called_as
+    from tools.grading.robokin_nbgrader.checks import called_as
 
     check, own = next(iter(sorted(check_names().items())))
     verdict = {"check": check, "quantity": "found[0]", "status": "wrong", "message": f"✘ {own} is transposed"}
     assert called_as(verdict) == f" (on your `found[0]`, which it calls `{own}`)"
     assert called_as({**verdict, "quantity": own}) == ""
     assert called_as({**verdict, "message": "✘ the value is transposed"}) == ""
-    from tools.robokin_nbgrader import AutograderReport
+    from tools.grading.robokin_nbgrader import AutograderReport
 
     nb = nbformat.v4.new_notebook()
     nb.cells = [nbformat.v4.new_markdown_cell("# Chapter"),

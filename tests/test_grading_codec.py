@@ -1,4 +1,4 @@
-"""The data codec of the grading bridge (tools/grading_bridge/codec.py), without kernels.
+"""The data codec of the grading bridge (tools/grading/bridge/codec.py), without kernels.
 
 What crosses between the student's kernel and the grader's is plain data: values
 round-trip, untrusted input is refused with a :class:`codec.BridgeError` (no code
@@ -19,7 +19,7 @@ from hypothesis import strategies as st
 
 from robokin.models.three_rpr import three_rpr_classic
 from robokin.motion.trajectories import Trajectory
-from tools.grading_bridge import codec
+from tools.grading.bridge import codec
 
 
 def through_json(value, registry=None):

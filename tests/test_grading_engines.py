@@ -3,7 +3,7 @@
 One chapter (:data:`CHAPTER`, the everyday chapter of tests/support/tiers.py) is graded end to end
 (each graded submission costs about a minute of CPU):
 
-* ``run_autograder`` from the zip ``make gradescope`` writes (tools/gradescope.py), unpacked
+* ``run_autograder`` from the zip ``make gradescope`` writes (tools/grading/gradescope.py), unpacked
   in temporary ``/autograder``-shaped folders (``AUTOGRADER_ROOT`` set, the venv's python on
   PATH), grades a correct, a blank, a typical-mistake and a tampering submission, each in a
   folder of its own and all at once (as Gradescope, one container per submission); each
@@ -11,7 +11,7 @@ One chapter (:data:`CHAPTER`, the everyday chapter of tests/support/tiers.py) is
   (tests/support/grading_course.py: its ``correct``, ``unanswered`` and ``mistake``; the tampering
   submission is a blank one with forged verdicts, which the tamper suite,
   tests/test_grading_tamper.py, shows scores what the blank scores);
-* ``tools/grade_many.py`` (``make grade``) with two jobs grades the typical mistake again and
+* ``tools/grading/grade_many.py`` (``make grade``) with two jobs grades the typical mistake again and
   a correct submission that allocates 8 GB in an ungraded cell: the mistake scores what it
   scored alone, the allocation fails (``MemoryError`` in its feedback) and the submission
   keeps every mark.
@@ -50,11 +50,11 @@ from support import grading_course
 from support.benign_variants import with_incident
 from support.tampering import tampered
 from support.nbgrader_course import correct_submission, mistaken_submission, save
-from tools import grade_many, grade_submission, gradescope, process_cap
-from tools.grading_deploy import grade_shard
+from tools.grading import grade_many, grade_submission, gradescope, process_cap
+from tools.grading.deploy import grade_shard
 
 CHAPTER = grading_course.CHAPTER3
-DEPLOY = ROOT / "tools" / "grading_deploy"
+DEPLOY = ROOT / "tools" / "grading" / "deploy"
 #: a correct submission's experiment, in an ungraded cell: 8 GB of address space (np.empty maps it
 #: without writing it: were the cap missing, the test would not fill the machine's memory either)
 ALLOCATE_8GB = ("import numpy as np\n\nblock = np.empty(8 * 1024**3, dtype=np.uint8)  # 8 GB\n"
@@ -129,7 +129,7 @@ def graded(request, tmp_path_factory):
                          f"{proc.stdout}{proc.stderr[-3000:]}")
 
     def grade_many():
-        return subprocess.run([sys.executable, str(ROOT / "tools" / "grade_many.py"), CHAPTER, str(folder),
+        return subprocess.run([sys.executable, str(ROOT / "tools" / "grading" / "grade_many.py"), CHAPTER, str(folder),
                                "--jobs", "2"], capture_output=True, text=True, timeout=1800)
 
     with ThreadPoolExecutor(max_workers=len(AUTOGRADED) + 1) as pool:
@@ -208,14 +208,16 @@ def test_zip_holds_what_grading_needs_and_no_other_chapter(tmp_path):
         setup = unpacked.read("setup.sh").decode()
         run = unpacked.read("run_autograder").decode()
     assert {"setup.sh", "run_autograder", "nbgrader_config.py", "pyproject.toml", "requirements.txt",
-            "constraints.txt", "book/references.bib", "tools/grade_submission.py", "robokin/__init__.py",
+            "constraints.txt", "book/references.bib", "tools/grading/grade_submission.py", "robokin/__init__.py",
+            "tools/__init__.py", "tools/notebook_analysis.py", "tools/kernel_sockets.py",
             f"notebooks/{CHAPTER}.ipynb"} <= names
+    assert not [name for name in names if name.startswith("tools/authoring/")], "the zip carries authoring scripts"
     assert [name for name in names if name.startswith("notebooks/")] == [f"notebooks/{CHAPTER}.ipynb"]
     assert not [name for name in names if "__pycache__" in name or name.startswith(("tests/", "_build/"))]
     assert modes["setup.sh"] & stat.S_IXUSR and modes["run_autograder"] & stat.S_IXUSR
     assert "bubblewrap" in setup and "pip install -r requirements.txt" in setup
     # the chapter assigned once at set-up, in the template course run_autograder copies for each submission
-    assert setup.rstrip().endswith('-m tools.grade_submission "$CHAPTER" --assign "$ROOT/template"'), setup
+    assert setup.rstrip().endswith('-m tools.grading.grade_submission "$CHAPTER" --assign "$ROOT/template"'), setup
     assert '(--template "$ROOT/template/course")' in run and 'TEMPLATE[@]+"${TEMPLATE[@]}"' in run, run
 
 
@@ -240,7 +242,7 @@ def test_run_autograder_passes_the_process_cap(tmp_path, argv, expected):
     assert gradescope.main([CHAPTER, "--out", str(tmp_path / "a.zip"), *argv]) == 0
     with zipfile.ZipFile(tmp_path / "a.zip") as unpacked:
         script = unpacked.read("run_autograder").decode()
-    command = script[script.index("-m tools.grade_submission"):]
+    command = script[script.index("-m tools.grading.grade_submission"):]
     assert re.search(rf"--max-processes {expected}\n", command), command
     assert f"--memory {grade_submission.DEFAULT_MEMORY_MIB} --cpu-seconds {grade_submission.DEFAULT_CPU_SECONDS}" \
         in command
@@ -429,7 +431,7 @@ def _bomb_processes() -> list[int]:
 
 def _release(tmp_path: Path) -> tuple[dict, dict]:
     """The chapter's source and its student edition, made by nbgrader as grade_submission does."""
-    from tools.student_edition import add_source, write_course
+    from tools.grading.course import add_source, write_course
 
     source = ROOT / "notebooks" / f"{CHAPTER}.ipynb"
     course = tmp_path / "course"

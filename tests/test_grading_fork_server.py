@@ -1,4 +1,4 @@
-"""Grader kernels forked from a warm process (tools/grading_bridge/fork_server.py):
+"""Grader kernels forked from a warm process (tools/grading/bridge/fork_server.py):
 a kernel costs a fork, not a Python start.
 
 Each grader kernel of an ``nbgrader autograde`` run is a fresh fork of one
@@ -33,8 +33,8 @@ pytest.importorskip("nbgrader", reason="nbgrader is not installed: run `make tes
 if not hasattr(os, "fork") or not sys.platform.startswith("linux"):
     pytest.skip("the fork server forks grader kernels on Linux", allow_module_level=True)
 
-from tools.grading_bridge import fork_server  # noqa: E402 - after the skip: it needs fork
-from tools.grading_bridge.preprocessors import PRELOAD, BridgedExecute, GraderKernel  # noqa: E402
+from tools.grading.bridge import fork_server  # noqa: E402 - after the skip: it needs fork
+from tools.grading.bridge.preprocessors import PRELOAD, BridgedExecute, GraderKernel  # noqa: E402
 
 pytestmark = pytest.mark.nbgrader
 LOG = logging.getLogger("test_grading_fork_server")
@@ -203,7 +203,7 @@ AUTOGRADE = """
 import json, tempfile, time
 import psutil
 from jupyter_core.utils import run_sync
-from tools.grading_bridge import fork_server
+from tools.grading.bridge import fork_server
 server = fork_server.ForkServer(("numpy",))
 manager = fork_server.ForkedKernelManager(kernel_name="python3", fork_server=server)
 run_sync(manager.start_kernel)(cwd=tempfile.mkdtemp())
@@ -261,7 +261,7 @@ def test_fork_server_false_starts_each_grader_kernel_anew(monkeypatch):
         def get_connection_info(self):
             return {}
 
-    monkeypatch.setattr("tools.grading_bridge.preprocessors.GraderKernel", Recorder)
+    monkeypatch.setattr("tools.grading.bridge.preprocessors.GraderKernel", Recorder)
     sentinel = object()
     monkeypatch.setattr(fork_server, "shared_server", lambda preload, logger: sentinel)
     for wanted in (False, True):

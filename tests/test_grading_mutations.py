@@ -10,7 +10,7 @@ Per chapter, ``tests/grading_mutations/<notebook stem>.py`` defines::
         ...
     }
 
-keyed by the nbgrader ``grade_id`` of a test cell (``tools/nbgrader_metadata.py --list``
+keyed by the nbgrader ``grade_id`` of a test cell (``tools/authoring/nbgrader_metadata.py --list``
 shows them). The chapter's instructor notebook runs top to bottom in ONE kernel
 (``ROBOKIN_VIEWER=static``, working directory ``notebooks/``); just before the test
 cell of a ``grade_id``, for each mutation:
@@ -41,7 +41,7 @@ import pytest
 
 from conftest import ROOT
 from tools.kernel_sockets import AsyncPrivateSocketsKernelManager
-from tools.nbgrader_metadata import chapter_notebooks
+from tools.authoring.nbgrader_metadata import chapter_notebooks
 from tools.notebook_analysis import defined_names
 
 NOTEBOOKS = Path(os.environ.get("ROBOKIN_NBGRADER_NOTEBOOKS", ROOT / "notebooks")).resolve()
@@ -58,7 +58,8 @@ def load_mutations(chapter: str) -> dict[str, list[tuple[str, str]]]:
         pytest.fail(
             f"{chapter}: no mutation file {path.relative_to(ROOT) if path.is_relative_to(ROOT) else path}. "
             f"Write it: MUTATIONS = {{grade_id: [(description, code), ...]}} with at least one wrong "
-            f"answer per graded test (grade ids: `tools/nbgrader_metadata.py --list notebooks/{chapter}.ipynb`)."
+            "answer per graded test (grade ids: "
+            f"`tools/authoring/nbgrader_metadata.py --list notebooks/{chapter}.ipynb`)."
         )
     spec = importlib.util.spec_from_file_location(f"grading_mutations_{chapter}", path)
     assert spec is not None and spec.loader is not None
@@ -171,7 +172,7 @@ def test_every_graded_test_rejects_its_mutations(path, monkeypatch):
     mutations = load_mutations(chapter)
     nb = json.loads(path.read_text(encoding="utf-8"))
     tests = graded_tests(nb)
-    assert tests, f"{chapter}: no graded test cells (run tools/nbgrader_metadata.py)"
+    assert tests, f"{chapter}: no graded test cells (run tools/authoring/nbgrader_metadata.py)"
     problems = coverage_problems(chapter, tests, mutations)
     monkeypatch.setenv("ROBOKIN_VIEWER", "static")   # inherited by the kernel
     monkeypatch.setenv("PYDEVD_DISABLE_FILE_VALIDATION", "1")

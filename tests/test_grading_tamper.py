@@ -1,7 +1,7 @@
 """Tampering submissions gain no points; delegation is flagged (the grading
 bridge decides verdicts outside the student's kernel).
 
-Chapter 3 is graded through the bridge (``tools/grading_bridge``): its test cells and
+Chapter 3 is graded through the bridge (``tools/grading/bridge``): its test cells and
 robokin.check's verdicts run in a grader kernel, the answers handed over as data and
 functions as proxies. Each submission below is one the old pipeline (verdicts in the
 student's kernel) scored well with blank or wrong answers; all are graded in one
@@ -92,7 +92,7 @@ def _never_for_the_grader(function):
 ik = _never_for_the_grader(ik)
 '''
 #: seconds per call of a student's function, in this course: a call through the bridge costs
-#: 0.1-0.2 ms (tools/grading_bridge/benchmark.py, quiet machine) plus the answer's own work, a
+#: 0.1-0.2 ms (tools/grading/bridge/benchmark.py, quiet machine) plus the answer's own work, a
 #: few milliseconds here, so load cannot reach 3 s; the never-returning call waits it out
 CALL_TIMEOUT = 3
 
@@ -243,7 +243,7 @@ def test_graded_test_outputs_come_from_the_grader_kernel(graded):
 
 
 def test_delegation_finder_on_code():
-    from tools.grading_bridge import delegation
+    from tools.grading.bridge import delegation
 
     checks: dict[int | None, set[str] | dict[str, set[str]]] = {
         1: {"three_rpr.inverse_kinematics"}, 3: {"three_rpr.inverse_jacobian"}}
@@ -304,7 +304,7 @@ NO_DELEGATION: dict[str, str] = {}
 def test_delegation_is_flagged_in_every_chapter(chapter):
     """For every check with robokin references that a chapter's tests explain, an answer
     bound to robokin's solution is flagged; the instructor's solutions are not."""
-    from tools.grading_bridge import delegation
+    from tools.grading.bridge import delegation
 
     answers, checks = _answers_and_checks(load(NOTEBOOKS / f"{chapter}.ipynb"))
     assert delegation.find(answers, checks) == [], f"{chapter}: the solutions are flagged"
@@ -343,7 +343,7 @@ def test_delegation_is_flagged_in_every_chapter(chapter):
 def test_delegation_answer_names_belong_to_one_chapter():
     """Each name of ``delegation.ANSWERS`` is declared by the answers of exactly one chapter
     (it is looked at wherever it is declared), and a call through a helper is flagged too."""
-    from tools.grading_bridge import delegation
+    from tools.grading.bridge import delegation
 
     declaring = {name: [chapter for chapter in CHAPTERS
                         if name in {n for _, _, names in _answers_and_checks(load(NOTEBOOKS / f"{chapter}.ipynb"))[0]
@@ -376,7 +376,7 @@ def test_answers_are_handed_over_after_cells_that_printed_thousands_of_lines(tmp
     import shutil
     import time
 
-    from tools.grading_bridge import benchmark, grader_side
+    from tools.grading.bridge import benchmark, grader_side
 
     manager, client = benchmark.start_kernel(shutil.which("bwrap") is not None, str(tmp_path))
     # Time limits: the call limit, 60 s, is what a wait for a status that never comes would
@@ -412,7 +412,7 @@ def test_call_channel_calls_calls_back_and_stops_a_call_that_never_returns(tmp_p
     import numpy as np
     from jupyter_core.utils import run_sync
 
-    from tools.grading_bridge import benchmark, grader_side
+    from tools.grading.bridge import benchmark, grader_side
 
     sandboxed = shutil.which("bwrap") is not None
     manager, client = benchmark.start_kernel(sandboxed, str(tmp_path))

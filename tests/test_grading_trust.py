@@ -67,7 +67,7 @@ from support.nbgrader_course import (
 )
 from support import grading_course
 from support.benign_variants import CRASH, HANG, VARIANTS, last_try_cell, with_incident, written_another_way
-from tools.robokin_sandbox import PACKAGE, SWITCH, sandbox_arguments, sandbox_wanted
+from tools.grading.sandbox import PACKAGE, SWITCH, sandbox_arguments, sandbox_wanted
 
 # The tests that read a run are marked with its part of the graded courses (one xdist group each):
 # grading_course.reads(CHAPTER) for chapter 3's, chapter_params for the others.
@@ -381,7 +381,7 @@ def test_a_number_shown_by_a_hook_sets_no_score(trusted):
     assert not any(shown(c) for c in nb["cells"] if nbg(c).get("grade"))
 
 
-#: report sections that name something as wrong (tools/robokin_nbgrader/, tools/grading_bridge)
+#: report sections that name something as wrong (tools/grading/robokin_nbgrader/, tools/grading/bridge)
 WRONG = ("What `robokin.check` says", "Where to start", "Notes on running your notebook",
          "For review by hand", "Answers the grader could not use", "Not run")
 
@@ -473,7 +473,7 @@ def test_tests_after_a_lost_kernel_score_zero_and_say_why():
     """The cells after the one the kernel stopped in are not run: their tests score 0, with the reason."""
     from nbformat.v4 import new_code_cell, new_notebook
     from nbgrader import utils
-    from tools.robokin_nbgrader import NOT_RUN, GradingIncidents, RobokinExecute
+    from tools.grading.robokin_nbgrader import NOT_RUN, GradingIncidents, RobokinExecute
 
     # mypy takes nbclient's __init__(nb); nbgrader's Execute (untyped) puts nbconvert's __init__(**kw) first
     execute = RobokinExecute()  # type: ignore[call-arg]
@@ -567,8 +567,8 @@ def test_the_switch(monkeypatch):
 def test_the_switch_off_runs_nbgraders_own_kernel(monkeypatch):
     from jupyter_client.manager import AsyncKernelManager
     from nbformat.v4 import new_notebook
-    from tools.robokin_nbgrader import RobokinExecute
-    from tools.robokin_sandbox import SandboxedKernelManager
+    from tools.grading.robokin_nbgrader import RobokinExecute
+    from tools.grading.sandbox import SandboxedKernelManager
 
     from traitlets.config import Config
 
@@ -588,15 +588,15 @@ def test_the_switch_off_runs_nbgraders_own_kernel(monkeypatch):
 
 
 def test_a_bwrap_that_cannot_make_a_sandbox_stops_grading(tmp_path, monkeypatch):
-    from tools import robokin_sandbox
+    from tools.grading import sandbox
 
     fake = tmp_path / "bwrap"
     fake.write_text("#!/bin/sh\necho 'bwrap: No permissions to create new namespace' >&2\nexit 1\n")
     fake.chmod(0o755)
     monkeypatch.setenv("PATH", str(tmp_path))
-    with pytest.raises(robokin_sandbox.SandboxUnavailable, match="No permissions to create new namespace.*"
+    with pytest.raises(sandbox.SandboxUnavailable, match="No permissions to create new namespace.*"
                        + SWITCH):
-        robokin_sandbox.bwrap_executable()
+        sandbox.bwrap_executable()
 
 
 def test_hidden_folder_inside_a_readable_one_is_covered(tmp_path):
@@ -641,7 +641,7 @@ def _graded_test_cell():
 def _execute(cells, manager, replays=0, **state):
     """A RobokinExecute on ``cells`` with ``manager``, as autograde sets it up before the cells run."""
     from nbformat.v4 import new_notebook
-    from tools.robokin_nbgrader import RobokinExecute
+    from tools.grading.robokin_nbgrader import RobokinExecute
 
     # mypy takes nbclient's __init__(nb); nbgrader's Execute (untyped) puts nbconvert's __init__(**kw) first
     execute = RobokinExecute()  # type: ignore[call-arg]
@@ -662,7 +662,7 @@ def test_when_the_kernel_cannot_be_restarted_grading_stops_there():
     """_kernel_lost: restart fails -> the kernel is stopped and the cells after it are not run."""
     from nbclient.exceptions import DeadKernelError
     from nbformat.v4 import new_code_cell
-    from tools.robokin_nbgrader import NOT_RUN
+    from tools.grading.robokin_nbgrader import NOT_RUN
 
     crash, test = new_code_cell("import os\nos._exit(1)"), _graded_test_cell()
     manager = _FakeKernelManager(_refuse("no more kernels"))
@@ -682,7 +682,7 @@ def test_after_the_last_test_a_lost_kernel_is_not_restarted():
     """_kernel_lost after the last test: no restart, no replay; the report says nothing graded was lost."""
     from nbclient.exceptions import DeadKernelError
     from nbformat.v4 import new_code_cell, new_notebook
-    from tools.robokin_nbgrader import GradingIncidents
+    from tools.grading.robokin_nbgrader import GradingIncidents
 
     test = _graded_test_cell()
     crash, after = new_code_cell("import os\nos._exit(1)"), new_code_cell("print('a plot')")

@@ -7,7 +7,7 @@ nbgrader commands or a kernel:
 
 * the student edition of the book (``book/_ext/robokin_book.py``), its pages and the
   notebooks a reader downloads, for every chapter notebook in ``notebooks/`` and for the
-  chapter ``tools/new_chapter.py`` scaffolds;
+  chapter ``tools/authoring/new_chapter.py`` scaffolds;
 * the feedback page's preprocessor (``HideHiddenTests``) on a graded notebook whose hidden
   test failed: the verdict and its message stay, the code goes, from the cell, the
   traceback and the robokin note alike.
@@ -31,7 +31,7 @@ import nbformat
 import pytest
 
 from conftest import ROOT
-from tools.nbgrader_metadata import chapter_notebooks
+from tools.authoring.nbgrader_metadata import chapter_notebooks
 
 
 @functools.cache
@@ -69,8 +69,8 @@ def hidden_only_lines(nb: dict) -> set[str]:
 
 
 def scaffolded_chapter() -> dict:
-    """The notebook ``tools/new_chapter.py`` writes for a new chapter (the next free number)."""
-    from tools import new_chapter
+    """The notebook ``tools/authoring/new_chapter.py`` writes for a new chapter (the next free number)."""
+    from tools.authoring import new_chapter
 
     numbers = [int(p.name[:2]) for p in CHAPTERS] or [0]
     return new_chapter.notebook(max(numbers) + 1, "example_arm", "An example arm", "an example arm")
@@ -99,7 +99,7 @@ def test_student_book_leaves_a_scaffolded_chapters_hidden_tests_out():
 
     nb = scaffolded_chapter()
     hidden = hidden_only_lines(nb)
-    assert hidden, "the scaffolded chapter has no hidden tests (tools/new_chapter.py): nothing is checked"
+    assert hidden, "the scaffolded chapter has no hidden tests (tools/authoring/new_chapter.py): nothing is checked"
     leaks = _leaks(student_notebook(json.dumps(nb)), hidden)
     assert not leaks, f"the scaffolded chapter's hidden tests in the student edition of the book: {leaks[:3]}"
 
@@ -146,7 +146,7 @@ def test_student_book_has_no_launch_buttons():
 # ---------------------------------------------------------------- the feedback page
 def _graded_notebook():
     """A graded notebook whose test cell failed in its hidden tests, with the note autograde writes."""
-    from tools.robokin_nbgrader import FailureNotes
+    from tools.grading.robokin_nbgrader import FailureNotes
 
     def cell(source, grade_id, solution=False, task=1, count=None):
         out = nbformat.v4.new_code_cell(source, execution_count=count)
@@ -193,7 +193,7 @@ def test_failure_note_never_quotes_a_hidden_test():
 def test_feedback_page_keeps_the_verdict_and_not_the_code():
     from nbconvert.exporters import HTMLExporter
 
-    from tools.robokin_nbgrader import HideHiddenTests
+    from tools.grading.robokin_nbgrader import HideHiddenTests
 
     nb, test = _graded_notebook()
     hidden = hidden_only_lines({"cells": [{"source": test}]})
@@ -213,7 +213,7 @@ def test_feedback_page_keeps_the_verdict_and_not_the_code():
 def test_feedback_renumbers_a_visible_failure():
     """A visible assert after the hidden block fails: the note's and the traceback's line numbers are
     those of the cell the student reads, and they quote the visible line only."""
-    from tools.robokin_nbgrader import HideHiddenTests
+    from tools.grading.robokin_nbgrader import HideHiddenTests
 
     source = ("x = 1\n### BEGIN HIDDEN TESTS\nsecret_value = 42\nassert secret_value == 42\n"
               "### END HIDDEN TESTS\nassert x == 2, 'x is not 2'")

@@ -1,11 +1,11 @@
 """The stored meshes of the packaged robots (robokin/models/mesh_data, robokin.models.mesh_store).
 
-The meshes of the robots the book draws are computed once by ``tools/build_meshes.py``
+The meshes of the robots the book draws are computed once by ``tools/authoring/build_meshes.py``
 and read by ``visual_meshes``; these tests compute each robot afresh (about 2-3 s
 each, once per run: a module fixture) and check that the stored file is the same,
 bit for bit, so that the data cannot drift from the code. If one fails after a
 change of the mesh pipeline, the budget or example-robot-data, run
-``python tools/build_meshes.py`` and commit the files.
+``python tools/authoring/build_meshes.py`` and commit the files.
 """
 
 from __future__ import annotations
@@ -37,7 +37,8 @@ except importlib.metadata.PackageNotFoundError:
     pytest.skip("example-robot-data is not installed: pip install 'robokin[robots]'", allow_module_level=True)
 
 ROOT = Path(__file__).resolve().parent.parent
-REBUILD = "stored meshes differ from a fresh computation: run `python tools/build_meshes.py` and commit the files"
+REBUILD = ("stored meshes differ from a fresh computation: run `python tools/authoring/build_meshes.py` "
+           "and commit the files")
 
 
 @pytest.fixture(scope="module")
@@ -168,7 +169,7 @@ print(json.dumps({{"warnings": [str(w.message) for w in caught], "category": [w.
     out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, check=True, cwd=ROOT)
     result = json.loads(out.stdout)
     assert result["category"] == ["MeshWarning"], result["warnings"]
-    assert "python tools/build_meshes.py" in result["warnings"][0]
+    assert "python tools/authoring/build_meshes.py" in result["warnings"][0]
     assert "computed from another version of robots/kinova_description/" in result["warnings"][0]
     assert result["file"] == ["<string>"]                          # points at the caller
     meshes = fresh["kinova"][0]

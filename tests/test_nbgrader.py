@@ -21,7 +21,7 @@ submission, graded once:
    that raises in an ungraded cell, runs forever in another and lost a test cell.
 
 The tests read the committed chapter notebooks, which must carry the metadata
-written by ``tools/nbgrader_metadata.py`` (``test_metadata_is_up_to_date`` says
+written by ``tools/authoring/nbgrader_metadata.py`` (``test_metadata_is_up_to_date`` says
 when they do not). ``ROBOKIN_NBGRADER_NOTEBOOKS=<folder>`` grades the notebooks
 of another folder instead (e.g. a copy the script was run on).
 """
@@ -93,12 +93,12 @@ def _run(graded, chapter) -> Run:
 
 # ---------------------------------------------------------------- metadata
 def test_metadata_is_up_to_date():
-    """The committed notebooks carry the metadata tools/nbgrader_metadata.py writes."""
-    proc = subprocess.run([sys.executable, str(ROOT / "tools" / "nbgrader_metadata.py"), "--check"],
+    """The committed notebooks carry the metadata tools/authoring/nbgrader_metadata.py writes."""
+    proc = subprocess.run([sys.executable, str(ROOT / "tools" / "authoring" / "nbgrader_metadata.py"), "--check"],
                           capture_output=True, text=True, cwd=ROOT)
     assert proc.returncode == 0, (
         "nbgrader metadata of the chapter notebooks is missing or stale; run "
-        "`.venv/bin/python tools/nbgrader_metadata.py` and commit:\n" + (proc.stdout + proc.stderr)[-3000:]
+        "`.venv/bin/python tools/authoring/nbgrader_metadata.py` and commit:\n" + (proc.stdout + proc.stderr)[-3000:]
     )
 
 
@@ -110,7 +110,7 @@ def test_metadata_script_writes_metadata_only_and_is_idempotent(tmp_path):
         shutil.copy2(NOTEBOOKS / f"{chapter}.ipynb", folder)
         originals[chapter] = load(folder / f"{chapter}.ipynb")
     paths = [str(p) for p in sorted(folder.glob("*.ipynb"))]
-    script = [sys.executable, str(ROOT / "tools" / "nbgrader_metadata.py")]
+    script = [sys.executable, str(ROOT / "tools" / "authoring" / "nbgrader_metadata.py")]
     first = subprocess.run(script + paths, capture_output=True, text=True)
     assert first.returncode == 0, first.stdout + first.stderr
     texts = {p: Path(p).read_text() for p in paths}
@@ -136,7 +136,7 @@ def test_check_mode_names_the_stale_cell(tmp_path):
     nb = load(NOTEBOOKS / f"{chapter}.ipynb")
     path = tmp_path / f"{chapter}.ipynb"
     save(nb, path)
-    subprocess.run([sys.executable, str(ROOT / "tools" / "nbgrader_metadata.py"), str(path)], check=True,
+    subprocess.run([sys.executable, str(ROOT / "tools" / "authoring" / "nbgrader_metadata.py"), str(path)], check=True,
                    capture_output=True)
     nb = load(path)
     tests = [(i, rk(c).get("task")) for i, c in enumerate(nb["cells"])
@@ -145,8 +145,8 @@ def test_check_mode_names_the_stale_cell(tmp_path):
     index = next(i for i, task in tests if sum(t == task for _, t in tests) > 1)
     nb["cells"][index]["metadata"]["tags"].remove("check")   # an author untags a check cell
     save(nb, path)
-    proc = subprocess.run([sys.executable, str(ROOT / "tools" / "nbgrader_metadata.py"), "--check", str(path)],
-                          capture_output=True, text=True)
+    proc = subprocess.run([sys.executable, str(ROOT / "tools" / "authoring" / "nbgrader_metadata.py"), "--check",
+                           str(path)], capture_output=True, text=True)
     assert proc.returncode == 1
     assert f"{path}: cell {index} " in proc.stdout and "nbgrader metadata stale" in proc.stdout
 
@@ -412,7 +412,7 @@ def test_released_test_cells_are_not_reported_as_changed(graded, chapter):
     that was changed is still reported and restored."""
     import logging
 
-    from tools.robokin_nbgrader import RestoreMissingCells
+    from tools.grading.robokin_nbgrader import RestoreMissingCells
     import nbformat
 
     run = _run(graded, chapter)
@@ -500,7 +500,7 @@ def test_feedback_exporter_writes_nbconvert_page(template):
     is made from the memo; "lab" has the JupyterLab cells)."""
     import nbformat
     from nbconvert.exporters import HTMLExporter
-    from tools.robokin_nbgrader import OfflineMathJaxHTMLExporter, inline_mathjax
+    from tools.grading.robokin_nbgrader import OfflineMathJaxHTMLExporter, inline_mathjax
 
     pixel = ("iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAfFcSJAAAADUlEQVR42mNk+M9QDwADhgGAWjR9awAAAABJRU5ErkJggg==")
     nb = nbformat.v4.new_notebook(metadata={"language_info": {"name": "python", "pygments_lexer": "ipython3"}})
@@ -571,7 +571,7 @@ def test_failure_notes_trace_the_root_cause_without_a_kernel():
     earlier answer whose own test failed is the root cause, and the whole assert is quoted."""
     import nbformat
 
-    from tools.robokin_nbgrader import FailureNotes
+    from tools.grading.robokin_nbgrader import FailureNotes
 
     def code(source, grade_id=None, solution=False, grade=False, task=None, outputs=()):
         cell = nbformat.v4.new_code_cell(source)

@@ -23,7 +23,7 @@ pytest.importorskip("nbgrader", reason="nbgrader is not installed: run `make tes
 psutil = pytest.importorskip("psutil")
 
 from support import nbgrader_runner  # noqa: E402
-from tools import student_edition  # noqa: E402
+from tools.authoring import student_edition  # noqa: E402
 
 pytestmark = pytest.mark.nbgrader
 

@@ -1,6 +1,6 @@
-"""An instructor adds chapters: the scaffold (tools/new_chapter.py) makes ones that pass the suite.
+"""An instructor adds chapters: the scaffold (tools/authoring/new_chapter.py) makes ones that pass the suite.
 
-In a temporary copy of the repository, ``tools/new_chapter.py`` creates two chapters, one
+In a temporary copy of the repository, ``tools/authoring/new_chapter.py`` creates two chapters, one
 after the other (the README's example name, ``scara``, and a second one; a name an existing
 chapter holds is taken with a suffix, and the numbers are the next free ones: nothing here
 names a chapter of the repository). Then the parts of ``make test-all`` that concern a
@@ -75,7 +75,7 @@ def new_chapters(tmp_path_factory) -> tuple[Path, list[tuple[str, str]]]:
         taken += [p.stem for p in (copy / "robokin" / "check").glob("[a-z]*.py")]
         name = free_name(wanted, taken)
         before = _stems(copy / "notebooks")
-        proc = subprocess.run([sys.executable, "tools/new_chapter.py", "--name", name, "--title", title,
+        proc = subprocess.run([sys.executable, "tools/authoring/new_chapter.py", "--name", name, "--title", title,
                                "--robot", robot, "--topics", "forward kinematics of a planar arm"],
                               cwd=copy, env=env, capture_output=True, text=True, timeout=600)
         assert proc.returncode == 0, proc.stdout + proc.stderr
@@ -118,7 +118,7 @@ def test_scaffold_writes_every_place_of_a_chapter(new_chapters):
         cells = json.loads(nb.read_text())["cells"]
         assert [c["execution_count"] for c in cells if c["cell_type"] == "code"] == [1, 2, 3, 4, 5, 6, 7]
     name = made[0][0]
-    again = subprocess.run([sys.executable, "tools/new_chapter.py", "--name", name, "--title", "x"],
+    again = subprocess.run([sys.executable, "tools/authoring/new_chapter.py", "--name", name, "--title", "x"],
                            cwd=copy, env=dict(os.environ, PYTHONPATH=str(copy)),
                            capture_output=True, text=True)
     assert again.returncode != 0 and "exists already" in again.stderr

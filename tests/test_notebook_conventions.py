@@ -29,7 +29,7 @@ ALLOWED_TAGS = {
     "check",               # asserts the computed values against independent references
 }
 
-#: A check cell's weight in points (``points-N``, tools/nbgrader_metadata.py); only on check cells.
+#: A check cell's weight in points (``points-N``, tools/authoring/nbgrader_metadata.py); only on check cells.
 POINTS_TAG = re.compile(r"^points-[1-9][0-9]?$")
 
 #: Output types that may be left out of nbval's comparison.
@@ -198,12 +198,12 @@ CODE_LINE_LIMIT = 88
 def test_code_fits_the_book_width(path):
     """Code lines are at most 88 characters (black's width; at a 1280 px window the book
     shows 77 of them without scrolling: see CODE_LINE_LIMIT). Format with
-    `.venv/bin/python tools/format_notebooks.py`."""
+    `.venv/bin/python tools/authoring/format_notebooks.py`."""
     long = [(index, len(line), line.strip()[:50])
             for index, cell in enumerate(load(path)["cells"]) if cell["cell_type"] == "code"
             for line in "".join(cell["source"]).splitlines() if len(line) > CODE_LINE_LIMIT]
     assert not long, (f"{path.name}: {len(long)} code lines longer than {CODE_LINE_LIMIT} characters "
-                      f"(run tools/format_notebooks.py): {long[:3]}")
+                      f"(run tools/authoring/format_notebooks.py): {long[:3]}")
 
 
 #: The book's content column is about 690 px wide at a 1280 px window: 80 characters of
@@ -298,7 +298,7 @@ def test_figure_fonts_are_at_least_9pt(path):
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
 def test_no_comments_behind_closing_brackets(path):
     """``)  # why`` reads as a comment about a bracket: a comment that does not fit behind
-    its statement goes above it (tools/format_notebooks.py moves it there)."""
+    its statement goes above it (tools/authoring/format_notebooks.py moves it there)."""
     import re
 
     dangling = re.compile(r"^\s*[)\]}]+[,;]?\s+#")
@@ -306,14 +306,14 @@ def test_no_comments_behind_closing_brackets(path):
              if cell["cell_type"] == "code"
              for line in "".join(cell["source"]).splitlines() if dangling.match(line)]
     assert not found, (f"{path.name}: {len(found)} comments behind closing brackets (run "
-                       f"tools/format_notebooks.py): {found[:3]}")
+                       f"tools/authoring/format_notebooks.py): {found[:3]}")
 
 
 # ---------------------------------------------------------------- what a graded test may read
 def _trusted_names_problems(path: Path) -> list[str]:
     """Names a graded test cell reads that the grader kernel does not have.
 
-    The grader kernel (``tools/grading_bridge/``) runs only read-only cells (locked, not
+    The grader kernel (``tools/grading/bridge/``) runs only read-only cells (locked, not
     solution: given, check and test cells) and imports from the student's kernel only the
     names answer cells declare (``metadata.robokin.declare``). So a graded test may read
     only names declared by an earlier answer cell, names defined by an earlier locked
@@ -350,7 +350,7 @@ def test_graded_tests_read_only_declared_answers_and_read_only_cells(path):
     """A graded test's free names are declared answers of earlier answer cells, names
     defined by earlier read-only cells (locked, not solution), or builtins: what the
     grader kernel has. Fix: import in a given cell (or in the test), or make the name an
-    answer (define it in the answer cell; tools/nbgrader_metadata.py then declares it)."""
+    answer (define it in the answer cell; tools/authoring/nbgrader_metadata.py then declares it)."""
     problems = _trusted_names_problems(path)
     assert not problems, f"{path.name}: graded tests read names the grader kernel lacks: {problems}"
 
@@ -378,12 +378,13 @@ def test_trusted_names_rule_finds_a_name_from_a_try_cell(tmp_path):
 
 
 def test_formatter_gives_a_cell_without_an_id_a_stable_one():
-    """tools/format_notebooks.py gives a cell written without an id (by a script, or an editor of
+    """tools/authoring/format_notebooks.py gives a cell written without an id (by a script, or an editor of
     format 4.4) a stable id, so that ``make execute`` does not give it a random one after
-    tools/nbgrader_metadata.py named its locked cell by position (the metadata went stale)."""
+    tools/authoring/nbgrader_metadata.py named its locked cell by position (the metadata went stale)."""
     import importlib.util
 
-    spec = importlib.util.spec_from_file_location("format_notebooks", ROOT / "tools" / "format_notebooks.py")
+    spec = importlib.util.spec_from_file_location("format_notebooks",
+                                                  ROOT / "tools" / "authoring" / "format_notebooks.py")
     assert spec is not None and spec.loader is not None
     formatter = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(formatter)

@@ -28,7 +28,7 @@ from pathlib import Path
 import pytest
 
 from conftest import ROOT
-from tools.nbgrader_metadata import chapter_notebooks
+from tools.authoring.nbgrader_metadata import chapter_notebooks
 from tools.notebook_analysis import (
     Binding,
     Chapter,

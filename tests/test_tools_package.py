@@ -74,3 +74,42 @@ def test_tools_modules_import_only_public_names_of_each_other():
     found = {_relative(path): _private_imports(path) for path in FILES if _relative(path).startswith("tools/")}
     found = {path: names for path, names in found.items() if names}
     assert not found, f"tools modules that import private names of another module (make them public): {found}"
+
+
+
+def _authoring_imports(source: str) -> list[str]:
+    """``line: module`` for each import of ``tools.authoring`` (or of a module in it) in the Python
+    ``source``, in code or in a string that holds code (a kernel's start-up code, ``python -c``)."""
+    out = []
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, ast.ImportFrom) and node.level == 0:
+            modules = [node.module or ""] + [f"{node.module}.{alias.name}" for alias in node.names]
+        elif isinstance(node, ast.Import):
+            modules = [alias.name for alias in node.names]
+        elif isinstance(node, ast.Constant) and isinstance(node.value, str) and "tools.authoring" in node.value:
+            modules = ["tools.authoring, in a string"]
+        else:
+            continue
+        out += [f"line {node.lineno}: {module}" for module in modules
+                if module.startswith("tools.authoring") and module[len("tools.authoring"):][:1] in ("", ".", ",")]
+    return out
+
+
+def test_the_grading_runtime_imports_nothing_of_authoring():
+    """``tools/grading/`` runs without ``tools/authoring/`` (the Gradescope zip carries no authoring
+    script): what both sides need lives on the grading side (``tools/grading/course.py``)."""
+    grading = sorted((ROOT / "tools" / "grading").rglob("*.py"))
+    assert grading, "tools/grading/ has no module"
+    found = {_relative(path): _authoring_imports(path.read_text(encoding="utf-8")) for path in grading}
+    found = {path: lines for path, lines in found.items() if lines}
+    assert not found, f"grading modules that import tools.authoring (move what they need to tools/grading/): {found}"
+
+
+def test_the_authoring_check_finds_an_import():
+    assert _authoring_imports("from tools.authoring.student_edition import write_course\n") == [
+        "line 1: tools.authoring.student_edition", "line 1: tools.authoring.student_edition.write_course"]
+    assert _authoring_imports("import tools.authoring.new_chapter\n") == ["line 1: tools.authoring.new_chapter"]
+    assert _authoring_imports("from tools import authoring\n") == ["line 1: tools.authoring"]
+    assert _authoring_imports("code = 'from tools.authoring import new_chapter'\n") == [
+        "line 1: tools.authoring, in a string"]
+    assert _authoring_imports("from tools.grading.course import ROOT\nimport tools.authoring_notes\n") == []

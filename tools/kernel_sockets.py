@@ -33,8 +33,8 @@ messages behind a talkative cell (330 lines of 12,000 were lost that way with th
 workers on two cores).
 
 Used for the kernels nbval starts (``conftest.py`` at the repository's root), the
-grader's kernels (``grading_bridge``) and the sandboxed student kernel
-(``robokin_sandbox``, which binds the folder into the sandbox).
+grader's kernels (``tools.grading.bridge``) and the sandboxed student kernel
+(``tools.grading.sandbox``, which binds the folder into the sandbox).
 """
 
 from __future__ import annotations

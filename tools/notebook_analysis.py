@@ -1,7 +1,7 @@
 """Read the exercise structure of a chapter notebook: tasks, solutions, checks.
 
-Shared by ``tools/nbgrader_metadata.py`` (which writes nbgrader's cell metadata
-from it), ``tools/robokin_nbgrader/`` (nbgrader preprocessors) and the tests.
+Shared by ``tools/authoring/nbgrader_metadata.py`` (which writes nbgrader's cell metadata
+from it), ``tools/grading/robokin_nbgrader/`` (nbgrader preprocessors) and the tests.
 Everything is derived from what authors already write (book/for-instructors.md):
 
 * a **task** is a section whose heading is ``## Task k: ...``; it runs to the

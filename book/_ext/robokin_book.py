@@ -45,7 +45,7 @@ from sphinx.application import Sphinx
 from sphinx.util.nodes import make_refnode
 
 # One rule for what the student edition keeps of a markdown cell, shared with nbgrader's
-# edition (tools/robokin_nbgrader/) and its tests: tools/notebook_analysis.py.
+# edition (tools/grading/robokin_nbgrader/) and its tests: tools/notebook_analysis.py.
 from tools.notebook_analysis import clear_solution_text
 
 #: MathJax components copied into the built book (paths relative to ``es5/``).

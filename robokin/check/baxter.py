@@ -60,7 +60,7 @@ _CHAPTER = "baxter"
 
 #: check -> {the robokin function that solves its task: how the grading report names it}: an
 #: answer that hands one back (a track that calls track_position_batch) is flagged for review
-#: by hand (tools/grading_bridge/delegation.py reads this literal table without importing it)
+#: by hand (tools/grading/bridge/delegation.py reads this literal table without importing it)
 DELEGATION = {
     "resolved_rate": {"CartesianController": "robokin.motion.CartesianController",
                       "simulate": "robokin.motion.simulate",

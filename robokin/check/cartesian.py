@@ -87,7 +87,7 @@ _CHAPTER = "cartesian"
 
 #: check -> {the robokin function that solves its task: how the grading report names it}: an
 #: answer that hands one back (an orientation_error that calls rotation_log) is flagged for
-#: review by hand (tools/grading_bridge/delegation.py reads this literal table without importing it)
+#: review by hand (tools/grading/bridge/delegation.py reads this literal table without importing it)
 DELEGATION = {
     "orientation_error": {"rotation_log": "robokin.transforms.rotation_log",
                           "pose_error": "robokin.motion.pose_error",

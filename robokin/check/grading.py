@@ -2,7 +2,7 @@ r"""Exercise checks for an autograder: verdicts on a student's answers, as data.
 
 nbgrader grades a chapter by running its check cells (``assert`` statements). A
 bare ``AssertionError`` tells a student *that* something is wrong, not *what*.
-The autograder of this workbook (``tools/robokin_nbgrader/``) therefore asks
+The autograder of this workbook (``tools/grading/robokin_nbgrader/``) therefore asks
 ``robokin.check`` about the quantities a failing task defines, in the student's
 own kernel, and writes the answers into the feedback::
 

@@ -51,7 +51,7 @@ __all__ = [
 _CHAPTER = "product_of_exponentials"
 
 #: check -> {the robokin function that solves its task: how the grading report names it}: an
-#: answer that hands one back is flagged for review by hand (tools/grading_bridge/delegation.py
+#: answer that hands one back is flagged for review by hand (tools/grading/bridge/delegation.py
 #: reads this literal table without importing the module). Task 2's screw axes are read from
 #: ``SerialChain.frames``, as the chapter asks: only ``screw_axes`` hands the answer back.
 DELEGATION = {

@@ -70,7 +70,7 @@ GRAVITY = 9.81
 
 #: check -> {the robokin function that solves its task: how the grading report names it}: an
 #: answer that hands one back (``tool_jacobian = ...position_jacobian``) is flagged for review by
-#: hand (tools/grading_bridge/delegation.py reads this literal table without importing the module).
+#: hand (tools/grading/bridge/delegation.py reads this literal table without importing the module).
 #: ``manipulability`` and ``condition_number`` are left out: the answers take a Jacobian, robokin's
 #: methods of the same names a configuration, and the finder would take the answer's own name
 #: (``manipulability = ...``) for a call of robokin's.

@@ -59,7 +59,7 @@ _CHAPTER = "trajectories"
 
 #: check -> {the robokin function that solves its task: how the grading report names it}: an
 #: answer that hands one back is flagged for review by hand
-#: (tools/grading_bridge/delegation.py reads this literal table without importing the module)
+#: (tools/grading/bridge/delegation.py reads this literal table without importing the module)
 DELEGATION = {
     "cubic_scaling": {"time_law": "robokin.motion.time_law", "joint_trajectory": "robokin.motion.joint_trajectory"},
     "quintic_scaling": {"time_law": "robokin.motion.time_law",

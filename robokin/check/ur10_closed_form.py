@@ -52,7 +52,7 @@ _CHAPTER = "ur10_closed_form"
 
 #: check -> {the robokin function that solves its task: how the grading report names it}: an
 #: answer that hands one back (``all_solutions = ur10_ik``) is flagged for review by hand
-#: (tools/grading_bridge/delegation.py reads this literal table without importing the module)
+#: (tools/grading/bridge/delegation.py reads this literal table without importing the module)
 DELEGATION = {
     "shoulder_angles": {"ur10_ik": "robokin.models.ur10_ik", "ur10_ik_batch": "robokin.models.ur10_ik_batch"},
     "wrist_angles": {"ur10_ik": "robokin.models.ur10_ik", "ur10_ik_batch": "robokin.models.ur10_ik_batch"},

@@ -6,7 +6,7 @@ every execution of a notebook that draws the robot. For the robots the book
 draws (:data:`STORED_ROBOTS`, at the default budget
 :data:`~robokin.models.urdf_meshes.DEFAULT_MESH_BYTES`) the result is stored in
 ``robokin/models/mesh_data/<robot>-<budget>.npz`` by ``python
-tools/build_meshes.py``, and :func:`~robokin.models.visual_meshes` reads it
+tools/authoring/build_meshes.py``, and :func:`~robokin.models.visual_meshes` reads it
 instead: no trimesh, no URDF parser, a few milliseconds.
 
 A stored file holds the meshes (float32 vertices and uint32 triangles of every
@@ -56,7 +56,7 @@ STORED_ROBOTS: dict[str, tuple[str, str, str]] = {
 DATA_FOLDER = Path(__file__).resolve().parent / "mesh_data"
 
 #: The command that (re)writes the stored files, from a robokin source tree.
-BUILD_COMMAND = "python tools/build_meshes.py"
+BUILD_COMMAND = "python tools/authoring/build_meshes.py"
 
 #: Version of the file layout (a file of another version is stale).
 FORMAT = 1

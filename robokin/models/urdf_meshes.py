@@ -18,7 +18,7 @@ page that shows the robot stays small. Results are cached: a robot's meshes are
 read once per process. For the robots the book draws
 (:data:`~robokin.models.mesh_store.STORED_ROBOTS`: UR10, Baxter, Panda, Kinova, at the
 default budget) the result is stored in the package (``robokin/models/mesh_data``,
-written by ``python tools/build_meshes.py``) and read from there when the installed
+written by ``python tools/authoring/build_meshes.py``) and read from there when the installed
 URDF and mesh files are the ones it was computed from (:mod:`robokin.models.mesh_store`);
 that takes milliseconds instead of seconds and imports neither trimesh nor the URDF
 parser. A mesh file that cannot be read is skipped with one
@@ -534,7 +534,7 @@ def packaged_meshes(robot: str, max_bytes: int = DEFAULT_MESH_BYTES
                     ) -> tuple[RobotMeshes, SerialChain, list[Path]]:
     """The meshes of a robot of :data:`~robokin.models.mesh_store.STORED_ROBOTS`, computed afresh.
 
-    What ``python tools/build_meshes.py`` stores, and what the test of the stored
+    What ``python tools/authoring/build_meshes.py`` stores, and what the test of the stored
     files compares them with. The stored files are not read.
 
     Parameters
@@ -623,7 +623,7 @@ def visual_meshes(path: str | os.PathLike, base_link: str, tip_link: str, *,
         named with the reason, and their frames listed in ``result.unreadable``.
         Also when the stored meshes of a packaged robot are missing or were
         computed from other files than the installed example-robot-data's: the
-        warning names the file and ``python tools/build_meshes.py``, and the
+        warning names the file and ``python tools/authoring/build_meshes.py``, and the
         meshes are computed from the mesh files instead (never a stale mesh).
 
     Notes

@@ -310,7 +310,7 @@ d_goal = float(np.sqrt(np.sum(ankle_point(T_goal) ** 2)))
 
 
 # ------------------------------------------------------------ chapters without an entry above
-# A chapter that :data:`VARIANTS` does not list (a new one, made by tools/new_chapter.py) takes
+# A chapter that :data:`VARIANTS` does not list (a new one, made by tools/authoring/new_chapter.py) takes
 # the ``VARIANTS`` of its grading-mutation file (tests/grading_mutations/<chapter>.py, which the
 # scaffold writes with another method for each of its tasks), or else a default derived from
 # its notebook (:func:`derived_variants`), so that no per-chapter entry is needed here.

@@ -27,7 +27,7 @@ import pytest
 from conftest import ROOT
 from support import grading_course
 from support import nbgrader_runner
-from tools import nbgrader_metadata, student_edition
+from tools.authoring import nbgrader_metadata, student_edition
 from tools.notebook_analysis import free_names
 
 pytest.importorskip("nbgrader", reason="nbgrader is not installed: run `make test` (installs requirements.txt)")
@@ -531,8 +531,9 @@ def run_unmarked(base: Path) -> Run:
     for cell in nb["cells"]:
         cell.get("metadata", {}).pop("nbgrader", None)
     save(nb, folder / f"{chapter}.ipynb")
-    proc = subprocess.run([sys.executable, str(ROOT / "tools" / "student_edition.py"), "--notebooks", str(folder),
-                           "--course", str(run.course), chapter], capture_output=True, text=True, env=_env())
+    proc = subprocess.run([sys.executable, str(ROOT / "tools" / "authoring" / "student_edition.py"),
+                           "--notebooks", str(folder), "--course", str(run.course), chapter],
+                          capture_output=True, text=True, env=_env())
     run.log.append(f"make student: exit {proc.returncode}\n{proc.stdout}{proc.stderr}")
     student_edition.add_source(run.course, folder / f"{chapter}.ipynb")
     proc = nbgrader(["generate_assignment", chapter], run.course, run.log, check=False)

@@ -1,0 +1,412 @@
+"""Autograde through the bridge: verdicts decided in a kernel the student's code never runs in.
+
+``BridgedExecute`` (replaces ``RobokinExecute`` in ``nbgrader_config.py``)
+    Runs the submission in the student's kernel as ``RobokinExecute`` does, and
+    for the chapters it is enabled for also starts a **grader kernel**. Each
+    read-only cell (given or test) of the assignment -- its text from nbgrader's
+    gradebook, never from the submission -- runs there too, in order; before it
+    runs, the answers it reads (names declared by answer cells,
+    ``metadata.robokin.declare`` of the instructor's source notebook) are
+    imported from the student's kernel through the bridge
+    (:mod:`tools.grading.bridge.grader_side`): data copied, functions as proxies. A
+    test cell's outputs in the graded notebook are the grader kernel's (the
+    student's own run of it is discarded), so
+    ``SaveAutoGrades`` scores what the grader saw; ``robokin.check``'s verdicts
+    are computed in the grader kernel too. Answer cells that delegate to
+    robokin's own solution are listed for review by hand (:mod:`delegation`).
+    Each grader kernel is a new process, forked from a warm process that imported
+    ipykernel and ``PRELOAD`` once per autograde run (:mod:`fork_server`;
+    ``c.BridgedExecute.fork_server = False``: started anew, as a kernel spec's
+    command, each time).
+``BridgeReport`` (after ``AutograderReport``; :mod:`bridge_report`)
+    Adds to the report on top of the graded notebook: answers for review by hand
+    and answers that could not be handed over as data.
+
+Nothing a submission does in its own kernel (input or AST transformers, IPython
+hooks, a patched numpy or robokin.check, forged outputs) reaches the grader
+kernel, except what its answers compute when the tests call them.
+"""
+
+from __future__ import annotations
+
+import builtins
+import json
+import os
+import re
+import secrets
+import shutil
+import tempfile
+from pathlib import Path
+from typing import cast
+
+import nbformat
+from jupyter_client.connect import KernelConnectionInfo
+from nbgrader import utils
+from traitlets import Bool, Float, List, Unicode
+
+from tools.grading.bridge import delegation, fork_server
+from tools.grading.bridge.grader_side import NOT_CALLED
+from tools.kernel_sockets import AsyncPrivateSocketsKernelManager
+from tools.notebook_analysis import defined_names, free_names
+from tools.grading.robokin_nbgrader import VERDICT_MARK, RobokinExecute
+from tools.grading.robokin_nbgrader.cells import robokin_metadata, task_of
+from tools.grading.robokin_nbgrader.streams import JoinedStreamsClient
+
+IMPORT_MARK = "ROBOKIN-BRIDGE-IMPORT "
+#: Modules the grader kernel imports before any student code runs.
+PRELOAD = ("numpy", "scipy", "scipy.optimize", "scipy.linalg", "sympy", "matplotlib", "matplotlib.pyplot",
+           "robokin", "robokin.check", "robokin.check.grading", "robokin.parallel", "robokin.models",
+           "robokin.chains", "robokin.transforms", "robokin.motion", "robokin.formatting")
+
+
+def _grade_id(cell) -> str | None:
+    return cell.get("metadata", {}).get("nbgrader", {}).get("grade_id")
+
+
+class GraderKernel:
+    """A kernel of the grader's, in a private empty folder; runs instructor cells only.
+
+    With a ``server`` (:class:`fork_server.ForkServer`) the kernel is forked from it,
+    otherwise started as a new process. Either way its sockets are files in a
+    private folder (``kernel_sockets``), not TCP ports.
+    """
+
+    def __init__(self, timeout: int | None, log, server: fork_server.ForkServer | None = None) -> None:
+        self.folder = tempfile.mkdtemp(prefix="robokin-grader-")
+        self.nb = nbformat.v4.new_notebook()
+        self.server = server
+        manager = fork_server.ForkedKernelManager if server is not None else AsyncPrivateSocketsKernelManager
+        self.client = JoinedStreamsClient(self.nb, timeout=timeout, interrupt_on_timeout=True, allow_errors=True,
+                                     kernel_name="python3", record_timing=False, log=log,
+                                     resources={"metadata": {"path": self.folder}}, kernel_manager_class=manager)
+        self.started = False
+
+    def start_kernel(self) -> None:
+        """Start the kernel (forked, or a new process) and its client; remove its connection file."""
+        client = self.client
+        client.km = client.create_kernel_manager()
+        if self.server is not None:   # then the client's kernel_manager_class is ForkedKernelManager
+            cast(fork_server.ForkedKernelManager, client.km).fork_server = self.server
+        client.start_new_kernel(cwd=self.folder)
+        client.start_new_kernel_client()
+        self.started = True
+        # The key of this kernel is in its connection file: remove the file, so that
+        # code running in the student's kernel (same user) cannot connect to it.
+        try:
+            os.remove(client.km.connection_file)
+        except OSError:
+            pass
+
+    def start(self, student_connection: KernelConnectionInfo, call_timeout: float) -> None:
+        self.start_kernel()
+        info = {k: (v.decode() if isinstance(v, bytes) else v) for k, v in student_connection.items()
+                if k in ("transport", "ip", "shell_port", "iopub_port", "stdin_port", "control_port",
+                         "hb_port", "key", "signature_scheme")}
+        setup = "\n".join([
+            "import sys as _sys",
+            "_sys.path[:] = [p for p in _sys.path if p not in ('', '.')]",
+            *[f"import {m}" for m in PRELOAD],
+            "from tools.grading.bridge import grader_side as _robokin_bridge",
+            f"_robokin_bridge.connect({info!r}, {float(call_timeout)!r})",
+            "del _sys",
+        ])
+        cell = self.run(setup)
+        errors = [o for o in cell.outputs if o.output_type == "error"]
+        if errors:
+            raise RuntimeError(f"the grader kernel could not start the bridge: {errors[0].ename}: "
+                               f"{errors[0].evalue}")
+
+    def run(self, source: str):
+        cell = nbformat.v4.new_code_cell(source)
+        self.nb.cells.append(cell)
+        cell = self.client.execute_cell(cell, len(self.nb.cells) - 1, store_history=True)
+        for output in cell.outputs:   # nbclient interrupted a cell that ran too long
+            if output.get("output_type") == "error" and output.get("ename") == "KeyboardInterrupt":
+                output["ename"] = "CellTimeoutError"
+                output["evalue"] = (f"the test ran longer than the time limit ({self.client.timeout} s) "
+                                    "and was stopped")
+        return cell
+
+    def marked(self, source: str, mark: str):
+        """Run ``source``; the JSON of its last stdout line that starts with ``mark``."""
+        cell = self.run(source)
+        text = "".join(o.get("text", "") for o in cell.outputs if o.get("output_type") == "stream")
+        found = None
+        for line in text.splitlines():
+            if line.startswith(mark):
+                found = json.loads(line[len(mark):])
+        return found, cell
+
+    def stop(self) -> None:
+        if self.started:
+            try:
+                self.client._cleanup_kernel()
+            except Exception:  # noqa: BLE001 - shutting down; nothing left to grade
+                pass
+        shutil.rmtree(self.folder, ignore_errors=True)
+
+
+class BridgedExecute(RobokinExecute):
+    """``RobokinExecute`` whose test cells and robokin.check verdicts run in a grader kernel."""
+
+    chapters = List(Unicode(), default_value=["*"],
+                    help="Notebooks graded through the bridge, '*' for all (also: notebook metadata "
+                         "robokin.grading.bridge = true)").tag(config=True)
+    call_timeout = Float(30.0, help="Seconds for one call of a student's function from a test").tag(config=True)
+    fork_server = Bool(True, help="fork each grader kernel from a warm process that imported ipykernel and "
+                       "PRELOAD once per autograde run (tools.grading.bridge.fork_server); False: start each as a new "
+                       "process").tag(config=True)
+
+    # the notebook being graded, set by preprocess: the bridge's plan and the grader kernel (None
+    # when the notebook is not graded through the bridge; the kernel also before it starts)
+    _plan: dict | None
+    _grader: GraderKernel | None
+
+    def _bridge(self) -> tuple[dict, GraderKernel]:
+        """The plan and the grader kernel, while a notebook is graded through the bridge."""
+        if self._plan is None or self._grader is None:
+            raise RuntimeError("BridgedExecute: no grader kernel (the notebook is not graded through the bridge, "
+                               "or its grader kernel has not started)")
+        return self._plan, self._grader
+
+    # ------------------------------------------------------------ set-up
+    def preprocess(self, nb, resources=None, km=None):
+        self._grader = None
+        self._plan = None
+        # marks of the grader's own output lines, unknown to the student's code (whose output
+        # during a call is shown in the grader kernel, under the test that called it)
+        nonce = secrets.token_hex(8)
+        self._import_mark = f"{IMPORT_MARK.rstrip()}-{nonce} "
+        self._verdict_mark = f"{VERDICT_MARK}-{nonce}"
+        resources = resources if resources is not None else {}
+        notebook = resources.get("nbgrader", {}).get("notebook")
+        flagged = bool(nb.metadata.get("robokin", {}).get("grading", {}).get("bridge"))
+        if notebook in self.chapters or "*" in self.chapters or flagged:
+            self._plan = self._make_plan(nb, resources)
+        calls = None
+        try:
+            nb, resources = super().preprocess(nb, resources, km=km)
+            if self._grader is not None:
+                try:
+                    status, _ = self._grader.marked(f"print({self._import_mark!r} + __import__('json').dumps("
+                                                    "_robokin_bridge.status()))", self._import_mark)
+                    calls = (status or {}).get("calls")
+                except Exception as exc:  # noqa: BLE001 - a count for the log only
+                    self.log.warning("bridge: no call count (%s)", exc)
+        finally:
+            if self._grader is not None:
+                self._grader.stop()
+        if self._plan is not None:
+            kinds: dict[str, int] = {}
+            for status in self._plan["imports"].values():
+                kinds[status.split(":")[0]] = kinds.get(status.split(":")[0], 0) + 1
+            self.log.info("bridge: %s graded in a grader kernel (%d of %d instructor cells run; answers: %s; "
+                          "%s calls of the student's functions)",
+                          notebook, sum(1 for c in self._plan["cells"][: self._plan["done"]] if not c.get("skip")),
+                          len(self._plan["cells"]), kinds, calls)
+            reviewed = {item["name"] for item in self._plan["review"]}
+            for name, status in self._plan["imports"].items():   # an answer that IS a robokin function
+                if status.startswith("function of ") and name not in reviewed:
+                    self._plan["review"].append({"task": self._plan["tasks"].get(name), "name": name,
+                                                 "reference": status[len("function of "):], "how": "runtime",
+                                                 "through": None})
+            report = resources.setdefault("robokin", {})
+            report["review"] = [dict(item, line=delegation.describe(item)) for item in self._plan["review"]]
+            report["bridge"] = {"imports": self._plan["imports"], "problems": self._plan["problems"],
+                                "side_effects": self._plan["side_effects"]}
+        return nb, resources
+
+    def _make_plan(self, nb, resources) -> dict:
+        """Instructor cells (from the gradebook), declared names and roles (from the source notebook)."""
+        from nbgrader.api import Gradebook
+
+        info = resources.get("nbgrader", {})
+        with Gradebook(info["db_url"]) as gb:
+            source_nb = gb.find_notebook(info["notebook"], info["assignment"])
+            grades = {c.name for c in source_nb.grade_cells}
+            solutions = {c.name for c in source_nb.solution_cells}
+            cells = [{"grade_id": c.name, "source": c.source, "test": c.name in grades}
+                     for c in source_nb.source_cells
+                     if c.cell_type == "code" and c.locked and c.name not in solutions]
+        source = self._source_metadata(info)
+        if source is None:
+            source = {_grade_id(c): (robokin_metadata(c), c.metadata.get("tags", [])) for c in nb.cells if _grade_id(c)}
+        meta = {key: value[0] for key, value in source.items()}
+        _skip_pictures(cells, {key: value[1] for key, value in source.items()})
+        # the instructor's robokin metadata replaces the submission's (a student can edit metadata)
+        for cell in nb.cells:
+            if _grade_id(cell) in meta and meta[_grade_id(cell)]:
+                cell.metadata["robokin"] = json.loads(json.dumps(meta[_grade_id(cell)]))
+        declared: list[str] = []
+        for entry in meta.values():
+            if entry.get("role") == "answer":
+                declared += [n for n in entry.get("declare", []) if n not in declared]
+        task_checks: dict = {}   # task -> check -> the expressions it checks
+        for entry in meta.values():
+            if entry.get("role") == "test":
+                for check, expression in entry.get("explain", []):
+                    task_checks.setdefault(entry.get("task"), {}).setdefault(check, set()).add(expression)
+        answers = [(task_of(c), c.source, meta.get(_grade_id(c), {}).get("declare", []))
+                   for c in nb.cells if c.cell_type == "code" and utils.is_solution(c)
+                   and meta.get(_grade_id(c), {}).get("role") == "answer"]
+        tasks = {name: task for task, _, names in answers for name in names}
+        return {"cells": cells, "done": 0, "declared": declared, "review": delegation.find(answers, task_checks),
+                "tasks": tasks,
+                "imports": {}, "problems": [], "side_effects": {}, "instructor_names": set()}
+
+    def _source_metadata(self, info) -> dict | None:
+        from nbgrader.coursedir import CourseDirectory
+
+        try:
+            coursedir = CourseDirectory(parent=self)
+            path = Path(coursedir.format_path(coursedir.source_directory, ".", info["assignment"])) \
+                / f"{info['notebook']}.ipynb"
+            source = nbformat.read(path, as_version=4)
+        except Exception as exc:  # noqa: BLE001 - then the submission's metadata is used
+            self.log.warning("bridge: no source notebook (%s); using the submission's metadata", exc)
+            return None
+        return {_grade_id(c): (robokin_metadata(c), c.metadata.get("tags", [])) for c in source.cells if _grade_id(c)}
+
+    def _start_grader(self) -> None:
+        server = fork_server.shared_server(PRELOAD, self.log) if self.fork_server else None
+        self._grader = GraderKernel(self.timeout, self.log, server)
+        self._grader.start(self._async_manager().get_connection_info(), self.call_timeout)
+
+    # ------------------------------------------------------------ running
+    def execute_cell(self, cell, cell_index, execution_count=None, store_history=True):
+        if self._plan is None or not store_history:
+            return super().execute_cell(cell, cell_index, execution_count, store_history)
+        if self._grader is None:
+            self._start_grader()   # before any code of the submission runs
+        cell = super().execute_cell(cell, cell_index, execution_count, store_history)
+        plan, _ = self._bridge()
+        grade_id = _grade_id(cell)
+        ids = [c["grade_id"] for c in plan["cells"]]
+        if grade_id in ids[plan["done"]:]:
+            graded = self._run_instructor_cells(ids.index(grade_id) + 1)
+            if utils.is_grade(cell) and cell.cell_type == "code":
+                student_count = cell.get("execution_count")
+                count = graded.get("execution_count")
+                outputs = graded.outputs
+                if count and student_count:
+                    for output in outputs:
+                        if output.get("output_type") == "error":
+                            # the student's numbering of the cell ("Cell In[n], line k")
+                            output["traceback"] = [re.sub(rf"(Cell(?:\x1b\[[0-9;]*m|\s)*In\[){count}\]",
+                                                          rf"\g<1>{student_count}]", line)
+                                                   for line in output.get("traceback", [])]
+                cell.outputs = outputs
+        return cell
+
+    def _run_instructor_cells(self, upto: int):
+        """Run the instructor's cells not yet run, up to index ``upto`` (exclusive); the last one run."""
+        plan, grader = self._bridge()
+        last = None
+        while plan["done"] < upto:
+            item = plan["cells"][plan["done"]]
+            plan["done"] += 1
+            if item.get("skip"):
+                continue
+            self._import(free_names(item["source"]), item["grade_id"], extra=item["test"])
+            last = grader.run(item["source"])
+            plan["instructor_names"].update(defined_names(item["source"]))
+            self._unstick()
+        return last
+
+    def _import(self, names, where: str, extra: bool = False) -> None:
+        self._unstick()   # a call stopped earlier (in a test or in robokin.check) must not block this one
+        plan, grader = self._bridge()
+        wanted = [n for n in plan["declared"] if n in names]
+        # a test that reads a name no answer declares and no instructor cell defines relies on a
+        # side effect of the student's code (e.g. an import in a cell of theirs): taken if it can be handed over
+        others = sorted(n for n in names if n not in plan["declared"]
+                        and n not in plan["instructor_names"] and not hasattr(builtins, n)) if extra else []
+        if others:
+            self.log.info("bridge: %s reads %s, which no answer declares", where, ", ".join(others))
+            plan["side_effects"].setdefault(where, others)
+        if not wanted and not others:
+            return
+        summary, cell = grader.marked(
+            f"_robokin_bridge.import_names(globals(), {wanted!r}, {self._import_mark!r}, {tuple(others)!r})",
+            self._import_mark)
+        if summary is None:
+            errors = [f"{o.ename}: {o.evalue}" for o in cell.outputs if o.get("output_type") == "error"]
+            plan["problems"].append(f"answers {', '.join(wanted)} could not be imported before {where}: "
+                                          + ("; ".join(errors) or "no reply"))
+            return
+        for name, status in summary.items():
+            plan["imports"][name] = status
+        self._unstick()
+
+    def _unstick(self) -> None:
+        """A call of a student's function timed out: interrupt the student's kernel."""
+        _, grader = self._bridge()
+        status, _ = grader.marked(f"print({self._import_mark!r} + __import__('json').dumps("
+                                  "_robokin_bridge.status()))", self._import_mark)
+        if status and status.get("stuck"):
+            self.log.warning("bridge: a call of the student's function timed out; interrupting its kernel")
+            from jupyter_core.utils import run_sync
+
+            run_sync(self._async_manager().interrupt_kernel)()
+            grader.run("_robokin_bridge.unstick()")
+
+    def _verdicts(self, pairs, index):
+        """robokin.check's verdicts, computed in the grader kernel on the imported answers.
+
+        A call of the student's function that is stopped at the time limit leaves the
+        student's kernel running it until it is interrupted: the checks after it in the
+        same run could not call any answer (``grader_side.NOT_CALLED``). Those are run
+        again after the interrupt, so that each answer's verdict is its own.
+        """
+        if self._plan is None:
+            return super()._verdicts(pairs, index)
+        verdicts = self._verdicts_once(pairs)
+        for _ in range(len(pairs)):   # each round checks at least one more answer
+            again = [i for i, v in enumerate(verdicts or []) if NOT_CALLED in str(v.get("message", ""))]
+            if not again:
+                break
+            redone = self._verdicts_once([pairs[i] for i in again])
+            if redone is None or len(redone) != len(again):
+                break
+            for i, verdict in zip(again, redone):
+                verdicts[i] = verdict
+        return verdicts
+
+    def _verdicts_once(self, pairs):
+        if not pairs:
+            return []
+        names = set()
+        for _, expression in pairs:
+            names |= free_names(str(expression))
+        self._import(names, "robokin.check")
+        code = (f"__import__('robokin.check.grading', fromlist=['_']).print_verdicts("
+                f"globals(), {[list(p) for p in pairs]!r}, {self._verdict_mark!r})")
+        try:
+            cell = self._bridge()[1].run(code)
+            self._unstick()
+        except Exception as exc:  # noqa: BLE001 - feedback is a bonus; grading goes on
+            self.log.warning("robokin.check verdicts failed: %s", exc)
+            return None
+        text = "".join(o.get("text", "") for o in cell.outputs if o.get("output_type") == "stream")
+        for line in text.splitlines():
+            if line.startswith(self._verdict_mark + " "):
+                try:
+                    return json.loads(line[len(self._verdict_mark):])
+                except ValueError:
+                    return None
+        return None
+
+
+def _skip_pictures(cells: list[dict], tags: dict[str, list[str]]) -> None:
+    """Mark the given cells the grader need not run: the cells after the last test, and
+    pictures and 3D scenes (tagged ``nbval-ignore-output``, book/conventions) that define
+    nothing a later cell reads."""
+    tests = [i for i, item in enumerate(cells) if item["test"]]
+    for item in cells[tests[-1] + 1:] if tests else []:
+        item["skip"] = True   # after the last test: nothing is graded there
+    for index, item in enumerate(cells):
+        if item["test"] or "nbval-ignore-output" not in tags.get(item["grade_id"], []):
+            continue
+        defined = set(defined_names(item["source"]))
+        later = set().union(*(free_names(c["source"]) for c in cells[index + 1:]))
+        item["skip"] = item.get("skip", False) or not (defined & later)

@@ -1,0 +1,75 @@
+"""nbgrader preprocessors of the robokin course (configured in ``nbgrader_config.py``), one per module.
+
+nbgrader does the work -- ``generate_assignment`` clears the solutions and records
+the assignment in its gradebook, ``autograde`` runs the submission and scores
+its test cells, ``generate_feedback`` writes the HTML -- and these classes plug
+into its pipelines:
+
+========================================  ==========================  =====================================
+class (pipeline)                          module                      what it does
+========================================  ==========================  =====================================
+``RequireGradingMetadata`` (generate)     require_grading_metadata    a chapter without nbgrader metadata
+                                                                      is an error naming the notebook
+``MarkSolutionRegions`` (generate)        mark_solution_regions       marks what ``ClearSolutions`` empties
+``DropSolutionProse`` (generate)          drop_solution_prose         the emptied solution prose goes
+``PointsHeader`` (generate)               points_header               points per task, under the title
+``RestoreMissingCells`` (autograde)       restore_missing_cells       a deleted test cell is put back
+``RobokinExecute`` (autograde)            execute                     the kernel in a sandbox, pass/fail
+                                                                      tests, a lost kernel restarted
+``AutograderReport`` (autograde)          autograder_report           the report on top: score per task,
+                                                                      findings, what went wrong
+``GradingIncidents`` (autograde)          grading_incidents           what happened to the kernel
+``HideHiddenTests`` (feedback)            hide_hidden_tests           no hidden test in the feedback page
+``FeedbackStyle`` (feedback)              feedback_style              the page's own stylesheet
+``MystMarkdown`` (feedback)               myst_markdown               MyST task statements as Markdown
+``OfflineMathJaxHTMLExporter`` (feedback) offline_mathjax             MathJax inlined: read offline
+``RobokinCheckCellMetadata`` (every one)  check_cell_metadata         nbgrader's metadata check, its
+                                                                      schema checked once per process
+========================================  ==========================  =====================================
+
+and the modules they share: ``cells`` (a cell's robokin metadata, task, hidden lines and label),
+``checks`` (what ``robokin.check`` is asked, ``registered_pairs``), ``failure_notes``
+(``FailureNotes``, the note under a failing test, written by ``RobokinExecute``) and
+``gradebook`` (the gradebook schema's revision read in this process, ``alembic_head``: importing
+this package puts it in the place of nbgrader's ``get_alembic_version``).
+
+``RobokinExecute`` in more detail: nbgrader's ``Execute``, with the kernel in a bubblewrap sandbox
+(``tools/grading/sandbox.py``); a test scores by pass/fail only (its stderr is a note, a result it
+shows no partial credit); a kernel that dies or ignores the interrupt is killed, restarted and
+brought back to where it was (the cells before are run again), so it costs only that cell (after
+the last test, grading just stops there: nothing graded is left to run). When a test cell fails,
+``FailureNotes`` writes above the traceback the failing statement, the student's answers it
+depends on (traced through the read-only cells), the root cause among them, and what
+``robokin.check`` (asked in the student's kernel) says about those answers; after the last test it
+asks about every answer it has a check for (``registered_pairs``).
+
+The cell roles come from ``tools/authoring/nbgrader_metadata.py`` (``metadata.robokin``).
+"""
+
+from __future__ import annotations
+
+from . import gradebook
+from .autograder_report import AutograderReport
+from .cells import hidden_lines, visible_source
+from .check_cell_metadata import RobokinCheckCellMetadata
+from .checks import VERDICT_MARK, registered_pairs
+from .drop_solution_prose import DropSolutionProse
+from .execute import KERNEL_LOST, NOT_RUN, RobokinExecute
+from .failure_notes import FailureNotes
+from .feedback_style import FeedbackStyle
+from .grading_incidents import GradingIncidents
+from .hide_hidden_tests import HideHiddenTests
+from .mark_solution_regions import MarkSolutionRegions
+from .myst_markdown import MystMarkdown
+from .offline_mathjax import OfflineMathJaxHTMLExporter, inline_mathjax, mathjax_script
+from .points_header import PointsHeader
+from .require_grading_metadata import RequireGradingMetadata
+from .restore_missing_cells import RestoreMissingCells
+
+__all__ = [
+    "AutograderReport", "DropSolutionProse", "FailureNotes", "FeedbackStyle", "GradingIncidents",
+    "HideHiddenTests", "KERNEL_LOST", "MarkSolutionRegions", "MystMarkdown", "NOT_RUN",
+    "OfflineMathJaxHTMLExporter", "PointsHeader", "RequireGradingMetadata", "RestoreMissingCells",
+    "RobokinCheckCellMetadata", "RobokinExecute", "VERDICT_MARK", "gradebook", "hidden_lines",
+    "inline_mathjax", "mathjax_script", "registered_pairs", "visible_source",
+]
