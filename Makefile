@@ -10,7 +10,7 @@
 #                with one page of each kind in Chromium, one chapter graded end to end
 #   make test-all  the complete suite, what CI runs (.ci/run): make test plus every chapter's
 #                grading, the notebooks under other BLAS kernels, every page, live JupyterLab,
-#                a scaffolded chapter (tests/tiers.py says which check is in which tier)
+#                a scaffolded chapter (tests/support/tiers.py says which check is in which tier)
 #   make quick   the fast inner loop: unit, property and fuzz tests only (< 1 min);
 #                no notebooks, book, browser or nbgrader (CONTRIBUTING.md)
 #   make lab     open the notebooks in JupyterLab with live 3D views
@@ -104,7 +104,7 @@ grade: $(STAMP)
 	@$(BIN)/python tools/grading/grade_many.py "$(CH)" "$(SUBMISSIONS)" $(if $(JOBS),--jobs $(JOBS)) \
 	  $(if $(MAX_PROCESSES),--max-processes $(MAX_PROCESSES))
 
-# Two pytest-xdist workers by default (tests/parallel_plan.py); `make test PYTEST_ARGS=-n0`
+# Two pytest-xdist workers by default (tests/support/parallel_plan.py); `make test PYTEST_ARGS=-n0`
 # runs everything in one process.
 PYTEST_ARGS ?=
 # make test: three workers (244 s instead of 296 s with two, the ten chapters in, 2-core machine:
