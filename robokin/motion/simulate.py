@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import math
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -39,6 +39,11 @@ __all__ = ["simulate", "SimulationLog", "MAX_STEPS"]
 #: Largest number of steps ``floor(t_end / ts)`` of one run (a typo such as ts=1e-9
 #: raises instead of allocating gigabytes).
 MAX_STEPS = 10_000_000
+
+
+#: The default of :class:`SimulationLog`'s ``sigma_min`` and ``singular`` until ``__post_init__``
+#: replaces it by arrays of the log's length (a marker, compared by identity, never kept in a log).
+_NOT_LOGGED = np.empty(0)
 
 
 @dataclass(frozen=True, eq=False)
@@ -91,15 +96,16 @@ class SimulationLog:
     pose: np.ndarray
     at_limit: np.ndarray
     reason: str
-    sigma_min: np.ndarray | None = None
-    singular: np.ndarray | None = None
+    sigma_min: np.ndarray = field(default_factory=lambda: _NOT_LOGGED)
+    singular: np.ndarray = field(default_factory=lambda: _NOT_LOGGED)
     singular_threshold: float = float("nan")
 
     def __post_init__(self) -> None:
+        # not given (a log made without them): NaN, not reported; no step flagged
         K = self.t.shape[0]
-        if self.sigma_min is None:
+        if self.sigma_min is _NOT_LOGGED:
             object.__setattr__(self, "sigma_min", np.full(K, np.nan))
-        if self.singular is None:
+        if self.singular is _NOT_LOGGED:
             object.__setattr__(self, "singular", np.zeros(K, dtype=bool))
 
     def __len__(self) -> int:

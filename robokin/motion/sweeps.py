@@ -117,6 +117,11 @@ def initial_condition_sweep(limits: Any, fractions: Any, nominal: Any = 0.5) -> 
     return check_result_finite(out, "the joint ranges", limits=lim)
 
 
+#: The default of :class:`BatchTrackingLog`'s ``singular`` until ``__post_init__`` replaces it by the
+#: steps' flags (a marker, compared by identity, never kept in a log).
+_NOT_LOGGED = np.empty(0, dtype=bool)
+
+
 @dataclass(frozen=True, eq=False)
 class BatchTrackingLog:
     """Arrays logged by :func:`track_position_batch` (N runs, K samples each).
@@ -158,7 +163,7 @@ class BatchTrackingLog:
     error: np.ndarray
     singular_values: np.ndarray
     at_limit: np.ndarray
-    singular: np.ndarray | None = field(default=None)
+    singular: np.ndarray = field(default_factory=lambda: _NOT_LOGGED)
     singular_threshold: float = SINGULAR_THRESHOLD
     task_rank: int | None = None
 
@@ -166,7 +171,7 @@ class BatchTrackingLog:
         rank = self.singular_values.shape[-1] if self.task_rank is None else self.task_rank
         if self.task_rank is None:
             object.__setattr__(self, "task_rank", rank)
-        if self.singular is None:
+        if self.singular is _NOT_LOGGED:   # not given: flagged by the threshold
             s = self.singular_values[..., rank - 1]
             object.__setattr__(self, "singular", s < self.singular_threshold)
 
@@ -422,7 +427,7 @@ def track_position_batch(
         singular_values=s_log, at_limit=at_limit, singular_threshold=threshold, task_rank=rank,
     )
     singular = log.singular
-    if warn_singular and singular is not None and singular.any():
+    if warn_singular and singular.any():
         hit = int(singular.any(axis=1).sum())
         warnings.warn(SingularityWarning(singularity_message(
             "track_position_batch", log.t, log.singular_values[..., rank - 1], singular, log.qdot, threshold,

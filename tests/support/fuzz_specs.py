@@ -734,13 +734,11 @@ def _log_ok(log: SimulationLog, ctx: Ctx) -> None:
     K, n = len(log), ctx.chain.n
     assert log.q.shape == (K, n) and log.qdot.shape == (K, n) and log.pose.shape == (K, 4, 4)
     assert np.all(np.isfinite(log.q)) and np.all(np.isfinite(log.pose))
-    assert log.sigma_min is not None and log.singular is not None  # filled in by __post_init__
     assert log.sigma_min.shape == (K,) and log.singular.shape == (K,) and log.singular.dtype == bool
 
 
 def _batch_log_ok(log: BatchTrackingLog, ctx: Ctx) -> None:
     N = 1 if ctx.N is None else ctx.N
-    assert log.singular is not None  # filled in by __post_init__
     assert log.q.shape == (N, 4, ctx.chain.n) and log.singular.shape == (N, 4)
 
 
