@@ -15,6 +15,7 @@ the base frame; the Jacobian is 6×n, rows ``[v; ω]``, both in the base frame.
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from robokin.chains.chain import SerialChain
 from robokin.chains.elements import Element, elementary_transform
@@ -46,7 +47,7 @@ def link_transform(element: Element, joint_value: float = 0.0) -> np.ndarray:
     return np.asarray(elementary_transform(element.kind, element.axis, value), dtype=float)
 
 
-def forward_kinematics(chain: SerialChain, q: np.ndarray) -> np.ndarray:
+def forward_kinematics(chain: SerialChain, q: ArrayLike) -> np.ndarray:
     r"""End-effector pose: the product of the link transforms, then the tool.
 
     .. math:: {}^B\mathbf{T}_E(\mathbf{q}) = E_1 E_2 \cdots E_m\, \mathbf{T}_{tool}
@@ -62,19 +63,19 @@ def forward_kinematics(chain: SerialChain, q: np.ndarray) -> np.ndarray:
     numpy.ndarray, shape (4, 4)
         :math:`{}^B\mathbf{T}_E`.
     """
-    q = as_vector(q, chain.n, "q")
+    joint_values = as_vector(q, chain.n, "q")
     T = np.eye(4)
     joint = 0
     for element in chain.elements:
         if element.is_joint:
-            T = T @ link_transform(element, q[joint])
+            T = T @ link_transform(element, joint_values[joint])
             joint += 1
         else:
             T = T @ link_transform(element)
     return T @ chain.tool
 
 
-def geometric_jacobian(chain: SerialChain, q: np.ndarray) -> np.ndarray:
+def geometric_jacobian(chain: SerialChain, q: ArrayLike) -> np.ndarray:
     r"""Geometric Jacobian of the end-effector, in the base frame, rows ``[v; ω]``.
 
     Joint i moves about (revolute) or along (prismatic) the unit axis
@@ -99,7 +100,7 @@ def geometric_jacobian(chain: SerialChain, q: np.ndarray) -> np.ndarray:
     numpy.ndarray, shape (6, n)
         :math:`\mathbf{J} = [\mathbf{J}_v; \mathbf{J}_\omega]`.
     """
-    q = as_vector(q, chain.n, "q")
+    joint_values = as_vector(q, chain.n, "q")
     T = np.eye(4)
     axes: list[np.ndarray] = []
     origins: list[np.ndarray] = []
@@ -108,7 +109,7 @@ def geometric_jacobian(chain: SerialChain, q: np.ndarray) -> np.ndarray:
         if not element.is_joint:
             T = T @ link_transform(element)
             continue
-        T = T @ link_transform(element, q[len(axes)])
+        T = T @ link_transform(element, joint_values[len(axes)])
         # a rotation about (a translation along) its own axis leaves that axis where it was
         local_axis = np.zeros(3)
         local_axis[element.axis] = element.sign
