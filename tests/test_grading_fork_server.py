@@ -266,7 +266,7 @@ def test_fork_server_false_starts_each_grader_kernel_anew(monkeypatch):
     monkeypatch.setattr(fork_server, "shared_server", lambda preload, logger: sentinel)
     for wanted in (False, True):
         # mypy takes nbclient's __init__(nb); nbgrader's Execute (untyped) puts nbconvert's __init__(**kw) first
-        execute = BridgedExecute(fork_server=wanted)  # type: ignore[call-arg]
+        execute = BridgedExecute(fork_server=wanted)
         execute.km = StudentKernel()  # type: ignore[assignment]  # a stand-in kernel manager
         execute._start_grader()
     assert made == [None, sentinel]

@@ -476,7 +476,7 @@ def test_tests_after_a_lost_kernel_score_zero_and_say_why():
     from tools.grading.robokin_nbgrader import NOT_RUN, GradingIncidents, RobokinExecute
 
     # mypy takes nbclient's __init__(nb); nbgrader's Execute (untyped) puts nbconvert's __init__(**kw) first
-    execute = RobokinExecute()  # type: ignore[call-arg]
+    execute = RobokinExecute()
     execute._report = {"incidents": []}
     execute._stopped = {"kind": "died", "label": "In [7] `os._exit(1)`", "graded": False, "tests_lost": 1,
                         "replayed": False}   # restarting the kernel failed
@@ -574,7 +574,7 @@ def test_the_switch_off_runs_nbgraders_own_kernel(monkeypatch):
 
     def manager(**config):
         # mypy takes nbclient's __init__(nb); nbgrader's Execute (untyped) puts nbconvert's __init__(**kw) first
-        execute = RobokinExecute(config=Config({"RobokinExecute": config}))  # type: ignore[call-arg]
+        execute = RobokinExecute(config=Config({"RobokinExecute": config}))
         execute.nb, execute.resources = new_notebook(), {"metadata": {"path": str(ROOT)}}
         execute._sandboxed = sandbox_wanted(execute.sandbox)
         return type(execute.create_kernel_manager())
@@ -644,7 +644,7 @@ def _execute(cells, manager, replays=0, **state):
     from tools.grading.robokin_nbgrader import RobokinExecute
 
     # mypy takes nbclient's __init__(nb); nbgrader's Execute (untyped) puts nbconvert's __init__(**kw) first
-    execute = RobokinExecute()  # type: ignore[call-arg]
+    execute = RobokinExecute()
     execute.nb, execute.km = new_notebook(cells=cells), manager
     execute._report, execute._replays, execute._stopped = {"incidents": []}, replays, None
     for name, value in state.items():

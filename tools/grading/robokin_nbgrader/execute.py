@@ -72,6 +72,13 @@ class RobokinExecute(JoinedStreamsClient, Execute):
     _report: dict[str, Any]           # resources["robokin"]
     _last_code: int
 
+    def __init__(self, **kw: Any) -> None:
+        """Keywords only, as every traitlets configurable: ``config``, ``parent``, and the traits
+        (``sandbox=False``). nbgrader's ``Execute`` carries no types; without this signature a type
+        checker takes nbclient's ``NotebookClient(nb, ...)`` for it, which nbconvert's
+        ``ExecutePreprocessor.__init__(**kw)`` overrides at run time."""
+        super().__init__(**kw)
+
     def _async_manager(self) -> AsyncKernelManager:
         """The kernel manager of the notebook being graded. nbclient types it as a ``KernelManager``;
         it is an async one (nbclient's default class, the sandbox's), whose methods are coroutines."""
