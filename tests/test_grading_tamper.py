@@ -245,8 +245,7 @@ def test_graded_test_outputs_come_from_the_grader_kernel(graded):
 def test_delegation_finder_on_code():
     from tools.grading.bridge import delegation
 
-    checks: dict[int | None, set[str] | dict[str, set[str]]] = {
-        1: {"three_rpr.inverse_kinematics"}, 3: {"three_rpr.inverse_jacobian"}}
+    checks: dict[int | None, set[str]] = {1: {"three_rpr.inverse_kinematics"}, 3: {"three_rpr.inverse_jacobian"}}
     answers = [
         (1, "ik = robot.inverse_kinematics\nrho0 = ik(POSE0)\n", ["ik", "rho0"]),
         (3, "def helper(p):\n    return getattr(robot, 'jacobian')(p)\n\n"

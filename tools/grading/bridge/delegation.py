@@ -19,7 +19,7 @@ tests explain no check names its answers in :data:`ANSWERS` instead.
 from __future__ import annotations
 
 import ast
-from collections.abc import Iterable
+from collections.abc import Collection, Iterable, Mapping
 
 #: check -> {robokin method or function name: how the report names it}.
 #:
@@ -200,16 +200,16 @@ def _names(expression: str) -> set[str] | None:
 
 
 def find(answers: Iterable[tuple[int | None, str, list[str]]],
-         task_checks: dict[int | None, set[str] | dict[str, set[str]]]) -> list[dict]:
+         task_checks: Mapping[int | None, Collection[str] | Mapping[str, Collection[str]]]) -> list[dict]:
     """Delegating answers.
 
     Parameters
     ----------
     answers : iterable of (task, code, declared names)
         The answer cells of the submission, in order.
-    task_checks : dict
-        Task -> the checks its test cells explain: a set of check names, or a dict
-        check -> the expressions it checks (``metadata.robokin.explain``); then only
+    task_checks : mapping
+        Task -> the checks its test cells explain: a collection of check names, or a
+        mapping check -> the expressions it checks (``metadata.robokin.explain``); then only
         the names those expressions read are looked at (the answers the check tests).
 
     Returns
@@ -232,7 +232,7 @@ def find(answers: Iterable[tuple[int | None, str, list[str]]],
             if check not in REFERENCES:
                 continue
             references.update(REFERENCES[check])
-            for expression in (checks[check] if isinstance(checks, dict) else [None]):
+            for expression in (checks[check] if isinstance(checks, Mapping) else [None]):
                 read = None if expression is None else _names(expression)
                 tested = None if tested is None or read is None else tested | read
         if not references and not set(names) & set(ANSWERS):
