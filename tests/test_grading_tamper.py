@@ -367,6 +367,34 @@ def test_delegation_answer_names_belong_to_one_chapter():
     assert delegation.find([(3, by_position, ["my_tool_jacobian"])], {}) == []
 
 
+def test_delegation_follows_a_robot_under_another_name():
+    """An alias of the robot (``robot = tool_arm``, in the cell, in a function, as an attribute,
+    through a chain or a walrus) is flagged as the direct call ``tool_arm.jacobian(q)`` is; an
+    alias of the bare arm, whose Jacobian is the answer's legitimate start, is not."""
+    from tools.grading.bridge import delegation
+
+    use = "\n\ndef my_tool_jacobian(q):\n    return {}\n"
+    aliased = [
+        "robot = tool_arm" + use.format("robot.jacobian(q)"),
+        "robot = tool_arm" + use.format("getattr(robot, 'jacobian')(q)"),
+        "first = tool_arm\nrobot = first" + use.format("robot.jacobian(q)"),
+        "robot = tool_arm\njac = robot.jacobian" + use.format("jac(q)"),
+        "def my_tool_jacobian(q):\n    robot = tool_arm\n    return robot.jacobian(q)\n",
+        "def my_tool_jacobian(q):\n    return (robot := tool_arm).jacobian(q)\n",
+        "class Arm:\n    def __init__(self):\n        self.robot = tool_arm\n\n"
+        "    def jacobian(self, q):\n        return self.robot.jacobian(q)\n" + use.format("Arm().jacobian(q)"),
+    ]
+    for code in aliased:
+        found = delegation.find([(3, code, ["my_tool_jacobian"])], {})
+        assert [item["reference"] for item in found] == ["tool_arm.jacobian"], code
+    # the alias in another answer cell than the call
+    cells = [(1, "robot = tool_arm\n", ["tool_arm"]),
+             (3, "def my_tool_jacobian(q):\n    return robot.jacobian(q)\n", ["my_tool_jacobian"])]
+    assert [item["name"] for item in delegation.find(cells, {})] == ["my_tool_jacobian"]
+    written = ("robot = arm" + use.format("rigid(robot.fk(q)[:3, :3] @ TOOL_OFFSET) @ robot.jacobian(q)"))
+    assert delegation.find([(3, written, ["my_tool_jacobian"])], {}) == []
+
+
 def test_answers_are_handed_over_after_cells_that_printed_thousands_of_lines(tmp_path):
     """The grader's link learns that its request ended from the shell channel, not from iopub:
     iopub carries every output of the student's cells, which the link does not read between

@@ -122,28 +122,89 @@ ANSWERS: dict[str, dict[str, str]] = {
                          "tool_arm.jacobian": "tool_arm.jacobian",
                          "jacobian.point": "SerialChain.jacobian(q, point=...)",
                          "chain_with_tool": "robokin.motion.tool.chain_with_tool"},
+    # chapter 4, Task 2: the angle and axis from the entries of R
+    "angle_axis": {"angle_axis_from_rotation": "robokin.transforms.angle_axis_from_rotation",
+                   "rotation_log": "robokin.transforms.rotation_log"},
+    # chapter 4, Task 3: the slide's column from the frames, not taken from a Jacobian
+    "slide_column": {"jacobian": "SerialChain.jacobian", "tool_jacobian": "robokin.motion.tool_jacobian",
+                     "rigid_body_jacobian": "robokin.motion.rigid_body_jacobian"},
 }
 
 
-def _mentions(node: ast.AST) -> set[str]:
+def _owner_name(node: ast.AST) -> str | None:
+    """The name an ``owner.method`` key uses for the owner: ``tool_arm`` for ``tool_arm`` and
+    ``self.tool_arm``, None for anything else (a call, a subscript)."""
+    if isinstance(node, ast.Name):
+        return node.id
+    if isinstance(node, ast.Attribute):
+        return node.attr
+    if isinstance(node, ast.NamedExpr):   # (robot := tool_arm).jacobian
+        return _owner_name(node.value)
+    return None
+
+
+def _aliases(codes: Iterable[str]) -> dict[str, set[str]]:
+    """Name -> the names it may stand for, from simple assignments in the answer cells.
+
+    ``robot = tool_arm`` (also inside a function, ``self.robot = tool_arm``, ``robot =
+    self.tool_arm``, ``(robot := tool_arm)`` and chains ``a = tool_arm; b = a``) makes
+    ``robot.jacobian`` mention ``tool_arm.jacobian``. Scopes are
+    not told apart: a name assigned an object anywhere stands for it everywhere (a flag is a
+    request to look, not a verdict).
+    """
+    direct: dict[str, set[str]] = {}
+    for code in codes:
+        try:
+            tree = ast.parse(code)
+        except (SyntaxError, ValueError, RecursionError, MemoryError):
+            continue
+        for sub in ast.walk(tree):
+            if isinstance(sub, ast.Assign):
+                targets, value = sub.targets, sub.value
+            elif isinstance(sub, (ast.AnnAssign, ast.NamedExpr)) and sub.value is not None:
+                targets, value = [sub.target], sub.value
+            else:
+                continue
+            source = _owner_name(value)
+            if source is None:
+                continue
+            for target in targets:   # robot = ..., self.robot = ...
+                name = _owner_name(target) if isinstance(target, (ast.Name, ast.Attribute)) else None
+                if name is not None and name != source:
+                    direct.setdefault(name, set()).add(source)
+    resolved: dict[str, set[str]] = {}
+    for name in direct:   # the transitive closure, cycles included
+        seen: set[str] = set()
+        stack = list(direct[name])
+        while stack:
+            other = stack.pop()
+            if other in seen or other == name:
+                continue
+            seen.add(other)
+            stack += direct.get(other, ())
+        resolved[name] = seen
+    return resolved
+
+
+def _mentions(node: ast.AST, aliases: dict[str, set[str]] | None = None) -> set[str]:
+    aliases = aliases or {}
+
+    def owner_and_aliases(owner: ast.AST) -> set[str]:
+        name = _owner_name(owner)
+        return set() if name is None else {name, *aliases.get(name, ())}
+
     out: set[str] = set()
     for sub in ast.walk(node):
         if isinstance(sub, ast.Attribute):
             out.add(sub.attr)
-            owner = sub.value   # "owner.attr" too: a method of one named object
-            if isinstance(owner, ast.Name):
-                out.add(f"{owner.id}.{sub.attr}")
-            elif isinstance(owner, ast.Attribute):
-                out.add(f"{owner.attr}.{sub.attr}")
+            # "owner.attr" too: a method of one named object, under any name it was given
+            out.update(f"{owner}.{sub.attr}" for owner in owner_and_aliases(sub.value))
         elif isinstance(sub, ast.Call):
             method = sub.func.attr if isinstance(sub.func, ast.Attribute) else None
             if (isinstance(sub.func, ast.Name) and sub.func.id == "getattr" and len(sub.args) >= 2
                     and isinstance(sub.args[1], ast.Constant) and isinstance(sub.args[1].value, str)):
                 method, target = sub.args[1].value, sub.args[0]
-                if isinstance(target, ast.Name):
-                    out.add(f"{target.id}.{method}")
-                elif isinstance(target, ast.Attribute):
-                    out.add(f"{target.attr}.{method}")
+                out.update(f"{owner}.{method}" for owner in owner_and_aliases(target))
             if method is not None:
                 out.update(f"{method}.{keyword.arg}" for keyword in sub.keywords if keyword.arg)
         elif isinstance(sub, ast.Name):
@@ -221,6 +282,7 @@ def find(answers: Iterable[tuple[int | None, str, list[str]]],
     defined: dict[str, tuple[ast.stmt | ast.Module, bool]] = {}
     for _, code, _ in cells:
         defined.update(_definitions(code))
+    aliases = _aliases(code for _, code, _ in cells)
     declared = {name for _, _, names in cells for name in names}
     found: list[dict] = []
     seen: set[str] = set()
@@ -245,16 +307,16 @@ def find(answers: Iterable[tuple[int | None, str, list[str]]],
                 continue
             node, bound = local[name]
             name_references = {**references, **own}
-            direct = _mentions(node) & set(name_references)
+            direct = _mentions(node, aliases) & set(name_references)
             through = None
             if not direct:   # helpers the answers define and do not declare
-                stack, visited = [n for n in _mentions(node) if n in defined and n not in declared], set()
+                stack, visited = [n for n in _mentions(node, aliases) if n in defined and n not in declared], set()
                 while stack and not direct:
                     helper = stack.pop()
                     if helper in visited or helper == name:
                         continue
                     visited.add(helper)
-                    mentions = _mentions(defined[helper][0])
+                    mentions = _mentions(defined[helper][0], aliases)
                     hit = mentions & set(name_references)
                     if hit:
                         direct, through = hit, helper
