@@ -55,6 +55,7 @@ The loops run over joints, never over configurations.
 from __future__ import annotations
 
 import threading
+from typing import NamedTuple
 
 import numpy as np
 
@@ -77,6 +78,8 @@ def _block_diagonal(parts: np.ndarray, n: int) -> np.ndarray:
 
 # (a, b) column pair mixed by a rotation about axis k: R[a,a]=R[b,b]=c, R[b,a]=s, R[a,b]=-s
 _PAIR = {0: (1, 2), 1: (2, 0), 2: (0, 1)}
+# (i, j) of the rows k = 0, 1, 2 of a cross product: (z × d)_k = z_i d_j - z_j d_i
+_CROSS_PAIRS = ((1, 2), (2, 0), (0, 1))
 
 def _cos_sin(theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     r"""cos and sin of a large array via the half-angle tangent.
@@ -215,6 +218,18 @@ class Workspace:
             self.screws_T = self.screws.T
 
 
+class _BatchJoint(NamedTuple):
+    """One joint as the batched pass reads it (:meth:`Engine._batch_pass`)."""
+
+    joint: int  # its index in the chain
+    revolute: bool
+    axis: int
+    a: int  # the column pair a revolute joint mixes (_PAIR)
+    b: int
+    positive: bool  # sign > 0
+    next_const_T: np.ndarray | None  # C_{i+1}^T, None when it is the identity or i is the last joint
+
+
 class Engine:
     """Compiled numeric form of a chain (constant blocks and joint data).
 
@@ -279,6 +294,13 @@ class Engine:
         self._local = threading.local()   # this engine's workspaces, one per thread
         self.const_is_identity = [bool(np.array_equal(C, np.eye(4))) for C in self.consts]
         self.consts_T = [np.ascontiguousarray(C.T) for C in self.consts]
+        # Batched evaluation: each joint's data as plain Python values, read once per joint and pass
+        # (indexing the arrays above costs about as much as one operation on a small batch)
+        self.batch_plan = [
+            _BatchJoint(i, bool(self.revolute[i]), int(self.axes[i]), *_PAIR[int(self.axes[i])],
+                        bool(self.sign[i] > 0),
+                        None if i == n - 1 or self.const_is_identity[i + 1] else self.consts_T[i + 1])
+            for i in range(n)]
 
     # ------------------------------------------------------------------ single
     def __getstate__(self) -> dict:
@@ -413,6 +435,11 @@ class Engine:
 
         record: None (final pose only), 'frames' (all frames), 'jac' (p_i, z_i).
         Returns final Tc (4, 3, N) and the recorded data (frames, P, Z; empty when not recorded).
+
+        A revolute joint about axis k mixes the columns (a, b) of the running pose:
+        ``T_a <- c T_a + s T_b``, ``T_b <- c T_b - s T_a`` (old ``T_a``), written into two
+        scratch arrays made once per pass (the same operations, in the same order, as with
+        temporaries: the same numbers to the last bit).
         """
         N = Q.shape[0]
         n = self.n
@@ -425,43 +452,46 @@ class Engine:
         frames: np.ndarray = np.empty(0)
         P: np.ndarray = np.empty(0)
         Z: np.ndarray = np.empty(0)
-        if record == "frames":
+        record_frames, record_jac = record == "frames", record == "jac"
+        if record_frames:
             frames = np.empty((N, n + 2, 4, 4))
             frames[:, 0] = np.eye(4)
             frames[:, :, 3, :] = (0.0, 0.0, 0.0, 1.0)
-        elif record == "jac":
+        elif record_jac:
             P = np.empty((n, 3, N))
             Z = np.empty((n, 3, N))
         stop = n if upto is None else min(upto, n)
-        for i in range(stop):
-            k = int(self.axes[i])
-            if self.revolute[i]:
-                a, b = _PAIR[k]
+        mixed = np.empty((3, N))    # c T_a + s T_b
+        scratch = np.empty((3, N))  # s T_b
+        multiply, add, subtract = np.multiply, np.add, np.subtract
+        for i, revolute, k, a, b, positive, next_const_T in self.batch_plan[:stop]:
+            if revolute:
                 c = cosT[i]
                 s = sinT[i]
                 Ta = Tc[a]
                 Tb = Tc[b]
-                new_a = Ta * c
-                new_a += Tb * s
-                Tb *= c
-                Ta *= s
-                Tb -= Ta
-                Tc[a] = new_a
+                multiply(Ta, c, out=mixed)
+                multiply(Tb, s, out=scratch)
+                add(mixed, scratch, out=mixed)
+                multiply(Tb, c, out=Tb)
+                multiply(Ta, s, out=Ta)
+                subtract(Tb, Ta, out=Tb)
+                Ta[...] = mixed
             else:
                 Tc[3] += Tc[k] * thT[i]
-            if record == "frames":
+            if record_frames:
                 frames[:, i + 1, :3, :] = Tc.transpose(2, 1, 0)
-            elif record == "jac":
+            elif record_jac:
                 P[i] = Tc[3]
-                if self.sign[i] > 0:
+                if positive:
                     Z[i] = Tc[k]
                 else:
                     np.negative(Tc[k], out=Z[i])
-            if i < stop - 1 and not self.const_is_identity[i + 1]:
-                Tc = (self.consts_T[i + 1] @ Tc.reshape(4, 3 * N)).reshape(4, 3, N)
+            if i < stop - 1 and next_const_T is not None:
+                Tc = (next_const_T @ Tc.reshape(4, 3 * N)).reshape(4, 3, N)
         if upto is None or upto == n + 1:
             Tc = (self.consts_T[n] @ Tc.reshape(4, 3 * N)).reshape(4, 3, N)
-            if record == "frames":
+            if record_frames:
                 frames[:, n + 1, :3, :] = Tc.transpose(2, 1, 0)
         return Tc, frames, P, Z
 
@@ -519,9 +549,11 @@ class Engine:
             Jt = np.empty((6, m, Tc.shape[2]))
             Zm = Z[:m]
             d = pt[None] - P[:m]  # (m, 3, chunk)
-            Jt[0] = Zm[:, 1] * d[:, 2] - Zm[:, 2] * d[:, 1]
-            Jt[1] = Zm[:, 2] * d[:, 0] - Zm[:, 0] * d[:, 2]
-            Jt[2] = Zm[:, 0] * d[:, 1] - Zm[:, 1] * d[:, 0]
+            scratch = np.empty((m, Tc.shape[2]))
+            for row, (first, second) in enumerate(_CROSS_PAIRS):  # row k of z × d, in place
+                np.multiply(Zm[:, first], d[:, second], out=Jt[row])
+                np.multiply(Zm[:, second], d[:, first], out=scratch)
+                np.subtract(Jt[row], scratch, out=Jt[row])
             Jt[3:] = Zm.transpose(1, 0, 2)
             for j in self.prismatic_idx:
                 if j < m:
