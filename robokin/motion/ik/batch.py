@@ -128,9 +128,10 @@ def cap_steps(dq: np.ndarray, max_step: float | None) -> np.ndarray:
 
 
 def _errors(settings: IKSettings, rows: AttemptRows, T_goal: np.ndarray):
-    """Pose errors (R, 6), their masked position and orientation norms, and the flange poses."""
+    """Pose errors (R, 6), their masked position and orientation norms, the flange poses and
+    the tool Jacobians (R, 6, n) when the chain gives them from the same pass (else None)."""
     ctx = settings.ctx
-    T_flange, T = ctx.pose(rows.q)
+    T_flange, T, J = ctx.poses_and_jacobians(rows.q)
     goal = T_goal[rows.target]
     e = pose_error_unchecked(T, goal[:, :3, :3], goal[:, :3, 3])
     if settings.is_position:
@@ -138,7 +139,7 @@ def _errors(settings: IKSettings, rows: AttemptRows, T_goal: np.ndarray):
     mask = ctx.mask
     position_error = np.linalg.norm(e[:, :3] * mask[:3].astype(float), axis=1)
     orientation_error = np.linalg.norm(e[:, 3:] * mask[3:].astype(float), axis=1)
-    return e, position_error, orientation_error, T_flange
+    return e, position_error, orientation_error, T_flange, J
 
 
 def _iterate(settings: IKSettings, rows: AttemptRows, best: TargetBest, T_goal: np.ndarray
@@ -149,7 +150,7 @@ def _iterate(settings: IKSettings, rows: AttemptRows, best: TargetBest, T_goal: 
     whose attempts ended unsolved in this iteration.
     """
     ctx, method = settings.ctx, settings.method
-    e, position_error, orientation_error, T_flange = _errors(settings, rows, T_goal)
+    e, position_error, orientation_error, T_flange, J_rows = _errors(settings, rows, T_goal)
     norm = np.sqrt(position_error * position_error + orientation_error * orientation_error)
     fresh = rows.iteration == 0
     rows.reference[fresh] = norm[fresh]
@@ -168,7 +169,7 @@ def _iterate(settings: IKSettings, rows: AttemptRows, best: TargetBest, T_goal: 
     running = np.flatnonzero(alive & ~maxed)
     new_q = rows.q
     if running.size:
-        J = ctx.jacobian(rows.q[running], T_flange[running])
+        J = ctx.jacobian(rows.q[running], T_flange[running]) if J_rows is None else J_rows[running]
         J_task, e_task = (J, e[running]) if ctx.full_mask else (J[:, ctx.rows, :], e[running][:, ctx.rows])
         stalled, passed = stall_check(rows.iteration[running], rows.checkpoint[running], rows.reference[running],
                                       rows.best_norm[running], settings.stall_iterations, settings.stall_tolerance)

@@ -127,6 +127,22 @@ class IKContext:
             return T_flange, T_flange, J
         return T_flange, T_flange @ self.tool, tool_jacobian(J, T_flange[:3, :3], self.p_tool)
 
+    def poses_and_jacobians(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+        """Flange poses, tool poses (each (N, 4, 4)) and tool Jacobians (N, 6, n) of a batch (N, n).
+
+        One pass over the chain when it offers ``fk_and_jacobian`` (a batch's
+        poses and Jacobians then equal :meth:`pose`'s and :meth:`jacobian`'s to
+        the last bit, row by row); else the Jacobians are None and
+        :meth:`jacobian` computes those of the rows that need them.
+        """
+        if self._fk_and_jacobian is None:
+            T_flange, T = self.pose(q)
+            return T_flange, T, None
+        T_flange, J = self._fk_and_jacobian(q, check=False)
+        if self.tool is None or self.p_tool is None:  # both None or neither (__post_init__)
+            return T_flange, T_flange, J
+        return T_flange, T_flange @ self.tool, tool_jacobian(J, T_flange[..., :3, :3], self.p_tool)
+
     def task_jacobian(self, q: np.ndarray) -> np.ndarray:
         """Rows of the tool Jacobian selected by the mask."""
         T_flange, _ = self.pose(q)
