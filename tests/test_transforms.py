@@ -89,6 +89,17 @@ def test_elementary_rotation_batch_equals_loop(axis):
 
 
 @pytest.mark.parametrize("axis", "xyz")
+@pytest.mark.parametrize("angle", [0.0, -0.0, np.pi, -np.pi / 2, 1e-300, 123.456])
+def test_elementary_rotation_of_one_number_is_the_batch_entry_bit_for_bit(axis, angle):
+    """One float takes a fast path (no dispatch): the same float64 entries as the batch code's,
+    signed zeros included."""
+    fn = ROT[axis]
+    R, batch = fn(angle), fn(np.array([angle]))[0]
+    assert R.dtype == np.float64 and R.shape == (3, 3) and R.flags.writeable
+    assert R.tobytes() == batch.tobytes()
+
+
+@pytest.mark.parametrize("axis", "xyz")
 def test_elementary_rotation_accepts_int_and_numpy_scalars(axis):
     fn = ROT[axis]
     np.testing.assert_array_equal(fn(1), fn(1.0))

@@ -53,6 +53,8 @@ def rotx(angle: Any) -> Any:
     """
     angle = scalar_input(angle, "angle")
     c, s = trig(angle)
+    if type(angle) is float:  # one number (the common call): the entries as they are, no dispatch
+        return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
     return stack_matrix([[1, 0, 0], [0, c, -s], [0, s, c]], like=angle)
 
 
@@ -74,6 +76,8 @@ def roty(angle: Any) -> Any:
     """
     angle = scalar_input(angle, "angle")
     c, s = trig(angle)
+    if type(angle) is float:  # one number (the common call): the entries as they are, no dispatch
+        return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
     return stack_matrix([[c, 0, s], [0, 1, 0], [-s, 0, c]], like=angle)
 
 
@@ -103,6 +107,8 @@ def rotz(angle: Any) -> Any:
     """
     angle = scalar_input(angle, "angle")
     c, s = trig(angle)
+    if type(angle) is float:  # one number (the common call): the entries as they are, no dispatch
+        return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
     return stack_matrix([[c, -s, 0], [s, c, 0], [0, 0, 1]], like=angle)
 
 
