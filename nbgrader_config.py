@@ -11,6 +11,7 @@ from pathlib import Path
 from nbconvert.preprocessors import ClearMetadataPreprocessor, CSSHTMLHeaderPreprocessor
 from nbgrader.preprocessors import (
     AssignLatePenalties,
+    CheckCellMetadata,
     ClearHiddenTests,
     ClearMarkScheme,
     ClearOutput,
@@ -40,7 +41,6 @@ from tools.grading.robokin_nbgrader import (
     PointsHeader,
     RequireGradingMetadata,
     RestoreMissingCells,
-    RobokinCheckCellMetadata,
 )
 # Verdicts decided in a grader kernel, outside the student's, which a submission could tamper
 # with: tools/grading/bridge/.
@@ -67,13 +67,13 @@ c.GenerateAssignment.preprocessors = [
     ClearSolutions,
     DropSolutionProse,        # the emptied solution prose is left out
     ClearOutput,
-    RobokinCheckCellMetadata,   # nbgrader's CheckCellMetadata, its schema checked once
+    CheckCellMetadata,
     ComputeChecksums,
     SaveCells,
     ClearHiddenTests,
     ClearMarkScheme,
     ComputeChecksums,
-    RobokinCheckCellMetadata,
+    CheckCellMetadata,
 ]
 # Solution prose is read-only text that is not a graded answer: nbgrader allows
 # solution regions there only with enforce_metadata off; they become empty.
@@ -86,7 +86,7 @@ c.Autograde.sanitize_preprocessors = [
     DeduplicateIds,
     OverwriteKernelspec,
     RestoreMissingCells,
-    RobokinCheckCellMetadata,
+    CheckCellMetadata,
 ]
 c.Autograde.autograde_preprocessors = [
     BridgedExecute,           # RobokinExecute + grader kernel (for c.BridgedExecute.chapters)
@@ -95,7 +95,7 @@ c.Autograde.autograde_preprocessors = [
     LimitOutput,
     SaveAutoGrades,
     AssignLatePenalties,
-    RobokinCheckCellMetadata,
+    CheckCellMetadata,
     AutograderReport,
     GradingIncidents,         # a kernel that died or was killed, tests not run, stderr notes
     BridgeReport,             # answers for review by hand, answers that are not plain data

@@ -496,8 +496,7 @@ def test_feedback_renders_formulas_offline(graded, chapter):
 @pytest.mark.parametrize("template", ["classic", "lab"])
 def test_feedback_exporter_writes_nbconvert_page(template):
     """The feedback exporter's page is nbconvert's HTMLExporter page, byte for byte, with MathJax
-    inlined: its memoised highlighting and markdown change nothing (twice, so that the second page
-    is made from the memo; "lab" has the JupyterLab cells)."""
+    inlined (twice: an exporter makes a second page as its first; "lab" has the JupyterLab cells)."""
     import nbformat
     from nbconvert.exporters import HTMLExporter
     from tools.grading.robokin_nbgrader import OfflineMathJaxHTMLExporter, inline_mathjax

@@ -6,7 +6,8 @@ same output and exit code as the console script, the request's folder and
 environment (a course's ``nbgrader_config.py`` is Python, so it can print them),
 a command past its time limit killed without harming the next one, a runner slow to start
 taking none of a command's time limit, commands that end at once following each other, and
-no process left when the runners are closed.
+no process left when the runners are closed. The suite's shortcuts that the runner applies: in
+every command, each with the result of nbgrader's or nbconvert's own code.
 """
 
 from __future__ import annotations
@@ -30,7 +31,12 @@ pytestmark = pytest.mark.nbgrader
 #: A course configuration that tells where and with what it runs (nbgrader executes it).
 PROBE_CONFIG = textwrap.dedent("""\
     import os, sys
+    import nbconvert.exporters.html, nbgrader.api, nbgrader.nbgraderformat.common
     print("PROBE", os.getcwd(), os.environ.get("ROBOKIN_PROBE"), sys.argv[1:], flush=True)
+    print("SHORTCUTS", nbgrader.api.get_alembic_version.__name__,
+          type(nbgrader.nbgraderformat.common.jsonschema).__name__,
+          nbconvert.exporters.html.Highlight2HTML.__name__,
+          nbconvert.exporters.html.HTMLExporter.markdown2html.__name__, flush=True)
     if os.environ.get("ROBOKIN_PROBE") == "sleep":
         import time
         time.sleep(60)
@@ -70,6 +76,8 @@ def test_a_command_runs_in_its_folder_with_its_environment(tmp_path):
     for name, run in zip(("first", "second"), runs):
         assert run.returncode == 0, run.stdout
         assert f"PROBE {tmp_path / name} {name} ['db', 'student', 'list']" in run.stdout
+        # the suite's shortcuts, applied by the runner before it forked the command
+        assert "SHORTCUTS alembic_head SchemaCheckedOnce MemoisedHighlight memoised" in run.stdout
 
 
 def test_a_command_past_its_time_limit_is_killed_and_the_next_one_runs(tmp_path):
@@ -107,3 +115,66 @@ def test_closed_runners_leave_no_process():
     nbgrader_runner.close_all()
     assert not nbgrader_runner.runner_pids()
     assert not [pid for pid in runners if psutil.pid_exists(pid)]
+
+
+def test_alembic_head_is_the_revision_nbgrader_reads(monkeypatch):
+    """The shortcut reads the revision that nbgrader's ``alembic heads`` (a program of its own) prints."""
+    from nbgrader import api
+
+    monkeypatch.setenv("PATH", environment()["PATH"])   # nbgrader runs alembic from PATH
+    assert nbgrader_runner.alembic_head() == api.get_alembic_version()
+
+
+@pytest.mark.parametrize("metadata", [
+    {"grade": True, "grade_id": "task1_test1", "locked": True, "points": 2, "schema_version": 3, "solution": False},
+    {"grade": False, "grade_id": "task1_answer", "locked": False, "schema_version": 3, "solution": True},
+    {"grade": "yes", "grade_id": "task1_test1", "locked": True, "points": 2, "schema_version": 3, "solution": False},
+    {"grade": True, "locked": True, "points": 2, "schema_version": 3, "solution": False},
+    {"grade": True, "grade_id": 7, "locked": True, "points": "two", "schema_version": 3, "solution": False},
+])
+def test_the_schema_checked_once_gives_jsonschemas_verdicts(metadata):
+    """nbgrader's metadata check through the shortcut: the verdict ``jsonschema.validate`` gives
+    (none, or the same best-matching error), on a second call too (the validator kept)."""
+    import jsonschema
+    from nbgrader.nbgraderformat import MetadataValidator
+
+    schema = MetadataValidator().schema
+    try:
+        jsonschema.validate(metadata, schema)
+        expected = None
+    except jsonschema.ValidationError as error:
+        expected = (error.message, list(error.path))
+    checked_once = nbgrader_runner.SchemaCheckedOnce()
+    for _ in range(2):
+        try:
+            checked_once.validate(metadata, schema)
+            got = None
+        except jsonschema.ValidationError as error:
+            got = (error.message, list(error.path))
+        assert got == expected
+    assert checked_once.ValidationError is jsonschema.ValidationError   # the rest is jsonschema's
+
+
+def test_memoised_highlighting_and_markdown_change_no_page(monkeypatch):
+    """nbconvert's HTML page, byte for byte, with the memoised filters (twice: the second page is
+    made from the memo), for markdown with a formula and HTML, code, its outputs and a cell magic."""
+    import copy
+
+    import nbconvert.exporters.html as nbconvert_html
+    import nbformat
+
+    nb = nbformat.v4.new_notebook(metadata={"language_info": {"name": "python", "pygments_lexer": "ipython3"}})
+    nb.cells = [
+        nbformat.v4.new_markdown_cell("## Task 1: a formula $T_{BA} = T_{AB}^{-1}$ and `code` <b>bold</b> &amp;"),
+        nbformat.v4.new_code_cell("import numpy as np\n\ndef f(q):\n    return np.sin(q) @ q  # a comment\n",
+                                  outputs=[nbformat.v4.new_output("stream", name="stdout", text="<x> & 'y'\n"),
+                                           nbformat.v4.new_output("error", ename="ValueError", evalue="bad",
+                                                                  traceback=["\x1b[31mValueError\x1b[0m: bad"])]),
+        nbformat.v4.new_code_cell("%%bash\necho hi", metadata={"magics_language": "bash"}),
+    ]
+    plain = nbconvert_html.HTMLExporter().from_notebook_node(copy.deepcopy(nb))[0]
+    monkeypatch.setattr(nbconvert_html, "Highlight2HTML", nbgrader_runner.memoised_highlight())
+    monkeypatch.setattr(nbconvert_html.HTMLExporter, "markdown2html",
+                        nbgrader_runner.memoised_markdown(nbconvert_html.HTMLExporter.markdown2html))
+    for _ in range(2):
+        assert nbconvert_html.HTMLExporter().from_notebook_node(copy.deepcopy(nb))[0] == plain

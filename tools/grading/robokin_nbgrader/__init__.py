@@ -23,15 +23,12 @@ class (pipeline)                          module                      what it do
 ``FeedbackStyle`` (feedback)              feedback_style              the page's own stylesheet
 ``MystMarkdown`` (feedback)               myst_markdown               MyST task statements as Markdown
 ``OfflineMathJaxHTMLExporter`` (feedback) offline_mathjax             MathJax inlined: read offline
-``RobokinCheckCellMetadata`` (every one)  check_cell_metadata         nbgrader's metadata check, its
-                                                                      schema checked once per process
 ========================================  ==========================  =====================================
 
 and the modules they share: ``cells`` (a cell's robokin metadata, task, hidden lines and label),
-``checks`` (what ``robokin.check`` is asked, ``registered_pairs``), ``failure_notes``
-(``FailureNotes``, the note under a failing test, written by ``RobokinExecute``) and
-``gradebook`` (the gradebook schema's revision read in this process, ``alembic_head``: importing
-this package puts it in the place of nbgrader's ``get_alembic_version``).
+``checks`` (what ``robokin.check`` is asked, ``registered_pairs``) and ``failure_notes``
+(``FailureNotes``, the note under a failing test, written by ``RobokinExecute``). Every other
+preprocessor of the pipelines is nbgrader's own (``nbgrader_config.py`` lists them).
 
 ``RobokinExecute`` in more detail: nbgrader's ``Execute``, with the kernel in a bubblewrap sandbox
 (``tools/grading/sandbox.py``); a test scores by pass/fail only (its stderr is a note, a result it
@@ -48,10 +45,8 @@ The cell roles come from ``tools/authoring/nbgrader_metadata.py`` (``metadata.ro
 
 from __future__ import annotations
 
-from . import gradebook
 from .autograder_report import AutograderReport
 from .cells import hidden_lines, visible_source
-from .check_cell_metadata import RobokinCheckCellMetadata
 from .checks import VERDICT_MARK, registered_pairs
 from .drop_solution_prose import DropSolutionProse
 from .execute import KERNEL_LOST, NOT_RUN, RobokinExecute
@@ -70,6 +65,6 @@ __all__ = [
     "AutograderReport", "DropSolutionProse", "FailureNotes", "FeedbackStyle", "GradingIncidents",
     "HideHiddenTests", "KERNEL_LOST", "MarkSolutionRegions", "MystMarkdown", "NOT_RUN",
     "OfflineMathJaxHTMLExporter", "PointsHeader", "RequireGradingMetadata", "RestoreMissingCells",
-    "RobokinCheckCellMetadata", "RobokinExecute", "VERDICT_MARK", "gradebook", "hidden_lines",
+    "RobokinExecute", "VERDICT_MARK", "hidden_lines",
     "inline_mathjax", "mathjax_script", "registered_pairs", "visible_source",
 ]
