@@ -133,6 +133,7 @@ c.GenerateFeedback.preprocessors = [
 # millisecond; tools/grading/bridge/benchmark.py measures it).
 c.BridgedExecute.chapters = ["*"]
 # Each grader kernel is forked from a process that imported ipykernel, numpy, scipy, sympy,
-# matplotlib and robokin once per autograde run (tools/grading/bridge/fork_server.py; about a
-# second of CPU saved per submission). False: each grader kernel starts as a new process.
+# matplotlib and robokin once per autograde run (tools/grading/bridge/fork_server.py): 1.7-2.5
+# CPU-s saved per submission after the first (book/for-instructors.md has the measurement).
+# False: each grader kernel starts as a new process.
 c.BridgedExecute.fork_server = True
