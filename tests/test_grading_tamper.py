@@ -393,6 +393,12 @@ def test_delegation_follows_a_robot_under_another_name():
     assert [item["name"] for item in delegation.find(cells, {})] == ["my_tool_jacobian"]
     written = ("robot = arm" + use.format("rigid(robot.fk(q)[:3, :3] @ TOOL_OFFSET) @ robot.jacobian(q)"))
     assert delegation.find([(3, written, ["my_tool_jacobian"])], {}) == []
+    # a function's keyword counts as a method's: robokin's RPY error is not a wrapped difference
+    library = "def rpy_difference(R, R_goal):\n    return pose_error(T(R), T(R_goal), representation='rpy')[3:]\n"
+    (item,) = delegation.find([(5, library, ["rpy_difference"])], {})
+    assert item["reference"] == "robokin.motion.pose_error(..., representation=...)"
+    wrapped = "def rpy_difference(R, R_goal):\n    return wrap(rpy_from_rotation(R_goal) - rpy_from_rotation(R))\n"
+    assert delegation.find([(5, wrapped, ["rpy_difference"])], {}) == []
 
 
 def test_answers_are_handed_over_after_cells_that_printed_thousands_of_lines(tmp_path):

@@ -113,7 +113,8 @@ for _check, _references in declared_references().items():
 #: A key ``"owner.method"`` names a method of one object (``tool_arm.jacobian``, also as
 #: ``self.tool_arm.jacobian`` or ``getattr(tool_arm, "jacobian")``) where the method alone
 #: (``arm.jacobian``) may be the answer's legitimate start; ``"method.keyword"`` names a call
-#: of the method with that keyword argument (``arm.jacobian(q, point=p)``).
+#: of the method, or function, with that keyword argument (``arm.jacobian(q, point=p)``,
+#: ``pose_error(T, T_goal, representation="rpy")``).
 ANSWERS: dict[str, dict[str, str]] = {
     # chapter 4, Task 3: the tool's Jacobian transported by hand from the end-effector's
     # (arm.jacobian); the arm with the tool attached has the tool's Jacobian already
@@ -128,6 +129,8 @@ ANSWERS: dict[str, dict[str, str]] = {
     # chapter 4, Task 3: the slide's column from the frames, not taken from a Jacobian
     "slide_column": {"jacobian": "SerialChain.jacobian", "tool_jacobian": "robokin.motion.tool_jacobian",
                      "rigid_body_jacobian": "robokin.motion.rigid_body_jacobian"},
+    # chapter 4, Task 5: the wrapped RPY difference written out, not robokin's RPY error
+    "rpy_difference": {"pose_error.representation": "robokin.motion.pose_error(..., representation=...)"},
 }
 
 
@@ -200,7 +203,9 @@ def _mentions(node: ast.AST, aliases: dict[str, set[str]] | None = None) -> set[
             # "owner.attr" too: a method of one named object, under any name it was given
             out.update(f"{owner}.{sub.attr}" for owner in owner_and_aliases(sub.value))
         elif isinstance(sub, ast.Call):
-            method = sub.func.attr if isinstance(sub.func, ast.Attribute) else None
+            # "method.keyword" for a method's call and a function's (pose_error(..., representation=...))
+            method = (sub.func.attr if isinstance(sub.func, ast.Attribute)
+                      else sub.func.id if isinstance(sub.func, ast.Name) else None)
             if (isinstance(sub.func, ast.Name) and sub.func.id == "getattr" and len(sub.args) >= 2
                     and isinstance(sub.args[1], ast.Constant) and isinstance(sub.args[1].value, str)):
                 method, target = sub.args[1].value, sub.args[0]
