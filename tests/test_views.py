@@ -246,6 +246,20 @@ def test_sphinx_extension_copies_viewer(tmp_path):
     assert (tmp_path / "_static" / "meshcat" / "LICENSE").exists()
 
 
+@pytest.mark.parametrize("animated", [False, True])
+def test_stored_scene_gets_the_current_script(animated):
+    """A notebook stores its scenes as they were when it was executed: the book gives each
+    the current script, its id, viewer source and animated flag kept, its data untouched."""
+    from robokin.views.static_html import refresh_scene_scripts, scene_html
+
+    current = scene_html(_demo_scene().commands(), animated=animated, viewer_src="../viewer.js")
+    older = current.replace("drawOnlyNear(viewer);\n", "").replace('watch("0px"', 'watch("100px"')
+    page = f"<p>before</p>{older}<p>between</p>{older}"
+    refreshed, changed = refresh_scene_scripts(page)
+    assert changed == 2 and refreshed == f"<p>before</p>{current}<p>between</p>{current}"
+    assert refresh_scene_scripts(refreshed) == (refreshed, 0)
+
+
 def test_slider_update_sends_only_transforms():
     from robokin.views.sliders import JointSliders
 

@@ -77,13 +77,13 @@ def _scara():
 
 #: name: (scene builder, sha256[:16] of the packed commands, sha256[:16] of to_html()).
 SCENES = {
-    "ur10 with frames and a target": (_ur10_frames_target, "3b3fce98759c15d9", "3d83c7fc6e954cdb"),
-    "ur10, ghost, points, path, no grid": (_ur10_ghost_points_path, "32b3889180d2890b", "db2bc754ebae8c3c"),
-    "point cloud (800 points)": (_cloud, "bce8275f9b230421", "775a625bece7f796"),
-    "ur10 animation, looped": (_ur10_animation, "324a7714e05bf358", "e6842a042ebee2e4"),
-    "targets alone": (_targets, "66ac7a56517e0fe7", "8380b0065f0581f7"),
-    "ar601 leg, frames, animation": (_ar601_leg, "ccd36afefa7e98e4", "411b75262c125a33"),
-    "prismatic joint, animation (scale tracks)": (_scara, "32f73bc420175732", "b70509ab5f7b6ec0"),
+    "ur10 with frames and a target": (_ur10_frames_target, "3b3fce98759c15d9", "717664b259d222b3"),
+    "ur10, ghost, points, path, no grid": (_ur10_ghost_points_path, "32b3889180d2890b", "772c91207d5ffa2d"),
+    "point cloud (800 points)": (_cloud, "bce8275f9b230421", "36ba42d425958373"),
+    "ur10 animation, looped": (_ur10_animation, "324a7714e05bf358", "6f726058e1006f4e"),
+    "targets alone": (_targets, "66ac7a56517e0fe7", "4b945c8adab12bed"),
+    "ar601 leg, frames, animation": (_ar601_leg, "ccd36afefa7e98e4", "c79ae0e7d73037ca"),
+    "prismatic joint, animation (scale tracks)": (_scara, "32f73bc420175732", "b5ce021f85b02d3b"),
 }
 
 

@@ -10,6 +10,8 @@ After an HTML build it
 * copies MeshCat's ``main.min.js`` (and its licence files) into
   ``<outdir>/_static/meshcat/``, where the static scenes written by
   :mod:`robokin.views.static_html` load it from (``<content root>_static/meshcat/``);
+* gives every static scene the script of this version of robokin (the notebooks store
+  the snippets written when they were executed);
 * moves the data of every static scene out of its page into
   ``<outdir>/_static/scenes/<key>.js`` (``key`` = hash of the data, so a scene shown on
   two pages is stored once) and leaves ``data-src``/``data-key`` attributes in the page:
@@ -29,7 +31,7 @@ import re
 from pathlib import Path
 from typing import Any
 
-from robokin.views.static_html import copy_viewer_files
+from robokin.views.static_html import copy_viewer_files, refresh_scene_scripts
 
 __all__ = ["setup", "copy_viewer", "externalize_scene_data"]
 
@@ -58,7 +60,10 @@ def copy_viewer(app: Any, exception: Exception | None) -> None:
 def externalize_scene_data(outdir: Path) -> int:
     """Move inline scene data of every page under ``outdir`` to ``_static/scenes/``.
 
-    Idempotent: a page already rewritten has no inline data left.
+    Each scene also gets the script of the robokin that builds the book
+    (:func:`~robokin.views.static_html.refresh_scene_scripts`): a notebook stores its
+    scenes as they were when it was executed. Idempotent: a page already rewritten has
+    no inline data left and current scripts.
 
     Parameters
     ----------
@@ -90,7 +95,7 @@ def externalize_scene_data(outdir: Path) -> int:
             return (f'<script type="application/json" class="robokin-scene-data" data-key="{key}" '
                     f'data-src="{prefix}/{key}.js">[]</script>')
 
-        new = _DATA.sub(move, text)
+        new, _ = refresh_scene_scripts(_DATA.sub(move, text))
         if new != text:
             page.write_text(new, encoding="utf-8")
     return moved

@@ -22,6 +22,7 @@ import html
 import importlib.util
 import json
 import os
+import re
 import shutil
 from collections.abc import Sequence
 from pathlib import Path
@@ -29,7 +30,8 @@ from pathlib import Path
 from robokin.views import optional
 from robokin.views.record import DEFAULT_HEIGHT
 
-__all__ = ["pack_commands", "scene_html", "save_page", "viewer_files", "VIEWER_PATH"]
+__all__ = ["pack_commands", "refresh_scene_scripts", "scene_html", "save_page", "viewer_files",
+           "VIEWER_PATH"]
 
 VIEWER_PATH = "_static/meshcat/main.min.js"
 
@@ -112,12 +114,26 @@ _SCRIPT = r"""(function () {
       }));
     });
   }
-  function whenNear(run) {  /* start a scene when it comes near the viewport: pages with many load fast */
-    if (!("IntersectionObserver" in window)) return run();
-    var seen = new IntersectionObserver(function (entries) {
-      if (entries.some(function (e) { return e.isIntersecting; })) { seen.disconnect(); run(); }
-    }, {rootMargin: "300px"});
-    seen.observe(box);
+  var near = false, onScreen = false;  /* the box within 300 px of the viewport; in the viewport */
+  function watch(margin, seen, first) {  /* seen(true/false) as the box comes and goes; first() once */
+    if (!("IntersectionObserver" in window)) { seen(true); if (first) first(); return; }
+    new IntersectionObserver(function (entries) {
+      var now = entries[entries.length - 1].isIntersecting;
+      seen(now);
+      if (now && first) { var run = first; first = null; run(); }
+    }, {rootMargin: margin}).observe(box);
+  }
+  function drawOnlyNear(viewer) {
+    /* MeshCat redraws a scene whenever it changed, on screen or not, and plays an animation
+       from the moment the scene is made: here a scene far from the viewport is not redrawn
+       (it is when it comes near), and an animation waits until its scene is on screen */
+    var animate = viewer.animate, loop = function () { viewer.animate(); };
+    viewer.animate = function () {
+      if (onScreen) return animate.call(viewer);
+      requestAnimationFrame(loop);
+      if (viewer.animator.playing) viewer.animator.clock.getDelta();  /* the time off screen is not played */
+      if (near && viewer.needs_render) viewer.render();
+    };
   }
   function viewerSrc() {
     var src = %(src)s;
@@ -138,7 +154,7 @@ _SCRIPT = r"""(function () {
     }
     return window.robokinMeshCat;
   }
-  whenNear(function () { Promise.all([loadMeshCat(), sceneData()]).then(function (loaded) {
+  function start() { Promise.all([loadMeshCat(), sceneData()]).then(function (loaded) {
     var MeshCat = loaded[0], data = loaded[1];
     msg.remove();
     var viewer = new MeshCat.Viewer(pane), resize = viewer.set_3d_pane_size;
@@ -155,12 +171,62 @@ _SCRIPT = r"""(function () {
       viewer.gui.open();
       if (viewer.gui.__folders.Scene) viewer.gui.__folders.Scene.close();
     }
+    drawOnlyNear(viewer);
     box.robokinViewer = viewer;
   }).catch(function (err) {
     msg.textContent = "3D scene not shown: " + err.message +
       " (the MeshCat viewer ships with the built book; in Jupyter use ROBOKIN_VIEWER=live).";
-  }); });
+  }); }
+  watch("0px", function (now) { onScreen = now; });
+  /* a scene starts when it comes near the viewport: pages with many load fast */
+  watch("300px", function (now) { near = now; }, start);
 })();"""
+
+
+def _script(div_id: str, viewer_src: str | None, animated: bool) -> str:
+    """The script of a scene's snippet (``_SCRIPT`` filled in)."""
+    return _SCRIPT % {"id": div_id, "src": json.dumps(viewer_src) if viewer_src else "null",
+                      "path": VIEWER_PATH, "animated": "true" if animated else "false"}
+
+
+#: The script of a snippet written by any version of :func:`scene_html`: its div id, viewer
+#: source and animated flag are read back from it.
+_ANY_SCRIPT = re.compile(
+    r'<script>\(function \(\) \{\n  var me = document\.currentScript, box = me \? me\.parentElement : '
+    r'document\.getElementById\("(?P<id>robokin-scene-[0-9a-f]+)"\);\n.*?'
+    r'\n    var src = (?P<src>null|"[^"\\]*");\n.*?'
+    r'\n    if \((?P<animated>true|false) && pane\.clientWidth >= 760\).*?'
+    r'\n\}\)\(\);</script>', re.S)
+
+
+def refresh_scene_scripts(page: str) -> tuple[str, int]:
+    """Give every scene snippet in an HTML page the script of this version of robokin.
+
+    A notebook stores the snippets of its scenes as they were when it was executed; the
+    book shows those stored outputs. The snippet's data (its commands, its id) stays as it is.
+
+    Parameters
+    ----------
+    page : str
+        The HTML text of a page.
+
+    Returns
+    -------
+    tuple of (str, int)
+        The page with every scene's script replaced by the current one, and the number of
+        scripts that changed.
+    """
+    changed = 0
+
+    def current(match: re.Match) -> str:
+        nonlocal changed
+        new = (f"<script>{_script(match['id'], json.loads(match['src']), match['animated'] == 'true')}"
+               f"</script>")
+        changed += new != match.group(0)
+        return new
+
+    return _ANY_SCRIPT.sub(current, page), changed
+
 
 _MESSAGE = ("3D scene: loading the MeshCat viewer&hellip; (if this line stays, JavaScript is off or "
             "<code>_static/meshcat/main.min.js</code> is not next to this page)")
@@ -192,8 +258,7 @@ def scene_html(commands: Sequence[dict], *, height: int = DEFAULT_HEIGHT, animat
     payload = json.dumps(packed, separators=(",", ":"))
     digest = hashlib.sha1(f"{height}|{viewer_src}|{payload}".encode()).hexdigest()[:12]
     div_id = f"robokin-scene-{digest}"
-    script = _SCRIPT % {"id": div_id, "src": json.dumps(viewer_src) if viewer_src else "null",
-                        "path": VIEWER_PATH, "animated": "true" if animated else "false"}
+    script = _script(div_id, viewer_src, animated)
     return (
         f'<div class="robokin-scene" id="{div_id}" style="position:relative;width:100%;'
         f'height:{int(height)}px;overflow:hidden;border:1px solid #ccc;background:#e8eef5">'
