@@ -230,19 +230,28 @@ READING_LAYOUT_JS = """() => {
 
 
 #: Resolves when the scene's MeshCat viewer has drawn every command it was given (and a
-#: playing animation has advanced), then pauses the animations of the scenes drawn so far;
-#: resolves anyway after the timeout (ms), so that the screenshot's own assertion reports a
-#: scene not drawn.
+#: playing animation has advanced); resolves anyway after the timeout (ms), so that the
+#: screenshot's own assertion reports a scene not drawn. From the first call on, every scene
+#: of the page that has drawn and advanced is paused at the next frame: an animation left
+#: running redraws its scene on the CPU (SwiftShader) at every frame, and one that comes on
+#: screen while the test draws or photographs another would play for all that time.
 SCENE_DRAWN_JS = """(box, timeout) => new Promise(resolve => {
   const deadline = performance.now() + timeout;
   const settled = viewer => !viewer.needs_render && (!viewer.animator.playing || viewer.animator.time > 0);
+  if (!window.robokinPauseSettled) {
+    window.robokinPauseSettled = true;
+    const pause = () => {
+      document.querySelectorAll('.robokin-scene').forEach(scene => {
+        const viewer = scene.robokinViewer;
+        if (viewer && viewer.animator.playing && settled(viewer)) viewer.animator.pause();
+      });
+      requestAnimationFrame(pause);
+    };
+    pause();
+  }
   const look = () => {
     const viewer = box.robokinViewer;
     if (viewer && settled(viewer)) {
-      // this scene and every other one drawn so far (those below it load early)
-      document.querySelectorAll('.robokin-scene').forEach(other => {
-        if (other.robokinViewer && settled(other.robokinViewer)) other.robokinViewer.animator.pause();
-      });
       requestAnimationFrame(() => resolve(true));
     } else if (performance.now() > deadline) {
       resolve(false);
