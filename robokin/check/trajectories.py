@@ -66,6 +66,8 @@ DELEGATION = {
                         "joint_trajectory": "robokin.motion.joint_trajectory"},
     "trapezoid_time": {"joint_trajectory_duration": "robokin.motion.joint_trajectory_duration",
                        "joint_trajectory": "robokin.motion.joint_trajectory"},
+    "ptp_duration": {"joint_trajectory_duration": "robokin.motion.joint_trajectory_duration",
+                     "joint_trajectory": "robokin.motion.joint_trajectory"},
     "synchronised_motion": {"joint_trajectory": "robokin.motion.joint_trajectory",
                             "joint_trajectory_duration": "robokin.motion.joint_trajectory_duration"},
     "via_point_cubics": {"via_point_trajectory": "robokin.motion.via_point_trajectory"},
