@@ -9,6 +9,10 @@ short script that loads the MeshCat viewer *once per page* from
 script itself is never inlined (it is 850 kB); :mod:`robokin.views.sphinx_extension`
 copies it into the built book, :func:`save_page` next to a standalone page.
 
+A scene is made when it comes within 300 px of the viewport and redrawn only there; its
+animation plays while it is on screen (a reader sees it from its start, and a long page does
+not keep drawing scenes nobody sees).
+
 If the script cannot be loaded (e.g. the snippet is viewed inside JupyterLab),
 the div shows a one-line explanation instead.  The output is deterministic:
 the div id is a hash of the content, nothing depends on time or randomness.
