@@ -235,6 +235,9 @@ READING_LAYOUT_JS = """() => {
 #: of the page that has drawn and advanced is paused at the next frame: an animation left
 #: running redraws its scene on the CPU (SwiftShader) at every frame, and one that comes on
 #: screen while the test draws or photographs another would play for all that time.
+#: does the scene's viewer hold an animation (MeshCat's Animator has an action per track)
+SCENE_ANIMATED_JS = "box => box.robokinViewer.animator.actions.length > 0"
+
 SCENE_DRAWN_JS = """(box, timeout) => new Promise(resolve => {
   const deadline = performance.now() + timeout;
   const settled = viewer => !viewer.needs_render && (!viewer.animator.playing || viewer.animator.time > 0);
@@ -384,6 +387,7 @@ def test_page_in_browser(edition_book, page_tab, page):
     # 3D scenes: each canvas shows something, and animated scenes have controls.
     scenes = tab.locator(".robokin-scene")
     n_scenes = scenes.count()
+    animated_scenes = 0
     for index in range(n_scenes):
         scene = scenes.nth(index)
         scene.scroll_into_view_if_needed()
@@ -397,8 +401,16 @@ def test_page_in_browser(edition_book, page_tab, page):
         differing, total = poll_until(functools.partial(_screenshot_pixels, canvas.screenshot),
                                       lambda counts: counts[0] > 0.002 * counts[1])
         assert differing > 0.002 * total, f"{page}: scene {index} looks blank ({differing}/{total} pixels drawn)"
-        if scene.get_attribute("data-animated") == "true":
-            assert scene.get_by_text("play", exact=False).count() > 0, f"{page}: scene {index} has no play control"
+        # an animated scene (its viewer holds an animation) can be played: its controls hold
+        # MeshCat's play button, open at 760 px and wider, behind "Open Controls" below
+        if scene.evaluate(SCENE_ANIMATED_JS):
+            animated_scenes += 1
+            assert scene.locator(".dg li", has_text="play").count() > 0, f"{page}: scene {index} has no play control"
+            assert scene.get_by_text(re.compile(r"^(Open|Close) Controls$")).count() > 0, (
+                f"{page}: scene {index} has no button that shows its controls")
+    # as many animated scenes as the page's scene scripts declare (the check above never idles)
+    declared = (built_book / f"{page}.html").read_text(encoding="utf-8").count("if (true && pane.clientWidth >= 760)")
+    assert animated_scenes == declared, f"{page}: {animated_scenes} scenes play an animation, {declared} declare one"
 
     chapter = re.match(r"notebooks/0*(\d+)_", page)
     if chapter and int(chapter.group(1)) > 0:
