@@ -226,3 +226,25 @@ def test_a_check_that_names_the_answer_otherwise_says_so():
                              "incidents": []}}
     report = AutograderReport().preprocess(nb, resources)[0].cells[0].source
     assert f"- Task 1 (on your `found[0]`, which it calls `{own}`): ✘ {own} is transposed" in report, report
+
+
+def test_where_to_start_has_one_line_per_answer_with_all_its_tests():
+    """Causes recorded by several failing tests (for different reasons) merge by the answer's name."""
+    from tools.grading.robokin_nbgrader import AutograderReport
+
+    nb = nbformat.v4.new_notebook()
+    nb.cells = [nbformat.v4.new_markdown_cell("# Chapter")] + [
+        _cell("assert False", grade_id, grade=True, task=task, count=count,
+              outputs=[_error("AssertionError", count, 1)])
+        for count, (grade_id, task) in enumerate([("task1_test1", 1), ("task4_test1", 4), ("task4_test2", 4)], 1)]
+    resources = {"robokin": {"pairs": [], "verdicts": [], "incidents": [], "causes": {
+        "1|own test task1_test1 failed": {"task": 1, "why": "own test task1_test1 failed",
+                                          "names": ["newton_ik"], "tests": ["task4_test2"]},
+        "1|answer cell In [3] raised ValueError": {"task": 1, "why": "answer cell In [3] raised ValueError",
+                                                   "names": ["newton_ik", "q_start"],
+                                                   "tests": ["task4_test2", "task4_test1"]}}}}
+    report = AutograderReport().preprocess(nb, resources)[0].cells[0].source
+    start = report.split("**Where to start**")[1].strip().splitlines()
+    assert len(start) == 2 and sum("`newton_ik`" in line for line in start) == 1, start
+    assert start[0] == ("- `newton_ik` (Task 1): its own test task1_test1 failed and answer cell In [3] raised "
+                        "ValueError; the failing tests task4_test1, task4_test2 depend on it. Fix it first."), start

@@ -69,25 +69,29 @@ class AutograderReport(NbGraderPreprocessor):
         # an answer this page reports correct is nobody's cause
         right = {v["quantity"] for v in verdicts if v["status"] == "correct"}
         right -= {v["quantity"] for v in verdicts if v["status"] in ("wrong", "missing")}
-        causes = {}
-        for key, cause in (report.get("causes") or {}).items():
-            names = [n for n in cause["names"] if n not in right]
-            if names:
-                causes[key] = {**cause, "names": names}
+        # one line per answer: the causes of all failing tests merged by the answer's name, its
+        # tests in notebook order (a test's note records its causes grouped by the reason)
+        order = {cell.metadata.get("nbgrader", {}).get("grade_id"): i for i, cell in enumerate(nb.cells)}
+        causes: dict[str, dict] = {}
+        for cause in (report.get("causes") or {}).values():
+            for name in cause["names"]:
+                if name in right:
+                    continue
+                entry = causes.setdefault(name, {"task": cause["task"], "why": [], "tests": []})
+                entry["why"] += [cause["why"]] if cause["why"] not in entry["why"] else []
+                entry["tests"] += [t for t in cause["tests"] if t not in entry["tests"]]
         if causes:
             out += ["", "**Where to start**", ""]
-            ordered = sorted(causes.items(), key=lambda kv: (kv[1]["task"] is None, kv[1]["task"] or 0))
-            for _, cause in ordered[: self.max_notes]:
+            ordered = sorted(causes.items(), key=lambda kv: (kv[1]["task"] is None, kv[1]["task"] or 0, kv[0]))
+            for name, cause in ordered[: self.max_notes]:
                 of_task = f" (Task {cause['task']})" if cause["task"] is not None else ""
-                tests = list(dict.fromkeys(cause["tests"]))
-                several = len(cause["names"]) > 1
-                listed = ", ".join(f"`{n}`" for n in cause["names"])
-                out.append(f"- {listed}{of_task}: {'their' if several else 'its'} {markdown_line(cause['why'])}; "
+                tests = sorted(cause["tests"], key=lambda t: order.get(t, len(order)))
+                why = " and ".join(markdown_line(w) for w in cause["why"])
+                out.append(f"- `{name}`{of_task}: its {why}; "
                            f"the failing test{'s' if len(tests) > 1 else ''} {', '.join(tests)} "
-                           f"depend{'' if len(tests) > 1 else 's'} on {'them' if several else 'it'}. "
-                           f"Fix {'them' if several else 'it'} first.")
+                           f"depend{'' if len(tests) > 1 else 's'} on it. Fix it first.")
             if len(ordered) > self.max_notes:
-                out.append(f"- … and {len(ordered) - self.max_notes} more groups of answers that tests depend on.")
+                out.append(f"- … and {len(ordered) - self.max_notes} more answers that tests depend on.")
 
         notes = self._incidents(nb)
         if notes:
