@@ -6,13 +6,22 @@ moment by different processes can be handed the same port, and one dies before i
 first cell; ``make test`` runs two workers and, for other machines, three nbval runs
 at once). nbval builds its kernel manager from the name ``KernelManager`` in
 ``nbval.kernel``; that name is pointed at jupyter_client's manager with private
-sockets, and nothing else of nbval changes.
+sockets, and nothing else of nbval changes. The manager is
+``tests/support/forked_kernels.py``'s: each kernel is forked from a process that
+imported ipykernel and the notebooks' modules once (one per pytest process and
+environment, stopped at the end of the session); one that cannot be forked starts
+as a new process, with a warning.
 """
 
 from __future__ import annotations
 
 import nbval.kernel
 
-from tools.kernel_sockets import PrivateSocketsKernelManager
+from tests.support import forked_kernels
 
-nbval.kernel.KernelManager = PrivateSocketsKernelManager
+nbval.kernel.KernelManager = forked_kernels.ForkedNbvalKernelManager
+
+
+def pytest_sessionfinish(session, exitstatus):
+    """Stop this process's fork server of nbval kernels (each xdist worker has its own)."""
+    forked_kernels.stop_server()
