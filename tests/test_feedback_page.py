@@ -248,3 +248,21 @@ def test_where_to_start_has_one_line_per_answer_with_all_its_tests():
     assert len(start) == 2 and sum("`newton_ik`" in line for line in start) == 1, start
     assert start[0] == ("- `newton_ik` (Task 1): its own test task1_test1 failed and answer cell In [3] raised "
                         "ValueError; the failing tests task4_test1, task4_test2 depend on it. Fix it first."), start
+
+
+def test_provenance_follows_the_data_flow_of_an_answer_cell():
+    """A name uses the answers its defining statements read, transitively: ``closed`` is computed
+    from ``ik_closed_form`` only, ``found`` from ``newton_ik`` through the list it appends to."""
+    from tools.grading.robokin_nbgrader.failure_notes import trace
+
+    cells = [("answer", "def newton_ik(p, q):\n    return [q]"),
+             ("code", "r_goal = [0.2, 0.5, -2.0]"),
+             ("answer", "def ik_closed_form(p):\n    return [p]\n\n\nclosed = ik_closed_form(r_goal)\n"
+                        "found = []\nfor q_start in [0, 1]:\n    q_end = newton_ik(r_goal, q_start)[-1]\n"
+                        "    found.append(q_end)\nfound = sorted(found)"),
+             ("code", "closed_sorted = sorted(closed)\nboth = [closed, found]"),
+             ("code", "closed_sorted, both")]
+    reads = trace(cells)[-1]
+    assert reads["closed_sorted"].roots == {"closed"} and not reads["closed_sorted"].answer, reads
+    assert reads["both"].roots == {"closed", "found", "newton_ik"}, reads
+    assert trace(cells)[3]["found"].answer and "newton_ik" in trace(cells)[3]["found"].roots

@@ -77,9 +77,9 @@ class AutograderReport(NbGraderPreprocessor):
             for name in cause["names"]:
                 if name in right:
                     continue
-                entry = causes.setdefault(name, {"task": cause["task"], "why": [], "tests": []})
-                entry["why"] += [cause["why"]] if cause["why"] not in entry["why"] else []
-                entry["tests"] += [t for t in cause["tests"] if t not in entry["tests"]]
+                merged = causes.setdefault(name, {"task": cause["task"], "why": [], "tests": []})
+                merged["why"] += [cause["why"]] if cause["why"] not in merged["why"] else []
+                merged["tests"] += [t for t in cause["tests"] if t not in merged["tests"]]
         if causes:
             out += ["", "**Where to start**", ""]
             ordered = sorted(causes.items(), key=lambda kv: (kv[1]["task"] is None, kv[1]["task"] or 0, kv[0]))

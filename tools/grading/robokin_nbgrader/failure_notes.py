@@ -11,7 +11,14 @@ import re
 import textwrap
 
 from nbgrader import utils
-from tools.notebook_analysis import Binding, defined_names, level2_headings, statement_at, statement_span
+from tools.notebook_analysis import (
+    Binding,
+    defined_names,
+    free_names,
+    level2_headings,
+    statement_at,
+    statement_span,
+)
 from tools.notebook_analysis import trace as cell_trace
 
 from .cells import ANSI, hidden_lines, robokin_metadata, task_of, visible_source
@@ -275,19 +282,27 @@ class FailureNotes:
 
 
 def trace(cells: list[tuple[str, str]]) -> list[dict[str, Binding]]:
-    """``notebook_analysis.trace`` with each read-only cell read statement by statement.
+    """``notebook_analysis.trace`` with every code cell read statement by statement.
 
+    A name's provenance follows the data: the answers its defining statements read, transitively.
     A read-only cell that computes ``H_model = leg.frames(q)`` and, in another statement,
-    ``H = R_B1 @ R_12`` gives ``H_model`` no answer of the student's: only the statements that
-    read an answer pass it on. Answer cells stay whole (all they bind is the student's). The
-    result is ``trace``'s, for the cells as given (a binding's ``cell`` is the index in ``cells``).
+    ``H = R_B1 @ R_12`` gives ``H_model`` no answer of the student's; in an answer cell that
+    binds ``closed = ik_closed_form(r_goal)`` and, further down, ``found`` from ``newton_ik``,
+    ``closed`` does not use ``newton_ik``. A name an answer cell binds is still the student's
+    answer (its own root); a statement that changes a list it reads (``found.append(q)``)
+    passes what it reads on to that list. The result is ``trace``'s, for the cells as given
+    (a binding's ``cell`` is the index in ``cells``).
     """
     expanded: list[tuple[str, str]] = []
     owner: list[int] = []
     for index, (kind, code) in enumerate(cells):
-        parts = _statements(code) if kind == "code" else [code]
-        for part in parts or [""]:
-            expanded.append((kind, part))
+        parts = [(kind, code)]
+        if kind in ("answer", "code") and _parses(code):   # a cell that does not parse stays whole
+            parts = [("code", _with_mutations(statement)) for statement in _statements(code)]
+            # the names an answer cell binds are the student's answers, each its own root
+            parts += [("answer", f"{name} = {name}") for name in defined_names(code) if kind == "answer"]
+        for part in parts or [("code", "")]:
+            expanded.append(part)
             owner.append(index)
     reads = cell_trace(expanded)
     out: list[dict[str, Binding]] = [{} for _ in cells]
@@ -298,6 +313,59 @@ def trace(cells: list[tuple[str, str]]) -> list[dict[str, Binding]]:
             if cell < index and name not in out[index]:   # a name bound earlier in the cell is its own
                 out[index][name] = Binding(cell, binding.answer, binding.roots)
     return out
+
+
+#: Methods that change the object they are called on: ``found.append(q_end)`` makes ``found`` depend on ``q_end``.
+MUTATING_METHODS = frozenset({"append", "appendleft", "extend", "insert", "update", "add", "setdefault",
+                              "pop", "remove", "discard", "clear", "sort", "reverse", "fill"})
+
+
+def _with_mutations(statement: str) -> str:
+    """``statement`` and, for every name it reads and changes in place (a method of
+    ``MUTATING_METHODS``, an item or attribute assigned), a binding of that name that reads
+    everything the statement reads: the trace then sees the change."""
+    import ast
+
+    try:
+        tree = ast.parse(statement)
+    except SyntaxError:
+        return statement
+    changed: list[str] = []
+
+    def base(node: ast.AST) -> str | None:
+        while isinstance(node, (ast.Subscript, ast.Attribute)):
+            node = node.value
+        return node.id if isinstance(node, ast.Name) else None
+
+    for node in ast.walk(tree):
+        targets: list[ast.AST] = []
+        if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) \
+                and node.func.attr in MUTATING_METHODS:
+            targets = [node.func.value]
+        elif isinstance(node, ast.Assign):
+            targets = [t for t in node.targets if isinstance(t, (ast.Subscript, ast.Attribute))]
+        elif isinstance(node, (ast.AugAssign, ast.AnnAssign)):
+            targets = [node.target] if isinstance(node.target, (ast.Subscript, ast.Attribute)) else []
+        for target in targets:
+            name = base(target)
+            if name and name not in changed:
+                changed.append(name)
+    free = sorted(free_names(statement))
+    changed = [name for name in changed if name in free]   # a name bound inside the statement is its own
+    if not changed:
+        return statement
+    read = ", ".join(free)
+    return statement + "\n" + "\n".join(f"{name} = ({read},)" for name in changed)
+
+
+def _parses(code: str) -> bool:
+    import ast
+
+    try:
+        ast.parse(code)
+    except SyntaxError:
+        return False
+    return True
 
 
 def _statements(code: str) -> list[str]:
