@@ -474,3 +474,17 @@ def test_call_channel_calls_calls_back_and_stops_a_call_that_never_returns(tmp_p
         grader_side.disconnect()
         client.stop_channels()
         benchmark.stop_kernel(manager)
+
+
+def test_delegation_flags_the_legs_own_fk_for_the_whole_transform():
+    """Chapter 1's ``H_BF = leg.fk(q_sym)`` (also under another name of ``leg``) hands back the
+    model the tests compare with; the product of the student's own transforms is not flagged."""
+    from tools.grading.bridge import delegation
+
+    checks = {2: {"leg.transform_BF": {"H_BF"}, "leg.foot_position": {"r_BF"}}}
+    for code in ("H_BF = leg.fk(q_sym)\nr_BF = H_BF[:3, 3]\n",
+                 "model = leg\nH_BF = model.fk(q_sym)\nr_BF = H_BF[:3, 3]\n"):
+        found = delegation.find([(2, code, ["H_BF", "r_BF"])], checks)
+        assert [(item["name"], item["reference"]) for item in found] == [("H_BF", "leg.fk (SerialChain.fk)")], found
+    own = "H_BF = sp.simplify(H_B1 * H_12 * H_23 * H_3F)\nr_BF = H_BF[:3, 3]\nassert leg.fk(q0) is not None\n"
+    assert delegation.find([(2, own, ["H_BF", "r_BF"])], checks) == []
