@@ -266,3 +266,13 @@ def test_provenance_follows_the_data_flow_of_an_answer_cell():
     assert reads["closed_sorted"].roots == {"closed"} and not reads["closed_sorted"].answer, reads
     assert reads["both"].roots == {"closed", "found", "newton_ik"}, reads
     assert trace(cells)[3]["found"].answer and "newton_ik" in trace(cells)[3]["found"].roots
+
+
+def test_a_function_of_a_module_changes_nothing():
+    """``np.sort(x)`` is a value, not a change of ``np``: ``np`` never takes the student's answers."""
+    from tools.grading.robokin_nbgrader.failure_notes import trace
+
+    cells = [("code", "import numpy as np"), ("answer", "modes = [3, 1]"),
+             ("code", "assert np.allclose(np.sort(modes), [1, 3])\nnp.random.shuffle(modes)"),
+             ("code", "np")]
+    assert trace(cells)[-1]["np"].roots == frozenset()

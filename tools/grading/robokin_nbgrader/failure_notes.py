@@ -322,7 +322,7 @@ MUTATING_METHODS = frozenset({"append", "appendleft", "extend", "insert", "updat
 
 def _with_mutations(statement: str) -> str:
     """``statement`` and, for every name it reads and changes in place (a method of
-    ``MUTATING_METHODS``, an item or attribute assigned), a binding of that name that reads
+    ``MUTATING_METHODS`` called for its effect, an item or attribute assigned), a binding of that name that reads
     everything the statement reads: the trace then sees the change."""
     import ast
 
@@ -339,9 +339,10 @@ def _with_mutations(statement: str) -> str:
 
     for node in ast.walk(tree):
         targets: list[ast.AST] = []
-        if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) \
-                and node.func.attr in MUTATING_METHODS:
-            targets = [node.func.value]
+        call = node.value if isinstance(node, ast.Expr) else None
+        if isinstance(call, ast.Call) and isinstance(call.func, ast.Attribute) \
+                and isinstance(call.func.value, ast.Name) and call.func.attr in MUTATING_METHODS:
+            targets = [call.func.value]   # found.append(q) on its own, not a value as np.sort(x)
         elif isinstance(node, ast.Assign):
             targets = [t for t in node.targets if isinstance(t, (ast.Subscript, ast.Attribute))]
         elif isinstance(node, (ast.AugAssign, ast.AnnAssign)):
