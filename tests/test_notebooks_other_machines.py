@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import ctypes
 import glob
+import json
 import os
 import platform
 import subprocess
@@ -83,16 +84,48 @@ def other_kernels(count: int = 2) -> list[str]:
     return usable[:count]
 
 
-def startup_dir(tmp_path: Path) -> Path:
-    """An IPYTHONDIR whose start-up file installs the linear-algebra noise in every kernel."""
+#: The module that perturbs ``numpy.linalg`` (loaded by path in each kernel: the kernel's path has no tests/).
+NOISE_MODULE = ROOT / "tests" / "support" / "numerical_noise.py"
+
+
+#: A kernel's start-up file: it writes, as one JSON line in REPORT, the OpenBLAS kernel and thread count
+#: numpy computes with in this kernel, and whether the kernel was forked (its parent is the fork server).
+KERNEL_REPORT = """\
+def _report(path):
+    import ctypes, glob, json, os, numpy
+    found = {}
+    for library in glob.glob(os.path.join(os.path.dirname(numpy.__file__) + ".libs", "*openblas*")):
+        library = ctypes.CDLL(library)
+        for key, symbols in (("core", ("scipy_openblas_get_corename64_", "openblas_get_corename")),
+                             ("threads", ("scipy_openblas_get_num_threads64_", "openblas_get_num_threads"))):
+            function = next((getattr(library, s) for s in symbols if hasattr(library, s)), None)
+            if function is not None and key not in found:
+                function.restype = ctypes.c_char_p if key == "core" else ctypes.c_int
+                value = function()
+                found[key] = value.decode() if key == "core" else value
+    with open(f"/proc/{os.getppid()}/cmdline", "rb") as parent:
+        found["forked"] = b"fork_server" in parent.read()
+    with open(path, "a") as report:
+        report.write(json.dumps(found) + "\\n")
+_report(REPORT)
+del _report
+"""
+
+
+def startup_dir(tmp_path: Path, noise: bool) -> Path:
+    """An IPYTHONDIR whose start-up files report each kernel's OpenBLAS (``kernels.jsonl`` in
+    ``tmp_path``) and, if ``noise``, install the linear-algebra noise."""
     startup = tmp_path / "ipython" / "profile_default" / "startup"
     startup.mkdir(parents=True)
-    (startup / "00-numerical-noise.py").write_text(
-        "import importlib.util as _util\n"
-        f"_spec = _util.spec_from_file_location('numerical_noise', {str(ROOT / 'tests' / 'numerical_noise.py')!r})\n"
-        "numerical_noise = _util.module_from_spec(_spec)\n_spec.loader.exec_module(numerical_noise)\n"
-        "numerical_noise.install()\ndel _util, _spec\n"
-    )
+    (startup / "00-kernel-report.py").write_text(
+        KERNEL_REPORT.replace("REPORT", repr(str(tmp_path / "kernels.jsonl"))))
+    if noise:
+        (startup / "01-numerical-noise.py").write_text(
+            "import importlib.util as _util\n"
+            f"_spec = _util.spec_from_file_location('numerical_noise', {str(NOISE_MODULE)!r})\n"
+            "numerical_noise = _util.module_from_spec(_spec)\n_spec.loader.exec_module(numerical_noise)\n"
+            "numerical_noise.install()\ndel _util, _spec\n"
+        )
     return startup.parent.parent
 
 
@@ -104,12 +137,13 @@ MACHINES = ("another OpenBLAS kernel, 1 thread", "a third OpenBLAS kernel, 2 thr
 
 def machine_environment(machine: str, tmp_path: Path) -> dict[str, str]:
     """The variables that make this machine compute as ``machine`` (one of ``MACHINES``)."""
+    ipython = {"IPYTHONDIR": str(startup_dir(tmp_path, noise=machine == MACHINES[2]))}
     if machine == MACHINES[2]:
-        return {"IPYTHONDIR": str(startup_dir(tmp_path))}
+        return ipython
     first, second = other_kernels()
     if machine == MACHINES[0]:
-        return {"OPENBLAS_CORETYPE": first, "OPENBLAS_NUM_THREADS": "1"}
-    return {"OPENBLAS_CORETYPE": second, "OPENBLAS_NUM_THREADS": "2"}
+        return {"OPENBLAS_CORETYPE": first, "OPENBLAS_NUM_THREADS": "1", **ipython}
+    return {"OPENBLAS_CORETYPE": second, "OPENBLAS_NUM_THREADS": "2", **ipython}
 
 
 @pytest.mark.parametrize("machine", MACHINES)
@@ -135,5 +169,11 @@ def test_notebook_outputs_hold_on_other_machines(tmp_path, machine):
         f"stored notebook outputs change on another machine ({described}: exit {code}); print only the "
         "digits the computation supports (robokin.formatting) or a bound:\n"
         + "\n".join(summary) + "\n" + output[-4000:])
+    kernels = [json.loads(line) for line in (tmp_path / "kernels.jsonl").read_text().splitlines()]
+    assert kernels, "no kernel ran the start-up file that reports its OpenBLAS"
+    if "OPENBLAS_CORETYPE" in extra:   # the settings reached every kernel, forked from a warm server or not
+        assert {k.get("core", "").lower() for k in kernels} == {extra["OPENBLAS_CORETYPE"].lower()}, kernels
+        assert {k.get("threads") for k in kernels} == {int(extra["OPENBLAS_NUM_THREADS"])}, kernels
+    forked = sum(k["forked"] for k in kernels)
     print(f"[other machines] {described}: {output.strip().splitlines()[-1]} "
-          f"({time.perf_counter() - started:.0f} s)")
+          f"({time.perf_counter() - started:.0f} s; {len(kernels)} kernels, {forked} forked)")
