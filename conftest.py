@@ -16,12 +16,15 @@ as a new process, with a warning.
 from __future__ import annotations
 
 import nbval.kernel
+import pytest
 
 from tests.support import forked_kernels
 
 nbval.kernel.KernelManager = forked_kernels.ForkedNbvalKernelManager
 
 
+@pytest.hookimpl(tryfirst=True)
 def pytest_sessionfinish(session, exitstatus):
-    """Stop this process's fork server of nbval kernels (each xdist worker has its own)."""
+    """Stop this process's fork server of nbval kernels (each xdist worker has its own), before
+    tests/conftest.py looks for processes the tests left running (its ``pytest_sessionfinish``)."""
     forked_kernels.stop_server()
