@@ -242,12 +242,15 @@ def test_where_to_start_has_one_line_per_answer_with_all_its_tests():
                                           "names": ["newton_ik"], "tests": ["task4_test2"]},
         "1|answer cell In [3] raised ValueError": {"task": 1, "why": "answer cell In [3] raised ValueError",
                                                    "names": ["newton_ik", "q_start"],
-                                                   "tests": ["task4_test2", "task4_test1"]}}}}
+                                                   "tests": ["task4_test2", "task4_test1"]},
+        "1|own tests task4_test1, task1_test1 failed": {"task": 1, "why": "own tests task4_test1, task1_test1 failed",
+                                                        "names": ["newton_ik"], "tests": ["task4_test2"]}}}}
     report = AutograderReport().preprocess(nb, resources)[0].cells[0].source
     start = report.split("**Where to start**")[1].strip().splitlines()
     assert len(start) == 2 and sum("`newton_ik`" in line for line in start) == 1, start
-    assert start[0] == ("- `newton_ik` (Task 1): its own test task1_test1 failed and answer cell In [3] raised "
-                        "ValueError; the failing tests task4_test1, task4_test2 depend on it. Fix it first."), start
+    assert start[0] == ("- `newton_ik` (Task 1): its own tests task1_test1, task4_test1 failed and answer cell "
+                        "In [3] raised ValueError; the failing tests task4_test1, task4_test2 depend on it. "
+                        "Fix it first."), start
 
 
 def test_provenance_follows_the_data_flow_of_an_answer_cell():

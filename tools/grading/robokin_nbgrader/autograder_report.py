@@ -7,6 +7,8 @@ timed out, a test cell that was deleted).
 
 from __future__ import annotations
 
+import re
+
 from nbformat.notebooknode import from_dict
 from nbgrader import utils
 from nbgrader.preprocessors import NbGraderPreprocessor
@@ -86,7 +88,7 @@ class AutograderReport(NbGraderPreprocessor):
             for name, cause in ordered[: self.max_notes]:
                 of_task = f" (Task {cause['task']})" if cause["task"] is not None else ""
                 tests = sorted(cause["tests"], key=lambda t: order.get(t, len(order)))
-                why = " and ".join(markdown_line(w) for w in cause["why"])
+                why = " and ".join(markdown_line(w) for w in _merge_own_tests(cause["why"], order))
                 out.append(f"- `{name}`{of_task}: its {why}; "
                            f"the failing test{'s' if len(tests) > 1 else ''} {', '.join(tests)} "
                            f"depend{'' if len(tests) > 1 else 's'} on it. Fix it first.")
@@ -130,6 +132,21 @@ class AutograderReport(NbGraderPreprocessor):
                 break
         # timeouts and deleted tests first, then errors
         return sorted(notes, key=lambda n: 0 if ("time limit" in n or "missing" in n) else 1)
+
+
+def _merge_own_tests(reasons: list[str], order: dict) -> list[str]:
+    """The reasons of one answer with its "own test(s) … failed" merged into one, tests in notebook order."""
+    own: list[str] = []
+    others = []
+    for reason in reasons:
+        found = re.fullmatch(r"own tests? (.+) failed", reason)
+        if found:
+            own += [t for t in found.group(1).split(", ") if t not in own]
+        else:
+            others.append(reason)
+    own.sort(key=lambda t: order.get(t, len(order)))
+    merged = [f"own test{'s' if len(own) > 1 else ''} {', '.join(own)} failed"] if own else []
+    return merged + others
 
 
 def _num(x: float) -> str:
