@@ -481,7 +481,7 @@ def test_delegation_flags_the_legs_own_fk_for_the_whole_transform():
     model the tests compare with; the product of the student's own transforms is not flagged."""
     from tools.grading.bridge import delegation
 
-    checks = {2: {"leg.transform_BF": {"H_BF"}, "leg.foot_position": {"r_BF"}}}
+    checks: dict[int | None, dict[str, set[str]]] = {2: {"leg.transform_BF": {"H_BF"}, "leg.foot_position": {"r_BF"}}}
     for code in ("H_BF = leg.fk(q_sym)\nr_BF = H_BF[:3, 3]\n",
                  "model = leg\nH_BF = model.fk(q_sym)\nr_BF = H_BF[:3, 3]\n"):
         found = delegation.find([(2, code, ["H_BF", "r_BF"])], checks)
