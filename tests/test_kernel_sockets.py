@@ -85,8 +85,9 @@ def test_the_async_manager_too():
 
 
 def test_nbval_starts_its_kernels_with_private_sockets():
-    """The repository's conftest.py points nbval's manager at the one with private sockets."""
-    assert nbval.kernel.KernelManager is PrivateSocketsKernelManager
+    """The repository's conftest.py points nbval's manager at one with private sockets (the suite's
+    manager of forked kernels, tests/support/forked_kernels.py, is a PrivateSocketsKernelManager)."""
+    assert issubclass(nbval.kernel.KernelManager, PrivateSocketsKernelManager)
     kernel = nbval.kernel.RunningKernel(nbval.kernel.CURRENT_ENV_KERNEL_NAME, cwd=str(ROOT / "notebooks"))
     try:
         assert_private_sockets(kernel.km)
