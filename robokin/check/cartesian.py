@@ -45,12 +45,13 @@ Usage::
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from functools import lru_cache
 from typing import Any
 
 import numpy as np
 
-from robokin.check._core import Check, MatrixArgumentsCheck, Variable, alternatives
+from robokin.check._core import Check, Diagnosis, MatrixArgumentsCheck, Variable, alternatives
 from robokin.check._registry import exercise
 from robokin.check.diagnoses import inverse_transform, transform_mistakes
 from robokin.transforms import (
@@ -370,36 +371,59 @@ def _rigid_body(r: np.ndarray) -> np.ndarray:
 
 
 def _tool_jacobian_reference(x: np.ndarray) -> np.ndarray:
+    J, r, _p = _tool_jacobian_parts(x)
+    return _rigid_body(r) @ J
+
+
+def _tool_jacobian_parts(x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """J_E (6×7), ᴮr_ET = ᴮR_E ₑr_ET and ₑr_ET (3,) from the check's inputs x."""
     J, R, p = _tool_jacobian_arguments(x)
-    return _rigid_body(R @ p) @ J
+    return J, R @ p, p
 
 
-def _tool_jacobian_mistakes():
+def _transport_mistakes(parts: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray]],
+                        offset_words: str, of_q: str) -> list[Diagnosis]:
+    """The typical mistakes of transporting an end-effector Jacobian J_E to the tool.
+
+    Parameters
+    ----------
+    parts : callable
+        ``parts(x) -> (J_E (6, n), ᴮr_ET (3,), ₑr_ET (3,))`` at the inputs x: the
+        Jacobian, the offset from E to T in the base frame and the same offset in E.
+    offset_words : str
+        How the messages name the offset ₑr_ET (``"ₑr_ET"``, ``"ₑr_ET = [0.2, 0, 0] m"``).
+    of_q : str
+        ``"(q)"`` where the messages write J_E and ᴮR_E as functions of q, else ``""``.
+
+    Returns
+    -------
+    list of Diagnosis
+    """
     def not_rotated(x):
-        J, _R, p = _tool_jacobian_arguments(x)
-        return _rigid_body(p) @ J
+        J, _r, r_in_e = parts(x)
+        return _rigid_body(r_in_e) @ J
 
     def plus_skew(x):
-        J, R, p = _tool_jacobian_arguments(x)
-        return _rigid_body(-(R @ p)) @ J
+        J, r, _r_in_e = parts(x)
+        return _rigid_body(-r) @ J
 
     def angular_first_block(x):
-        J, R, p = _tool_jacobian_arguments(x)
+        J, r, _r_in_e = parts(x)
         M = np.eye(6)
-        M[3:, :3] = skew(R @ p).T
+        M[3:, :3] = skew(r).T
         return M @ J
 
     def transposed(x):
-        J, R, p = _tool_jacobian_arguments(x)
-        return _rigid_body(R @ p).T @ J
+        J, r, _r_in_e = parts(x)
+        return _rigid_body(r).T @ J
 
     def untouched(x):
-        return _tool_jacobian_arguments(x)[0]
+        return parts(x)[0]
 
     return [
         alternatives("offset_not_rotated", [(not_rotated, (
-            "{name} uses the offset ₑr_ET as if it were written in the base frame. The transport "
-            "needs ᴮr_ET = ᴮR_E ₑr_ET (the two agree only while ᴮR_E = I)."
+            f"{{name}} uses the offset {offset_words} as if it were written in the base "
+            f"frame. The transport needs ᴮr_ET = ᴮR_E{of_q} ₑr_ET (the two agree only while ᴮR_E = I)."
         ))]),
         alternatives("cross_sign", [(plus_skew, (
             "{name} has the sign of the cross-product block reversed. v_T = v_E + ω × r = "
@@ -414,7 +438,9 @@ def _tool_jacobian_mistakes():
             "{name} uses the transposed transport matrix [[I, 0], [[r×], I]] (it carries wrenches, "
             "not twists): J_T = [[I, −[r×]], [0, I]] J_E."
         ))]),
-        alternatives("no_transport", [(untouched, "{name} is the end-effector Jacobian J_E: the tool offset is ignored.")]),
+        alternatives("no_transport", [(untouched, (
+            f"{{name}} is the end-effector Jacobian J_E{of_q}: the tool offset is ignored."
+        ))]),
     ]
 
 
@@ -422,7 +448,7 @@ tool_jacobian = exercise(_CHAPTER, "tool_jacobian", MatrixArgumentsCheck(
     name="tool_jacobian(J_e, R_be, p_et)",
     reference=_tool_jacobian_reference,
     variables=[*_Q, *_P],
-    diagnoses=_tool_jacobian_mistakes(),
+    diagnoses=_transport_mistakes(_tool_jacobian_parts, "ₑr_ET", ""),
     noun="configurations and offsets",
     arguments=_tool_jacobian_arguments,
     signature="tool_jacobian(J_e, R_be, p_et) -> (6, n) array",
@@ -432,60 +458,16 @@ tool_jacobian = exercise(_CHAPTER, "tool_jacobian", MatrixArgumentsCheck(
 
 
 # ------------------------------------------------------------------ tool Jacobian f(q) of the exercise
-def _tool_jacobian_of_q_parts(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The arm's J_E(q) (6×7) and the offset ᴮr_ET = ᴮR_E(q) ₑr_ET (3,) at the configuration x."""
+def _tool_jacobian_of_q_parts(x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The arm's J_E(q) (6×7), the offset ᴮr_ET = ᴮR_E(q) ₑr_ET and the tool's ₑr_ET (3,) at x."""
     q = np.asarray(x[:N_JOINTS], dtype=float)
-    return _robot().jacobian(q), _robot().fk(q)[:3, :3] @ np.array(TOOL_OFFSET)
+    offset = np.array(TOOL_OFFSET)
+    return _robot().jacobian(q), _robot().fk(q)[:3, :3] @ offset, offset
 
 
 def _tool_jacobian_of_q_reference(x: np.ndarray) -> np.ndarray:
-    J, r = _tool_jacobian_of_q_parts(x)
+    J, r, _offset = _tool_jacobian_of_q_parts(x)
     return _rigid_body(r) @ J
-
-
-def _tool_jacobian_of_q_mistakes():
-    """The mistakes of :func:`_tool_jacobian_mistakes`, for the exercise's own tool and arm."""
-    def not_rotated(x):
-        J, _r = _tool_jacobian_of_q_parts(x)
-        return _rigid_body(np.array(TOOL_OFFSET)) @ J
-
-    def plus_skew(x):
-        J, r = _tool_jacobian_of_q_parts(x)
-        return _rigid_body(-r) @ J
-
-    def angular_first_block(x):
-        J, r = _tool_jacobian_of_q_parts(x)
-        M = np.eye(6)
-        M[3:, :3] = skew(r).T
-        return M @ J
-
-    def transposed(x):
-        J, r = _tool_jacobian_of_q_parts(x)
-        return _rigid_body(r).T @ J
-
-    def untouched(x):
-        return _tool_jacobian_of_q_parts(x)[0]
-
-    return [
-        alternatives("offset_not_rotated", [(not_rotated, (
-            "{name} uses the offset ₑr_ET = [0.2, 0, 0] m as if it were written in the base "
-            "frame. The transport needs ᴮr_ET = ᴮR_E(q) ₑr_ET (the two agree only while ᴮR_E = I)."
-        ))]),
-        alternatives("cross_sign", [(plus_skew, (
-            "{name} has the sign of the cross-product block reversed. v_T = v_E + ω × r = "
-            "v_E − [r×] ω, so the top-right block is −[r×] (r from E to T)."
-        ))]),
-        alternatives("twist_order", [(angular_first_block, (
-            "{name} uses [[I, 0], [[r×]ᵀ, I]], the course's transport for twists ordered [ω; v] "
-            "(angular first), on robokin's Jacobian ordered [v; ω]. With linear rows first the same "
-            "map is [[I, −[r×]], [0, I]]."
-        ))]),
-        alternatives("transposed_transport", [(transposed, (
-            "{name} uses the transposed transport matrix [[I, 0], [[r×], I]] (it carries wrenches, "
-            "not twists): J_T = [[I, −[r×]], [0, I]] J_E."
-        ))]),
-        alternatives("no_transport", [(untouched, "{name} is the end-effector Jacobian J_E(q): the tool offset is ignored.")]),
-    ]
 
 
 tool_jacobian_of_q = exercise(_CHAPTER, "tool_jacobian_of_q", Check(
@@ -493,7 +475,7 @@ tool_jacobian_of_q = exercise(_CHAPTER, "tool_jacobian_of_q", Check(
     reference=_tool_jacobian_of_q_reference,
     variables=_Q,
     groups=[("q", list(range(N_JOINTS)))],
-    diagnoses=_tool_jacobian_of_q_mistakes(),
+    diagnoses=_transport_mistakes(_tool_jacobian_of_q_parts, "ₑr_ET = [0.2, 0, 0] m", "(q)"),
     noun="configurations",
     hint="J_T(q) = [[I, −[r×]], [0, I]] J_E(q) with r = ᴮR_E(q) ₑr_ET (rows [v; ω]).",
     doc=("Check a function my_tool_jacobian(q) -> J_T(q) (6×7) of the course's arm with the "
