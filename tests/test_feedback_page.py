@@ -279,3 +279,16 @@ def test_a_function_of_a_module_changes_nothing():
              ("code", "assert np.allclose(np.sort(modes), [1, 3])\nnp.random.shuffle(modes)"),
              ("code", "np")]
     assert trace(cells)[-1]["np"].roots == frozenset()
+
+
+def test_a_function_of_a_module_called_as_a_statement_changes_nothing():
+    """A bare ``np.sort(modes)`` calls a function of the module ``np``: ``np`` keeps no answer of
+    the student's, while ``found.sort()`` on the student's list still passes the list on."""
+    from tools.grading.robokin_nbgrader.failure_notes import trace
+
+    cells = [("code", "import numpy as np\nimport numpy.linalg as la"), ("answer", "modes = [3, 1]"),
+             ("code", "np.sort(modes)\nla.pop(modes)\nfound = []\nfound.append(modes)\nfound.sort()"),
+             ("code", "np, la, found")]
+    reads = trace(cells)[-1]
+    assert reads["np"].roots == frozenset() and reads["la"].roots == frozenset(), reads
+    assert reads["found"].roots == {"modes"}, reads

@@ -295,10 +295,11 @@ def trace(cells: list[tuple[str, str]]) -> list[dict[str, Binding]]:
     """
     expanded: list[tuple[str, str]] = []
     owner: list[int] = []
+    modules = _module_names(code for kind, code in cells if kind in ("answer", "code"))
     for index, (kind, code) in enumerate(cells):
         parts = [(kind, code)]
         if kind in ("answer", "code") and _parses(code):   # a cell that does not parse stays whole
-            parts = [("code", _with_mutations(statement)) for statement in _statements(code)]
+            parts = [("code", _with_mutations(statement, modules)) for statement in _statements(code)]
             # the names an answer cell binds are the student's answers, each its own root
             parts += [("answer", f"{name} = {name}") for name in defined_names(code) if kind == "answer"]
         for part in parts or [("code", "")]:
@@ -320,10 +321,27 @@ MUTATING_METHODS = frozenset({"append", "appendleft", "extend", "insert", "updat
                               "pop", "remove", "discard", "clear", "sort", "reverse", "fill"})
 
 
-def _with_mutations(statement: str) -> str:
+def _module_names(sources) -> frozenset[str]:
+    """The names that ``import x`` or ``import x as y`` binds in any of ``sources``: modules."""
+    import ast
+
+    names: set[str] = set()
+    for code in sources:
+        try:
+            tree = ast.parse(code)
+        except SyntaxError:
+            continue
+        for node in ast.walk(tree):
+            if isinstance(node, ast.Import):
+                names.update(alias.asname or alias.name.split(".")[0] for alias in node.names)
+    return frozenset(names)
+
+
+def _with_mutations(statement: str, modules: frozenset[str] = frozenset()) -> str:
     """``statement`` and, for every name it reads and changes in place (a method of
     ``MUTATING_METHODS`` called for its effect, an item or attribute assigned), a binding of that name that reads
-    everything the statement reads: the trace then sees the change."""
+    everything the statement reads: the trace then sees the change. A function of a module called
+    as a statement (``np.sort(x)``, ``modules`` holds ``np``) changes no module."""
     import ast
 
     try:
@@ -341,7 +359,8 @@ def _with_mutations(statement: str) -> str:
         targets: list[ast.AST] = []
         call = node.value if isinstance(node, ast.Expr) else None
         if isinstance(call, ast.Call) and isinstance(call.func, ast.Attribute) \
-                and isinstance(call.func.value, ast.Name) and call.func.attr in MUTATING_METHODS:
+                and isinstance(call.func.value, ast.Name) and call.func.attr in MUTATING_METHODS \
+                and call.func.value.id not in modules:
             targets = [call.func.value]   # found.append(q) on its own, not a value as np.sort(x)
         elif isinstance(node, ast.Assign):
             targets = [t for t in node.targets if isinstance(t, (ast.Subscript, ast.Attribute))]
