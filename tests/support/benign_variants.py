@@ -204,6 +204,16 @@ def orientation_error(R, R_goal):  # written another way: R_goal R^T is already 
     axis, angle = angle_axis(R_goal @ R.T)
     return angle * axis
 '''),
+        "task3_answer1": ("the slide's column as the tool's motion per metre of slide, not z_6 of a frame", '''
+
+def slide_column(q):  # written another way: the tool pose is affine in q6, so a secant is exact
+    step = np.zeros(7)
+    step[5] = 0.1  # m along the slide
+    before = tool_arm.fk(q)
+    after = tool_arm.fk(np.asarray(q, dtype=float) + step)
+    moved = np.r_[after[:3, 3] - before[:3, 3], rotation_log(after[:3, :3] @ before[:3, :3].T)]
+    return moved / 0.1
+'''),
     },
     "05_baxter_circle": {
         "task1_answer2": ("a fourth-order central difference stencil", '''
