@@ -360,12 +360,12 @@ def test_grade_shard_passes_the_process_cap_on(tmp_path, monkeypatch, argv, expe
         seen.append((notebook.parent.name, max_processes, template))
         return notebook, "1 / 2", True
 
-    monkeypatch.setattr(grade_shard, "grade_one", grade_one)
+    monkeypatch.setattr(grade_many, "grade_one", grade_one)
     def assign(chapter: str, folder: Path) -> Path:
         assigned.append(folder)
         return folder / "course"
 
-    monkeypatch.setattr(grade_shard, "assign", assign)
+    monkeypatch.setattr(grade_many, "assign", assign)
     assert grade_shard.main([CHAPTER, str(tmp_path), "--shards", "2", "--index", "0", "--jobs", "1", *argv]) == 0
     assert len(assigned) == 1
     assert sorted(seen) == [("alice", expected, assigned[0] / "course"), ("carol", expected, assigned[0] / "course")]
@@ -373,7 +373,7 @@ def test_grade_shard_passes_the_process_cap_on(tmp_path, monkeypatch, argv, expe
 
 def test_grade_shard_refuses_a_negative_process_cap(tmp_path, monkeypatch, capsys):
     save({"cells": []}, tmp_path / "alice" / f"{CHAPTER}.ipynb")
-    monkeypatch.setattr(grade_shard, "grade_one", lambda *args: pytest.fail("graded despite a bad cap"))
+    monkeypatch.setattr(grade_many, "grade_one", lambda *args: pytest.fail("graded despite a bad cap"))
     assert grade_shard.main([CHAPTER, str(tmp_path), "--shards", "1", "--index", "0", "--max-processes", "-1"]) == 2
     assert "--max-processes must be 0 (no cap) or a positive number of processes; got -1" in capsys.readouterr().err
 

@@ -24,6 +24,7 @@ import os
 import sys
 import tempfile
 import time
+from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor, as_completed
 from pathlib import Path
 
@@ -51,10 +52,8 @@ def grade_one(chapter: str, notebook: Path, memory_mib: int, cpu_seconds: int,
     return notebook, f"{results['score']:g} / {maximum:g}", True
 
 
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("chapter", help="the chapter, e.g. 03_three_rpr")
-    parser.add_argument("folder", type=Path, help="folder of <student>/<chapter>.ipynb")
+def add_batch_options(parser: argparse.ArgumentParser) -> None:
+    """The options of a batch (``make grade``, a shard): ``--jobs`` and the caps of each submission."""
     parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="submissions graded at a time")
     parser.add_argument("--memory", type=int, default=DEFAULT_MEMORY_MIB, help="MiB of address space per process")
     parser.add_argument("--cpu-seconds", type=int, default=DEFAULT_CPU_SECONDS, help="CPU seconds per process")
@@ -62,34 +61,66 @@ def main(argv: list[str] | None = None) -> int:
                         help="processes and threads of a submission's kernel and its children "
                              f"(default {DEFAULT_MAX_PROCESSES}; 0: no cap, with a warning, where none can be "
                              "made: root in a container with a read-only cgroup, which caps them itself)")
+
+
+def batch_options_error(args: argparse.Namespace) -> str:
+    """What is wrong with the options of :func:`add_batch_options` (``""``: nothing)."""
+    if args.jobs < 1:
+        return f"--jobs must be at least 1; got {args.jobs}"
+    if args.max_processes < 0:
+        return f"--max-processes must be 0 (no cap) or a positive number of processes; got {args.max_processes}"
+    return ""
+
+
+def grade_batch(chapter: str, notebooks: list[Path], args: argparse.Namespace,
+                report: Callable[[int, Path, str, bool], None], in_order: bool = False) -> int | None:
+    """Grade ``notebooks``, ``args.jobs`` at a time, each in a copy of one template course.
+
+    The chapter is assigned once (:func:`grade_submission.assign`), then each notebook is graded
+    by :func:`grade_one` with the caps of :func:`add_batch_options`. ``report(done, notebook,
+    verdict, graded)`` is called for each, in the order they finish (``in_order``: the order of
+    ``notebooks``), ``done`` counting from 1. Returns how many could not be graded, or ``None``
+    (the error printed) when the chapter could not be assigned.
+    """
+    failed = 0
+    with tempfile.TemporaryDirectory(prefix="robokin-template-") as folder, \
+            ThreadPoolExecutor(max_workers=args.jobs) as pool:
+        try:
+            template = assign(chapter, Path(folder))
+        except (FileNotFoundError, RuntimeError) as error:
+            print(f"ERROR: cannot assign {chapter}: {error}", file=sys.stderr)
+            return None
+        futures = [pool.submit(grade_one, chapter, path.resolve(), args.memory, args.cpu_seconds,
+                               args.max_processes, template) for path in notebooks]
+        for done, future in enumerate(futures if in_order else as_completed(futures), 1):
+            notebook, verdict, ok = future.result()
+            failed += not ok
+            report(done, notebook, verdict, ok)
+    return failed
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("chapter", help="the chapter, e.g. 03_three_rpr")
+    parser.add_argument("folder", type=Path, help="folder of <student>/<chapter>.ipynb")
+    add_batch_options(parser)
     args = parser.parse_args(argv)
     found = submissions(args.folder, args.chapter)
     if not found:
         print(f"ERROR: no {args.folder}/<student>/{args.chapter}.ipynb", file=sys.stderr)
         return 2
-    if args.jobs < 1:
-        print(f"ERROR: --jobs must be at least 1; got {args.jobs}", file=sys.stderr)
+    if error := batch_options_error(args):
+        print(f"ERROR: {error}", file=sys.stderr)
         return 2
-    if args.max_processes < 0:
-        print(f"ERROR: --max-processes must be 0 (no cap) or a positive number of processes; got {args.max_processes}",
-              file=sys.stderr)
-        return 2
-    started, done, failed = time.monotonic(), 0, 0
-    with tempfile.TemporaryDirectory(prefix="robokin-template-") as folder, \
-            ThreadPoolExecutor(max_workers=args.jobs) as pool:
-        try:
-            template = assign(args.chapter, Path(folder))
-        except (FileNotFoundError, RuntimeError) as error:
-            print(f"ERROR: cannot assign {args.chapter}: {error}", file=sys.stderr)
-            return 1
-        futures = [pool.submit(grade_one, args.chapter, path.resolve(), args.memory, args.cpu_seconds,
-                               args.max_processes, template) for path in found]
-        for future in as_completed(futures):
-            notebook, verdict, ok = future.result()
-            done += 1
-            failed += not ok
-            print(f"[{done}/{len(found)}, {time.monotonic() - started:.0f} s] {notebook.parent.name}: {verdict}",
-                  flush=True)
+    started = time.monotonic()
+
+    def report(done: int, notebook: Path, verdict: str, graded: bool) -> None:
+        print(f"[{done}/{len(found)}, {time.monotonic() - started:.0f} s] {notebook.parent.name}: {verdict}",
+              flush=True)
+
+    failed = grade_batch(args.chapter, found, args, report)
+    if failed is None:
+        return 1
     minutes = (time.monotonic() - started) / 60
     print(f"{len(found)} submissions in {minutes:.1f} min with {args.jobs} jobs "
           f"({len(found) / max(minutes, 1e-9) / args.jobs:.1f} per minute per job); {failed} not graded")

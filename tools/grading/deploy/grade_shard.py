@@ -27,13 +27,9 @@ from __future__ import annotations
 import argparse
 import os
 import sys
-import tempfile
-from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
-from tools.grading.grade_many import grade_one, submissions
-from tools.grading.grade_submission import DEFAULT_CPU_SECONDS, DEFAULT_MEMORY_MIB, assign
-from tools.grading.process_cap import DEFAULT_MAX_PROCESSES
+from tools.grading.grade_many import add_batch_options, batch_options_error, grade_batch, submissions
 
 
 def shard(found: list[Path], index: int, shards: int) -> list[Path]:
@@ -61,13 +57,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--shards", type=int, required=True, help="number of shards (the Job's completions)")
     parser.add_argument("--index", type=int, default=None,
                         help="this shard, 0 .. shards-1 (default: $JOB_COMPLETION_INDEX)")
-    parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="submissions graded at a time")
-    parser.add_argument("--memory", type=int, default=DEFAULT_MEMORY_MIB, help="MiB of address space per process")
-    parser.add_argument("--cpu-seconds", type=int, default=DEFAULT_CPU_SECONDS, help="CPU seconds per process")
-    parser.add_argument("--max-processes", type=int, default=DEFAULT_MAX_PROCESSES,
-                        help="processes and threads of a submission's kernel and its children "
-                             f"(default {DEFAULT_MAX_PROCESSES}; 0: no cap, with a warning, where none can be "
-                             "made: root in a container with a read-only cgroup, which caps them itself)")
+    add_batch_options(parser)
     parser.add_argument("--force", action="store_true", help="grade students that have a newer results.json too")
     args = parser.parse_args(argv)
     index = args.index
@@ -78,12 +68,8 @@ def main(argv: list[str] | None = None) -> int:
                   file=sys.stderr)
             return 2
         index = int(value)
-    if args.jobs < 1:
-        print(f"ERROR: --jobs must be at least 1; got {args.jobs}", file=sys.stderr)
-        return 2
-    if args.max_processes < 0:
-        print(f"ERROR: --max-processes must be 0 (no cap) or a positive number of processes; got {args.max_processes}",
-              file=sys.stderr)
+    if error := batch_options_error(args):
+        print(f"ERROR: {error}", file=sys.stderr)
         return 2
     try:
         mine = shard(submissions(args.folder, args.chapter), index, args.shards)
@@ -95,20 +81,12 @@ def main(argv: list[str] | None = None) -> int:
           flush=True)
     if not todo:
         return 0
-    failed = 0
-    with tempfile.TemporaryDirectory(prefix="robokin-template-") as folder, \
-            ThreadPoolExecutor(max_workers=args.jobs) as pool:
-        try:
-            template = assign(args.chapter, Path(folder))
-        except (FileNotFoundError, RuntimeError) as error:
-            print(f"ERROR: cannot assign {args.chapter}: {error}", file=sys.stderr)
-            return 1
-        for notebook, verdict, ok in pool.map(
-                lambda path: grade_one(args.chapter, path.resolve(), args.memory, args.cpu_seconds,
-                                       args.max_processes, template), todo):
-            failed += not ok
-            print(f"{notebook.parent.name}: {verdict}", flush=True)
-    return 1 if failed else 0
+
+    def report(done: int, notebook: Path, verdict: str, graded: bool) -> None:
+        print(f"{notebook.parent.name}: {verdict}", flush=True)
+
+    failed = grade_batch(args.chapter, todo, args, report, in_order=True)
+    return 0 if failed == 0 else 1
 
 
 if __name__ == "__main__":
