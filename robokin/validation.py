@@ -32,6 +32,7 @@ __all__ = [
     "as_batch",
     "as_scalar",
     "check_rotation_matrix",
+    "as_rotation_matrix",
     "check_transform",
     "check_limits",
     "check_positive",
@@ -306,6 +307,36 @@ def check_rotation_matrix(R: Any, tol: float = 1e-6, name: str = "R") -> np.ndar
             f"{float(e):.3g} (tolerance {tol:g}), det({name}) = {float(d):.6g}"
         )
     return a
+
+
+def as_rotation_matrix(R: Any, check: bool = True, name: str = "R") -> np.ndarray:
+    """``R`` as a float array of rotation matrices: checked as one (``check``) or by shape only.
+
+    The input of the conversions from a rotation matrix (angle–axis, Euler angles,
+    quaternions), whose ``check=False`` skips the orthonormality test in hot loops.
+
+    Parameters
+    ----------
+    R : array_like, shape (3, 3) or (N, 3, 3)
+        Rotation matrix / matrices.
+    check : bool, optional
+        Also check that ``R`` is a rotation (:func:`check_rotation_matrix`); else
+        only its shape.
+    name : str, optional
+        Argument name for messages.
+
+    Returns
+    -------
+    numpy.ndarray, shape (3, 3) or (N, 3, 3)
+
+    Raises
+    ------
+    ShapeError
+        Wrong shape.
+    DomainError
+        Non-finite entries, or (``check``) not a rotation.
+    """
+    return check_rotation_matrix(R, name=name) if check else _as_square_stack(R, 3, name)
 
 
 def check_transform(T: Any, tol: float = 1e-6, name: str = "T") -> np.ndarray:

@@ -7,6 +7,7 @@ from robokin.errors import DomainError, RobokinError, ShapeError
 from robokin.validation import (
     as_batch,
     as_float_array,
+    as_rotation_matrix,
     as_vector,
     check_finite,
     check_limits,
@@ -135,6 +136,18 @@ def test_check_rotation_matrix_accepts():
     Rs = np.stack([_rot(t) for t in np.linspace(0, 3, 5)])
     assert check_rotation_matrix(Rs).shape == (5, 3, 3)
     assert check_rotation_matrix(R.tolist()).dtype == np.float64
+
+
+def test_as_rotation_matrix_checks_a_rotation_or_only_the_shape():
+    reflection = np.diag([1.0, 1.0, -1.0])
+    with pytest.raises(DomainError, match=r"R is not a rotation matrix"):
+        as_rotation_matrix(reflection)
+    assert np.array_equal(as_rotation_matrix(reflection, check=False), reflection)
+    for check in (True, False):
+        with pytest.raises(ShapeError, match=r"^R_AB must have shape \(3, 3\) or \(N, 3, 3\); got shape \(3, 4\)$"):
+            as_rotation_matrix(np.zeros((3, 4)), check, name="R_AB")
+        with pytest.raises(DomainError, match=r"R must be finite"):
+            as_rotation_matrix(np.full((3, 3), np.nan), check)
 
 
 def test_check_rotation_matrix_reflection():
