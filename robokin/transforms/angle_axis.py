@@ -25,7 +25,7 @@ import numpy as np
 from robokin._dispatch import is_symbolic, scalar_input, to_sympy
 from robokin.errors import DomainError, ShapeError
 from robokin.transforms.rotations import skew
-from robokin.validation import as_batch, as_float_array, check_rotation_matrix
+from robokin.validation import as_batch, as_rotation_matrix
 
 __all__ = [
     "rotation_exp",
@@ -207,15 +207,6 @@ def rotation_log_unchecked(R: np.ndarray) -> Any:
     return w
 
 
-def _rotation_input(R: Any, check: bool) -> np.ndarray:
-    if check:
-        return check_rotation_matrix(R, name="R")
-    a = as_float_array(R, "R")
-    if a.ndim not in (2, 3) or a.shape[-2:] != (3, 3):
-        raise ShapeError(f"R must have shape (3, 3) or (N, 3, 3); got shape {a.shape}")
-    return a
-
-
 def rotation_log(R: Any, check: bool = True) -> np.ndarray:
     r"""Rotation vector :math:`w = \theta h` of a rotation matrix (inverse of :func:`rotation_exp`).
 
@@ -257,7 +248,7 @@ def rotation_log(R: Any, check: bool = True) -> np.ndarray:
     """
     if is_symbolic(R):
         raise TypeError("rotation_log needs a numeric R; got a symbolic matrix")
-    a = _rotation_input(R, check)
+    a = as_rotation_matrix(R, check)
     return np.array(rotation_log_unchecked(a)) if a.ndim == 2 else rotation_log_unchecked(a)
 
 
@@ -310,17 +301,7 @@ def rotation_from_angle_axis(axis: Any, angle: Any) -> Any:
         c, s = sp.cos(t), sp.sin(t)
         return c * sp.eye(3) + s * skew(h) + (1 - c) * h * h.T
     a = _vectors(axis, "axis")
-    try:
-        n = vector_norms(a)
-    except DomainError:
-        raise DomainError(f"axis is too large: its norm overflows float64 (largest |axis| = "
-                          f"{float(np.abs(a).max()):.3g})") from None
-    if np.any(n < 1e-12):
-        raise DomainError(
-            f"axis must be non-zero; got norm {float(np.min(n)):.3g}"
-            + (f" at index {int(np.argmin(n))}" if a.ndim == 2 else "")
-        )
-    h = a / n[..., None]
+    h = unit_vectors(a, "axis", "non-zero")
     t = np.asarray(scalar_input(angle, "angle"), dtype=float)
     if t.ndim > 1:
         raise ShapeError(f"angle must be a scalar or have shape (N,); got shape {t.shape}")
@@ -335,11 +316,31 @@ def rotation_from_angle_axis(axis: Any, angle: Any) -> Any:
         ) from None
 
 
-def vector_norms(a: np.ndarray) -> np.ndarray:
-    """Euclidean norms of the rows of ``a`` (..., k), without overflow for huge entries.
+def unit_vectors(a: np.ndarray, name: str, nonzero: str) -> np.ndarray:
+    """The rows of ``a`` (..., k) divided by their Euclidean norms, without overflow for huge entries.
 
-    The plain ``np.linalg.norm`` everywhere it is finite (so ordinary input gives
-    the same bits as before); rows whose squares overflow are scaled first.
+    The norms are the plain ``np.linalg.norm`` everywhere it is finite (so ordinary
+    input gives the same bits as before); rows whose squares overflow are scaled first.
+
+    Parameters
+    ----------
+    a : numpy.ndarray, shape (k,) or (N, k)
+        Finite vectors (an axis, a quaternion).
+    name : str
+        Argument name for messages.
+    nonzero : str
+        What ``a`` must be, for the message on a zero row (``"non-zero"``,
+        ``"a non-zero quaternion"``).
+
+    Returns
+    -------
+    numpy.ndarray, shape of ``a``
+
+    Raises
+    ------
+    DomainError
+        A norm below 1e-12 (for a batch, the message names its index) or one that
+        overflows float64.
     """
     with np.errstate(over="ignore"):
         n = np.linalg.norm(a, axis=-1)
@@ -351,8 +352,14 @@ def vector_norms(a: np.ndarray) -> np.ndarray:
         with np.errstate(over="ignore"):
             n[huge] = m * np.linalg.norm(rows / m[:, None], axis=-1)
         if not np.isfinite(n).all():
-            raise DomainError(f"the norm of a vector overflows float64 (largest entry {float(m.max()):.3g})")
-    return n
+            raise DomainError(f"{name} is too large: its norm overflows float64 (largest |{name}| = "
+                              f"{float(np.abs(a).max()):.3g})")
+    if np.any(n < 1e-12):
+        raise DomainError(
+            f"{name} must be {nonzero}; got norm {float(np.min(n)):.3g}"
+            + (f" at index {int(np.argmin(n))}" if a.ndim == 2 else "")
+        )
+    return a / n[..., None]
 
 
 def angle_axis_from_rotation(R: Any, check: bool = True) -> tuple[np.ndarray, Any]:
@@ -378,7 +385,7 @@ def angle_axis_from_rotation(R: Any, check: bool = True) -> tuple[np.ndarray, An
     """
     if is_symbolic(R):
         raise TypeError("angle_axis_from_rotation needs a numeric R; got a symbolic matrix")
-    a = _rotation_input(R, check)
+    a = as_rotation_matrix(R, check)
     if a.ndim == 2:
         w = rotation_log_unchecked(a)
         theta = min(math.hypot(*w), math.pi)  # |w| = theta to rounding

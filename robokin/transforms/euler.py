@@ -33,7 +33,7 @@ import numpy as np
 from robokin._dispatch import is_symbolic, scalar_input, stack_matrix, to_sympy, trig
 from robokin.errors import ShapeError
 from robokin.transforms.homogeneous import transform
-from robokin.validation import as_float_array, check_rotation_matrix
+from robokin.validation import as_float_array, as_rotation_matrix
 
 __all__ = ["rotation_from_rpy", "rpy_from_rotation", "transform_from_rpy", "rotation_from_zyz", "zyz_from_rotation"]
 
@@ -153,15 +153,6 @@ def transform_from_rpy(rpy: Any, position: Any) -> np.ndarray:
     return transform(R, np.broadcast_to(p, lead + (3,)), check=False)
 
 
-def _rotation_input(R: Any, check: bool) -> np.ndarray:
-    if check:
-        return check_rotation_matrix(R, name="R")
-    a = as_float_array(R, "R")
-    if a.ndim not in (2, 3) or a.shape[-2:] != (3, 3):
-        raise ShapeError(f"R must have shape (3, 3) or (N, 3, 3); got shape {a.shape}")
-    return a
-
-
 def rpy_from_rotation(R: Any, check: bool = True) -> Any:
     r"""Roll–pitch–yaw angles of a rotation matrix (inverse of :func:`rotation_from_rpy`).
 
@@ -199,7 +190,7 @@ def rpy_from_rotation(R: Any, check: bool = True) -> Any:
             spy.atan2(-M[2, 0], spy.sqrt(M[0, 0] ** 2 + M[1, 0] ** 2)),
             spy.atan2(M[1, 0], M[0, 0]),
         ])
-    a = _rotation_input(R, check)
+    a = as_rotation_matrix(R, check)
     r11, r21, r31 = a[..., 0, 0], a[..., 1, 0], a[..., 2, 0]
     cp = np.hypot(r11, r21)
     pitch = np.arctan2(-r31, cp)
@@ -270,7 +261,7 @@ def zyz_from_rotation(R: Any, check: bool = True) -> Any:
     numpy.ndarray, shape (3,) or (N, 3)
         ``(phi, theta, psi)``; phi, psi in (−π, π], theta in [0, π].
     """
-    a = _rotation_input(R, check)
+    a = as_rotation_matrix(R, check)
     r13, r23, r33 = a[..., 0, 2], a[..., 1, 2], a[..., 2, 2]
     st = np.hypot(r13, r23)
     theta = np.arctan2(st, r33)

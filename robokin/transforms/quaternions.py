@@ -18,8 +18,8 @@ import numpy as np
 
 from robokin._dispatch import is_symbolic, stack_matrix, stack_vector, to_sympy
 from robokin.errors import DomainError, ShapeError
-from robokin.transforms.angle_axis import vector_norms
-from robokin.validation import as_batch, as_float_array, check_result_finite, check_rotation_matrix
+from robokin.transforms.angle_axis import unit_vectors
+from robokin.validation import as_batch, as_float_array, as_rotation_matrix, check_result_finite
 
 __all__ = [
     "quaternion_from_rotation",
@@ -72,12 +72,7 @@ def quaternion_from_rotation(R: Any, check: bool = True) -> np.ndarray:
     """
     if is_symbolic(R):
         raise TypeError("quaternion_from_rotation needs a numeric R; got a symbolic matrix")
-    if check:
-        a = check_rotation_matrix(R, name="R")
-    else:
-        a = as_float_array(R, "R")
-        if a.ndim not in (2, 3) or a.shape[-2:] != (3, 3):
-            raise ShapeError(f"R must have shape (3, 3) or (N, 3, 3); got shape {a.shape}")
+    a = as_rotation_matrix(R, check)
     if a.ndim == 2:
         return _quaternion_single(a)
     r = lambda i, j: a[..., i - 1, j - 1]  # noqa: E731  (1-based, as in the books)
@@ -158,18 +153,7 @@ def rotation_from_quaternion(q: Any) -> Any:
     if is_symbolic(q):
         w, x, y, z = _sym_quat(q, "q")
     else:
-        a = _quats(q, "q")
-        try:
-            n = vector_norms(a)
-        except DomainError:
-            raise DomainError(f"q is too large: its norm overflows float64 (largest |q| = "
-                              f"{float(np.abs(a).max()):.3g})") from None
-        if np.any(n < 1e-12):
-            raise DomainError(
-                f"q must be a non-zero quaternion; got norm {float(np.min(n)):.3g}"
-                + (f" at index {int(np.argmin(n))}" if a.ndim == 2 else "")
-            )
-        a = a / n[..., None]
+        a = unit_vectors(_quats(q, "q"), "q", "a non-zero quaternion")
         w, x, y, z = a[..., 0], a[..., 1], a[..., 2], a[..., 3]
     return stack_matrix(
         [
