@@ -28,7 +28,7 @@ from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor, as_completed
 from pathlib import Path
 
-from tools.grading.grade_submission import DEFAULT_CPU_SECONDS, DEFAULT_MEMORY_MIB, assign, grade
+from tools.grading.grade_submission import add_cap_options, assign, grade
 from tools.grading.process_cap import DEFAULT_MAX_PROCESSES
 
 
@@ -55,12 +55,7 @@ def grade_one(chapter: str, notebook: Path, memory_mib: int, cpu_seconds: int,
 def add_batch_options(parser: argparse.ArgumentParser) -> None:
     """The options of a batch (``make grade``, a shard): ``--jobs`` and the caps of each submission."""
     parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="submissions graded at a time")
-    parser.add_argument("--memory", type=int, default=DEFAULT_MEMORY_MIB, help="MiB of address space per process")
-    parser.add_argument("--cpu-seconds", type=int, default=DEFAULT_CPU_SECONDS, help="CPU seconds per process")
-    parser.add_argument("--max-processes", type=int, default=DEFAULT_MAX_PROCESSES,
-                        help="processes and threads of a submission's kernel and its children "
-                             f"(default {DEFAULT_MAX_PROCESSES}; 0: no cap, with a warning, where none can be "
-                             "made: root in a container with a read-only cgroup, which caps them itself)")
+    add_cap_options(parser)
 
 
 def batch_options_error(args: argparse.Namespace) -> str:

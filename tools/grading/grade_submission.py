@@ -74,6 +74,21 @@ STUDENT = "submission"
 logger = logging.getLogger("robokin.grading")
 
 
+def add_cap_options(parser: argparse.ArgumentParser, max_processes: int = DEFAULT_MAX_PROCESSES,
+                    max_processes_help: str = "") -> None:
+    """The caps of a submission's grading (:func:`grade`) as options of ``parser``: ``--memory``,
+    ``--cpu-seconds`` and ``--max-processes`` (default ``max_processes``, explained by
+    ``max_processes_help``, or by a sentence on the default cap when it is empty)."""
+    parser.add_argument("--memory", type=int, default=DEFAULT_MEMORY_MIB,
+                        help=f"MiB of address space per process (default {DEFAULT_MEMORY_MIB})")
+    parser.add_argument("--cpu-seconds", type=int, default=DEFAULT_CPU_SECONDS,
+                        help=f"CPU seconds per process (default {DEFAULT_CPU_SECONDS})")
+    parser.add_argument("--max-processes", type=int, default=max_processes,
+                        help=max_processes_help or "processes and threads of a submission's kernel and its "
+                        f"children (default {DEFAULT_MAX_PROCESSES}; 0: no cap, with a warning, where none can be "
+                        "made: root in a container with a read-only cgroup, which caps them itself)")
+
+
 def limits(memory_mib: int, cpu_seconds: int):
     """A ``preexec_fn`` that caps the address space and CPU time of a process and its children."""
     def apply() -> None:
@@ -308,13 +323,7 @@ def main(argv: list[str] | None = None) -> int:
                              "for the submission instead of assigning the chapter again")
     parser.add_argument("--assign", type=Path, default=None, metavar="FOLDER",
                         help="only assign the chapter, in a template course FOLDER/course, and exit")
-    parser.add_argument("--memory", type=int, default=DEFAULT_MEMORY_MIB,
-                        help=f"MiB of address space per process (default {DEFAULT_MEMORY_MIB})")
-    parser.add_argument("--cpu-seconds", type=int, default=DEFAULT_CPU_SECONDS,
-                        help=f"CPU seconds per process (default {DEFAULT_CPU_SECONDS})")
-    parser.add_argument("--max-processes", type=int, default=DEFAULT_MAX_PROCESSES,
-                        help="processes and threads of the submission's kernel and its children "
-                             f"(default {DEFAULT_MAX_PROCESSES}; 0: no cap, with a warning)")
+    add_cap_options(parser)
     args = parser.parse_args(argv)
     logging.basicConfig(format="%(levelname)s [robokin grading] %(message)s")
     if args.max_processes < 0:

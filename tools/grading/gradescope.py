@@ -44,7 +44,7 @@ import sys
 import zipfile
 from pathlib import Path
 
-from tools.grading.grade_submission import DEFAULT_CPU_SECONDS, DEFAULT_MEMORY_MIB
+from tools.grading.grade_submission import DEFAULT_CPU_SECONDS, DEFAULT_MEMORY_MIB, add_cap_options
 from tools.grading.process_cap import DEFAULT_MAX_PROCESSES
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -178,15 +178,10 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("chapter", help="the chapter, e.g. 03_three_rpr")
     parser.add_argument("--out", type=Path, default=None,
                         help="the zip to write (default: _build/gradescope/<chapter>.zip)")
-    parser.add_argument("--memory", type=int, default=DEFAULT_MEMORY_MIB,
-                        help=f"MiB of address space per grading process (default {DEFAULT_MEMORY_MIB})")
-    parser.add_argument("--cpu-seconds", type=int, default=DEFAULT_CPU_SECONDS,
-                        help=f"CPU seconds per grading process (default {DEFAULT_CPU_SECONDS})")
-    parser.add_argument("--max-processes", type=int, default=GRADESCOPE_MAX_PROCESSES,
-                        help="processes and threads of the submission's kernel (default "
-                             f"{GRADESCOPE_MAX_PROCESSES}: no cap, Gradescope's container is the cap, since as root "
-                             f"the cap needs a writable pids cgroup; {DEFAULT_MAX_PROCESSES} where the container "
-                             "gives one)")
+    add_cap_options(parser, GRADESCOPE_MAX_PROCESSES,
+                    "processes and threads of the submission's kernel (default "
+                    f"{GRADESCOPE_MAX_PROCESSES}: no cap, Gradescope's container is the cap, since as root "
+                    f"the cap needs a writable pids cgroup; {DEFAULT_MAX_PROCESSES} where the container gives one)")
     args = parser.parse_args(argv)
     out = args.out or ROOT / "_build" / "gradescope" / f"{args.chapter}.zip"
     try:
