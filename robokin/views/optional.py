@@ -9,6 +9,7 @@ library raises :class:`ModuleNotFoundError` naming the extra that installs it.
 from __future__ import annotations
 
 import importlib
+from collections.abc import Callable
 from types import ModuleType
 
 __all__ = ["ipython_display", "ipywidgets", "psutil", "pyplot", "umsgpack", "zmq"]
@@ -33,8 +34,13 @@ def _load(name: str) -> ModuleType:
                                   f"pip install '{EXTRAS[name]}'") from exc
 
 
-def pyplot() -> ModuleType:
-    """``matplotlib.pyplot`` (matplotlib figures of :mod:`robokin.views.plots`).
+def _importer(attribute: str, name: str, use: str) -> Callable[[], ModuleType]:
+    """The function ``attribute()`` of this module: module ``name`` (what the views ``use`` it for)."""
+    def load() -> ModuleType:
+        return _load(name)
+
+    load.__name__ = load.__qualname__ = attribute
+    load.__doc__ = f"""``{name}`` ({use}).
 
     Returns
     -------
@@ -45,79 +51,12 @@ def pyplot() -> ModuleType:
     ModuleNotFoundError
         The library is not installed (the message says what to install).
     """
-    return _load("matplotlib.pyplot")
+    return load
 
 
-def ipython_display() -> ModuleType:
-    """``IPython.display`` (``display``, ``HTML``: notebook outputs).
-
-    Returns
-    -------
-    module
-
-    Raises
-    ------
-    ModuleNotFoundError
-        The library is not installed (the message says what to install).
-    """
-    return _load("IPython.display")
-
-
-def ipywidgets() -> ModuleType:
-    """``ipywidgets`` (the joint sliders).
-
-    Returns
-    -------
-    module
-
-    Raises
-    ------
-    ModuleNotFoundError
-        The library is not installed (the message says what to install).
-    """
-    return _load("ipywidgets")
-
-
-def umsgpack() -> ModuleType:
-    """``umsgpack`` (MeshCat's wire format; installed with meshcat).
-
-    Returns
-    -------
-    module
-
-    Raises
-    ------
-    ModuleNotFoundError
-        The library is not installed (the message says what to install).
-    """
-    return _load("umsgpack")
-
-
-def zmq() -> ModuleType:
-    """``zmq`` (the command socket of a live MeshCat server; installed with meshcat).
-
-    Returns
-    -------
-    module
-
-    Raises
-    ------
-    ModuleNotFoundError
-        The library is not installed (the message says what to install).
-    """
-    return _load("zmq")
-
-
-def psutil() -> ModuleType:
-    """``psutil`` (a process's environment where ``/proc`` is not available).
-
-    Returns
-    -------
-    module
-
-    Raises
-    ------
-    ModuleNotFoundError
-        The library is not installed (the message says what to install).
-    """
-    return _load("psutil")
+pyplot = _importer("pyplot", "matplotlib.pyplot", "matplotlib figures of :mod:`robokin.views.plots`")
+ipython_display = _importer("ipython_display", "IPython.display", "``display``, ``HTML``: notebook outputs")
+ipywidgets = _importer("ipywidgets", "ipywidgets", "the joint sliders")
+umsgpack = _importer("umsgpack", "umsgpack", "MeshCat's wire format; installed with meshcat")
+zmq = _importer("zmq", "zmq", "the command socket of a live MeshCat server; installed with meshcat")
+psutil = _importer("psutil", "psutil", "a process's environment where ``/proc`` is not available")
