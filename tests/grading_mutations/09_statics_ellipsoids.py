@@ -86,6 +86,12 @@ MUTATIONS = {
         ("the eigenvalues of J_v J_v^T for sigma_line", "sigma_line = sigma_line ** 2"),
         ("sigma_line ascending", "sigma_line = sigma_line[:, ::-1]"),
     ],
+    "task5_test3": [
+        ("the velocity ellipsoid's semi-axes for the force ellipsoid's", "force_line = sigma_line.copy()"),
+        ("1/sigma in the velocity ellipsoid's order (ascending)", "force_line = 1 / sigma_line"),
+        ("the velocity ellipsoid's longest axis for the strongest push",
+         "strong_axis_top = velocity_ellipse(ur10.position_jacobian(q_line[-1]))[1][:, 0]"),
+    ],
     "task6_test1": [
         ("the eigenvalues of J J^T for the singular values",
          "posture_measures = (lambda f: lambda J: tuple(v ** 2 for v in f(J)))(posture_measures)"),
@@ -103,6 +109,15 @@ MUTATIONS = {
          " f(jacobians)['manipulability']))(preferred_postures)"),
         ("the verdict at POSTURES_6 typed in, w at 90 degrees for all",
          "choice_6 = {'manipulability': 1, 'condition_number': 1, 'sigma_min': 1}"),
+    ],
+    "task6_test3": [
+        ("every pair in reverse order", "blind_spots = {key: pair[::-1] for key, pair in blind_spots.items()}"),
+        ("kappa's pair with a larger J_b that is slower in one direction",
+         "blind_spots = {**blind_spots, 'condition_number': (0.5 * np.eye(2), np.diag([4.0, 0.4]))}"),
+        ("w's pair with J_b faster in its slowest direction, but not twice as fast",
+         "blind_spots = {**blind_spots, 'manipulability': (np.diag([4.0, 0.3]), 0.4 * np.eye(2))}"),
+        ("sigma_min's pair with J_b slower in its slowest direction by a half",
+         "blind_spots = {**blind_spots, 'sigma_min': (np.eye(2), np.diag([20.0, 0.5]))}"),
     ],
 }
 
@@ -193,6 +208,9 @@ def push_capacity(J, d):
 push_down = np.array([push_capacity(ur10.position_jacobian(q), DOWN) for q in q_line])
 z_strongest = float(z_line[int(np.argmax(push_down))])
 sigma_line = np.array([np.linalg.svd(ur10.position_jacobian(q), compute_uv=False) for q in q_line])
+# the force ellipsoid's own radii and axes, from force_ellipse; the axis of its longest one
+force_line = np.array([force_ellipse(ur10.position_jacobian(q))[0] for q in q_line])
+strong_axis_top = -np.asarray(force_ellipse(ur10.position_jacobian(q_line[-1]))[1])[:, 0]
 """),
     "task6_answer1": ("the measures from the eigenvalues of J J^T, the choice by sorting", """
 
@@ -212,5 +230,12 @@ def preferred_postures(jacobians):
 
 
 choice_6 = preferred_postures(J_6)
+# other examples, turned by rotations on both sides (the singular values stay)
+_left, _right = np.array([[0.6, -0.8], [0.8, 0.6]]), np.array([[0.0, 1.0], [-1.0, 0.0]])
+blind_spots = {
+    "manipulability": (_left @ np.diag([3.0, 0.2]) @ _right, 0.45 * np.eye(2)),
+    "condition_number": (0.3 * _left, np.diag([3.0, 0.5]) @ _right),
+    "sigma_min": (np.diag([2.0, 1.0]), _left @ np.diag([25.0, 0.99])),
+}
 """),
 }
