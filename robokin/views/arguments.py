@@ -343,6 +343,14 @@ def as_times(times: Any, count: int, name: str = "times") -> np.ndarray:
     return arr - arr[0]
 
 
+def _positive_at_most(value: Any, name: str, largest: float, unit: str) -> float:
+    """A positive number of ``unit`` at most ``largest`` (the errors name ``name``)."""
+    number = check_positive(value, name, scalar=True)
+    if number > largest:
+        raise DomainError(f"{name} must be at most {largest:g} {unit}; got {number:.3g}")
+    return number
+
+
 def as_length(value: Any, name: str) -> float:
     """A positive length.
 
@@ -365,10 +373,7 @@ def as_length(value: Any, name: str) -> float:
     TypeError
         Not a number.
     """
-    length = check_positive(value, name, scalar=True)
-    if length > MAX_COORDINATE:
-        raise DomainError(f"{name} must be at most {MAX_COORDINATE:g} m; got {length:.3g}")
-    return length
+    return _positive_at_most(value, name, MAX_COORDINATE, "m")
 
 
 def as_time_step(value: Any, name: str = "dt") -> float:
@@ -393,10 +398,7 @@ def as_time_step(value: Any, name: str = "dt") -> float:
     TypeError
         Not a number.
     """
-    dt = check_positive(value, name, scalar=True)
-    if dt > MAX_DURATION:
-        raise DomainError(f"{name} must be at most {MAX_DURATION:g} s; got {dt:.3g}")
-    return dt
+    return _positive_at_most(value, name, MAX_DURATION, "s")
 
 
 def as_height(height: Any, name: str = "height") -> int:
