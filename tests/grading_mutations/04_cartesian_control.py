@@ -13,12 +13,33 @@ def transform_from_ypr(ypr, position):
 T_ET = transform_from_ypr(TOOL_YPR, TOOL_OFFSET)
 tool_arm = chain_with_tool(arm, T_ET)
 T_BT0 = tool_arm.fk(Q0)
+T_ET_rpy = transform_from_rpy(TOOL_YPR, TOOL_OFFSET)  # the same reading: no other tool
+tool_angle_rpy = float(np.linalg.norm(rotation_log(T_ET[:3, :3].T @ T_ET_rpy[:3, :3])))
 """
 
 # the offset taken in centimetres
 _OFFSET_CM = """
 TOOL_OFFSET = np.array([0.002, 0.0, 0.0])  # "0.2 cm"
 T_ET = transform_from_ypr(TOOL_YPR, TOOL_OFFSET)
+tool_arm = chain_with_tool(arm, T_ET)
+T_BT0 = tool_arm.fk(Q0)
+T_ET_rpy = transform_from_rpy(TOOL_YPR, TOOL_OFFSET)
+"""
+
+# the angle between the two tools left in degrees
+_TOOL_ANGLE_DEGREES = """
+tool_angle_rpy = float(np.degrees(np.linalg.norm(rotation_log(T_ET[:3, :3].T @ T_ET_rpy[:3, :3]))))
+"""
+
+# the angle between the two tools taken as the sum of the two turns of pi/10
+_TOOL_ANGLE_SUM = """
+tool_angle_rpy = 2 * np.pi / 10
+"""
+
+# both readings swapped: the tool read as (roll, pitch, yaw), the "other" reading as YPR
+_READINGS_SWAPPED = """
+T_ET_rpy = transform_from_ypr(TOOL_YPR, TOOL_OFFSET)
+T_ET = transform_from_rpy(TOOL_YPR, TOOL_OFFSET)
 tool_arm = chain_with_tool(arm, T_ET)
 T_BT0 = tool_arm.fk(Q0)
 """
@@ -250,6 +271,9 @@ MUTATIONS = {
         ("the YPR triple read as (roll, pitch, yaw)", _TOOL_AS_RPY),
         ("the offset taken in centimetres", _OFFSET_CM),
         ("the triple stored in (roll, pitch, yaw) order", _TRIPLE_IN_RPY_ORDER),
+        ("the angle between the two tools in degrees", _TOOL_ANGLE_DEGREES),
+        ("the angle between the two tools as the sum of the turns", _TOOL_ANGLE_SUM),
+        ("the two readings swapped", _READINGS_SWAPPED),
     ],
     "task2_test1": [
         ("the goal triple read as (roll, pitch, yaw)", _GOAL_AS_RPY),
