@@ -220,20 +220,36 @@ class _Link:
                     _show_output(message)
                     return message
                 codec.send_frame(session, self._callback(message.get("callback"), message.get("args")))
-        except TimeoutError:
-            self.stuck, self.stopped = True, answer
-            raise AnswerError(f"the call took longer than {self.call_timeout:g} s and was stopped") from None
-        except codec.BridgeError as exc:
+        except BaseException as error:
+            if isinstance(error, TimeoutError):
+                self.stopped = answer
+            failure = self._failure(error, f"{answer}: ",
+                                    f"the call took longer than {self.call_timeout:g} s and was stopped")
+            if failure is error:
+                raise
+            raise failure from None
+
+    def _failure(self, error: BaseException, prefix: str, too_long: str) -> BaseException:
+        """What ``error``, raised while waiting for the student's kernel, is raised as.
+
+        A time-out becomes ``AnswerError(too_long)``, a malformed reply or a broken channel an
+        ``AnswerError`` whose message starts with ``prefix``; an ``AnswerError`` and any other
+        error (the test cell stopped at its time limit mid-call) stay as they are. A broken
+        channel releases the session; every error but an ``AnswerError`` leaves the link stuck
+        (no call until the autograder has interrupted the student's kernel).
+        """
+        if isinstance(error, TimeoutError):
             self.stuck = True
-            raise AnswerError(f"{answer}: the student's kernel sent a malformed reply ({exc})") from None
-        except OSError as exc:
+            return AnswerError(too_long)
+        if isinstance(error, codec.BridgeError):
+            self.stuck = True
+            return AnswerError(f"{prefix}the student's kernel sent a malformed reply ({error})")
+        if isinstance(error, OSError):
             self.release()
-            raise AnswerError(f"{answer}: the call channel broke ({type(exc).__name__})") from None
-        except AnswerError:
-            raise
-        except BaseException:   # the test cell itself was stopped (time limit) mid-call
+            return AnswerError(f"{prefix}the call channel broke ({type(error).__name__})")
+        if not isinstance(error, AnswerError):
             self.stuck = True
-            raise
+        return error
 
     def _next_message(self, session, deadline: float, closed: str) -> dict:
         """The next message of the session, waiting until ``deadline`` at most.
@@ -266,20 +282,11 @@ class _Link:
                     return out
                 if message.get("name") in names and isinstance(message.get("entry"), dict):
                     out[message["name"]] = message["entry"]
-        except TimeoutError:
-            self.stuck = True
-            raise AnswerError("the student's kernel took too long to hand over the answers") from None
-        except codec.BridgeError as exc:
-            self.stuck = True
-            raise AnswerError(f"the student's kernel sent a malformed reply ({exc})") from None
-        except OSError as exc:
-            self.release()
-            raise AnswerError(f"the call channel broke ({type(exc).__name__})") from None
-        except AnswerError:
-            raise
-        except BaseException:
-            self.stuck = True
-            raise
+        except BaseException as error:
+            failure = self._failure(error, "", "the student's kernel took too long to hand over the answers")
+            if failure is error:
+                raise
+            raise failure from None
 
     def unstick(self) -> None:
         """After the autograder interrupted the student's kernel: end the session, forget the call."""
