@@ -32,16 +32,16 @@ Usage::
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from functools import lru_cache
+from functools import lru_cache, partial
 from typing import Any
 
 import numpy as np
 
 from robokin.check import diagnoses as dg
 from robokin.check._core import (
-    AnswerError, CheckResult, MatrixArgumentsCheck, Variable, alternatives, not_a_function,
+    AnswerError, Check, CheckResult, MatrixArgumentsCheck, Variable, alternatives, not_a_function,
 )
 from robokin.check._registry import exercise
 from robokin.check.solutions import SolutionSetCheck
@@ -259,93 +259,111 @@ wrist_centre = exercise(_CHAPTER, "wrist_centre", MatrixArgumentsCheck(
     doc="Check wrist_centre(T): the origin of frame 5 (m, base frame) for the flange pose T (4, 4).",
 ))
 
-shoulder_angles = exercise(_CHAPTER, "shoulder_angles", _PoseSetCheck(
-    name="shoulder_angles",
-    reference=lambda x: _shoulder(_pose(x)).reshape(-1, 1),
-    columns=1,
-    variables=_Q,
-    groups=_GROUP,
-    arguments=lambda x: (_pose(x),),
+def _pose_set_check(name: str, solve: Callable[..., np.ndarray], arguments: Callable[[np.ndarray], tuple], *,
+                    signature: str, branch_message: str, doc: str,
+                    mistakes: Sequence[tuple[str, dict[str, Any], str]] = (), columns: int = 0) -> Check:
+    """The chapter's check of a step ``solve(*arguments(q))`` over the sampled configurations.
+
+    Parameters
+    ----------
+    name : str
+        The student's function, as the messages name it.
+    solve : callable
+        The step written right (``_shoulder``, ``_wrist``, ...), whose keywords make its mistakes.
+    arguments : callable
+        ``arguments(q)``: the function's arguments (the flange pose, earlier angles) at ``q`` (6,).
+    signature, branch_message, doc : str
+        As for :class:`_PoseSetCheck`.
+    mistakes : sequence of (str, dict, str)
+        ``(code, keywords of solve, message)``: the answer ``solve(*arguments(q), **keywords)``.
+    columns : int, optional
+        1 where the answer is one angle per solution (a column).
+
+    Returns
+    -------
+    Check
+        Registered as ``robokin.check.ur10_closed_form.<name>``.
+    """
+    def solved(x: np.ndarray, **keywords: Any) -> np.ndarray:
+        out = solve(*arguments(x), **keywords)
+        return out.reshape(-1, 1) if columns == 1 else out
+
+    return exercise(_CHAPTER, name, _PoseSetCheck(
+        name=name,
+        reference=solved,
+        variables=_Q,
+        groups=_GROUP,
+        arguments=arguments,
+        signature=signature,
+        mistakes=[(code, partial(solved, **keywords), message) for code, keywords, message in mistakes],
+        branch_message=branch_message,
+        columns=columns,
+        diagnoses=[dg.degrees_output()],  # named by evaluate: every returned angle in degrees
+        noun="configurations",
+        atol=1e-7,
+        doc=doc,
+    ))
+
+
+shoulder_angles = _pose_set_check(
+    "shoulder_angles", _shoulder, lambda x: (_pose(x),),
     signature="shoulder_angles(T) -> (2,) array of q1 in rad",
+    columns=1,
     mistakes=[
-        ("atan2_swapped", lambda x: _shoulder(_pose(x), swap=True).reshape(-1, 1),
+        ("atan2_swapped", {"swap": True},
          "{name} uses atan2(x, y) for the direction of the wrist centre: atan2 takes the y "
          "coordinate first, ψ = atan2(y, x)."),
-        ("d4_sign", lambda x: _shoulder(_pose(x), d4_sign=-1.0).reshape(-1, 1),
+        ("d4_sign", {"d4_sign": -1.0},
          "{name} has the sign of d4 wrong: the wrist centre lies at +d4 along z1 = (s1, −c1, 0), "
          "x s1 − y c1 = d4, so q1 = ψ + π/2 ± arccos(d4/r) with d4 = +0.1639 m."),
-        ("flange_point", lambda x: _shoulder(_pose(x), flange=True).reshape(-1, 1),
+        ("flange_point", {"flange": True},
          "{name} uses the flange position p instead of the wrist centre p5 = p − d6 z6: only "
          "the wrist centre is at the height d4 along z1."),
     ],
     branch_message="{name} returns only one of the two shoulder solutions: "
                    "q1 = ψ + π/2 ± arccos(d4/r), both signs.",
-    diagnoses=[dg.degrees_output()],  # named by evaluate: every returned angle in degrees
-    noun="configurations",
-    atol=1e-7,
     doc="Check shoulder_angles(T): both solutions q1 (rad) for the flange pose T (4, 4).",
-))
+)
 
-wrist_angles = exercise(_CHAPTER, "wrist_angles", _PoseSetCheck(
-    name="wrist_angles",
-    reference=lambda x: _wrist(_pose(x), float(x[0])),
-    variables=_Q,
-    groups=_GROUP,
-    arguments=lambda x: (_pose(x), float(x[0])),
+wrist_angles = _pose_set_check(
+    "wrist_angles", _wrist, lambda x: (_pose(x), float(x[0])),
     signature="wrist_angles(T, q1) -> (2, 2) array of rows (q5, q6) in rad",
     mistakes=[
-        ("atan2_swapped", lambda x: _wrist(_pose(x), float(x[0]), swap=True),
+        ("atan2_swapped", {"swap": True},
          "{name} has the arguments of atan2 swapped in q6: with R_6ᵀ z1 = (c6 s5, −s6 s5, c5), "
          "q6 = atan2(−y6·z1 / s5, x6·z1 / s5), the sine first."),
-        ("q6_sign", lambda x: _wrist(_pose(x), float(x[0]), q6_sign=-1.0),
+        ("q6_sign", {"q6_sign": -1.0},
          "{name} gives q6 with the wrong sign: y6·z1 = −s6 s5, so sin q6 = −y6·z1 / s5."),
     ],
     branch_message="{name} returns only one wrist solution: q5 = ±arccos(z6·z1), and q6 "
                    "changes by π with the sign of sin q5.",
-    diagnoses=[dg.degrees_output()],  # named by evaluate: every returned angle in degrees
-    noun="configurations",
-    atol=1e-7,
     doc="Check wrist_angles(T, q1): both rows (q5, q6) (rad) for the flange pose T and the shoulder angle q1.",
-))
+)
 
-arm_angles = exercise(_CHAPTER, "arm_angles", _PoseSetCheck(
-    name="arm_angles",
-    reference=lambda x: _arm(_pose(x), float(x[0]), float(x[4]), float(x[5])),
-    variables=_Q,
-    groups=_GROUP,
-    arguments=lambda x: (_pose(x), float(x[0]), float(x[4]), float(x[5])),
+arm_angles = _pose_set_check(
+    "arm_angles", _arm, lambda x: (_pose(x), float(x[0]), float(x[4]), float(x[5])),
     signature="arm_angles(T, q1, q5, q6) -> (2, 3) array of rows (q2, q3, q4) in rad",
     mistakes=[
-        ("a_sign", lambda x: _arm(_pose(x), float(x[0]), float(x[4]), float(x[5]), a_sign=-1.0),
+        ("a_sign", {"a_sign": -1.0},
          "{name} uses positive a2, a3: the table's a2 = −0.612 m and a3 = −0.5723 m are negative "
          "(with q = 0 the arm points along −x1), which turns q2 by π."),
-        ("atan2_swapped", lambda x: _arm(_pose(x), float(x[0]), float(x[4]), float(x[5]), swap=True),
+        ("atan2_swapped", {"swap": True},
          "{name} has the arguments of atan2 swapped in q2: the direction to the point (X, Y) in "
          "the arm's plane is atan2(Y, X), the Y coordinate first."),
-        ("wrist_point", lambda x: _arm(_pose(x), float(x[0]), float(x[4]), float(x[5]), wrist_point=True),
+        ("wrist_point", {"wrist_point": True},
          "{name} solves the planar problem for the wrist centre p5; the three parallel links end "
          "at the origin of frame 4, p4 = p5 − d5 z4."),
     ],
     branch_message="{name} returns only one elbow solution: q3 = ±arccos(c3), and q2, q4 "
                    "follow for each sign.",
-    diagnoses=[dg.degrees_output()],  # named by evaluate: every returned angle in degrees
-    noun="configurations",
-    atol=1e-7,
     doc="Check arm_angles(T, q1, q5, q6): both rows (q2, q3, q4) (rad), elbow up and down.",
-))
+)
 
-all_solutions = exercise(_CHAPTER, "all_solutions", _PoseSetCheck(
-    name="all_solutions",
-    reference=lambda x: _all(_pose(x)),
-    variables=_Q,
-    groups=_GROUP,
-    arguments=lambda x: (_pose(x),),
+all_solutions = _pose_set_check(
+    "all_solutions", _all, lambda x: (_pose(x),),
     signature="all_solutions(T) -> (k, 6) array of solutions in rad",
     branch_message="{name} misses solutions: every one it returns is right, but a generic "
                    "reachable pose has 8 (2 shoulder × 2 wrist × 2 elbow); loop over every branch.",
-    diagnoses=[dg.degrees_output()],  # named by evaluate: every returned angle in degrees
-    noun="configurations",
-    atol=1e-7,
     doc="Check all_solutions(T): every joint solution (k, 6) (rad) for the flange pose T (4, 4).",
-))
+)
 
