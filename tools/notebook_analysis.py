@@ -25,7 +25,7 @@ import ast
 import functools
 import json
 import re
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -503,6 +503,12 @@ def mark_solution(code: str, interface: set[str] | None = None,
     plan = stub_plan(code, interface)
     if plan is None or not plan.regions:
         return code
+    return _replace_regions(code, plan, lambda region, indent: [f"{indent}{begin}", *region, f"{indent}{end}"])
+
+
+def _replace_regions(code: str, plan: StubPlan, replace: Callable[[list[str], str], list[str]]) -> str:
+    """``code`` with each region of ``plan`` replaced by its names declared (``name = None``),
+    then ``replace(the region's lines, its indent)``; the lines outside the regions as they are."""
     lines = code.splitlines()
     out: list[str] = []
     starts = {first: (last, indent, names) for first, last, indent, names in plan.regions}
@@ -511,9 +517,7 @@ def mark_solution(code: str, interface: set[str] | None = None,
         if k in starts:
             last, indent, names = starts[k]
             out.extend(f"{indent}{name} = None" for name in names)
-            out.append(f"{indent}{begin}")
-            out.extend(lines[k - 1: last])
-            out.append(f"{indent}{end}")
+            out.extend(replace(lines[k - 1: last], indent))
             k = last + 1
         else:
             out.append(lines[k - 1])
@@ -795,20 +799,7 @@ def stub_source(code: str, declare: set[str] | None) -> str:
         return CODE_STUB
     if not plan.regions:
         return code
-    lines = code.splitlines()
-    out: list[str] = []
-    starts = {first: (last, indent, names) for first, last, indent, names in plan.regions}
-    k = 1
-    while k <= len(lines):
-        if k in starts:
-            last, indent, names = starts[k]
-            out.extend(f"{indent}{name} = None" for name in names)
-            out.extend(f"{indent}{line}" for line in CODE_STUB.splitlines())
-            k = last + 1
-        else:
-            out.append(lines[k - 1])
-            k += 1
-    return "\n".join(out)
+    return _replace_regions(code, plan, lambda region, indent: [f"{indent}{line}" for line in CODE_STUB.splitlines()])
 
 
 def clear_solution_text(text: str, stub: str = "") -> str:
