@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import inspect
 from typing import Any
 
 import numpy as np
@@ -21,11 +22,14 @@ from robokin.motion import (
     WeightedPseudoInverse,
     pose_error,
     solve_ik,
+    solve_ik_batch,
+    solve_ik_once,
 )
 from robokin.motion._kernels import tool_jacobian
 from robokin.motion.ik.objectives import JointLimitDistance, Manipulability
 from robokin.motion.ik.problem import make_context
 from robokin.motion.ik.result import Outcome
+from robokin.motion.ik.settings import parse_settings
 from robokin.motion.ik.solve import classify_stall
 from robokin.motion.pose_error import pose_error_unchecked
 from robokin.transforms import rotation_exp, rotation_log, rotx, transform
@@ -44,6 +48,27 @@ def arm():
     chain = ur10()
     Q, T = reachable_targets(chain, 20, seed=11)
     return chain, Q, T
+
+
+# --------------------------------------------------------------------- the keywords
+def _parameters(function) -> list[tuple[str, Any, Any, Any]]:
+    return [(p.name, p.kind, p.default, p.annotation) for p in inspect.signature(function).parameters.values()]
+
+
+def test_the_solvers_keywords_agree_with_solve_ik():
+    """solve_ik_once and solve_ik_batch write solve_ik's keywords out again (a typed, introspectable
+    signature each), and parse_settings takes them by name: the names, order, kinds, defaults and
+    annotations agree, less the ones a solver has no use for."""
+    full = _parameters(solve_ik)
+    once = [p for p in full if p[0] not in ("restarts", "seed", "polish")]
+    assert _parameters(solve_ik_once) == once
+    batch = [p for p in full if p[0] != "record_history"]
+    batch[1] = ("targets", *batch[1][1:])
+    assert _parameters(solve_ik_batch) == batch
+    keywords = [name for name, kind, _, _ in full if kind is inspect.Parameter.KEYWORD_ONLY]
+    parsed = [p.name for p in inspect.signature(parse_settings).parameters.values()
+              if p.kind is inspect.Parameter.KEYWORD_ONLY]
+    assert parsed == ["batched", *(name for name in keywords if name != "record_history")]
 
 
 # --------------------------------------------------------------------- result
