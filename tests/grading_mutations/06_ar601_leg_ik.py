@@ -94,14 +94,27 @@ MUTATIONS = {
          "    return pairs[:1] * len(pairs)"),
     ],
     "task4_test2": [
-        ("every knee kept, duplicates included",
-         "def distinct_knees_of(Q):\n"
-         "    return leg.frames(np.reshape(Q, (-1, 6)))[:, 4, :3, 3]\n\n"
-         "distinct_knees = distinct_knees_of(Q_mine)"),
-        ("the hip point (frame 3) taken for the knee",
-         "def distinct_knees_of(Q):\n"
-         "    return np.unique(leg.frames(np.reshape(Q, (-1, 6)))[:, 3, :3, 3].round(9), axis=0)\n\n"
-         "distinct_knees = distinct_knees_of(Q_mine)"),
+        ("every configuration its own posture, duplicates included",
+         "def postures_of(Q):\n"
+         "    return np.reshape(Q, (-1, 6))\n\n"
+         "postures = postures_of(Q_mine)"),
+        ("the postures told apart by the hip point (frame 3): one posture",
+         "def postures_of(Q):\n"
+         "    Q = np.reshape(Q, (-1, 6))\n"
+         "    hips = leg.frames(Q)[:, 3, :3, 3].round(9)\n"
+         "    return Q[np.unique(hips, axis=0, return_index=True)[1]]\n\n"
+         "postures = postures_of(Q_mine)"),
+        ("the postures told apart by their joint angles up to full turns: 8 postures",
+         "def postures_of(Q):\n"
+         "    Q = np.reshape(Q, (-1, 6))\n"
+         "    return Q[np.unique(wrap(Q).round(9), axis=0, return_index=True)[1]]\n\n"
+         "postures = postures_of(Q_mine)"),
+        ("the postures told apart by the whole joint frames, orientations too",
+         "def postures_of(Q):\n"
+         "    Q = np.reshape(Q, (-1, 6))\n"
+         "    frames = leg.frames(Q)[:, :, :3, :].reshape(len(Q), -1).round(9)\n"
+         "    return Q[np.unique(frames, axis=0, return_index=True)[1]]\n\n"
+         "postures = postures_of(Q_mine)"),
         ("every solution counted as within the limits",
          "in_limits = Q_mine"),
     ],
