@@ -26,6 +26,7 @@ import nbformat
 import pytest
 
 from conftest import ROOT
+from support.nbgrader_course import code_cell
 from tools.authoring.nbgrader_metadata import chapter_notebooks
 
 NOTEBOOKS = Path(os.environ.get("ROBOKIN_NBGRADER_NOTEBOOKS", ROOT / "notebooks")).resolve()
@@ -96,16 +97,6 @@ def test_feedback_page_wraps_notes_and_spaces_table_columns(tmp_path):
 
 
 # ---------------------------------------------------------------- what the notes say
-def _cell(source, grade_id=None, solution=False, grade=False, task=None, count=None, outputs=()):
-    cell = nbformat.v4.new_code_cell(source, execution_count=count)
-    if grade_id:
-        cell.metadata["nbgrader"] = {"grade_id": grade_id, "solution": solution, "grade": grade,
-                                     "locked": not solution, "points": 1, "schema_version": 3}
-        cell.metadata["robokin"] = {"task": task}
-    cell.outputs = [nbformat.from_dict(o) for o in outputs]
-    return cell
-
-
 def _error(ename, count, line, evalue=""):
     return {"output_type": "error", "ename": ename, "evalue": evalue,
             "traceback": [f"Cell In[{count}], line {line}\n----> {line} whatever", f"{ename}: {evalue}"]}
@@ -117,15 +108,15 @@ def _leg_notebook():
     nb = nbformat.v4.new_notebook()
     nb.cells = [
         nbformat.v4.new_markdown_cell("## Task 1: rotations"),
-        _cell("R_a = rot(1)\nR_b = rot(2)", "task1_answer1", solution=True, task=1, count=1),
-        _cell("assert np.allclose(R_a @ R_b, model(3))", "task1_test1", grade=True, task=1, count=2,
+        code_cell("R_a = rot(1)\nR_b = rot(2)", "task1_answer1", solution=True, task=1, count=1),
+        code_cell("assert np.allclose(R_a @ R_b, model(3))", "task1_test1", grade=True, task=1, count=2,
               outputs=[_error("AssertionError", 2, 1)]),
         nbformat.v4.new_markdown_cell("## Task 2: the foot"),
-        _cell("H_model = leg_frames(q)\nH = R_a @ R_b", "cell-given", count=3),
-        _cell("foot = H[:3, 3]", "task2_answer1", solution=True, task=2, count=4),
-        _cell("h = 1e-6\nJ_fd = fd(leg_fk, q_lift)\nassert np.allclose(H_model, foot_model)\n"
+        code_cell("H_model = leg_frames(q)\nH = R_a @ R_b", "cell-given", count=3),
+        code_cell("foot = H[:3, 3]", "task2_answer1", solution=True, task=2, count=4),
+        code_cell("h = 1e-6\nJ_fd = fd(leg_fk, q_lift)\nassert np.allclose(H_model, foot_model)\n"
               "assert np.allclose(J_fd, foot)", "task2_test1", grade=True, task=2, count=5),
-        _cell("q_lift = [0, 1, 2]", "task2_answer2", solution=True, task=2, count=6),
+        code_cell("q_lift = [0, 1, 2]", "task2_answer2", solution=True, task=2, count=6),
     ]
     # q_lift answered after the test reads it would be odd: move it before the test
     nb.cells.insert(6, nb.cells.pop(7))
@@ -155,7 +146,7 @@ def test_own_tests_are_the_tests_of_the_answers_task():
 
     nb = _leg_notebook()
     nb.cells.append(nbformat.v4.new_markdown_cell("## Task 3: later"))
-    nb.cells.append(_cell("assert foot[2] < 0", "task3_test1", grade=True, task=3, count=7))
+    nb.cells.append(code_cell("assert foot[2] < 0", "task3_test1", grade=True, task=3, count=7))
     failed = next(c for c in nb.cells if c.metadata.get("nbgrader", {}).get("grade_id") == "task2_test1")
     failed.outputs = [nbformat.from_dict(_error("AssertionError", 5, 4))]
     report: dict[str, Any] = {"pairs": [], "explained": {}}
@@ -172,9 +163,9 @@ def test_report_quotes_the_line_that_raised_and_drops_correct_causes():
     from tools.grading.robokin_nbgrader import AutograderReport
 
     nb = nbformat.v4.new_notebook()
-    ungraded = _cell("x = 1\ny = 2\nassert y == 3, 'my own experiment'", count=9,
+    ungraded = code_cell("x = 1\ny = 2\nassert y == 3, 'my own experiment'", count=9,
                      outputs=[_error("AssertionError", 9, 3, "my own experiment")])
-    test = _cell("assert R_b is not None", "task1_test1", grade=True, task=1, count=10,
+    test = code_cell("assert R_b is not None", "task1_test1", grade=True, task=1, count=10,
                  outputs=[_error("AssertionError", 10, 1)])
     nb.cells = [nbformat.v4.new_markdown_cell("# Chapter"), ungraded, test]
     resources = {"robokin": {
@@ -220,7 +211,7 @@ def test_a_check_that_names_the_answer_otherwise_says_so():
 
     nb = nbformat.v4.new_notebook()
     nb.cells = [nbformat.v4.new_markdown_cell("# Chapter"),
-                _cell("assert False", "task1_test1", grade=True, task=1, count=1,
+                code_cell("assert False", "task1_test1", grade=True, task=1, count=1,
                       outputs=[_error("AssertionError", 1, 1)])]
     resources = {"robokin": {"pairs": [(1, check, "found[0]")], "verdicts": [{**verdict, "typical": False}],
                              "incidents": []}}
@@ -234,7 +225,7 @@ def test_where_to_start_has_one_line_per_answer_with_all_its_tests():
 
     nb = nbformat.v4.new_notebook()
     nb.cells = [nbformat.v4.new_markdown_cell("# Chapter")] + [
-        _cell("assert False", grade_id, grade=True, task=task, count=count,
+        code_cell("assert False", grade_id, grade=True, task=task, count=count,
               outputs=[_error("AssertionError", count, 1)])
         for count, (grade_id, task) in enumerate([("task1_test1", 1), ("task4_test1", 4), ("task4_test2", 4)], 1)]
     resources = {"robokin": {"pairs": [], "verdicts": [], "incidents": [], "causes": {

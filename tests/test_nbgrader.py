@@ -48,6 +48,7 @@ from support.nbgrader_course import (
     HIDDEN_TESTS,
     NOTEBOOKS,
     Run,
+    code_cell,
     load,
     nbg,
     notes,
@@ -572,15 +573,6 @@ def test_failure_notes_trace_the_root_cause_without_a_kernel():
 
     from tools.grading.robokin_nbgrader import FailureNotes
 
-    def code(source, grade_id=None, solution=False, grade=False, task=None, outputs=()):
-        cell = nbformat.v4.new_code_cell(source)
-        if grade_id:
-            cell.metadata["nbgrader"] = {"grade_id": grade_id, "solution": solution, "grade": grade,
-                                         "locked": not solution, "points": 1, "schema_version": 3}
-            cell.metadata["robokin"] = {"task": task}
-        cell.outputs = [nbformat.from_dict(o) for o in outputs]
-        return cell
-
     def error(ename, count, line):
         return {"output_type": "error", "ename": ename, "evalue": "", "traceback": [
             f"Cell In[{count}], line {line}"]}
@@ -588,15 +580,14 @@ def test_failure_notes_trace_the_root_cause_without_a_kernel():
     nb = nbformat.v4.new_notebook()
     nb.cells = [
         nbformat.v4.new_markdown_cell("## Task 1: f"),
-        code("def f(x):\n    return x + 1", "task1_answer1", solution=True, task=1),
-        code("assert f(1) == 2", "task1_test1", grade=True, task=1, outputs=[error("AssertionError", 2, 1)]),
+        code_cell("def f(x):\n    return x + 1", "task1_answer1", solution=True, task=1),
+        code_cell("assert f(1) == 2", "task1_test1", grade=True, task=1, count=2,
+                  outputs=[error("AssertionError", 2, 1)]),
         nbformat.v4.new_markdown_cell("## Task 2: g"),
-        code("J0 = 2.0\nscale = f(J0)", "cell-given"),
-        code("g = scale * 3", "task2_answer1", solution=True, task=2),
-        code("limit = 9.0\nassert abs(\n    g - limit\n) < 1e-9", "task2_test1", grade=True, task=2),
+        code_cell("J0 = 2.0\nscale = f(J0)", "cell-given"),
+        code_cell("g = scale * 3", "task2_answer1", solution=True, task=2),
+        code_cell("limit = 9.0\nassert abs(\n    g - limit\n) < 1e-9", "task2_test1", grade=True, task=2, count=5),
     ]
-    nb.cells[2].execution_count = 2
-    nb.cells[6].execution_count = 5
     failure = nbformat.from_dict(error("AssertionError", 5, 2))
     report: dict[str, Any] = {"pairs": [], "explained": {}}
     notes_ = FailureNotes(nb, 6, report)

@@ -36,7 +36,8 @@ pytest.importorskip("nbgrader", reason="nbgrader is not installed: run `make tes
 
 NOTEBOOKS = Path(os.environ.get("ROBOKIN_NBGRADER_NOTEBOOKS", ROOT / "notebooks")).resolve()
 CHAPTERS = [p.stem for p in nbgrader_metadata.chapter_notebooks(NOTEBOOKS.parent, NOTEBOOKS.name)]
-WALKTHROUGH_CHAPTER = grading_course.CHAPTER3
+#: the chapter of the instructors' walk-through: book/for-instructors.md quotes its commands for it
+WALKTHROUGH_CHAPTER = "03_three_rpr"
 HIDDEN_TESTS = re.compile(r"### BEGIN HIDDEN TESTS\n.*?### END HIDDEN TESTS\n?", re.S)
 #: autograde runs at a time in one pytest process (three were measured slower in the full suite:
 #: 344 s instead of 287 s for the chapter 3 part, the machine's two cores being busy anyway)
@@ -132,6 +133,21 @@ def nbg(cell: dict) -> dict:
 
 def rk(cell: dict) -> dict:
     return cell.get("metadata", {}).get("robokin", {})
+
+
+def code_cell(source: str, grade_id: str | None = None, solution: bool = False, grade: bool = False,
+              task: int | None = None, count: int | None = None, outputs=()):
+    """A code cell of a made-up notebook: with a ``grade_id``, nbgrader's metadata (one point,
+    locked unless a ``solution``) and robokin's ``task``; its execution ``count`` and ``outputs``."""
+    import nbformat
+
+    cell = nbformat.v4.new_code_cell(source, execution_count=count)
+    if grade_id:
+        cell.metadata["nbgrader"] = {"grade_id": grade_id, "solution": solution, "grade": grade,
+                                     "locked": not solution, "points": 1, "schema_version": 3}
+        cell.metadata["robokin"] = {"task": task}
+    cell.outputs = [nbformat.from_dict(o) for o in outputs]
+    return cell
 
 
 # ---------------------------------------------------------------- submissions
@@ -557,7 +573,7 @@ def grade_everything(base: Path, suites=(), chapters=(), own=(), extras=()) -> d
     for key in extras:
         jobs[key] = partial(extra_jobs[key], base)
     # the slow chapters first, so that the workers finish together
-    order = sorted(jobs, key=lambda k: {grading_course.CHAPTER3: -1 if suites else 5, "01_leg_kinematics": 0,
+    order = sorted(jobs, key=lambda k: {grading_course.EVERYDAY_CHAPTER: -1 if suites else 5, "01_leg_kinematics": 0,
                                         "05_baxter_circle": 1, "walkthrough": 2}.get(k, 5))
 
     with ThreadPoolExecutor(max_workers=WORKERS) as pool:
@@ -565,5 +581,6 @@ def grade_everything(base: Path, suites=(), chapters=(), own=(), extras=()) -> d
         runs = {k: f.result() for k, f in futures.items()}
     summary = ", ".join(f"{k} {r.seconds:.0f} s" for k, r in runs.items())
     print(f"\n[nbgrader] {len(runs)} jobs in {time.perf_counter() - started:.0f} s on {WORKERS} workers "
-          f"(chapter 3 with {', '.join(s.name for s in suites) or 'no other suite'}): {summary}")
+          f"({grading_course.EVERYDAY_CHAPTER} with {', '.join(s.name for s in suites) or 'no other suite'}): "
+          f"{summary}")
     return runs
