@@ -89,6 +89,8 @@ class GraderKernel:
                                      kernel_name="python3", record_timing=False, log=log,
                                      resources={"metadata": {"path": self.folder}}, kernel_manager_class=manager)
         self.started = False
+        #: cells run so far (``run`` and ``marked``): tells whether anything ran since a given moment
+        self.runs = 0
 
     def start_kernel(self) -> None:
         """Start the kernel (forked, or a new process) and its client; remove its connection file."""
@@ -129,6 +131,7 @@ class GraderKernel:
                                f"{errors[0].evalue}")
 
     def run(self, source: str):
+        self.runs += 1
         cell = nbformat.v4.new_code_cell(source)
         self.nb.cells.append(cell)
         cell = self.client.execute_cell(cell, len(self.nb.cells) - 1, store_history=True)
@@ -173,6 +176,7 @@ class BridgedExecute(RobokinExecute):
     # when the notebook is not graded through the bridge; the kernel also before it starts)
     _plan: dict | None
     _grader: GraderKernel | None
+    _settled_at: int
 
     def _bridge(self) -> tuple[dict, GraderKernel]:
         """The plan and the grader kernel, while a notebook is graded through the bridge."""
@@ -185,6 +189,7 @@ class BridgedExecute(RobokinExecute):
     def preprocess(self, nb, resources=None, km=None):
         self._grader = None
         self._plan = None
+        self._settled_at = -1   # the grader kernel's run count when it last said "not stuck"
         # marks of the grader's own output lines, unknown to the student's code (whose output
         # during a call is shown in the grader kernel, under the test that called it)
         nonce = secrets.token_hex(8)
@@ -351,8 +356,16 @@ class BridgedExecute(RobokinExecute):
         self._unstick()
 
     def _unstick(self) -> None:
-        """A call of a student's function timed out: interrupt the student's kernel."""
+        """A call of a student's function timed out: interrupt the student's kernel.
+
+        Asked of the grader kernel only if it has run a cell since it last answered "not
+        stuck": a call can time out (and a call session stay open) only while a cell of the
+        grader's runs, so a second question with nothing run in between (after one
+        instructor cell, before the next one's answers are imported) has the same answer.
+        """
         _, grader = self._bridge()
+        if grader.runs == self._settled_at:
+            return
         status, _ = grader.marked(f"print({self._import_mark!r} + __import__('json').dumps("
                                   "_robokin_bridge.status()))", self._import_mark)
         if status and status.get("stuck"):
@@ -361,6 +374,8 @@ class BridgedExecute(RobokinExecute):
 
             run_sync(self._async_manager().interrupt_kernel)()
             grader.run("_robokin_bridge.unstick()")
+        else:
+            self._settled_at = grader.runs
 
     def _verdicts(self, pairs, index):
         """robokin.check's verdicts, computed in the grader kernel on the imported answers.
