@@ -445,15 +445,21 @@ def test_released_test_cells_are_not_reported_as_changed(graded, chapter):
     assert restored == sources, f"{chapter}: a changed test cell is not restored"
 
 
-@grading_course.reads(FEEDBACK_CHAPTER)
-def test_knock_on_failure_names_the_root_cause(graded):
-    """An answer cell that raises: a later task's test that needs its names says so."""
+def _feedback_probe(graded, kind: str, none: str) -> tuple[Run, dict, str]:
+    """The feedback chapter's run, its probe submission ``kind`` (``none``: why a chapter has
+    none) and the note under the probe's test (``""``: none)."""
     if FEEDBACK_CHAPTER not in graded:
         pytest.skip("no chapter graded here")
     run = _run(graded, FEEDBACK_CHAPTER)
-    probe = run.probes.get("knockon")
-    assert probe, f"{FEEDBACK_CHAPTER}: no test of a later task reads an answer of an earlier one"
-    note = notes(run.autograded["knockon"]).get(probe["test"])
+    probe = run.probes.get(kind)
+    assert probe, f"{FEEDBACK_CHAPTER}: {none}"
+    return run, probe, notes(run.autograded[kind]).get(probe["test"], "")
+
+
+@grading_course.reads(FEEDBACK_CHAPTER)
+def test_knock_on_failure_names_the_root_cause(graded):
+    """An answer cell that raises: a later task's test that needs its names says so."""
+    run, probe, note = _feedback_probe(graded, "knockon", "no test of a later task reads an answer of an earlier one")
     assert note, f"{FEEDBACK_CHAPTER}: {probe['test']} does not fail without {probe['name']} (Task {probe['task']})"
     cause = re.search(r"This test failed because of (.*?)\. Fix that first", note)
     assert cause and f"`{probe['name']}`" in cause.group(1) and f"(Task {probe['task']}): " in cause.group(1) \
@@ -466,12 +472,7 @@ def test_knock_on_failure_names_the_root_cause(graded):
 
 @grading_course.reads(FEEDBACK_CHAPTER)
 def test_wrong_type_says_what_came_and_what_was_expected(graded):
-    if FEEDBACK_CHAPTER not in graded:
-        pytest.skip("no chapter graded here")
-    run = _run(graded, FEEDBACK_CHAPTER)
-    probe = run.probes.get("wrongtype")
-    assert probe, f"{FEEDBACK_CHAPTER}: no test reads an attribute of an answer variable"
-    note = notes(run.autograded["wrongtype"]).get(probe["test"], "")
+    _, probe, note = _feedback_probe(graded, "wrongtype", "no test reads an attribute of an answer variable")
     name = probe["name"]
     # in the note's own words, or in robokin.check's when a check describes the answer
     said = re.search(rf"Your `{name}` is a list of 3 items; expected: .+"
