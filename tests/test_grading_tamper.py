@@ -1,12 +1,13 @@
 """Tampering submissions gain no points; delegation is flagged (the grading
 bridge decides verdicts outside the student's kernel).
 
-Chapter 3 is graded through the bridge (``tools/grading/bridge``): its test cells and
+The everyday chapter (tests/support/tiers.py: chapter 7, the UR10's closed form, the cheapest
+to grade) is graded through the bridge (``tools/grading/bridge``): its test cells and
 robokin.check's verdicts run in a grader kernel, the answers handed over as data and
 functions as proxies. Each submission below is one the old pipeline (verdicts in the
 student's kernel) scored well with blank or wrong answers; all are graded in one
-``nbgrader autograde`` run, chapter 3's run of tests/support/grading_course.py (with the
-submissions of test_nbgrader.py and test_grading_trust.py):
+``nbgrader autograde`` run, in this file's own course of the chapter
+(tests/support/grading_course.py, with the chapter's unanswered and correct submissions):
 
 * blank answers with one line in the first answer cell that
   - turns test cells into ``pass`` (an IPython input transformer),
@@ -19,9 +20,10 @@ submissions of test_nbgrader.py and test_grading_trust.py):
     every cell reported to nbgrader as a success);
 * wrong answers (every answer off by 1 %, and one a generator: no plain data), plain and
   with numpy and robokin.check patched;
-* answers that are robokin's own methods (``ik = robot.inverse_kinematics``);
-* an ``ik`` that never returns when a test calls it (the call is stopped; robokin.check's
-  summary says so, and checks every other answer on its own).
+* answers that call robokin's own closed form (``np.unique(ur10_ik(T).q[:, 0])``, and
+  ``all_solutions`` through a helper of its own);
+* an ``all_solutions`` that never returns when a test calls it (the call is stopped;
+  robokin.check's summary says so, and checks every other answer on its own).
 
 Expected: each tampering submission scores exactly what its untampered answers score
 (0 for blank ones), and the report does not say robokin.check finds the answers
@@ -40,7 +42,7 @@ from support import grading_course
 from support.nbgrader_course import CHAPTERS, NOTEBOOKS, Run, load, nbg, src
 from support.tampering import TAMPER, tampered
 
-CHAPTER = grading_course.CHAPTER3
+CHAPTER = "07_ur10_closed_form"   # the everyday chapter (tests/support/tiers.py) once it moves
 
 #: appended to every answer cell of the "wrong" submission: each answer off by 1 %
 WRONG_CODE = '''
@@ -68,41 +70,48 @@ for _name in {names!r}:
     globals()[_name] = _robokin_wrong(globals()[_name])  # every answer wrong, made by the test
 '''
 
-#: answer cells replaced by robokin's own solutions: grade_id -> (old line pattern, new code)
+#: answer cells replaced by calls of robokin's closed form (robokin.models.ur10_ik, which the
+#: checks of Tasks 1 and 4 name): grade_id -> (old lines pattern, new code); all_solutions calls
+#: it through a helper of its own
 DELEGATE = {
-    "task1_answer1": (r"def ik\(pose\):\n(    .*\n)+", "ik = robot.inverse_kinematics\n"),
-    "task3_answer1": (r"def inverse_jacobian\(pose\):\n(    .*\n)+",
-                      "def inverse_jacobian(pose):\n    return robot.jacobian(pose)\n"),
+    "task1_answer1": (r"def shoulder_angles\(T\):\n(    .*\n)+",
+                      "def shoulder_angles(T):\n    return np.unique(ur10_ik(T).q[:, 0])\n"),
+    "task4_answer1": (r"def all_solutions\(T\):\n(    .*\n)+",
+                      "def _closed_form(T):\n    return ur10_ik(T)\n\n\n"
+                      "def all_solutions(T):\n    return _closed_form(T).q\n"),
 }
 
 
-#: an ik that never returns when a test calls it through the bridge (its own cell's call returns)
-SLOW_IK = '''
+#: an all_solutions that never returns when a test calls it through the bridge (its own cell's
+#: call, Q_goal, returns); no other answer calls it, so the tests of the other tasks call only
+#: functions that return
+SLOW_ANSWER = '''
 def _never_for_the_grader(function):
     import inspect
     import time
 
-    def ik(pose):
+    def all_solutions(T):
         if any("robokin grading bridge" in frame.filename for frame in inspect.stack()):
             time.sleep(10**6)
-        return function(pose)
-    return ik
+        return function(T)
+    return all_solutions
 
 
-ik = _never_for_the_grader(ik)
+all_solutions = _never_for_the_grader(all_solutions)
 '''
 #: seconds per call of a student's function, in this course: a call through the bridge costs
 #: 0.1-0.2 ms (tools/grading/bridge/benchmark.py, quiet machine) plus the answer's own work, a
-#: few milliseconds here, so load cannot reach 3 s; the never-returning call waits it out
+#: few milliseconds here (all_solutions, the costliest: eight forward kinematics, about 1 ms),
+#: so load cannot reach 3 s; the never-returning call waits it out
 CALL_TIMEOUT = 3
 
 
 def slow_submission(correct: dict) -> dict:
     nb = copy.deepcopy(correct)
     for cell in nb["cells"]:
-        if nbg(cell).get("grade_id") == "task1_answer1":
-            cell["source"] = src(cell).replace("\n\nrho0 = ", SLOW_IK + "\n\nrho0 = ", 1)
-            assert SLOW_IK in cell["source"]
+        if nbg(cell).get("grade_id") == "task4_answer1":
+            cell["source"] = src(cell).replace("\n\nQ_goal = ", SLOW_ANSWER + "\n\nQ_goal = ", 1)
+            assert SLOW_ANSWER in cell["source"]
     return nb
 
 
@@ -111,11 +120,11 @@ def wrong_submission(correct: dict, source: dict) -> dict:
                 if nbg(c).get("solution") and c["metadata"].get("robokin", {}).get("role") == "answer"}
     nb = copy.deepcopy(correct)
     for cell in nb["cells"]:
-        names = [n for n in declared.get(nbg(cell).get("grade_id"), []) if n != "classic"]
+        names = declared.get(nbg(cell).get("grade_id"), [])
         if names:
             cell["source"] = src(cell).rstrip() + "\n" + WRONG_CODE.format(names=names)
-        if "modes6" in names:   # and one answer that is no plain data
-            cell["source"] += "\nmodes6 = (mode for mode in modes6)\n"
+        if "q5_singular" in names:   # and one answer that is no plain data
+            cell["source"] += "\nq5_singular = (angle for angle in q5_singular)\n"
     return nb
 
 
@@ -131,7 +140,7 @@ def delegating_submission(correct: dict) -> dict:
 
 
 def submissions(run: Run, correct: dict, course) -> dict[str, dict]:
-    """This file's submissions of chapter 3 (its solutions are test_nbgrader.py's ``correct``)."""
+    """This file's submissions of the chapter (its solutions are test_nbgrader.py's ``correct``)."""
     wrong = wrong_submission(correct, run.source)
     # the student edition handed in unchanged is the course's "unanswered" (run_chapter's), read here
     out = {"unanswered": run.release, "wrong": wrong, "delegating": delegating_submission(correct),
@@ -143,11 +152,11 @@ def submissions(run: Run, correct: dict, course) -> dict[str, dict]:
     return out
 
 
-#: graded in a course of chapter 3 of its own (tests/support/grading_course.py), with the unanswered and
+#: graded in a course of the chapter of its own (tests/support/grading_course.py), with the unanswered and
 #: correct submissions, and with a short time limit per call of a student's function
 SUITE = grading_course.Suite("tamper", submissions,
                              options=[f"--BridgedExecute.call_timeout={CALL_TIMEOUT}"], own_course=True)
-# this file's course of chapter 3 is a part of the graded courses of its own (one xdist group):
+# this file's course of the chapter is a part of the graded courses of its own (one xdist group):
 # its never-returning call waits the call limit in every test, in parallel with the other parts.
 # Each test names the submissions it reads: a session grades only those (make test: one kind of
 # tampering, tests/support/tiers.py), besides the unanswered and correct ones every course has.
@@ -166,7 +175,7 @@ def kinds(names, students):
 
 @pytest.fixture(scope="session")
 def graded(request, tmp_path_factory) -> Run:
-    """Chapter 3: every submission below (and the solutions) autograded in this file's course
+    """The chapter: every submission below (and the solutions) autograded in this file's course
     (one autograde run); ``feedback`` is the report on top of each graded notebook."""
     run = grading_course.graded_courses(request, tmp_path_factory)[SUITE.key(CHAPTER)]
     if run.error:
@@ -206,7 +215,7 @@ def test_tampering_wrong_answers_gains_nothing(graded, kind):
 def test_blank_and_wrong_reports_name_the_answers(graded):
     report = graded.feedback["wrong_forged_check"]
     assert "What `robokin.check` says about your answers" in report, report[:2000]
-    assert "answer `modes6` is not plain data (a generator)" in graded.feedback["wrong"], graded.feedback["wrong"]
+    assert "answer `q5_singular` is not plain data (a generator)" in graded.feedback["wrong"], graded.feedback["wrong"]
 
 
 @reads()
@@ -220,9 +229,10 @@ def test_solutions_score_full_marks_through_the_bridge(graded):
 @reads("delegating")
 def test_delegation_is_flagged_for_review(graded):
     report = graded.feedback["delegating"]
-    assert "review by hand: `ik` returns robokin's `Planar3RPR.inverse_kinematics`" in report, report
-    assert "review by hand: `inverse_jacobian` calls robokin's `Planar3RPR.jacobian`" in report, report
-    # the score stands as tested: robokin's own methods pass the tests
+    assert "review by hand: `shoulder_angles` calls robokin's `robokin.models.ur10_ik`" in report, report
+    assert ("review by hand: `all_solutions` calls robokin's `robokin.models.ur10_ik` (through `_closed_form`)"
+            in report), report
+    # the score stands as tested: robokin's own closed form passes the tests
     assert _scores(graded, "delegating") == graded.maximum
 
 
@@ -245,18 +255,20 @@ def test_graded_test_outputs_come_from_the_grader_kernel(graded):
 def test_delegation_finder_on_code():
     from tools.grading.bridge import delegation
 
-    checks: dict[int | None, set[str]] = {1: {"three_rpr.inverse_kinematics"}, 3: {"three_rpr.inverse_jacobian"}}
+    checks: dict[int | None, set[str]] = {1: {"ur10_closed_form.wrist_centre", "ur10_closed_form.shoulder_angles"},
+                                          4: {"ur10_closed_form.all_solutions"}}
     answers = [
-        (1, "ik = robot.inverse_kinematics\nrho0 = ik(POSE0)\n", ["ik", "rho0"]),
-        (3, "def helper(p):\n    return getattr(robot, 'jacobian')(p)\n\n"
-            "def inverse_jacobian(pose):\n    return helper(pose)\n", ["inverse_jacobian"]),
+        (4, "all_solutions = ur10_ik\nQ_goal = all_solutions(T_goal)\n", ["all_solutions", "Q_goal"]),
+        (1, "def helper(T):\n    return getattr(models, 'ur10_ik')(T)\n\n"
+            "def shoulder_angles(T):\n    return np.unique(helper(T).q[:, 0])\n", ["shoulder_angles"]),
     ]
     found = {item["name"]: item for item in delegation.find(answers, checks)}
-    assert set(found) == {"ik", "inverse_jacobian"}
-    assert delegation.describe(found["ik"]) == (
-        "review by hand: `ik` returns robokin's `Planar3RPR.inverse_kinematics` (it is bound to it)")
-    assert found["inverse_jacobian"]["through"] == "helper"
-    solutions = [(1, "def ik(pose):\n    x, y, phi = pose\n    return np.hypot(x, y)\n", ["ik"])]
+    assert set(found) == {"all_solutions", "shoulder_angles"}
+    assert delegation.describe(found["all_solutions"]) == (
+        "review by hand: `all_solutions` returns robokin's `robokin.models.ur10_ik` (it is bound to it)")
+    assert found["shoulder_angles"]["through"] == "helper"
+    solutions = [(1, "def shoulder_angles(T):\n    x, y, _ = wrist_centre(T)\n    return np.arctan2(y, x)\n",
+                  ["shoulder_angles"])]
     assert delegation.find(solutions, checks) == []
 
 
@@ -266,20 +278,25 @@ def test_a_call_that_never_returns_is_stopped(graded):
     interrupted, and the tests after it are graded as usual."""
     scores = _scores(graded, "slow")
     full = _scores(graded, "correct")
-    assert scores["task1_test1"] == 0 and full["task2_test1"] > 0, (scores, full)
-    assert scores["task2_test1"] == full["task2_test1"] and scores["task4_test1"] == full["task4_test1"], scores
+    assert scores["task4_test1"] == 0 and full["task4_test1"] > 0 and full["task5_test1"] > 0, (scores, full)
+    # the tests before it, and task 5's after it, keep their points
+    assert {k: v for k, v in scores.items() if k != "task4_test1"} == \
+        {k: v for k, v in full.items() if k != "task4_test1"}, scores
     nb = load(graded.course / "autograded" / "slow" / CHAPTER / f"{CHAPTER}.ipynb")
-    errors = [o for c in nb["cells"] if nbg(c).get("grade_id") == "task1_test1"
+    errors = [o for c in nb["cells"] if nbg(c).get("grade_id") == "task4_test1"
               for o in c["outputs"] if o["output_type"] == "error"]
     assert errors and f"took longer than {CALL_TIMEOUT} s" in errors[0]["evalue"], errors
-    # robokin.check's summary: ik's call was stopped at the limit; every other answer is checked
-    # on its own (after the interrupt), none is reported as not called or as failing for ik's call
+    # robokin.check's summary: all_solutions's call was stopped at the limit; every other answer is
+    # checked on its own (after the interrupt), none is reported as not called or as failing for
+    # all_solutions's call
     report = graded.feedback["slow"]
     summary = report.split("What `robokin.check` says about your answers", 1)[-1].split("**Where to start**")[0]
-    assert f"Calling ik(pose) raised AnswerError: the call took longer than {CALL_TIMEOUT} s and was stopped" \
+    assert f"Calling all_solutions raised AnswerError: the call took longer than {CALL_TIMEOUT} s and was stopped" \
         in summary, report
     assert "still busy" not in report and "not called" not in report, report
-    assert "ik(pose)" in summary and "A(pose)" not in summary and "fk(rho)" not in summary, summary
+    assert "all_solutions(T)" in summary, summary
+    others = ("wrist_centre", "shoulder_angles", "wrist_angles", "arm_angles", "coinciding_branches")
+    assert not [name for name in others if name in summary], summary
 
 
 def _answers_and_checks(nb: dict) -> tuple[list, dict]:
