@@ -53,8 +53,9 @@ from support.nbgrader_course import correct_submission, mistaken_submission, sav
 from tools.grading import grade_many, grade_submission, gradescope, process_cap
 from tools.grading.deploy import grade_shard
 
-#: the chapter graded here: the cheapest to grade (about 5 CPU-s per submission; benchmarks/README.md)
-CHAPTER = "07_ur10_closed_form"
+#: the chapter graded here: the everyday chapter (tests/support/tiers.py), chapter 7, the cheapest
+#: to grade (about 5 CPU-s per submission; benchmarks/README.md)
+CHAPTER = grading_course.EVERYDAY_CHAPTER
 DEPLOY = ROOT / "tools" / "grading" / "deploy"
 #: a correct submission's experiment, in an ungraded cell: 8 GB of address space (np.empty maps it
 #: without writing it: were the cap missing, the test would not fill the machine's memory either)

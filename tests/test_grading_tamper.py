@@ -42,7 +42,7 @@ from support import grading_course
 from support.nbgrader_course import CHAPTERS, NOTEBOOKS, Run, load, nbg, src
 from support.tampering import TAMPER, tampered
 
-CHAPTER = "07_ur10_closed_form"   # the everyday chapter (tests/support/tiers.py) once it moves
+CHAPTER = grading_course.EVERYDAY_CHAPTER
 
 #: appended to every answer cell of the "wrong" submission: each answer off by 1 %
 WRONG_CODE = '''

@@ -3,9 +3,10 @@
 Crafted submissions go through the course's own pipeline (the course built as in
 tests/test_nbgrader.py, then ``nbgrader autograde``, ``generate_feedback`` and
 ``export``), each in its chapter's ONE autograde run (tests/support/grading_course.py), with
-the submissions of test_nbgrader.py (and, for chapter 3, of test_grading_tamper.py):
+the submissions of test_nbgrader.py:
 
-benign, chapter 3 (the instructor's solutions, plus ...) -- each keeps full marks:
+benign, the everyday chapter (tests/support/tiers.py: chapter 7, the UR10's closed form; the
+instructor's solutions, plus ...) -- each keeps full marks:
     ``noisy``   answers that log (``logging.warning``), warn (``RuntimeWarning``),
                 print to stderr and use helpers of their own, called by the tests,
                 and a post-run hook that shows a number (``0.0``) under every cell,
@@ -70,14 +71,15 @@ from support.benign_variants import CRASH, HANG, VARIANTS, last_try_cell, with_i
 from tools.grading.sandbox import PACKAGE, SWITCH, sandbox_arguments, sandbox_wanted
 
 # The tests that read a run are marked with its part of the graded courses (one xdist group each):
-# grading_course.reads(CHAPTER) for chapter 3's, chapter_params for the others.
+# grading_course.reads(CHAPTER) for the everyday chapter's, chapter_params for the others.
 
-CHAPTER = grading_course.CHAPTER3
-#: seconds per cell in chapter 3's run: the hang is killed after it (+ nbclient's 4 s for the
-#: interrupt). Every other submission of that run (the solutions too) must finish each cell in
-#: it: chapter 3's slowest cell, the imports, takes a few seconds on a quiet machine but passed
-#: the former 10 s at a load average of 16 (the correct submission then lost points), so the
-#: limit is the other chapters' 30 s, a ceiling load does not reach; it costs the hang's wait.
+CHAPTER = grading_course.EVERYDAY_CHAPTER
+#: seconds per cell in the everyday chapter's run: the hang is killed after it (+ nbclient's 4 s
+#: for the interrupt). Every other submission of that run (the solutions too) must finish each
+#: cell in it: chapter 7's slowest cells, the imports and the 100 runs of solve_ik, take 1-2 s on
+#: a quiet machine and 5 s at a load average of 15 (chapter 3's imports passed a former 10 s at a
+#: load average of 16, and its correct submission then lost points), so the limit is the other
+#: chapters' 30 s, a ceiling load does not reach; it costs the hang's wait.
 TIMEOUT = 30
 OTHER_TIMEOUT = 30    # seconds per cell in the other chapters' runs (their longest cells, with a margin)
 TOKEN = "robokin-test-token-4f1c"   # a secret in the grader's environment
@@ -100,18 +102,21 @@ import sys
 import warnings
 
 
-def _my_norms(vectors):  # a helper of my own
-    return np.sqrt((np.asarray(vectors) ** 2).sum(axis=1))
+def _my_distance(x, y):  # a helper of my own
+    return np.sqrt(x**2 + y**2)
 
 
-def ik(pose):  # the same answer, talkative
-    logging.warning("ik called")
-    print("debugging ik", file=sys.stderr)
-    x, y, phi = pose
-    if phi < 0:
+def shoulder_angles(T):  # the same answer, talkative
+    logging.warning("shoulder_angles called")
+    print("debugging shoulder_angles", file=sys.stderr)
+    x, y, _ = wrist_centre(T)
+    r = _my_distance(x, y)
+    if r < abs(D4):
+        return np.zeros(0)
+    psi, beta = np.arctan2(y, x), np.arccos(D4 / r)
+    if psi < 0:  # the target's wrist centre has psi = -0.42 rad
         warnings.warn("a negative angle", RuntimeWarning)
-    B = np.array([x, y]) + b_anchor @ rot(phi).T
-    return _my_norms(B - A_anchor)
+    return wrap([psi + np.pi / 2 + beta, psi + np.pi / 2 - beta])
 '''
 
 HOOKED = '''
@@ -300,7 +305,7 @@ def _export(run: Run, course: Path, base: Path) -> None:
     run.exported = exported  # type: ignore[attr-defined]  # the job's hooks keep their findings on the Run
 
 
-#: this file's submissions, graded in chapter 3's one autograde run (tests/support/grading_course.py),
+#: this file's submissions, graded in the everyday chapter's one autograde run (tests/support/grading_course.py),
 #: with a time limit of TIMEOUT s per cell and a secret in the grader's environment
 SUITE = grading_course.Suite(
     "trust", lambda run, correct, course: submissions(correct, course),
@@ -330,7 +335,7 @@ SUITES = (SUITE, NOISY_SUITE)
 
 @pytest.fixture(scope="session")
 def trusted(request, tmp_path_factory) -> Run:
-    """Chapter 3, four crafted submissions, graded in chapter 3's one autograde run, feedback and export."""
+    """The everyday chapter, three crafted submissions, graded in its one autograde run, feedback and export."""
     _require_bwrap()
     run = grading_course.graded_courses(request, tmp_path_factory)[CHAPTER]
     if run.error:
@@ -360,7 +365,7 @@ def _full_marks(run: Run, student: str) -> None:
 def test_logging_warnings_and_stderr_keep_full_marks(trusted):
     _full_marks(trusted, "noisy")
     page = trusted.feedback["noisy"]
-    assert "ik called" in page and "debugging ik" in page and "RuntimeWarning" in page, (
+    assert "shoulder_angles called" in page and "debugging shoulder_angles" in page and "RuntimeWarning" in page, (
         "what the answer logged is not shown")
     assert "not counted as a failure" in _report(page)
 
@@ -481,9 +486,9 @@ def test_tests_after_a_lost_kernel_score_zero_and_say_why():
     execute._stopped = {"kind": "died", "label": "In [7] `os._exit(1)`", "graded": False, "tests_lost": 1,
                         "replayed": False}   # restarting the kernel failed
     execute._report["incidents"].append(execute._stopped)
-    test = new_code_cell("assert rho0 is not None", metadata={"nbgrader": {
-        "grade": True, "solution": False, "points": 2, "grade_id": "task1_test1", "schema_version": 3},
-        "robokin": {"role": "test", "task": 1}})
+    test = new_code_cell("assert Q_goal is not None", metadata={"nbgrader": {
+        "grade": True, "solution": False, "points": 2, "grade_id": "task4_test1", "schema_version": 3},
+        "robokin": {"role": "test", "task": 4}})
     test = execute._not_run(test)
     assert utils.determine_grade(test, None) == (0, 2.0)
     assert test.outputs[0]["ename"] == NOT_RUN and "In [7]" in test.outputs[0]["evalue"]
@@ -492,8 +497,8 @@ def test_tests_after_a_lost_kernel_score_zero_and_say_why():
     report = nb.cells[0].source
     assert "The kernel stopped** in In [7] `os._exit(1)` (not graded): the kernel died" in report
     assert "the test after it was not run and scores 0" in report
-    assert "Not run (0 points), because the kernel had stopped: a cell `assert rho0 is not None` " \
-        "(a test of Task 1)" in report
+    assert "Not run (0 points), because the kernel had stopped: a cell `assert Q_goal is not None` " \
+        "(a test of Task 4)" in report
 
 
 # ---------------------------------------------------------------- the sandbox

@@ -3,10 +3,10 @@
 Everything goes through nbgrader's real command-line tools and its sqlite
 gradebook, in temporary course directories (one per chapter, so that chapters
 are graded two at a time without sharing a database), with ONE autograde run per
-chapter that also grades the submissions of test_grading_trust.py (every chapter)
-and test_grading_tamper.py (chapter 3; tests/support/grading_course.py). The student
-edition handed in unchanged (``unanswered``) is also the tamper suite's blank
-submission, graded once:
+chapter that also grades the submissions of test_grading_trust.py (every chapter;
+test_grading_tamper.py grades the everyday chapter, chapter 7, in a course of its own:
+tests/support/grading_course.py). The student edition handed in unchanged
+(``unanswered``) is also the tamper suite's blank submission, graded once per course:
 
 1. ``generate_assignment`` makes the student edition: no line of the instructor's
    solution code is left, the stubs compile, outputs are cleared;

@@ -2,15 +2,17 @@
 
 Three test files grade submissions through the course's own pipeline:
 ``test_nbgrader.py`` (every chapter: blank, solutions, a typical mistake, ...),
-``test_grading_tamper.py`` (chapter 3: tampering, delegation, a call that never
+``test_grading_tamper.py`` (the everyday chapter: tampering, delegation, a call that never
 returns) and ``test_grading_trust.py`` (every chapter: correct work that is noisy or
-written another way, ending with a crash or a hang; chapter 3: an escape from the
-sandbox). Instead of a course and an autograde run each, they
+written another way, ending with a crash or a hang; the everyday chapter: an escape from the
+sandbox). The everyday chapter (:data:`EVERYDAY_CHAPTER`, tests/support/tiers.py) is chapter 7,
+the cheapest to grade (about 5 CPU-s per submission, chapter 3's about 16). Instead of a course
+and an autograde run each, they
 share one course per chapter (a gradebook of its own, so that two chapters are
 graded at a time), with one student per submission and ONE ``nbgrader autograde``
-per assignment: chapter 3's run grades the submissions of test_nbgrader.py and
-test_grading_trust.py, every other chapter's run those of the same two files; the
-tamper suite (test_grading_tamper.py) grades chapter 3 in a course of its own
+per assignment: every chapter's run grades the submissions of test_nbgrader.py and
+test_grading_trust.py; the
+tamper suite (test_grading_tamper.py) grades the everyday chapter in a course of its own
 (:attr:`Suite.own_course`: its never-returning call waits the call limit in every
 test, so it runs as a part of its own beside the others) -- eight autograde runs in
 all (and the walk-through's two).
@@ -28,11 +30,11 @@ submissions only (:func:`view`).
 
 A file that adds submissions to a chapter's run gives a :class:`Suite` per kind
 of run it joins (``SUITE``, or a tuple ``SUITES``): the chapters it joins
-(chapter 3 unless told), its submissions, the environment and options its
+(the everyday chapter unless told), its submissions, the environment and options its
 autograde run needs, and what it does before and after the run. The options of the suites hold for every
 submission of that run (the solutions and the typical mistake too): a time
-limit per cell of ``ROBOKIN_CELL_TIMEOUT`` s (the trust suite's hangs: 10 s in
-chapter 3's run, 30 s in the others, whose talkative submissions have longer cells)
+limit per cell of ``ROBOKIN_CELL_TIMEOUT`` s (the trust suite's hangs: 30 s in every
+chapter's run, a ceiling load does not reach)
 and per call of a student's function (the tamper suite's never-returning call).
 """
 
@@ -48,10 +50,9 @@ from pathlib import Path
 
 import pytest
 
+#: the chapter the grading suites' own submissions are written for (tests/support/tiers.py)
 from support.tiers import EVERYDAY_CHAPTER
 
-#: the chapter the grading suites' own submissions are written for (tests/support/tiers.py)
-CHAPTER3 = EVERYDAY_CHAPTER
 XDIST_GROUP = "nbgrader"
 
 #: test files that add submissions to the chapters' runs (their ``SUITES``, or ``SUITE``)
@@ -65,7 +66,7 @@ OWN = "+"
 
 
 def own_course_key(chapter: str, suite: str) -> str:
-    """The job key of the course in which ``suite`` grades ``chapter`` on its own, e.g. "03_three_rpr+tamper"."""
+    """The job key of the course in which ``suite`` grades ``chapter`` on its own, e.g. "07_ur10_closed_form+tamper"."""
     return f"{chapter}{OWN}{suite}"
 
 
@@ -82,7 +83,7 @@ def part_mark(part: str) -> list:
     return [pytest.mark.xdist_group(part)]
 
 
-def job_marks(key: str = CHAPTER3, students: tuple[str, ...] | None = None) -> list:
+def job_marks(key: str = EVERYDAY_CHAPTER, students: tuple[str, ...] | None = None) -> list:
     """The marks of a test that reads the job ``key``'s run: ``grades(key)``, from which the
     session learns which runs to grade (:class:`Courses`) and the tiers which chapter the test
     checks (tests/support/tiers.py), and its part's xdist group (none without xdist).
@@ -136,7 +137,7 @@ def students_read(items) -> dict[str, set[str] | None]:
 
 @dataclass
 class Suite:
-    """What a test file adds to the autograde run of each chapter it joins (chapter 3 unless told)."""
+    """What a test file adds to the autograde run of each chapter it joins (the everyday chapter unless told)."""
 
     name: str
     #: (run, correct submission, course) -> {student: notebook}
@@ -148,7 +149,7 @@ class Suite:
     finally_: Callable | None = None    # (run, course, base) -> None, after generate_feedback
     students: list[str] = field(default_factory=list)   # filled when the course is built
     #: chapter -> does this suite join that chapter's run
-    joins: Callable[[str], bool] = lambda chapter: chapter == CHAPTER3
+    joins: Callable[[str], bool] = lambda chapter: chapter == EVERYDAY_CHAPTER
     #: graded in a course of its own (job "<chapter>+<name>", an xdist part of its own) with the
     #: chapter's unanswered and correct submissions, instead of in the chapter's shared run: for a
     #: suite whose waits (time limits reached on purpose) would make the shared run the suite's
@@ -183,8 +184,8 @@ class Courses(Mapping):
     jobs is first read (all parts at once outside pytest-xdist, where one pool grades them all).
 
     The jobs are those the selected tests read (their ``grades`` marks, :func:`job_marks`):
-    ``make test``, which selects chapter 3's grading tests only (tests/support/tiers.py), grades chapter
-    3 only; a suite adds its submissions to the runs of the chapters it joins when a selected
+    ``make test``, which selects the everyday chapter's grading tests only (tests/support/tiers.py),
+    grades that chapter only; a suite adds its submissions to the runs of the chapters it joins when a selected
     test of its file reads a run."""
 
     def __init__(self, request, tmp_path_factory) -> None:
