@@ -54,6 +54,7 @@ _CHAPTER = "ur10_closed_form"
 #: answer that hands one back (``all_solutions = ur10_ik``) is flagged for review by hand
 #: (tools/grading/bridge/delegation.py reads this literal table without importing the module)
 DELEGATION = {
+    "wrist_centre": {"ur10_ik": "robokin.models.ur10_ik", "ur10_ik_batch": "robokin.models.ur10_ik_batch"},
     "shoulder_angles": {"ur10_ik": "robokin.models.ur10_ik", "ur10_ik_batch": "robokin.models.ur10_ik_batch"},
     "wrist_angles": {"ur10_ik": "robokin.models.ur10_ik", "ur10_ik_batch": "robokin.models.ur10_ik_batch"},
     "arm_angles": {"ur10_ik": "robokin.models.ur10_ik", "ur10_ik_batch": "robokin.models.ur10_ik_batch"},
