@@ -195,5 +195,5 @@ def test_an_unreachable_answer_set_is_empty_for_arm_angles():
 
 
 def test_delegation_names_the_closed_form():
-    assert set(chk.DELEGATION) == {"shoulder_angles", "wrist_angles", "arm_angles", "all_solutions"}
+    assert set(chk.DELEGATION) == {"wrist_centre", "shoulder_angles", "wrist_angles", "arm_angles", "all_solutions"}
     assert all("ur10_ik" in table for table in chk.DELEGATION.values())
