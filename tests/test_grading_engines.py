@@ -17,14 +17,16 @@ submission costs about 5 CPU-s, chapter 3's about 27) is graded end to end:
   keeps every mark.
 
 A fork bomb in a correct submission's last answer cell (graded by ``grade_submission.grade``
-alone, from a release this module makes; chapter 3's, :data:`FORK_BOMB_CHAPTER`) gets
-``BlockingIOError`` at the cap on the kernel's processes: that task's tests lose their points,
-the others keep theirs, grading returns and no process of the bomb is left.
+alone, from a release this module makes) gets ``BlockingIOError`` at the cap on the kernel's
+processes; its children stay counted until the kernel ends, so the kernel left at its cap is
+restarted: that task's tests lose their points, the others keep theirs, grading returns and
+no process of the bomb is left.
 
 The rest is cheap: the zip holds what grading needs and no other chapter, ``run_autograder``
 explains a submission without exactly one notebook, the cap on processes (``--max-processes``,
 ``make gradescope|grade MAX_PROCESSES=``) reaches run_autograder's command and each of
-grade_many's and grade_shard's gradings, the Kubernetes manifests are valid
+grade_many's and grade_shard's gradings, a kernel's count under the cap holds the children it
+has not reaped (zombies) and one left without room is found, the Kubernetes manifests are valid
 against the Kubernetes schema (kubernetes-validate), and the Containerfile (which cannot be
 built here: no container engine) parses and installs what ``run_autograder`` needs.
 """
@@ -431,16 +433,6 @@ def _bomb_processes() -> list[int]:
     return found
 
 
-#: The chapter of the fork bomb: chapter 3, not :data:`CHAPTER`. In chapter 7's last answer cell
-#: the bomb leaves the student's kernel at the cap (its children are zombies until it ends), and
-#: the kernel's next large message needs a thread it cannot start (pyzmq's garbage collector,
-#: started on the first message over 64 kB: "RuntimeError: can't start new thread" in ipykernel's
-#: iostream), so ``nbgrader autograde`` fails and grading raises; chapter 3's kernel has started
-#: that thread before, for its figures. Move the bomb to CHAPTER when the grading runtime starts
-#: the thread before the student's code runs (or otherwise survives a kernel at its cap).
-FORK_BOMB_CHAPTER = "03_three_rpr"
-
-
 def _release(tmp_path: Path, chapter: str) -> tuple[dict, dict]:
     """The chapter's source and its student edition, made by nbgrader as grade_submission does."""
     from tools.grading.course import add_source, write_course
@@ -458,7 +450,7 @@ def _release(tmp_path: Path, chapter: str) -> tuple[dict, dict]:
 
 @pytest.mark.exhaustive   # a submission graded (about 16 CPU-s): make test-all, like the gradings above
 def test_a_fork_bomb_loses_its_cell_and_leaves_no_process(tmp_path):
-    chapter = FORK_BOMB_CHAPTER
+    chapter = CHAPTER
     source, release = _release(tmp_path, chapter)
     nb = correct_submission(release, source)
     answers = [cell for cell in nb["cells"] if cell.get("metadata", {}).get("nbgrader", {}).get("solution")]
@@ -478,6 +470,8 @@ def test_a_fork_bomb_loses_its_cell_and_leaves_no_process(tmp_path):
     assert not left, f"{len(left)} processes of the fork bomb are left after grading: {left[:10]}"
     text = " ".join(re.sub(r"<[^>]+>", " ", feedback).split())
     assert "BlockingIOError" in text and "forked 2000" not in text, "the fork was not stopped by the cap"
+    # the kernel, left at its cap by the bomb's children, was restarted and the notebook went on
+    assert "left the kernel at its cap on processes" in text and "The kernel was restarted" in text, text[:2000]
     # the bombed task's tests lose their points; every other test keeps its own
     tasks = {cell["metadata"]["nbgrader"]["grade_id"]: cell["metadata"]["robokin"]["task"]
              for cell in source["cells"] if cell.get("metadata", {}).get("nbgrader", {}).get("grade")}
@@ -485,6 +479,69 @@ def test_a_fork_bomb_loses_its_cell_and_leaves_no_process(tmp_path):
         expected = 0.0 if tasks[test["name"]] == task else test["max_score"]
         assert test["score"] == pytest.approx(expected), (test, results["output"])
     assert any(tasks[test["name"]] == task for test in results["tests"])
+
+
+def _zombie() -> subprocess.Popen:
+    """A child that has ended and is not reaped yet (a zombie)."""
+    child = subprocess.Popen(["true"])
+    deadline = time.monotonic() + 10
+    while Path(f"/proc/{child.pid}/stat").read_text().rsplit(")", 1)[1].split()[0] != "Z":
+        assert time.monotonic() < deadline, "the child did not end"
+        time.sleep(0.001)
+    return child
+
+
+def test_a_child_counts_under_the_cap_until_it_is_reaped():
+    before = process_cap.tasks_of_tree(os.getpid())
+    child = _zombie()
+    try:
+        assert process_cap.tasks_of_tree(os.getpid()) == before + 1
+    finally:
+        child.wait()
+    assert process_cap.tasks_of_tree(os.getpid()) == before
+    assert process_cap.tasks_of_tree(child.pid) == 0   # reaped: no process left
+
+
+def test_a_kernel_without_room_under_its_cap_is_found(tmp_path):
+    used = process_cap.tasks_of_tree(os.getpid())
+    roomy = process_cap.ProcessCap("rlimit", used + process_cap.HEADROOM)
+    assert roomy.full(os.getpid()) == ""
+    child = _zombie()   # one more in the tree: one place too few left
+    try:
+        assert f"({used + 1} processes and threads of {used + process_cap.HEADROOM}:" in roomy.full(os.getpid())
+    finally:
+        child.wait()
+    # a cgroup's own count, pids.current, is the one read where there is a cgroup
+    (tmp_path / "pids.current").write_text("250\n")
+    capped = process_cap.ProcessCap("cgroup", 256, cgroup=tmp_path)
+    assert capped.tasks(os.getpid()) == 250 and "(250 processes and threads of 256:" in capped.full(os.getpid())
+    (tmp_path / "pids.current").write_text(f"{256 - process_cap.HEADROOM}\n")
+    assert capped.full(os.getpid()) == ""
+
+
+def test_a_cell_that_leaves_the_kernel_at_its_cap_loses_the_kernel(monkeypatch):
+    """After each cell the grader asks the kernel's manager; a kernel at its cap is lost as one that
+    died in the cell (restarted, the cells before run again), and the report says why."""
+    from nbconvert.preprocessors import ExecutePreprocessor
+    from nbformat.v4 import new_code_cell, new_notebook
+    from tools.grading.robokin_nbgrader import GradingIncidents, RobokinExecute
+    from tools.grading.sandbox import SandboxedKernelManager
+
+    why = "the cell left the kernel at its cap on processes (256 processes and threads of 256: ...)"
+    monkeypatch.setattr(ExecutePreprocessor, "preprocess_cell", lambda self, cell, resources, index: (cell, resources))
+    monkeypatch.setattr(SandboxedKernelManager, "at_process_cap", lambda self: why)
+    monkeypatch.setattr(RobokinExecute, "_restart_and_replay", lambda self, index: True)
+    execute = RobokinExecute()
+    bomb, test = new_code_cell("fork_bomb()"), new_code_cell("assert answer() == 1", metadata={"nbgrader": {
+        "grade": True, "solution": False, "points": 2, "grade_id": "task5_test1", "schema_version": 3}})
+    execute.nb, execute.km = new_notebook(cells=[bomb, test]), SandboxedKernelManager(writable="/tmp")
+    execute._stopped, execute._replays, execute._last_code = None, 0, 1
+    execute._report = {"incidents": []}
+    execute.preprocess_cell(bomb, {}, 0)
+    assert execute._stopped is None and execute._replays == 1   # restarted: grading goes on
+    assert bomb.outputs[-1]["text"] == f"KernelLost: {why}: the kernel was killed\n"
+    nb, _ = GradingIncidents().preprocess(new_notebook(cells=[bomb]), {"robokin": execute._report})
+    assert f"(not graded): {why}; the kernel was killed. The kernel was restarted" in nb.cells[0].source
 
 
 def _no_cap_here(monkeypatch):

@@ -32,6 +32,14 @@ cgroup: a container, where ``/sys/fs/cgroup`` is read-only), :func:`plan` raises
 The cap counts tasks, as both mechanisms do: a thread is one, so it must leave room for the
 kernel's own (15 processes and threads for a sandboxed kernel that imported numpy, sympy,
 matplotlib and robokin, bwrap's two included).
+
+Both count a child that has ended until its parent reaps it (a zombie), and a kernel reaps
+none of the processes a cell forks: a fork bomb's children, ended or not, keep the kernel at
+its cap after the cell, and the kernel then cannot start a thread of its own (pyzmq's garbage
+collector, started on the first message over 64 kB: its output is lost half-sent and the
+grader reads a message with an invalid signature). Only the kernel's end ends them, so the
+grader asks after each cell (:meth:`ProcessCap.full`) and restarts a kernel left at its cap
+(``tools/grading/robokin_nbgrader/execute.py``), as it does a kernel that died.
 """
 
 from __future__ import annotations
@@ -57,6 +65,10 @@ METHOD_VARIABLE = "ROBOKIN_PROCESS_CAP"
 #: removes what is left of them at the end).
 TAG_VARIABLE = "ROBOKIN_PROCESS_CAP_TAG"
 METHODS = ("cgroup", "rlimit")
+#: Free places under the cap a kernel needs after a cell: the threads it may start on its own
+#: (pyzmq's garbage collector, a thread pool of numpy's or matplotlib's); with fewer, the cell
+#: left it at its cap and it is restarted.
+HEADROOM = 8
 PREFIX = "robokin-kernel-"
 
 #: The command put in front of the kernel's: it enters the cgroup (writes its pid to
@@ -94,6 +106,26 @@ class ProcessCap:
     cgroup: Path | None = None
     #: what a log line says about it
     description: str = ""
+
+    def tasks(self, root: int) -> int:
+        """The processes and threads the cap counts now: the cgroup's ``pids.current``, or those of
+        the process ``root`` (bwrap, which the kernel manager started) and its descendants."""
+        if self.cgroup is not None:
+            try:
+                return int((self.cgroup / "pids.current").read_text())
+            except (OSError, ValueError):
+                pass   # removed meanwhile: count the tree
+        return tasks_of_tree(root)
+
+    def full(self, root: int) -> str:
+        """Why the kernel whose first process is ``root`` is at its cap ('' when it is not): fewer
+        than :data:`HEADROOM` tasks are left to it."""
+        used = self.tasks(root)
+        if self.limit - used >= HEADROOM:
+            return ""
+        return (f"the cell left the kernel at its cap on processes ({used} processes and threads of "
+                f"{self.limit}: the processes a cell starts, running or ended, count until the kernel reaps "
+                "them), where it cannot start a thread of its own")
 
     def release(self) -> int:
         """Kill what is left in the cgroup and remove it; the number of processes killed."""
@@ -161,6 +193,28 @@ def tasks_of_user(uid: int) -> int:
         fields = dict(line.split(":", 1) for line in status.splitlines() if ":" in line)
         if int(fields.get("Uid", "-1 0").split()[0]) == uid:
             count += int(fields.get("Threads", "1").strip() or 1)
+    return count
+
+
+def tasks_of_tree(root: int) -> int:
+    """Processes and threads of ``root`` and its descendants, children that ended and are not
+    reaped (zombies) included, from /proc (``task/*/children``); 0 when ``root`` has ended."""
+    count, stack, seen = 0, [root], set()
+    while stack:
+        pid = stack.pop()
+        if pid in seen:
+            continue
+        seen.add(pid)
+        try:
+            threads = os.listdir(f"/proc/{pid}/task")
+        except OSError:   # ended meanwhile
+            continue
+        count += len(threads) or 1
+        for thread in threads:
+            try:
+                stack += [int(child) for child in Path(f"/proc/{pid}/task/{thread}/children").read_text().split()]
+            except (OSError, ValueError):
+                continue
     return count
 
 

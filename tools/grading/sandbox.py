@@ -33,7 +33,10 @@ jupyter_client sends to the process group it started, so an interrupt is an
 processes and threads of the kernel and everything it starts at ``N`` (a fork bomb gets
 ``BlockingIOError`` from ``fork``), by a cgroup's ``pids.max`` or by ``RLIMIT_NPROC``, whichever
 works here (``tools/grading/process_cap.py``); when neither does, the kernel does not start and the
-error says why. ``tools/grading/grade_submission.py`` sets it.
+error says why. ``tools/grading/grade_submission.py`` sets it. A cell that leaves the kernel at its
+cap (a fork bomb's children, which the kernel never reaps, stay counted until it ends) leaves
+a kernel that cannot start a thread: ``RobokinExecute`` asks :meth:`SandboxedKernelManager.at_process_cap`
+after each cell and restarts such a kernel, as one that died in the cell.
 
 ``ROBOKIN_GRADING_SANDBOX=off`` or ``c.RobokinExecute.sandbox = False`` runs the
 kernel as nbgrader does, unsandboxed (for an instructor who grades inside a
@@ -68,6 +71,10 @@ SYSTEM_LINKS = ("/bin", "/sbin", "/lib", "/lib32", "/lib64", "/libx32")
 
 class SandboxUnavailable(RuntimeError):
     """bwrap is not installed (or cannot make a sandbox on this machine)."""
+
+
+class KernelAtProcessCap(RuntimeError):
+    """A cell left the kernel at its cap on processes (the message says how many): it is restarted."""
 
 
 def sandbox_wanted(configured: bool) -> bool:
@@ -216,6 +223,14 @@ class SandboxedKernelManager(AsyncPrivateSocketsKernelManager):
             self.log.info("The kernel's processes are capped: %s", self._process_cap.description)
             prefix = self._process_cap.outer + prefix + self._process_cap.inner
         return prefix + cmd
+
+    def at_process_cap(self) -> str:
+        """Why the kernel is at its cap on processes, so that it cannot start a thread ('' when it is
+        not, or has no cap); asked after each cell."""
+        pid = getattr(self.provisioner, "pid", None) if self.has_kernel else None
+        if self._process_cap is None or not pid:
+            return ""
+        return self._process_cap.full(pid)
 
     def _release_process_cap(self) -> None:
         if self._process_cap is not None:

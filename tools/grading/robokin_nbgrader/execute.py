@@ -24,7 +24,7 @@ from nbformat.notebooknode import from_dict
 from nbgrader import utils
 from nbgrader.coursedir import CourseDirectory
 from nbgrader.preprocessors import Execute
-from tools.grading.sandbox import SandboxedKernelManager, bwrap_executable, sandbox_wanted
+from tools.grading.sandbox import KernelAtProcessCap, SandboxedKernelManager, bwrap_executable, sandbox_wanted
 from traitlets import Bool, Unicode
 
 from .cells import cell_label, robokin_metadata, task_of
@@ -122,7 +122,8 @@ class RobokinExecute(JoinedStreamsClient, Execute):
         cell.outputs = outputs
 
     def _kernel_lost(self, cell, index, exc) -> None:
-        """The kernel died in ``cell``, or ignored the interrupt at the time limit.
+        """The kernel died in ``cell``, ignored the interrupt at the time limit, or was left at its
+        cap on processes (``KernelAtProcessCap``: it could not start a thread any more).
 
         The kernel is killed and restarted, and the code cells before this one are run
         again (their outputs are kept from the first run), so that the notebook goes on
@@ -132,11 +133,14 @@ class RobokinExecute(JoinedStreamsClient, Execute):
         the kernel and running the notebook again would change no score.
         """
         hung = isinstance(exc, CellTimeoutError)
+        capped = isinstance(exc, KernelAtProcessCap)
         if hung:
             self.log.error("The kernel ignored the interrupt after %s s: killing it", self.timeout)
+        if capped:
+            self.log.error("Cell %d: %s; killing the kernel", index, exc)
         cell = self.nb.cells[index]
         why = (f"the cell ran longer than the time limit ({self.timeout} s) and ignored the interrupt: "
-               "the kernel was killed" if hung else
+               "the kernel was killed" if hung else f"{exc}: the kernel was killed" if capped else
                "the kernel died while running this cell (os._exit, a crash, or not enough memory)")
         if utils.is_grade(cell):   # the test scores 0
             output = {"output_type": "error", "ename": KERNEL_LOST, "evalue": why,
@@ -149,6 +153,8 @@ class RobokinExecute(JoinedStreamsClient, Execute):
                     "tests_lost": len(later), "replayed": False,
                     # nothing graded after it (no test, robokin.check's verdicts taken): no restart
                     "nothing_after": not later and index > self._last_code}
+        if capped:   # what the report says instead of "the kernel died"
+            incident["what"] = f"{exc}; the kernel was killed"
         self._report["incidents"].append(incident)
         if not incident["nothing_after"] and not self._replays and self._restart_and_replay(index):
             incident["replayed"], incident["tests_lost"] = True, 0
@@ -269,6 +275,11 @@ class RobokinExecute(JoinedStreamsClient, Execute):
             cell, resources = super().preprocess_cell(cell, resources, index)
         except (DeadKernelError, CellTimeoutError) as exc:
             self._kernel_lost(cell, index, exc)
+            return self.nb.cells[index], self.resources
+        # a fork bomb's children stay counted until the kernel ends: it could not start a thread
+        full = self.km.at_process_cap() if isinstance(self.km, SandboxedKernelManager) else ""
+        if full:
+            self._kernel_lost(cell, index, KernelAtProcessCap(full))
             return self.nb.cells[index], self.resources
         if cell.cell_type == "code" and utils.is_grade(cell):
             self._grade_by_pass_fail(cell)

@@ -27,7 +27,8 @@ class GradingIncidents(NbGraderPreprocessor):
         lines = []
         for item in incidents:
             if item["kind"] in ("died", "hang"):
-                what = ("the kernel died (os._exit, a crash or too much memory)" if item["kind"] == "died" else
+                what = (item.get("what") or "the kernel died (os._exit, a crash or too much memory)"
+                        if item["kind"] == "died" else
                         "it ran longer than the time limit and ignored the interrupt, so the kernel was killed")
                 scope = "a test, which scores 0" if item["graded"] else "not graded"
                 if item.get("replayed"):
