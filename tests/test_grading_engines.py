@@ -448,7 +448,7 @@ def _release(tmp_path: Path, chapter: str) -> tuple[dict, dict]:
     return (json.loads(source.read_text(encoding="utf-8")), json.loads(release.read_text(encoding="utf-8")))
 
 
-@pytest.mark.exhaustive   # a submission graded (about 16 CPU-s): make test-all, like the gradings above
+@pytest.mark.exhaustive   # a submission graded (about 15 CPU-s): make test-all, like the gradings above
 def test_a_fork_bomb_loses_its_cell_and_leaves_no_process(tmp_path):
     chapter = CHAPTER
     source, release = _release(tmp_path, chapter)
