@@ -72,12 +72,14 @@ for _name in {names!r}:
 
 #: answer cells replaced by calls of robokin's closed form (robokin.models.ur10_ik, which the
 #: checks of Tasks 1 and 4 name): grade_id -> (old lines pattern, new code); all_solutions calls
-#: it through a helper of its own
+#: it through a helper of its own. The chapter imports robokin's solver only after the tasks, so
+#: a delegating student imports it, as these answers do.
+IMPORT_CLOSED_FORM = "from robokin.models import ur10_ik\n\n\n"
 DELEGATE = {
     "task1_answer1": (r"def shoulder_angles\(T\):\n(    .*\n)+",
-                      "def shoulder_angles(T):\n    return np.unique(ur10_ik(T).q[:, 0])\n"),
+                      IMPORT_CLOSED_FORM + "def shoulder_angles(T):\n    return np.unique(ur10_ik(T).q[:, 0])\n"),
     "task4_answer1": (r"def all_solutions\(T\):\n(    .*\n)+",
-                      "def _closed_form(T):\n    return ur10_ik(T)\n\n\n"
+                      IMPORT_CLOSED_FORM + "def _closed_form(T):\n    return ur10_ik(T)\n\n\n"
                       "def all_solutions(T):\n    return _closed_form(T).q\n"),
 }
 
