@@ -101,8 +101,8 @@ MUTATIONS = {
     ],
     "task3_test5": [
         ("no feed-forward in the loop (the hand lags)",
-         "Q_run = track(Q_START, r_ref, 0 * v_ref, kp=KP)\n"
-         "v_hand = np.gradient(arm.fk(Q_run)[:, :3, 3], TS, axis=0)"),
+         "Q_loop = {**Q_loop, 'closed loop': track(Q_START, r_ref, 0 * v_ref, kp=KP)}\n"
+         "hand = {**hand, 'closed loop': arm.fk(Q_loop['closed loop'])[:, :3, 3]}"),
     ],
     "task4_test1": [
         ("the chosen runs tracked open loop",
