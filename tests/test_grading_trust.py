@@ -84,6 +84,9 @@ TIMEOUT = 30
 OTHER_TIMEOUT = 30    # seconds per cell in the other chapters' runs (their longest cells, with a margin)
 TOKEN = "robokin-test-token-4f1c"   # a secret in the grader's environment
 ATTACK_DELAY = 1.0    # the escape's detached process tries every ATTACK_DELAY seconds
+#: seconds the escape's cell waits for its detached process to start (a Python start: 0.05-0.1 s on
+#: a quiet machine, under 2 s at a load average of 15), well within the cell limit TIMEOUT
+ESCAPE_WAIT = 15.0
 
 
 def _require_bwrap() -> None:
@@ -175,6 +178,14 @@ for _ in range(600):
 """
 subprocess.Popen([sys.executable, "-c", ATTACK], stdin=subprocess.DEVNULL,
                  stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+# the cell ends once the detached process has run (alive.txt written): where the rest of the
+# notebook grades in under a second (chapter 7), the kernel could otherwise be gone before a new
+# Python has started, and the test would test nothing. At most ESCAPE_WAIT s, within the cell limit.
+import time
+for _ in range(int({wait!r} / 0.05)):
+    if os.path.exists("alive.txt"):
+        break
+    time.sleep(0.05)
 '''
 
 
@@ -200,7 +211,7 @@ def submissions(correct: dict, course: Path) -> dict[str, dict]:
                  str(ROOT / "escaped.txt"), str(Path.home() / "robokin-escaped.txt"), "/tmp/robokin-escaped.txt"],
         secrets=[str(course / "source" / CHAPTER / f"{CHAPTER}.ipynb"), str(NOTEBOOKS / f"{CHAPTER}.ipynb"),
                  str(gradebook)],
-        gradebook=str(gradebook), delay=ATTACK_DELAY)
+        gradebook=str(gradebook), delay=ATTACK_DELAY, wait=ESCAPE_WAIT)
     return {
         "noisy": with_incident(_with_answer_code(correct, "task1_answer1", NOISY + HOOKED), CRASH),
         "hang": with_incident(written_another_way(correct, CHAPTER), HANG_IGNORING_SIGINT),
