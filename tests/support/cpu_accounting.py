@@ -14,7 +14,8 @@ its own (cgroup v1 ``cpuacct.usage`` or v2 ``cpu.stat``; the processes it starts
 inherit it) and reads the group's counter around each test's set-up, call and
 teardown. The controller adds the phases up per work unit (tests/support/parallel_plan.py),
 per test file and per chapter, prints the largest in the terminal summary and writes
-them all to the file as JSON. Where no control group can be made (no permission),
+them all to the file as JSON, with a timeline (when each unit ran, on which worker: the
+idle stretches of a run show there). Where no control group can be made (no permission),
 the summary says so and nothing else changes. The tests run as they would without it.
 """
 
@@ -150,13 +151,20 @@ class Report:
         self.by_test: dict[str, float] = defaultdict(float)
         self.by_unit: dict[str, float] = defaultdict(float)
         self.workers: dict[str, float] = {}   # a worker's control group: its CPU-s, collection included
+        #: per unit: [worker, first start, last stop] (seconds since the epoch): when each unit ran, where
+        self.spans: dict[str, list] = {}
 
     def pytest_runtest_logreport(self, report):
         for key, value in report.user_properties:
             if key == PROPERTY:
                 nodeid = report.nodeid.split("@", 1)[0]
                 self.by_test[nodeid] += value
-                self.by_unit[unit_of_report(self.config, report.nodeid)] += value
+                unit = unit_of_report(self.config, report.nodeid)
+                self.by_unit[unit] += value
+                if report.start:
+                    worker = getattr(getattr(report, "node", None), "gateway", None)
+                    span = self.spans.setdefault(unit, [getattr(worker, "id", "main"), report.start, report.stop])
+                    span[1], span[2] = min(span[1], report.start), max(span[2], report.stop)
 
     @pytest.hookimpl(optionalhook=True)
     def pytest_testnodedown(self, node, error):
@@ -181,7 +189,10 @@ class Report:
             found = CHAPTER.search(nodeid)
             by_chapter[found.group(0) if found else "(no chapter)"] += value
         ordered = lambda d: dict(sorted(((k, round(v, 1)) for k, v in d.items()), key=lambda kv: -kv[1]))  # noqa: E731
-        return {"total": round(sum(self.by_test.values()), 1),
+        first = min((span[1] for span in self.spans.values()), default=0.0)
+        timeline = {unit: [worker, round(start - first, 1), round(stop - first, 1)]
+                    for unit, (worker, start, stop) in sorted(self.spans.items(), key=lambda kv: kv[1][1])}
+        return {"total": round(sum(self.by_test.values()), 1), "timeline": timeline,
                 "workers_total": round(sum(self.workers.values()), 1), "by_unit": ordered(self.by_unit),
                 "by_file": ordered(by_file), "by_chapter": ordered(by_chapter), "by_test": ordered(self.by_test)}
 
