@@ -49,6 +49,18 @@ _TOOL_ORDER = """
 T_BT0 = T_ET @ T_BE0
 """
 
+# the three rotations multiplied in the reverse order, Rx(roll) Ry(pitch) Rz(yaw): the tool's
+# triple turns about x alone and is right; a triple of three angles is not
+_PRODUCT_REVERSED = """
+def transform_from_ypr(ypr, position):
+    yaw, pitch, roll = ypr
+    pose = np.eye(4)
+    pose[:3, :3] = (rotation_from_rpy(roll, 0.0, 0.0) @ rotation_from_rpy(0.0, pitch, 0.0)
+                    @ rotation_from_rpy(0.0, 0.0, yaw))
+    pose[:3, 3] = position
+    return pose
+"""
+
 # the triple stored in robokin's order (roll, pitch, yaw) and passed on unreversed
 _TRIPLE_IN_RPY_ORDER = """
 TOOL_YPR = np.array([np.pi / 10, 0.0, 0.0])  # stored as (roll, pitch, yaw)
@@ -59,6 +71,8 @@ def transform_from_ypr(ypr, position):
 
 # the goal read as (roll, pitch, yaw)
 _GOAL_AS_RPY = """
+from robokin.motion import pose_error
+from robokin.transforms import angle_axis_from_rotation
 T_BG = transform_from_rpy(GOAL_YPR, GOAL_POSITION)
 e0 = pose_error(T_BT0, T_BG)
 h_T, theta = angle_axis_from_rotation((transform_inverse(T_BT0) @ T_BG)[:3, :3])
@@ -67,16 +81,19 @@ h_B = T_BT0[:3, :3] @ h_T
 
 # the axis left in tool coordinates
 _AXIS_IN_TOOL_FRAME = """
+from robokin.transforms import angle_axis_from_rotation
 h_B, theta = angle_axis_from_rotation((transform_inverse(T_BT0) @ T_BG)[:3, :3])
 """
 
 # the error from the goal to the tool (sign)
 _ERROR_SIGN = """
+from robokin.motion import pose_error
 e0 = pose_error(T_BG, T_BT0)
 """
 
 # the goal's pose inverted instead of the tool's: the relative rotation is the identity
 _INVERTED_THE_GOAL = """
+from robokin.transforms import angle_axis_from_rotation
 T_TG = transform_inverse(T_BG) @ T_BG
 h_T, theta = angle_axis_from_rotation(T_TG[:3, :3])
 h_B = T_BT0[:3, :3] @ h_T
@@ -106,6 +123,7 @@ qdot0 = np.linalg.pinv(J_T0) @ twist0
 
 # the desired twist stacked in the course's order [w; v]
 _TWIST_COURSE_ORDER = """
+from robokin.motion import pose_error
 def my_twist(q):
     e = pose_error(tool_arm.fk(q), T_BG)
     return np.r_[GAIN_ANGULAR * e[3:], GAIN_LINEAR * e[:3]]
@@ -139,6 +157,7 @@ def slide_column(q):
 
 # the loop that steps first and tests afterwards (one step further)
 _STEP_THEN_TEST = '''
+from robokin.motion import pose_error
 def kinematic_loop(twist_of, q0, ts=TS, t_end=T_END, robot=tool_arm):
     lower, upper = robot.limits.T
     q, Q, V = np.array(q0, dtype=float), [np.array(q0, dtype=float)], []
@@ -161,6 +180,7 @@ e_final = pose_error(T_final, T_BG)
 
 # the stop test on the error instead of the commanded twist
 _STOP_ON_ERROR = '''
+from robokin.motion import pose_error
 def kinematic_loop(twist_of, q0, ts=TS, t_end=T_END, robot=tool_arm):
     lower, upper = robot.limits.T
     q, Q, V = np.array(q0, dtype=float), [], []
@@ -266,6 +286,7 @@ MUTATIONS = {
         ("the YPR triple read as (roll, pitch, yaw)", _TOOL_AS_RPY),
         ("the offset taken in centimetres", _OFFSET_CM),
         ("E T_T multiplied on the wrong side", _TOOL_ORDER),
+        ("Rz Ry Rx multiplied in the reverse order", _PRODUCT_REVERSED),
     ],
     "task1_test2": [
         ("the YPR triple read as (roll, pitch, yaw)", _TOOL_AS_RPY),
