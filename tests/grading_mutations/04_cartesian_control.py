@@ -7,6 +7,7 @@ names that depend on the changed one are recomputed as the answer cell would), s
 
 # the tool read as (roll, pitch, yaw): everything of Task 1 built from it
 _TOOL_AS_RPY = """
+from robokin.transforms import rotation_log
 def transform_from_ypr(ypr, position):
     return transform_from_rpy(ypr, position)  # the list taken as (roll, pitch, yaw)
 
@@ -28,6 +29,7 @@ T_ET_rpy = transform_from_rpy(TOOL_YPR, TOOL_OFFSET)
 
 # the angle between the two tools left in degrees
 _TOOL_ANGLE_DEGREES = """
+from robokin.transforms import rotation_log
 tool_angle_rpy = float(np.degrees(np.linalg.norm(rotation_log(T_ET[:3, :3].T @ T_ET_rpy[:3, :3]))))
 """
 
