@@ -1,39 +1,33 @@
 r"""Exercise checks of chapter 4: Cartesian control of a tool frame.
 
-The robot is the course's arm, :func:`robokin.models.genova_arm` (7 joints,
-joint 6 prismatic), with the exercise's tool and goal. The course gives
-orientations as **YPR triples** :math:`\boldsymbol\eta = (\psi, \vartheta, \varphi)`
-= (yaw, pitch, roll) and builds
-:math:`\mathbf{R} = \mathbf{R}_z(\psi)\,\mathbf{R}_y(\vartheta)\,\mathbf{R}_x(\varphi)`
-(robokin's roll–pitch–yaw rotation, with the angles listed in the opposite
-order). So the tool :math:`{}^{E}\boldsymbol\eta_{T} = (0, 0, \pi/10)` is a roll of
-π/10 about :math:`x_E`, and the goal :math:`{}^{B}\boldsymbol\eta_{G} = (-3.02, -0.40, -1.33)`
-is :math:`\mathbf{R}_z(-3.02)\,\mathbf{R}_y(-0.40)\,\mathbf{R}_x(-1.33)`. Reading a
-triple as (roll, pitch, yaw) -- the roll taken for the yaw -- is diagnosed as
-``rpy_order``. Twists and errors stack the linear part first, ``[v; ω]``, in the
-base frame (the course writes ``[ω; v]``).
+Each check compares the student's answer with robokin's own model of the
+exercise: the course's arm, :func:`robokin.models.genova_arm` (7 joints, joint 6
+prismatic), with the exercise's tool and goal. Orientations are given as the
+course writes them, **YPR triples** (yaw, pitch, roll); which rotation a triple
+stands for is part of the exercise. Twists and errors stack the linear part
+first, ``[v; ω]``, in the base frame (the course writes ``[ω; v]``).
 
 =======================  ==========================================================  ==========================================
-check                    the student's answer                                        reference
+check                    the student's answer                                        compared
 =======================  ==========================================================  ==========================================
-``tool_frame``           the 4×4 array :math:`{}^{E}\mathbf{T}_{T}`                     :math:`\mathbf{R}_x(\pi/10)`, offset 0.2 m along :math:`x_E`
-``goal_frame``           the 4×4 array :math:`{}^{B}\mathbf{T}_{G}`                     :math:`\mathbf{R}_z(-3.02)\mathbf{R}_y(-0.40)\mathbf{R}_x(-1.33)`, origin (−0.14, −0.85, 0.6) m
-``tool_pose``            ``f(q)`` -> :math:`{}^{B}\mathbf{T}_{T}` (4×4)                  :math:`{}^{B}\mathbf{T}_{E}(\mathbf{q})\,{}^{E}\mathbf{T}_{T}`
-``orientation_error``    ``f(R, R_goal)`` -> :math:`\theta\mathbf{h}` (3,), base frame    :math:`\log(\mathbf{R}_{goal}\mathbf{R}^\top)`
-``tool_jacobian``        ``f(J_e, R_be, p_et)`` -> :math:`\mathbf{J}_T` (6×n)              :math:`\mathbf{J}_{rb}(\mathbf{R}_{BE}\,{}_E\mathbf{r}_{ET})\,\mathbf{J}_E`
-``tool_jacobian_of_q``   ``f(q)`` -> :math:`\mathbf{J}_T(\mathbf{q})` (6×7)              the same, for the exercise's arm and tool
-``control_law``          ``f(J, e, gain_linear, gain_angular)`` -> :math:`\dot{\mathbf{q}}`    :math:`\mathbf{J}^+[\kappa_l\mathbf{e}_p;\ \kappa_a\mathbf{e}_o]`
+``tool_frame``           the 4×4 array :math:`{}^{E}\mathbf{T}_{T}`                     with the model's tool frame, to 1e-4
+``goal_frame``           the 4×4 array :math:`{}^{B}\mathbf{T}_{G}`                     with the model's goal frame, to 1e-4
+``tool_pose``            ``f(q)`` -> :math:`{}^{B}\mathbf{T}_{T}` (4×4)                  at 20 random configurations
+``orientation_error``    ``f(R, R_goal)`` -> :math:`\theta\mathbf{h}` (3,), base frame    at 20 random pairs of rotations
+``tool_jacobian``        ``f(J_e, R_be, p_et)`` -> :math:`\mathbf{J}_T` (6×n)              at 20 random configurations and offsets
+``tool_jacobian_of_q``   ``f(q)`` -> :math:`\mathbf{J}_T(\mathbf{q})` (6×7)              at 20 random configurations
+``control_law``          ``f(J, e, gain_linear, gain_angular)`` -> :math:`\dot{\mathbf{q}}`    at 20 random configurations, errors, gains
 =======================  ==========================================================  ==========================================
 
 Inputs: configurations of the course's arm drawn within its limits (the
 slide ``q6`` in metres); rotations from random roll–pitch–yaw angles;
 orientation errors of up to 2.7 rad (below π, where the axis of the
-angle–axis error is unique); gains in [0.2, 2] /s. A wrong answer is
-explained in the terms of the exercise: the YPR triple read in the other
-order, the offset read as centimetres, the error with the wrong sign or in
-the tool frame, θ in degrees, the RPY difference, the offset not rotated into
-the base frame, the angular-first transport matrix used with a linear-first
-Jacobian, swapped gains, and so on.
+angle–axis error is unique); gains in [0.2, 2] /s. The random inputs are
+seeded (the same on every run); the functions are compared to an absolute
+tolerance of 1e-8 (1e-7 for ``orientation_error`` and ``control_law``) and a
+relative one of 1e-6. A wrong answer is explained in the terms of the
+exercise when a known mistake reproduces it (a triple read in the wrong order,
+a wrong unit, a wrong sign or frame, angles in degrees, and so on).
 
 Usage::
 
@@ -41,7 +35,6 @@ Usage::
     cartesian.tool_frame(T_ET)
     cartesian.orientation_error(my_orientation_error)
 """
-
 from __future__ import annotations
 
 import math
@@ -182,8 +175,8 @@ tool_frame = exercise(_CHAPTER, "tool_frame", Check(
     atol=1e-4, rtol=1e-4,
     hint=("T_ET = [[R, p], [0, 1]] with R = Rz(yaw) Ry(pitch) Rx(roll) for (yaw, pitch, roll) = "
           "(0, 0, π/10), i.e. R = Rx(π/10), and p = [0.2, 0, 0] m."),
-    doc=("Check the tool frame T_ET (4×4): YPR (yaw, pitch, roll) = (0, 0, π/10), i.e. Rx(π/10), "
-         "offset 0.2 m along x_E."),
+    doc=("Check the tool frame T_ET (4×4) built from the exercise's YPR triple and offset: "
+         "compared with the model's tool frame to 1e-4."),
 ))
 
 
@@ -225,8 +218,8 @@ goal_frame = exercise(_CHAPTER, "goal_frame", Check(
     atol=1e-4, rtol=1e-4,
     hint=("T_BG = [[R, p], [0, 1]] with R = Rz(−3.02) Ry(−0.40) Rx(−1.33) (YPR: yaw first) and "
           "p = [−0.14, −0.85, 0.6] m."),
-    doc=("Check the goal frame T_BG (4×4): YPR (yaw, pitch, roll) = (−3.02, −0.40, −1.33), i.e. "
-         "Rz(−3.02) Ry(−0.40) Rx(−1.33), origin (−0.14, −0.85, 0.6) m."),
+    doc=("Check the goal frame T_BG (4×4) built from the exercise's YPR triple and origin: "
+         "compared with the model's goal frame to 1e-4."),
 ))
 
 
@@ -262,7 +255,8 @@ tool_pose = exercise(_CHAPTER, "tool_pose", Check(
     diagnoses=_tool_pose_mistakes(),
     noun="configurations",
     hint="ᴮT_T(q) = ᴮT_E(q) ᴱT_T with the arm's ᴮT_E(q) = genova_arm().fk(q).",
-    doc="Check a function tool_pose(q) -> ᴮT_T(q) = ᴮT_E(q) ᴱT_T (4×4) for the course's arm with the exercise's tool.",
+    doc=("Check a function tool_pose(q) -> ᴮT_T(q) (4×4) of the course's arm with the exercise's "
+         "tool: compared with the model at 20 random configurations within the joint limits."),
 ))
 
 
@@ -350,7 +344,8 @@ orientation_error = exercise(_CHAPTER, "orientation_error", MatrixArgumentsCheck
     signature="orientation_error(R, R_goal) -> (3,) array",
     atol=1e-7,
     hint="θh = log(R_goal Rᵀ), with θ in [0, π] and h the unit axis, both in the base frame.",
-    doc="Check a function orientation_error(R, R_goal) -> θh = log(R_goal Rᵀ) (3,), base frame, radians.",
+    doc=("Check a function orientation_error(R, R_goal) -> θh (3,), base frame, radians: compared "
+         "with the model at 20 random pairs of rotations (errors below π), to 1e-7."),
 ))
 
 
@@ -453,7 +448,8 @@ tool_jacobian = exercise(_CHAPTER, "tool_jacobian", MatrixArgumentsCheck(
     arguments=_tool_jacobian_arguments,
     signature="tool_jacobian(J_e, R_be, p_et) -> (6, n) array",
     hint="J_T = [[I, −[r×]], [0, I]] J_E with r = R_be p_et (rows [v; ω]).",
-    doc="Check a function tool_jacobian(J_e, R_be, p_et) -> [[I, −[(R_be p_et)×]], [0, I]] J_e (6×n).",
+    doc=("Check a function tool_jacobian(J_e, R_be, p_et) -> J_T (6×n), rows [v; ω]: compared "
+         "with the model at 20 random configurations and tool offsets."),
 ))
 
 
@@ -478,9 +474,8 @@ tool_jacobian_of_q = exercise(_CHAPTER, "tool_jacobian_of_q", Check(
     diagnoses=_transport_mistakes(_tool_jacobian_of_q_parts, "ₑr_ET = [0.2, 0, 0] m", "(q)"),
     noun="configurations",
     hint="J_T(q) = [[I, −[r×]], [0, I]] J_E(q) with r = ᴮR_E(q) ₑr_ET (rows [v; ω]).",
-    doc=("Check a function my_tool_jacobian(q) -> J_T(q) (6×7) of the course's arm with the "
-         "exercise's tool: the end-effector Jacobian transported by [[I, −[r×]], [0, I]], "
-         "r = ᴮR_E(q) ₑr_ET."),
+    doc=("Check a function my_tool_jacobian(q) -> J_T(q) (6×7), rows [v; ω], of the course's arm "
+         "with the exercise's tool: compared with the model at 20 random configurations."),
 ))
 
 
@@ -549,5 +544,6 @@ control_law = exercise(_CHAPTER, "control_law", MatrixArgumentsCheck(
     signature="control_law(J, e, gain_linear, gain_angular) -> (n,) array",
     atol=1e-7,
     hint="q̇ = J⁺ [κ_l e_p; κ_a e_o] with e = [e_p; e_o] and J (6×n) rows [v; ω].",
-    doc="Check a function control_law(J, e, gain_linear, gain_angular) -> J⁺ [κ_l e_p; κ_a e_o] (n,).",
+    doc=("Check a function control_law(J, e, gain_linear, gain_angular) -> q̇ (n,): compared with "
+         "the model at 20 random configurations, errors e = [e_p; e_o] and gains, to 1e-7."),
 ))
