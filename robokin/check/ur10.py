@@ -3,14 +3,15 @@ r"""Exercise checks of chapter 2: inverse kinematics of the UR10.
 The student writes three small functions of matrices; each check calls them
 with the position Jacobian :math:`\mathbf{J}_v(\mathbf{q})` (3×6, metres) of
 :func:`robokin.models.ur10` at seeded random configurations away from the
-singularities, and compares with the reference formula:
+singularities, and compares with robokin's reference (to an absolute tolerance
+of 1e-8 and a relative one of 1e-6 unless stated):
 
 =======================  ===========================================================  ======================
-check                    the student's function                                       reference
+check                    the student's function                                       compared
 =======================  ===========================================================  ======================
-``weighted_pinv``        ``f(J, W)`` -> :math:`J_W^+` (6×3)                            :math:`W^{-1}J^T(JW^{-1}J^T)^{-1}`
-``dls_step``             ``f(J, e, damping)`` -> :math:`\Delta q` (6,)                 :math:`J^T(JJ^T+\lambda^2 I)^{-1}e`
-``nullspace_projector``  ``f(J)`` -> :math:`N` (6×6)                                   :math:`I - J^+J`
+``weighted_pinv``        ``f(J, W)`` -> :math:`J_W^+` (6×3)                            at 20 random J and W
+``dls_step``             ``f(J, e, damping)`` -> :math:`\Delta q` (6,)                 at 20 random J, e, λ
+``nullspace_projector``  ``f(J)`` -> :math:`N` (6×6)                                   at 20 random J
 ``ik_position``          ``f(chain, p_goal, q0, step, max_step, tol, max_iterations)``  the IK loop below
                          -> ``(q, converged, iterations)``
 =======================  ===========================================================  ======================
@@ -18,9 +19,8 @@ check                    the student's function                                 
 ``W`` is a diagonal weight matrix (weights sampled in [0.5, 4]), ``e`` a position
 error in metres (components in [−0.1, 0.1]), ``damping`` the λ of damped least
 squares in metres (in [0.01, 0.5]). A wrong answer is explained in the terms of
-the exercise: ``W`` used where ``W⁻¹`` belongs, the weights applied after the
-plain pseudoinverse, λ where λ² belongs, the projector onto the range of
-:math:`J^T` instead of the null space of :math:`J`, and so on.
+the exercise when a known mistake reproduces it (the weights in the wrong
+place, a wrong power of λ, the wrong subspace for the projector, and so on).
 
 ``ik_position`` is the whole iteration (the style of Lynch & Park's ``IKinBody``):
 with :math:`e = p_{goal} - p(q)`, while :math:`\|e\| >` ``tol`` and fewer than
@@ -185,7 +185,8 @@ weighted_pinv = exercise(_CHAPTER, "weighted_pinv", MatrixArgumentsCheck(
     arguments=_weighted_pinv_arguments,
     signature="weighted_pinv(J, W) -> (n, m) array",
     hint="Check J @ answer == I (3×3) and that a larger w_i makes row i smaller.",
-    doc="Check a function weighted_pinv(J, W) -> W⁻¹ Jᵀ (J W⁻¹ Jᵀ)⁻¹ (J: 3×6, W: 6×6 diagonal).",
+    doc=("Check a function weighted_pinv(J, W) -> J_W⁺ (6×3) (J: 3×6, W: 6×6 diagonal): compared "
+         "with the reference at 20 random configurations and weights."),
 ))
 
 
@@ -262,7 +263,8 @@ dls_step = exercise(_CHAPTER, "dls_step", MatrixArgumentsCheck(
     arguments=_damped_least_squares_arguments,
     signature="dls_step(J, e, damping) -> (n,) array",
     hint="The step is J^T (J J^T + λ² I)⁻¹ e; λ = damping.",
-    doc="Check a function dls_step(J, e, damping) -> Jᵀ (J Jᵀ + λ² I)⁻¹ e.",
+    doc=("Check a function dls_step(J, e, damping) -> Δq (n,), the damped least-squares step with "
+         "λ = damping: compared with the reference at 20 random configurations, errors and dampings."),
 ))
 
 
@@ -310,7 +312,8 @@ nullspace_projector = exercise(_CHAPTER, "nullspace_projector", MatrixArgumentsC
     arguments=_nullspace_projector_arguments,
     signature="nullspace_projector(J) -> (n, n) array",
     hint="The projector N = I − J⁺J is n×n (n = 6 joints) and satisfies J P = 0, P P = P.",
-    doc="Check a function nullspace_projector(J) -> I − J⁺ J (n×n).",
+    doc=("Check a function nullspace_projector(J) -> N (n×n), the projector onto the null space "
+         "of J: compared with the reference at 20 random configurations."),
 ))
 
 
