@@ -5,14 +5,11 @@ Every reference comes from :func:`robokin.models.baxter_left` with
 as in the Imperial College tutorial) and the ``left_hand`` flange as the
 end-effector. The circle starts where the hand is at the mid-range
 configuration :data:`Q_START` and turns counter-clockwise (seen from above)
-in the horizontal plane:
-
-.. math::
-    \mathbf r_{des}(t) = \mathbf c + r\,[\cos\omega t,\ \sin\omega t,\ 0]^\top,\qquad
-    \dot{\mathbf r}_{des}(t) = r\omega\,[-\sin\omega t,\ \cos\omega t,\ 0]^\top,
-
-with :math:`\mathbf c = \mathbf r(\mathbf q_{start}) - [r, 0, 0]^\top`, :math:`r` =
-:data:`RADIUS`, :math:`\omega` = :data:`OMEGA` (one turn in :data:`PERIOD`).
+in the horizontal plane, with the exercise's velocity profile, radius
+:data:`RADIUS` and angular rate :data:`OMEGA` (one turn in :data:`PERIOD`).
+The functions of time are compared with the reference at 20 seeded random
+times in [0, 4] s; the control law and the loop at seeded random inputs of
+their own.
 
 =======================  ==================================================  ====================
 check                    the student's answer                                 inputs
@@ -28,10 +25,9 @@ check                    the student's answer                                 in
 =======================  ==================================================  ====================
 
 The forward-kinematics checks accept answers within 1 mm (so a table with the
-lengths rounded to 0.1 mm passes) and recognise the typical mistakes: the
-missing :math:`+\pi/2` offset of joint 2 (a copy of the tutorial's table),
-the table read as standard instead of modified DH, the torso frame instead of
-the shoulder frame, the gripper tip instead of the hand flange, degrees.
+lengths rounded to 0.1 mm passes) and recognise the typical mistakes of the
+exercise: a joint offset of the tutorial's table, the DH convention, the base
+frame, the end-effector point, degrees.
 
 Usage::
 
@@ -179,7 +175,8 @@ circle_position = exercise(_CHAPTER, "circle_position", Check(
     ],
     noun="times",
     atol=1e-6,
-    doc="Check a function r_des(t) -> c + r [cos ωt, sin ωt, 0] (m), r = 0.05 m, ω = π/2 rad/s.",
+    doc=("Check a function r_des(t) -> the circle's position (3,) (m), r = 0.05 m, ω = π/2 rad/s: "
+         "compared with the reference at 20 random times in [0, 4] s, to 1e-6."),
 ))
 
 circle_velocity = exercise(_CHAPTER, "circle_velocity", Check(
@@ -227,7 +224,8 @@ circle_velocity = exercise(_CHAPTER, "circle_velocity", Check(
     ],
     noun="times",
     atol=1e-6,
-    doc="Check a function v_des(t) -> r ω [−sin ωt, cos ωt, 0] (m/s), r = 0.05 m, ω = π/2 rad/s.",
+    doc=("Check a function v_des(t) -> the circle's velocity (3,) (m/s), r = 0.05 m, ω = π/2 rad/s: "
+         "compared with the reference at 20 random times in [0, 4] s, to 1e-6."),
 ))
 
 
@@ -439,7 +437,8 @@ forward_kinematics = exercise(_CHAPTER, "forward_kinematics", Check(
     rtol=0.0,
     hint="Compare with robokin.models.baxter_left(base='shoulder').fk(q).",
     doc=("Check a function T_BE(q) -> 4×4 pose of the hand flange in the base frame B "
-         "(the s0 joint frame), within 1 mm (Baxter left arm, modified DH, θ2 = q2 + π/2)."),
+         "(the s0 joint frame), within 1 mm, at 20 random configurations within the limits "
+         "(Baxter left arm)."),
 ))
 
 
