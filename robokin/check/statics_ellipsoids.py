@@ -8,11 +8,11 @@ hand them the arm's 2×2 position Jacobian at random configurations away from it
 check                    the student's answer                                       inputs
 =======================  =========================================================  ==============
 ``tool_jacobian``        J(q) = ∂p/∂q of the tool position, 2×2, m/rad              q1, q2
-``joint_torques``        τ(q, F) = J(q)ᵀ F, N·m, for the tool force F (N)           q1, q2, Fx, Fy
-``leg_torques``          τ(q, m) = J_F(q)ᵀ (0, 0, −m g): chapter 1's leg holding    α, β, γ, m
-                         a body of mass m (kg) on its foot, N·m
-``velocity_ellipse``     (radii, axes) of {J q̇ : ‖q̇‖ ≤ 1}: σ_i descending, u_i      J (2×2)
-``force_ellipse``        (radii, axes) of {F : ‖Jᵀ F‖ ≤ 1}: 1/σ_i descending, u_i   J (2×2)
+``joint_torques``        τ(q, F), N·m, for the tool force F (N)                     q1, q2, Fx, Fy
+``leg_torques``          τ(q, m): chapter 1's leg holding a body of mass m (kg)     α, β, γ, m
+                         on its foot, N·m
+``velocity_ellipse``     (radii, axes) of {J q̇ : ‖q̇‖ ≤ 1}, radii descending         J (2×2)
+``force_ellipse``        (radii, axes) of {F : ‖Jᵀ F‖ ≤ 1}, radii descending        J (2×2)
 ``manipulability``       w(J) = √det(J Jᵀ)                                          J (2×2)
 ``w_formula``            w of the two-link arm in closed form, f(q2, l1, l2)        q2, l1, l2
 ``condition_number``     κ(J) = σ_max / σ_min                                       J (2×2)
@@ -20,11 +20,12 @@ check                    the student's answer                                   
 ``posture_measures``     (w, κ, σ_min) of a Jacobian                                J (2×2)
 =======================  =========================================================  ==============
 
-An ellipse answer is compared with its axes' signs made canonical (each column's
-largest-magnitude entry positive): an axis and its opposite describe the same ellipse.
-The diagnoses name the chapter's typical mistakes: J instead of Jᵀ, the eigenvalues of J Jᵀ
-taken for semi-axes (squared lengths), force lengths not inverted, the radii in ascending order
-(as ``numpy.linalg.eigh`` returns them), degrees for radians.
+Each check compares with robokin's reference at 20 seeded random inputs (to an absolute
+tolerance of 1e-8 and a relative one of 1e-6 unless a check says otherwise). An ellipse
+answer is compared with its axes' signs made canonical (each column's largest-magnitude
+entry positive): an axis and its opposite describe the same ellipse. A wrong answer is
+explained when one of the chapter's typical mistakes reproduces it (a transpose, squared or
+inverted lengths, the radii in ascending order, degrees for radians).
 """
 
 from __future__ import annotations
@@ -290,7 +291,8 @@ joint_torques = exercise(_CHAPTER, "joint_torques", Check(
     diagnoses=_torques_mistakes(),
     noun="configurations and forces",
     hint="τ = J(q)ᵀ F (virtual work).",
-    doc="Check joint_torques(q, F): the torques τ = J(q)ᵀ F (N·m) with which the arm's tool pushes with F (N).",
+    doc=("Check joint_torques(q, F): the torques τ (N·m) with which the arm's tool pushes with F (N), "
+         "compared with the reference at 20 random configurations and forces."),
 ))
 
 
@@ -351,12 +353,14 @@ leg_torques = exercise(_CHAPTER, "leg_torques", _MassCheck(
 # ------------------------------------------------------------------ Tasks 2 and 3: the ellipses
 velocity_ellipse = exercise(_CHAPTER, "velocity_ellipse", _ellipse_check(
     "velocity_ellipse", False,
-    "Check velocity_ellipse(J) -> (radii, axes): σ_i descending and the unit axes u_i as columns.",
+    ("Check velocity_ellipse(J) -> (radii, axes): the semi-axes' lengths in descending order and "
+     "the unit axes as columns, compared with the reference at 20 random Jacobians of the arm."),
 ))
 
 force_ellipse = exercise(_CHAPTER, "force_ellipse", _ellipse_check(
     "force_ellipse", True,
-    "Check force_ellipse(J) -> (radii, axes): 1/σ_i descending and the unit axes as columns.",
+    ("Check force_ellipse(J) -> (radii, axes): the semi-axes' lengths in descending order and "
+     "the unit axes as columns, compared with the reference at 20 random Jacobians of the arm."),
 ))
 
 
@@ -448,7 +452,8 @@ push_capacity = exercise(_CHAPTER, "push_capacity", MatrixArgumentsCheck(
     noun="Jacobians and directions",
     arguments=lambda x: (_jacobian(x), _direction(x)),
     signature="push_capacity(J, d) -> float",
-    doc="Check push_capacity(J, d) -> 1/‖Jᵀ d‖, the largest force along the unit d with ‖Jᵀ F‖ ≤ 1.",
+    doc=("Check push_capacity(J, d) -> the largest force along the unit d with ‖Jᵀ F‖ ≤ 1, "
+         "compared with the reference at 20 random Jacobians and directions."),
     pack=_number,
 ))
 
