@@ -3,13 +3,13 @@ r"""Exercise checks of chapter 10: trajectories in joint and task space.
 =======================  =====================================================  ===================
 check                    the student's answer                                   compared with
 =======================  =====================================================  ===================
-``cubic_scaling``        ``cubic_scaling(t, T)`` -> ``[s, ṡ, s̈]`` (3,)          3τ² − 2τ³, τ = t/T
-``quintic_scaling``      ``quintic_scaling(t, T)`` -> ``[s, ṡ, s̈]`` (3,)        10τ³ − 15τ⁴ + 6τ⁵
+``cubic_scaling``        ``cubic_scaling(t, T)`` -> ``[s, ṡ, s̈]`` (3,)          the cubic law
+``quintic_scaling``      ``quintic_scaling(t, T)`` -> ``[s, ṡ, s̈]`` (3,)        the quintic law
 ``peak_factors``         (2, 2): rows cubic, quintic; columns c_v, c_a          the laws' maxima
-``trapezoid_time``       ``trapezoid_time(distance, v_max, a_max)`` -> T (s)    trapezoid / triangle
+``trapezoid_time``       ``trapezoid_time(distance, v_max, a_max)`` -> T (s)    the minimum time
 ``synchronised_motion``  ``synchronised_motion(t, q_start, q_end, v_max,        ``joint_trajectory``
                          a_max)`` -> positions, velocities, accelerations
-``ptp_duration``         the UR10 move's duration (s)                           the slowest joint
+``ptp_duration``         the UR10 move's duration (s)                           the least duration
 ``via_point_cubics``     ``via_point_cubics(points, durations)`` -> (m, 4, n)   cubics through the via
                          coefficients a0..a3 per segment and joint              points, rule's velocities
 ``slerp``                ``slerp(q0, q1, s)`` -> unit quaternion (4,)           ``quaternion_slerp``
@@ -19,16 +19,16 @@ check                    the student's answer                                   
 =======================  =====================================================  ===================
 
 The timing laws are those of Siciliano et al. (2009), §4.2.1, and Lynch & Park (2017), §9.2.2;
-the synchronised trapezoids keep each joint's acceleration limit and lower its cruise speed so
-that every joint arrives at the slowest joint's minimum time (robokin's
-:func:`~robokin.motion.joint_trajectory`). The via-point cubics take the velocity at an interior
+the synchronised trapezoids are compared with robokin's
+:func:`~robokin.motion.joint_trajectory`. The via-point cubics take the velocity at an interior
 via point as the mean of the two adjacent slopes, or 0 where their signs differ, and rest at both
 ends (Siciliano et al. 2009, ch. 4; robokin's :func:`~robokin.motion.via_point_trajectory`).
-Each check names the typical mistakes: derivatives with respect to τ instead of t, the
-triangular case missed (a negative cruise time), v_max and a_max swapped, the motion
-synchronised by the fastest joint, a velocity that jumps at a via point, the sign rule left
-out, the ends not at rest, the durations mixed up, slerp the long way round (no sign flip), NaN
-for nearly equal rotations, degrees for radians.
+The functions are called at seeded random inputs of the checks' own and compared with the
+reference; a wrong answer is explained when one of the chapter's typical mistakes reproduces
+it (a derivative in the wrong variable, a case of the trapezoid missed, the limits swapped, the
+wrong joint setting the pace, a velocity that jumps at a via point, the ends not at rest, the
+durations mixed up, slerp the wrong way round or NaN for nearly equal rotations, degrees for
+radians).
 """
 
 from __future__ import annotations
