@@ -10,7 +10,7 @@ UR10 of :func:`robokin.models.ur10` (its DH model: ``fk``, ``jacobian``, ``screw
 check                     the student's answer                               inputs (random)
 ========================  =================================================  ==================================
 ``rodrigues``             ``rodrigues(omega, theta)`` -> e^{[ω]θ} (3, 3)       unit axis ω, angle θ
-``screw_axis``            ``screw_axis(omega, point)`` -> [ω; −ω × q] (6,)     unit axis ω, point q on it
+``screw_axis``            ``screw_axis(omega, point)`` -> [ω; v] (6,)          unit axis ω, point q on it
 ``screw_list``            ``S_list``, the UR10's screw axes, one per row (6, 6)  none (one value)
 ``exp6``                  ``exp6(S, theta)`` -> e^{[S]θ} (4, 4)                a revolute screw axis, θ
 ``forward_kinematics``    ``poe_fk(M, S_list, theta)`` -> T(θ) (4, 4)          the UR10's M and S, θ (6,)
@@ -22,9 +22,11 @@ check                     the student's answer                               inp
                           ``(theta, iterations)``: the pose reached
 ========================  =================================================  ==================================
 
-Each check names the typical mistakes of its task: −ω × q taken with the wrong sign, the
-order [v; ω] for [ω; v], the exponentials multiplied in the wrong order, M on the left, the
-term G(θ) forgotten, the adjoint of T for that of T⁻¹, degrees for radians.
+Each check calls the student's function at 20 seeded random inputs of its own (a single value
+for ``screw_list``) and compares with the reference; a wrong answer is explained when one of
+the task's typical mistakes reproduces it (a sign, the order [v; ω] for [ω; v], the factors in
+the wrong order, a term of the exponential's translation missing, the wrong transform's
+adjoint, degrees for radians).
 
 Usage::
 
