@@ -15,8 +15,9 @@ check                      the student's answer                                 
 ``foot_position``          B r_BF(q): 3-vector                                  q
 ``foot_jacobian``          J_sym(q) = ∂r_BF/∂q: 3×3                             q
 ``foot_jacobian_at``       J_lift, J at q = [0°, 60°, −120°]: numbers           --
-``lift_velocity``          dq_cmd = J⁺ v at that q, v = [0, 0, −1] m/s          --
-``newton_step``            function (q, r_goal) -> q + J⁺ (r_goal − r(q))       q, r_goal
+``lift_velocity``          dq_cmd for the foot velocity v = [0, 0, −1] m/s       --
+                           at that q
+``newton_step``            function (q, r_goal) -> the next Newton iterate      q, r_goal
 ``newton_ik``              function (r_goal, q0, damping, tol, max_iterations)  start, goal, λ,
                            -> the iterates q^0 ... q^K, (K + 1, 3)              budget
 ``ik_closed_form``         function p -> every solution of r_BF(q) = p, (m, 3)  goal p
@@ -298,7 +299,8 @@ lift_velocity = exercise(_CHAPTER, "lift_velocity", Check(
         )]),
         *dg.standard("angles"),
     ],
-    doc="Check the joint velocity q̇ = J⁺ v at q = [0°, 60°, −120°], v = [0, 0, −1] m/s.",
+    doc=("Check the joint velocity q̇ (rad/s) that moves the foot with v = [0, 0, −1] m/s at "
+         "q = [0°, 60°, −120°], against the model's Jacobian."),
 ))
 
 # ------------------------------------------------------------------ inverse kinematics
@@ -338,7 +340,8 @@ newton_step = exercise(_CHAPTER, "newton_step", Check(
         dg.degrees(),
     ],
     noun="configurations and goals",
-    doc="Check a function step(q, r_goal) -> q + J⁺(q)(r_goal − r(q)).",
+    doc=("Check a function step(q, r_goal) -> the next configuration of Newton's method (3,), "
+         "compared with the reference at 20 random configurations and goals."),
 ))
 
 
@@ -363,7 +366,8 @@ def ik_solution(
 ) -> CheckResult:
     """Check a solution of the inverse kinematics: ``r_BF(q)`` must reach ``goal``.
 
-    Any solution is accepted (the goal of task 4 has two).
+    Any solution is accepted: ``q`` is compared with the goal by the model's
+    forward kinematics.
 
     Parameters
     ----------
