@@ -87,6 +87,7 @@ MUTATIONS = {
         ("error log shifted by one iterate", "e_iter = np.r_[e_iter[1:], e_iter[-1]]"),
         ("foot positions of the next iterate logged", "r_iter = np.r_[r_iter[1:], r_iter[-1:]]"),
         ("robokin's solver called instead of the loop, the log from its result",
+         "from robokin.motion import solve_ik\n"
          "Q_newton = np.array([solve_ik(leg, r_goal, q0_ik, method='pinv', restarts=0, tol=1e-10).q])"),
     ],
     "task4_test2": [
