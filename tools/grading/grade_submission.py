@@ -111,6 +111,9 @@ STEPS = ("generate_assignment", "autograde", "generate_feedback")
 #: What the process that runs the steps prints before each step's log.
 STEP_MARK = "$ nbgrader "
 #: The process that runs nbgrader's steps in a course folder: ``run_steps`` below.
+#: The file, in the course folder, into which :func:`run_steps` writes the scores of the submission
+#: after ``autograde`` (a JSON list, as :func:`read_scores` returns it).
+SCORES_FILE = "robokin-scores.json"
 STEPS_SCRIPT = ("import sys\nfrom tools.grading.grade_submission import run_steps\n"
                 "sys.exit(run_steps(sys.argv[1], sys.argv[2], sys.argv[3:]))")
 
@@ -128,7 +131,10 @@ def run_steps(chapter: str, student: str, steps: list[str]) -> int:
     same folder) runs each step as ``nbgrader <step> <chapter> [--student <student>] --force``
     does: one Python start-up and one import of nbgrader for all of them, not one per step
     (about 2 CPU-seconds each). The steps stop at the first that fails; the exit code is the
-    number of steps that did not succeed (0: all did).
+    number of steps that did not succeed (0: all did). After ``autograde``, the submission's
+    scores (:func:`read_scores`) are written to :data:`SCORES_FILE` in the working folder: read
+    here, where nbgrader is imported, they cost the process that grades nothing (importing nbgrader
+    to read them took about 1 CPU-second of each submission).
     """
     unknown = [step for step in steps if step not in STEPS]
     if unknown:
@@ -152,6 +158,8 @@ def run_steps(chapter: str, student: str, steps: list[str]) -> int:
               f"{result.get('log', '')}{result.get('error', '')}", flush=True)
         if not result["success"]:
             return len(steps) - done
+        if step == "autograde":   # nbgrader is imported here: the caller need not import it to read them
+            Path(SCORES_FILE).write_text(json.dumps(read_scores(Path.cwd(), chapter, student)), encoding="utf-8")
     return 0
 
 
@@ -213,12 +221,12 @@ def test_outputs(autograded: dict) -> dict[str, str]:
     return out
 
 
-def read_scores(course: Path, chapter: str) -> list[dict]:
-    """The graded tests of the submission, in the notebook's order: name, score, max_score."""
+def read_scores(course: Path, chapter: str, student: str = STUDENT) -> list[dict]:
+    """The graded tests of ``student``'s submission, in the notebook's order: name, score, max_score."""
     from nbgrader.api import Gradebook
 
     with Gradebook(f"sqlite:///{course / 'gradebook.db'}") as gradebook:
-        notebook = gradebook.find_submission_notebook(chapter, chapter, STUDENT)
+        notebook = gradebook.find_submission_notebook(chapter, chapter, student)
         scores = {grade.name: grade.score for grade in notebook.grades}
         cells = gradebook.find_notebook(chapter, chapter).grade_cells
         return [{"name": cell.name, "score": float(scores.get(cell.name) or 0.0), "max_score": float(cell.max_score)}
@@ -302,7 +310,9 @@ def grade(chapter: str, notebook: Path, out: Path, memory_mib: int = DEFAULT_MEM
         if "[ok," not in logs.get("autograde", "").split("\n", 1)[0] or not autograded.is_file():
             raise RuntimeError("nbgrader autograde failed:\n" + log[-1][-4000:])
         outputs = test_outputs(json.loads(autograded.read_text(encoding="utf-8")))
-        tests = [{**row, "output": outputs.get(row["name"], "")} for row in read_scores(course, chapter)]
+        scores = course / SCORES_FILE
+        rows = json.loads(scores.read_text(encoding="utf-8")) if scores.is_file() else read_scores(course, chapter)
+        tests = [{**row, "output": outputs.get(row["name"], "")} for row in rows]
         page = course / "feedback" / STUDENT / chapter / f"{chapter}.html"
         if page.is_file():
             shutil.copy2(page, out / "feedback.html")
