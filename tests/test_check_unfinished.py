@@ -43,3 +43,18 @@ def test_the_note_of_an_error_without_traceback_and_bad_tasks():
     )
     with pytest.raises(TypeError, match="tasks must be strings"):
         your_answers(3)
+
+
+def test_a_half_drawn_figure_is_closed(capsys):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    kept = plt.figure()
+    with your_answers("Task 2"):
+        plt.subplots()
+        trapezoid_time(1.0, 1.0, 2.0)
+    assert plt.get_fignums() == [kept.number]
+    plt.close(kept)
+    assert "your trapezoid_time raised NotImplementedError" in capsys.readouterr().out

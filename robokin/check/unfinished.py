@@ -70,13 +70,19 @@ def unfinished_note(error: BaseException, tasks: tuple[str, ...] = ()) -> str:
     detail = str(error).strip().splitlines()[0] if str(error).strip() else ""
     what = f"{kind}: {detail}" if detail else kind
     if isinstance(error, NameError):
-        cause = f"{detail} (an answer cell before it did not run to its end)"
+        cause = f"{detail} (a cell above stopped before it)"
     elif function is not None:
         cause = f"your {function} raised {what}"
     else:
         cause = f"it raised {what} on your answers"
     todo = f"finish {' and '.join(tasks)} first" if tasks else "finish the tasks first"
     return f"⚠ {cause}: {todo}; this cell stops here and the notebook goes on."
+
+
+def _open_figures() -> set[int]:
+    """The numbers of the open matplotlib figures (none if pyplot is not imported)."""
+    pyplot = sys.modules.get("matplotlib.pyplot")
+    return set(pyplot.get_fignums()) if pyplot is not None else set()
 
 
 class your_answers:
@@ -91,7 +97,8 @@ class your_answers:
     -----
     Any ``Exception`` raised inside the block ends the block, prints
     :func:`unfinished_note` and is not raised further; ``KeyboardInterrupt`` and
-    ``SystemExit`` pass through.
+    ``SystemExit`` pass through. A matplotlib figure opened inside the block is
+    closed then, so that no half-drawn figure is shown.
     """
 
     def __init__(self, *tasks: str) -> None:
@@ -104,6 +111,7 @@ class your_answers:
         self.tasks = tasks
 
     def __enter__(self) -> your_answers:
+        self._figures = _open_figures()
         return self
 
     def __exit__(
@@ -114,5 +122,9 @@ class your_answers:
     ) -> bool:
         if error is None or not isinstance(error, Exception):
             return False
+        pyplot = sys.modules.get("matplotlib.pyplot")
+        if pyplot is not None:
+            for number in _open_figures() - self._figures:
+                pyplot.close(number)
         print(unfinished_note(error, self.tasks))
         return True
