@@ -25,7 +25,7 @@ def test_a_missing_name_and_an_error_of_the_cell_itself(capsys):
         [1][2]
     first, second = capsys.readouterr().out.splitlines()
     assert "name 'track' is not defined" in first and "finish Task 5 and Task 6 first" in first
-    assert second.startswith("⚠ it raised IndexError: list index out of range")
+    assert second.startswith("⚠ the cell raised IndexError: list index out of range on your")
 
 
 def test_no_error_no_note_and_interrupts_pass(capsys):
@@ -38,7 +38,7 @@ def test_no_error_no_note_and_interrupts_pass(capsys):
 
 def test_the_note_of_an_error_without_traceback_and_bad_tasks():
     assert unfinished_note(ValueError("bad shape")) == (
-        "⚠ it raised ValueError: bad shape on your answers: finish the tasks first; this cell "
+        "⚠ the cell raised ValueError: bad shape on your answers: finish the tasks first; this cell "
         "stops here and the notebook goes on."
     )
     with pytest.raises(TypeError, match="tasks must be strings"):
@@ -58,3 +58,14 @@ def test_a_half_drawn_figure_is_closed(capsys):
     assert plt.get_fignums() == [kept.number]
     plt.close(kept)
     assert "your trapezoid_time raised NotImplementedError" in capsys.readouterr().out
+
+
+def test_a_helper_that_raises_is_named_without_your(capsys):
+    def via_motion(cubics):
+        return cubics[0]
+
+    with your_answers("Task 4"):
+        via_motion(None)
+    assert capsys.readouterr().out.startswith(
+        "⚠ via_motion raised TypeError: 'NoneType' object is not subscriptable on your answers"
+    )

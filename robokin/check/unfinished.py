@@ -63,7 +63,9 @@ def unfinished_note(error: BaseException, tasks: tuple[str, ...] = ()) -> str:
     Returns
     -------
     str
-        ``"⚠ your f raised NotImplementedError: finish Task 3 first; …"``.
+        ``"⚠ your f raised NotImplementedError: finish Task 3 first; …"`` (a
+        function of the notebook that raised another error is named without "your":
+        it may be a given helper).
     """
     function = _raising_function(error.__traceback__)
     kind = type(error).__name__
@@ -71,10 +73,12 @@ def unfinished_note(error: BaseException, tasks: tuple[str, ...] = ()) -> str:
     what = f"{kind}: {detail}" if detail else kind
     if isinstance(error, NameError):
         cause = f"{detail} (a cell above stopped before it)"
+    elif function is not None and isinstance(error, NotImplementedError):
+        cause = f"your {function} raised {what}"  # still the stub
     elif function is not None:
-        cause = f"your {function} raised {what}"
+        cause = f"{function} raised {what} on your answers"
     else:
-        cause = f"it raised {what} on your answers"
+        cause = f"the cell raised {what} on your answers"
     todo = f"finish {' and '.join(tasks)} first" if tasks else "finish the tasks first"
     return f"⚠ {cause}: {todo}; this cell stops here and the notebook goes on."
 
