@@ -6,7 +6,9 @@ the stub (it raises ``NotImplementedError``), or raises for another reason, such
 a cell should print one short note and let the notebook go on, not stop on a
 traceback::
 
-    with check.your_answers("Task 3"):
+    from robokin.check.unfinished import your_answers
+
+    with your_answers("Task 3"):
         plot_times = [trapezoid_time(D, 1.0, 2.0) for D in distances]
         ...
 
