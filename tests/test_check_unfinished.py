@@ -20,7 +20,7 @@ def test_the_stub_is_named_with_its_task(capsys):
 
 def test_a_missing_name_and_an_error_of_the_cell_itself(capsys):
     with your_answers("Task 5", "Task 6"):
-        track  # noqa: B018, F821 - never defined: its answer cell stopped early
+        track  # type: ignore[name-defined]  # noqa: B018, F821 - never defined: its answer cell stopped early
     with your_answers():
         [1][2]
     first, second = capsys.readouterr().out.splitlines()
@@ -42,7 +42,7 @@ def test_the_note_of_an_error_without_traceback_and_bad_tasks():
         "stops here and the notebook goes on."
     )
     with pytest.raises(TypeError, match="tasks must be strings"):
-        your_answers(3)
+        your_answers(3)  # type: ignore[arg-type]  # a task that is no string, on purpose
 
 
 def test_a_half_drawn_figure_is_closed(capsys):
