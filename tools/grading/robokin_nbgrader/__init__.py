@@ -37,7 +37,8 @@ brought back to where it was (the cells before are run again), so it costs only 
 the last test, grading just stops there: nothing graded is left to run). When a test cell fails,
 ``FailureNotes`` writes above the traceback the failing statement, the student's answers it
 depends on (traced through the read-only cells), the root cause among them, and what
-``robokin.check`` (asked in the student's kernel) says about those answers; after the last test it
+``robokin.check`` (asked in the grader kernel of ``BridgedExecute``, tools/grading/bridge/, which
+autograde runs: never in the student's kernel) says about those answers; after the last test it
 asks about every answer it has a check for (``registered_pairs``).
 
 The cell roles come from ``tools/authoring/nbgrader_metadata.py`` (``metadata.robokin``).
