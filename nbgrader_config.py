@@ -89,7 +89,7 @@ c.Autograde.sanitize_preprocessors = [
     CheckCellMetadata,
 ]
 c.Autograde.autograde_preprocessors = [
-    BridgedExecute,           # RobokinExecute + grader kernel (for c.BridgedExecute.chapters)
+    BridgedExecute,           # RobokinExecute (the student's kernel) + a grader kernel for the tests
     IgnorePattern,
     ClearMetadataPreprocessor,
     LimitOutput,
@@ -127,11 +127,11 @@ c.GenerateFeedback.preprocessors = [
     HideHiddenTests,          # no hidden test in the page (a student reads it before handing in again)
     MystMarkdown,             # the task statements' MyST as Markdown ({exercise}, {admonition}, {cite})
 ]
-# Chapters whose test cells run in a grader kernel, the answers handed over as data ("*": all;
-# book/for-instructors.md, "Where the verdicts are decided"). A call of a student's function
-# from a test goes over a socket to a call server in the student's kernel (a fraction of a
-# millisecond; tools/grading/bridge/benchmark.py measures it).
-c.BridgedExecute.chapters = ["*"]
+# Every chapter's test cells and robokin.check's verdicts run in a grader kernel, the answers
+# handed over as data (book/for-instructors.md, "Where the verdicts are decided"). A call of a
+# student's function from a test goes over a socket to a call server in the student's kernel
+# (a fraction of a millisecond; tools/grading/bridge/benchmark.py measures it); one that has
+# not returned after c.BridgedExecute.call_timeout seconds (30) is stopped.
 # Each grader kernel is forked from a process that imported ipykernel, numpy, scipy, sympy,
 # matplotlib and robokin once per autograde run (tools/grading/bridge/fork_server.py): 1.7-2.5
 # CPU-s saved per submission after the first (book/for-instructors.md has the measurement).

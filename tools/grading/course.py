@@ -27,8 +27,7 @@ c.Exchange.root = {exchange!r}
 # c.RobokinExecute.sandbox = False
 # Test cells and robokin.check's verdicts run in a grader kernel of their own for every
 # chapter (the student's answers handed over as data, functions called through the bridge;
-# "Where the verdicts are decided"). To grade some chapters in the student's kernel only:
-# c.BridgedExecute.chapters = ["01_leg_kinematics", ...]
+# "Where the verdicts are decided"): never in the student's kernel.
 '''
 
 

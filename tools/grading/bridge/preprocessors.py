@@ -1,8 +1,8 @@
 """Autograde through the bridge: verdicts decided in a kernel the student's code never runs in.
 
-``BridgedExecute`` (replaces ``RobokinExecute`` in ``nbgrader_config.py``)
+``BridgedExecute`` (autograde, replaces nbgrader's ``Execute`` in ``nbgrader_config.py``)
     Runs the submission in the student's kernel as ``RobokinExecute`` does, and
-    for the chapters it is enabled for also starts a **grader kernel**. Each
+    starts a **grader kernel** beside it, for every chapter. Each
     read-only cell (given or test) of the assignment -- its text from nbgrader's
     gradebook, never from the submission -- runs there too, in order; before it
     runs, the answers it reads (names declared by answer cells,
@@ -12,7 +12,8 @@
     test cell's outputs in the graded notebook are the grader kernel's (the
     student's own run of it is discarded), so
     ``SaveAutoGrades`` scores what the grader saw; ``robokin.check``'s verdicts
-    are computed in the grader kernel too. Answer cells that delegate to
+    are computed in the grader kernel too: a verdict never comes from the
+    student's kernel. Answer cells that delegate to
     robokin's own solution are listed for review by hand (:mod:`delegation`).
     Each grader kernel is a new process, forked from a warm process that imported
     ipykernel and ``PRELOAD`` once per autograde run (:mod:`fork_server`;
@@ -42,7 +43,7 @@ from typing import cast
 import nbformat
 from jupyter_client.connect import KernelConnectionInfo
 from nbgrader import utils
-from traitlets import Bool, Float, List, Unicode
+from traitlets import Bool, Float
 
 from tools.grading.bridge import delegation, fork_server
 from tools.grading.bridge.grader_side import NOT_CALLED
@@ -161,27 +162,40 @@ class GraderKernel:
         shutil.rmtree(self.folder, ignore_errors=True)
 
 
+#: Settings of ``BridgedExecute`` that are gone, and why an old ``nbgrader_config.py`` may drop them.
+RETIRED_SETTINGS = {
+    "chapters": "every chapter is graded through the bridge (the verdicts are decided in a grader kernel); "
+                "grading in the student's kernel only is no longer offered",
+}
+
+
 class BridgedExecute(RobokinExecute):
     """``RobokinExecute`` whose test cells and robokin.check verdicts run in a grader kernel."""
 
-    chapters = List(Unicode(), default_value=["*"],
-                    help="Notebooks graded through the bridge, '*' for all (also: notebook metadata "
-                         "robokin.grading.bridge = true)").tag(config=True)
     call_timeout = Float(30.0, help="Seconds for one call of a student's function from a test").tag(config=True)
     fork_server = Bool(True, help="fork each grader kernel from a warm process that imported ipykernel and "
                        "PRELOAD once per autograde run (tools.grading.bridge.fork_server); False: start each as a new "
                        "process").tag(config=True)
 
     # the notebook being graded, set by preprocess: the bridge's plan and the grader kernel (None
-    # when the notebook is not graded through the bridge; the kernel also before it starts)
+    # between notebooks; the kernel also before it starts)
     _plan: dict | None
     _grader: GraderKernel | None
     _settled_at: int
 
+    def __init__(self, **kw) -> None:
+        super().__init__(**kw)
+        section = self.config["BridgedExecute"] if "BridgedExecute" in self.config else {}
+        for name, why in RETIRED_SETTINGS.items():
+            if name in section:
+                self.log.warning("c.BridgedExecute.%s is no longer needed and is ignored: %s. Remove it from "
+                                 "nbgrader_config.py (book/for-instructors.md, \"Where the verdicts are decided\").",
+                                 name, why)
+
     def _bridge(self) -> tuple[dict, GraderKernel]:
         """The plan and the grader kernel, while a notebook is graded through the bridge."""
         if self._plan is None or self._grader is None:
-            raise RuntimeError("BridgedExecute: no grader kernel (the notebook is not graded through the bridge, "
+            raise RuntimeError("BridgedExecute: no grader kernel (no notebook is being graded, "
                                "or its grader kernel has not started)")
         return self._plan, self._grader
 
@@ -197,9 +211,7 @@ class BridgedExecute(RobokinExecute):
         self._verdict_mark = f"{VERDICT_MARK}-{nonce}"
         resources = resources if resources is not None else {}
         notebook = resources.get("nbgrader", {}).get("notebook")
-        flagged = bool(nb.metadata.get("robokin", {}).get("grading", {}).get("bridge"))
-        if notebook in self.chapters or "*" in self.chapters or flagged:
-            self._plan = self._make_plan(nb, resources)
+        plan = self._plan = self._make_plan(nb, resources)
         calls = None
         try:
             nb, resources = super().preprocess(nb, resources, km=km)
@@ -213,24 +225,23 @@ class BridgedExecute(RobokinExecute):
         finally:
             if self._grader is not None:
                 self._grader.stop()
-        if self._plan is not None:
-            kinds: dict[str, int] = {}
-            for status in self._plan["imports"].values():
-                kinds[status.split(":")[0]] = kinds.get(status.split(":")[0], 0) + 1
-            self.log.info("bridge: %s graded in a grader kernel (%d of %d instructor cells run; answers: %s; "
-                          "%s calls of the student's functions)",
-                          notebook, sum(1 for c in self._plan["cells"][: self._plan["done"]] if not c.get("skip")),
-                          len(self._plan["cells"]), kinds, calls)
-            reviewed = {item["name"] for item in self._plan["review"]}
-            for name, status in self._plan["imports"].items():   # an answer that IS a robokin function
-                if status.startswith("function of ") and name not in reviewed:
-                    self._plan["review"].append({"task": self._plan["tasks"].get(name), "name": name,
-                                                 "reference": status[len("function of "):], "how": "runtime",
-                                                 "through": None})
-            report = resources.setdefault("robokin", {})
-            report["review"] = [dict(item, line=delegation.describe(item)) for item in self._plan["review"]]
-            report["bridge"] = {"imports": self._plan["imports"], "problems": self._plan["problems"],
-                                "side_effects": self._plan["side_effects"]}
+        kinds: dict[str, int] = {}
+        for status in plan["imports"].values():
+            kinds[status.split(":")[0]] = kinds.get(status.split(":")[0], 0) + 1
+        self.log.info("bridge: %s graded in a grader kernel (%d of %d instructor cells run; answers: %s; "
+                      "%s calls of the student's functions)",
+                      notebook, sum(1 for c in plan["cells"][: plan["done"]] if not c.get("skip")),
+                      len(plan["cells"]), kinds, calls)
+        reviewed = {item["name"] for item in plan["review"]}
+        for name, status in plan["imports"].items():   # an answer that IS a robokin function
+            if status.startswith("function of ") and name not in reviewed:
+                plan["review"].append({"task": plan["tasks"].get(name), "name": name,
+                                       "reference": status[len("function of "):], "how": "runtime",
+                                       "through": None})
+        report = resources.setdefault("robokin", {})
+        report["review"] = [dict(item, line=delegation.describe(item)) for item in plan["review"]]
+        report["bridge"] = {"imports": plan["imports"], "problems": plan["problems"],
+                            "side_effects": plan["side_effects"]}
         return nb, resources
 
     def _make_plan(self, nb, resources) -> dict:
@@ -291,8 +302,6 @@ class BridgedExecute(RobokinExecute):
 
     # ------------------------------------------------------------ running
     def execute_cell(self, cell, cell_index, execution_count=None, store_history=True):
-        if self._plan is None or not store_history:
-            return super().execute_cell(cell, cell_index, execution_count, store_history)
         if self._grader is None:
             self._start_grader()   # before any code of the submission runs
         cell = super().execute_cell(cell, cell_index, execution_count, store_history)
@@ -385,8 +394,6 @@ class BridgedExecute(RobokinExecute):
         same run could not call any answer (``grader_side.NOT_CALLED``). Those are run
         again after the interrupt, so that each answer's verdict is its own.
         """
-        if self._plan is None:
-            return super()._verdicts(pairs, index)
         verdicts = self._verdicts_once(pairs)
         for _ in range(len(pairs)):   # each round checks at least one more answer
             again = [i for i, v in enumerate(verdicts or []) if NOT_CALLED in str(v.get("message", ""))]

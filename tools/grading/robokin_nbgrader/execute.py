@@ -1,4 +1,4 @@
-"""``RobokinExecute`` (autograde, replaces ``Execute``).
+"""``RobokinExecute``: the student's kernel of autograde (``BridgedExecute`` adds the grader kernel).
 
 nbgrader's ``Execute``, with the kernel in a bubblewrap sandbox (``tools/grading/sandbox.py``);
 a test scores by pass/fail only (its stderr is a note, a result it shows no partial credit); a
@@ -6,7 +6,9 @@ kernel that dies or ignores the interrupt is killed, restarted and brought back 
 (the cells before are run again), so it costs only that cell (after the last test, grading just
 stops there: nothing graded is left to run). When a test cell fails, ``FailureNotes``
 (``failure_notes.py``) writes the note above the traceback; after the last test it asks
-``robokin.check`` about every answer it has a check for (``checks.registered_pairs``).
+``robokin.check`` about every answer it has a check for (``checks.registered_pairs``). The
+verdicts come from the grader kernel of ``BridgedExecute`` (``_verdicts``), never from the
+student's kernel.
 """
 
 from __future__ import annotations
@@ -28,7 +30,7 @@ from tools.grading.sandbox import KernelAtProcessCap, SandboxedKernelManager, bw
 from traitlets import Bool, Unicode
 
 from .cells import cell_label, robokin_metadata, task_of
-from .checks import VERDICT_MARK, registered_pairs
+from .checks import registered_pairs
 from .failure_notes import FailureNotes
 from .streams import JoinedStreamsClient
 
@@ -244,29 +246,14 @@ class RobokinExecute(JoinedStreamsClient, Execute):
         return nb, resources
 
     def _verdicts(self, pairs, index) -> list[dict] | None:
-        """Run robokin.check on ``pairs`` in the student's kernel; None if that failed."""
-        if not pairs:
-            return []
-        code = (f"__import__('robokin.check.grading', fromlist=['_']).print_verdicts("
-                f"globals(), {[list(p) for p in pairs]!r}, {VERDICT_MARK!r})")
-        probe = from_dict({"cell_type": "code", "metadata": {}, "source": code, "outputs": [],
-                           "execution_count": None})
-        original = self.nb.cells[index]
-        try:
-            super().execute_cell(probe, index, store_history=False)
-        except Exception as exc:  # noqa: BLE001 - feedback is a bonus; grading goes on
-            self.log.warning("robokin.check verdicts failed: %s", exc)
-            return None
-        finally:
-            self.nb.cells[index] = original  # nbclient stores the executed cell at its index
-        text = "".join(o.get("text", "") for o in probe.outputs if o.get("output_type") == "stream")
-        for line in text.splitlines():
-            if line.startswith(VERDICT_MARK):
-                try:
-                    return json.loads(line[len(VERDICT_MARK):])
-                except ValueError:
-                    return None
-        return None
+        """robokin.check's verdicts on ``pairs`` (``[(check, expression), ...]``), asked after the test
+        cell ``index``; None if they could not be had.
+
+        Never asked of the student's kernel, which a submission can tamper with: ``BridgedExecute``
+        (``tools/grading/bridge/preprocessors.py``), the executor of the pipeline, decides them in its
+        grader kernel.
+        """
+        raise NotImplementedError("robokin.check's verdicts are decided in a grader kernel: BridgedExecute")
 
     def preprocess_cell(self, cell, resources, index):
         if self._stopped is not None:
