@@ -12,15 +12,16 @@ submission costs about 5 CPU-s, chapter 3's about 27) is graded end to end:
   submission is a blank one with forged verdicts, which the tamper suite,
   tests/test_grading_tamper.py, shows scores what the blank scores);
 * ``tools/grading/grade_many.py`` (``make grade``) with two jobs grades the typical mistake again and
-  a correct submission that allocates 8 GB in an ungraded cell: the mistake scores what it
-  scored alone, the allocation fails (``MemoryError`` in its feedback) and the submission
-  keeps every mark.
-
-A fork bomb in a correct submission's last answer cell (graded by ``grade_submission.grade``
-alone, from a release this module makes) gets ``BlockingIOError`` at the cap on the kernel's
-processes; its children stay counted until the kernel ends, so the kernel left at its cap is
-restarted: that task's tests lose their points, the others keep theirs, grading returns and
-no process of the bomb is left.
+  a correct submission with two incidents: the mistake scores what it scored alone;
+  - 8 GB allocated in the last ungraded cell, after every graded test: the allocation fails
+    (``MemoryError`` in its feedback) and costs no mark;
+  - a fork bomb at the top of the last answer cell: it gets ``BlockingIOError`` at the cap on
+    the kernel's processes; its children stay counted until the kernel ends, so the kernel
+    left at its cap is restarted: that task's tests lose their points, the others keep theirs,
+    grading returns and no process of the bomb is left.
+  The two are independent (the allocation runs after every graded test, so it can change no
+  score, the bombed task's included) and are graded in one submission, not two (a grading
+  costs about 10 CPU-s).
 
 The rest is cheap: the zip holds what grading needs and no other chapter, ``run_autograder``
 explains a submission without exactly one notebook, the cap on processes (``--max-processes``,
@@ -63,8 +64,30 @@ DEPLOY = ROOT / "tools" / "grading" / "deploy"
 #: without writing it: were the cap missing, the test would not fill the machine's memory either)
 ALLOCATE_8GB = ("import numpy as np\n\nblock = np.empty(8 * 1024**3, dtype=np.uint8)  # 8 GB\n"
                 "print('allocated', block.nbytes)\n")
+#: a fork bomb, bounded so that it cannot harm the machine were the cap missing: at most 2,000
+#: children, each ending at once (a zombie until the kernel ends: a process, no memory), named
+#: so that one left behind can be found
+FORK_BOMB = ('import os\n\nforked = 0\nwhile forked < 2000:\n    if os.fork() == 0:\n'
+             '        with open("/proc/self/comm", "w") as name:\n            name.write("rkforkbomb")\n'
+             '        os._exit(0)\n    forked += 1\nprint("forked", forked)\n\n')
+
+
+def _bomb_processes() -> list[int]:
+    """Processes named by FORK_BOMB, anywhere on the machine."""
+    found = []
+    for entry in Path("/proc").iterdir():
+        try:
+            if entry.name.isdigit() and (entry / "comm").read_text().strip() == "rkforkbomb":
+                found.append(int(entry.name))
+        except OSError:   # ended meanwhile
+            continue
+    return found
+
+
 #: the submissions run_autograder grades, and the nbgrader student whose scores each must get
 AUTOGRADED = {"correct": "correct", "blank": "unanswered", "mistake": "mistake", "tampering": "unanswered"}
+#: the submissions grade_many grades, two at a time
+GRADED_MANY = ("mistake", "incidents")
 
 
 def _chapter_run(request, tmp_path_factory):
@@ -79,7 +102,27 @@ def submissions(run) -> dict[str, dict]:
     correct = correct_submission(run.release, run.source)
     assert run.mistake is not None, f"{CHAPTER} has no typical mistake robokin.check recognises"
     return {"correct": correct, "blank": run.release, "mistake": mistaken_submission(correct, run.mistake),
-            "tampering": tampered(run.release, "forged_check"), "memory": with_incident(correct, ALLOCATE_8GB)}
+            "tampering": tampered(run.release, "forged_check"), "incidents": with_incidents(correct)}
+
+
+def bombed_answer(nb: dict) -> dict:
+    """The cell of ``nb`` that :func:`with_incidents` starts with the fork bomb: its last answer cell."""
+    return [cell for cell in nb["cells"] if cell.get("metadata", {}).get("nbgrader", {}).get("solution")][-1]
+
+
+def with_incidents(correct: dict) -> dict:
+    """``correct`` with :data:`FORK_BOMB` at the top of its last answer cell and :data:`ALLOCATE_8GB` at
+    the end of its last ungraded cell, which must come after every graded test (so that the
+    allocation can change no score, and the bomb's loss is the bomb's alone)."""
+    nb = with_incident(correct, ALLOCATE_8GB)
+    cells = nb["cells"]
+    allocating = next(index for index, cell in enumerate(cells) if ALLOCATE_8GB in "".join(cell["source"]))
+    last_test = max(index for index, cell in enumerate(cells)
+                    if cell.get("metadata", {}).get("nbgrader", {}).get("grade"))
+    assert allocating > last_test, f"{CHAPTER}: the allocation's cell ({allocating}) is before a graded test"
+    bombed = bombed_answer(nb)
+    bombed["source"] = FORK_BOMB + "".join(bombed["source"])
+    return nb
 
 
 def autograder_folder(archive: Path, base: Path) -> Path:
@@ -123,8 +166,9 @@ def graded(request, tmp_path_factory):
     base = tmp_path_factory.mktemp("engines")
     archive = gradescope.write_zip(CHAPTER, base / "autograder.zip")
     folder = base / "submissions"
-    for name in ("mistake", "memory"):
+    for name in GRADED_MANY:
         save(made[name], folder / name / f"{CHAPTER}.ipynb")
+    assert not _bomb_processes(), "processes of an earlier fork bomb are running: cannot tell this one's"
 
     def autograde(name: str):
         started = time.perf_counter()
@@ -133,8 +177,9 @@ def graded(request, tmp_path_factory):
                          f"{proc.stdout}{proc.stderr[-3000:]}")
 
     def grade_many():
-        return subprocess.run([sys.executable, str(ROOT / "tools" / "grading" / "grade_many.py"), CHAPTER, str(folder),
+        proc = subprocess.run([sys.executable, str(ROOT / "tools" / "grading" / "grade_many.py"), CHAPTER, str(folder),
                                "--jobs", "2"], capture_output=True, text=True, timeout=1800)
+        return proc, _bomb_processes()   # the bomb's processes left once its grading returned
 
     with ThreadPoolExecutor(max_workers=len(AUTOGRADED) + 1) as pool:
         autograded = {name: pool.submit(autograde, name) for name in AUTOGRADED}
@@ -144,13 +189,14 @@ def graded(request, tmp_path_factory):
         for name, future in autograded.items():
             out["autograder"][name], log = future.result()
             logs.append(log)
-        proc = many.result()
+        proc, left = many.result()
     logs.append(f"grade_many --jobs 2: exit {proc.returncode}\n{proc.stdout}{proc.stderr[-3000:]}")
-    for name in ("mistake", "memory"):
+    for name in GRADED_MANY:
         results = folder / name / "results.json"
         out["grade_many"][name] = json.loads(results.read_text(encoding="utf-8")) if results.is_file() else {}
         page = folder / name / "feedback.html"
         out["grade_many"][name]["feedback"] = page.read_text(encoding="utf-8") if page.is_file() else ""
+    out["grade_many"]["incidents"]["bomb_processes_left"] = left
     print("\n" + "\n".join(line.splitlines()[0] + " " + line.splitlines()[-1] for line in logs if line.strip()))
     return run, out, "\n".join(logs)
 
@@ -191,16 +237,43 @@ def test_two_jobs_give_the_scores_of_run_autograder(graded):
     assert scores(out["grade_many"]["mistake"]) == scores(out["autograder"]["mistake"])
 
 
+def _incidents(graded) -> tuple[dict, dict[str, float], str, str]:
+    """grade_many's results of the submission with both incidents, the scores it must get (the
+    bombed task's tests 0, every other test its full marks: the allocation, after every graded
+    test, can change none), its feedback as text, and the logs."""
+    run, out, logs = graded
+    results = out["grade_many"]["incidents"]
+    task = bombed_answer(run.source)["metadata"]["robokin"]["task"]
+    tasks = {cell["metadata"]["nbgrader"]["grade_id"]: cell["metadata"]["robokin"]["task"]
+             for cell in run.source["cells"] if cell.get("metadata", {}).get("nbgrader", {}).get("grade")}
+    assert task in tasks.values(), f"the bombed task {task} has no graded test"
+    expected = {name: 0.0 if tasks[name] == task else points for name, points in run.maximum.items()}
+    assert expected == {name: 0.0 if tasks[name] == task else score for name, score in run.scores["correct"].items()}
+    text = " ".join(re.sub(r"<[^>]+>", " ", results.get("feedback", "")).split())
+    return results, expected, text, logs
+
+
 @grading_course.reads(CHAPTER)
 def test_allocating_8_gb_fails_and_keeps_the_other_marks(graded):
-    run, out, logs = graded
-    results = out["grade_many"]["memory"]
-    assert scores(results) == pytest.approx(run.scores["correct"]), logs
-    assert scores(results) == pytest.approx(run.maximum), logs
+    results, expected, text, logs = _incidents(graded)
+    assert scores(results) == pytest.approx(expected), logs
     # the report's note on the incident, and nothing printed after the allocation
-    text = " ".join(re.sub(r"<[^>]+>", " ", results["feedback"]).split())
     assert re.search(r"raised MemoryError ?: Unable to allocate 8\.00 GiB", text), logs
     assert "allocated 8589934592" not in text
+
+
+@grading_course.reads(CHAPTER)
+def test_a_fork_bomb_loses_its_cell_and_leaves_no_process(graded):
+    results, expected, text, logs = _incidents(graded)
+    left = results["bomb_processes_left"]
+    assert not left, f"{len(left)} processes of the fork bomb are left after grading: {left[:10]}"
+    assert "BlockingIOError" in text and "forked 2000" not in text, "the fork was not stopped by the cap"
+    # the kernel, left at its cap by the bomb's children, was restarted and the notebook went on
+    assert "left the kernel at its cap on processes" in text and "The kernel was restarted" in text, text[:2000]
+    # the bombed task's tests lose their points; every other test keeps its own
+    for test in results["tests"]:
+        assert test["score"] == pytest.approx(expected[test["name"]]), (test, results["output"], logs[-3000:])
+    assert 0 in expected.values()
 
 
 # ---------------------------------------------------------------- cheap: the zip, the manifests
@@ -413,74 +486,6 @@ def test_containerfile_parses_and_installs_what_run_autograder_needs():
 
 
 # ---------------------------------------------------------------- the cap on a kernel's processes
-#: a fork bomb, bounded so that it cannot harm the machine were the cap missing: at most 2,000
-#: children, each ending at once (a zombie until the kernel ends: a process, no memory), named
-#: so that one left behind can be found
-FORK_BOMB = ('import os\n\nforked = 0\nwhile forked < 2000:\n    if os.fork() == 0:\n'
-             '        with open("/proc/self/comm", "w") as name:\n            name.write("rkforkbomb")\n'
-             '        os._exit(0)\n    forked += 1\nprint("forked", forked)\n\n')
-
-
-def _bomb_processes() -> list[int]:
-    """Processes named by FORK_BOMB, anywhere on the machine."""
-    found = []
-    for entry in Path("/proc").iterdir():
-        try:
-            if entry.name.isdigit() and (entry / "comm").read_text().strip() == "rkforkbomb":
-                found.append(int(entry.name))
-        except OSError:   # ended meanwhile
-            continue
-    return found
-
-
-def _release(tmp_path: Path, chapter: str) -> tuple[dict, dict]:
-    """The chapter's source and its student edition, made by nbgrader as grade_submission does."""
-    from tools.grading.course import add_source, write_course
-
-    source = ROOT / "notebooks" / f"{chapter}.ipynb"
-    course = tmp_path / "course"
-    write_course(course, tmp_path / "exchange")
-    add_source(course, source)
-    log: list[str] = []
-    proc = grade_submission.run_nbgrader(["generate_assignment", chapter, "--force"], course, log)
-    assert proc.returncode == 0, log[-1]
-    release = course / "release" / chapter / f"{chapter}.ipynb"
-    return (json.loads(source.read_text(encoding="utf-8")), json.loads(release.read_text(encoding="utf-8")))
-
-
-@pytest.mark.exhaustive   # a submission graded (about 15 CPU-s): make test-all, like the gradings above
-def test_a_fork_bomb_loses_its_cell_and_leaves_no_process(tmp_path):
-    chapter = CHAPTER
-    source, release = _release(tmp_path, chapter)
-    nb = correct_submission(release, source)
-    answers = [cell for cell in nb["cells"] if cell.get("metadata", {}).get("nbgrader", {}).get("solution")]
-    bombed = answers[-1]
-    task = bombed["metadata"]["robokin"]["task"]
-    bombed["source"] = FORK_BOMB + "".join(bombed["source"])
-    save(nb, tmp_path / "bomb" / f"{chapter}.ipynb")
-    assert not _bomb_processes(), "processes of an earlier fork bomb are running: cannot tell this one's"
-
-    started = time.perf_counter()
-    results = grade_submission.grade(chapter, tmp_path / "bomb" / f"{chapter}.ipynb", tmp_path / "out")
-    elapsed = time.perf_counter() - started
-    left = _bomb_processes()
-    feedback = (tmp_path / "out" / "feedback.html").read_text(encoding="utf-8")
-    print(f"\n[fork bomb] graded in {elapsed:.0f} s: {results['output']}")
-
-    assert not left, f"{len(left)} processes of the fork bomb are left after grading: {left[:10]}"
-    text = " ".join(re.sub(r"<[^>]+>", " ", feedback).split())
-    assert "BlockingIOError" in text and "forked 2000" not in text, "the fork was not stopped by the cap"
-    # the kernel, left at its cap by the bomb's children, was restarted and the notebook went on
-    assert "left the kernel at its cap on processes" in text and "The kernel was restarted" in text, text[:2000]
-    # the bombed task's tests lose their points; every other test keeps its own
-    tasks = {cell["metadata"]["nbgrader"]["grade_id"]: cell["metadata"]["robokin"]["task"]
-             for cell in source["cells"] if cell.get("metadata", {}).get("nbgrader", {}).get("grade")}
-    for test in results["tests"]:
-        expected = 0.0 if tasks[test["name"]] == task else test["max_score"]
-        assert test["score"] == pytest.approx(expected), (test, results["output"])
-    assert any(tasks[test["name"]] == task for test in results["tests"])
-
-
 def _zombie() -> subprocess.Popen:
     """A child that has ended and is not reaped yet (a zombie)."""
     child = subprocess.Popen(["true"])
