@@ -17,17 +17,23 @@ instructor's solutions, plus ...) -- each keeps full marks:
                 SIGINT at the end of that cell (the kernel is killed at the time limit);
                 in both no test comes after that cell: grading stops there, with no
                 restart, and the report names the incident;
-benign, every other chapter (in that chapter's one autograde run):
-    ``noisy``   the instructor's solutions, made talkative by one function
+benign, every other chapter (in that chapter's one autograde run), one submission:
+    ``written_talkative``
+                answers written another way (tests/support/benign_variants.py: other
+                intermediate names, another valid method), made talkative by one function
                 (:func:`talkative`): every answer cell logs and prints to stderr once,
                 and wraps each function it declares in one that logs, warns, prints to
-                stderr and calls a helper of its own on every call; its kernel dies
-                (``os._exit``) at the end of the last *Try it yourself* cell -- where
-                tests follow (chapters 4 and 5), the kernel is restarted and the cells
-                before are run again, elsewhere grading stops there;
-    ``written`` answers written another way (tests/support/benign_variants.py), and a cell that
-                never ends at the end of the last *Try it yourself* cell (interrupted at
-                the time limit, ``OTHER_TIMEOUT`` s in these runs; the notebook goes on);
+                stderr and calls a helper of its own on its first calls; a cell that
+                never ends at the end of an earlier ungraded cell (the *Try it yourself*
+                cell before the last, or, in a chapter with one, a cell of the student's
+                own after the first test: interrupted at the time limit, ``OTHER_TIMEOUT``
+                s in these runs, and the tests after it show that the notebook went on);
+                and its kernel dies (``os._exit``) at the end of the last *Try it
+                yourself* cell -- where tests follow (chapters 4, 5 and 10), the kernel is
+                restarted and the cells before are run again (the stopped cell
+                excepted), elsewhere grading stops there. One submission, not one per
+                property: each costs a full execution of the notebook and its grading
+                (8-28 CPU-s), and every check of both properties reads it;
 sandbox:
     ``escape``  the solutions, and a *Try it yourself* cell that writes outside its
                 folder, reads the instructor's source notebook, the repository's
@@ -67,7 +73,15 @@ from support.nbgrader_course import (
     src,
 )
 from support import grading_course
-from support.benign_variants import CRASH, HANG, VARIANTS, last_try_cell, with_incident, written_another_way
+from support.benign_variants import (
+    CRASH,
+    HANG,
+    VARIANTS,
+    last_try_cell,
+    with_earlier_hang,
+    with_incident,
+    written_another_way,
+)
 from tools.grading.sandbox import PACKAGE, SWITCH, sandbox_arguments, sandbox_wanted
 
 # The tests that read a run are marked with its part of the graded courses (one xdist group each):
@@ -324,18 +338,26 @@ SUITE = grading_course.Suite(
     before=_before, after=_after, finally_=_export)
 
 
+#: every other chapter's one benign submission: correct answers written another way, talkative,
+#: a hang in an earlier ungraded cell and a crash in the last (the module's docstring)
+BENIGN = "written_talkative"
+
+
 def benign_submissions(run: Run, correct: dict) -> dict[str, dict]:
-    """Every other chapter's benign submissions: talkative and crashing, written another way and hanging.
+    """Every other chapter's benign submission: written another way and talkative, hanging, then crashing.
+
+    The answers of :data:`VARIANTS` are re-computed first, then every answer cell is made
+    talkative, so that the talkative wrappers wrap the functions written another way.
 
     nbgrader grades the students of a run in the order of their names: the hanging one is
-    named "written" so that it comes last (or next to last), not first -- when every
+    named "written_..." so that it comes last (or next to last), not first -- when every
     chapter's run began with its wait for the time limit, the grading threads of both
     parts slept at once and the machine idled at the start of ``make test``."""
-    return {"noisy": with_incident(talkative(correct, run.source), CRASH),
-            "written": with_incident(written_another_way(correct, run.chapter), HANG)}
+    merged = talkative(written_another_way(correct, run.chapter), run.source)
+    return {BENIGN: with_incident(with_earlier_hang(merged, HANG), CRASH)}
 
 
-#: the benign submissions of every other chapter, graded in that chapter's one autograde run,
+#: the benign submission of every other chapter, graded in that chapter's one autograde run,
 #: with a time limit of OTHER_TIMEOUT s per cell (the hang waits that long)
 NOISY_SUITE = grading_course.Suite(
     "trust-benign", lambda run, correct, course: benign_submissions(run, correct),
@@ -362,13 +384,15 @@ def _report(page: str) -> str:
     return re.sub(r"\s+", " ", text.replace("&#39;", "'").replace("&quot;", '"'))
 
 
-def _full_marks(run: Run, student: str) -> None:
+def _full_marks(run: Run, student: str, what: str = "") -> None:
+    """``student`` scored every point; ``what`` (the property tested) starts the failure messages."""
+    who = f"{what}: {student}" if what else student
     scores = run.scores.get(student)
-    assert scores is not None and set(scores) == set(run.maximum), f"{student}: not graded"
+    assert scores is not None and set(scores) == set(run.maximum), f"{who}: not graded"
     lost = {k: v for k, v in scores.items() if v != run.maximum[k]}
-    assert not lost, f"{student}: a correct notebook loses points in {lost}\n{_report(run.feedback[student])[:3000]}"
+    assert not lost, f"{who}: a correct notebook loses points in {lost}\n{_report(run.feedback[student])[:3000]}"
     total, top = sum(scores.values()), sum(run.maximum.values())
-    assert f"{total:g} of {top:g} points" in _report(run.feedback[student]), "the feedback's total differs"
+    assert f"{total:g} of {top:g} points" in _report(run.feedback[student]), f"{who}: the feedback's total differs"
 
 
 # ---------------------------------------------------------------- benign submissions
@@ -402,29 +426,53 @@ WRONG = ("What `robokin.check` says", "Where to start", "Notes on running your n
          "For review by hand", "Answers the grader could not use", "Not run")
 
 
-@pytest.mark.parametrize("chapter", grading_course.chapter_params((c for c in CHAPTERS if c != CHAPTER),
-                                                                  lambda chapter: ("noisy",)))
-def test_talkative_solutions_keep_full_marks(request, tmp_path_factory, chapter):
-    """Every chapter's solutions, logging, warning and printing to stderr in every answer and in
-    the first calls of every function (TALKING_CALLS)."""
+#: the incident of the benign submission's earlier ungraded cell: its one note in the report
+STOPPED_NOTE = "ran longer than the time limit and was stopped"
+
+
+def _only_the_stopped_cell_noted(what: str, report: str) -> None:
+    """The report's "Notes on running your notebook" name the cell stopped at the time limit, once,
+    and nothing else (no ungraded cell that raised, no missing test)."""
+    assert "Notes on running your notebook" in report, f"{what}: the stopped cell is not noted:\n{report[:3000]}"
+    notes = report.split("Notes on running your notebook", 1)[1].split("What happened while grading", 1)[0]
+    assert notes.count(STOPPED_NOTE) == 1, f"{what}: the stopped cell is not noted once:\n{notes[:3000]}"
+    assert "(not graded) raised" not in notes and "missing from your submission" not in notes, (
+        f"{what}: the report of correct work notes more than the stopped cell:\n{notes[:3000]}")
+
+
+def _benign_run(request, tmp_path_factory, chapter: str) -> Run:
+    """``chapter``'s run, its benign submission (:data:`BENIGN`) only."""
     _require_bwrap()
     run = grading_course.graded_courses(request, tmp_path_factory)[chapter]
     if run.error:
         pytest.fail(run.fail_message())
-    run = grading_course.view(run, NOISY_SUITE.students)
-    _full_marks(run, "noisy")
-    page = run.feedback["noisy"]
+    return grading_course.view(run, NOISY_SUITE.students)
+
+
+@pytest.mark.parametrize("chapter", grading_course.chapter_params((c for c in CHAPTERS if c != CHAPTER),
+                                                                  lambda chapter: (BENIGN,)))
+def test_talkative_solutions_keep_full_marks(request, tmp_path_factory, chapter):
+    """Every chapter's solutions, logging, warning and printing to stderr in every answer and in
+    the first calls of every function (TALKING_CALLS); the benign submission, also written another
+    way (test_correct_answers_written_another_way_keep_full_marks reads it for that)."""
+    what = f"{chapter}: talkative"
+    run = _benign_run(request, tmp_path_factory, chapter)
+    _full_marks(run, BENIGN, what)
+    page = run.feedback[BENIGN]
     report = _report(page)
     top = run.source["metadata"]["robokin"]["grading"]["points"]
-    assert sum(run.maximum.values()) == top and f"{top:g} of {top:g} points" in report
-    named = [w for w in WRONG if w.replace("`", "") in report.replace("`", "")]
-    assert not named, f"{chapter}: the report of correct work names {named}:\n{report[:3000]}"
-    assert "noisy: cell" in page, "the answer cells' stderr is not shown (the test tests nothing)"
+    assert sum(run.maximum.values()) == top and f"{top:g} of {top:g} points" in report, f"{what}: not {top} points"
+    # the submission's one note is its earlier cell stopped at the time limit (the other test's property)
+    named = [w for w in WRONG if w.replace("`", "") in report.replace("`", "")
+             and w != "Notes on running your notebook"]
+    assert not named, f"{what}: the report of correct work names {named}:\n{report[:3000]}"
+    _only_the_stopped_cell_noted(what, report)
+    assert "noisy: cell" in page, f"{what}: the answer cells' stderr is not shown (the test tests nothing)"
     if any(declared_functions(c) for c in run.source["cells"] if nbg(c).get("solution")):
-        assert "noisy: debugging" in page or "noisy: debugging" in json.dumps(run.autograded["noisy"]), (
-            f"{chapter}: no talkative function was called (the test tests nothing)")
+        assert "noisy: debugging" in page or "noisy: debugging" in json.dumps(run.autograded[BENIGN]), (
+            f"{what}: no talkative function was called (the test tests nothing)")
     # ... and its kernel dies in its last ungraded cell (benign_variants.CRASH)
-    _kernel_died_in_the_last_try_cell(run, "noisy", report)
+    _kernel_died_in_the_last_try_cell(run, BENIGN, report)
 
 
 def _tests_after_the_last_try_cell(source: dict) -> bool:
@@ -444,28 +492,32 @@ def _kernel_died_in_the_last_try_cell(run: Run, student: str, report: str) -> No
 
 
 @pytest.mark.parametrize("chapter", grading_course.chapter_params(
-    CHAPTERS, lambda chapter: ("hang",) if chapter == CHAPTER else ("written",)))
+    CHAPTERS, lambda chapter: ("hang",) if chapter == CHAPTER else (BENIGN,)))
 def test_correct_answers_written_another_way_keep_full_marks(request, tmp_path_factory, chapter):
     """Every chapter's solutions with answers computed by another valid method, other
-    intermediate names (tests/support/benign_variants.py), ending with a hang in the last ungraded cell."""
+    intermediate names (tests/support/benign_variants.py), and a hang in an ungraded cell: the
+    everyday chapter's in its last (killed: it ignores the interrupt), every other chapter's in an
+    earlier one (interrupted; the benign submission, also talkative: see the module's docstring)."""
+    what = f"{chapter}: written another way"
     _require_bwrap()
     run = grading_course.graded_courses(request, tmp_path_factory)[chapter]
     if run.error:
         pytest.fail(run.fail_message())
-    student = "hang" if chapter == CHAPTER else "written"
+    student = "hang" if chapter == CHAPTER else BENIGN
     run = grading_course.view(run, [student])
-    _full_marks(run, student)
+    _full_marks(run, student, what)
     report = _report(run.feedback[student])
     named = [w for w in WRONG if w.replace("`", "") in report.replace("`", "")
              and w != "Notes on running your notebook"]
-    assert not named, f"{chapter}: the report of correct work names {named}:\n{report[:3000]}"
+    assert not named, f"{what}: the report of correct work names {named}:\n{report[:3000]}"
     graded = json.dumps(run.autograded[student])
-    for what, code in VARIANTS[chapter].values():
-        assert code.strip().splitlines()[0] in graded, f"{chapter}: the variant ({what}) is not in the notebook"
+    for variant, code in VARIANTS[chapter].values():
+        assert code.strip().splitlines()[0] in graded, f"{what}: the variant ({variant}) is not in the notebook"
     if chapter == CHAPTER:   # ignores the interrupt: killed at the time limit
-        assert "ignored the interrupt" in report and "killed" in report
-    else:                    # interrupted at the time limit, the notebook runs on
-        assert "ran longer than the time limit and was stopped" in report, report[:3000]
+        assert "ignored the interrupt" in report and "killed" in report, f"{what}: {report[:3000]}"
+    else:                    # interrupted at the time limit, the notebook runs on (tests follow: full marks)
+        assert STOPPED_NOTE in report, f"{what}: {report[:3000]}"
+        _only_the_stopped_cell_noted(what, report)
 
 
 @grading_course.reads(CHAPTER, ("noisy",))

@@ -12,9 +12,12 @@ least one variant that is another method (``np.linalg.solve`` instead of an inve
 a cross product instead of components written out, a closed form instead of a library
 call, another finite-difference stencil), not only other names.
 
-:data:`CRASH` and :data:`HANG` are the incidents the trust suite puts in a chapter's
-last ungraded (*Try it yourself*) cell, after its code: a kernel that dies, and a cell that never ends
-(it sleeps, so that waiting for the time limit costs no CPU; interrupted at the limit).
+:data:`CRASH` and :data:`HANG` are the incidents the trust suite puts in a chapter's one benign
+submission (tests/test_grading_trust.py), after the code of ungraded cells: a kernel that dies, at
+the end of the last *Try it yourself* cell (:func:`with_incident`), and a cell that never ends (it
+sleeps, so that waiting for the time limit costs no CPU; interrupted at the limit), at the end of
+an earlier one (:func:`with_earlier_hang`): the notebook runs on after the hang, and the crash
+comes after it.
 """
 
 from __future__ import annotations
@@ -438,4 +441,38 @@ def with_incident(nb: dict, code: str) -> dict:
     nb = copy.deepcopy(nb)
     cell = last_try_cell(nb)
     cell["source"] = _source(cell).rstrip() + "\n\n" + code
+    return nb
+
+
+def earlier_try_cell(nb: dict) -> dict | None:
+    """The ungraded code cell a student may edit before :func:`last_try_cell`, None when the chapter has one."""
+    cells = [c for c in nb["cells"] if c["cell_type"] == "code" and "nbgrader" not in c.get("metadata", {})]
+    return cells[-2] if len(cells) > 1 else None
+
+
+#: the id of the cell :func:`with_earlier_hang` adds where a chapter has one *Try it yourself* cell
+OWN_CELL_ID = "my-own-experiment"
+
+
+def with_earlier_hang(nb: dict, code: str) -> dict:
+    """``nb`` with ``code`` in an ungraded cell before the last one, where :func:`with_incident` puts the crash.
+
+    At the end of the *Try it yourself* cell before the last (:func:`earlier_try_cell`); in a
+    chapter that has one only, in a code cell of the student's own, added right after the first
+    test cell -- as a student adds a cell to experiment in, ungraded like the *Try it yourself*
+    cells (no nbgrader metadata). Either way tests come after it in every chapter, so that their
+    full marks show that the notebook ran on after the cell was stopped.
+    """
+    nb = copy.deepcopy(nb)
+    cell = earlier_try_cell(nb)
+    if cell is not None:
+        cell["source"] = _source(cell).rstrip() + "\n\n" + code
+        return nb
+    cells = nb["cells"]
+    first_test = next(i for i, c in enumerate(cells)
+                      if c["cell_type"] == "code" and c.get("metadata", {}).get("nbgrader", {}).get("grade"))
+    own: dict = {"cell_type": "code", "metadata": {}, "source": code, "outputs": [], "execution_count": None}
+    if "id" in cells[first_test]:
+        own["id"] = OWN_CELL_ID
+    cells.insert(first_test + 1, own)
     return nb

@@ -3,9 +3,9 @@
 Three test files grade submissions through the course's own pipeline:
 ``test_nbgrader.py`` (every chapter: blank, solutions, a typical mistake, ...),
 ``test_grading_tamper.py`` (the everyday chapter: tampering, delegation, a call that never
-returns) and ``test_grading_trust.py`` (every chapter: correct work that is noisy or
-written another way, ending with a crash or a hang; the everyday chapter: an escape from the
-sandbox). The everyday chapter (:data:`EVERYDAY_CHAPTER`, tests/support/tiers.py) is chapter 7,
+returns) and ``test_grading_trust.py`` (every chapter: correct work written another way and
+talkative, with a hang and a crash -- one submission in every chapter but the everyday one; the
+everyday chapter: its own noisy, hanging and escaping submissions). The everyday chapter (:data:`EVERYDAY_CHAPTER`, tests/support/tiers.py) is chapter 7,
 the cheapest to grade (about 5 CPU-s per submission, chapter 3's about 16). Instead of a course
 and an autograde run each, they
 share one course per chapter (a gradebook of its own, so that two chapters are
@@ -151,7 +151,7 @@ class Suite:
     #: chapter -> does this suite join that chapter's run
     joins: Callable[[str], bool] = lambda chapter: chapter == EVERYDAY_CHAPTER
     #: graded in a course of its own (job "<chapter>+<name>", an xdist part of its own) with the
-    #: chapter's unanswered and correct submissions, instead of in the chapter's shared run: for a
+    #: chapter's correct submission, instead of in the chapter's shared run: for a
     #: suite whose waits (time limits reached on purpose) would make the shared run the suite's
     #: longest unit; its options and environment then hold for its own submissions only
     own_course: bool = False
