@@ -7,7 +7,7 @@ robokin.check's verdicts run in a grader kernel, the answers handed over as data
 functions as proxies. Each submission below is one the old pipeline (verdicts in the
 student's kernel) scored well with blank or wrong answers; all are graded in one
 ``nbgrader autograde`` run, in this file's own course of the chapter
-(tests/support/grading_course.py, with the chapter's unanswered and correct submissions):
+(tests/support/grading_course.py, with the chapter's correct submission):
 
 * blank answers with one line in the first answer cell that
   - turns test cells into ``pass`` (an IPython input transformer),
@@ -144,9 +144,9 @@ def delegating_submission(correct: dict) -> dict:
 def submissions(run: Run, correct: dict, course) -> dict[str, dict]:
     """This file's submissions of the chapter (its solutions are test_nbgrader.py's ``correct``)."""
     wrong = wrong_submission(correct, run.source)
-    # the student edition handed in unchanged is the course's "unanswered" (run_chapter's), read here
-    out = {"unanswered": run.release, "wrong": wrong, "delegating": delegating_submission(correct),
-           "slow": slow_submission(correct)}
+    # the blank submissions are the student edition with one kind of tampering each; the edition
+    # handed in unchanged is graded in the chapter's shared run (tests/test_nbgrader.py), not here
+    out = {"wrong": wrong, "delegating": delegating_submission(correct), "slow": slow_submission(correct)}
     for kind in TAMPER:
         out[f"blank_{kind}"] = tampered(run.release, kind)
     out["wrong_patched_numpy"] = tampered(wrong, "patched_numpy")
@@ -154,14 +154,14 @@ def submissions(run: Run, correct: dict, course) -> dict[str, dict]:
     return out
 
 
-#: graded in a course of the chapter of its own (tests/support/grading_course.py), with the unanswered and
-#: correct submissions, and with a short time limit per call of a student's function
+#: graded in a course of the chapter of its own (tests/support/grading_course.py), with the correct
+#: submission, and with a short time limit per call of a student's function
 SUITE = grading_course.Suite("tamper", submissions,
                              options=[f"--BridgedExecute.call_timeout={CALL_TIMEOUT}"], own_course=True)
 # this file's course of the chapter is a part of the graded courses of its own (one xdist group):
 # its never-returning call waits the call limit in every test, in parallel with the other parts.
 # Each test names the submissions it reads: a session grades only those (make test: one kind of
-# tampering, tests/support/tiers.py), besides the unanswered and correct ones every course has.
+# tampering, tests/support/tiers.py), besides the correct one every course has.
 KEY = SUITE.key(CHAPTER)
 
 
@@ -247,11 +247,11 @@ def test_graded_test_outputs_come_from_the_grader_kernel(graded):
             if nbg(cell).get("grade") and cell["cell_type"] == "code":
                 kinds = [o["output_type"] for o in cell["outputs"]]
                 assert "execute_result" not in kinds and "error" in kinds, (student, nbg(cell)["grade_id"], kinds)
-    # the note above a failing test names its line, numbered as in the student's run
-    nb = load(graded.course / "autograded" / "unanswered" / CHAPTER / f"{CHAPTER}.ipynb")
-    note = next("".join(o["text"]) for c in nb["cells"] if nbg(c).get("grade_id") == "task1_test1"
-                for o in c["outputs"] if o["output_type"] == "stream")
-    assert "failed at line" in note, note
+        # the note above a failing test names its line, numbered as in the student's run (a blank
+        # submission's: the tampering is in an answer cell, the note the grader kernel's)
+        note = next("".join(o["text"]) for c in nb["cells"] if nbg(c).get("grade_id") == "task1_test1"
+                    for o in c["outputs"] if o["output_type"] == "stream")
+        assert "failed at line" in note, (student, note)
 
 
 def test_delegation_finder_on_code():

@@ -410,8 +410,9 @@ def run_chapter(chapter: str, base: Path, suites=(), key: str | None = None) -> 
     ``suites`` (tests/support/grading_course.py) add submissions of other test files to
     this chapter's run, with the environment and options their tests need. With
     ``key`` (a suite's own course, "<chapter>+<suite>"), the course is graded in
-    a folder of that name, with the unanswered and correct submissions only
-    besides the suites'.
+    a folder of that name, with the correct submission only besides the suites'
+    (the unanswered one, graded in the chapter's shared run, only when a suite
+    hands it in among its own).
     """
     started = time.perf_counter()
     folder = base / (key or chapter)
@@ -424,7 +425,7 @@ def run_chapter(chapter: str, base: Path, suites=(), key: str | None = None) -> 
         run.source = load(course / "source" / chapter / f"{chapter}.ipynb")
         run.release = load(course / "release" / chapter / f"{chapter}.ipynb")
         correct = correct_submission(run.release, run.source)
-        submissions = {"unanswered": run.release, "correct": correct}
+        submissions = {"correct": correct} if key else {"unanswered": run.release, "correct": correct}
         if key is None:   # the chapter's shared run: its typical mistake and probes too
             candidates = mistake_candidates(run.source)
             if candidates:
