@@ -78,7 +78,9 @@ NBGRADER_GROUPS = r"^nbgrader($|[:_-])"
 #: 2026-11-28): a chapter's run (its submissions and the trust suite's) 98-141 s, chapter 2's 220 and
 #: chapter 5's 175 (their notebooks cost most per execution), the walk-through 135; the everyday
 #: chapter's (chapter 7) with the other engines' re-gradings (tests/test_grading_engines.py) 208 s
-#: and the tamper suite's own course 135 s.
+#: and the tamper suite's own course 135 s. Since then a chapter's run grades one benign submission
+#: instead of two (tests/test_grading_trust.py): 7.5 CPU-s less for chapter 4's, 17 for chapter 2's,
+#: the heaviest chapters saving most, so the order these estimates set (longest first) holds.
 NBGRADER_ESTIMATES = [
     (rf"^nbgrader:{tiers.EVERYDAY_CHAPTER}\+tamper$", 180.0),
     (rf"^nbgrader:{tiers.EVERYDAY_CHAPTER}$", 230.0),
