@@ -74,8 +74,8 @@ EXHAUSTIVE_GRADING_FILES = {
 }
 
 #: Test files whose tests name the submissions they read (``grading_course.reads(job, students)``):
-#: the everyday tier keeps the tests that read only these (and the unanswered and correct ones
-#: every course grades), so that its course grades one tampering, not every kind; why in words.
+#: the everyday tier keeps the tests that read only these (and the correct one every course
+#: grades), so that its course grades one tampering, not every kind; why in words.
 EVERYDAY_SUBMISSIONS = {
     "test_grading_tamper.py": ({"blank_forged_check"}, "every other kind of tampering, delegation, a call "
                                "that never returns (make test: one tampering, forged verdicts)"),
