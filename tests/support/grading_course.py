@@ -3,11 +3,11 @@
 Three test files grade submissions through the course's own pipeline:
 ``test_nbgrader.py`` (every chapter: blank, solutions, a typical mistake, ...),
 ``test_grading_tamper.py`` (the everyday chapter: tampering, delegation, a call that never
-returns) and ``test_grading_trust.py`` (every chapter: correct work written another way and
-talkative, with a hang and a crash -- one submission in every chapter but the everyday one; the
-everyday chapter: its own noisy, hanging and escaping submissions). The everyday chapter (:data:`EVERYDAY_CHAPTER`, tests/support/tiers.py) is chapter 7,
-the cheapest to grade (about 5 CPU-s per submission, chapter 3's about 16). Instead of a course
-and an autograde run each, they
+returns) and ``test_grading_trust.py`` (every chapter but the everyday one: one submission,
+correct work written another way and talkative, with a hang and a crash; the everyday chapter:
+its own noisy, hanging and escaping submissions). The everyday chapter
+(:data:`EVERYDAY_CHAPTER`, tests/support/tiers.py) is chapter 7, the cheapest to grade (about
+5 CPU-s per submission, chapter 3's about 16). Instead of a course and an autograde run each, they
 share one course per chapter (a gradebook of its own, so that two chapters are
 graded at a time), with one student per submission and ONE ``nbgrader autograde``
 per assignment: every chapter's run grades the submissions of test_nbgrader.py and
