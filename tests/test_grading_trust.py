@@ -541,10 +541,11 @@ def test_tests_after_a_lost_kernel_score_zero_and_say_why():
     """The cells after the one the kernel stopped in are not run: their tests score 0, with the reason."""
     from nbformat.v4 import new_code_cell, new_notebook
     from nbgrader import utils
-    from tools.grading.robokin_nbgrader import NOT_RUN, GradingIncidents, RobokinExecute
+    from tools.grading.bridge.preprocessors import BridgedExecute
+    from tools.grading.robokin_nbgrader import NOT_RUN, GradingIncidents
 
     # mypy takes nbclient's __init__(nb); nbgrader's Execute (untyped) puts nbconvert's __init__(**kw) first
-    execute = RobokinExecute()
+    execute = BridgedExecute()
     execute._report = {"incidents": []}
     execute._stopped = {"kind": "died", "label": "In [7] `os._exit(1)`", "graded": False, "tests_lost": 1,
                         "replayed": False}   # restarting the kernel failed
@@ -635,14 +636,14 @@ def test_the_switch(monkeypatch):
 def test_the_switch_off_runs_nbgraders_own_kernel(monkeypatch):
     from jupyter_client.manager import AsyncKernelManager
     from nbformat.v4 import new_notebook
-    from tools.grading.robokin_nbgrader import RobokinExecute
+    from tools.grading.bridge.preprocessors import BridgedExecute
     from tools.grading.sandbox import SandboxedKernelManager
 
     from traitlets.config import Config
 
     def manager(**config):
         # mypy takes nbclient's __init__(nb); nbgrader's Execute (untyped) puts nbconvert's __init__(**kw) first
-        execute = RobokinExecute(config=Config({"RobokinExecute": config}))
+        execute = BridgedExecute(config=Config({"BridgedExecute": config}))
         execute.nb, execute.resources = new_notebook(), {"metadata": {"path": str(ROOT)}}
         execute._sandboxed = sandbox_wanted(execute.sandbox)
         return type(execute.create_kernel_manager())
@@ -652,7 +653,7 @@ def test_the_switch_off_runs_nbgraders_own_kernel(monkeypatch):
         assert manager() is expected
     monkeypatch.delenv(SWITCH)
     assert manager() is SandboxedKernelManager               # the default
-    assert manager(sandbox=False) is AsyncKernelManager      # c.RobokinExecute.sandbox = False
+    assert manager(sandbox=False) is AsyncKernelManager      # c.BridgedExecute.sandbox = False
 
 
 def test_a_bwrap_that_cannot_make_a_sandbox_stops_grading(tmp_path, monkeypatch):
@@ -686,7 +687,7 @@ def test_hidden_folder_inside_a_readable_one_is_covered(tmp_path):
 
 
 class _FakeKernelManager:
-    """What ``RobokinExecute._kernel_lost`` asks of the kernel manager; ``restart`` is what a restart does."""
+    """What ``BridgedExecute._kernel_lost`` asks of the kernel manager; ``restart`` is what a restart does."""
 
     def __init__(self, restart):
         self.stopped, self.restarts, self._restart = False, 0, restart
@@ -707,12 +708,12 @@ def _graded_test_cell():
 
 
 def _execute(cells, manager, replays=0, **state):
-    """A RobokinExecute on ``cells`` with ``manager``, as autograde sets it up before the cells run."""
+    """A BridgedExecute on ``cells`` with ``manager``, as autograde sets it up before the cells run."""
     from nbformat.v4 import new_notebook
-    from tools.grading.robokin_nbgrader import RobokinExecute
+    from tools.grading.bridge.preprocessors import BridgedExecute
 
     # mypy takes nbclient's __init__(nb); nbgrader's Execute (untyped) puts nbconvert's __init__(**kw) first
-    execute = RobokinExecute()
+    execute = BridgedExecute()
     execute.nb, execute.km = new_notebook(cells=cells), manager
     execute._report, execute._replays, execute._stopped = {"incidents": []}, replays, None
     for name, value in state.items():
