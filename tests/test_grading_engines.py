@@ -529,14 +529,15 @@ def test_a_cell_that_leaves_the_kernel_at_its_cap_loses_the_kernel(monkeypatch):
     died in the cell (restarted, the cells before run again), and the report says why."""
     from nbconvert.preprocessors import ExecutePreprocessor
     from nbformat.v4 import new_code_cell, new_notebook
-    from tools.grading.robokin_nbgrader import GradingIncidents, RobokinExecute
+    from tools.grading.bridge.preprocessors import BridgedExecute
+    from tools.grading.robokin_nbgrader import GradingIncidents
     from tools.grading.sandbox import SandboxedKernelManager
 
     why = "the cell left the kernel at its cap on processes (256 processes and threads of 256: ...)"
     monkeypatch.setattr(ExecutePreprocessor, "preprocess_cell", lambda self, cell, resources, index: (cell, resources))
     monkeypatch.setattr(SandboxedKernelManager, "at_process_cap", lambda self: why)
-    monkeypatch.setattr(RobokinExecute, "_restart_and_replay", lambda self, index: True)
-    execute = RobokinExecute()
+    monkeypatch.setattr(BridgedExecute, "_restart_and_replay", lambda self, index: True)
+    execute = BridgedExecute()
     bomb, test = new_code_cell("fork_bomb()"), new_code_cell("assert answer() == 1", metadata={"nbgrader": {
         "grade": True, "solution": False, "points": 2, "grade_id": "task5_test1", "schema_version": 3}})
     execute.nb, execute.km = new_notebook(cells=[bomb, test]), SandboxedKernelManager(writable="/tmp")
