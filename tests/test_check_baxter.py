@@ -19,7 +19,8 @@ from robokin.models import baxter_left
 cb = importlib.import_module("robokin.check.baxter")
 
 ARM = baxter_left(base="shoulder")
-C, R, W = cb.CENTRE, cb.RADIUS, cb.OMEGA
+R, W = cb.RADIUS, cb.OMEGA
+C = ARM.fk(cb.Q_START)[:3, 3] - [R, 0.0, 0.0]  # the circle starts at the hand
 
 #: The tutorial's modified-DH table, rows (a_{i-1}, alpha_{i-1}, d_i), as printed (no joint-2 offset).
 TUTORIAL = [(0, 0, 0.2703), (0.069, -1.571, 0), (0, 1.571, 0.3644), (0.069, -1.571, 0),
@@ -60,7 +61,7 @@ def rate_kkt(q, r_des, v_des):
 def test_constants():
     assert np.allclose(cb.Q_START, [0.0, -0.55, 0.0, 1.284, 0.0, 0.26160184, 0.0], atol=1e-8)
     assert cb.PERIOD == pytest.approx(4.0) and R * W == pytest.approx(0.0785398, rel=1e-6)
-    assert np.allclose(cb.CENTRE + [R, 0, 0], ARM.fk(cb.Q_START)[:3, 3])
+    assert np.allclose(cb._CENTRE + [R, 0, 0], ARM.fk(cb.Q_START)[:3, 3])
 
 
 @pytest.mark.parametrize("q", [np.zeros(7), cb.Q_START, np.array([0.3, -1.0, 0.5, 1.5, -0.7, 1.0, 2.0])])
@@ -123,7 +124,7 @@ WRONG_RATE = {
     "jacobian_transpose": lambda q, r, v: ARM.position_jacobian(q).T @ (v + cb.KP * (r - ARM.fk(q)[:3, 3])),
     "full_jacobian": lambda q, r, v: np.linalg.pinv(ARM.jacobian(q)) @ np.r_[v + cb.KP * (r - ARM.fk(q)[:3, 3]),
                                                                               0, 0, 0],
-    "missing_joint2_offset": lambda q, r, v: rate_kkt(q - cb.JOINT2_OFFSET, r, v),
+    "missing_joint2_offset": lambda q, r, v: rate_kkt(q - cb._JOINT2_OFFSET, r, v),
     "no_feedforward": lambda q, r, v: np.linalg.pinv(ARM.position_jacobian(q)) @ (cb.KP * (r - ARM.fk(q)[:3, 3])),
 }
 
@@ -232,3 +233,15 @@ def test_tracking_loop_mistakes(code):
 def test_tracking_loop_wrong_shape_is_explained():
     r = cb.tracking_loop(lambda q0, r, v, kp=cb.KP, ts=cb.TS: track_kkt(q0, r, v, kp, ts)[1:], quiet=True)
     assert not r.passed and "shape (6, 7)" in r.message
+
+
+def test_help_shows_no_answer():
+    """help() lists the module's data: the circle's centre (Task 2) and the joint-2 offset
+    (Task 1) are answers, so they stay private."""
+    import pydoc
+
+    text = pydoc.render_doc(cb, renderer=pydoc.plaintext)
+    data = text[text.index("DATA"):]
+    for answer in ("CENTRE", "JOINT2_OFFSET"):
+        assert answer not in data and answer not in cb.__all__
+    assert np.allclose(cb._JOINT2_OFFSET, [0.0, np.pi / 2, 0.0, 0.0, 0.0, 0.0, 0.0])

@@ -49,7 +49,7 @@ from robokin.check._registry import exercise
 __all__ = [
     "circle_position", "circle_velocity", "resolved_rate", "tracking_loop", "forward_kinematics",
     "hand_position_at",
-    "Q_START", "P_START", "CENTRE", "RADIUS", "OMEGA", "PERIOD", "TS", "KP", "JOINT2_OFFSET",
+    "Q_START", "P_START", "RADIUS", "OMEGA", "PERIOD", "TS", "KP",
 ]
 
 _CHAPTER = "baxter"
@@ -84,8 +84,8 @@ PERIOD = 2 * _PI / OMEGA
 TS = 0.002
 #: Position gain of the closed-loop resolved-rate law (1/s).
 KP = 10.0
-#: The offset the tutorial's table lacks: θ2 = q2 + π/2 (the URDF zero pose is the stretched arm).
-JOINT2_OFFSET = np.array([0.0, _PI / 2, 0.0, 0.0, 0.0, 0.0, 0.0])
+# The offset the tutorial's table lacks (the answer of Task 1: private, not shown by help()).
+_JOINT2_OFFSET = np.array([0.0, _PI / 2, 0.0, 0.0, 0.0, 0.0, 0.0])
 
 
 @cache
@@ -116,15 +116,15 @@ def _position(q) -> np.ndarray:
 
 #: Hand position at Q_START (m), shoulder frame.
 P_START = _position(Q_START)
-#: Centre of the circle (m): the circle starts at P_START.
-CENTRE = P_START - np.array([RADIUS, 0.0, 0.0])
+# Centre of the circle (m), an answer of Task 2: private, not shown by help().
+_CENTRE = P_START - np.array([RADIUS, 0.0, 0.0])
 
 
 # ------------------------------------------------------------------ the circle
 _T = [Variable("t", "other", 0.0, PERIOD, aliases=("time",))]
 
 
-def _circle(t, centre=CENTRE, radius=RADIUS, omega=OMEGA, phase=0.0, sense=1.0):
+def _circle(t, centre=_CENTRE, radius=RADIUS, omega=OMEGA, phase=0.0, sense=1.0):
     a = omega * float(np.ravel(t)[0]) + phase
     return centre + radius * np.array([math.cos(a), sense * math.sin(a), 0.0])
 
@@ -156,7 +156,7 @@ circle_position = exercise(_CHAPTER, "circle_position", Check(
               "c + [r, 0, 0]; use [cos ωt, sin ωt, 0].")),
         ]),
         alternatives("swapped_sin_cos", [(
-            lambda x: CENTRE + RADIUS * np.array([math.sin(OMEGA * x[0]), math.cos(OMEGA * x[0]), 0.0]),
+            lambda x: _CENTRE + RADIUS * np.array([math.sin(OMEGA * x[0]), math.cos(OMEGA * x[0]), 0.0]),
             ("{name} swaps sin and cos: it starts at c + [0, r, 0], a quarter circle away from the hand, "
              "and turns clockwise. Use c + r [cos ωt, sin ωt, 0]."),
         )]),
@@ -295,7 +295,7 @@ resolved_rate = exercise(_CHAPTER, "resolved_rate", Check(
              "Jacobian J_v (the top three rows)."),
         )]),
         alternatives("missing_joint2_offset", [(
-            lambda x: _rate(x, q_shift=-JOINT2_OFFSET),
+            lambda x: _rate(x, q_shift=-_JOINT2_OFFSET),
             ("{name} uses a model without the +π/2 offset of joint 2 (the tutorial's table as "
              "printed): its r(q) and J(q) belong to another pose of the arm. Use θ2 = q2 + π/2 "
              "(robokin.models.baxter_left)."),
@@ -397,10 +397,10 @@ tracking_loop = exercise(_CHAPTER, "tracking_loop", MatrixArgumentsCheck(
 def _forward_kinematics_mistakes() -> list:
     return [
         alternatives("missing_joint2_offset", [
-            (lambda x: _pose(np.asarray(x) - JOINT2_OFFSET),
+            (lambda x: _pose(np.asarray(x) - _JOINT2_OFFSET),
              ("{name} has no +π/2 offset on joint 2: it uses θ2 = q2 (the tutorial's table as "
               "printed), so q = 0 is not the URDF zero pose (the stretched arm). Use θ2 = q2 + π/2.")),
-            (lambda x: _pose(np.asarray(x) - 2 * JOINT2_OFFSET),
+            (lambda x: _pose(np.asarray(x) - 2 * _JOINT2_OFFSET),
              "{name} uses θ2 = q2 − π/2: the offset of joint 2 is +π/2."),
         ]),
         alternatives("standard_dh", [
@@ -445,7 +445,7 @@ forward_kinematics = exercise(_CHAPTER, "forward_kinematics", Check(
 def _position_mistakes() -> list:
     return [
         alternatives("missing_joint2_offset", [(
-            lambda x: _position(np.asarray(x) - JOINT2_OFFSET),
+            lambda x: _position(np.asarray(x) - _JOINT2_OFFSET),
             ("{name} is computed without the +π/2 offset of joint 2 (the tutorial's table as "
              "printed): that is another pose of the arm. Use θ2 = q2 + π/2."),
         )]),
