@@ -89,7 +89,7 @@ c.Autograde.sanitize_preprocessors = [
     CheckCellMetadata,
 ]
 c.Autograde.autograde_preprocessors = [
-    BridgedExecute,           # RobokinExecute (the student's kernel) + a grader kernel for the tests
+    BridgedExecute,           # the student's kernel (sandboxed) + a grader kernel for the tests
     IgnorePattern,
     ClearMetadataPreprocessor,
     LimitOutput,
@@ -107,15 +107,18 @@ c.Execute.timeout = int(os.environ.get("ROBOKIN_CELL_TIMEOUT", "120"))   # secon
 # machine ended in "Timeout waiting for IOPub output", a timed-out cell in the grading. The
 # wait ends as soon as the cell's idle status arrives, so it gets the cell's own ceiling.
 c.Execute.iopub_timeout = c.Execute.timeout
+# The executor's two settings of the student's kernel keep their defaults here, so that the
+# course directory's nbgrader_config.py (loaded after this file) decides them; there, an
+# older c.RobokinExecute.<setting> still applies, with a warning naming the new one.
 # 3D scenes of the graded notebook as pictures: the feedback page is read offline.
-c.RobokinExecute.viewer = "matplotlib"
+# c.BridgedExecute.viewer = "matplotlib"   (the default)
 # Each submission's kernel runs in a bubblewrap sandbox (Debian package `bubblewrap`):
 # it sees the system and the Python environment read-only and writes only its own
 # folder; the course (source/, gradebook.db, other students), the exchange and the
 # repository are hidden, and it has no network. Turn it off only where grading
 # already runs in a container of its own: ROBOKIN_GRADING_SANDBOX=off, or
-# c.RobokinExecute.sandbox = False   (book/for-instructors.md, "What grading guarantees")
-c.RobokinExecute.sandbox = True
+# c.BridgedExecute.sandbox = False   (book/for-instructors.md, "What grading guarantees")
+# c.BridgedExecute.sandbox = True   (the default)
 
 # -- generate_feedback: MathJax inlined (the page is read offline, and handed out alone)
 c.GenerateFeedback.exporter_class = OfflineMathJaxHTMLExporter

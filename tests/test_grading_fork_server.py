@@ -272,27 +272,6 @@ def test_fork_server_false_starts_each_grader_kernel_anew(monkeypatch):
     assert made == [None, sentinel]
 
 
-
-@pytest.mark.parametrize("value", [["*"], ["01_leg_kinematics"], []])
-def test_an_old_chapters_setting_is_a_warning_naming_it(value, caplog):
-    """``c.BridgedExecute.chapters`` of an older nbgrader_config.py: every chapter is graded through
-    the bridge now; the instructor is told the setting is ignored and may go, not a grading error."""
-    from traitlets.config import Config
-
-    with caplog.at_level(logging.WARNING):
-        execute = BridgedExecute(config=Config({"BridgedExecute": {"chapters": value}}))
-    assert not hasattr(execute, "chapters")
-    warnings = [r.getMessage() for r in caplog.records if r.levelno == logging.WARNING]
-    assert any(w.startswith("c.BridgedExecute.chapters is no longer needed and is ignored: every chapter is "
-                            "graded through the bridge") and "Remove it from nbgrader_config.py" in w
-               for w in warnings), warnings
-
-
-def test_a_current_configuration_gives_no_such_warning(caplog):
-    with caplog.at_level(logging.WARNING):
-        BridgedExecute(fork_server=False)
-    assert not [r for r in caplog.records if "no longer needed" in r.getMessage()]
-
 def test_a_server_that_cannot_start_is_a_warning_and_kernels_start_anew(monkeypatch, caplog):
     def broken(preload):
         raise fork_server.ForkServerError("no fork here")

@@ -24,7 +24,7 @@ c.Exchange.root = {exchange!r}
 # autograde runs every submission in a bubblewrap sandbox (apt-get install bubblewrap).
 # Only where grading already runs in a container of its own (book/for-instructors.md,
 # "What grading guarantees"):
-# c.RobokinExecute.sandbox = False
+# c.BridgedExecute.sandbox = False
 # Test cells and robokin.check's verdicts run in a grader kernel of their own for every
 # chapter (the student's answers handed over as data, functions called through the bridge;
 # "Where the verdicts are decided"): never in the student's kernel.

@@ -1,6 +1,6 @@
 """The grading kernel of a submission, inside a bubblewrap sandbox (``nbgrader autograde``).
 
-``RobokinExecute`` (``tools/grading/robokin_nbgrader/``) starts the kernel that runs a
+``BridgedExecute`` (``tools/grading/bridge/preprocessors.py``) starts the kernel that runs a
 student's notebook with ``SandboxedKernelManager``, jupyter_client's
 ``AsyncKernelManager`` whose kernel command is wrapped in ``bwrap``
 (Debian/Ubuntu package ``bubblewrap``). The sandbox's file system is built
@@ -35,10 +35,10 @@ processes and threads of the kernel and everything it starts at ``N`` (a fork bo
 works here (``tools/grading/process_cap.py``); when neither does, the kernel does not start and the
 error says why. ``tools/grading/grade_submission.py`` sets it. A cell that leaves the kernel at its
 cap (a fork bomb's children, which the kernel never reaps, stay counted until it ends) leaves
-a kernel that cannot start a thread: ``RobokinExecute`` asks :meth:`SandboxedKernelManager.at_process_cap`
+a kernel that cannot start a thread: ``BridgedExecute`` asks :meth:`SandboxedKernelManager.at_process_cap`
 after each cell and restarts such a kernel, as one that died in the cell.
 
-``ROBOKIN_GRADING_SANDBOX=off`` or ``c.RobokinExecute.sandbox = False`` runs the
+``ROBOKIN_GRADING_SANDBOX=off`` or ``c.BridgedExecute.sandbox = False`` runs the
 kernel as nbgrader does, unsandboxed (for an instructor who grades inside a
 container of their own).
 """
@@ -100,7 +100,7 @@ def bwrap_executable() -> str:
             "robokin grades every submission in a sandbox (bubblewrap), but `bwrap` is not "
             f"installed: install the Debian/Ubuntu package '{PACKAGE}' (`sudo apt-get install {PACKAGE}`; "
             f"Fedora: `dnf install {PACKAGE}`), or, if you already grade inside a container of your "
-            f"own, turn the sandbox off with `export {SWITCH}=off` or `c.RobokinExecute.sandbox = False` "
+            f"own, turn the sandbox off with `export {SWITCH}=off` or `c.BridgedExecute.sandbox = False` "
             "in nbgrader_config.py (book/for-instructors.md, 'What grading guarantees')."
         )
     if path not in _WORKS:   # once per process: can bwrap make a sandbox on this machine?
@@ -112,7 +112,7 @@ def bwrap_executable() -> str:
                 f"machine: {(probe.stderr or probe.stdout).strip() or f'exit {probe.returncode}'}. bwrap "
                 "needs unprivileged user namespaces (or a setuid bwrap). If this machine is a container "
                 f"that grades nothing else, turn the sandbox off: `export {SWITCH}=off` or "
-                "`c.RobokinExecute.sandbox = False` (book/for-instructors.md, 'What grading guarantees')."
+                "`c.BridgedExecute.sandbox = False` (book/for-instructors.md, 'What grading guarantees')."
             )
         _WORKS[path] = True
     return path

@@ -3,7 +3,8 @@
 ``codec``         plain data as JSON, on both sides (untrusted input: whitelist and caps)
 ``grader_side``   in the grader's kernel: answers imported as data, functions as proxies
 ``delegation``    answers that hand back robokin's own solution, for review by hand
-``preprocessors`` nbgrader's autograde pipeline: ``BridgedExecute`` (and the ``GraderKernel`` it runs)
+``preprocessors`` nbgrader's autograde pipeline: ``BridgedExecute``, its executor (the student's kernel in a
+                  sandbox and the ``GraderKernel`` beside it)
 ``bridge_report`` nbgrader's autograde pipeline: ``BridgeReport``, what the bridge adds to the report
 ``fork_server``   grader kernels forked from a warm process (imports paid once per autograde)
 ``fork_launcher`` the command jupyter_client runs for a forked grader kernel (standard library only)

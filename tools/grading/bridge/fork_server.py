@@ -1,11 +1,11 @@
 """Grader kernels forked from a warm process: the imports paid once per ``nbgrader autograde``.
 
-A grader kernel (:class:`tools.grading.bridge.preprocessors.GraderKernel`) is a new
-Python process that starts ipykernel and imports ``PRELOAD`` (numpy, scipy,
-sympy, matplotlib, robokin, ...) before it runs the instructor's cells: about
-1.5 s of CPU, the same for every submission. With ``c.BridgedExecute.fork_server
-= True`` (the default), the first grader kernel an ``nbgrader autograde`` process
-needs starts a **fork server** (:class:`ForkServer`): a process that imports
+A grader kernel (:class:`tools.grading.bridge.preprocessors.GraderKernel`, which autograde's
+executor ``BridgedExecute`` starts beside each submission's kernel) is a new Python process
+that starts ipykernel and imports ``PRELOAD`` (numpy, scipy, sympy, matplotlib, robokin, ...)
+before it runs the instructor's cells: about 1.5 s of CPU, the same for every submission.
+With ``c.BridgedExecute.fork_server = True`` (the default), the first grader kernel an
+``nbgrader autograde`` process needs starts a **fork server** (:class:`ForkServer`): a process that imports
 ipykernel's modules and those modules, and nothing else -- no student's data, no
 connection, no kernel application, no thread of its own. Every grader kernel is
 then a fresh ``fork()`` of it that starts the ipykernel application with its own

@@ -14,11 +14,10 @@ class (pipeline)                          module                      what it do
 ``DropSolutionProse`` (generate)          drop_solution_prose         the emptied solution prose goes
 ``PointsHeader`` (generate)               points_header               points per task, under the title
 ``RestoreMissingCells`` (autograde)       restore_missing_cells       a deleted test cell is put back
-``RobokinExecute`` (autograde)            execute                     the kernel in a sandbox, pass/fail
-                                                                      tests, a lost kernel restarted
 ``AutograderReport`` (autograde)          autograder_report           the report on top: score per task,
                                                                       findings, what went wrong
 ``GradingIncidents`` (autograde)          grading_incidents           what happened to the kernel
+                                                                      (``NOT_RUN``, ``KERNEL_LOST``)
 ``HideHiddenTests`` (feedback)            hide_hidden_tests           no hidden test in the feedback page
 ``FeedbackStyle`` (feedback)              feedback_style              the page's own stylesheet
 ``MystMarkdown`` (feedback)               myst_markdown               MyST task statements as Markdown
@@ -26,20 +25,13 @@ class (pipeline)                          module                      what it do
 ========================================  ==========================  =====================================
 
 and the modules they share: ``cells`` (a cell's robokin metadata, task, hidden lines and label),
-``checks`` (what ``robokin.check`` is asked, ``registered_pairs``) and ``failure_notes``
-(``FailureNotes``, the note under a failing test, written by ``RobokinExecute``). Every other
-preprocessor of the pipelines is nbgrader's own (``nbgrader_config.py`` lists them).
-
-``RobokinExecute`` in more detail: nbgrader's ``Execute``, with the kernel in a bubblewrap sandbox
-(``tools/grading/sandbox.py``); a test scores by pass/fail only (its stderr is a note, a result it
-shows no partial credit); a kernel that dies or ignores the interrupt is killed, restarted and
-brought back to where it was (the cells before are run again), so it costs only that cell (after
-the last test, grading just stops there: nothing graded is left to run). When a test cell fails,
-``FailureNotes`` writes above the traceback the failing statement, the student's answers it
-depends on (traced through the read-only cells), the root cause among them, and what
-``robokin.check`` (asked in the grader kernel of ``BridgedExecute``, tools/grading/bridge/, which
-autograde runs: never in the student's kernel) says about those answers; after the last test it
-asks about every answer it has a check for (``registered_pairs``).
+``checks`` (what ``robokin.check`` is asked, ``registered_pairs``), ``failure_notes``
+(``FailureNotes``, the note under a failing test) and ``streams`` (a kernel client whose stream
+outputs are joined). Autograde's executor, which replaces nbgrader's ``Execute``, is not here:
+``BridgedExecute`` (``tools/grading/bridge/preprocessors.py``) runs the submission in a sandboxed
+student's kernel and the tests and ``robokin.check``'s verdicts in a grader kernel, using these
+modules. Every other preprocessor of the pipelines is nbgrader's own (``nbgrader_config.py``
+lists them).
 
 The cell roles come from ``tools/authoring/nbgrader_metadata.py`` (``metadata.robokin``).
 """
@@ -50,10 +42,9 @@ from .autograder_report import AutograderReport
 from .cells import hidden_lines, visible_source
 from .checks import VERDICT_MARK, registered_pairs
 from .drop_solution_prose import DropSolutionProse
-from .execute import KERNEL_LOST, NOT_RUN, RobokinExecute
 from .failure_notes import FailureNotes
 from .feedback_style import FeedbackStyle
-from .grading_incidents import GradingIncidents
+from .grading_incidents import KERNEL_LOST, NOT_RUN, GradingIncidents
 from .hide_hidden_tests import HideHiddenTests
 from .mark_solution_regions import MarkSolutionRegions
 from .myst_markdown import MystMarkdown
@@ -66,6 +57,6 @@ __all__ = [
     "AutograderReport", "DropSolutionProse", "FailureNotes", "FeedbackStyle", "GradingIncidents",
     "HideHiddenTests", "KERNEL_LOST", "MarkSolutionRegions", "MystMarkdown", "NOT_RUN",
     "OfflineMathJaxHTMLExporter", "PointsHeader", "RequireGradingMetadata", "RestoreMissingCells",
-    "RobokinExecute", "VERDICT_MARK", "hidden_lines",
+    "VERDICT_MARK", "hidden_lines",
     "inline_mathjax", "mathjax_script", "registered_pairs", "visible_source",
 ]

@@ -1,4 +1,4 @@
-"""``FailureNotes``: the note under a failing test (written by ``RobokinExecute``).
+"""``FailureNotes``: the note under a failing test (written by autograde's executor, ``BridgedExecute``).
 
 It quotes the failing statement, names the student's answers it depends on (traced through the
 read-only cells), the root cause among them, and what ``robokin.check`` (asked in the student's

@@ -11,13 +11,19 @@ from nbgrader.preprocessors import NbGraderPreprocessor
 
 from .cells import markdown_line, robokin_metadata
 
+#: ename of the error output that zeroes a test the kernel could not run (it had died).
+NOT_RUN = "TestNotRun"
+#: ename of a cell whose kernel died, or was killed because it ignored the interrupt.
+KERNEL_LOST = "KernelLost"
+
 
 class GradingIncidents(NbGraderPreprocessor):
     """What happened to the kernel, appended to the report (autograde, after ``AutograderReport``).
 
-    From ``RobokinExecute``: a kernel that died or was killed (and in which cell), the
-    tests that were therefore not run (0 points, with the reason), and the tests whose
-    code wrote to stderr (shown as a note, not counted as a failure).
+    From autograde's executor, ``BridgedExecute`` (``tools/grading/bridge/preprocessors.py``):
+    a kernel that died or was killed (and in which cell), the tests that were therefore not run
+    (0 points, with the reason), and the tests whose code wrote to stderr (shown as a note, not
+    counted as a failure).
     """
 
     def preprocess(self, nb, resources):
