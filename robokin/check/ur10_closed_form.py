@@ -2,15 +2,14 @@ r"""Exercise checks of chapter 7: closed-form inverse kinematics of the UR10.
 
 Every reference is computed from the DH table of :func:`robokin.models.ur10`
 (``robokin.models.ur10.UR10_DH``, the manufacturer's signs: ``a2``, ``a3`` < 0,
-``d4`` > 0). A check samples 20 configurations ``q`` (away from the singular
-cases: ``sin q3`` and ``sin q5`` not small, the wrist centre away from the
-cylinder of radius ``|d4|`` about the base axis), builds the flange pose
-``T = fk(q)`` and calls the student's function on it.
+``d4`` > 0). A check samples 20 configurations ``q`` (away from the poses at
+which two branches of a step meet, the chapter's last task), builds the flange
+pose ``T = fk(q)`` and calls the student's function on it.
 
 ====================  ===========================================================  ===========================
 check                 the student's answer                                          compared with
 ====================  ===========================================================  ===========================
-``wrist_centre``      ``f(T)`` -> the origin of frame 5, shape (3,), in m            ``frames(q)[5]``
+``wrist_centre``      ``f(T)`` -> the origin of frame 5, shape (3,), in m            ``frames(q)[6]``
 ``shoulder_angles``   ``f(T)`` -> both q1 (rad), shape (2,)                          the two shoulder solutions
 ``wrist_angles``      ``f(T, q1)`` -> both ``(q5, q6)`` (rad), shape (2, 2)          the two wrist solutions
 ``arm_angles``        ``f(T, q1, q5, q6)`` -> both ``(q2, q3, q4)``, shape (2, 3)    the two elbow solutions
