@@ -304,6 +304,18 @@ def track_damped(q0, r_des, v_des, kp=KP, ts=TS, damping=LAMBDA):  # rows filled
 '''),
     },
     "06_ar601_leg_ik": {
+        "task2_answer2": ("the report's cosine from the foot position written out", '''
+
+def report_theta6(p, L12, L3_):  # written another way: the cosine as a ratio of arrays
+    position = np.asarray(p, dtype=float)
+    squared = position[0] ** 2 + position[2] ** 2
+    return float(np.arccos((squared - L12 * L12 - L3_ * L3_) / (2.0 * L12 * L3_)))
+
+
+def report_theta6_of_q6(q6, L12, L3_):  # written another way: x^2 + z^2 expanded
+    reach = L12 + L3_ * np.cos(q6)
+    return float(np.arccos((reach**2 - L12**2 - L3_**2) / (2.0 * L12 * L3_)))
+'''),
         "task3_answer1": ("the knee from the interior angle (pi - arccos), the ankle point "
                           "by a homogeneous product", '''
 
