@@ -24,6 +24,12 @@ MUTATIONS = {
          "               for name, (target, theta) in report_cases.items()}"),
         ("the joint axes all read from the x column of the frames",
          "ax_home = np.array([F[:3, 0] for F in leg.frames(Q_HOME)[1:7]])"),
+        ("report_theta6_of_q6 returns q6: the report's formula taken at its word",
+         "def report_theta6_of_q6(q6, L12, L3_):\n"
+         "    return q6"),
+        ("report_theta6_of_q6 with the sole's offset added along z: cos q6 + L3 sin^2 q6 / (2 L12)",
+         "def report_theta6_of_q6(q6, L12, L3_):\n"
+         "    return np.arccos(np.clip(np.cos(q6) + L3_ * np.sin(q6) ** 2 / (2 * L12), -1, 1))"),
     ],
     "task3_test1": [
         ("ankle point backed off along the base z axis",
