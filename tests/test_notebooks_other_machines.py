@@ -15,6 +15,13 @@ nbval as three other machines, one test each:
 
 A notebook passes only if every printed digit survives all three. When one does
 not, print less (fewer digits, a bound, a verdict): see ``robokin.formatting``.
+
+Every cell runs in each machine's kernel, its figures included (built, their axes and
+data computed), but a figure is not rendered to a PNG there: nbval does not compare
+images (``image/png`` is in its ``skip_compare``; the figure's text output, which it
+compares, stays), so rasterising them checked nothing and cost about 8 of each
+machine's 50 CPU-s. The main nbval run renders every figure on this machine.
+
 Skip it locally with ``pytest -m "not other_machines"``.
 """
 
@@ -88,12 +95,21 @@ def other_kernels(count: int = 2) -> list[str]:
 NOISE_MODULE = ROOT / "tests" / "support" / "numerical_noise.py"
 
 
-#: A kernel's start-up file: it writes, as one JSON line in REPORT, the OpenBLAS kernel and thread count
-#: numpy computes with in this kernel, and whether the kernel was forked (its parent is the fork server).
+#: A kernel's start-up file: figures are shown as their text alone, not rendered to an image (the
+#: module docstring says why): the inline backend's formats emptied, before any cell draws one.
+NO_FIGURE_IMAGES = """\
+get_ipython().run_line_magic("config", "InlineBackend.figure_formats = set()")
+"""
+
+#: A kernel's start-up file, run after ``NO_FIGURE_IMAGES``: it writes, as one JSON line in REPORT, the
+#: OpenBLAS kernel and thread count numpy computes with in this kernel, whether the kernel was forked (its
+#: parent is the fork server) and the image formats a figure is still rendered to (none).
 KERNEL_REPORT = """\
 def _report(path):
     import ctypes, glob, json, os, numpy
-    found = {}
+    from matplotlib.figure import Figure
+    found = {"figure_images": sorted(mime for mime, formatter in get_ipython().display_formatter.formatters.items()
+                                     if Figure in formatter.type_printers)}
     for library in glob.glob(os.path.join(os.path.dirname(numpy.__file__) + ".libs", "*openblas*")):
         library = ctypes.CDLL(library)
         for key, symbols in (("core", ("scipy_openblas_get_corename64_", "openblas_get_corename")),
@@ -113,14 +129,15 @@ del _report
 
 
 def startup_dir(tmp_path: Path, noise: bool) -> Path:
-    """An IPYTHONDIR whose start-up files report each kernel's OpenBLAS (``kernels.jsonl`` in
-    ``tmp_path``) and, if ``noise``, install the linear-algebra noise."""
+    """An IPYTHONDIR whose start-up files turn off the figures' images, report each kernel's OpenBLAS
+    (``kernels.jsonl`` in ``tmp_path``) and, if ``noise``, install the linear-algebra noise (in that order)."""
     startup = tmp_path / "ipython" / "profile_default" / "startup"
     startup.mkdir(parents=True)
-    (startup / "00-kernel-report.py").write_text(
+    (startup / "00-no-figure-images.py").write_text(NO_FIGURE_IMAGES)
+    (startup / "01-kernel-report.py").write_text(
         KERNEL_REPORT.replace("REPORT", repr(str(tmp_path / "kernels.jsonl"))))
     if noise:
-        (startup / "01-numerical-noise.py").write_text(
+        (startup / "02-numerical-noise.py").write_text(
             "import importlib.util as _util\n"
             f"_spec = _util.spec_from_file_location('numerical_noise', {str(NOISE_MODULE)!r})\n"
             "numerical_noise = _util.module_from_spec(_spec)\n_spec.loader.exec_module(numerical_noise)\n"
@@ -171,6 +188,7 @@ def test_notebook_outputs_hold_on_other_machines(tmp_path, machine):
         + "\n".join(summary) + "\n" + output[-4000:])
     kernels = [json.loads(line) for line in (tmp_path / "kernels.jsonl").read_text().splitlines()]
     assert kernels, "no kernel ran the start-up file that reports its OpenBLAS"
+    assert all(k["figure_images"] == [] for k in kernels), kernels   # every cell ran; no figure rasterised
     if "OPENBLAS_CORETYPE" in extra:   # the settings reached every kernel, forked from a warm server or not
         assert {k.get("core", "").lower() for k in kernels} == {extra["OPENBLAS_CORETYPE"].lower()}, kernels
         assert {k.get("threads") for k in kernels} == {int(extra["OPENBLAS_NUM_THREADS"])}, kernels
