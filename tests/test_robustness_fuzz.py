@@ -10,8 +10,9 @@ return finite values of the documented shape, or raise a robokin error /
 exercise check given a broken *student answer* returns a failed ``CheckResult``
 instead). ``fuzz_support.run_example`` is the oracle.
 
-Budget: the default hypothesis profile runs about 25 examples per function
-(derandomised, so CI is reproducible) in well under a minute;
+Budget: the default hypothesis profile runs 100 examples per function times its spec's
+``weight`` (at least 3; about 15,000 over the 238 specs, 63 per spec on average),
+derandomised so that CI is reproducible: about 40 CPU-s on the 2-core machine;
 ``pytest tests/test_robustness_fuzz.py --hypothesis-profile=long`` runs ten
 times as many with fresh random examples.
 """
