@@ -45,7 +45,7 @@ from tools.grading.robokin_nbgrader import (
 # Verdicts decided in a grader kernel, outside the student's, which a submission could tamper
 # with: tools/grading/bridge/.
 from tools.grading.bridge.bridge_report import BridgeReport
-from tools.grading.bridge.preprocessors import BridgedExecute
+from tools.grading.bridge.execute import BridgedExecute
 
 ROBOKIN = Path(__file__).resolve().parent
 

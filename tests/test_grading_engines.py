@@ -529,7 +529,7 @@ def test_a_cell_that_leaves_the_kernel_at_its_cap_loses_the_kernel(monkeypatch):
     died in the cell (restarted, the cells before run again), and the report says why."""
     from nbconvert.preprocessors import ExecutePreprocessor
     from nbformat.v4 import new_code_cell, new_notebook
-    from tools.grading.bridge.preprocessors import BridgedExecute
+    from tools.grading.bridge.execute import BridgedExecute
     from tools.grading.robokin_nbgrader import GradingIncidents
     from tools.grading.sandbox import SandboxedKernelManager
 

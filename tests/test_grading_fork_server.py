@@ -4,7 +4,7 @@ a kernel costs a fork, not a Python start.
 Each grader kernel of an ``nbgrader autograde`` run is a fresh fork of one
 process that imported ipykernel and the grader's modules (``PRELOAD``) once.
 These tests start the grader kernels as ``BridgedExecute`` does
-(``GraderKernel``), without a course: two kernels of one server are two
+(``GraderKernel``, tools/grading/bridge/grader_kernel.py), without a course: two kernels of one server are two
 processes that share nothing; a forked kernel is what a new one would be (its
 environment, ``sys.path``, modules, signal handlers, matplotlib backend); a cell
 past its time limit is interrupted; nothing is left running when the launcher
@@ -34,7 +34,8 @@ if not hasattr(os, "fork") or not sys.platform.startswith("linux"):
     pytest.skip("the fork server forks grader kernels on Linux", allow_module_level=True)
 
 from tools.grading.bridge import fork_server  # noqa: E402 - after the skip: it needs fork
-from tools.grading.bridge.preprocessors import PRELOAD, BridgedExecute, GraderKernel  # noqa: E402
+from tools.grading.bridge.execute import BridgedExecute  # noqa: E402
+from tools.grading.bridge.grader_kernel import PRELOAD, GraderKernel  # noqa: E402
 
 pytestmark = pytest.mark.nbgrader
 LOG = logging.getLogger("test_grading_fork_server")
@@ -261,7 +262,7 @@ def test_fork_server_false_starts_each_grader_kernel_anew(monkeypatch):
         def get_connection_info(self):
             return {}
 
-    monkeypatch.setattr("tools.grading.bridge.preprocessors.GraderKernel", Recorder)
+    monkeypatch.setattr("tools.grading.bridge.execute.GraderKernel", Recorder)
     sentinel = object()
     monkeypatch.setattr(fork_server, "shared_server", lambda preload, logger: sentinel)
     for wanted in (False, True):

@@ -541,7 +541,7 @@ def test_tests_after_a_lost_kernel_score_zero_and_say_why():
     """The cells after the one the kernel stopped in are not run: their tests score 0, with the reason."""
     from nbformat.v4 import new_code_cell, new_notebook
     from nbgrader import utils
-    from tools.grading.bridge.preprocessors import BridgedExecute
+    from tools.grading.bridge.execute import BridgedExecute
     from tools.grading.robokin_nbgrader import NOT_RUN, GradingIncidents
 
     # mypy takes nbclient's __init__(nb); nbgrader's Execute (untyped) puts nbconvert's __init__(**kw) first
@@ -636,7 +636,7 @@ def test_the_switch(monkeypatch):
 def test_the_switch_off_runs_nbgraders_own_kernel(monkeypatch):
     from jupyter_client.manager import AsyncKernelManager
     from nbformat.v4 import new_notebook
-    from tools.grading.bridge.preprocessors import BridgedExecute
+    from tools.grading.bridge.execute import BridgedExecute
     from tools.grading.sandbox import SandboxedKernelManager
 
     from traitlets.config import Config
@@ -710,7 +710,7 @@ def _graded_test_cell():
 def _execute(cells, manager, replays=0, **state):
     """A BridgedExecute on ``cells`` with ``manager``, as autograde sets it up before the cells run."""
     from nbformat.v4 import new_notebook
-    from tools.grading.bridge.preprocessors import BridgedExecute
+    from tools.grading.bridge.execute import BridgedExecute
 
     # mypy takes nbclient's __init__(nb); nbgrader's Execute (untyped) puts nbconvert's __init__(**kw) first
     execute = BridgedExecute()

@@ -39,7 +39,7 @@ its cap after the cell, and the kernel then cannot start a thread of its own (py
 collector, started on the first message over 64 kB: its output is lost half-sent and the
 grader reads a message with an invalid signature). Only the kernel's end ends them, so the
 grader asks after each cell (:meth:`ProcessCap.full`) and restarts a kernel left at its cap
-(``tools/grading/bridge/preprocessors.py``), as it does a kernel that died.
+(``tools/grading/bridge/execute.py``), as it does a kernel that died.
 """
 
 from __future__ import annotations

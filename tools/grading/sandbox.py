@@ -1,6 +1,6 @@
 """The grading kernel of a submission, inside a bubblewrap sandbox (``nbgrader autograde``).
 
-``BridgedExecute`` (``tools/grading/bridge/preprocessors.py``) starts the kernel that runs a
+``BridgedExecute`` (``tools/grading/bridge/execute.py``) starts the kernel that runs a
 student's notebook with ``SandboxedKernelManager``, jupyter_client's
 ``AsyncKernelManager`` whose kernel command is wrapped in ``bwrap``
 (Debian/Ubuntu package ``bubblewrap``). The sandbox's file system is built

@@ -1,6 +1,6 @@
 """``BridgeReport`` (autograde, after ``AutograderReport``): what the bridge adds to the report.
 
-The answers ``BridgedExecute`` (:mod:`tools.grading.bridge.preprocessors`) lists for review by hand
+The answers ``BridgedExecute`` (:mod:`tools.grading.bridge.execute`) lists for review by hand
 (``resources["robokin"]["review"]``) and the answers it could not hand over as data
 (``resources["robokin"]["bridge"]``), appended to the report cell on top of the graded notebook.
 """

@@ -5,7 +5,7 @@ An answer that calls -- or simply is -- the robokin function that solves its tas
 that very function. Such an answer is flagged for review by hand; its score stands
 as tested (the instructor decides). Besides this static look at the answer cells,
 the bridge flags at run time a declared answer that *is* a robokin function (its
-proxy reports the function's module: :mod:`tools.grading.bridge.preprocessors`).
+proxy reports the function's module: :mod:`tools.grading.bridge.execute`).
 
 :data:`REFERENCES` lists, per ``robokin.check`` check, the robokin methods that
 solve the task it checks. A task's reference list is that of the checks its test

@@ -1,6 +1,6 @@
 """Grader kernels forked from a warm process: the imports paid once per ``nbgrader autograde``.
 
-A grader kernel (:class:`tools.grading.bridge.preprocessors.GraderKernel`, which autograde's
+A grader kernel (:class:`tools.grading.bridge.grader_kernel.GraderKernel`, which autograde's
 executor ``BridgedExecute`` starts beside each submission's kernel) is a new Python process
 that starts ipykernel and imports ``PRELOAD`` (numpy, scipy, sympy, matplotlib, robokin, ...)
 before it runs the instructor's cells: about 1.5 s of CPU, the same for every submission.

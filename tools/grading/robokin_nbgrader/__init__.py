@@ -28,7 +28,7 @@ and the modules they share: ``cells`` (a cell's robokin metadata, task, hidden l
 ``checks`` (what ``robokin.check`` is asked, ``registered_pairs``), ``failure_notes``
 (``FailureNotes``, the note under a failing test) and ``streams`` (a kernel client whose stream
 outputs are joined). Autograde's executor, which replaces nbgrader's ``Execute``, is not here:
-``BridgedExecute`` (``tools/grading/bridge/preprocessors.py``) runs the submission in a sandboxed
+``BridgedExecute`` (``tools/grading/bridge/execute.py``) runs the submission in a sandboxed
 student's kernel and the tests and ``robokin.check``'s verdicts in a grader kernel, using these
 modules. Every other preprocessor of the pipelines is nbgrader's own (``nbgrader_config.py``
 lists them).

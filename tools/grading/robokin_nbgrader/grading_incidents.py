@@ -20,7 +20,7 @@ KERNEL_LOST = "KernelLost"
 class GradingIncidents(NbGraderPreprocessor):
     """What happened to the kernel, appended to the report (autograde, after ``AutograderReport``).
 
-    From autograde's executor, ``BridgedExecute`` (``tools/grading/bridge/preprocessors.py``):
+    From autograde's executor, ``BridgedExecute`` (``tools/grading/bridge/execute.py``):
     a kernel that died or was killed (and in which cell), the tests that were therefore not run
     (0 points, with the reason), and the tests whose code wrote to stderr (shown as a note, not
     counted as a failure).

@@ -1,4 +1,4 @@
-"""The settings of autograde's executor, ``BridgedExecute`` (tools/grading/bridge/preprocessors.py).
+"""The settings of autograde's executor, ``BridgedExecute`` (tools/grading/bridge/execute.py).
 
 An older ``nbgrader_config.py`` is not ignored silently: a setting under the executor's
 former name (``c.RobokinExecute.sandbox``, ``c.RobokinExecute.viewer``) still applies,
@@ -20,7 +20,7 @@ pytest.importorskip("nbgrader", reason="nbgrader is not installed: run `make tes
 from traitlets.config import Config, Configurable
 from traitlets.config.loader import KVArgParseConfigLoader, PyFileConfigLoader
 
-from tools.grading.bridge.preprocessors import FORMER_NAMES, RETIRED_SETTINGS, BridgedExecute
+from tools.grading.bridge.execute import FORMER_NAMES, RETIRED_SETTINGS, BridgedExecute
 
 ROOT = Path(__file__).resolve().parents[1]
 

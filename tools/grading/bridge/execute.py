@@ -7,19 +7,19 @@ the **student's kernel** runs the submission, in a bubblewrap sandbox (``tools/g
     kernel that dies or ignores the interrupt is killed, restarted and brought back to where it was
     (the cells before are run again), so it costs only that cell (after the last test, grading just
     stops there: nothing graded is left to run).
-a **grader kernel** beside it, for every chapter, runs each read-only cell (given or test) of the
-    assignment -- its text from nbgrader's gradebook, never from the submission -- in order; before
-    it runs, the answers it reads (names declared by answer cells, ``metadata.robokin.declare`` of
-    the instructor's source notebook) are imported from the student's kernel through the bridge
-    (:mod:`tools.grading.bridge.grader_side`): data copied, functions as proxies. A test cell's
-    outputs in the graded notebook are the grader kernel's (the student's own run of it is
-    discarded), so ``SaveAutoGrades`` scores what the grader saw. When a test fails,
+a **grader kernel** beside it (:mod:`grader_kernel`), for every chapter, runs each read-only cell (given
+    or test) of the assignment -- its text from nbgrader's gradebook, never from the submission -- in
+    order; before it runs, the answers it reads (names declared by answer cells,
+    ``metadata.robokin.declare`` of the instructor's source notebook) are imported from the student's
+    kernel through the bridge (:mod:`tools.grading.bridge.grader_side`): data copied, functions as
+    proxies. A test cell's outputs in the graded notebook are the grader kernel's (the student's own run
+    of it is discarded), so ``SaveAutoGrades`` scores what the grader saw. When a test fails,
     ``FailureNotes`` (``tools/grading/robokin_nbgrader/failure_notes.py``) writes the note above the
     traceback; after the last test ``robokin.check`` is asked about every answer it has a check for
-    (``checks.registered_pairs``). Those verdicts are computed in the grader kernel too: a verdict
-    never comes from the student's kernel. Answer cells that delegate to robokin's own solution are
-    listed for review by hand (:mod:`delegation`). Each grader kernel is a new process, forked from a
-    warm process that imported ipykernel and ``PRELOAD`` once per autograde run (:mod:`fork_server`;
+    (``checks.registered_pairs``). Those verdicts are computed in the grader kernel too: a verdict never
+    comes from the student's kernel. Answer cells that delegate to robokin's own solution are listed for
+    review by hand (:mod:`delegation`). Each grader kernel is a new process, forked from a warm process
+    that imported ipykernel and ``PRELOAD`` once per autograde run (:mod:`fork_server`;
     ``c.BridgedExecute.fork_server = False``: started anew, as a kernel spec's command, each time).
 
 ``BridgeReport`` (after ``AutograderReport``; :mod:`bridge_report`) adds to the report on top of the
@@ -37,14 +37,11 @@ import json
 import os
 import re
 import secrets
-import shutil
-import tempfile
 from pathlib import Path
 from typing import Any, cast
 
 import nbformat
 from jupyter_client.asynchronous import AsyncKernelClient
-from jupyter_client.connect import KernelConnectionInfo
 from jupyter_client.manager import AsyncKernelManager
 from jupyter_core.utils import run_sync
 from nbclient.exceptions import CellTimeoutError, DeadKernelError
@@ -56,6 +53,7 @@ from traitlets import Bool, Float, Unicode
 from traitlets.config.loader import DeferredConfig
 
 from tools.grading.bridge import delegation, fork_server
+from tools.grading.bridge.grader_kernel import PRELOAD, GraderKernel
 from tools.grading.bridge.grader_side import NOT_CALLED
 from tools.grading.robokin_nbgrader.cells import cell_label, robokin_metadata, task_of
 from tools.grading.robokin_nbgrader.checks import VERDICT_MARK, registered_pairs
@@ -63,119 +61,16 @@ from tools.grading.robokin_nbgrader.failure_notes import FailureNotes
 from tools.grading.robokin_nbgrader.grading_incidents import KERNEL_LOST, NOT_RUN
 from tools.grading.robokin_nbgrader.streams import JoinedStreamsClient
 from tools.grading.sandbox import KernelAtProcessCap, SandboxedKernelManager, bwrap_executable, sandbox_wanted
-from tools.kernel_sockets import AsyncPrivateSocketsKernelManager
 from tools.notebook_analysis import defined_names, free_names
 
 #: The repository (hidden from the sandboxed kernel: its notebooks hold the solutions).
 REPOSITORY = Path(__file__).resolve().parents[3]
 STDERR_NOTE = "[written to stderr; not counted as a failure]"
 IMPORT_MARK = "ROBOKIN-BRIDGE-IMPORT "
-#: Modules the grader kernel imports before any student code runs.
-PRELOAD = ("numpy", "scipy", "scipy.optimize", "scipy.linalg", "sympy", "matplotlib", "matplotlib.pyplot",
-           "robokin", "robokin.check", "robokin.check.grading", "robokin.parallel", "robokin.models",
-           "robokin.chains", "robokin.transforms", "robokin.motion", "robokin.formatting")
-#: ``gc.freeze()`` at the end of the grader kernel's set-up: the ~150,000 objects of ``PRELOAD``
-#: and the kernel (which live until the kernel ends) are left out of every later collection. The
-#: tests allocate a lot (answers decoded, robokin.check's samples, thousands of calls), and each
-#: older-generation collection walked all of them -- and, in a kernel forked from the fork
-#: server, wrote to every page they sit on, copying it. CPU in the grader kernel's collections
-#: (``gc.callbacks``) for a correct submission: chapter 3 0.27 -> 0.07 s (126 collections),
-#: chapter 2 0.17 -> 0.01 s. What the tests print and score does not change; a cycle of garbage
-#: made before the set-up ended is freed with the kernel instead of by a collection.
-FREEZE_AFTER_SETUP = True
 
 
 def _grade_id(cell) -> str | None:
     return cell.get("metadata", {}).get("nbgrader", {}).get("grade_id")
-
-
-class GraderKernel:
-    """A kernel of the grader's, in a private empty folder; runs instructor cells only.
-
-    With a ``server`` (:class:`fork_server.ForkServer`) the kernel is forked from it,
-    otherwise started as a new process. Either way its sockets are files in a
-    private folder (``kernel_sockets``), not TCP ports.
-    """
-
-    def __init__(self, timeout: int | None, log, server: fork_server.ForkServer | None = None) -> None:
-        self.folder = tempfile.mkdtemp(prefix="robokin-grader-")
-        self.nb = nbformat.v4.new_notebook()
-        self.server = server
-        manager = fork_server.ForkedKernelManager if server is not None else AsyncPrivateSocketsKernelManager
-        self.client = JoinedStreamsClient(self.nb, timeout=timeout, interrupt_on_timeout=True, allow_errors=True,
-                                     kernel_name="python3", record_timing=False, log=log,
-                                     resources={"metadata": {"path": self.folder}}, kernel_manager_class=manager)
-        self.started = False
-        #: cells run so far (``run`` and ``marked``): tells whether anything ran since a given moment
-        self.runs = 0
-
-    def start_kernel(self) -> None:
-        """Start the kernel (forked, or a new process) and its client; remove its connection file."""
-        client = self.client
-        client.km = client.create_kernel_manager()
-        if self.server is not None:   # then the client's kernel_manager_class is ForkedKernelManager
-            cast(fork_server.ForkedKernelManager, client.km).fork_server = self.server
-        client.start_new_kernel(cwd=self.folder)
-        client.start_new_kernel_client()
-        self.started = True
-        # The key of this kernel is in its connection file: remove the file, so that
-        # code running in the student's kernel (same user) cannot connect to it.
-        try:
-            os.remove(client.km.connection_file)
-        except OSError:
-            pass
-
-    def start(self, student_connection: KernelConnectionInfo, call_timeout: float) -> None:
-        self.start_kernel()
-        info = {k: (v.decode() if isinstance(v, bytes) else v) for k, v in student_connection.items()
-                if k in ("transport", "ip", "shell_port", "iopub_port", "stdin_port", "control_port",
-                         "hb_port", "key", "signature_scheme")}
-        setup = "\n".join([
-            "import sys as _sys",
-            "_sys.path[:] = [p for p in _sys.path if p not in ('', '.')]",
-            *[f"import {m}" for m in PRELOAD],
-            "from tools.grading.bridge import grader_side as _robokin_bridge",
-            f"_robokin_bridge.connect({info!r}, {float(call_timeout)!r})",
-            # the modules and the kernel made so far live as long as the kernel: out of the
-            # cycle collector's sight (:data:`FREEZE_AFTER_SETUP`)
-            *(["import gc as _gc", "_gc.freeze()", "del _gc"] if FREEZE_AFTER_SETUP else []),
-            "del _sys",
-        ])
-        cell = self.run(setup)
-        errors = [o for o in cell.outputs if o.output_type == "error"]
-        if errors:
-            raise RuntimeError(f"the grader kernel could not start the bridge: {errors[0].ename}: "
-                               f"{errors[0].evalue}")
-
-    def run(self, source: str):
-        self.runs += 1
-        cell = nbformat.v4.new_code_cell(source)
-        self.nb.cells.append(cell)
-        cell = self.client.execute_cell(cell, len(self.nb.cells) - 1, store_history=True)
-        for output in cell.outputs:   # nbclient interrupted a cell that ran too long
-            if output.get("output_type") == "error" and output.get("ename") == "KeyboardInterrupt":
-                output["ename"] = "CellTimeoutError"
-                output["evalue"] = (f"the test ran longer than the time limit ({self.client.timeout} s) "
-                                    "and was stopped")
-        return cell
-
-    def marked(self, source: str, mark: str):
-        """Run ``source``; the JSON of its last stdout line that starts with ``mark``."""
-        cell = self.run(source)
-        text = "".join(o.get("text", "") for o in cell.outputs if o.get("output_type") == "stream")
-        found = None
-        for line in text.splitlines():
-            if line.startswith(mark):
-                found = json.loads(line[len(mark):])
-        return found, cell
-
-    def stop(self) -> None:
-        if self.started:
-            try:
-                self.client._cleanup_kernel()
-            except Exception:  # noqa: BLE001 - shutting down; nothing left to grade
-                pass
-        shutil.rmtree(self.folder, ignore_errors=True)
 
 
 #: Settings of ``BridgedExecute`` that are gone, and why an old ``nbgrader_config.py`` may drop them.
