@@ -283,3 +283,56 @@ def test_a_function_of_a_module_called_as_a_statement_changes_nothing():
     reads = trace(cells)[-1]
     assert reads["np"].roots == frozenset() and reads["la"].roots == frozenset(), reads
     assert reads["found"].roots == {"modes"}, reads
+
+
+_MEMOS = ("_imported_modules", "_top_level", "_with_mutations")
+
+
+def _failure_note(nb) -> tuple[list[str], list[tuple[str, str]], dict]:
+    """The note of the leg notebook's failing Task 2 test, its questions to the kernel and the report."""
+    from tools.grading.robokin_nbgrader import FailureNotes
+
+    index = next(i for i, c in enumerate(nb.cells) if c.metadata.get("nbgrader", {}).get("grade_id") == "task2_test1")
+    failure = nbformat.from_dict(_error("AssertionError", 5, 4))
+    report: dict[str, Any] = {"pairs": [], "explained": {}}
+    notes = FailureNotes(nb, index, report)
+    pairs = notes.pairs(failure)
+    return notes.lines(failure, []), pairs, report
+
+
+def test_the_memoised_parses_give_the_notes_of_the_uncached_ones(monkeypatch):
+    """Each cell source is parsed once (memoised by its text alone): the note, its questions to the
+    kernel and the report are those of the functions without their memo, cold and warm alike."""
+    from tools.grading.robokin_nbgrader import failure_notes
+
+    for memo in _MEMOS:
+        getattr(failure_notes, memo).cache_clear()
+    cold = _failure_note(_leg_notebook())
+    warm = _failure_note(_leg_notebook())
+    assert failure_notes._top_level.cache_info().hits > 0 and failure_notes._with_mutations.cache_info().hits > 0
+    with monkeypatch.context() as patch:
+        for memo in _MEMOS:
+            patch.setattr(failure_notes, memo, getattr(failure_notes, memo).__wrapped__)
+        uncached = _failure_note(_leg_notebook())
+    assert cold == warm == uncached, (cold, warm, uncached)
+    assert any("because of `R_a`, `R_b` (Task 1)" in line for line in cold[0]), cold[0]
+
+
+def test_memoised_mutations_depend_on_the_statement_and_the_modules_only():
+    """A statement read once with ``np`` a module and once with ``np`` the student's list: the
+    memo, keyed by the statement and the modules, still finds the change in the second notebook;
+    a cell read again is split into the same statements, and one that does not parse stays whole."""
+    from tools.grading.robokin_nbgrader.failure_notes import _statements, trace
+
+    with_module = [("code", "import numpy as np"), ("answer", "modes = [3, 1]"), ("code", "np.sort(modes)"),
+                   ("code", "np")]
+    with_list = [("answer", "np = [2, 0]"), ("answer", "modes = [3, 1]"), ("code", "np.sort(modes)"),
+                 ("code", "np")]
+    for _ in range(2):   # cold, then from the memo
+        assert trace(with_module)[-1]["np"].roots == frozenset()
+        assert trace(with_list)[-1]["np"].roots == {"np", "modes"}
+    appended = [("answer", "q_end = 1.0"), ("code", "found = []\nfound.append(q_end)"), ("code", "found")]
+    assert trace(appended)[-1]["found"].roots == trace(appended)[-1]["found"].roots == {"q_end"}
+    two = "a = 1\nb = (a,\n     2)"
+    assert _statements(two) == _statements(two) == ["a = 1", "b = (a,\n     2)"]
+    assert _statements("a = (") == _statements("a = (") == ["a = ("]

@@ -7,6 +7,7 @@ kernel) says about those answers.
 
 from __future__ import annotations
 
+import functools
 import re
 import textwrap
 
@@ -298,8 +299,9 @@ def trace(cells: list[tuple[str, str]]) -> list[dict[str, Binding]]:
     modules = _module_names(code for kind, code in cells if kind in ("answer", "code"))
     for index, (kind, code) in enumerate(cells):
         parts = [(kind, code)]
-        if kind in ("answer", "code") and _parses(code):   # a cell that does not parse stays whole
-            parts = [("code", _with_mutations(statement, modules)) for statement in _statements(code)]
+        statements = _top_level(code) if kind in ("answer", "code") else None
+        if statements is not None:   # a cell that does not parse stays whole
+            parts = [("code", _with_mutations(statement, modules)) for statement in statements]
             # the names an answer cell binds are the student's answers, each its own root
             parts += [("answer", f"{name} = {name}") for name in defined_names(code) if kind == "answer"]
         for part in parts or [("code", "")]:
@@ -321,27 +323,43 @@ MUTATING_METHODS = frozenset({"append", "appendleft", "extend", "insert", "updat
                               "pop", "remove", "discard", "clear", "sort", "reverse", "fill"})
 
 
+#: Entries of each memo of this module. ``trace`` runs four times or more for every failing test,
+#: over the same cells: each cell and statement is parsed once. A memo is keyed by source text alone
+#: and holds immutable results of pure functions (as ``notebook_analysis``'s), so one submission's
+#: memo serves the next in an autograde process and nothing else of it reaches their notes; a
+#: chapter has a few hundred statements.
+MEMO_SIZE = 8192
+
+
 def _module_names(sources) -> frozenset[str]:
     """The names that ``import x`` or ``import x as y`` binds in any of ``sources``: modules."""
+    return frozenset().union(*(_imported_modules(code) for code in sources))
+
+
+@functools.lru_cache(maxsize=MEMO_SIZE)
+def _imported_modules(code: str) -> frozenset[str]:
+    """:func:`_module_names` of one source, memoised per source string: ``trace`` runs several
+    times for every failing test, over the same cells."""
     import ast
 
+    try:
+        tree = ast.parse(code)
+    except SyntaxError:
+        return frozenset()
     names: set[str] = set()
-    for code in sources:
-        try:
-            tree = ast.parse(code)
-        except SyntaxError:
-            continue
-        for node in ast.walk(tree):
-            if isinstance(node, ast.Import):
-                names.update(alias.asname or alias.name.split(".")[0] for alias in node.names)
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            names.update(alias.asname or alias.name.split(".")[0] for alias in node.names)
     return frozenset(names)
 
 
+@functools.lru_cache(maxsize=MEMO_SIZE)
 def _with_mutations(statement: str, modules: frozenset[str] = frozenset()) -> str:
     """``statement`` and, for every name it reads and changes in place (a method of
     ``MUTATING_METHODS`` called for its effect, an item or attribute assigned), a binding of that name that reads
     everything the statement reads: the trace then sees the change. A function of a module called
-    as a statement (``np.sort(x)``, ``modules`` holds ``np``) changes no module."""
+    as a statement (``np.sort(x)``, ``modules`` holds ``np``) changes no module. Memoised per
+    ``(statement, modules)``: a pure function of the two."""
     import ast
 
     try:
@@ -378,26 +396,25 @@ def _with_mutations(statement: str, modules: frozenset[str] = frozenset()) -> st
     return statement + "\n" + "\n".join(f"{name} = ({read},)" for name in changed)
 
 
-def _parses(code: str) -> bool:
-    import ast
-
-    try:
-        ast.parse(code)
-    except SyntaxError:
-        return False
-    return True
-
-
 def _statements(code: str) -> list[str]:
-    """The top-level statements of ``code`` (the lines before the failing one), as sources."""
+    """The top-level statements of ``code`` (the lines before the failing one), as sources;
+    ``[code]`` if it does not parse."""
+    statements = _top_level(code)
+    return [code] if statements is None else list(statements)
+
+
+@functools.lru_cache(maxsize=MEMO_SIZE)
+def _top_level(code: str) -> tuple[str, ...] | None:
+    """The top-level statements of ``code`` as sources, ``None`` if it does not parse;
+    memoised per source string (``trace`` splits the same cells for every failing test)."""
     import ast
 
     try:
         tree = ast.parse(code)
     except SyntaxError:
-        return [code]
+        return None
     lines = code.splitlines()
-    return ["\n".join(lines[s.lineno - 1: s.end_lineno]) for s in tree.body]
+    return tuple("\n".join(lines[s.lineno - 1: s.end_lineno]) for s in tree.body)
 
 
 def _bindings(kinds: list[tuple[str, str]]):
