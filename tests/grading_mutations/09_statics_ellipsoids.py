@@ -52,6 +52,10 @@ MUTATIONS = {
          "force_ellipse = (lambda f: lambda J: (f(J)[0][::-1], f(J)[1][:, ::-1]))(force_ellipse)"),
         ("the inverted lengths on the velocity ellipse's axes in their order",
          "force_ellipse = (lambda f: lambda J: (f(J)[0], f(J)[1][:, ::-1]))(force_ellipse)"),
+        ("force_from_velocity: the velocity ellipse unchanged",
+         "force_from_velocity = lambda radii_v, axes_v: (radii_v, axes_v)"),
+        ("force_from_velocity: 1/sigma in the velocity ellipse's order",
+         "force_from_velocity = lambda radii_v, axes_v: (1 / np.asarray(radii_v), axes_v)"),
     ],
     "task4_test1": [
         ("det(J J^T) without the square root",
@@ -169,6 +173,13 @@ def velocity_ellipse(J):
 # written another way: |J^T F|^2 = F^T (J J^T) F; the semi-axes are 1/sqrt of its eigenvalues
 def force_ellipse(J):
     values, vectors = np.linalg.eigh(np.asarray(J, dtype=float) @ np.asarray(J, dtype=float).T)
+    return 1.0 / np.sqrt(values), vectors
+
+
+# and from the velocity ellipse alone: rebuild J J^T = A diag(r^2) A^T, then the same
+def force_from_velocity(radii_v, axes_v):
+    axes_v = np.asarray(axes_v, dtype=float)
+    values, vectors = np.linalg.eigh(axes_v @ np.diag(np.asarray(radii_v, dtype=float) ** 2) @ axes_v.T)
     return 1.0 / np.sqrt(values), vectors
 """),
     "task4_answer1": ("the product of the singular values, the closed form as |det J|", """
