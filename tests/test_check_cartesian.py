@@ -200,12 +200,13 @@ def test_course_convention_is_the_reference():
     """The course's YPR reading passes; the same numbers read as (roll, pitch, yaw) do not."""
     from robokin.transforms import rotation_from_rpy
 
-    yaw, pitch, roll = cart.TOOL_YPR
-    assert cart.tool_frame(_tf(rotation_from_rpy(roll, pitch, yaw), cart.TOOL_OFFSET), quiet=True).passed
-    assert np.allclose(rotation_from_rpy(*cart.TOOL_RPY), rotx(np.pi / 10))
-    yaw, pitch, roll = cart.GOAL_YPR
-    assert cart.goal_frame(_tf(rotation_from_rpy(roll, pitch, yaw), cart.GOAL_POSITION), quiet=True).passed
-    swapped = cart.goal_frame(_tf(rotation_from_rpy(*cart.GOAL_YPR), cart.GOAL_POSITION), quiet=True)
+    yaw, pitch, roll = cart._TOOL_YPR
+    assert cart.tool_frame(_tf(rotation_from_rpy(roll, pitch, yaw), cart._TOOL_OFFSET), quiet=True).passed
+    assert np.allclose(rotation_from_rpy(*cart._TOOL_YPR[::-1]), rotx(np.pi / 10))
+    assert not {"TOOL_YPR", "TOOL_RPY", "GOAL_YPR", "GOAL_RPY"} & set(dir(cart))
+    yaw, pitch, roll = cart._GOAL_YPR
+    assert cart.goal_frame(_tf(rotation_from_rpy(roll, pitch, yaw), cart._GOAL_POSITION), quiet=True).passed
+    swapped = cart.goal_frame(_tf(rotation_from_rpy(*cart._GOAL_YPR), cart._GOAL_POSITION), quiet=True)
     assert not swapped.passed and swapped.diagnosis == "rpy_order"
     assert "(yaw, pitch, roll)" in swapped.message
 

@@ -61,13 +61,7 @@ from robokin.transforms import (
 )
 
 __all__ = [
-    "GOAL_POSITION",
-    "GOAL_RPY",
-    "GOAL_YPR",
     "N_JOINTS",
-    "TOOL_OFFSET",
-    "TOOL_RPY",
-    "TOOL_YPR",
     "control_law",
     "goal_frame",
     "orientation_error",
@@ -89,15 +83,13 @@ DELEGATION = {
 }
 #: Number of joints of the course's arm.
 N_JOINTS = 7
-#: The tool's orientation as the course writes it, (yaw, pitch, roll) in rad, and its offset in metres (frame E).
-TOOL_YPR = (0.0, 0.0, math.pi / 10)
-TOOL_OFFSET = (0.2, 0.0, 0.0)
-#: The goal's orientation as the course writes it, (yaw, pitch, roll) in rad, and its origin in metres (frame B).
-GOAL_YPR = (-3.02, -0.40, -1.33)
-GOAL_POSITION = (-0.14, -0.85, 0.6)
-#: The same two orientations in robokin's argument order (roll, pitch, yaw).
-TOOL_RPY = TOOL_YPR[::-1]
-GOAL_RPY = GOAL_YPR[::-1]
+# The tool's orientation as the course writes it, (yaw, pitch, roll) in rad, and its offset
+# in metres (frame E); the goal's orientation and its origin in metres (frame B). Private:
+# the student reads them from the sheet in a task, so help() of this module does not list them.
+_TOOL_YPR = (0.0, 0.0, math.pi / 10)
+_TOOL_OFFSET = (0.2, 0.0, 0.0)
+_GOAL_YPR = (-3.02, -0.40, -1.33)
+_GOAL_POSITION = (-0.14, -0.85, 0.6)
 
 
 @lru_cache(maxsize=1)
@@ -118,11 +110,11 @@ def _ypr(yaw: float, pitch: float, roll: float) -> np.ndarray:
 
 
 def _T_ET() -> np.ndarray:
-    return _transform(_ypr(*TOOL_YPR), TOOL_OFFSET)
+    return _transform(_ypr(*_TOOL_YPR), _TOOL_OFFSET)
 
 
 def _T_BG() -> np.ndarray:
-    return _transform(_ypr(*GOAL_YPR), GOAL_POSITION)
+    return _transform(_ypr(*_GOAL_YPR), _GOAL_POSITION)
 
 
 def _joint_variables() -> list[Variable]:
@@ -148,8 +140,8 @@ _SWAPPED_TOOL = (
 
 
 def _tool_frame_mistakes():
-    R, p = _ypr(*TOOL_YPR), np.array(TOOL_OFFSET)
-    R_swapped = _ypr(*TOOL_YPR[::-1])
+    R, p = _ypr(*_TOOL_YPR), np.array(_TOOL_OFFSET)
+    R_swapped = _ypr(*_TOOL_YPR[::-1])
     return [
         alternatives("offset_in_cm", [(lambda x: _transform(R, p / 100.0), (
             "the offset of {name} is 0.002 m: 0.2 was read as centimetres. The robot's link "
@@ -182,8 +174,8 @@ tool_frame = exercise(_CHAPTER, "tool_frame", Check(
 
 # ------------------------------------------------------------------ goal frame (a constant)
 def _goal_frame_mistakes():
-    p = np.array(GOAL_POSITION)
-    y, pi_, r = GOAL_YPR
+    p = np.array(_GOAL_POSITION)
+    y, pi_, r = _GOAL_YPR
     return [
         alternatives("rpy_order", [(lambda x: _transform(_ypr(r, pi_, y), p), (
             "{name} reads η_G = (−3.02, −0.40, −1.33) as (roll, pitch, yaw): your rotation is "
@@ -203,7 +195,7 @@ def _goal_frame_mistakes():
                 "= Rz(−3.02) Ry(−0.40) Rx(−1.33)."
             )),
         ]),
-        alternatives("degrees_input", [(lambda x: _transform(_ypr(*np.radians(GOAL_YPR)), p), (
+        alternatives("degrees_input", [(lambda x: _transform(_ypr(*np.radians(_GOAL_YPR)), p), (
             "the angles of {name} were taken as DEGREES: −3.02, −0.40, −1.33 are radians."
         ))]),
         inverse_transform(),
@@ -457,7 +449,7 @@ tool_jacobian = exercise(_CHAPTER, "tool_jacobian", MatrixArgumentsCheck(
 def _tool_jacobian_of_q_parts(x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The arm's J_E(q) (6×7), the offset ᴮr_ET = ᴮR_E(q) ₑr_ET and the tool's ₑr_ET (3,) at x."""
     q = np.asarray(x[:N_JOINTS], dtype=float)
-    offset = np.array(TOOL_OFFSET)
+    offset = np.array(_TOOL_OFFSET)
     return _robot().jacobian(q), _robot().fk(q)[:3, :3] @ offset, offset
 
 
