@@ -379,16 +379,19 @@ def check_calls(code: str, aliases: dict[str, str]) -> list[tuple[str, str]]:
             return ".".join(parts[1:3]) if len(parts) == 3 else None
         return f"{base}.{parts[1]}" if len(parts) == 2 else None
 
-    for stmt in tree.body:
+    def negative(stmt: ast.stmt) -> bool:
+        """Whether ``stmt`` feeds a deliberately wrong answer: it says so in a comment directly
+        above it (a formatter moves a long trailing ``# deliberately wrong`` there), or it
+        compares the outcome with a diagnosis or negates it."""
         first = stmt.lineno
-        # comments directly above belong to the statement (a formatter moves a long
-        # trailing ``# deliberately wrong`` there)
         while first > 1 and lines[first - 2].lstrip().startswith("#"):
             first -= 1
         above = "\n".join(lines[first - 1: stmt.lineno - 1])
         text = "\n".join(lines[stmt.lineno - 1: stmt.end_lineno])
-        negative = ("diagnosis" in text or re.search(r"\bnot\b", text) is not None
-                    or "wrong" in above.lower())
+        return "diagnosis" in text or re.search(r"\bnot\b", text) is not None or "wrong" in above.lower()
+
+    owner = _innermost_statements(tree)
+    for stmt in tree.body:
         for node in ast.walk(stmt):
             if not (isinstance(node, ast.Call) and node.args):
                 continue
@@ -396,7 +399,9 @@ def check_calls(code: str, aliases: dict[str, str]) -> list[tuple[str, str]]:
             if name is None:
                 continue
             call_text = "\n".join(lines[node.lineno - 1: node.end_lineno])  # a formatter may move the comment
-            if "wrong" in call_text.lower() or negative:
+            # judged by the statement that holds the call: inside ``with your_answers(...):``
+            # a call is judged by its own line, as at the top level of a cell
+            if "wrong" in call_text.lower() or negative(owner[node]):
                 continue
             arg = node.args[0]
             if isinstance(arg, ast.Lambda) and not _plain_wrapper(arg):
@@ -405,6 +410,21 @@ def check_calls(code: str, aliases: dict[str, str]) -> list[tuple[str, str]]:
             if segment:
                 out.append((name, segment))
     return out
+
+
+def _innermost_statements(tree: ast.Module) -> dict[ast.Call, ast.stmt]:
+    """The innermost statement that holds each call of ``tree`` (a call in a compound statement's
+    header, e.g. ``with check(...):``, belongs to the compound statement)."""
+    owner: dict[ast.Call, ast.stmt] = {}
+
+    def visit(node: ast.AST, statement: ast.stmt | None) -> None:
+        if isinstance(node, ast.Call) and statement is not None:
+            owner[node] = statement
+        for child in ast.iter_child_nodes(node):
+            visit(child, child if isinstance(child, ast.stmt) else statement)
+
+    visit(tree, None)
+    return owner
 
 
 def _plain_wrapper(node: ast.Lambda) -> bool:
