@@ -240,7 +240,7 @@ def test_help_shows_no_answer():
     (Task 1) are answers, so they stay private."""
     import pydoc
 
-    text = pydoc.render_doc(cb, renderer=pydoc.plaintext)
+    text = pydoc.plain(pydoc.render_doc(cb))
     data = text[text.index("DATA"):]
     for answer in ("CENTRE", "JOINT2_OFFSET"):
         assert answer not in data and answer not in cb.__all__
