@@ -231,13 +231,57 @@ def test_slerp_nan_for_equal_rotations():
     assert result.diagnosis == "nan" and "nearly" in result.message
 
 
-@pytest.mark.parametrize("answer, code", [
-    (np.array([[6.0, 1.5], [10 / math.sqrt(3), 1.875]]), "columns_swapped"),
-    (np.array([[1.875, 10 / math.sqrt(3)], [1.5, 6.0]]), "rows_swapped"),
-    (np.array([[1.5, 6.0], [1.875, 0.0]]), "quintic_acceleration"),
+PEAKS = np.array([[1.5, 6.0], [1.875, 10 / math.sqrt(3)]])
+
+
+def peaks_with(row, column, value):
+    wrong = PEAKS.copy()
+    wrong[row, column] = value
+    return wrong
+
+
+@pytest.mark.parametrize("answer, code, words", [
+    (PEAKS[:, ::-1], "columns_swapped", "columns swapped"),
+    (PEAKS[::-1], "rows_swapped", "rows swapped"),
+    # the quintic's acceleration at τ = 1/2, where the speed peaks: 60 τ(1 − τ)(1 − 2τ) = 0
+    (peaks_with(1, 1, 0.0), "quintic_acceleration", "τ = 1/2"),
+    # the cubic's acceleration at τ = 1/2: 6 − 12τ = 0
+    (peaks_with(0, 1, 0.0), "acceleration_at_middle", "the ends"),
+    # the signed acceleration where each law brakes: −6 at τ = 1; −10/√3 at τ = 1/2 + √3/6
+    (peaks_with(0, 1, -6.0), "acceleration_sign", "brakes (τ = 1)"),
+    (peaks_with(1, 1, -10 / math.sqrt(3)), "acceleration_sign", "largest size"),
+    # the quintic's acceleration at τ = 1/4: 60 · (1/4)(3/4)(1/2)
+    (peaks_with(1, 1, 5.625), "acceleration_at_quarter", "τ = 1/4"),
+    # the velocity factor of the other law, in either row
+    (peaks_with(0, 0, 1.875), "speed_other_law", "quintic law's speed factor"),
+    (peaks_with(1, 0, 1.5), "speed_other_law", "cubic law's speed factor"),
+    (peaks_with(0, 1, 10 / math.sqrt(3)), "acceleration_other_law", "quintic law's acceleration"),
+    # the mean speed D/T in both rows: both entries named
+    (np.array([[1.0, 6.0], [1.0, 10 / math.sqrt(3)]]), "mean_speed", "(2, 1)"),
+    # the peaks of the student's own laws at T = 2 s: ṡ = c_v/T, s̈ = c_a/T²
+    (PEAKS * [1 / 2, 1 / 4], "scaled", "T = 2 s"),
+    # ... and of a move of D = 3 in T = 0.5 s
+    (PEAKS * [3 / 0.5, 3 / 0.25], "scaled", "D = 3 in T = 0.5 s"),
 ])
-def test_peak_factor_mistakes_are_diagnosed(answer, code):
-    assert chk.peak_factors(answer, quiet=True).diagnosis == code
+def test_peak_factor_mistakes_are_diagnosed(answer, code, words):
+    result = chk.peak_factors(answer, quiet=True)
+    assert result.diagnosis == code and words in result.message
+
+
+@pytest.mark.parametrize("answer", [
+    np.array([[1.0, 2.0], [3.0, 4.0]]),            # no entry right
+    peaks_with(0, 0, 1.6),                         # one entry wrong, no typical value
+    np.array([[1.0, 6.0], [1.7, 10 / math.sqrt(3)]]),  # one entry explained, the other not
+])
+def test_peak_factors_without_a_typical_mistake_say_where(answer):
+    result = chk.peak_factors(answer, quiet=True)
+    assert result.diagnosis == "mismatch" and "should be" in result.message
+
+
+def test_peak_factors_of_other_forms():
+    assert chk.peak_factors(PEAKS.tolist(), quiet=True).passed
+    assert chk.peak_factors(PEAKS * (1 + 1e-8), quiet=True).passed
+    assert chk.peak_factors(PEAKS[0], quiet=True).diagnosis == "shape"
 
 
 def test_ptp_duration_mistakes_are_diagnosed():

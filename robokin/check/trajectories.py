@@ -28,7 +28,8 @@ reference; a wrong answer is explained when one of the chapter's typical mistake
 it (a derivative in the wrong variable, a case of the trapezoid missed, the limits swapped, the
 wrong joint setting the pace, a velocity that jumps at a via point, the ends not at rest, the
 durations mixed up, slerp the wrong way round or NaN for nearly equal rotations, degrees for
-radians).
+radians; a peak factor of the other law, signed, read at the wrong τ, or the peaks of a motion
+other than D = 1, T = 1).
 """
 
 from __future__ import annotations
@@ -152,23 +153,119 @@ quintic_scaling = exercise(_CHAPTER, "quintic_scaling", _scaling_check("quintic"
 
 #: peak speed c_v D/T and peak acceleration c_a D/T² of the cubic and quintic laws
 _PEAKS = np.array([[1.5, 6.0], [15.0 / 8.0, 10.0 / math.sqrt(3.0)]])
+_LAWS = ("cubic", "quintic")
+_FACTORS = ("c_v", "c_a")
+#: where the quintic's acceleration is largest in size: the jerk d³s/dτ³ vanishes there
+_QUINTIC_JERK_ZERO = 0.5 - math.sqrt(3.0) / 6.0
 
-peak_factors = exercise(_CHAPTER, "peak_factors", Check(
+
+def _rate(law: str, order: int, tau: float) -> float:
+    """d^order s/dτ^order of ``law`` at ``tau`` (order 1 or 2), from the laws written out."""
+    return float(_law(np.asarray(tau), law)[order])
+
+
+def _peak_entry_mistakes(row: int, column: int) -> list[tuple[str, float, str]]:
+    """The typical wrong values of one entry of peak_factors: (code, value, message), rebuilt
+    from the laws; ``{name}`` is replaced by the answer's name."""
+    law, other = _LAWS[row], _LAWS[1 - row]
+    entry = f"the {law}'s {_FACTORS[column]} (entry ({row + 1}, {column + 1}) of {{name}})"
+    if column == 0:
+        return [
+            ("speed_other_law", _rate(other, 1, 0.5), (
+                f"{entry} is the {other} law's speed factor: the {law}'s own ds/dτ peaks at "
+                "τ = 1/2.")),
+            ("mean_speed", 1.0, (
+                f"{entry} is the mean speed D/T (c_v = 1): the {law} starts and ends at rest, so its "
+                "speed in the middle is above the mean; c_v is the largest ds/dτ, at τ = 1/2.")),
+        ]
+    braking = 1.0 if law == "cubic" else 1.0 - _QUINTIC_JERK_ZERO
+    mistakes = [
+        ("acceleration_sign", _rate(law, 2, braking), (
+            f"{entry} is negative, the acceleration where the {law} brakes (τ = {braking:.4g}): c_a is "
+            "the largest size |s̈|, the same when it speeds up and when it brakes.")),
+        ("acceleration_other_law", _PEAKS[1 - row, 1], (
+            f"{entry} is the {other} law's acceleration factor.")),
+    ]
+    if law == "cubic":
+        mistakes.append(("acceleration_at_middle", _rate(law, 2, 0.5), (
+            f"{entry} is the cubic's acceleration at τ = 1/2, where the speed peaks and s̈ = 0: "
+            "d²s/dτ² = 6 − 12τ is largest in size at the ends, τ = 0 and τ = 1.")))
+    else:
+        mistakes.append(("quintic_acceleration", _rate(law, 2, 0.5), (
+            f"{entry} is zero, the quintic's acceleration at τ = 1/2 (where its speed peaks) and at "
+            "the ends: its largest acceleration is where the jerk d³s/dτ³ vanishes, at "
+            "τ = 1/2 ∓ √3/6.")))
+        mistakes.append(("acceleration_at_quarter", _rate(law, 2, 0.25), (
+            f"{entry} is the quintic's acceleration at τ = 1/4, halfway to the speed's peak: it is "
+            "largest where the jerk d³s/dτ³ vanishes, at τ = 1/2 ∓ √3/6.")))
+    return mistakes
+
+
+def _scaled_peaks(answer: np.ndarray) -> tuple[float, float] | None:
+    """(D, T) when ``answer`` is the peak speeds c_v D/T and accelerations c_a D/T² of a
+    motion other than D = 1, T = 1 (the factors read off at that motion), else None."""
+    speed, acceleration = answer[0] / _PEAKS[0]
+    if not (speed > 0 and acceleration > 0):
+        return None
+    duration = speed / acceleration             # D/T over D/T²
+    distance = speed * duration
+    if np.allclose([distance, duration], 1.0, rtol=1e-6):
+        return None
+    scaled = _PEAKS * np.array([distance / duration, distance / duration**2])
+    return (distance, duration) if np.allclose(answer, scaled, atol=1e-8, rtol=1e-6) else None
+
+
+def _peak_cause(values: np.ndarray, name: str) -> tuple[str, str] | None:
+    """(code, message) of the typical mistakes that reproduce the wrong factors ``values`` (2, 2):
+    the whole array's (rows or columns swapped, the peaks of a motion other than D = 1, T = 1), else
+    each wrong entry's, the code of the first (row by row); None when a wrong entry has no typical
+    mistake that explains it."""
+    wrong = ~np.isclose(values, _PEAKS, atol=1e-8, rtol=1e-6)
+    for code, swapped, text in (
+            ("rows_swapped", _PEAKS[::-1], "the rows swapped: row 0 is the cubic law, row 1 the quintic"),
+            ("columns_swapped", _PEAKS[:, ::-1], "the columns swapped: column 0 is the speed factor "
+                                                 "c_v, column 1 the acceleration factor c_a")):
+        if np.allclose(values, swapped, atol=1e-8, rtol=1e-6):
+            return code, f"{name} has {text}."
+    scaled = _scaled_peaks(values)
+    if scaled is not None:
+        distance, duration = scaled
+        return "scaled", (
+            f"{name} holds the peak speed and acceleration of a motion of D = {distance:.4g} in "
+            f"T = {duration:.4g} s: the factors are per unit of τ = t/T and of D, c_v = "
+            "(T/D) max|ṡ| and c_a = (T²/D) max|s̈|.")
+    causes = []
+    for row, column in np.argwhere(wrong):
+        found = [(code, message.format(name=name))
+                 for code, value, message in _peak_entry_mistakes(int(row), int(column))
+                 if math.isclose(values[row, column], value, rel_tol=1e-6, abs_tol=1e-8)]
+        if not found:
+            return None     # an entry no typical mistake explains: the mismatch message says more
+        causes.append(found[0])
+    return causes[0][0], " ".join(message[:1].upper() + message[1:] for _, message in causes)
+
+
+class _PeakFactorsCheck(Check):
+    """The factors (2, 2); a wrong one is explained by the whole array's mistakes or by the
+    typical wrong value of the entry that differs first."""
+
+    def evaluate(self, answer: Any) -> CheckResult:
+        result = super().evaluate(answer)
+        if result.passed or result.diagnosis != "mismatch":
+            return result
+        try:
+            values = np.asarray(answer, dtype=float)
+        except (TypeError, ValueError):      # not an array of numbers (a function, a sympy matrix)
+            return result
+        cause = _peak_cause(values, self.name) if values.shape == (2, 2) else None
+        if cause is None:
+            return result
+        return self._fail(cause[0], cause[1], result.samples)
+
+
+peak_factors = exercise(_CHAPTER, "peak_factors", _PeakFactorsCheck(
     name="peak_factors",
     reference=lambda x: _PEAKS,
-    diagnoses=[
-        alternatives("rows_swapped", [(lambda x: _PEAKS[::-1], (
-            "{name} has the rows swapped: row 0 is the cubic law, row 1 the quintic."
-        ))]),
-        alternatives("columns_swapped", [(lambda x: _PEAKS[:, ::-1], (
-            "{name} has the columns swapped: column 0 is the speed factor c_v, column 1 the "
-            "acceleration factor c_a."
-        ))]),
-        alternatives("quintic_acceleration", [(lambda x: np.array([[1.5, 6.0], [15.0 / 8.0, 0.0]]), (
-            "the quintic's acceleration is zero at τ = 1/2 (where its speed peaks): its largest "
-            "acceleration is where the jerk d³s/dτ³ vanishes, at τ = 1/2 ∓ √3/6."
-        ))]),
-    ],
     hint="c_v = max ds/dτ and c_a = max |d²s/dτ²| over τ in [0, 1]: ṡ peaks where s̈ = 0, "
          "s̈ at an end or where the jerk vanishes.",
     doc="Check peak_factors (2, 2): rows cubic, quintic; columns c_v, c_a with peak speed c_v D/T and "

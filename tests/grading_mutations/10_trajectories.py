@@ -45,6 +45,8 @@ MUTATIONS = {
         ("the rows swapped", "peak_factors = np.asarray(peak_factors)[::-1]"),
         ("the quintic's acceleration read at tau = 1/2 (zero)",
          "peak_factors = np.array([[1.5, 6.0], [15 / 8, 0.0]])"),
+        ("the peaks of the laws at T = 2 s, not the factors",
+         "peak_factors = np.asarray(peak_factors) * [1 / 2, 1 / 4]"),
     ],
     "task2_test1": [
         ("the triangular case missed (a negative cruise time)",
