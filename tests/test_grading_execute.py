@@ -15,14 +15,23 @@ from pathlib import Path
 
 import pytest
 
-pytest.importorskip("nbgrader", reason="nbgrader is not installed: run `make test` (installs requirements.txt)")
-
 from traitlets.config import Config, Configurable
 from traitlets.config.loader import KVArgParseConfigLoader, PyFileConfigLoader
 
-from tools.grading.bridge.execute import FORMER_NAMES, RETIRED_SETTINGS, BridgedExecute
+from support import installed
+
+installed.require("nbgrader", "nbgrader is not installed: run `make test` (installs requirements.txt)")
 
 ROOT = Path(__file__).resolve().parents[1]
+
+
+@pytest.fixture
+def bridge_execute():
+    """``tools.grading.bridge.execute``, imported when a test runs: it imports nbgrader (1.3 CPU-s),
+    which collecting this module, in every pytest worker of a run, need not."""
+    from tools.grading.bridge import execute
+
+    return execute
 
 
 def _warnings(caplog) -> list[str]:
@@ -30,11 +39,11 @@ def _warnings(caplog) -> list[str]:
 
 
 @pytest.mark.parametrize("value", [["*"], ["01_leg_kinematics"], []])
-def test_an_old_chapters_setting_is_a_warning_naming_it(value, caplog):
+def test_an_old_chapters_setting_is_a_warning_naming_it(value, caplog, bridge_execute):
     """``c.BridgedExecute.chapters`` of an older nbgrader_config.py: every chapter is graded through
     the bridge now; the instructor is told the setting is ignored and may go, not a grading error."""
     with caplog.at_level(logging.WARNING):
-        execute = BridgedExecute(config=Config({"BridgedExecute": {"chapters": value}}))
+        execute = bridge_execute.BridgedExecute(config=Config({"BridgedExecute": {"chapters": value}}))
     assert not hasattr(execute, "chapters")
     warnings = _warnings(caplog)
     assert any(w.startswith("c.BridgedExecute.chapters is no longer needed and is ignored: every chapter is "
@@ -44,7 +53,8 @@ def test_an_old_chapters_setting_is_a_warning_naming_it(value, caplog):
 
 @pytest.mark.parametrize("how", ["config", "parent", "command line"])
 @pytest.mark.parametrize(("name", "value", "default"), [("sandbox", False, True), ("viewer", "plotly", "matplotlib")])
-def test_a_setting_under_the_former_name_still_applies_and_names_the_new_one(how, name, value, default, caplog):
+def test_a_setting_under_the_former_name_still_applies_and_names_the_new_one(how, name, value, default, caplog,
+                                                                             bridge_execute):
     """``c.RobokinExecute.sandbox = False`` of an older configuration (nbgrader_config.py, given to the
     executor or to the exporter that makes it, or ``--RobokinExecute.sandbox=False`` on nbgrader's
     command line, whose value is a string until a trait reads it) still turns the sandbox off."""
@@ -53,19 +63,19 @@ def test_a_setting_under_the_former_name_still_applies_and_names_the_new_one(how
     else:
         config = Config({"RobokinExecute": {name: value}})
     with caplog.at_level(logging.WARNING):
-        execute = (BridgedExecute(parent=Configurable(config=config)) if how == "parent"
-                   else BridgedExecute(config=config))
+        execute = (bridge_execute.BridgedExecute(parent=Configurable(config=config)) if how == "parent"
+                   else bridge_execute.BridgedExecute(config=config))
     assert getattr(execute, name) == value != default
     assert _warnings(caplog) == [f"c.RobokinExecute.{name} is now c.BridgedExecute.{name} (the executor's one name); "
                                  "it still applies. Rename it in nbgrader_config.py (book/for-instructors.md, "
                                  "\"Where the verdicts are decided\")."]
 
 
-def test_the_new_name_wins_over_the_former_one_and_says_so(caplog):
+def test_the_new_name_wins_over_the_former_one_and_says_so(caplog, bridge_execute):
     config = Config({"RobokinExecute": {"sandbox": True, "viewer": "plotly"},
                      "BridgedExecute": {"sandbox": False}})
     with caplog.at_level(logging.WARNING):
-        execute = BridgedExecute(config=config)
+        execute = bridge_execute.BridgedExecute(config=config)
     assert execute.sandbox is False and execute.viewer == "plotly"
     warnings = _warnings(caplog)
     assert any(w.startswith("c.RobokinExecute.sandbox is ignored: c.BridgedExecute.sandbox, also set, is the one "
@@ -74,37 +84,37 @@ def test_the_new_name_wins_over_the_former_one_and_says_so(caplog):
 
 
 @pytest.mark.parametrize(("name", "value"), [("no_such_setting", 1), ("chapters", ["*"])])
-def test_an_unknown_or_retired_setting_under_the_former_name_is_a_warning(name, value, caplog):
+def test_an_unknown_or_retired_setting_under_the_former_name_is_a_warning(name, value, caplog, bridge_execute):
     with caplog.at_level(logging.WARNING):
-        execute = BridgedExecute(config=Config({"RobokinExecute": {name: value}}))
+        execute = bridge_execute.BridgedExecute(config=Config({"RobokinExecute": {name: value}}))
     assert not hasattr(execute, name)
-    expected = ("no longer needed and is ignored" if name in RETIRED_SETTINGS
+    expected = ("no longer needed and is ignored" if name in bridge_execute.RETIRED_SETTINGS
                 else "is no setting of the executor and is ignored")
     assert any(w.startswith(f"c.RobokinExecute.{name} ") and expected in w for w in _warnings(caplog)), caplog.text
 
 
-def test_the_executor_has_one_name():
+def test_the_executor_has_one_name(bridge_execute):
     """The former class is gone: its name lives on only as a configuration section that is read."""
     import tools.grading.robokin_nbgrader as robokin_nbgrader
 
-    assert FORMER_NAMES == ("RobokinExecute",)
-    assert not any(hasattr(robokin_nbgrader, former) for former in FORMER_NAMES)
-    assert BridgedExecute.__name__ not in FORMER_NAMES
+    assert bridge_execute.FORMER_NAMES == ("RobokinExecute",)
+    assert not any(hasattr(robokin_nbgrader, former) for former in bridge_execute.FORMER_NAMES)
+    assert bridge_execute.BridgedExecute.__name__ not in bridge_execute.FORMER_NAMES
 
 
-def test_the_course_configuration_gives_no_warning_and_keeps_the_sandbox(caplog):
+def test_the_course_configuration_gives_no_warning_and_keeps_the_sandbox(caplog, bridge_execute):
     """The repository's nbgrader_config.py, as nbgrader loads it: the sandbox on, 3D scenes as
     pictures, the fork server on, and no setting warned about."""
     config = PyFileConfigLoader("nbgrader_config.py", path=str(ROOT)).load_config()
-    assert not any(former in config for former in FORMER_NAMES)
+    assert not any(former in config for former in bridge_execute.FORMER_NAMES)
     with caplog.at_level(logging.WARNING):
-        execute = BridgedExecute(config=config)
+        execute = bridge_execute.BridgedExecute(config=config)
     assert (execute.sandbox, execute.viewer, execute.fork_server, execute.call_timeout) == (
         True, "matplotlib", True, 30.0)
     assert not _warnings(caplog)
 
 
-def test_a_current_configuration_gives_no_such_warning(caplog):
+def test_a_current_configuration_gives_no_such_warning(caplog, bridge_execute):
     with caplog.at_level(logging.WARNING):
-        BridgedExecute(fork_server=False, sandbox=False)
+        bridge_execute.BridgedExecute(fork_server=False, sandbox=False)
     assert not _warnings(caplog)

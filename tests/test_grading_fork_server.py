@@ -25,39 +25,51 @@ import subprocess
 import sys
 import textwrap
 import time
+from typing import TYPE_CHECKING
 
 import pytest
 
+from support import installed
+
 psutil = pytest.importorskip("psutil")
-pytest.importorskip("nbgrader", reason="nbgrader is not installed: run `make test` (installs requirements.txt)")
+installed.require("nbgrader", "nbgrader is not installed: run `make test` (installs requirements.txt)")
 if not hasattr(os, "fork") or not sys.platform.startswith("linux"):
     pytest.skip("the fork server forks grader kernels on Linux", allow_module_level=True)
 
 from tools.grading.bridge import fork_server  # noqa: E402 - after the skip: it needs fork
-from tools.grading.bridge.execute import BridgedExecute  # noqa: E402
-from tools.grading.bridge.grader_kernel import PRELOAD, GraderKernel  # noqa: E402
+
+if TYPE_CHECKING:
+    from tools.grading.bridge.grader_kernel import GraderKernel
+
+# tools.grading.bridge.grader_kernel and .execute import nbgrader (1.3 CPU-s): the tests import
+# them when they run, not at collection, which every pytest worker of a run does
 
 pytestmark = pytest.mark.nbgrader
 LOG = logging.getLogger("test_grading_fork_server")
 CURRENT_TEST = "PYTEST_CURRENT_TEST"
 #: Seconds a killed process's kernel and server may take to end.
 GRACE = 10.0
-#: What a kernel tells about itself, after the grader's imports (as the bridge's set-up cell does them).
-PROBE = "\n".join([
-    "import json as _json, os as _os, signal as _signal, sys as _sys, threading as _threading",
-    *[f"import {name}" for name in PRELOAD],
-    "_figure = matplotlib.pyplot.figure()",
-    "print('PROBE ' + _json.dumps({",
-    "    'pid': _os.getpid(), 'parent': _os.getppid(), 'env': dict(_os.environ), 'path': _sys.path[1:],",
-    "    'argv': [_sys.argv[0], *_sys.argv[3:]], 'cwd_first': _sys.path[0] == _os.getcwd(),",
-    "    'backend': matplotlib.get_backend(), 'rc': {k: repr(v) for k, v in matplotlib.rcParams.items()},",
-    "    'modules': sorted(_sys.modules), 'fds': len(_os.listdir('/proc/self/fd')),",
-    "    'threads': sorted(__import__('re').sub(r'-[0-9]+', '', t.name) for t in _threading.enumerate()),",
-    "    'signals': {n: repr(_signal.getsignal(getattr(_signal, n))) for n in",
-    "                ('SIGINT', 'SIGTERM', 'SIGCHLD', 'SIGHUP', 'SIGPIPE', 'SIGQUIT')},",
-    "    'own_session': _os.getsid(0) == _os.getpid(), 'main': repr(_sys.modules['__main__']),",
-    "}))",
-])
+
+
+def _probe_source() -> str:
+    """What a kernel tells about itself, after the grader's imports (as the bridge's set-up cell does them)."""
+    from tools.grading.bridge.grader_kernel import PRELOAD
+
+    return "\n".join([
+        "import json as _json, os as _os, signal as _signal, sys as _sys, threading as _threading",
+        *[f"import {name}" for name in PRELOAD],
+        "_figure = matplotlib.pyplot.figure()",
+        "print('PROBE ' + _json.dumps({",
+        "    'pid': _os.getpid(), 'parent': _os.getppid(), 'env': dict(_os.environ), 'path': _sys.path[1:],",
+        "    'argv': [_sys.argv[0], *_sys.argv[3:]], 'cwd_first': _sys.path[0] == _os.getcwd(),",
+        "    'backend': matplotlib.get_backend(), 'rc': {k: repr(v) for k, v in matplotlib.rcParams.items()},",
+        "    'modules': sorted(_sys.modules), 'fds': len(_os.listdir('/proc/self/fd')),",
+        "    'threads': sorted(__import__('re').sub(r'-[0-9]+', '', t.name) for t in _threading.enumerate()),",
+        "    'signals': {n: repr(_signal.getsignal(getattr(_signal, n))) for n in",
+        "                ('SIGINT', 'SIGTERM', 'SIGCHLD', 'SIGHUP', 'SIGPIPE', 'SIGQUIT')},",
+        "    'own_session': _os.getsid(0) == _os.getpid(), 'main': repr(_sys.modules['__main__']),",
+        "}))",
+    ])
 
 
 def _alive(pid: int) -> bool:
@@ -86,7 +98,7 @@ def _errors(cell) -> list:
 
 
 def _probe(kernel: GraderKernel) -> dict:
-    cell = kernel.run(PROBE)
+    cell = kernel.run(_probe_source())
     assert not _errors(cell), _errors(cell)
     line = next(line for line in _stdout(cell).splitlines() if line.startswith("PROBE "))
     return json.loads(line[len("PROBE "):])
@@ -95,6 +107,8 @@ def _probe(kernel: GraderKernel) -> dict:
 @pytest.fixture(scope="module")
 def server():
     """A fork server with the grader's modules, as the first grader kernel of an autograde run starts it."""
+    from tools.grading.bridge.grader_kernel import PRELOAD
+
     started = fork_server.ForkServer(PRELOAD)
     yield started
     started.stop()
@@ -103,6 +117,8 @@ def server():
 @pytest.fixture
 def kernels(server):
     """``kernels(n, timeout=30, server=server)``: n grader kernels started, stopped after the test."""
+    from tools.grading.bridge.grader_kernel import GraderKernel
+
     made: list[GraderKernel] = []
 
     def make(count: int = 1, timeout: int = 30, source=server) -> list[GraderKernel]:
@@ -249,6 +265,8 @@ def test_a_refused_kernel_starts_anew_and_says_so(kernels, monkeypatch, capfd):
 
 def test_fork_server_false_starts_each_grader_kernel_anew(monkeypatch):
     """``c.BridgedExecute.fork_server = False``: no server; True: this process's shared server."""
+    from tools.grading.bridge.execute import BridgedExecute
+
     made = []
 
     class Recorder:
@@ -274,6 +292,8 @@ def test_fork_server_false_starts_each_grader_kernel_anew(monkeypatch):
 
 
 def test_a_server_that_cannot_start_is_a_warning_and_kernels_start_anew(monkeypatch, caplog):
+    from tools.grading.bridge.grader_kernel import PRELOAD
+
     def broken(preload):
         raise fork_server.ForkServerError("no fork here")
 

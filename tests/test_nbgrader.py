@@ -41,7 +41,7 @@ from typing import Any
 import pytest
 
 from conftest import ROOT
-from support import grading_course
+from support import grading_course, installed
 from support.nbgrader_course import (
     CHAPTERS,
     FEEDBACK_CHAPTER,
@@ -58,7 +58,7 @@ from support.nbgrader_course import (
 )
 from tools.notebook_analysis import stub_plan
 
-pytest.importorskip("nbgrader", reason="nbgrader is not installed: run `make test` (installs requirements.txt)")
+installed.require("nbgrader", "nbgrader is not installed: run `make test` (installs requirements.txt)")
 
 
 @pytest.fixture(scope="session")

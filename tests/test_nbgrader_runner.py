@@ -19,8 +19,9 @@ import textwrap
 import pytest
 
 from conftest import ROOT
+from support import installed
 
-pytest.importorskip("nbgrader", reason="nbgrader is not installed: run `make test` (installs requirements.txt)")
+installed.require("nbgrader", "nbgrader is not installed: run `make test` (installs requirements.txt)")
 psutil = pytest.importorskip("psutil")
 
 from support import nbgrader_runner  # noqa: E402

@@ -28,8 +28,9 @@ from pathlib import Path
 import pytest
 
 from conftest import ROOT
+from support import installed
 
-pytest.importorskip("nbgrader", reason="nbgrader is not installed: run `make test` (installs requirements.txt)")
+installed.require("nbgrader", "nbgrader is not installed: run `make test` (installs requirements.txt)")
 
 #: the chapters the test makes, in order: (name, title, robot); a taken name gets a suffix
 WANTED = (("scara", "The SCARA arm", "a SCARA arm"), ("cable_robot", "A cable robot", "a cable-driven robot"))

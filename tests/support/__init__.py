@@ -13,6 +13,7 @@ module                 what it holds
 ``nbgrader_course``    a chapter's nbgrader course, its submissions, its autograde run, the gradebook
 ``grading_course``     the autograde runs the grading suites share (one per chapter)
 ``nbgrader_runner``    nbgrader's command lines in processes forked from one that imported nbgrader
+``installed``         skipping a module whose requirement is missing, without importing it (nbgrader)
 ``forked_kernels``     nbval's kernels forked from a warm fork server (the root ``conftest.py``)
 ``tampering``         submissions that tamper with the grading, by kind (they must gain nothing)
 ``benign_variants``    correct answers written another way, per chapter (full marks expected)

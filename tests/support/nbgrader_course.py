@@ -22,15 +22,13 @@ from dataclasses import dataclass, field
 from functools import partial
 from pathlib import Path
 
-import pytest
-
 from conftest import ROOT
-from support import grading_course
+from support import grading_course, installed
 from support import nbgrader_runner
 from tools.authoring import nbgrader_metadata, student_edition
 from tools.notebook_analysis import free_names
 
-pytest.importorskip("nbgrader", reason="nbgrader is not installed: run `make test` (installs requirements.txt)")
+installed.require("nbgrader", "nbgrader is not installed: run `make test` (installs requirements.txt)")
 # The graded courses are built in two parts, one xdist group each (tests/support/grading_course.py):
 # each test that reads a run is marked with its part (grading_course.reads, chapter_params).
 
