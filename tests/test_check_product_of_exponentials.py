@@ -146,6 +146,8 @@ WRONG = [
     (chk.screw_axis, lambda w, q: _swap(screw_axis(w, q)), "twist_order"),
     (chk.screw_axis, lambda w, q: np.r_[np.cross(w, q), w], "twist_order"),
     (chk.screw_axis, lambda w, q: np.r_[w, q], "point_for_velocity"),
+    (chk.screw_axis, lambda w, q: -screw_axis(w, q), "axis_sign"),
+    (chk.screw_axis, lambda w, q: np.r_[-np.asarray(w), np.cross(q, w)], "axis_sign"),
     (chk.screw_list, S_UR10 * [1, 1, 1, -1, -1, -1], "cross_sign"),
     (chk.screw_list, S_UR10[:, [3, 4, 5, 0, 1, 2]], "twist_order"),
     (chk.screw_list, S_UR10.T, "transpose"),

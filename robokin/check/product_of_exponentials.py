@@ -24,9 +24,9 @@ check                     the student's answer                               inp
 
 Each check calls the student's function at 20 seeded random inputs of its own (a single value
 for ``screw_list``) and compares with the reference; a wrong answer is explained when one of
-the task's typical mistakes reproduces it (a sign, the order [v; ω] for [ω; v], the factors in
-the wrong order, a term of the exponential's translation missing, the wrong transform's
-adjoint, degrees for radians).
+the task's typical mistakes reproduces it (a sign, the axis reversed, the order [v; ω] for
+[ω; v], the factors in the wrong order, a term of the exponential's translation missing, the
+wrong transform's adjoint, degrees for radians).
 
 Usage::
 
@@ -245,6 +245,13 @@ def _screw_axis_mistakes():
         omega, point = _screw_axis_arguments(x)
         return np.concatenate([omega, point])
 
+    def reversed_axis(x):
+        return -_screw_axis_reference(x)
+
+    def angular_sign(x):
+        omega, point = _screw_axis_arguments(x)
+        return np.concatenate([-omega, -np.cross(omega, point)])
+
     return [
         alternatives("cross_sign", [(sign, _SIGN_TEXT)]),
         alternatives("twist_order", [
@@ -255,6 +262,16 @@ def _screw_axis_mistakes():
             "the linear part of {name} is the point q itself; it is the velocity of the body point "
             "at the origin, v = −ω × q."
         ))]),
+        alternatives("axis_sign", [
+            (reversed_axis, (
+                "{name} is −S: both parts have the wrong sign, a joint turning about −ω. The angular "
+                "part is the axis ω as given, and v = −ω × q."
+            )),
+            (angular_sign, (
+                "the angular part of {name} is −ω: it is the joint's axis ω as given (its v = −ω × q "
+                "is right)."
+            )),
+        ]),
     ]
 
 
