@@ -10,10 +10,12 @@ fall into the right tier without an entry anywhere:
 what                      everyday (``make test``)                    ``make test-all`` adds
 ========================  ==========================================  =============================
 unit, property, fuzz      all of them                                 --
-notebooks                 every notebook once under nbval             the notebooks under other BLAS
-                          (stored outputs, strict)                    kernels; ``make execute``
-                                                                      changes no byte; a scaffolded
-                                                                      chapter through every tier
+notebooks                 every notebook once under nbval             every check under other BLAS
+                          (stored outputs, strict)                    kernels (``other_machines``: the
+                                                                      notebooks, the stored meshes);
+                                                                      ``make execute`` changes no
+                                                                      byte; a scaffolded chapter
+                                                                      through every tier
 book                      both editions built; one page of each       every page of both editions
                           kind in Chromium (:data:`EVERYDAY_PAGES`,   (each at 1280 and 390 px)
                           each at 1280 and 390 px)
@@ -83,6 +85,11 @@ EVERYDAY_SUBMISSIONS = {
                               "sandbox escapes)"),
 }
 
+#: Marks whose every test is in ``make test-all`` only, and why.
+EXHAUSTIVE_MARKS = {
+    "other_machines": "a check under other BLAS kernels (make test checks this machine's)",
+}
+
 #: Grading jobs that are not a chapter (tests/support/grading_course.py).
 EXHAUSTIVE_JOBS = {"walkthrough": "the instructors' walk-through", "unmarked": "a chapter without metadata"}
 
@@ -109,6 +116,9 @@ def exhaustive_reason(item) -> str | None:
     """Why ``item`` runs in ``make test-all`` only, or None when it runs in both tiers."""
     if item.path.name in EXHAUSTIVE_FILES:
         return EXHAUSTIVE_FILES[item.path.name]
+    for name, reason in EXHAUSTIVE_MARKS.items():
+        if item.get_closest_marker(name) is not None:
+            return reason
     for mark in item.iter_markers("grades"):
         if str(mark.args[0]) in EXHAUSTIVE_JOBS:
             return EXHAUSTIVE_JOBS[str(mark.args[0])]
