@@ -57,6 +57,12 @@ def rate_kkt(q, r_des, v_des):
     return np.linalg.solve(K, np.r_[np.zeros(7), v])[:7]
 
 
+def sigma_min_eigen(q):
+    """sigma_min of J_v as the root of the smallest eigenvalue of J_v J_v^T (not an SVD)."""
+    J = ARM.position_jacobian(q)
+    return float(np.sqrt(max(np.linalg.eigvalsh(J @ J.T)[0], 0.0)))
+
+
 # ---------------------------------------------------------------- reference values of the chapter
 def test_constants():
     assert np.allclose(cb.Q_START, [0.0, -0.55, 0.0, 1.284, 0.0, 0.26160184, 0.0], atol=1e-8)
@@ -83,6 +89,7 @@ def test_zero_pose_is_the_stretched_arm():
     (cb.resolved_rate, rate_kkt),
     (cb.forward_kinematics, fk_by_hand),
     (cb.forward_kinematics, ARM.fk),
+    (cb.sigma_min, lambda q: sigma_min_eigen(q)),
 ])
 def test_correct_answers_pass(check, answer):
     r = check(answer, quiet=True)
@@ -135,6 +142,26 @@ WRONG_FK = {
     "degrees_input": lambda q: fk_by_hand(np.deg2rad(q)),
     "inverse": lambda q: np.linalg.inv(fk_by_hand(q)),
 }
+
+
+def _eigenvalues(q, jacobian=ARM.position_jacobian):
+    J = jacobian(q)
+    return np.linalg.eigvalsh(J @ J.T)  # smallest first: sigma_i^2
+
+
+WRONG_SIGMA = {
+    "largest_singular_value": lambda q: float(np.sqrt(_eigenvalues(q)[-1])),
+    "eigenvalue_not_root": lambda q: float(_eigenvalues(q)[0]),
+    "full_jacobian": lambda q: float(np.sqrt(max(_eigenvalues(q, ARM.jacobian)[0], 0.0))),
+    "manipulability": lambda q: float(np.sqrt(np.prod(_eigenvalues(q)))),
+    "degrees_evaluated": lambda q: sigma_min_eigen(np.degrees(q)),
+}
+
+
+@pytest.mark.parametrize("code", WRONG_SIGMA)
+def test_sigma_min_mistakes(code):
+    r = cb.sigma_min(WRONG_SIGMA[code], quiet=True)
+    assert not r.passed and r.diagnosis == code, r.message
 
 
 @pytest.mark.parametrize("code", WRONG_POSITION)

@@ -22,6 +22,8 @@ check                    the student's answer                                 in
                          joint angles (N, 7) (rad), Euler steps of that law   gain, time step
 ``forward_kinematics``   function ``T(q)`` -> 4×4, shoulder frame -> hand      q within the limits
 ``hand_position_at``     numbers: the hand position at :data:`Q_START` (m)     --
+``sigma_min``            function ``sigma_min_of(q)`` -> smallest singular    q within the limits
+                         value of the position Jacobian J_v (m/rad)
 =======================  ==================================================  ====================
 
 The forward-kinematics checks accept answers within 1 mm (so a table with the
@@ -48,7 +50,7 @@ from robokin.check._registry import exercise
 
 __all__ = [
     "circle_position", "circle_velocity", "resolved_rate", "tracking_loop", "forward_kinematics",
-    "hand_position_at",
+    "hand_position_at", "sigma_min",
     "Q_START", "P_START", "RADIUS", "OMEGA", "PERIOD", "TS", "KP",
 ]
 
@@ -64,6 +66,8 @@ DELEGATION = {
     "tracking_loop": {"CartesianController": "robokin.motion.CartesianController",
                       "simulate": "robokin.motion.simulate",
                       "track_position_batch": "robokin.motion.track_position_batch"},
+    "sigma_min": {"singular_values": "SerialChain.singular_values",
+                  "track_position_batch": "robokin.motion.track_position_batch (its sigma_min)"},
 }
 _PI = math.pi
 
@@ -475,4 +479,50 @@ hand_position_at = exercise(_CHAPTER, "hand_position_at", Check(
     atol=1e-3,
     rtol=0.0,
     doc="Check the hand position (m, shoulder frame) at the mid-range configuration Q_START, within 1 mm.",
+))
+
+
+# ------------------------------------------------------------------ distance to a singularity
+def _singular_values(x, rows: str = "position") -> np.ndarray:
+    """The singular values of the Jacobian at the configuration x (largest first): of the
+    3×7 position Jacobian J_v, or of the full 6×7 Jacobian (a mistake)."""
+    arm = _arm()
+    q = np.asarray(x[:7], dtype=float)
+    jacobian = arm.position_jacobian(q) if rows == "position" else arm.jacobian(q)
+    return np.linalg.svd(jacobian, compute_uv=False)
+
+
+sigma_min = exercise(_CHAPTER, "sigma_min", Check(
+    name="sigma_min_of(q)",
+    reference=lambda x: _singular_values(x)[-1],
+    variables=_Q_ANY,
+    groups=[("q", list(range(7)))],
+    diagnoses=[
+        alternatives("largest_singular_value", [(
+            lambda x: _singular_values(x)[0],
+            ("{name} is the largest singular value of J_v: the distance to a singular "
+             "configuration is the smallest one (np.linalg.svd sorts them largest first)."),
+        )]),
+        alternatives("eigenvalue_not_root", [(
+            lambda x: _singular_values(x)[-1] ** 2,
+            ("{name} is the smallest eigenvalue of J_v J_vᵀ, in m²/rad²: the singular values "
+             "are the square roots of those eigenvalues."),
+        )]),
+        alternatives("full_jacobian", [(
+            lambda x: _singular_values(x, rows="full")[-1],
+            ("{name} is the smallest singular value of the full 6×7 Jacobian: the task is the "
+             "hand position, whose Jacobian is the 3×7 J_v (the top three rows)."),
+        )]),
+        alternatives("manipulability", [(
+            lambda x: np.asarray(np.prod(_singular_values(x))),
+            ("{name} is the manipulability, the product of the singular values: it vanishes "
+             "at the same configurations, but the distance to them is the smallest singular "
+             "value σ_min, in m/rad."),
+        )]),
+        dg.degrees(),
+    ],
+    noun="configurations",
+    atol=1e-9,
+    doc=("Check a function sigma_min_of(q) -> the smallest singular value of the 3×7 position "
+         "Jacobian J_v of the Baxter left arm (shoulder frame, hand flange), in m/rad."),
 ))

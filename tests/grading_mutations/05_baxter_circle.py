@@ -138,30 +138,63 @@ MUTATIONS = {
     "task5_test1": [
         ("sigma_min taken as the largest singular value",
          "def sigma_min_of(q):\n"
-         "    return np.linalg.svd(arm.position_jacobian(q), compute_uv=False)[0]\n\n"
-         "smin_start = np.array([sigma_min_of(q) for q in Q_SWEEP]).reshape(7, 9)\n"
-         "j_w, i_w = (int(k) for k in np.unravel_index(np.argmin(smin_start), (7, 9)))\n"
-         "m_w = 9 * j_w + i_w"),
-        ("the best-conditioned start taken for the worst",
-         "j_w, i_w = (int(k) for k in np.unravel_index(np.argmax(smin_start), (7, 9)))\n"
-         "m_w = 9 * j_w + i_w\n"
-         "Q_worst = track(Q_SWEEP[m_w], P0_SWEEP[m_w] + relative, v_ref)\n"
-         "smin_worst = np.array([sigma_min_of(q) for q in Q_worst])\n"
-         "speed_worst = joint_speed(Q_worst)"),
-        ("the worst run tracked open loop",
-         "Q_worst = track(Q_SWEEP[m_w], P0_SWEEP[m_w] + relative, v_ref, kp=0.0)\n"
-         "smin_worst = np.array([sigma_min_of(q) for q in Q_worst])\n"
-         "speed_worst = joint_speed(Q_worst)"),
+         "    return np.linalg.svd(arm.position_jacobian(q), compute_uv=False)[0]"),
+        ("sigma_min taken as the smallest eigenvalue of J_v J_v^T (no square root)",
+         "def sigma_min_of(q):\n"
+         "    J = arm.position_jacobian(q)\n"
+         "    return np.linalg.eigvalsh(J @ J.T)[0]"),
+        ("the time of the smallest sigma_min, not of the first sample below the threshold",
+         "def closest_approach(Q, ts=TS, threshold=0.01):\n"
+         "    sigma = np.array([sigma_min_of(q) for q in Q])\n"
+         "    k = int(np.argmin(sigma))\n"
+         "    return float(sigma[k]), (float(ts * k) if sigma[k] < threshold else None)"),
+        ("the sample index returned instead of the time",
+         "def closest_approach(Q, ts=TS, threshold=0.01):\n"
+         "    sigma = np.array([sigma_min_of(q) for q in Q])\n"
+         "    below = np.flatnonzero(sigma < threshold)\n"
+         "    return float(sigma.min()), (int(below[0]) if below.size else None)"),
+        ("the time step ts ignored (always the 2 ms of the lap)",
+         "def closest_approach(Q, ts=TS, threshold=0.01):\n"
+         "    sigma = np.array([sigma_min_of(q) for q in Q])\n"
+         "    below = np.flatnonzero(sigma < threshold)\n"
+         "    return float(sigma.min()), (float(TS * below[0]) if below.size else None)"),
+        ("the threshold ignored (always 0.01 m/rad)",
+         "def closest_approach(Q, ts=TS, threshold=0.01):\n"
+         "    sigma = np.array([sigma_min_of(q) for q in Q])\n"
+         "    below = np.flatnonzero(sigma < 0.01)\n"
+         "    return float(sigma.min()), (float(ts * below[0]) if below.size else None)"),
+        ("the last sample below the threshold, not the first",
+         "def closest_approach(Q, ts=TS, threshold=0.01):\n"
+         "    sigma = np.array([sigma_min_of(q) for q in Q])\n"
+         "    below = np.flatnonzero(sigma < threshold)\n"
+         "    return float(sigma.min()), (float(ts * below[-1]) if below.size else None)"),
+        ("the first sample counted from t = ts (time of sample k taken as (k + 1) ts)",
+         "def closest_approach(Q, ts=TS, threshold=0.01):\n"
+         "    sigma = np.array([sigma_min_of(q) for q in Q])\n"
+         "    below = np.flatnonzero(sigma < threshold)\n"
+         "    return float(sigma.min()), (float(ts * (below[0] + 1)) if below.size else None)"),
     ],
     "task5_test2": [
-        ("the last step taken for the most singular one",
-         "k_s = len(t) - 1\nq_s = Q_fail[k_s]\nJ_s = arm.position_jacobian(q_s)\n"
-         "w1_s = float(np.angle(np.exp(1j * q_s[5])))\n"
-         "column_w0 = 1e3 * np.linalg.norm(J_s[:, 4])"),
+        ("the elbow start taken for the failing one (its sigma_min at t = 0 is as small)",
+         "failing = 'elbow straight'\n"
+         "t_loss = closest_approach(runs_open[failing], threshold=0.06)[1]\n"
+         "k_loss = int(round(t_loss / TS))\n"
+         "Q_f = runs_open[failing]\n"
+         "U, S, _ = np.linalg.svd(arm.position_jacobian(Q_f[k_loss]))\n"
+         "lost_direction = U[:, -1]\n"
+         "speed_loss = np.linalg.norm(Q_f[k_loss + 1] - Q_f[k_loss]) / TS"),
         ("the failing run tracked closed loop, not with the exercise's open-loop law",
-         "Q_fail = track(q_bad, p_bad + relative, v_ref)"),
-        ("W2's column taken for W0's (the hand's own axis)",
-         "column_w0 = 1e3 * np.linalg.norm(J_s[:, 6])"),
+         "runs_open = {**runs_open, 'exercise': track(q_bad, p_bad + relative, v_ref)}"),
+        ("the lost direction taken as u_1, the direction the hand moves in most easily",
+         "lost_direction = U[:, 0]"),
+        ("the joint speed taken per step, not per second",
+         "speed_loss = speed_loss * TS"),
+        ("the time of the smallest sigma_min taken for the time of the rank loss",
+         "t_loss = TS * int(np.argmin([sigma_min_of(q) for q in runs_open[failing]]))\n"
+         "k_loss = int(round(t_loss / TS))\n"
+         "U, S, _ = np.linalg.svd(arm.position_jacobian(Q_f[k_loss]))\n"
+         "lost_direction = U[:, -1]\n"
+         "speed_loss = np.linalg.norm(Q_f[k_loss + 1] - Q_f[k_loss]) / TS"),
     ],
     "task5_test3": [
         ("the damping added unsquared",
@@ -183,14 +216,14 @@ MUTATIONS = {
     ],
     "task5_test4": [
         ("damping of 0.02 mm instead of 0.02 m",
-         "runs = dict(runs)\n"
-         "runs['DLS'] = np.array([track_damped(q, circle_bad, v_ref, damping=2e-5) for q in starts])\n"
-         "peak_speed = dict(peak_speed)\n"
-         "peak_speed['DLS'] = (np.linalg.norm(np.diff(runs['DLS'], axis=1), axis=2) / TS).max(axis=1)"),
-        ("the damped runs without feedback",
-         "runs = dict(runs)\n"
-         "runs['DLS'] = np.array([track_damped(q, circle_bad, v_ref, kp=0.0) for q in starts])"),
+         "runs_bad = {**runs_bad, 'DLS': track_damped(q_bad, circle_bad, v_ref, damping=2e-5)}\n"
+         "peak_speed = {**peak_speed, 'DLS': (np.linalg.norm(np.diff(runs_bad['DLS'], axis=0),"
+         " axis=1) / TS).max()}"),
+        ("the damped run without feedback",
+         "runs_bad = {**runs_bad, 'DLS': track_damped(q_bad, circle_bad, v_ref, kp=0.0)}"),
         ("the joint speed taken per step, not per second",
          "peak_speed = {name: value * TS for name, value in peak_speed.items()}"),
+        ("the final error in metres, not millimetres",
+         "final_error = {name: value / 1e3 for name, value in final_error.items()}"),
     ],
 }

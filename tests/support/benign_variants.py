@@ -276,15 +276,33 @@ same_q = np.array([track(q, r_ref, v_ref) for q in Q_SAME])
 # written another way: the hand as the origin of the last of the chain's frames
 same_hand = arm.frames(same_q.reshape(-1, 7))[:, -1, :3, 3].reshape(len(Q_SAME), -1, 3)
 '''),
-        "task5_answer1": ("sigma_min as the root of the smallest eigenvalue of J_v J_v^T", '''
+        "task5_answer1": ("sigma_min as the root of the smallest eigenvalue of J_v J_v^T, the "
+                          "first crossing by a while loop", '''
 
 def sigma_min_of(q):  # written another way: sigma_i^2 are the eigenvalues of J J^T
     J = arm.position_jacobian(q)
     return float(np.sqrt(max(np.linalg.eigvalsh(J @ J.T)[0], 0.0)))
 
 
-smin_start = np.array([sigma_min_of(q) for q in Q_SWEEP]).reshape(7, 9)
-smin_worst = np.array([sigma_min_of(q) for q in Q_worst])
+def closest_approach(Q, ts=TS, threshold=0.01):  # written another way: one sample at a time
+    values = [sigma_min_of(q) for q in Q]
+    k = 0
+    while k < len(values) and values[k] >= threshold:
+        k += 1
+    return min(values), (k * ts if k < len(values) else None)
+'''),
+        "task5_answer2": ("the failing run found by its threshold crossing, u_3 from the "
+                          "eigenvectors of J_v J_v^T", '''
+
+# written another way: the lost direction is the eigenvector of J J^T of the smallest eigenvalue
+crossings = {name: closest_approach(Q)[1] for name, Q in runs_open.items()}
+failing = [name for name, time in crossings.items() if time is not None][0]
+t_loss = crossings[failing]
+sample = int(np.rint(t_loss / TS))
+J_loss = arm.position_jacobian(runs_open[failing][sample])
+lost_direction = np.linalg.eigh(J_loss @ J_loss.T)[1][:, 0]
+step = runs_open[failing][sample + 1] - runs_open[failing][sample]
+speed_loss = float(np.sqrt(step @ step)) / TS
 '''),
         "task5_answer3": ("DLS as the least-squares solution of [J; lambda I] qdot = [v; 0]", '''
 
