@@ -311,6 +311,7 @@ def newton_ik(r_goal, q0, damping=0.0, tol=1e-10, max_iterations=50):
         (lambda g, q0, d, tol, m: _newton_wrong_sign(g, q0, d, tol, m), "error_sign"),
         (lambda g, q0, d, tol, m: newton_ik(g, q0, np.sqrt(d), tol, m), "damping_not_squared"),
         (lambda g, q0, d, tol, m: newton_ik(g, q0, d, -1.0, m), "no_early_stop"),
+        (lambda g, q0, d, tol, m: _newton_stopped_by_step(g, q0, d, tol, m), "stop_on_step"),
         (lambda g, q0, d, tol, m: (newton_ik(g, q0, d, tol, m), True), "error"),
         (lambda g, q0, d, tol, m: newton_ik(g, q0, d, tol, m)[-1], "error"),
         ("not a function", "constant"),
@@ -347,6 +348,20 @@ def _newton_wrong_sign(r_goal, q0, damping, tol, max_iterations):
         Jq = J_np(q)
         q = q + np.linalg.solve(Jq.T @ Jq + damping**2 * np.eye(3), Jq.T @ e)
         iterates.append(q)
+    return np.array(iterates)
+
+
+def _newton_stopped_by_step(r_goal, q0, damping, tol, max_iterations):
+    """A while loop that stops when the step, not the error, is below tol."""
+    q = np.array(q0, dtype=float)
+    iterates, step, k = [q], np.ones(3), 0
+    while k < max_iterations and np.linalg.norm(step) > tol:
+        Jq = J_np(q)
+        e = np.asarray(r_goal) - r_np(q)
+        step = np.linalg.solve(Jq.T @ Jq + damping**2 * np.eye(3), Jq.T @ e)
+        q = q + step
+        iterates.append(q)
+        k += 1
     return np.array(iterates)
 
 

@@ -72,6 +72,9 @@ _PI = math.pi
 #: answer that hands one back (a newton_ik that calls solve_ik) is flagged for review by hand
 #: (tools/grading/bridge/delegation.py reads this literal table without importing the module)
 DELEGATION = {
+    # the Jacobian written by differentiation, not the model's (r_BF.jacobian of sympy is fine)
+    "foot_jacobian": {"position_jacobian": "SerialChain.position_jacobian"},
+    "foot_jacobian_at": {"position_jacobian": "SerialChain.position_jacobian"},
     "newton_ik": {"solve_ik": "robokin.motion.solve_ik", "solve_ik_once": "robokin.motion.solve_ik_once",
                   "solve_ik_batch": "robokin.motion.solve_ik_batch"},
     "ik_closed_form": {"solve_ik": "robokin.motion.solve_ik", "solve_ik_once": "robokin.motion.solve_ik_once",
@@ -475,14 +478,18 @@ def _iterates(out: Any, name: str) -> np.ndarray:
 
 # -- Newton's method (task 4)
 def _newton_loop(r_goal, q0, damping, tol, max_iterations, *, sign=1.0, early_stop=True,
-                 transpose=False, damping_power=2, start_row=True) -> np.ndarray:
+                 transpose=False, damping_power=2, start_row=True,
+                 stop_on_step=False) -> np.ndarray:
     """The reference iteration (and, with the keywords, its typical mistakes): the iterates
     q^0, q^1, ..., q^K, shape (K + 1, 3)."""
     q = np.array(q0, dtype=float)
     Q = [q.copy()]
+    dq = np.full(3, np.inf)
     for _ in range(int(max_iterations)):
+        if stop_on_step and np.linalg.norm(dq) <= tol:
+            break
         e = sign * (r_goal - _position(q))
-        if early_stop and np.linalg.norm(e) <= tol:
+        if early_stop and not stop_on_step and np.linalg.norm(e) <= tol:
             break
         J = _jacobian(q)
         if transpose:
@@ -557,6 +564,11 @@ newton_ik = exercise(_CHAPTER, "newton_ik", MatrixArgumentsCheck(
         alternatives("no_early_stop", [(_newton_variant(early_stop=False), (
             "{name} always takes max_iterations steps: stop as soon as ‖r_goal − r(q^k)‖ "
             "<= tol, before computing another step."
+        ))]),
+        alternatives("stop_on_step", [(_newton_variant(stop_on_step=True), (
+            "{name} stops when the step ‖Δq‖ is below tol, one step after the error is: "
+            "the statement stops on the error, as soon as ‖r_goal − r(q^k)‖ <= tol, "
+            "before computing another step (tol is in m)."
         ))]),
         alternatives("damping_not_squared", [(_newton_variant(damping_power=1), (
             "{name} adds λ·I where λ²·I belongs: the damped step is Jᵀ(J Jᵀ + λ² I)⁻¹ e "
