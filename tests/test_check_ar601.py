@@ -367,3 +367,95 @@ def test_unreachable_reason_correct(capsys):
 def test_unreachable_reason_mistakes(answer, code):
     result = ck.unreachable_reason(answer, quiet=True)
     assert not result.passed and result.diagnosis == code, result.message
+
+
+# ---------------------------------------------------------------- the steps: ankle point, ankle angles
+def _ankle_frames_origin(T):
+    """The ankle point read off the model: the ankle frames' origin at a solution of T."""
+    leg = ar601_leg()
+    return leg.frames(ar601_leg_ik(T).q[0])[5][:3, 3]
+
+
+def test_ankle_point_correct_and_its_reference_is_the_model():
+    leg = ar601_leg()
+    for x in leg.random_configurations(5, seed=3):
+        T = leg.fk(x)
+        assert np.allclose(ck._ankle_point(T), _ankle_frames_origin(T), atol=1e-12)
+    assert ck.ankle_point(foot_ankle, quiet=True).passed
+
+
+@pytest.mark.parametrize("answer, code", [
+    (lambda T: T[:3, 3] + np.array([0.0, 0.0, ck.LENGTHS[2]]), "ankle_point_base_z"),
+    (lambda T: T[:3, 3] - ck.LENGTHS[2] * T[:3, 2], "ankle_point_sign"),
+    (lambda T: T[:3, 3].copy(), "ankle_point_missing"),
+    (lambda T: T[:3, 3] + ck.LENGTHS[2] * T[2, :3], "ankle_point_row"),
+    (lambda T: T[:3, 3] + 0.2 * T[:3, 2], "mismatch"),
+    (lambda T: T[:3, :3], "shape"),
+    (None, "error"),
+])
+def test_ankle_point_mistakes(answer, code):
+    assert ck.ankle_point(answer, quiet=True).diagnosis == code
+
+
+def _ankle_pairs_numeric(u, q4):
+    """Every (q5, q6) with Ry(q5) Rx(q6) u = v(q4), by a scan of q6 and root polishing:
+    independent of the check's closed form."""
+    l1, l2, _ = ck.LENGTHS
+    v = np.array([0.0, -l1 * math.sin(q4), -(l1 * math.cos(q4) + l2)])
+
+    def y_residual(q6):
+        return (Rx_num(q6) @ u)[1] - v[1]
+
+    grid = np.linspace(-math.pi, math.pi, 2001)
+    values = np.array([y_residual(g) for g in grid])
+    pairs = []
+    for a, b, fa, fb in zip(grid[:-1], grid[1:], values[:-1], values[1:]):
+        if fa == 0.0 or fa * fb < 0.0:
+            for _ in range(60):  # bisection
+                m = 0.5 * (a + b)
+                if y_residual(a) * y_residual(m) <= 0.0:
+                    b = m
+                else:
+                    a = m
+            q6 = 0.5 * (a + b)
+            w = Rx_num(q6) @ u
+            q5 = math.atan2(v[0], v[2]) - math.atan2(w[0], w[2])  # Ry turns z towards x
+            pairs.append((q5, q6))
+    return pairs
+
+
+def test_ankle_angles_correct_against_a_numeric_solve():
+    leg = ar601_leg()
+    for x in leg.random_configurations(5, seed=4):
+        T = leg.fk(x)
+        u = T[:3, :3].T @ foot_ankle(T)
+        assert ck._same_rows(np.array(_ankle_pairs_numeric(u, x[3])), ck._ankle_pairs(u, x[3]))
+    assert ck.ankle_angles(_ankle_pairs_numeric, quiet=True).passed
+
+
+@pytest.mark.parametrize("answer, code", [
+    (lambda u, q4: [(-a, b) for a, b in _ankle_pairs_numeric(u, q4)], "ankle_q5_sign"),
+    (lambda u, q4: _ankle_pairs_numeric(u, q4)[:1], "ankle_branch_missing"),
+    (lambda u, q4: np.rad2deg(_ankle_pairs_numeric(u, q4)), "degrees_output"),
+    (lambda u, q4: [(a + 0.1, b) for a, b in _ankle_pairs_numeric(u, q4)], "mismatch"),
+    (lambda u, q4: 0.3, "shape"),
+])
+def test_ankle_angles_mistakes(answer, code):
+    assert ck.ankle_angles(answer, quiet=True).diagnosis == code
+
+
+# ---------------------------------------------------------------- the count of Task 3
+def test_k_regular_is_robokins_count_at_random_poses():
+    leg = ar601_leg()
+    counts = {len(ar601_leg_ik(leg.fk(x)).q) for x in leg.random_configurations(10, seed=6)}
+    assert counts == {8}
+    for answer in (8, 8.0, np.int64(8)):
+        assert ck.k_regular(answer, quiet=True).passed
+
+
+@pytest.mark.parametrize("answer, code", [
+    (4, "branch_missing"), (2, "branch_missing"), (6, "count"), (16, "count"),
+    (None, "error"), ("8", "type"), (True, "type"), (np.zeros(3), "type"),
+])
+def test_k_regular_mistakes(answer, code):
+    assert ck.k_regular(answer, quiet=True).diagnosis == code

@@ -11,9 +11,13 @@ check                   the student's answer                                    
                         a function f(q) -> 4×4
 ``knee_angle``          function f(d, l1, l2) -> q4 ≥ 0 (rad) from the hip–ankle    d, l1, l2
                         distance d
+``ankle_point``         function ankle_point(T) -> (3,): where the ankle axes meet   20 random foot poses
+``ankle_angles``        function ankle_angles(u, q4) -> every (q5, q6) pair with     20 random foot poses
+                        R_y(q5) R_x(q6) u = v(q4), each once
 ``ik_solution``         q (6,) or several solutions (k, 6) for :data:`T_GOAL`        --
 ``ik_solver``           function f(T) -> q (6,) or (k, 6): every returned row must   20 random foot poses
                         reproduce T (any solution is accepted)
+``k_regular``           the number of solutions of a regular reachable pose (int)    20 random foot poses
 ``leg_ik``              function my_leg_ik(T) -> (k, 6): every solution, each once   20 random foot poses
 ``unreachable_reason``  function f(T) -> None, or why T is out of reach:             targets near the
                         ``"too_far"``, ``"ankle_range"`` or ``"joint_limits"``       boundaries
@@ -58,9 +62,12 @@ __all__ = [
     "P_GOAL",
     "RPY_GOAL",
     "T_GOAL",
+    "ankle_angles",
+    "ankle_point",
     "foot_transform",
     "ik_solution",
     "ik_solver",
+    "k_regular",
     "knee_angle",
     "leg_ik",
     "unreachable_reason",
@@ -459,6 +466,8 @@ class _IKSolverCheck(FunctionCheck):
 #: check -> {robokin function that solves its task: how the review report names it}
 #: (an answer that hands one back is flagged for review by hand).
 DELEGATION = {
+    # the product written out, not the model evaluated (T_sym = leg.fk(list(q_sym)))
+    "foot_transform": {"ar601_leg": "robokin.models.ar601_leg (its fk)", "leg.fk": "leg.fk (SerialChain.fk)"},
     "leg_ik": {"ar601_leg_ik": "robokin.models.ar601_leg_ik",
                "ar601_leg_ik_batch": "robokin.models.ar601_leg_ik_batch",
                "solve_ik": "robokin.motion.solve_ik"},
@@ -562,6 +571,197 @@ _LEG_IK_MISTAKES = [
      "{name} computes R_H = (R_x(q4) R_y(q5) R_x(q6))ᵀ R. The hip comes first in the product, "
      "R = R_H R_x(q4) R_y(q5) R_x(q6), so R_H = R (R_x(q4) R_y(q5) R_x(q6))ᵀ."),
 ]
+
+
+# ------------------------------------------------------------------ the steps of Task 3
+def _ankle_point(T: np.ndarray, mistake: str = "") -> np.ndarray:
+    """The ankle point of the foot pose ``T``, or what a typical ``mistake`` makes of it."""
+    l3, p, R = LENGTHS[2], T[:3, 3], T[:3, :3]
+    return {
+        "": p + l3 * R[:, 2],
+        "ankle_point_base_z": p + np.array([0.0, 0.0, l3]),
+        "ankle_point_sign": p - l3 * R[:, 2],
+        "ankle_point_missing": p.copy(),
+        "ankle_point_row": p + l3 * R[2, :],
+    }[mistake]
+
+
+_ANKLE_POINT_MISTAKES = [
+    ("ankle_point_base_z",
+     "{name} backs off from the sole along the BASE z axis, p + L3 e_z: right only while the "
+     "sole is level. The last factor T_z(−L3) is along the FOOT's z axis: a = p + L3 R e_z (the "
+     "third column of R)."),
+    ("ankle_point_sign",
+     "{name} goes down from the sole, p − L3 R e_z: the sole is L3 BELOW the ankle along the "
+     "foot's z axis, so the ankle is a = p + L3 R e_z."),
+    ("ankle_point_missing",
+     "{name} returns the sole's position p: the ankle axes meet L3 above it, a = p + L3 R e_z."),
+    ("ankle_point_row",
+     "{name} uses the third ROW of R: the foot's z axis in B is the third COLUMN, R e_z."),
+]
+
+
+class _AnklePointCheck(FunctionCheck):
+    """``ankle_point(T) -> (3,)``: where the ankle axes meet, in B."""
+
+    def judge(self, answer: Any) -> CheckResult:
+        X = self.sample_points()
+        name, n = self.name, len(X)
+        poses = [_fk(x) for x in X]
+        got = []
+        for k, T in enumerate(poses):
+            a = np.asarray(self.call(answer, (T.copy(),), f"at pose {k + 1}", n), dtype=float)
+            if a.size != 3:
+                return self.failure("shape", f"{name} should return the point (3,); got shape "
+                                    f"{a.shape} at pose {k + 1}.", n)
+            got.append(a.reshape(3))
+        if all(np.allclose(a, _ankle_point(T), atol=1e-9) for a, T in zip(got, poses)):
+            return self.success(f"{name} is correct (checked at {n} random foot poses).", n)
+        named = self.diagnose(_ANKLE_POINT_MISTAKES, lambda code: all(
+            np.allclose(a, _ankle_point(T, code), atol=1e-9) for a, T in zip(got, poses)), n)
+        if named is not None:
+            return named
+        k = next(i for i, (a, T) in enumerate(zip(got, poses))
+                 if not np.allclose(a, _ankle_point(T), atol=1e-9))
+        return self.failure("mismatch", (
+            f"{name} at pose {k + 1} (the foot pose of q = {fmt(X[k])}) returns {fmt(got[k], 4)} "
+            f"m; the ankle axes meet at {fmt(_ankle_point(poses[k]), 4)} m (the origin of the "
+            "model's ankle frames)."), n)
+
+
+ankle_point = exercise(_CHAPTER, "ankle_point", _AnklePointCheck(
+    name="ankle_point",
+    signature="ankle_point(T) -> (3,) array",
+    variables=_Q,
+    noun="foot poses",
+    doc=("Check a function ankle_point(T) -> (3,) that returns the point where the two ankle "
+         "axes meet, in B, for a foot pose T (4×4), at 20 random poses."),
+))
+
+
+def _ankle_pairs(u: np.ndarray, q4: float, mistake: str = "") -> np.ndarray:
+    """Every ``(q5, q6)`` with R_y(q5) R_x(q6) u = v(q4), shape (k, 2), or what a typical
+    ``mistake`` makes of them."""
+    from robokin.transforms import rotx
+
+    l1, l2 = LENGTHS[:2]
+    rho, phi = math.hypot(u[1], u[2]), math.atan2(u[2], u[1])
+    c6 = -l1 * math.sin(q4) / rho
+    if abs(c6) > 1.0:
+        return np.zeros((0, 2))
+    k = l1 * math.cos(q4) + l2
+    q6s = (math.acos(c6) - phi, -math.acos(c6) - phi)
+    rows = []
+    for q6 in (q6s[:1] if mistake == "ankle_branch_missing" else q6s):
+        w = rotx(q6) @ u
+        q5 = (math.atan2(-w[2] / k, w[0] / k) if mistake == "ankle_atan2_swapped"
+              else math.atan2(w[0] / k, -w[2] / k))
+        rows.append([-q5 if mistake == "ankle_q5_sign" else q5, q6])
+    return np.array(rows)
+
+
+_ANKLE_ANGLE_MISTAKES = [
+    ("ankle_q5_sign",
+     "{name} returns q5 with the wrong sign: R_y(q5) turns z towards x (its first row is "
+     "[c5, 0, s5]), so R_y(q5) w = v with v = (0, ·, −k) gives (w_x, w_z) = k (s5, −c5) and "
+     "q5 = atan2(w_x / k, −w_z / k)."),
+    ("ankle_atan2_swapped",
+     "{name} swaps the arguments of atan2 for q5: with w = R_x(q6) u = k (s5, ·, −c5), "
+     "q5 = atan2(w_x / k, −w_z / k) (the sine first)."),
+    ("ankle_branch_missing",
+     "{name} returns one (q5, q6) pair only: c6 u_y − s6 u_z = −L1 s4 has two solutions, "
+     "q6 = −φ ± arccos(−L1 s4 / ρ); keep both."),
+]
+
+
+class _AnkleAnglesCheck(FunctionCheck):
+    """``ankle_angles(u, q4) -> [(q5, q6), ...]``: every ankle pair, each once, in any order."""
+
+    def judge(self, answer: Any) -> CheckResult:
+        X = self.sample_points()
+        name, n = self.name, len(X)
+        cases = []
+        for x in X:
+            T = _fk(x)
+            cases.append((T[:3, :3].T @ _ankle_point(T), float(x[3])))
+        got = []
+        for k, (u, q4) in enumerate(cases):
+            pairs = np.asarray(self.call(answer, (u.copy(), q4), f"at case {k + 1}", n), dtype=float)
+            if pairs.size == 0:
+                pairs = pairs.reshape(0, 2)
+            if pairs.ndim != 2 or pairs.shape[1] != 2:
+                return self.failure("shape", f"{name} should return a list of (q5, q6) pairs; got "
+                                    f"shape {pairs.shape} at case {k + 1}.", n)
+            got.append(pairs)
+        refs = [_ankle_pairs(u, q4) for u, q4 in cases]
+        if all(_same_rows(S, R) for S, R in zip(got, refs)):
+            return self.success(f"{name} is correct: both (q5, q6) pairs, each once (checked at {n} "
+                                "random foot poses).", n)
+        if all(_same_rows(np.deg2rad(S), R) for S, R in zip(got, refs)):
+            return self.failure("degrees_output", f"{name} returns degrees: np.deg2rad of it solves "
+                                "the problem. robokin works in radians.", n)
+        def explains(code: str) -> bool:
+            if code == "ankle_branch_missing":  # either branch alone
+                return all(len(S) == 1 and len(R) == 2 and any(_same_rows(S, R[i:i + 1]) for i in (0, 1))
+                           for S, R in zip(got, refs))
+            return all(_same_rows(S, _ankle_pairs(u, q4, code)) for S, (u, q4) in zip(got, cases))
+
+        named = self.diagnose(_ANKLE_ANGLE_MISTAKES, explains, n)
+        if named is not None:
+            return named
+        k = next(i for i, (S, R) in enumerate(zip(got, refs)) if not _same_rows(S, R))
+        u, q4 = cases[k]
+        return self.failure("mismatch", (
+            f"{name}(u = {fmt(u, 4)} m, q4 = {q4:.4g} rad) returns {fmt(got[k], 4)}; the pairs "
+            f"with R_y(q5) R_x(q6) u = v(q4) are {fmt(refs[k], 4)} (rad, angles compared modulo "
+            "2π)."), n)
+
+
+ankle_angles = exercise(_CHAPTER, "ankle_angles", _AnkleAnglesCheck(
+    name="ankle_angles",
+    signature="ankle_angles(u, q4) -> list of (q5, q6)",
+    variables=_Q,
+    noun="foot poses",
+    doc=("Check a function ankle_angles(u, q4) -> [(q5, q6), ...] that returns every pair with "
+         "R_y(q5) R_x(q6) u = v(q4), u the hip–ankle vector in foot coordinates, at 20 random "
+         "foot poses."),
+))
+
+
+@dataclass
+class _CountCheck(Check):
+    """``k_regular``: how many solutions a regular reachable foot pose has (an int)."""
+
+    def evaluate(self, answer: Any) -> CheckResult:
+        name = self.name
+        if answer is None:
+            return CheckResult(name, False, f"{FAIL} {name} is None: did you forget to define it?", "error", 0)
+        if isinstance(answer, (bool, np.bool_)) or not isinstance(answer, (int, float, np.integer, np.floating)):
+            return CheckResult(name, False, f"{FAIL} {name} should be an int (a number of solutions); got "
+                               f"{type(answer).__name__}.", "type", 0)
+        X = self.sample_points()
+        counts = {len(_closed_form(_fk(x))) for x in X}
+        expected = counts.pop() if len(counts) == 1 else None
+        if expected is not None and float(answer) == expected:
+            return CheckResult(name, True, f"{PASS} {name} is correct (the count at {len(X)} random foot "
+                               "poses).", None, len(X))
+        if expected is not None and float(answer) in (expected / 2, expected / 4):
+            return CheckResult(name, False, (
+                f"{FAIL} {name} = {answer} leaves out a branch: each of the three steps with a choice "
+                "doubles the count (the knee's sign, the two arccos branches of q6, the two hip "
+                "triples with cos q2 of either sign)."), "branch_missing", len(X))
+        return CheckResult(name, False, (
+            f"{FAIL} {name} = {answer} is not the number of solutions of a regular reachable "
+            "foot pose: count the choices each step leaves (knee, ankle, hip)."), "count", len(X))
+
+
+k_regular = exercise(_CHAPTER, "k_regular", _CountCheck(
+    name="k_regular",
+    reference=lambda x: np.array([len(_closed_form(_fk(x)))]),
+    variables=_Q,
+    noun="foot poses",
+    doc="Check k_regular, the number of solutions of a regular reachable foot pose (an int).",
+))
 
 
 class _LegIKCheck(FunctionCheck):

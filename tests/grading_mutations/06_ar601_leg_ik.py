@@ -48,6 +48,10 @@ MUTATIONS = {
          "_ankle_angles_right = ankle_angles\n\n"
          "def ankle_angles(u, q4, l1_=L1, l2_=L2):\n"
          "    return _ankle_angles_right(u, q4, l1_, l2_)[:1]"),
+        ("q5 with the wrong sign (R_y taken to turn x towards z)",
+         "_ankle_angles_right = ankle_angles\n\n"
+         "def ankle_angles(u, q4, l1_=L1, l2_=L2):\n"
+         "    return [(-q5, q6) for q5, q6 in _ankle_angles_right(u, q4, l1_, l2_)]"),
     ],
     "task3_test3": [
         ("R_H transposed",
@@ -60,6 +64,7 @@ MUTATIONS = {
          "    return [(c, b, a) for a, b, c in _hip_angles_right(R_H)]"),
     ],
     "task3_test4": [
+        ("the count of one knee sign only (4)", "k_regular = 4"),
         ("only the positive knee branch (4 solutions)",
          "_leg_ik_right = my_leg_ik\n\n"
          "def my_leg_ik(T, ankle=ankle_point):\n"
