@@ -283,6 +283,85 @@ def angle_axis(R):
     return -np.asarray(h), angle
 """
 
+# the error from the goal to the tool, inside orientation_error (sign)
+_ERROR_FUNCTION_SIGN = """
+_right_error = orientation_error
+
+def orientation_error(R, R_goal):
+    return -np.asarray(_right_error(R, R_goal))
+"""
+
+# the Euler step of the loop multiplied by the gain once more (the twist already has it)
+_STEP_WITH_GAIN = """
+def kinematic_loop(twist_of, q0, ts=TS, t_end=T_END, robot=tool_arm):
+    lower, upper = robot.limits.T
+    q, Q, V = np.array(q0, dtype=float), [], []
+    for k in range(int(round(t_end / ts)) + 1):
+        nu = twist_of(q)
+        Q.append(q)
+        V.append(nu)
+        if np.linalg.norm(nu[:3]) < STOP and np.linalg.norm(nu[3:]) < STOP:
+            break
+        qdot = np.linalg.pinv(robot.jacobian(q)) @ nu
+        q = np.clip(q + GAIN_LINEAR * ts * qdot, lower, upper)
+    return np.array(Q), np.array(V)
+"""
+
+# the Euler step without the time step: q + J^+ nu
+_STEP_WITHOUT_TS = _STEP_WITH_GAIN.replace("GAIN_LINEAR * ts * qdot", "qdot")
+
+# the (roll, pitch, yaw) run with the YPR tool still on the arm
+_SWAPPED_RUN_KEEPS_TOOL = """
+def swapped_twist(q):
+    T = tool_arm.fk(q)
+    e_o = orientation_error(T[:3, :3], T_BG_rpy[:3, :3])
+    return np.r_[GAIN_LINEAR * (T_BG_rpy[:3, 3] - T[:3, 3]), GAIN_ANGULAR * e_o]
+
+swapped_arm = tool_arm
+Q_swapped, V_swapped = kinematic_loop(swapped_twist, Q0, robot=tool_arm)
+"""
+
+# the joints at a limit counted strictly beyond it: a clamped joint is never beyond
+_LIMITS_STRICT = """
+joints_at_limit = int(((Q_swapped < Q_MIN) | (Q_swapped > Q_MAX)).any(axis=0).sum())
+"""
+
+# the distance from the line taken as the length of the chord
+_OFF_LINE_CHORD = """
+path = np.array([tool_arm.fk(q)[:3, 3] for q in Q_run])
+off_line = float(np.linalg.norm(path[-1] - path[0]))
+"""
+
+# the distance from the line left in millimetres
+_OFF_LINE_MM = """
+off_line = 1000 * off_line
+"""
+
+# E(phi) with its columns in the order (yaw, pitch, roll)
+_E_COLUMNS_REVERSED = """
+def rpy_rate_matrix(R):
+    _, pitch, yaw = rpy_from_rotation(R)
+    return np.column_stack(
+        [[0.0, 0.0, 1.0], rotz(yaw)[:, 1], rotation_from_rpy(0.0, pitch, yaw)[:, 0]]
+    )
+"""
+
+# the roll axis taken as Rz(yaw) x, forgetting the pitch turn before it
+_E_ROLL_AXIS_WITHOUT_PITCH = """
+def rpy_rate_matrix(R):
+    _, pitch, yaw = rpy_from_rotation(R)
+    return np.column_stack([rotz(yaw)[:, 0], rotz(yaw)[:, 1], [0.0, 0.0, 1.0]])
+"""
+
+# E(phi) transposed
+_E_TRANSPOSED = """
+def rpy_rate_matrix(R):
+    _, pitch, yaw = rpy_from_rotation(R)
+    return np.column_stack(
+        [rotation_from_rpy(0.0, pitch, yaw)[:, 0], rotz(yaw)[:, 1], [0.0, 0.0, 1.0]]
+    ).T
+"""
+
 MUTATIONS = {
     "task1_test1": [
         ("the YPR triple read as (roll, pitch, yaw)", _TOOL_AS_RPY),
@@ -299,6 +378,7 @@ MUTATIONS = {
         ("the two readings swapped", _READINGS_SWAPPED),
     ],
     "task2_test1": [
+        ("orientation_error from the goal to the tool (sign)", _ERROR_FUNCTION_SIGN),
         ("the goal triple read as (roll, pitch, yaw)", _GOAL_AS_RPY),
         ("the rotation axis left in tool coordinates", _AXIS_IN_TOOL_FRAME),
         ("the error from the goal to the tool", _ERROR_SIGN),
@@ -316,6 +396,7 @@ MUTATIONS = {
         ("the row swap taken as the identity", _SWAP_IDENTITY),
     ],
     "task3_test2": [
+        ("spare_joints numbered from 0", "spare_joints = [4, 6]"),
         ("joint 7 dropped to solve a square 6x6 system", _SQUARE_SYSTEM),
         ("the first right singular vector taken for the null space",
          "spare = np.linalg.svd(J_T0)[2][0]"),
@@ -323,16 +404,25 @@ MUTATIONS = {
         ("the slide's column along the tool's z axis", _SLIDE_ALONG_TOOL_Z),
     ],
     "task4_test1": [
+        ("the Euler step multiplied by the gain again", _STEP_WITH_GAIN),
+        ("the Euler step without the time step", _STEP_WITHOUT_TS),
         ("the step taken before the stop test", _STEP_THEN_TEST),
         ("the stop test on the error instead of the twist", _STOP_ON_ERROR),
         ("the twist stacked [w; v] in the loop", _RUN_COURSE_ORDER),
         ("k_stop counts samples instead of steps", "k_stop = len(Q_run)"),
     ],
     "task4_test2": [
+        ("the (roll, pitch, yaw) run with the YPR tool", _SWAPPED_RUN_KEEPS_TOOL),
+        ("swapped_stops taken as True", "swapped_stops = True"),
+        ("joints at a limit counted strictly beyond it", _LIMITS_STRICT),
+        ("off_line taken as the length of the chord", _OFF_LINE_CHORD),
+        ("off_line in millimetres", _OFF_LINE_MM),
         ("the report's skip rule instead of clamping", _SKIP_RULE),
         ("the twist stacked [w; v] in the loop", _RUN_COURSE_ORDER),
     ],
     "task4_test3": [
+        ("the factor per step taken as exp(-kappa ts)",
+         "factor_per_step = float(np.exp(-GAIN_ANGULAR * TS))"),
         ("the factor per step taken as kappa ts", "factor_per_step = GAIN_ANGULAR * TS"),
         ("the stop predicted from the position error",
          "k_predicted = int(np.ceil(np.log(STOP / (GAIN_ANGULAR * np.linalg.norm(e0[:3])))"
@@ -345,8 +435,11 @@ MUTATIONS = {
         ("the naive loop converts the rates with E(phi) after all", _NAIVE_CONVERTED),
     ],
     "task5_test2": [
-        ("the RPY difference not wrapped into (-pi, pi]",
-         "def rpy_difference(R, R_goal):\n"
-         "    return np.asarray(rpy_from_rotation(R_goal)) - np.asarray(rpy_from_rotation(R))\n"),
+        ("E(phi) with its columns in the order (yaw, pitch, roll)", _E_COLUMNS_REVERSED),
+        ("the roll axis of E(phi) without the pitch turn", _E_ROLL_AXIS_WITHOUT_PITCH),
+        ("E(phi) transposed", _E_TRANSPOSED),
+        ("E(phi) left out: the naive loop's run", "Q_analytic = Q_naive"),
+        ("analytic_stops taken as False", "analytic_stops = False"),
+        ("E(phi) taken singular at pitch 0", "pitch_singular = 0.0"),
     ],
 }
