@@ -7,28 +7,13 @@ The leg is
     {}^B\mathbf{T}_F(\mathbf{q}) = \underbrace{R_z(q_1) R_y(q_2) R_x(q_3)}_{\mathbf{R}_H}\,
     T_z(-L_1)\, R_x(q_4)\, T_z(-L_2)\, R_y(q_5) R_x(q_6)\, T_z(-L_3).
 
-The three hip axes meet at the base origin (a spherical hip) and the two ankle
-axes meet at the ankle point :math:`\mathbf{a}`, a distance :math:`L_3` above the
-sole along the foot's own :math:`z` axis. Such a 6R chain satisfies Pieper's
-criterion (three consecutive axes through one point) and its inverse kinematics
-decouples (Siciliano et al. 2009 §2.12.2; Craig 2005 §4.6; Lynch & Park 2017
-§6.1.1). Given the foot pose :math:`(\mathbf{R}, \mathbf{p})`:
-
-1. ankle point :math:`\mathbf{a} = \mathbf{p} + L_3\,\mathbf{R}\,\mathbf{e}_z`
-   (back from the sole along the foot's :math:`+z`);
-2. knee, from the hip–ankle distance :math:`d = \lVert\mathbf{a}\rVert` by the law of
-   cosines, :math:`\cos q_4 = (d^2 - L_1^2 - L_2^2)/(2L_1L_2)`: two solutions
-   :math:`\pm q_4` (one when the knee is stretched);
-3. ankle: the hip seen from the ankle in foot coordinates,
-   :math:`\mathbf{u} = \mathbf{R}^\top\mathbf{a}`, must satisfy
-   :math:`R_y(q_5)R_x(q_6)\,\mathbf{u} = \mathbf{v}(q_4) = [0,\ -L_1 s_4,\ -(L_1c_4 + L_2)]^\top`.
-   Its :math:`y` row, :math:`c_6 u_y - s_6 u_z = -L_1 s_4`, gives two :math:`q_6`;
-   the :math:`x` and :math:`z` rows then give one :math:`q_5`;
-4. hip: :math:`\mathbf{R}_H = \mathbf{R}\,(R_x(q_4)R_y(q_5)R_x(q_6))^\top =
-   R_z(q_1)R_y(q_2)R_x(q_3)`, a ZYX (roll–pitch–yaw) decomposition with two
-   branches, :math:`q_2` and :math:`\pi - q_2`.
-
-Up to :math:`2\times2\times2 = 8` solutions. Every returned solution is verified
+The chain satisfies Pieper's criterion (three consecutive axes through one
+point), so its inverse kinematics decouples (Siciliano et al. 2009 §2.12.2;
+Craig 2005 §4.6; Lynch & Park 2017 §6.1.1). Given the foot pose :math:`(\mathbf{R}, \mathbf{p})`, it takes four
+steps: the ankle point, the knee angle :math:`q_4` from the hip–ankle distance,
+the two ankle angles :math:`q_5, q_6`, and the three hip angles
+:math:`q_1, q_2, q_3` (Kajita et al. 2014, §2.5, for the same construction on the
+HRP legs). Chapter 6 of the workbook derives them. Every returned solution is verified
 with the model's forward kinematics (``position_residual``,
 ``orientation_residual``).
 """
@@ -87,8 +72,9 @@ class AR601IKResult:
     orientation_residual : ndarray, shape (k,)
         Rotation angle of ``R_FK(q)ᵀ R_target`` (rad) of each solution.
     branches : ndarray of int, shape (k, 3)
-        Signs ``(knee, ankle, hip)`` of each solution: the sign of ``q4``, the
-        ``±arccos`` of the ankle equation and ``+1`` for ``|q2| ≤ π/2``.
+        Signs ``(knee, ankle, hip)`` of each solution: the sign of ``q4``,
+        which of the two ankle solutions (``+1`` first) and ``+1`` for
+        ``|q2| ≤ π/2``.
     within_limits : ndarray of bool, shape (k,)
         Whether each solution respects the chain's joint limits.
     singular : tuple of str
@@ -288,7 +274,7 @@ def ar601_leg_ik(
 
     Notes
     -----
-    Derivation in the module docstring; Siciliano et al. (2009) §2.12 for the
+    The four steps of the module docstring; Siciliano et al. (2009) §2.12 for the
     kinematic decoupling, Kajita et al. (2014, *Introduction to Humanoid
     Robotics*, §2.5) for the same construction on the HRP legs.
 

@@ -28,30 +28,20 @@ def eth_leg(l_b: Any = 1, l_1: Any = 1, l_2: Any = 1, l_3: Any = 1, *, limits: A
     r"""The 3-DOF leg of ETH Zürich's *Autonomous Mobile Robots*, exercise 1.
 
     Source: ETH AMR exercise 1 ("Kinematics of a single robot leg"), checked
-    against a student report (course material, not distributed with robokin),
-    whose printed Jacobian (eq. 20) has a sign slip in entry (3, 3); the values
-    here are re-derived.
+    against a student report (course material, not distributed with robokin);
+    the values here are re-derived.
 
     Frames ``B, 1, 2, 3, F`` (base, hip-abduction, hip-flexion, knee, foot);
     :math:`\mathbf{q} = [\alpha, \beta, \gamma]`: α about the x axis of frame 1,
     β about the y axis of frame 2, γ about the y axis of frame 3. Offsets
     :math:`{}_B\mathbf{r}_{B1} = [0, l_B, 0]`,
-    :math:`{}_1\mathbf{r}_{12} = {}_2\mathbf{r}_{23} = {}_3\mathbf{r}_{3F} = [0, 0, -l_i]`.
-    Elementary transforms::
+    :math:`{}_1\mathbf{r}_{12} = {}_2\mathbf{r}_{23} = {}_3\mathbf{r}_{3F} = [0, 0, -l_i]`
+    (:math:`l_1, l_2, l_3` in turn). ``frames(q)`` gives the frames
+    ``B, 1, 2, 3, F`` in the base frame; frames 2 and 3 sit at their joint axes.
 
-        Ty(l_b) Rx(alpha) Tz(-l_1) Ry(beta) Tz(-l_2) Ry(gamma) Tz(-l_3)
-
-    Note that the joint frames 2 and 3 of the chain sit at the joint axes,
-    i.e. ``frames(q)[2]`` is the pose after ``Tz(-l_1) Ry(beta)``.
-
-    With unit lengths the foot position is
-
-    .. math::
-
-        {}_B\mathbf{r}_{BF} = \begin{bmatrix}
-            -\sin\beta - \sin(\beta+\gamma) \\
-            \sin\alpha\,(1 + \cos\beta + \cos(\beta+\gamma)) + 1 \\
-            -\cos\alpha\,(1 + \cos\beta + \cos(\beta+\gamma)) \end{bmatrix}.
+    The foot position and its Jacobian follow from the chain (``fk``,
+    ``jacobian``; Siciliano et al. 2009, §3.1.3, for the Jacobian of a point);
+    chapter 1 of the workbook derives them.
 
     Parameters
     ----------
@@ -63,9 +53,8 @@ def eth_leg(l_b: Any = 1, l_1: Any = 1, l_2: Any = 1, l_3: Any = 1, *, limits: A
         ``ETH_LEG_LIMITS``: α ∈ [−π/2, π/2], β ∈ [−3π/4, 3π/4], γ ∈ [−π, π].
         The exercise sets no joint limits; this default is a teaching range
         (not hardware data) that contains every configuration of the
-        exercise -- the inverse-kinematics goals of task 4 (both knee
-        solutions) and the whole circle of task 5, which needs β ≈ −97° --
-        with at least 25° to spare. Pass tighter limits to model a real leg,
+        exercise -- its inverse-kinematics goals and the whole circle of
+        task 5, which needs β ≈ −97° -- with at least 25° to spare. Pass tighter limits to model a real leg,
         e.g. ``limits=[[-pi/2, pi/2], [-pi/2, pi/2], [-pi, pi]]`` for a hip
         that cannot raise the thigh above horizontal.
 

@@ -4,13 +4,8 @@ Both constructors return a :class:`robokin.parallel.Planar3RPR`. The platform fr
 has its origin at the platform anchor :math:`B_1` and its :math:`x` axis along
 :math:`B_1B_2`, so the pose :math:`(x, y, \varphi)` is the position of
 :math:`B_1` and the direction of the side :math:`B_1B_2` -- the parameterisation of
-the exercise, whose loop equations read
-
-.. math::
-
-    \rho_1^2 = x^2 + y^2,\quad
-    \rho_2^2 = (x + l_2 c_\varphi - c_2)^2 + (y + l_2 s_\varphi)^2,\quad
-    \rho_3^2 = (x + l_3 \cos(\varphi + \theta) - c_3)^2 + (y + l_3 \sin(\varphi + \theta) - d_3)^2 .
+the exercise, with the side lengths :math:`l_2 = |B_1B_2|`, :math:`l_3 = |B_1B_3|` and
+the angle :math:`\theta` between the two sides at :math:`B_1`.
 """
 
 from __future__ import annotations
@@ -45,10 +40,9 @@ def three_rpr(platform_side: Any = 1.0, stroke: Any = (0.0, 2.0)) -> Planar3RPR:
     exercise's :math:`l_2 = l_3`, with :math:`\theta = \pi/3`), anchors in the platform
     frame :math:`b_1 = (0, 0)`, :math:`b_2 = (l, 0)`, :math:`b_3 = l(\tfrac12, \tfrac{\sqrt3}{2})`.
 
-    With the default side 1 m the platform is congruent to the base. Base and
-    platform are then similar triangles, a special architecture: the orientation
-    equation is even in :math:`\varphi`, always has the spurious root
-    :math:`\varphi = 0`, and at most four real assembly modes exist (see the chapter).
+    With the default side 1 m the platform is congruent to the base, a special
+    architecture whose assembly modes chapter 3 of the workbook studies (Merlet 2006,
+    ch. 4).
 
     Parameters
     ----------

@@ -22,48 +22,13 @@ offset sideways from the plane of the arm). Joints 2, 3 and 4 are parallel
 point, so Pieper's decoupling of the position from the orientation does not
 apply, but the parallel axes give a closed form all the same (Hawkins 2013,
 *Analytic inverse kinematics for the Universal Robots UR-5/UR-10 arms*;
-Siciliano et al. 2009 §2.12; Lynch & Park 2017 §6.1). Derived here from the
-table above and checked numerically (``tests/test_ur_ik.py``). Given the tool
-flange pose :math:`(\mathbf{R}, \mathbf{p}) = ([\mathbf{x}_6\ \mathbf{y}_6\ \mathbf{z}_6], \mathbf{p})`
-in the base frame:
-
-1. **Wrist centre and q1.** The origin of frame 5 is
-   :math:`\mathbf{o}_5 = \mathbf{p} - d_6\,\mathbf{z}_6`. Every point of the arm
-   beyond joint 1 lies at the height :math:`d_4` along the horizontal axis
-   :math:`\mathbf{z}_1 = [s_1,\ -c_1,\ 0]^\top` of the parallel joints, so
-   :math:`o_{5x} s_1 - o_{5y} c_1 = d_4`. With
-   :math:`o_{5x} + i\,o_{5y} = r\,e^{i\psi}`: :math:`r\sin(q_1 - \psi) = d_4`,
-
-   .. math:: q_1 = \psi + \tfrac{\pi}{2} \pm \arccos(d_4 / r),
-
-   two *shoulder* solutions if :math:`r > |d_4|` (the wrist centre outside the
-   cylinder of radius :math:`|d_4|` about the base axis), none if
-   :math:`r < |d_4|`.
-2. **q5.** :math:`\mathbf{z}_1` seen from the flange is
-   :math:`\mathbf{R}^\top\mathbf{z}_1 = [c_6 s_5,\ -s_6 s_5,\ c_5]^\top`, so
-   :math:`c_5 = \mathbf{z}_6\cdot\mathbf{z}_1` and
-   :math:`|s_5| = \lVert(\mathbf{x}_6\cdot\mathbf{z}_1,\ \mathbf{y}_6\cdot\mathbf{z}_1)\rVert`:
-   :math:`q_5 = \pm\operatorname{atan2}(|s_5|, c_5)`, two *wrist* solutions.
-3. **q6** from the same vector:
-   :math:`q_6 = \operatorname{atan2}(-\mathbf{y}_6\cdot\mathbf{z}_1 / s_5,\ \mathbf{x}_6\cdot\mathbf{z}_1 / s_5)`;
-   undefined when :math:`s_5 = 0` (joints 2, 3, 4 and 6 parallel).
-4. **Planar three-link problem for q2, q3, q4.** The origin of frame 4 is
-   :math:`\mathbf{o}_4 = \mathbf{o}_5 - d_5\mathbf{z}_4` with
-   :math:`\mathbf{z}_4 = -s_6\mathbf{x}_6 - c_6\mathbf{y}_6`, and the axis
-   :math:`\mathbf{x}_4 = c_5 c_6\mathbf{x}_6 - c_5 s_6\mathbf{y}_6 - s_5\mathbf{z}_6`.
-   In the plane of the arm (frame 1: :math:`X = c_1 o_{4x} + s_1 o_{4y}`,
-   :math:`Y = o_{4z} - d_1`) the links :math:`a_2`, :math:`a_3` reach
-   :math:`(X, Y)`:
-
-   .. math::
-
-       c_3 = \frac{X^2 + Y^2 - a_2^2 - a_3^2}{2 a_2 a_3},\quad
-       q_3 = \pm\operatorname{atan2}\!\big(\sqrt{1 - c_3^2},\ c_3\big),\quad
-       q_2 = \operatorname{atan2}(Y, X) - \operatorname{atan2}(a_3 s_3,\ a_2 + a_3 c_3),
-
-   two *elbow* solutions (none if :math:`|c_3| > 1`), and
-   :math:`q_4 = \operatorname{atan2}(x_{4z},\ c_1 x_{4x} + s_1 x_{4y}) - q_2 - q_3`
-   (the three parallel joints add up to the angle of :math:`\mathbf{x}_4` in the plane).
+Siciliano et al. 2009 §2.12; Lynch & Park 2017 §6.1), checked numerically
+(``tests/test_ur_ik.py``). Given the tool flange pose
+:math:`(\mathbf{R}, \mathbf{p})` in the base frame, it takes four steps: the
+wrist centre (the origin of frame 5) and :math:`q_1`, two *shoulder* solutions;
+:math:`q_5`, two *wrist* solutions; :math:`q_6`; and the planar three-link
+problem of the parallel joints for :math:`q_2, q_3, q_4`, two *elbow*
+solutions. Chapter 7 of the workbook derives them.
 
 Up to :math:`2\times2\times2 = 8` solutions, each angle wrapped into (−π, π].
 Each one is verified by the forward kinematics of the table, the product of its
@@ -178,15 +143,16 @@ class URIKResult:
         Rotation angle of ``R_FK(q)ᵀ R_target`` (rad) of each solution.
     branches : ndarray of int, shape (k, 3)
         Signs ``(shoulder, wrist, elbow)`` of each solution (:data:`BRANCHES`):
-        the ``±`` of :math:`q_1 = \\psi + \\pi/2 \\pm \\arccos(d_4/r)`, the sign of
-        ``sin q5`` and the sign of ``sin q3`` (``+1`` where it is 0).
+        the shoulder's ``+1`` where the wrist centre lies on the negative side
+        of the x axis of DH frame 1 and ``−1`` where on its positive side, the
+        sign of ``sin q5`` and the sign of ``sin q3`` (``+1`` where it is 0).
     within_limits : ndarray of bool, shape (k,)
         Whether each solution respects the joint limits (±2π, the controller's range).
     singular : tuple of str
         Singular cases met (see :data:`SINGULARITIES`); there a family of
         solutions (or two coinciding ones) is represented by one member.
     wrist_centre : ndarray, shape (3,)
-        The origin of frame 5, :math:`\\mathbf{p} - d_6\\mathbf{z}_6` (m, base frame).
+        The wrist centre, the origin of DH frame 5 (m, base frame).
     """
 
     q: np.ndarray
@@ -581,10 +547,10 @@ def ur10_ik(
 
     Notes
     -----
-    Derivation in the module docstring (steps 1–4: wrist centre and q1, q5,
-    q6, the planar three-link problem for q2, q3, q4); Hawkins (2013) for the
-    UR-5/UR-10, Siciliano et al. (2009) §2.12 and Lynch & Park (2017) §6.1
-    for closed-form inverse kinematics. Every solution is verified with the
+    Four steps (module docstring): the wrist centre and q1, q5, q6, the planar
+    three-link problem for q2, q3, q4; Hawkins (2013) for the UR-5/UR-10,
+    Siciliano et al. (2009) §2.12 and Lynch & Park (2017) §6.1 for closed-form
+    inverse kinematics. Every solution is verified with the
     forward kinematics of the table (``position_residual``,
     ``orientation_residual``). A joint of the arm turns through ±2π, so each
     returned angle ``q_i`` also stands for ``q_i ∓ 2π``.

@@ -10,16 +10,11 @@ Parameterisation
 ----------------
 The platform pose is :math:`\mathbf{x} = (x, y, \varphi)`: the position of the
 platform frame's origin :math:`P` in the base frame and the platform's
-orientation. The platform anchors are given in the platform frame,
-:math:`{}_P\mathbf{b}_i`, so that
-
-.. math::
-
-    \mathbf{B}_i = \mathbf{p} + \mathbf{R}(\varphi)\,{}_P\mathbf{b}_i,
-    \qquad
-    \rho_i = \lVert \mathbf{B}_i - \mathbf{A}_i \rVert,
-    \qquad
-    \mathbf{R}(\varphi) = \begin{bmatrix} c_\varphi & -s_\varphi \\ s_\varphi & c_\varphi \end{bmatrix}.
+orientation (rad, counterclockwise). The base anchors :math:`\mathbf{A}_i` are
+given in the base frame, the platform anchors :math:`{}_P\mathbf{b}_i` in the
+platform frame; :math:`\mathbf{B}_i` is the platform anchor in the base frame
+(:meth:`Planar3RPR.platform_points`) and :math:`\rho_i` the distance from
+:math:`\mathbf{A}_i` to :math:`\mathbf{B}_i`, the length of leg :math:`i`.
 
 Forward kinematics
 ------------------
@@ -243,7 +238,7 @@ class Planar3RPR:
 
     # ------------------------------------------------------------------ inverse kinematics
     def inverse_kinematics(self, pose: Any) -> np.ndarray:
-        r"""Leg lengths :math:`\rho_i = \lVert \mathbf{p} + \mathbf{R}(\varphi)\mathbf{b}_i - \mathbf{A}_i\rVert`.
+        r"""Leg lengths :math:`\rho_i`, the distances from :math:`A_i` to :math:`B_i` (Merlet 2006, ch. 3).
 
         Parameters
         ----------
@@ -395,8 +390,9 @@ class Planar3RPR:
         -------
         numpy.ndarray, shape (7,), complex
             :math:`c_{-3}, \dots, c_3` with :math:`F(\varphi) = \sum_k c_k e^{ik\varphi}`
-            (:math:`c_{-k} = \bar c_k`). Computed exactly from 16 samples of :math:`F`
-            by the discrete Fourier transform (harmonics 4 to 8 vanish).
+            (:math:`c_{-k} = \bar c_k`), in the units of :math:`F` (m⁶), for the leg
+            lengths ``rho`` (3,) in m; :math:`F` is the orientation equation of the
+            module docstring (Merlet 2006, ch. 4).
         """
         rho = self._check_rho(rho)
         phi = 2 * np.pi * np.arange(16) / 16
@@ -409,13 +405,13 @@ class Planar3RPR:
         r"""Coefficients :math:`C_0, \dots, C_6` of the orientation polynomial in :math:`t = \tan(\varphi/2)`.
 
         :math:`(1 + t^2)^3 F(\varphi) = \sum_{j=0}^{6} C_j t^j`, lowest degree first
-        (the notation of the exercise). Built from :meth:`orientation_harmonics` with
-        :math:`(1 + t^2)^k e^{ik\varphi} = (1 + it)^{2k}`. :math:`C_6 = 0` exactly when
-        :math:`\varphi = \pi` solves the equation (the root :math:`t = \infty`).
+        (the notation of the exercise; Gosselin & Merlet 1994, Merlet 2006, ch. 4),
+        for the leg lengths ``rho`` (3,) in m.
 
         Returns
         -------
         numpy.ndarray, shape (7,)
+            :math:`C_0, \dots, C_6`, real, in the units of :math:`F` (m⁶).
         """
         c = self.orientation_harmonics(rho)
         out = np.zeros(7, dtype=complex)
