@@ -712,8 +712,8 @@ class SerialChain:
     def screw_axes(self) -> tuple[np.ndarray, np.ndarray]:
         r"""Home pose :math:`M` (4, 4) and space-frame screw axes :math:`\mathcal{S}` (n, 6), rows ``[ω; v]``.
 
-        :math:`T(\mathbf{q}) = e^{[\mathcal{S}_1]q_1}\cdots e^{[\mathcal{S}_n]q_n}M` equals :meth:`fk`
-        (Lynch & Park 2017, §4.1.1). See :func:`robokin.chains.screws.screw_axes`.
+        Their product of exponentials equals :meth:`fk` (Lynch & Park 2017, §4.1.1). See
+        :func:`robokin.chains.screws.screw_axes`.
         """
         from robokin.chains.screws import screw_axes
 
@@ -722,9 +722,9 @@ class SerialChain:
     def space_jacobian(self, q: Any) -> np.ndarray:
         r"""Lynch & Park's space Jacobian :math:`J_s`, shape (6, n) or (N, 6, n), rows ``[ω; v_s]``.
 
-        Column i is :math:`[\mathrm{Ad}_{e^{[\mathcal{S}_1]q_1}\cdots}]\mathcal{S}_i` (Lynch & Park
-        2017, §5.1.1); with this book's :meth:`jacobian` ``[J_v; J_ω]`` and the end-effector's
-        position :math:`p`: :math:`J_s = [J_\omega;\ J_v + [p]J_\omega]`. See
+        Column i is joint i's screw axis at ``q``, in the base frame (Lynch & Park 2017,
+        §5.1.1); ``v_s`` is the velocity of the body point at the base origin, where this
+        book's :meth:`jacobian` ``[J_v; J_ω]`` gives that of the end-effector's origin. See
         :func:`robokin.chains.screws.space_jacobian`.
         """
         from robokin.chains.screws import space_jacobian
@@ -734,10 +734,8 @@ class SerialChain:
     def body_jacobian(self, q: Any) -> np.ndarray:
         r"""Lynch & Park's body Jacobian :math:`J_b`, shape (6, n) or (N, 6, n), rows ``[ω_b; v_b]``.
 
-        :math:`J_b = [\mathrm{Ad}_{T^{-1}}]J_s`, in the end-effector frame (Lynch & Park 2017,
-        §5.1.2); with this book's :meth:`jacobian` and the end-effector's rotation :math:`R`:
-        :math:`J_b = [R^\mathsf{T}J_\omega;\ R^\mathsf{T}J_v]`. See
-        :func:`robokin.chains.screws.body_jacobian`.
+        The twist of the end-effector in its own frame (Lynch & Park 2017, §5.1.2; its
+        relation to :math:`J_s`, §5.1.4). See :func:`robokin.chains.screws.body_jacobian`.
         """
         from robokin.chains.screws import body_jacobian
 
@@ -755,17 +753,17 @@ class SerialChain:
         return velocity_ellipsoid(self, q, part)
 
     def force_ellipsoid(self, q: Any, part: str = "position") -> tuple[np.ndarray, np.ndarray]:
-        """Semi-axes and unit axes of the force ellipsoid, the dual of :meth:`velocity_ellipsoid`.
+        """Semi-axes and unit axes of the force ellipsoid of the ``"position"`` or ``"orientation"`` rows.
 
-        Semi-axes descending, ``inf`` along a direction the chain cannot move.
-        See :func:`robokin.chains.ellipsoids.force_ellipsoid`.
+        Semi-axes (3,) or (N, 3), descending (``inf`` where unbounded); axes the columns of
+        (3, 3) or (N, 3, 3), base frame. See :func:`robokin.chains.ellipsoids.force_ellipsoid`.
         """
         from robokin.chains.ellipsoids import force_ellipsoid
 
         return force_ellipsoid(self, q, part)
 
     def static_torques(self, q: Any, wrench: Any) -> np.ndarray:
-        r"""Joint torques with which the end-effector exerts a wrench, at rest: :math:`\mathbf{J}^\mathsf{T}\mathbf{w}`.
+        r"""Joint torques with which the end-effector exerts a wrench, at rest.
 
         ``wrench`` is ``[f; μ]`` (base frame, force at the end-effector's origin); the result has
         shape (n,) or (N, n). See :func:`robokin.chains.ellipsoids.static_torques`.

@@ -1,25 +1,17 @@
 r"""Statics and the velocity and force ellipsoids of a serial chain.
 
-By virtual work, the joint torques with which the end-effector, at rest, exerts the wrench
-:math:`\mathbf{w} = [\mathbf{f}; \boldsymbol{\mu}]` on its environment are
-:math:`\boldsymbol\tau = \mathbf{J}^\mathsf{T}\mathbf{w}` (Siciliano et al. 2009, §3.8;
-Lynch & Park 2017, §5.2): the power :math:`\dot{\mathbf{q}}^\mathsf{T}\boldsymbol\tau
-= \mathbf{v}^\mathsf{T}\mathbf{f} + \boldsymbol\omega^\mathsf{T}\boldsymbol\mu` is the same on
-both sides. With this book's :math:`\mathbf{J} = [\mathbf{J}_v; \mathbf{J}_\omega]` the wrench
-is ``[f; μ]`` in that order, in the base frame, the force applied at the end-effector's origin.
+:func:`static_torques` gives the joint torques with which the end-effector, at rest, exerts a
+wrench :math:`\mathbf{w} = [\mathbf{f}; \boldsymbol{\mu}]` on its environment
+(Siciliano et al. 2009, §3.8; Lynch & Park 2017, §5.2); with this book's
+:math:`\mathbf{J} = [\mathbf{J}_v; \mathbf{J}_\omega]` the wrench is ``[f; μ]`` in that order,
+in the base frame, the force applied at the end-effector's origin.
 
 One part of the Jacobian at a time, :math:`\mathbf{J}_p` (:math:`\mathbf{J}_v` or
-:math:`\mathbf{J}_\omega`, 3 × n), with its singular value decomposition
-:math:`\mathbf{J}_p = \mathbf{U}\boldsymbol\Sigma\mathbf{V}^\mathsf{T}`:
-
-- the **velocity ellipsoid**, the velocities reached with :math:`\|\dot{\mathbf{q}}\| \le 1`, has
-  semi-axes :math:`\sigma_i` along the columns :math:`\mathbf{u}_i` of :math:`\mathbf{U}`;
-- the **force ellipsoid**, the forces (or moments) balanced with :math:`\|\boldsymbol\tau\| \le 1`,
-  has the same axes and semi-axes :math:`1/\sigma_i`
-
-(Siciliano et al. 2009, §3.9; Yoshikawa 1985): where the arm moves fast it pushes weakly, and
-along a direction it cannot move (:math:`\sigma_i = 0`) it resists any force. The two parts are
-kept apart: a radius in m/s and one in rad/s have no common scale.
+:math:`\mathbf{J}_\omega`, 3 × n): :func:`velocity_ellipsoid` gives the principal semi-axes and
+axes of the velocities reached with :math:`\|\dot{\mathbf{q}}\| \le 1`, :func:`force_ellipsoid`
+those of the forces (or moments) balanced with :math:`\|\boldsymbol\tau\| \le 1`
+(Siciliano et al. 2009, §3.9; Yoshikawa 1985). The two parts are kept apart: a radius in m/s
+and one in rad/s have no common scale. Chapter 9 of the workbook derives them.
 """
 
 from __future__ import annotations
@@ -58,9 +50,8 @@ def velocity_ellipsoid(chain: Chain, q: Any, part: str = "position") -> tuple[np
     r"""Principal semi-axes and axes of the velocity (manipulability) ellipsoid.
 
     The image of the unit ball of joint velocities, :math:`\{\mathbf{J}_p\dot{\mathbf{q}} :
-    \|\dot{\mathbf{q}}\| \le 1\}`: semi-axes :math:`\sigma_i`, axes the left singular vectors
-    :math:`\mathbf{u}_i` of :math:`\mathbf{J}_p` (Siciliano et al. 2009, §3.9).
-    A chain with fewer than three joints gives zero radii (a flat ellipsoid).
+    \|\dot{\mathbf{q}}\| \le 1\}` (Siciliano et al. 2009, §3.9). A chain with fewer than three
+    joints gives zero radii (a flat ellipsoid).
 
     Parameters
     ----------
@@ -74,7 +65,7 @@ def velocity_ellipsoid(chain: Chain, q: Any, part: str = "position") -> tuple[np
     Returns
     -------
     radii : numpy.ndarray, shape (3,) or (N, 3)
-        Semi-axes :math:`\sigma_1 \ge \sigma_2 \ge \sigma_3 \ge 0`, per unit joint speed.
+        Semi-axes, descending and non-negative, in m/s (or rad/s) per unit joint-speed norm.
     axes : numpy.ndarray, shape (3, 3) or (N, 3, 3)
         Unit axes as the columns, in the base frame, in the order of ``radii``; each column's
         largest-magnitude entry is positive.
@@ -84,14 +75,12 @@ def velocity_ellipsoid(chain: Chain, q: Any, part: str = "position") -> tuple[np
 
 
 def force_ellipsoid(chain: Chain, q: Any, part: str = "position") -> tuple[np.ndarray, np.ndarray]:
-    r"""Principal semi-axes and axes of the force ellipsoid (the dual of :func:`velocity_ellipsoid`).
+    r"""Principal semi-axes and axes of the force ellipsoid.
 
     The forces (``part="position"``) or moments (``"orientation"``) balanced by joint torques of
-    unit norm, :math:`\{\mathbf{f} : \|\mathbf{J}_p^\mathsf{T}\mathbf{f}\| \le 1\}`: the same
-    axes as the velocity ellipsoid, semi-axes :math:`1/\sigma_i` (Siciliano et al. 2009,
-    §3.9). Along a direction the chain cannot move (a singular value below numpy's rank
-    tolerance, :math:`\sigma_1 \max(3, n)\,\epsilon`) the radius is ``inf``: every force along it
-    is held with no torque.
+    unit norm, :math:`\{\mathbf{f} : \|\mathbf{J}_p^\mathsf{T}\mathbf{f}\| \le 1\}` (Siciliano et
+    al. 2009, §3.9). Where the set is unbounded (a singular value of :math:`\mathbf{J}_p` below
+    numpy's rank tolerance, :math:`\sigma_1 \max(3, n)\,\epsilon`) the radius is ``inf``.
 
     Parameters
     ----------
@@ -103,10 +92,11 @@ def force_ellipsoid(chain: Chain, q: Any, part: str = "position") -> tuple[np.nd
     Returns
     -------
     radii : numpy.ndarray, shape (3,) or (N, 3)
-        Semi-axes :math:`1/\sigma_3 \ge 1/\sigma_2 \ge 1/\sigma_1` (``inf`` first where singular),
-        in N (or N·m) per unit torque.
+        Semi-axes, descending (``inf`` first where unbounded), in N (or N·m) per unit torque
+        norm.
     axes : numpy.ndarray, shape (3, 3) or (N, 3, 3)
-        Unit axes as the columns, in the order of ``radii`` (the velocity ellipsoid's, reversed).
+        Unit axes as the columns, in the base frame, in the order of ``radii``; each column's
+        largest-magnitude entry is positive.
     """
     U, sigma = _decomposition(chain, q, part)
     singular = sigma <= _rank_tolerance(sigma, chain.n)
@@ -128,12 +118,9 @@ def _decomposition(chain: Chain, q: Any, part: str) -> tuple[np.ndarray, np.ndar
 def static_torques(chain: Chain, q: Any, wrench: Any) -> np.ndarray:
     r"""Joint torques (forces) with which the end-effector exerts a wrench, at rest.
 
-    :math:`\boldsymbol\tau = \mathbf{J}^\mathsf{T}\mathbf{w}` (Siciliano et al. 2009, §3.8;
-    Lynch & Park 2017, §5.2): the torques the joints
-    must exert to hold the end-effector still while the environment pushes on it with
-    :math:`-\mathbf{w}` (equivalently: the torques that make the end-effector exert
-    :math:`\mathbf{w}`). A load of mass :math:`m` hanging at the end-effector under gravity
-    :math:`\mathbf{g}` is held by ``wrench = [-m g; 0]``.
+    The torques the joints must exert to hold the end-effector still while the environment
+    pushes on it with :math:`-\mathbf{w}` (equivalently: the torques that make the end-effector
+    exert :math:`\mathbf{w}`) (Siciliano et al. 2009, §3.8; Lynch & Park 2017, §5.2).
 
     Parameters
     ----------

@@ -1,28 +1,17 @@
 r"""A serial chain in the product-of-exponentials form (Lynch & Park 2017, ch. 4–5).
 
-A chain's forward kinematics is a product of screw motions about the joints' axes,
-read once at the home configuration :math:`\mathbf{q} = 0` (the space form,
-Lynch & Park 2017, §4.1.1):
-
-.. math::
-    T(\mathbf{q}) = e^{[\mathcal{S}_1]q_1} e^{[\mathcal{S}_2]q_2} \cdots e^{[\mathcal{S}_n]q_n} M
-
-and its Jacobians follow column by column (§5.1.1 and §5.1.2; their relation, §5.1.4):
-
-.. math::
-    J_{s,i} = [\mathrm{Ad}_{e^{[\mathcal{S}_1]q_1}\cdots e^{[\mathcal{S}_{i-1}]q_{i-1}}}]\,\mathcal{S}_i,
-    \qquad J_b = [\mathrm{Ad}_{T^{-1}}]\, J_s .
+A chain's forward kinematics is a product of screw motions about the joints' axes, read
+once at the home configuration :math:`\mathbf{q} = 0` (the space form, Lynch & Park 2017,
+§4.1.1), and its Jacobians follow column by column (§5.1.1 and §5.1.2; their relation,
+§5.1.4). :func:`screw_axes` gives the home pose :math:`M` and the screw axes,
+:func:`product_of_exponentials` the pose, :func:`space_jacobian` and :func:`body_jacobian`
+the two Jacobians. Chapter 8 of the workbook derives them.
 
 Twists here are Lynch & Park's, **angular part first**, ``[ω; v]``; the geometric Jacobian of
 :meth:`~robokin.chains.SerialChain.jacobian` is ``[v; ω]`` with ``v`` the velocity of the
-end-effector's origin. The two are related by (``book/conventions.md``)
-
-.. math::
-    J_s = \begin{bmatrix} J_\omega \\ J_v + [p] J_\omega \end{bmatrix}, \qquad
-    J_b = \begin{bmatrix} R^\mathsf{T} J_\omega \\ R^\mathsf{T} J_v \end{bmatrix},
-
-with :math:`(R, p)` the end-effector's pose; ``tests/test_chains_screws.py`` checks both, for
-every model of :mod:`robokin.models`.
+end-effector's origin (``book/conventions.md``). ``tests/test_chains_screws.py`` checks the
+pose against ``fk`` and both Jacobians against ``jacobian``, for every model of
+:mod:`robokin.models`.
 """
 
 from __future__ import annotations
@@ -43,15 +32,11 @@ __all__ = ["screw_axes", "product_of_exponentials", "space_jacobian", "body_jaco
 def screw_axes(chain: DrawableChain) -> tuple[np.ndarray, np.ndarray]:
     r"""The home pose :math:`M` and the space-frame screw axes of a chain's joints.
 
-    At :math:`\mathbf{q} = 0`, joint i turns about (or slides along) the unit axis
-    :math:`\omega_i` through the point :math:`q_i`, both in the base frame (read from the
-    joint frames of :meth:`~robokin.chains.SerialChain.frames`). Its screw axis is
-    (Lynch & Park 2017, §4.1.1)
-
-    .. math::
-        \mathcal{S}_i = \begin{bmatrix} \omega_i \\ -\omega_i \times q_i \end{bmatrix}
-        \text{ (revolute)}, \qquad
-        \mathcal{S}_i = \begin{bmatrix} 0 \\ \omega_i \end{bmatrix} \text{ (prismatic)}.
+    At :math:`\mathbf{q} = 0`, joint i turns about (or slides along) a unit axis through a
+    point, both read in the base frame from the joint frames of
+    :meth:`~robokin.chains.SerialChain.frames`; its screw axis :math:`\mathcal{S}_i` is the
+    space twist of the links it carries when it moves at unit rate (Lynch & Park 2017,
+    §3.3.2 and §4.1.1).
 
     Parameters
     ----------
@@ -96,9 +81,9 @@ def _joint_motion(screw: np.ndarray, values: np.ndarray) -> np.ndarray:
 
 
 def product_of_exponentials(chain: DrawableChain, q: Any) -> np.ndarray:
-    r"""End-effector pose as the product of exponentials :math:`e^{[\mathcal{S}_1]q_1}\cdots e^{[\mathcal{S}_n]q_n}M`.
+    r"""End-effector pose as the product of exponentials of :func:`screw_axes` and :math:`M`.
 
-    Equal to :meth:`~robokin.chains.SerialChain.fk` (Lynch & Park 2017, §4.1.1, eq. 4.14).
+    Equal to :meth:`~robokin.chains.SerialChain.fk` (Lynch & Park 2017, §4.1.1).
 
     Parameters
     ----------
@@ -121,14 +106,11 @@ def product_of_exponentials(chain: DrawableChain, q: Any) -> np.ndarray:
 
 
 def space_jacobian(chain: DrawableChain, q: Any) -> np.ndarray:
-    r"""Space Jacobian :math:`J_s(\mathbf{q})`: the columns are the joints' screw axes, moved to ``q``.
+    r"""Space Jacobian :math:`J_s(\mathbf{q})`: column i is joint i's screw axis at ``q``.
 
-    .. math::
-        J_{s,1} = \mathcal{S}_1, \qquad
-        J_{s,i} = [\mathrm{Ad}_{e^{[\mathcal{S}_1]q_1}\cdots e^{[\mathcal{S}_{i-1}]q_{i-1}}}]\,\mathcal{S}_i
-
-    (Lynch & Park 2017, §5.1.1.) :math:`\mathcal{V}_s = J_s \dot{\mathbf{q}}` is the
-    spatial twist ``[ω; v_s]``: ``v_s`` is the velocity of the body point at the base origin.
+    :math:`\mathcal{V}_s = J_s \dot{\mathbf{q}}` is the end-effector's space twist ``[ω; v_s]``,
+    :math:`[\mathcal{V}_s] = \dot T T^{-1}`: ``v_s`` is the velocity of the body point at the
+    base origin (Lynch & Park 2017, §5.1.1).
 
     Parameters
     ----------
@@ -154,11 +136,11 @@ def space_jacobian(chain: DrawableChain, q: Any) -> np.ndarray:
 
 
 def body_jacobian(chain: DrawableChain, q: Any) -> np.ndarray:
-    r"""Body Jacobian :math:`J_b(\mathbf{q}) = [\mathrm{Ad}_{T^{-1}}]\, J_s(\mathbf{q})`.
+    r"""Body Jacobian :math:`J_b(\mathbf{q})`, the Jacobian of the end-effector's body twist.
 
-    (Lynch & Park 2017, §5.1.2; its relation to :math:`J_s`, §5.1.4.)
     :math:`\mathcal{V}_b = J_b \dot{\mathbf{q}}` is the end-effector's twist ``[ω_b; v_b]`` in its own
-    frame: ``v_b`` is the velocity of its origin, in the end-effector frame.
+    frame, :math:`[\mathcal{V}_b] = T^{-1}\dot T`: ``v_b`` is the velocity of its origin, in the
+    end-effector frame (Lynch & Park 2017, §5.1.2; its relation to :math:`J_s`, §5.1.4).
 
     Parameters
     ----------
