@@ -47,6 +47,7 @@ from support.nbgrader_course import (
     FEEDBACK_CHAPTER,
     HIDDEN_TESTS,
     NOTEBOOKS,
+    WALKTHROUGH_CHAPTER,
     Run,
     code_cell,
     load,
@@ -55,6 +56,7 @@ from support.nbgrader_course import (
     rk,
     save,
     src,
+    walkthrough_commands,
 )
 from tools.notebook_analysis import stub_plan
 
@@ -264,6 +266,15 @@ def test_typical_mistake_scores_partial_marks_and_is_named(graded, chapter):
 
 
 # ---------------------------------------------------------------- 5. the walk-through and bad input
+def test_walkthrough_quotes_the_chapter_it_grades():
+    """Every nbgrader command book/for-instructors.md quotes names the walk-through's chapter (the
+    graded walk-through runs them as quoted; this says which chapter to change in both places)."""
+    commands = walkthrough_commands()
+    assert {who for who, _ in commands} == {"instructor", "student"}
+    for _, line in commands:
+        assert WALKTHROUGH_CHAPTER in line.split(), f"{line!r} does not name {WALKTHROUGH_CHAPTER}"
+
+
 @grading_course.reads("walkthrough")
 def test_walkthrough_with_a_bad_submission(graded):
     run = _run(graded, "walkthrough")

@@ -34,8 +34,10 @@ installed.require("nbgrader", "nbgrader is not installed: run `make test` (insta
 
 NOTEBOOKS = Path(os.environ.get("ROBOKIN_NBGRADER_NOTEBOOKS", ROOT / "notebooks")).resolve()
 CHAPTERS = [p.stem for p in nbgrader_metadata.chapter_notebooks(NOTEBOOKS.parent, NOTEBOOKS.name)]
-#: the chapter of the instructors' walk-through: book/for-instructors.md quotes its commands for it
-WALKTHROUGH_CHAPTER = "03_three_rpr"
+#: the chapter of the instructors' walk-through: book/for-instructors.md quotes its commands for it.
+#: The everyday chapter (tests/support/tiers.py), the cheapest to grade: about 5 CPU-s a
+#: submission where chapter 3's cost 16-27 (sympy, scipy, three figures)
+WALKTHROUGH_CHAPTER = "07_ur10_closed_form"
 HIDDEN_TESTS = re.compile(r"### BEGIN HIDDEN TESTS\n.*?### END HIDDEN TESTS\n?", re.S)
 #: autograde runs at a time in one pytest process (three were measured slower in the full suite:
 #: 344 s instead of 287 s for the chapter 3 part, the machine's two cores being busy anyway)
@@ -268,8 +270,9 @@ def bad_submission(correct: dict) -> tuple[dict, dict]:
         tried[0]["source"] = 'raise ValueError("my own experiment went wrong")\n' + src(tried[0])
         what["raises"] = tried[0]
     # it sleeps: to the grader the same endless cell as a busy loop, interrupted at the time
-    # limit, but the wait costs no CPU
-    answers[-1]["source"] = src(answers[-1]) + "\nimport time\n\nwhile True:  # never ends\n    time.sleep(0.5)\n"
+    # limit, but the wait costs no CPU. At the top of the cell: the loop runs even where the
+    # answer reads a name that an earlier answer, left as given, never defined
+    answers[-1]["source"] = "import time\n\nwhile True:  # never ends\n    time.sleep(0.5)\n\n" + src(answers[-1])
     cells.remove(tests[0])
     return nb, what
 

@@ -80,11 +80,13 @@ NBGRADER_GROUPS = r"^nbgrader($|[:_-])"
 #: chapter's (chapter 7) with the other engines' re-gradings (tests/test_grading_engines.py) 208 s
 #: and the tamper suite's own course 135 s. Since then a chapter's run grades one benign submission
 #: instead of two (tests/test_grading_trust.py): 7.5 CPU-s less for chapter 4's, 17 for chapter 2's,
-#: the heaviest chapters saving most, so the order these estimates set (longest first) holds.
+#: the heaviest chapters saving most, so the order these estimates set (longest first) holds. The
+#: walk-through grades chapter 7 since 2026-11-29 instead of chapter 3: 62-94 s alone, half of it
+#: its endless cell's 30 s time limit.
 NBGRADER_ESTIMATES = [
     (rf"^nbgrader:{tiers.EVERYDAY_CHAPTER}\+tamper$", 180.0),
     (rf"^nbgrader:{tiers.EVERYDAY_CHAPTER}$", 230.0),
-    (r"^nbgrader:walkthrough$", 135.0),
+    (r"^nbgrader:walkthrough$", 90.0),
     (r"^nbgrader:02_ur10_ik$", 220.0),
     (r"^nbgrader:05_baxter_circle$", 175.0),
     (NBGRADER_GROUPS, 120.0),

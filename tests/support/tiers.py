@@ -45,7 +45,7 @@ import pytest
 #: submissions (the tamper suite, the sandbox escapes, the other engines), so that every grading
 #: check has one everyday case. Chapter 7, the cheapest chapter to grade: its cells run in under
 #: a second (a submission about 5 CPU-s, chapter 3's about 16: sympy, scipy, three figures).
-#: The instructors' walk-through stays on chapter 3, whose commands book/for-instructors.md quotes.
+#: The instructors' walk-through (book/for-instructors.md quotes its commands) grades it too.
 EVERYDAY_CHAPTER = "07_ur10_closed_form"
 
 #: One page of each kind, checked in Chromium by ``make test`` (the others in ``make test-all``):
