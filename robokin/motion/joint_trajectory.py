@@ -3,18 +3,10 @@ r"""Point-to-point joint motions in minimum time within velocity and acceleratio
 What an industrial controller's PTP move does: every joint goes from ``q_start`` to ``q_end``
 at rest at both ends, no joint exceeds its speed :math:`\dot q_{max,i}` or acceleration
 :math:`\ddot q_{max,i}`, and all joints start and arrive together, in the least time that
-allows (Siciliano et al. 2009, §4.2.1; Lynch & Park 2017, §9.2.2):
-
-1. each joint's own minimum time :math:`T_i` for its displacement :math:`D_i = |q_{end,i} -
-   q_{start,i}|`: with the trapezoidal law, :math:`T_i = D_i/\dot q_{max} + \dot q_{max}/\ddot
-   q_{max}` when it reaches its speed limit (:math:`D_i \ge \dot q_{max}^2/\ddot q_{max}`),
-   otherwise the triangular profile's :math:`T_i = 2\sqrt{D_i/\ddot q_{max}}`; with a
-   polynomial law of peak speed :math:`c_v D/T` and peak acceleration :math:`c_a D/T^2`,
-   :math:`T_i = \max(c_v D_i/\dot q_{max},\ \sqrt{c_a D_i/\ddot q_{max}})`;
-2. the motion's duration is the slowest joint's, :math:`T = \max_i T_i`;
-3. every joint is planned again with duration :math:`T`: a trapezoid with its own maximum
-   acceleration and the cruise speed that takes exactly :math:`T` (the smaller root of
-   :math:`v(T - v/\ddot q_{max,i}) = D_i`), or the polynomial scaled to :math:`T`.
+allows (Siciliano et al. 2009, §4.2.1; Lynch & Park 2017, §9.2.2).
+:func:`joint_trajectory_duration` gives that least duration, :func:`joint_trajectory` the
+motion, with the trapezoidal velocity profile or a cubic or quintic polynomial law. Chapter 10
+of the workbook derives both.
 """
 
 from __future__ import annotations
@@ -31,8 +23,8 @@ from robokin.validation import as_float_array, as_vector, check_choice, check_po
 __all__ = ["joint_trajectory", "joint_trajectory_duration", "JOINT_LAWS"]
 
 #: The polynomial laws' (c_v, c_a): the peak speed and acceleration of a rest-to-rest motion of
-#: displacement D in time T are c_v D/T and c_a D/T² (cubic 3τ² − 2τ³: 3/2 and 6; quintic
-#: 10τ³ − 15τ⁴ + 6τ⁵: 15/8 at τ = 1/2 and 10/√3 at τ = 1/2 ∓ √3/6).
+#: displacement D in time T are c_v D/T and c_a D/T² (the maxima of time_law's ds/dτ and
+#: |d²s/dτ²|).
 POLYNOMIAL_PEAKS = {"cubic": (1.5, 6.0), "quintic": (15.0 / 8.0, 10.0 / math.sqrt(3.0))}
 #: The laws of :func:`joint_trajectory`.
 JOINT_LAWS = ("trapezoidal", *POLYNOMIAL_PEAKS)
@@ -60,7 +52,7 @@ def _problem(q_start: Any, q_end: Any, v_max: Any, a_max: Any, law: str):
 
 def _minimum_times(start: np.ndarray, end: np.ndarray, v_max: np.ndarray, a_max: np.ndarray,
                    law: str) -> np.ndarray:
-    """Each joint's own minimum time for its displacement (step 1 of the module's recipe)."""
+    """Each joint's own minimum time for its displacement (the slowest sets the motion's)."""
     with np.errstate(all="ignore"):
         distance = np.abs(end - start)
         if law == "trapezoidal":
@@ -74,7 +66,7 @@ def _minimum_times(start: np.ndarray, end: np.ndarray, v_max: np.ndarray, a_max:
 
 def joint_trajectory_duration(q_start: Any, q_end: Any, *, v_max: Any, a_max: Any,
                               law: str = "trapezoidal") -> float:
-    r"""The least duration :math:`T = \max_i T_i` of a synchronised motion within the limits.
+    r"""The least duration :math:`T` of a synchronised motion within the limits.
 
     Parameters
     ----------
@@ -99,18 +91,11 @@ def joint_trajectory(t: Any, q_start: Any, q_end: Any, *, v_max: Any, a_max: Any
 
     The joints start at ``t = 0``, arrive together at :math:`T` =
     :func:`joint_trajectory_duration` and rest before and after. Trapezoidal law: joint i
-    accelerates at :math:`\ddot q_{max,i}` for :math:`t_{a,i}`, cruises at :math:`v_i`,
-    decelerates alike, with
-
-    .. math::
-        v_i = \frac{\ddot q_{max,i}T - \sqrt{\ddot q_{max,i}^2 T^2 - 4\ddot q_{max,i} D_i}}{2},
-        \qquad t_{a,i} = v_i / \ddot q_{max,i}
-
-    (the root of :math:`v_i (T - v_i/\ddot q_{max,i}) = D_i` that keeps :math:`v_i \le
-    \dot q_{max,i}`; the slowest joint gets its own limit, or a triangle :math:`v_i =
-    \ddot q_{max,i}T/2` when it never reaches it). Polynomial laws: :math:`q(t) = q_{start} +
-    s(t/T)(q_{end} - q_{start})` with the cubic or quintic :func:`time_law`, a straight line in
-    joint space.
+    accelerates at its limit :math:`\ddot q_{max,i}`, cruises at the speed that brings it to
+    ``q_end`` at :math:`T` (at most :math:`\dot q_{max,i}`; a triangle for a joint that never
+    reaches a cruise), and decelerates alike. Polynomial laws: the cubic or quintic
+    :func:`time_law` scaled to :math:`T`, a straight line in joint space (Siciliano et al.
+    2009, §4.2.1).
 
     Parameters
     ----------

@@ -60,11 +60,9 @@ def _rotation_vector_between(q0: np.ndarray, q1: np.ndarray) -> np.ndarray:
 def pose_trajectory(t: Any, T_start: Any, T_end: Any, duration: Any, *, law: str = "quintic") -> PoseTrajectory:
     r"""A frame moved from ``T_start`` to ``T_end``: straight line, slerped orientation, one timing law.
 
-    Velocities are :math:`\mathbf{v} = \dot s\,(\mathbf{p}_1 - \mathbf{p}_0)` and
-    :math:`\boldsymbol\omega = \dot s\,\mathbf{R}_0\mathbf{w}` (the axis is fixed: the rotation
-    turns about :math:`\mathbf{R}_0\mathbf{w}` in the base frame at the rate :math:`\dot s`), the
-    accelerations the same with :math:`\ddot s`. Before ``t = 0`` and after ``duration`` the frame
-    rests at the ends.
+    The twists are the pose's rates (the velocity of the frame's origin and its angular
+    velocity, base frame), the accelerations theirs (Siciliano et al. 2009, §4.3). Before
+    ``t = 0`` and after ``duration`` the frame rests at the ends.
 
     Parameters
     ----------

@@ -181,10 +181,10 @@ def circle_trajectory(
 def time_law(tau: Any, kind: str = "quintic") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     r"""Normalised timing law ``s(tau)`` on ``tau`` in [0, 1] and its first two derivatives.
 
-    ``"quintic"``: :math:`s = 10\tau^3 - 15\tau^4 + 6\tau^5` (zero velocity and
-    acceleration at both ends); ``"cubic"``: :math:`s = 3\tau^2 - 2\tau^3` (zero
-    velocity); ``"linear"``: :math:`s = \tau` (Siciliano et al. 2009, §4.2.1).
-    ``tau`` outside [0, 1] is clamped (rest before and after).
+    All go from :math:`s(0) = 0` to :math:`s(1) = 1`. ``"quintic"``: the polynomial of degree 5
+    with zero velocity and acceleration at both ends; ``"cubic"``: the polynomial of degree 3
+    with zero velocity at both ends; ``"linear"``: :math:`s = \tau` (Siciliano et al. 2009,
+    §4.2.1). ``tau`` outside [0, 1] is clamped (rest before and after).
 
     Parameters
     ----------
@@ -195,6 +195,8 @@ def time_law(tau: Any, kind: str = "quintic") -> tuple[np.ndarray, np.ndarray, n
     Returns
     -------
     s, ds, dds : numpy.ndarray, each of the shape of ``tau``
+        :math:`s`, :math:`ds/d\tau` and :math:`d^2s/d\tau^2` (dimensionless; divide by the
+        duration :math:`T` and :math:`T^2` for the rates in time).
 
     Raises
     ------

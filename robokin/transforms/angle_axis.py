@@ -1,12 +1,9 @@
 r"""Angle–axis representation and the exponential / logarithm maps of SO(3).
 
 A rotation by angle :math:`\theta` about the unit axis :math:`h` is written as
-the rotation vector :math:`w = \theta h`. Rodrigues' formula
-(Siciliano et al. 2009, §2.5; Lynch & Park 2017, §3.2.3):
-
-.. math::
-    R = \exp([w]_\times) = I + \frac{\sin\theta}{\theta}[w]_\times
-        + \frac{1 - \cos\theta}{\theta^2}[w]_\times^2
+the rotation vector :math:`w = \theta h`; its rotation matrix is the matrix
+exponential :math:`R = \exp([w]_\times)`, in closed form by Rodrigues' formula
+(Siciliano et al. 2009, §2.5; Lynch & Park 2017, §3.2.3).
 
 The logarithm returns :math:`\theta \in [0, \pi]`. At :math:`\theta = \pi`
 both :math:`w` and :math:`-w` describe the same rotation; the one returned
@@ -54,18 +51,11 @@ def _sym_vector(v: Any, name: str) -> Any:
 
 
 def rotation_exp(w: Any) -> Any:
-    r"""Rotation matrix of a rotation vector (Rodrigues' formula).
+    r"""Rotation matrix of a rotation vector: :math:`\exp([w]_\times)` (Rodrigues' formula).
 
-    .. math::
-        R = I + A(\theta)[w]_\times + B(\theta)[w]_\times^2,\quad
-        A = \frac{\sin\theta}{\theta},\; B = \frac{1-\cos\theta}{\theta^2},\;
-        \theta = \|w\|
-
-    For :math:`\theta < 10^{-3}` the Taylor series
-    :math:`A = 1 - \theta^2/6 + \theta^4/120`,
-    :math:`B = 1/2 - \theta^2/24 + \theta^4/720` are used, so small rotation
-    vectors (and exactly zero) are handled without division by zero
-    (Lynch & Park 2017, §3.2.3.3; Siciliano et al. 2009, §2.5).
+    Exact for small rotation vectors, zero included (Taylor series of the coefficients
+    below :math:`\theta = \|w\| = 10^{-3}`; Lynch & Park 2017, §3.2.3.3; Siciliano et al.
+    2009, §2.5).
 
     Parameters
     ----------
@@ -78,8 +68,7 @@ def rotation_exp(w: Any) -> Any:
         For symbolic input the closed form with :math:`\theta = \sqrt{w^\mathsf{T} w}`;
         prefer :func:`rotation_from_angle_axis` for readable symbolic results.
         Huge rotation vectors (:math:`\theta^2` beyond float64) are computed
-        from the unit axis, :math:`R = \cos\theta I + \sin\theta [h]_\times +
-        (1 - \cos\theta) h h^\mathsf{T}`, so the result is always a rotation.
+        from the unit axis, so the result is always a rotation.
 
     Raises
     ------
@@ -255,11 +244,8 @@ def rotation_log(R: Any, check: bool = True) -> np.ndarray:
 def rotation_from_angle_axis(axis: Any, angle: Any) -> Any:
     r"""Rotation by ``angle`` about ``axis`` (normalised first).
 
-    .. math::
-        R = \cos\theta\, I + \sin\theta\, [h]_\times + (1 - \cos\theta)\, h h^\mathsf{T},
-        \qquad h = \frac{\text{axis}}{\|\text{axis}\|}
-
-    (Siciliano et al. 2009, §2.5.)
+    The active rotation, counterclockwise about the axis seen from its tip (Siciliano et al.
+    2009, §2.5).
 
     Parameters
     ----------

@@ -247,17 +247,11 @@ def _unit_quaternion(q: Any, name: str) -> np.ndarray:
 def quaternion_slerp(q0: Any, q1: Any, s: Any) -> np.ndarray:
     r"""Spherical linear interpolation between two rotations, the short way, at a constant rate.
 
-    .. math::
-        q(s) = \frac{\sin((1 - s)\Omega)}{\sin\Omega}\, q_0 + \frac{\sin(s\Omega)}{\sin\Omega}\, q_1,
-        \qquad \Omega = \angle(q_0, q_1) \in [0, \tfrac{\pi}{2}]
-
-    (Shoemake 1985, "Animating rotation with quaternion curves".) :math:`q_1` and :math:`-q_1` are the same
-    rotation: the one with :math:`q_0 \cdot q_1 \ge 0` is taken, so that the rotation turns by
-    the smaller angle :math:`2\Omega \le \pi` about a fixed axis, at the constant angular rate
-    :math:`2\Omega` per unit of ``s``. The angle is computed as
-    :math:`\Omega = 2\operatorname{atan2}(\|q_0 - q_1\|, \|q_0 + q_1\|)`, accurate for nearly
-    equal rotations too, where (below :math:`10^{-6}`) the weights are their series to
-    :math:`\Omega^2`.
+    The quaternion runs along a great circle of the unit sphere from ``q0`` towards the end
+    rotation, its angle from ``q0`` growing in proportion to ``s``: the rotation turns about a
+    fixed axis, by the smaller of the two angles that reach the end rotation, at a constant
+    angular rate (Shoemake 1985, "Animating rotation with quaternion curves"). Accurate for
+    equal and nearly equal rotations too.
 
     Parameters
     ----------

@@ -26,9 +26,8 @@ __all__ = ["rotx", "roty", "rotz", "skew", "unskew"]
 def rotx(angle: Any) -> Any:
     r"""Rotation about the x axis by ``angle`` (radians).
 
-    .. math::
-        R_x(\theta) = \begin{bmatrix} 1 & 0 & 0 \\ 0 & \cos\theta & -\sin\theta \\
-                      0 & \sin\theta & \cos\theta \end{bmatrix}
+    The active rotation: it turns a vector counterclockwise about the x axis
+    seen from its tip (right-hand rule; Siciliano et al. 2009, §2.2.1).
 
     Parameters
     ----------
@@ -61,9 +60,8 @@ def rotx(angle: Any) -> Any:
 def roty(angle: Any) -> Any:
     r"""Rotation about the y axis by ``angle`` (radians).
 
-    .. math::
-        R_y(\theta) = \begin{bmatrix} \cos\theta & 0 & \sin\theta \\ 0 & 1 & 0 \\
-                      -\sin\theta & 0 & \cos\theta \end{bmatrix}
+    The active rotation: it turns a vector counterclockwise about the y axis
+    seen from its tip (right-hand rule; Siciliano et al. 2009, §2.2.1).
 
     Parameters
     ----------
@@ -84,9 +82,8 @@ def roty(angle: Any) -> Any:
 def rotz(angle: Any) -> Any:
     r"""Rotation about the z axis by ``angle`` (radians).
 
-    .. math::
-        R_z(\theta) = \begin{bmatrix} \cos\theta & -\sin\theta & 0 \\
-                      \sin\theta & \cos\theta & 0 \\ 0 & 0 & 1 \end{bmatrix}
+    The active rotation: it turns a vector counterclockwise about the z axis
+    seen from its tip (right-hand rule; Siciliano et al. 2009, §2.2.1).
 
     Parameters
     ----------
@@ -122,9 +119,8 @@ def _symbolic_vector(v: Any, name: str, n: int = 3) -> Any:
 def skew(v: Any) -> Any:
     r"""Skew-symmetric matrix of a 3-vector ("hat" operator).
 
-    .. math::
-        [v]_\times = \begin{bmatrix} 0 & -v_z & v_y \\ v_z & 0 & -v_x \\
-                     -v_y & v_x & 0 \end{bmatrix}, \qquad [v]_\times u = v \times u
+    The matrix :math:`[v]_\times` with :math:`[v]_\times u = v \times u` for every
+    :math:`u` (Siciliano et al. 2009, §3.1.1; Lynch & Park 2017, §3.2).
 
     Parameters
     ----------

@@ -5,25 +5,13 @@ coordinates: **angular part first**, :math:`\mathcal{V} = [\omega; v]` (the rest
 of robokin writes a twist linear part first, :math:`[v; \omega]`;
 ``book/conventions.md`` relates the two). A screw motion of angle
 :math:`\theta` about the screw axis :math:`\mathcal{S} = [\omega; v]` is the
-6-vector :math:`\mathcal{S}\theta`, and
-
-.. math::
-    e^{[\mathcal{S}]\theta} = \begin{bmatrix} e^{[\omega]\theta} & G(\theta)\, v \\
-    0 & 1 \end{bmatrix}, \qquad
-    G(\theta) = I\theta + (1 - \cos\theta)[\omega] + (\theta - \sin\theta)[\omega]^2
-
-for a unit :math:`\omega` (Lynch & Park 2017, §3.3.3.1, Proposition 3.25); for
-:math:`\omega = 0` it is the translation :math:`v\theta`. The functions take the
+6-vector :math:`\mathcal{S}\theta`, and the transform it makes is the matrix
+exponential :math:`e^{[\mathcal{S}]\theta}` (Lynch & Park 2017, §3.3.3.1, Proposition 3.25,
+in closed form; for :math:`\omega = 0` the translation :math:`v\theta`). The functions take the
 product :math:`\mathcal{V} = \mathcal{S}\theta = [w; u]` with :math:`w = \omega\theta`,
-:math:`u = v\theta`, and write :math:`G(\theta)v` as
-
-.. math::
-    G(\theta)\,v = \Big(I + \frac{1 - \cos\theta}{\theta^2}[w] +
-    \frac{\theta - \sin\theta}{\theta^3}[w]^2\Big)\, u, \qquad \theta = \|w\|,
-
-whose coefficients have series for small :math:`\theta`, so that one formula
-serves screws and pure translations (computed with the unit axis :math:`w/\theta`, so
-that no power of :math:`\theta` overflows).
+:math:`u = v\theta`; below ``SERIES_ANGLE`` the closed form's coefficients are their Taylor
+series, so that one formula serves screws and pure translations. Chapter 8 of the workbook
+derives the closed form.
 """
 
 from __future__ import annotations
@@ -67,15 +55,9 @@ def _translation_factor(w: np.ndarray) -> np.ndarray:
 def transform_exp(V: Any) -> Any:
     r"""Homogeneous transform :math:`e^{[\mathcal{V}]}` of the exponential coordinates :math:`\mathcal{V}`.
 
-    .. math::
-        e^{[\mathcal{V}]} = \begin{bmatrix} e^{[w]} & (I + B[w] + C[w]^2)\,u \\ 0 & 1 \end{bmatrix},
-        \quad \mathcal{V} = \begin{bmatrix} w \\ u \end{bmatrix},\;
-        B = \frac{1 - \cos\theta}{\theta^2},\; C = \frac{\theta - \sin\theta}{\theta^3},\;
-        \theta = \|w\|
-
-    (Lynch & Park 2017, §3.3.3.1, Proposition 3.25; the module docstring derives this form.)
-    Below ``SERIES_ANGLE`` the coefficients are their Taylor series, so a pure translation
-    (:math:`w = 0`) gives :math:`[I, u; 0, 1]` exactly.
+    The matrix exponential of :math:`[\mathcal{V}]`, in closed form (Lynch & Park 2017,
+    §3.3.3.1, Proposition 3.25). Below ``SERIES_ANGLE`` the coefficients are their Taylor
+    series, so a pure translation (:math:`w = 0`) gives :math:`[I, u; 0, 1]` exactly.
 
     Parameters
     ----------
@@ -187,13 +169,9 @@ def transform_log(T: Any, check: bool = True) -> np.ndarray:
 def adjoint(T: Any, check: bool = True) -> np.ndarray:
     r"""Adjoint representation :math:`[\mathrm{Ad}_T]` of a transform, for twists ``[ω; v]``.
 
-    .. math::
-        [\mathrm{Ad}_T] = \begin{bmatrix} R & 0 \\ [p] R & R \end{bmatrix}, \qquad
-        \mathcal{V}_a = [\mathrm{Ad}_{T_{ab}}]\, \mathcal{V}_b
-
-    (Lynch & Park 2017, §3.3.2, the adjoint representation): it changes the frame of a twist, angular
-    part first. For robokin's order ``[v; ω]`` the blocks trade places:
-    ``[[R, [p] R], [0, R]]``.
+    :math:`\mathcal{V}_a = [\mathrm{Ad}_{T_{ab}}]\, \mathcal{V}_b` changes the frame of a twist,
+    angular part first (Lynch & Park 2017, §3.3.2, the adjoint representation); for robokin's
+    order ``[v; ω]`` permute the blocks.
 
     Parameters
     ----------
