@@ -35,18 +35,11 @@ def ar601_leg(l1: Any = 0.3, l2: Any = 0.3, l3: Any = 0.1) -> SerialChain:
     (The report's ``T_zL_i`` translates by −L_i.) With all q = 0 the leg hangs
     straight down, foot at z = −(L1 + L2 + L3), as the report checks.
 
-    Frame placement: base frame ``B`` at the hip centre, where the three hip
-    axes intersect; z up along the straight leg. At q = 0 the hip-pitch, knee
-    and ankle-pitch axes (q3, q4, q6) are all parallel to x, so x is the
-    lateral axis and the leg flexes in the y–z plane; q2 and q5 (about y) are
-    the hip and ankle roll joints, q1 the hip yaw. Frames 1–3 (hip) sit at the
-    base origin, frame 4 (knee) L1 below it along the thigh, frames 5–6
-    (ankle) L2 further, and the foot frame ``F`` L3 below the ankle (sole). At
-    q = 0 all frames are parallel to the base.
-
-    The report's own inverse kinematics treats q2, q4, q5 as parallel, which
-    contradicts this (its) forward kinematics; only the transform sequence
-    and the printed X, Y, Z formulas (which agree with it) are used here.
+    Frames: the base frame ``B`` at the hip, z up along the straight leg; ``frames(q)``
+    gives ``B``, the six joint frames in the order of the product (each at its joint) and
+    the foot frame ``F`` at the sole. At q = 0 all frames are parallel to the base. Of the
+    report, only the transform sequence and the printed X, Y, Z formulas (which agree with
+    it) are used here; chapter 6 of the workbook examines the rest.
 
     Parameters
     ----------
