@@ -57,7 +57,7 @@ def _help_text(dotted: str) -> str:
             rest = f"{last}.{rest}" if rest else last
     for part in filter(None, rest.split(".")):
         obj = getattr(obj, part)
-    return pydoc.render_doc(obj, renderer=pydoc.plaintext)
+    return pydoc.plain(pydoc.render_doc(obj))
 
 
 @pytest.mark.parametrize("chapter, dotted, phrases", CASES, ids=[case[1] for case in CASES])
