@@ -6,12 +6,14 @@ frames from explicit matrices in the course's YPR convention
 from the course's link table multiplied out with plain numpy, the orientation
 error from the quaternion (θ = 2 atan2(|ε|, η)), the tool Jacobian from the
 cross-product formula v_T = v_E + ω × r, the control law from a least-norm
-solve (lstsq) of J q̇ = ν.
+solve (lstsq) of J q̇ = ν, the kinematic loop as a while loop with a least-squares solve
+and np.minimum/np.maximum for the clamp, E(φ) from its closed form.
 """
 
 from __future__ import annotations
 
 import importlib
+from functools import partial
 
 import numpy as np
 import pytest
@@ -95,7 +97,50 @@ def control_lstsq(J, e, gain_linear, gain_angular):
     return np.linalg.lstsq(J, np.r_[gain_linear * e[:3], gain_angular * e[3:]], rcond=None)[0]
 
 
+STOP = 0.01  # the exercise's stop threshold (m/s, rad/s)
+
+
+def loop_while(twist_of, q0, ts, t_end, robot, scale=1.0, no_ts=False, skip=False, stop=STOP,
+               transpose=False, test_after=False):
+    """The Task 4 loop written as a while loop with a least-squares solve; the keywords make
+    the typical mistakes."""
+    lower, upper = robot.limits[:, 0], robot.limits[:, 1]
+    q = np.array(q0, dtype=float)
+    Q, V, k = [q], [], 0
+    while True:
+        nu = np.asarray(twist_of(q))
+        slow = np.linalg.norm(nu[:3]) < stop and np.linalg.norm(nu[3:]) < stop
+        if not test_after:
+            V.append(nu)
+            if slow or k == round(t_end / ts):
+                break
+        elif k == round(t_end / ts):
+            V.append(nu)
+            break
+        J = robot.jacobian(q)
+        qdot = J.T @ nu if transpose else np.linalg.lstsq(J, nu, rcond=None)[0]
+        new = q + (qdot if no_ts else scale * ts * qdot)
+        q = np.where((new < lower) | (new > upper), q, new) if skip else np.minimum(np.maximum(new, lower), upper)
+        Q.append(q)
+        k += 1
+        if test_after:
+            V.append(nu)
+            if slow:
+                V.append(np.asarray(twist_of(q)))
+                break
+    return np.array(Q), np.array(V)
+
+
+def rpy_rates_by_hand(R):
+    """E(phi) from its closed form: columns [c_y c_p, s_y c_p, -s_p], [-s_y, c_y, 0], [0, 0, 1]."""
+    _, pitch, yaw = rpy_from_rotation(R)
+    cp, sp, cy, sy = np.cos(pitch), np.sin(pitch), np.cos(yaw), np.sin(yaw)
+    return np.array([[cy * cp, -sy, 0.0], [sy * cp, cy, 0.0], [-sp, 0.0, 1.0]])
+
+
 CORRECT = {
+    "kinematic_loop": loop_while,
+    "rpy_rate_matrix": rpy_rates_by_hand,
     "tool_frame": T_ET,
     "goal_frame": _tf(R_BG, P_BG),
     "tool_pose": tool_pose,
@@ -164,6 +209,19 @@ WRONG = [
     ("control_law", lambda J, e, kl, ka: np.linalg.pinv(J) @ np.r_[ka * e[3:], kl * e[:3]], "twist_order"),
     ("control_law", lambda J, e, kl, ka: J.T @ np.r_[kl * e[:3], ka * e[3:]], "jacobian_transpose"),
     ("control_law", lambda J, e, kl, ka: control_lstsq(J, e, kl, ka)[:6], "shape"),
+    ("kinematic_loop", partial(loop_while, test_after=True), "step_before_test"),
+    ("kinematic_loop", partial(loop_while, scale=0.8), "gain_in_step"),
+    ("kinematic_loop", partial(loop_while, no_ts=True), "no_time_step"),
+    ("kinematic_loop", partial(loop_while, skip=True), "skip_rule"),
+    ("kinematic_loop", partial(loop_while, stop=0.8 * STOP), "stop_on_error"),
+    ("kinematic_loop", partial(loop_while, transpose=True), "jacobian_transpose"),
+    ("kinematic_loop", lambda *a: loop_while(*a)[0], "error"),                   # Q alone
+    ("rpy_rate_matrix", lambda R: rpy_rates_by_hand(R)[:, ::-1], "columns_reversed"),
+    ("rpy_rate_matrix", lambda R: np.column_stack([rotz(rpy_from_rotation(R)[2])[:, 0], rpy_rates_by_hand(R)[:, 1:]]),
+     "roll_axis_without_pitch"),
+    ("rpy_rate_matrix", lambda R: rpy_rates_by_hand(R).T, "transpose"),
+    ("rpy_rate_matrix", lambda R: R.T @ rpy_rates_by_hand(R), "moving_frame"),
+    ("rpy_rate_matrix", lambda R: np.eye(3), "mismatch"),                             # the naive loop's E
 ]
 
 

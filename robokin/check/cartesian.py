@@ -17,6 +17,8 @@ check                    the student's answer                                   
 ``tool_jacobian``        ``f(J_e, R_be, p_et)`` -> :math:`\mathbf{J}_T` (6×n)              at 20 random configurations and offsets
 ``tool_jacobian_of_q``   ``f(q)`` -> :math:`\mathbf{J}_T(\mathbf{q})` (6×7)              at 20 random configurations
 ``control_law``          ``f(J, e, gain_linear, gain_angular)`` -> :math:`\dot{\mathbf{q}}`    at 20 random configurations, errors, gains
+``kinematic_loop``       ``f(twist_of, q0, ts, t_end, robot)`` -> ``(Q, V)``         on P laws to 20 random goals near the start
+``rpy_rate_matrix``      ``f(R)`` -> :math:`\mathbf{E}(\boldsymbol\phi)` (3×3)       at 20 random rotations
 =======================  ==========================================================  ==========================================
 
 Inputs: configurations of the course's arm drawn within its limits (the
@@ -44,7 +46,7 @@ from typing import Any
 
 import numpy as np
 
-from robokin.check._core import Check, Diagnosis, MatrixArgumentsCheck, Variable, alternatives
+from robokin.check._core import Check, Diagnosis, MatrixArgumentsCheck, Variable, alternatives, fmt
 from robokin.check._registry import exercise
 from robokin.check.diagnoses import inverse_transform, transform_mistakes
 from robokin.transforms import (
@@ -64,7 +66,9 @@ __all__ = [
     "N_JOINTS",
     "control_law",
     "goal_frame",
+    "kinematic_loop",
     "orientation_error",
+    "rpy_rate_matrix",
     "tool_frame",
     "tool_jacobian",
     "tool_jacobian_of_q",
@@ -77,6 +81,8 @@ _CHAPTER = "cartesian"
 #: answer that hands one back (an orientation_error that calls rotation_log) is flagged for
 #: review by hand (tools/grading/bridge/delegation.py reads this literal table without importing it)
 DELEGATION = {
+    "kinematic_loop": {"simulate": "robokin.motion.simulate",
+                       "CartesianController": "robokin.motion.CartesianController"},
     "orientation_error": {"rotation_log": "robokin.transforms.rotation_log",
                           "pose_error": "robokin.motion.pose_error",
                           "angle_axis_from_rotation": "robokin.transforms.angle_axis_from_rotation"},
@@ -538,4 +544,228 @@ control_law = exercise(_CHAPTER, "control_law", MatrixArgumentsCheck(
     hint="q̇ = J⁺ [κ_l e_p; κ_a e_o] with e = [e_p; e_o] and J (6×n) rows [v; ω].",
     doc=("Check a function control_law(J, e, gain_linear, gain_angular) -> q̇ (n,): compared with "
          "the model at 20 random configurations, errors e = [e_p; e_o] and gains, to 1e-7."),
+))
+
+
+# ------------------------------------------------------------------ the kinematic loop of Task 4
+_LOOP_STOP = 0.01  # the exercise's stop threshold on each part of the twist (m/s, rad/s)
+_LOOP_GAIN = 0.8  # the exercise's gains: the factor of a loop that applies one again
+_LOOP_STEPS = 12  # t_end = 12 ts in every call
+_LOOP_START = (math.pi / 2, -math.pi / 4, 0.0, -math.pi / 4, 0.0, 0.15, math.pi / 4)  # the sheet's q0
+_LOOP_VARIABLES = [
+    *[Variable(f"dq{i + 1}", "other", -0.05 if i == 5 else -0.3, 0.05 if i == 5 else 0.3)
+      for i in range(N_JOINTS)],
+    *[Variable(f"goal_{c}", "length", -0.03, 0.03) for c in "xyz"],
+    *[Variable(f"turn_{c}", "other", -0.1, 0.1) for c in "xyz"],
+    Variable("gain", "other", 0.5, 1.5),
+    Variable("ts", "other", 0.2, 0.5),
+    Variable("joint5_margin", "other", 0.0, 0.05),
+]
+
+
+def _loop_robot(q0: np.ndarray, margin: float) -> Any:
+    """The course's arm with the exercise's tool, joint 5 free only ``margin`` either side of q0's
+    (joint 7 turns about the same axis: the arm keeps six independent motions)."""
+    from robokin.models.genova_arm import GENOVA_ARM_LIMITS, genova_arm
+    from robokin.motion.tool import chain_with_tool
+
+    limits = np.array(GENOVA_ARM_LIMITS, dtype=float)
+    limits[4] = q0[4] - margin, q0[4] + margin
+    return chain_with_tool(genova_arm(limits=limits), _T_ET())
+
+
+def _loop_args(x: np.ndarray) -> tuple:
+    """``(twist_of, q0, ts, t_end, robot)``: a P law towards a goal near the start pose."""
+    from robokin.motion import pose_error
+
+    x = np.asarray(x, dtype=float)
+    q0 = np.array(_LOOP_START) + x[:N_JOINTS]
+    robot = _loop_robot(q0, float(x[15]))
+    start = robot.fk(q0)
+    goal = _transform(rotation_exp(x[10:13]) @ start[:3, :3], start[:3, 3] + x[7:10])
+    gain, ts = float(x[13]), float(x[14])
+
+    def twist_of(q: np.ndarray) -> np.ndarray:
+        return gain * pose_error(robot.fk(q), goal)
+
+    return twist_of, q0, ts, _LOOP_STEPS * ts, robot
+
+
+def _loop(twist_of, q0, ts, t_end, robot, *, step_scale=1.0, no_ts=False, skip=False,
+          stop_scale=1.0, transpose=False, step_first=False) -> tuple[np.ndarray, np.ndarray]:
+    """The reference loop (and, with the keywords, its typical mistakes): ``(Q, V)``."""
+    lower, upper = robot.limits[:, 0], robot.limits[:, 1]
+    q = np.array(q0, dtype=float)
+    Q, V = [q.copy()], []
+    steps = int(round(t_end / ts))
+
+    def stops(nu: np.ndarray) -> bool:
+        return max(np.linalg.norm(nu[:3]), np.linalg.norm(nu[3:])) < _LOOP_STOP * stop_scale
+
+    for k in range(steps + 1):
+        nu = np.asarray(twist_of(q), dtype=float)
+        if not step_first:
+            V.append(nu)
+            if stops(nu) or k == steps:
+                break
+        elif k == steps:
+            break
+        J = robot.jacobian(q)
+        qdot = (J.T if transpose else np.linalg.pinv(J)) @ nu
+        new = q + (qdot if no_ts else step_scale * ts * qdot)
+        q = np.where((new >= lower) & (new <= upper), new, q) if skip else np.clip(new, lower, upper)
+        Q.append(q.copy())
+        if step_first:
+            V.append(nu)
+            if stops(nu):
+                break
+    if step_first:
+        V.append(np.asarray(twist_of(q), dtype=float))
+    return np.array(Q), np.array(V)
+
+
+def _pack_loop(out: Any) -> np.ndarray:
+    """``[K, q_K (7), q_1 (7), ν_K (6)]`` of a loop's ``(Q, V)``; a ``TypeError`` that says
+    what the value should be otherwise."""
+    if not isinstance(out, tuple) or len(out) != 2:
+        raise TypeError("kinematic_loop should return the pair (Q, V): the configurations (K+1, 7) "
+                        "and the twists (K+1, 6) at the samples")
+    Q, V = (np.asarray(part, dtype=float) for part in out)
+    if Q.ndim != 2 or Q.shape[1] != N_JOINTS or V.ndim != 2 or V.shape != (len(Q), 6):
+        raise TypeError(f"kinematic_loop should return Q (K+1, 7) and V (K+1, 6), one row per sample; "
+                        f"got shapes {Q.shape} and {V.shape}")
+    return np.concatenate([[len(Q) - 1], Q[-1], Q[min(1, len(Q) - 1)], V[-1]])
+
+
+def _loop_variant(**mistake: Any) -> Callable[[np.ndarray], np.ndarray]:
+    return lambda x: _pack_loop(_loop(*_loop_args(x), **mistake))
+
+
+def _describe_loop(x: np.ndarray) -> str:
+    """The call of the student's loop at the sample ``x``, as a failure's example writes it."""
+    x = np.asarray(x, dtype=float)
+    return (f"kinematic_loop(twist_of = {x[13]:.3g} × pose error towards a goal {fmt(x[7:10])} m and "
+            f"{np.linalg.norm(x[10:13]):.3g} rad from the start, q0 = {fmt(np.array(_LOOP_START) + x[:N_JOINTS])}, "
+            f"ts = {x[14]:.3g} s, t_end = {_LOOP_STEPS * x[14]:.3g} s, robot = the arm with the tool, "
+            f"joint 5 within {x[15]:.3g} rad of its start)")
+
+
+def _loop_entry(idx: tuple[int, ...]) -> str:
+    """What entry ``idx`` of the packed ``[K, q_K, q_1, ν_K]`` is."""
+    i = idx[0]
+    if i == 0:
+        return "the number of steps K = len(Q) − 1"
+    if i <= N_JOINTS:
+        return f"the last configuration Q[-1][{i - 1}]"
+    if i <= 2 * N_JOINTS:
+        return f"the first step's configuration Q[1][{i - N_JOINTS - 1}]"
+    return f"the last twist V[-1][{i - 2 * N_JOINTS - 1}]"
+
+
+kinematic_loop = exercise(_CHAPTER, "kinematic_loop", MatrixArgumentsCheck(
+    name="kinematic_loop(twist_of, q0, ts, t_end, robot)",
+    reference=_loop_variant(),
+    variables=_LOOP_VARIABLES,
+    diagnoses=[
+        alternatives("step_before_test", [(_loop_variant(step_first=True), (
+            "{name} takes the step before it tests the twist the step was computed from, and "
+            "stops one step late: at each sample compute the twist, stop if both parts are "
+            "below STOP (that sample is the last), and only then step."
+        ))]),
+        alternatives("gain_in_step", [(_loop_variant(step_scale=_LOOP_GAIN), (
+            "{name} scales the Euler step by 0.8, the gain once more: twist_of(q) already "
+            "returns the desired twist κ e, and the step is q + ts J⁺ν."
+        ))]),
+        alternatives("no_time_step", [(_loop_variant(no_ts=True), (
+            "{name} adds J⁺ν without the time step: one Euler step of ts is q + ts J⁺ν."
+        ))]),
+        alternatives("skip_rule", [(_loop_variant(skip=True), (
+            "{name} leaves a joint where it was when its new value would leave the limits (the "
+            "report's rule), which freezes it short of the limit: clamp the new value instead "
+            "(np.clip)."
+        ))]),
+        alternatives("stop_on_error", [(_loop_variant(stop_scale=_LOOP_GAIN), (
+            "{name} tests the error (the twist divided by the gain 0.8) against STOP: the stop "
+            "test is on both parts of the commanded twist."
+        ))]),
+        alternatives("jacobian_transpose", [(_loop_variant(transpose=True), (
+            "{name} uses the Jacobian transpose Jᵀ where the pseudoinverse J⁺ belongs."
+        ))]),
+    ],
+    noun="start configurations, goals, gains and time steps",
+    arguments=_loop_args,
+    describe=_describe_loop,
+    entry_label=_loop_entry,
+    signature="kinematic_loop(twist_of, q0, ts, t_end, robot) -> (Q (K+1, n), V (K+1, 6))",
+    hint=("Check the order of the loop's steps, the Euler step of ts, the clamp to the limits and "
+          "the stop test against the statement of Task 4."),
+    atol=1e-7,
+    doc=("Check a loop kinematic_loop(twist_of, q0, ts, t_end, robot) -> (Q, V): run on P laws "
+         "towards 20 random goals near random starts of the course's arm with its tool, with "
+         "random gains, time steps and slide limits, to 1e-7."),
+    pack=_pack_loop,
+))
+
+
+# ------------------------------------------------------------------ E(φ) of the RPY angles (Task 5)
+_RPY_ANGLES = [Variable("roll", "angle", -3.0, 3.0), Variable("pitch", "angle", -1.4, 1.4),
+               Variable("yaw", "angle", -3.0, 3.0)]
+
+
+def _rpy_rate_arguments(x: np.ndarray) -> tuple[np.ndarray]:
+    return (rotation_from_rpy(float(x[0]), float(x[1]), float(x[2])),)
+
+
+def _rpy_rate_columns(x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The axes of the roll, pitch and yaw turns in the base frame: Rz Ry x, Rz y, z."""
+    pitch, yaw = float(x[1]), float(x[2])
+    return rotz(yaw) @ roty(pitch) @ [1.0, 0.0, 0.0], rotz(yaw) @ [0.0, 1.0, 0.0], np.array([0.0, 0.0, 1.0])
+
+
+def _rpy_rate_reference(x: np.ndarray) -> np.ndarray:
+    return np.column_stack(_rpy_rate_columns(x))
+
+
+def _rpy_rate_mistakes() -> list[Diagnosis]:
+    def reversed_columns(x):
+        return np.column_stack(_rpy_rate_columns(x)[::-1])
+
+    def roll_axis_without_pitch(x):
+        _, pitch_axis, yaw_axis = _rpy_rate_columns(x)
+        return np.column_stack([rotz(float(x[2])) @ [1.0, 0.0, 0.0], pitch_axis, yaw_axis])
+
+    def in_the_moving_frame(x):
+        return _rpy_rate_arguments(x)[0].T @ _rpy_rate_reference(x)
+
+    return [
+        alternatives("columns_reversed", [(reversed_columns, (
+            "{name} has its columns in the order (yaw, pitch, roll): the statement multiplies "
+            "E(φ) by the rates of (roll, pitch, yaw), in that order."
+        ))]),
+        alternatives("roll_axis_without_pitch", [(roll_axis_without_pitch, (
+            "{name} turns the roll's axis x by Rz(yaw) only: in R = Rz(ψ) Ry(ϑ) Rx(φ) the roll "
+            "comes after the pitch too, its axis in the base frame is Rz(ψ) Ry(ϑ) x."
+        ))]),
+        alternatives("transpose", [(lambda x: _rpy_rate_reference(x).T, (
+            "{name} is transposed: its columns are the axes of the three turns, in the base frame."
+        ))]),
+        alternatives("moving_frame", [(in_the_moving_frame, (
+            "{name} gives the angular velocity in the rotated frame (Rᵀ ω): the controller "
+            "commands ω in the base frame."
+        ))]),
+    ]
+
+
+rpy_rate_matrix = exercise(_CHAPTER, "rpy_rate_matrix", MatrixArgumentsCheck(
+    name="rpy_rate_matrix(R)",
+    reference=_rpy_rate_reference,
+    variables=_RPY_ANGLES,
+    diagnoses=_rpy_rate_mistakes(),
+    noun="rotations",
+    arguments=_rpy_rate_arguments,
+    signature="rpy_rate_matrix(R) -> (3, 3) array",
+    hint="ω = E(φ) φ̇ with φ̇ the rates of (roll, pitch, yaw), ω in the base frame.",
+    atol=1e-8,
+    doc=("Check a function rpy_rate_matrix(R) -> E(φ) (3×3), ω = E(φ) (roll, pitch, yaw) rates in "
+         "the base frame: compared at 20 random rotations (pitch within ±1.4 rad)."),
 ))
