@@ -380,7 +380,7 @@ def test_ankle_point_correct_and_its_reference_is_the_model():
     leg = ar601_leg()
     for x in leg.random_configurations(5, seed=3):
         T = leg.fk(x)
-        assert np.allclose(ck._ankle_point(T), _ankle_frames_origin(T), atol=1e-12)
+        assert np.allclose(ck._ankle_point_of(T), _ankle_frames_origin(T), atol=1e-12)
     assert ck.ankle_point(foot_ankle, quiet=True).passed
 
 

@@ -574,7 +574,7 @@ _LEG_IK_MISTAKES = [
 
 
 # ------------------------------------------------------------------ the steps of Task 3
-def _ankle_point(T: np.ndarray, mistake: str = "") -> np.ndarray:
+def _ankle_point_of(T: np.ndarray, mistake: str = "") -> np.ndarray:
     """The ankle point of the foot pose ``T``, or what a typical ``mistake`` makes of it."""
     l3, p, R = LENGTHS[2], T[:3, 3], T[:3, :3]
     return {
@@ -615,17 +615,17 @@ class _AnklePointCheck(FunctionCheck):
                 return self.failure("shape", f"{name} should return the point (3,); got shape "
                                     f"{a.shape} at pose {k + 1}.", n)
             got.append(a.reshape(3))
-        if all(np.allclose(a, _ankle_point(T), atol=1e-9) for a, T in zip(got, poses)):
+        if all(np.allclose(a, _ankle_point_of(T), atol=1e-9) for a, T in zip(got, poses)):
             return self.success(f"{name} is correct (checked at {n} random foot poses).", n)
         named = self.diagnose(_ANKLE_POINT_MISTAKES, lambda code: all(
-            np.allclose(a, _ankle_point(T, code), atol=1e-9) for a, T in zip(got, poses)), n)
+            np.allclose(a, _ankle_point_of(T, code), atol=1e-9) for a, T in zip(got, poses)), n)
         if named is not None:
             return named
         k = next(i for i, (a, T) in enumerate(zip(got, poses))
-                 if not np.allclose(a, _ankle_point(T), atol=1e-9))
+                 if not np.allclose(a, _ankle_point_of(T), atol=1e-9))
         return self.failure("mismatch", (
             f"{name} at pose {k + 1} (the foot pose of q = {fmt(X[k])}) returns {fmt(got[k], 4)} "
-            f"m; the ankle axes meet at {fmt(_ankle_point(poses[k]), 4)} m (the origin of the "
+            f"m; the ankle axes meet at {fmt(_ankle_point_of(poses[k]), 4)} m (the origin of the "
             "model's ankle frames)."), n)
 
 
@@ -683,7 +683,7 @@ class _AnkleAnglesCheck(FunctionCheck):
         cases = []
         for x in X:
             T = _fk(x)
-            cases.append((T[:3, :3].T @ _ankle_point(T), float(x[3])))
+            cases.append((T[:3, :3].T @ _ankle_point_of(T), float(x[3])))
         got = []
         for k, (u, q4) in enumerate(cases):
             pairs = np.asarray(self.call(answer, (u.copy(), q4), f"at case {k + 1}", n), dtype=float)
