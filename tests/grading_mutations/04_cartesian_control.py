@@ -404,14 +404,19 @@ MUTATIONS = {
         ("the slide's column along the tool's z axis", _SLIDE_ALONG_TOOL_Z),
     ],
     "task4_test1": [
+        ("the step taken before the stop test", _STEP_THEN_TEST),
+        ("the stop test on the error instead of the twist", _STOP_ON_ERROR),
+        ("the report's skip rule instead of clamping", _SKIP_RULE),
         ("the Euler step multiplied by the gain again", _STEP_WITH_GAIN),
         ("the Euler step without the time step", _STEP_WITHOUT_TS),
+    ],
+    "task4_test2": [
         ("the step taken before the stop test", _STEP_THEN_TEST),
         ("the stop test on the error instead of the twist", _STOP_ON_ERROR),
         ("the twist stacked [w; v] in the loop", _RUN_COURSE_ORDER),
         ("k_stop counts samples instead of steps", "k_stop = len(Q_run)"),
     ],
-    "task4_test2": [
+    "task4_test3": [
         ("the (roll, pitch, yaw) run with the YPR tool", _SWAPPED_RUN_KEEPS_TOOL),
         ("swapped_stops taken as True", "swapped_stops = True"),
         ("joints at a limit counted strictly beyond it", _LIMITS_STRICT),
@@ -420,7 +425,7 @@ MUTATIONS = {
         ("the report's skip rule instead of clamping", _SKIP_RULE),
         ("the twist stacked [w; v] in the loop", _RUN_COURSE_ORDER),
     ],
-    "task4_test3": [
+    "task4_test4": [
         ("the factor per step taken as exp(-kappa ts)",
          "factor_per_step = float(np.exp(-GAIN_ANGULAR * TS))"),
         ("the factor per step taken as kappa ts", "factor_per_step = GAIN_ANGULAR * TS"),
