@@ -387,8 +387,9 @@ tracking_loop = exercise(_CHAPTER, "tracking_loop", MatrixArgumentsCheck(
     noun="starts, references, gains and time steps",
     arguments=_track_args,
     signature="track(q0, r_des, v_des, kp, ts) -> joint angles (N, 7)",
-    hint=("The loop: q = q0; for each sample k: log q; e = r_des[k] − r(q); "
-          "q̇ = J_v⁺(q)(v_des[k] + kp e); q = q + ts q̇."),
+    hint=("Compare your rows with the task's contract: row 0 is q0, and row k + 1 is row k "
+          "plus ts times the command of your law at row k, with the reference's row k and "
+          "the gain kp."),
     atol=1e-7,
     doc=("Check a resolved-rate tracking loop track(q0, r_des, v_des, kp, ts) that returns "
          "the joint angles at the samples, shape (N, 7), row 0 = q0 (Baxter left arm, "
