@@ -16,11 +16,17 @@ nbval as three other machines, one test each:
 A notebook passes only if every printed digit survives all three. When one does
 not, print less (fewer digits, a bound, a verdict): see ``robokin.formatting``.
 
-Every cell runs in each machine's kernel, its figures included (built, their axes and
-data computed), but a figure is not rendered to a PNG there: nbval does not compare
-images (``image/png`` is in its ``skip_compare``; the figure's text output, which it
-compares, stays), so rasterising them checked nothing and cost about 8 of each
-machine's 50 CPU-s. The main nbval run renders every figure on this machine.
+Every cell whose output nbval compares runs in each machine's kernel, after every cell
+it could read from. On the two machines with another OpenBLAS kernel, the pictures and
+scenes that nbval does not compare (tagged ``nbval-ignore-output``), that bind no name a
+later cell reads and that check nothing themselves are skipped (``tests/support/picture_cells.py``
+has the rule): running them computed their curves again (about a fifth of such a machine's
+run) for no output anyone compares. The perturbed machine runs every cell: its noise is one
+seeded sequence through the whole notebook, so a cell left out would hand every later cell
+other perturbations (another machine, not the same one with fewer cells). The figures that
+run are not rendered to a PNG there: nbval does not compare images (``image/png`` is in its
+``skip_compare``), so rasterising them checked nothing and cost about 8 of each machine's
+50 CPU-s. The main nbval run executes every cell and renders every figure on this machine.
 
 Skip it locally with ``pytest -m "not other_machines"``.
 """
@@ -41,6 +47,7 @@ import numpy as np
 import pytest
 
 from conftest import ROOT
+from support.picture_cells import skipped_cells
 
 pytestmark = pytest.mark.other_machines
 
@@ -167,6 +174,9 @@ def machine_environment(machine: str, tmp_path: Path) -> dict[str, str]:
 def test_notebook_outputs_hold_on_other_machines(tmp_path, machine):
     extra = machine_environment(machine, tmp_path)
     command = [sys.executable, "-m", "pytest", "notebooks", "-q", "-p", "no:cacheprovider", "--color=no"]
+    skips_pictures = machine != MACHINES[2]   # the noise's sequence must stay the whole notebook's
+    if skips_pictures:
+        command += ["-p", "tests.support.picture_cells"]
     env = {**os.environ, **extra, "PYDEVD_DISABLE_FILE_VALIDATION": "1"}
     started = time.perf_counter()
     with open(tmp_path / "run.log", "w+") as log:
@@ -192,6 +202,11 @@ def test_notebook_outputs_hold_on_other_machines(tmp_path, machine):
     if "OPENBLAS_CORETYPE" in extra:   # the settings reached every kernel, forked from a warm server or not
         assert {k.get("core", "").lower() for k in kernels} == {extra["OPENBLAS_CORETYPE"].lower()}, kernels
         assert {k.get("threads") for k in kernels} == {int(extra["OPENBLAS_NUM_THREADS"])}, kernels
+    # the pictures the plugin skips, and nothing else: every other cell ran
+    pictures = sum(len(skipped_cells(json.loads(path.read_text())["cells"]))
+                   for path in sorted((ROOT / "notebooks").glob("*.ipynb"))) if skips_pictures else 0
+    last_line = output.strip().splitlines()[-1]
+    assert (f"{pictures} skipped" in last_line) if pictures else ("skipped" not in last_line), last_line
     forked = sum(k["forked"] for k in kernels)
-    print(f"[other machines] {described}: {output.strip().splitlines()[-1]} "
+    print(f"[other machines] {described}: {last_line} "
           f"({time.perf_counter() - started:.0f} s; {len(kernels)} kernels, {forked} forked)")
