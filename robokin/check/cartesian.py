@@ -701,8 +701,9 @@ kinematic_loop = exercise(_CHAPTER, "kinematic_loop", MatrixArgumentsCheck(
           "the stop test against the statement of Task 4."),
     atol=1e-7,
     doc=("Check a loop kinematic_loop(twist_of, q0, ts, t_end, robot) -> (Q, V): run on P laws "
-         "towards 20 random goals near random starts of the course's arm with its tool, with "
-         "random gains, time steps and slide limits, to 1e-7."),
+         "towards 20 random goals within 3 cm and 0.1 rad of starts near the sheet's q0 (the "
+         "course's arm with its tool, joint 5 held near its start), with random gains and time "
+         "steps, to 1e-7."),
     pack=_pack_loop,
 ))
 
