@@ -461,6 +461,11 @@ def _cases() -> list[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]]:
     cases.append((start, start + [0.9, 0.0, -0.3], np.array([1.2, 1.0, 0.8]), np.array([3.0, 2.0, 5.0])))
     # the slowest joint a triangle (0.2 < 1.5²/2)
     cases.append((np.zeros(2), np.array([0.2, -0.05]), np.array([1.5, 1.5]), np.array([2.0, 4.0])))
+    # two more, forwards and backwards: at a triangle the slowest joint's cruise speed solves
+    # a quadratic with a zero discriminant, which rounding may make negative (sqrt: NaN)
+    cases.append((np.zeros(3), np.array([0.35, -0.1, 0.2]), np.array([1.5, 1.5, 2.0]),
+                  np.array([2.5, 4.0, 6.0])))
+    cases.append((np.array([0.5, -1.0]), np.array([0.6, -2.1]), np.array([2.0, 1.5]), np.array([3.0, 1.7])))
     return cases
 
 
@@ -520,11 +525,32 @@ class _MotionCheck(FunctionCheck):
                 return (f"the {what} of {self.name} should have shape (len(t), n) = ({rows}, {n}); "
                         f"got {array.shape}.")
             if not np.all(np.isfinite(array)):
-                return f"the {what} of {self.name} contain NaN or infinite values (a joint that does not move?)."
+                return (f"the {what} of {self.name} contain NaN or infinite values: a joint that does not move "
+                        "(0/0), or the slowest joint at a triangle, where the cruise speed's discriminant "
+                        "is zero and rounding can make it negative (a square root of it).")
             arrays.append(array)
         return tuple(arrays)
 
     def _describe(self, t, got, ref, start, end, v_max, a_max, duration) -> str:
+        return self._what_differs(t, got, ref, start, end, v_max, a_max, duration) + self._triangle_note(
+            got, ref, start, end, v_max, a_max)
+
+    @staticmethod
+    def _triangle_note(got, ref, start, end, v_max, a_max) -> str:
+        """A note when the slowest joint, wrong here, never reaches its speed limit."""
+        distances = np.abs(end - start)
+        times = [_trapezoid_time(d, v, a) for d, v, a in zip(distances, v_max, a_max)]
+        slowest = int(np.argmax(times))
+        triangle = distances[slowest] * a_max[slowest] < v_max[slowest] ** 2
+        wrong = not (np.allclose(got[0][:, slowest], ref[0][:, slowest], atol=1e-7)
+                     and np.allclose(got[1][:, slowest], ref[1][:, slowest], atol=1e-7))
+        if not (triangle and wrong):
+            return ""
+        return (f" Joint {slowest + 1}, the slowest, never reaches its speed limit here (a triangle): its "
+                "peak speed is √(D a_max), where the quadratic for the cruise speed has a zero "
+                "discriminant, which rounding can make negative (its square root is then NaN).")
+
+    def _what_differs(self, t, got, ref, start, end, v_max, a_max, duration) -> str:
         positions, velocities, accelerations = got
         if not np.allclose(positions[0], start, atol=1e-7):
             return f"{self.name} does not start at q_start: at t = 0 the positions are {fmt(positions[0])}."

@@ -72,6 +72,26 @@ MUTATIONS = {
         ("every joint in its own minimum time (unsynchronised)", _motion_mistake("unsynchronised")),
         ("v_max and a_max swapped", _motion_mistake("swapped_limits")),
         ("the slowest joint's profile stretched for every joint", _motion_mistake("same_shape")),
+        ("the cruise speed from the quadratic's root with an unguarded square root (a rounding-"
+         "negative discriminant at a triangle: NaN)",
+         "def synchronised_motion(t, q_start, q_end, v_max, a_max):\n"
+         "    t = np.asarray(t, dtype=float)\n"
+         "    delta = np.asarray(q_end, dtype=float) - np.asarray(q_start, dtype=float)\n"
+         "    T = max(trapezoid_time(abs(d), v, a) for d, v, a in zip(delta, v_max, a_max))\n"
+         "    Q, Qd, Qdd = (np.tile(np.zeros(len(delta)), (len(t), 1)) for _ in range(3))\n"
+         "    for j, (d, a) in enumerate(zip(delta, a_max)):\n"
+         "        D, sign = abs(d), np.sign(d)\n"
+         "        v = (a * T - np.sqrt((a * T) ** 2 - 4 * a * D)) / 2\n"
+         "        ramp = v / a\n"
+         "        left = T - t\n"
+         "        first, last = t < ramp, t > T - ramp\n"
+         "        pos = np.where(first, a * t**2 / 2, np.where(last, D - a * left**2 / 2,"
+         " v * ramp / 2 + v * (t - ramp)))\n"
+         "        vel = np.where(first, a * t, np.where(last, a * left, v))\n"
+         "        acc = np.where(first, a, np.where(last, -a, 0.0))\n"
+         "        Q[:, j] = q_start[j] + sign * pos\n"
+         "        Qd[:, j], Qdd[:, j] = sign * vel, sign * acc\n"
+         "    return Q, Qd, Qdd\n" + _RECOMPUTE.lstrip("\n")),
     ],
     "task4_test1": [
         ("each segment's own slope at both ends (velocity jumps, ends moving)", _via_mistake("segment_slope")),
