@@ -207,7 +207,7 @@ def orientation_error(R, R_goal):  # written another way: R_goal R^T is already 
     axis, angle = angle_axis(R_goal @ R.T)
     return angle * axis
 '''),
-        "task3_answer1": ("the slide's column as the tool's motion per metre of slide, not z_6 of a frame", '''
+        "task3_answer1": ("the slide's column as the tool's motion per metre of slide; spare with the other sign", '''
 
 def slide_column(q):  # written another way: the tool pose is affine in q6, so a secant is exact
     step = np.zeros(7)
@@ -216,6 +216,12 @@ def slide_column(q):  # written another way: the tool pose is affine in q6, so a
     after = tool_arm.fk(np.asarray(q, dtype=float) + step)
     moved = np.r_[after[:3, 3] - before[:3, 3], rotation_log(after[:3, :3] @ before[:3, :3].T)]
     return moved / 0.1
+
+
+# written another way: the null space as the last column of a complete QR of J_T^T, with the
+# other sign than the solutions' (either sign is right)
+spare = np.linalg.qr(J_T0.T, mode="complete")[0][:, -1]
+spare = -spare * np.sign(spare[np.flatnonzero(np.abs(spare) > 1e-6)[0]])
 '''),
     },
     "05_baxter_circle": {
