@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import importlib
 import math
+import re
 
 import numpy as np
 import pytest
@@ -134,6 +135,17 @@ def test_ik_solution_diagnoses():
     assert ck.ik_solution("q", quiet=True).diagnosis == "error"
     with pytest.raises(AssertionError):
         ck.ik_solution(np.zeros(6), quiet=True, raise_on_fail=True)
+
+
+def test_ik_solution_names_the_answer_as_the_notebook_does():
+    """The messages call the answer ``Q_mine``, the notebook's name, or the name given."""
+    q_ok = ar601_leg_ik(ck.T_GOAL).q
+    assert ck.ik_solution(q_ok, quiet=True).message.startswith("✔ Q_mine is correct")
+    for answer in (np.zeros(6), np.zeros(5), np.rad2deg(q_ok[0])):
+        message = ck.ik_solution(answer, quiet=True).message
+        assert "Q_mine" in message and not re.search(r"\bq\b", message), message
+    other = ck.ik_solution(np.zeros(6), name="position_only", quiet=True).message
+    assert "position_only does not reach" in other and "Q_mine" not in other, other
 
 
 def test_ik_solver():

@@ -364,7 +364,8 @@ def _verdict(rows: np.ndarray, T: np.ndarray, name: str) -> tuple[bool, str, str
 
 
 def ik_solution(
-    q: Any, T_target: Any = None, *, raise_on_fail: bool = False, quiet: bool = False
+    q: Any, T_target: Any = None, *, name: str = "Q_mine", raise_on_fail: bool = False,
+    quiet: bool = False,
 ) -> CheckResult:
     """Check joint angles that should put the foot at ``T_target`` (default :data:`T_GOAL`).
 
@@ -378,6 +379,8 @@ def ik_solution(
         1e-6 m and 1e-6 rad.
     T_target : array_like, shape (4, 4), optional
         Foot pose in the pelvis frame (default :data:`T_GOAL`).
+    name : str, optional
+        The answer's name in the messages (default ``"Q_mine"``, the notebook's).
     raise_on_fail, quiet : bool, optional
         Raise ``AssertionError`` on failure; print nothing.
 
@@ -385,7 +388,6 @@ def ik_solution(
     -------
     CheckResult
     """
-    name = "q"
     T = T_GOAL if T_target is None else check_transform(T_target, name="T_target")
     if T.shape != (4, 4):
         from robokin.errors import ShapeError
