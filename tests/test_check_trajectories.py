@@ -214,6 +214,27 @@ def test_motion_late_arrival_is_described():
     assert result.diagnosis == "mismatch" and "does not arrive at q_end" in result.message
 
 
+def test_motion_with_an_unguarded_root_is_named_at_a_triangle():
+    # the cruise speed as the root (a T - sqrt((a T)^2 - 4 a D)) / 2: right wherever the
+    # discriminant stays >= 0, NaN where the slowest joint is a triangle and it rounds below 0
+    def unguarded(t, q_start, q_end, v_max, a_max):
+        t, q_start, q_end = (np.asarray(x, dtype=float) for x in (t, q_start, q_end))
+        distances = np.abs(q_end - q_start)
+        T = max(trapezoid_by_hand(d, v, a) for d, v, a in zip(distances, v_max, a_max))
+        with np.errstate(invalid="ignore"):
+            speeds = (a_max * T - np.sqrt((a_max * T) ** 2 - 4 * a_max * distances)) / 2
+            scale = np.where(distances > 0, speeds / np.where(distances > 0, distances, 1.0), 0.0)
+        reference = motion_by_integration(t, q_start, q_end, v_max, a_max)
+        broken = ~np.isfinite(scale)
+        return tuple(np.where(broken, np.nan, x) for x in reference)
+
+    assert chk.synchronised_motion(
+        lambda t, *args: motion_by_integration(np.asarray(t), *args), quiet=True).passed
+    result = chk.synchronised_motion(unguarded, quiet=True)
+    assert not result.passed
+    assert "triangle" in result.message and ("NaN" in result.message or "square root" in result.message)
+
+
 @pytest.mark.parametrize("code", [code for code, _, _ in chk._SLERP_MISTAKES])
 def test_slerp_mistakes_are_diagnosed(code):
     wrong = dict((c, f) for c, f, _ in chk._SLERP_MISTAKES)[code]
