@@ -49,11 +49,13 @@ class FailureNotes:
     * the whole failing statement is quoted (a multi-line ``assert`` too);
     * the names it reads are traced back (``notebook_analysis.trace``) through the
       read-only cells and the earlier statements of the test cell to the answer
-      cells: only names bound by an answer cell are called "your answer";
+      cells: only names bound by an answer cell are called "your answer"; an answer also uses
+      the functions of its cell that it calls, in a function's body too (parsed, never run);
     * among those answers, the ones whose own earlier test failed, whose cell raised,
       or that ``robokin.check`` found wrong are named as the root cause (the first
       in the chain: an answer that is wrong only because it uses another wrong one
-      is left out);
+      is left out); a helper that a test reaches only through a function's body is
+      no suspect by that test, only by ``robokin.check``'s verdict;
     * ``robokin.check`` is asked about those answers only, and a typical mistake is
       named only for a check run on the student's value of those very names;
     * a test that fails with a wrong type (``AttributeError``, ``TypeError``, ...)
@@ -122,6 +124,7 @@ class FailureNotes:
         the failing tests of its task that read it."""
         why: dict[str, str] = {}
         all_reads = trace(kinds)
+        helpers = _helpers(kinds)
         for name in sorted(self.roots - set(correct)):
             cell = self.answer_cell.get(name)
             if cell is not None and _errors(self.nb.cells[cell]):
@@ -137,7 +140,9 @@ class FailureNotes:
                 if other.cell_type == "code" and utils.is_grade(other) and _errors(other) \
                         and task_of(other) == task:   # a test of another task is not its own
                     roots = set().union(*(b.roots for b in all_reads[j].values())) if all_reads[j] else set()
-                    if name in roots:
+                    # a helper the test reaches only through the body of a function of its cell is
+                    # not on trial there: robokin.check's verdict on it decides
+                    if name in roots and not any(name in helpers.get(other, ()) for other in roots):
                         failed.append(other.metadata["nbgrader"]["grade_id"])
             if failed:
                 why[name] = f"own test {failed[0]} failed" if len(failed) == 1 else \
@@ -211,7 +216,13 @@ class FailureNotes:
                 out.append(f"  `{name}` was never defined: your answer cell of Task "
                            f"{task_of(self.nb.cells[cell])} did not finish (see its error above it).")
         correct = frozenset(v["quantity"] for v in verdicts if v.get("status") == "correct")
-        if correct & set(self.causes):   # robokin.check finds it right: not the cause
+        # robokin.check finds an answer this test depends on wrong: a suspect from this test on
+        found_wrong = {v["quantity"]: v.get("diagnosis") or "wrong" for v in verdicts
+                       if v.get("status") == "wrong" and v["quantity"] in self.roots - correct}
+        fresh = set(found_wrong) - set(self.report.get("wrong", {})) - set(self.causes)
+        for name, diagnosis in found_wrong.items():
+            self.report.setdefault("wrong", {}).setdefault(name, diagnosis)
+        if correct & set(self.causes) or fresh:   # right: not the cause; wrong: a cause
             self.causes = self._causes(self._kinds, correct)
         if self.causes:
             groups: dict[tuple, list[str]] = {}
@@ -304,6 +315,10 @@ def trace(cells: list[tuple[str, str]]) -> list[dict[str, Binding]]:
             parts = [("code", _with_mutations(statement, modules)) for statement in statements]
             # the names an answer cell binds are the student's answers, each its own root
             parts += [("answer", f"{name} = {name}") for name in defined_names(code) if kind == "answer"]
+            # ... and each uses the functions of its cell that its statements call, however deep
+            if kind == "answer":
+                parts += [("answer", f"{name} = ({name}, {', '.join(helpers)})")
+                          for name, helpers, _ in _cell_functions_used(code)]
         for part in parts or [("code", "")]:
             expanded.append(part)
             owner.append(index)
@@ -394,6 +409,66 @@ def _with_mutations(statement: str, modules: frozenset[str] = frozenset()) -> st
         return statement
     read = ", ".join(free)
     return statement + "\n" + "\n".join(f"{name} = ({read},)" for name in changed)
+
+
+@functools.lru_cache(maxsize=MEMO_SIZE)
+def _cell_functions_used(code: str) -> tuple[tuple[str, tuple[str, ...], tuple[str, ...]], ...]:
+    """For each name an answer cell binds, the functions defined in the same cell that its
+    statements read (a call in a function's body too), transitively, and those of them it reaches
+    only through a function's body: ``my_leg_ik``, whose body calls ``ankle_angles`` of its cell,
+    uses ``ankle_angles`` through its body; ``Q_mine = my_leg_ik(T)`` uses ``my_leg_ik`` directly
+    and ``ankle_angles`` through a body. Only names with such functions, in order of binding;
+    parsed, never run. Memoised per source string."""
+    import ast
+
+    statements = _top_level(code)
+    if statements is None:
+        return ()
+    functions = set()
+    for statement in statements:
+        try:
+            tree = ast.parse(statement)
+        except SyntaxError:   # pragma: no cover - a statement of a parsed cell parses
+            continue
+        functions |= {node.name for node in tree.body
+                      if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef))}
+    direct: dict[str, set[str]] = {}
+    for statement in statements:
+        read = free_names(statement) & functions
+        for name in defined_names(statement):
+            direct.setdefault(name, set()).update(read - {name})
+
+    def closure(start) -> set[str]:
+        used, todo = set(), list(start)
+        while todo:
+            helper = todo.pop()
+            if helper not in used:
+                used.add(helper)
+                todo += direct.get(helper, ())
+        return used
+
+    out = []
+    for name, helpers in direct.items():
+        # a function's own reads are in its body; another name's are calls at the top level
+        inner = closure(helpers) if name in functions else closure(
+            set().union(*(direct.get(f, set()) for f in helpers))) - helpers
+        used = (closure(helpers) | inner) - {name}
+        if used:
+            out.append((name, tuple(sorted(used)), tuple(sorted(inner - {name}))))
+    return tuple(out)
+
+
+def _helpers(kinds: list[tuple[str, str]]) -> dict[str, tuple[str, ...]]:
+    """``{answer name: the functions of its answer cell it reaches only through a function's
+    body}`` (:func:`_cell_functions_used`) for the answer cells of ``kinds``; a later cell's
+    binding replaces an earlier one."""
+    out: dict[str, tuple[str, ...]] = {}
+    for kind, code in kinds:
+        if kind == "answer":
+            for name in defined_names(code):
+                out.pop(name, None)
+            out.update((name, inner) for name, _, inner in _cell_functions_used(code))
+    return out
 
 
 def _statements(code: str) -> list[str]:
