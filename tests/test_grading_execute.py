@@ -118,3 +118,33 @@ def test_a_current_configuration_gives_no_such_warning(caplog, bridge_execute):
     with caplog.at_level(logging.WARNING):
         bridge_execute.BridgedExecute(fork_server=False, sandbox=False)
     assert not _warnings(caplog)
+
+
+def _cells(*specs: tuple[str, str, bool]) -> list[dict]:
+    return [{"grade_id": grade_id, "source": source, "test": test} for grade_id, source, test in specs]
+
+
+PICTURE = ["nbval-ignore-output"]
+
+
+def test_a_picture_that_defines_nothing_a_running_cell_reads_is_skipped(bridge_execute):
+    cells = _cells(
+        ("data", "x = 1.0", False),
+        ("helper-picture", "def draw(a):\n    return a\nfigure = draw(x)", False),
+        ("picture", "draw(x + 1)", False),   # reads draw, but is skipped itself
+        ("test", "assert x == 1.0", True),
+        ("after", "print(figure)", False),   # after the last test: not run, reads nothing
+    )
+    bridge_execute.skip_pictures(cells, {"helper-picture": PICTURE, "picture": PICTURE})
+    assert [item.get("skip", False) for item in cells] == [False, True, True, False, True]
+
+
+def test_a_picture_whose_name_a_test_or_a_running_cell_reads_is_run(bridge_execute):
+    cells = _cells(
+        ("picture", "y = 2.0", False),
+        ("given", "z = y + 1", False),
+        ("picture-2", "w = 3.0", False),
+        ("test", "assert w == 3.0 and z == 3.0", True),
+    )
+    bridge_execute.skip_pictures(cells, {"picture": PICTURE, "picture-2": PICTURE})
+    assert [item.get("skip", False) for item in cells] == [False, False, False, False]

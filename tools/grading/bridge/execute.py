@@ -366,7 +366,7 @@ class BridgedExecute(JoinedStreamsClient, Execute):
         if source is None:
             source = {_grade_id(c): (robokin_metadata(c), c.metadata.get("tags", [])) for c in nb.cells if _grade_id(c)}
         meta = {key: value[0] for key, value in source.items()}
-        _skip_pictures(cells, {key: value[1] for key, value in source.items()})
+        skip_pictures(cells, {key: value[1] for key, value in source.items()})
         # the instructor's robokin metadata replaces the submission's (a student can edit metadata)
         for cell in nb.cells:
             if _grade_id(cell) in meta and meta[_grade_id(cell)]:
@@ -604,16 +604,31 @@ class BridgedExecute(JoinedStreamsClient, Execute):
         cell.outputs.insert(position, note)
 
 
-def _skip_pictures(cells: list[dict], tags: dict[str, list[str]]) -> None:
-    """Mark the given cells the grader need not run: the cells after the last test, and
-    pictures and 3D scenes (tagged ``nbval-ignore-output``, book/conventions) that define
-    nothing a later cell reads."""
+def skip_pictures(cells: list[dict], tags: dict[str, list[str]]) -> None:
+    """Mark the given cells the grader need not run (``item["skip"] = True``).
+
+    Parameters
+    ----------
+    cells : list of dict
+        The notebook's read-only code cells in order, each ``{"grade_id", "source", "test"}``
+        (``test``: a graded test cell).
+    tags : dict
+        The instructor's tags of each cell, by grade id.
+
+    Notes
+    -----
+    Skipped: the cells after the last test (nothing is graded there), and pictures and 3D
+    scenes (tagged ``nbval-ignore-output``, book/conventions) that define nothing a later
+    cell *the grader runs* reads. The pictures are judged from the last one back, so a
+    picture whose names only later skipped pictures read is skipped too (a drawing helper
+    read by the next figure alone).
+    """
     tests = [i for i, item in enumerate(cells) if item["test"]]
     for item in cells[tests[-1] + 1:] if tests else []:
-        item["skip"] = True   # after the last test: nothing is graded there
-    for index, item in enumerate(cells):
-        if item["test"] or "nbval-ignore-output" not in tags.get(item["grade_id"], []):
-            continue
-        defined = set(defined_names(item["source"]))
-        later = set().union(*(free_names(c["source"]) for c in cells[index + 1:]))
-        item["skip"] = item.get("skip", False) or not (defined & later)
+        item["skip"] = True
+    read_later: set[str] = set()   # the free names of the cells after `index` that run
+    for item in reversed(cells):
+        if not item["test"] and "nbval-ignore-output" in tags.get(item["grade_id"], []):
+            item["skip"] = item.get("skip", False) or not set(defined_names(item["source"])) & read_later
+        if not item.get("skip", False):
+            read_later |= set(free_names(item["source"]))
