@@ -246,8 +246,7 @@ def test_where_to_start_has_one_line_per_answer_with_all_its_tests():
 
 def test_provenance_follows_the_data_flow_of_an_answer_cell():
     """A name uses the answers its defining statements read, transitively: ``closed`` is computed
-    from ``ik_closed_form`` only (a function of its own cell), ``found`` from ``newton_ik`` through
-    the list it appends to."""
+    from ``ik_closed_form`` only, ``found`` from ``newton_ik`` through the list it appends to."""
     from tools.grading.robokin_nbgrader.failure_notes import trace
 
     cells = [("answer", "def newton_ik(p, q):\n    return [q]"),
@@ -258,17 +257,16 @@ def test_provenance_follows_the_data_flow_of_an_answer_cell():
              ("code", "closed_sorted = sorted(closed)\nboth = [closed, found]"),
              ("code", "closed_sorted, both")]
     reads = trace(cells)[-1]
-    assert reads["closed_sorted"].roots == {"closed", "ik_closed_form"}, reads
-    assert not reads["closed_sorted"].answer, reads
-    assert reads["both"].roots == {"closed", "ik_closed_form", "found", "newton_ik"}, reads
+    assert reads["closed_sorted"].roots == {"closed"} and not reads["closed_sorted"].answer, reads
+    assert reads["both"].roots == {"closed", "found", "newton_ik"}, reads
     assert trace(cells)[3]["found"].answer and "newton_ik" in trace(cells)[3]["found"].roots
 
 
 def test_a_function_uses_the_functions_its_body_calls_in_its_cell():
-    """``my_leg_ik`` calls ``ankle_angles`` of its cell, defined after it, which calls ``hip``: it
-    uses both, and so does ``Q_mine``, computed from it; a default argument from an earlier cell
-    stays a root; an unused function and a name that merely shadows a helper's do not. Only
-    ``ankle_angles`` is reached through a body alone: ``Q_mine`` calls ``my_leg_ik`` itself."""
+    """``my_leg_ik`` calls ``ankle_angles`` of its cell, defined after it: it
+    uses it (``hip`` is shadowed there by a local name); a default argument from an earlier cell
+    stays a root; ``Q_mine``, a value computed in the cell, keeps the roots it had, and an unused
+    function uses nothing."""
     from tools.grading.robokin_nbgrader.failure_notes import _cell_functions_used, trace
 
     cells = [("answer", "def ankle_point(T):\n    return T"),
@@ -279,27 +277,26 @@ def test_a_function_uses_the_functions_its_body_calls_in_its_cell():
              ("code", "my_leg_ik, Q_mine, ankle_angles, unused, k")]
     reads = trace(cells)[-1]
     assert reads["my_leg_ik"].roots == {"my_leg_ik", "ankle_angles", "ankle_point"}, reads
-    assert reads["Q_mine"].roots == {"Q_mine", "my_leg_ik", "ankle_angles", "ankle_point"}, reads
+    assert reads["Q_mine"].roots == {"Q_mine", "ankle_point"}, reads
     assert reads["ankle_angles"].roots == {"ankle_angles"}, reads
     assert reads["unused"].roots == {"unused"} and reads["k"].roots == {"k"}, reads
     through_bodies = dict((name, inner) for name, _, inner in _cell_functions_used(cells[1][1]))
-    assert through_bodies == {"my_leg_ik": ("ankle_angles",), "Q_mine": ("ankle_angles",)}
+    assert through_bodies == {"my_leg_ik": ("ankle_angles",)}
 
 
 def test_a_helper_reached_through_a_function_body_is_judged_by_its_check():
     """A failing test of ``leg_ik``, whose body calls ``ankle_angles`` and ``hip_angles`` of its
     cell: a helper is named only when ``robokin.check`` finds it wrong (``ankle_angles``); one it
-    finds correct, or cannot check (``hip_angles``), leaves the blame on ``leg_ik``, whose own
-    test is the failing test of ``Q_mine``, computed by calling it."""
+    finds correct, or cannot check (``hip_angles``), leaves the blame on ``leg_ik``."""
     from tools.grading.robokin_nbgrader import FailureNotes
 
     nb = nbformat.v4.new_notebook()
     nb.cells = [
         nbformat.v4.new_markdown_cell("## Task 1: the leg"),
         code_cell("def leg_ik(T):\n    return [hip_angles(a) for a in ankle_angles(T)]\n\n\n"
-                  "def ankle_angles(u):\n    return [u]\n\n\ndef hip_angles(R):\n    return R\n\n\n"
-                  "Q_mine = leg_ik(1.0)", "task1_answer1", solution=True, task=1),
-        code_cell("assert Q_mine == [2.0]", "task1_test1", grade=True, task=1, count=2,
+                  "def ankle_angles(u):\n    return [u]\n\n\ndef hip_angles(R):\n    return R",
+                  "task1_answer1", solution=True, task=1),
+        code_cell("assert leg_ik(1.0) == [2.0]", "task1_test1", grade=True, task=1, count=2,
                   outputs=[_error("AssertionError", 2, 1)]),
         code_cell("assert len(leg_ik(2.0)) == 2", "task1_test2", grade=True, task=1, count=3,
                   outputs=[_error("AssertionError", 3, 1)]),

@@ -413,12 +413,11 @@ def _with_mutations(statement: str, modules: frozenset[str] = frozenset()) -> st
 
 @functools.lru_cache(maxsize=MEMO_SIZE)
 def _cell_functions_used(code: str) -> tuple[tuple[str, tuple[str, ...], tuple[str, ...]], ...]:
-    """For each name an answer cell binds, the functions defined in the same cell that its
-    statements read (a call in a function's body too), transitively, and those of them it reaches
-    only through a function's body: ``my_leg_ik``, whose body calls ``ankle_angles`` of its cell,
-    uses ``ankle_angles`` through its body; ``Q_mine = my_leg_ik(T)`` uses ``my_leg_ik`` directly
-    and ``ankle_angles`` through a body. Only names with such functions, in order of binding;
-    parsed, never run. Memoised per source string."""
+    """For each function an answer cell defines, the functions of the same cell that its body
+    calls, transitively (twice: all it uses, and those it reaches through a body, the same for
+    a function): ``my_leg_ik``, whose body calls ``ankle_angles`` of its cell, uses
+    ``ankle_angles``. Only functions with such helpers, in order of definition; parsed, never
+    run. Memoised per source string."""
     import ast
 
     statements = _top_level(code)
@@ -449,12 +448,10 @@ def _cell_functions_used(code: str) -> tuple[tuple[str, tuple[str, ...], tuple[s
 
     out = []
     for name, helpers in direct.items():
-        # a function's own reads are in its body; another name's are calls at the top level
-        inner = closure(helpers) if name in functions else closure(
-            set().union(*(direct.get(f, set()) for f in helpers))) - helpers
-        used = (closure(helpers) | inner) - {name}
+        # a function's reads are in its body; a value's calls at the top level stay as they were
+        used = closure(helpers) - {name} if name in functions else set()
         if used:
-            out.append((name, tuple(sorted(used)), tuple(sorted(inner - {name}))))
+            out.append((name, tuple(sorted(used)), tuple(sorted(used))))
     return tuple(out)
 
 
