@@ -114,20 +114,19 @@ def _symbolic_exp(V: Any) -> Any:
 def transform_log(T: Any, check: bool = True) -> np.ndarray:
     r"""Exponential coordinates :math:`\mathcal{V} = [w; u]` of a transform (inverse of :func:`transform_exp`).
 
-    .. math::
-        w = \log R \;(\theta = \|w\| \in [0, \pi]), \qquad
-        u = \Big(I - \tfrac12 [w] + D\,[w]^2\Big)\, p, \quad
-        D = \frac{1}{\theta^2}\Big(1 - \frac{\theta}{2}\cot\frac{\theta}{2}\Big)
+    ``w`` (rad) is the rotation vector of the rotation block, with the angle
+    :math:`\theta = \|w\| \in [0, \pi]` (:func:`robokin.transforms.rotation_log`); ``u`` (m) is
+    the linear part for which :func:`transform_exp` of ``[w; u]`` gives back ``T``: with the
+    unit axis :math:`\omega = w/\theta`, ``[w; u]`` is :math:`\mathcal{S}\theta` for a screw axis
+    :math:`\mathcal{S} = [\omega; v]` (Lynch & Park 2017, §3.3.3.2, the matrix logarithm of a
+    rigid-body motion). At both ends of the angle range:
 
-    (Lynch & Park 2017, §3.3.3.2, Algorithm, with its :math:`G^{-1}(\theta)` written
-    for :math:`w = \omega\theta`.) Exact near both ends:
-
-    - :math:`\theta \to 0`: :math:`D` is its series :math:`1/12 + \theta^2/720 + \theta^4/30240`
-      (below ``SERIES_ANGLE``); a pure translation gives :math:`[0; p]`.
+    - :math:`\theta \to 0`: the coefficients are their Taylor series below ``SERIES_ANGLE``;
+      a pure translation gives :math:`[0; p]`.
     - :math:`\theta \to \pi`: the rotation vector comes from :func:`robokin.transforms.rotation_log`,
-      which takes the axis from the symmetric part of :math:`R` there; :math:`D` tends to
-      :math:`1/\pi^2`, with no division by :math:`\sin\theta`. At exactly :math:`\theta = \pi`
-      both :math:`w` and :math:`-w` describe the rotation; the one :func:`rotation_log` returns is used.
+      which takes the axis from the symmetric part of :math:`R` there, and no coefficient divides
+      by :math:`\sin\theta`. At exactly :math:`\theta = \pi` both :math:`w` and :math:`-w`
+      describe the rotation; the one :func:`rotation_log` returns is used.
 
     Parameters
     ----------
