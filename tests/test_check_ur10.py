@@ -352,6 +352,22 @@ def test_restarts_bad_answers():
     assert ur.ik_restarts(lambda *args: 1 / 0, quiet=True).diagnosis == "error"
 
 
+
+def test_restarts_on_a_wrong_loop_send_the_student_to_the_loop():
+    """A right restart loop around a wrong ik_position (the cap joint by joint): the message
+    says that the cause may be the student's ik_position, and names no restart mistake."""
+    def restarts_on_clipped_loop(chain, p_goal, starts, step):
+        runs = []
+        for q_start in starts:
+            runs.append(loop_for(chain, p_goal, q_start, step, per_joint=True))
+            if runs[-1][1]:
+                break
+        return runs[-1][0], runs[-1][1], len(runs), sum(run[2] for run in runs)
+
+    r = ur.ik_restarts(restarts_on_clipped_loop, quiet=True)
+    assert not r.passed and r.diagnosis == "mismatch", r.message
+    assert "fix ik_position first" in r.message
+
 # ---------------------------------------------------------------- the figures of a run (task 3)
 def summary_written(chain, p_goal, path, wrong=None):
     """summary written independently of the check: robokin's own measures of a run."""
@@ -458,3 +474,12 @@ def test_self_motion_keeps_the_flange_and_climbs_H():
         H = [ur._objective(q, chain.limits) for q in rows]
         assert np.all(np.diff(H) > 0)
         assert np.linalg.norm(chain.fk(rows[-1])[:3, 3] - goal) < 1e-3
+
+
+def test_self_motion_mismatch_names_the_answers_it_calls():
+    """A self-motion with a gradient n times too large (the 1/n of H left out in Task 2): the
+    message says that the cause may be the student's gradient or projector."""
+    r = ur.self_motion(lambda chain, p_goal, q_start, gain, steps: self_motion_written(
+        chain, p_goal, q_start, ur.N_JOINTS * gain, steps), quiet=True)
+    assert not r.passed and r.diagnosis == "mismatch", r.message
+    assert "joint_limit_gradient" in r.message and "fix those first" in r.message

@@ -684,9 +684,11 @@ class _RestartsCheck(FunctionCheck):
                     "attempts": f" (expected {int(r[7])})", "iterations": f" (expected {int(r[8])})"}
         return self.failure("mismatch", (
             f"{name} for {cases[k][0]} (3 starts, the pseudoinverse step) returns a wrong "
-            f"{wrong}{expected[wrong]}: run ik_position from each start in turn, with its "
-            "defaults, stop at the first that converges, and return that attempt's q, whether it "
-            "converged, the attempts made and the steps over all of them."), n)
+            f"{wrong}{expected[wrong]}. It runs your ik_position: if Task 2's test of ik_position "
+            "or check_ur10.ik_position(ik_position) fails, fix ik_position first, the cause may "
+            "be there. Otherwise: run ik_position from each start in turn, with its defaults, stop at "
+            "the first that converges, and return that attempt's q, whether it converged, the "
+            "attempts made and the steps over all of them."), n)
 
 
 ik_restarts = exercise(_CHAPTER, "ik_restarts", _RestartsCheck(
@@ -945,8 +947,9 @@ class _SelfMotionCheck(FunctionCheck):
         row = int(np.argmax(np.abs(g - r).max(axis=1) > 1e-9))
         return self.failure("mismatch", (
             f"{name} for {cases[k][0]} differs from q ← q + J⁺e + N k ∇H(q) from row {row} "
-            f"on (row 0 is q_start): check the step e = p_goal − p(q), J⁺, N = I − J⁺J and ∇H with "
-            "the chain's limits."), n)
+            f"on (row 0 is q_start). If it calls your joint_limit_gradient or nullspace_projector "
+            "and Task 2's test of them fails, fix those first, the cause may be there. Otherwise "
+            "check the step e = p_goal − p(q), J⁺, N = I − J⁺J and ∇H with the chain's limits."), n)
 
 
 self_motion = exercise(_CHAPTER, "self_motion", _SelfMotionCheck(
