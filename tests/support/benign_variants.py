@@ -223,6 +223,115 @@ def slide_column(q):  # written another way: the tool pose is affine in q6, so a
 spare = np.linalg.qr(J_T0.T, mode="complete")[0][:, -1]
 spare = -spare * np.sign(spare[np.flatnonzero(np.abs(spare) > 1e-6)[0]])
 '''),
+        "task4_answer1": ("the loop over the sample times, preallocated rows, J^+ nu by least squares, "
+                          "the clamp by minimum and maximum", '''
+
+# written another way: the sample times from linspace, rows filled in place, the minimum-norm
+# joint rates by lstsq, the limits by np.minimum and np.maximum
+def kinematic_loop(twist_of, q0, ts=TS, t_end=T_END, robot=tool_arm):
+    low, high = robot.limits[:, 0], robot.limits[:, 1]
+    times = np.linspace(0.0, t_end, int(round(t_end / ts)) + 1)
+    configurations = np.empty((len(times), len(q0)))
+    twists = np.empty((len(times), 6))
+    configurations[0] = q0
+    for k, _ in enumerate(times):
+        twists[k] = twist_of(configurations[k])
+        speeds = np.linalg.norm(twists[k].reshape(2, 3), axis=1)  # |v|, |w|
+        if np.all(speeds < STOP) or k == len(times) - 1:
+            return configurations[: k + 1].copy(), twists[: k + 1].copy()
+        rates = np.linalg.lstsq(robot.jacobian(configurations[k]), twists[k], rcond=None)[0]
+        configurations[k + 1] = np.minimum(np.maximum(configurations[k] + ts * rates, low), high)
+'''),
+        "task4_answer2": ("the final error from the last commanded twist divided by the gains", '''
+
+# written another way: the loop stops on the twist kappa e, so e at the last sample is the twist
+# there divided by the gains
+Q_run, V_run = kinematic_loop(my_twist, Q0)
+k_stop = len(V_run) - 1
+q_final = Q_run[k_stop]
+T_final = fk_table(q_final) @ T_ET
+e_final = V_run[-1] / np.repeat([GAIN_LINEAR, GAIN_ANGULAR], 3)
+'''),
+        "task4_answer3": ("the distance from the line by a cross product, the limits by each joint's range", '''
+
+# written another way: the (roll, pitch, yaw) tool built again, its pose by the arm's pose
+swapped_tool = transform_from_rpy(TOOL_YPR, TOOL_OFFSET)
+swapped_arm = chain_with_tool(arm, swapped_tool)
+
+
+def swapped_twist(q):
+    pose = arm.fk(q) @ swapped_tool
+    turn = orientation_error(pose[:3, :3], T_BG_rpy[:3, :3])
+    return np.concatenate([GAIN_LINEAR * (T_BG_rpy[:3, 3] - pose[:3, 3]), GAIN_ANGULAR * turn])
+
+
+Q_swapped, V_swapped = kinematic_loop(swapped_twist, Q0, robot=swapped_arm)
+swapped_stops = bool(np.all(np.linalg.norm(V_swapped[-1].reshape(2, 3), axis=1) < STOP))
+reached = (Q_swapped.min(axis=0) <= Q_MIN) | (Q_swapped.max(axis=0) >= Q_MAX)
+joints_at_limit = int(np.count_nonzero(reached))
+origins = np.array([(fk_table(q) @ T_ET)[:3, 3] for q in Q_run])
+chord = origins[-1] - origins[0]
+off_line = float(np.max(np.linalg.norm(np.cross(origins - origins[0], chord), axis=1))
+                 / np.linalg.norm(chord))
+'''),
+        "task4_answer4": ("the stop predicted by stepping the model's error, the continuous stop by logs", '''
+
+# written another way: the first-order model stepped until its twist meets the stop test
+factor_per_step = float(1.0 - TS * GAIN_LINEAR)
+model_error_0 = np.array([np.linalg.norm(e0[:3]), np.linalg.norm(e0[3:])])
+model_error, k_predicted = model_error_0.copy(), 0
+while np.any(np.r_[GAIN_LINEAR, GAIN_ANGULAR] * model_error >= STOP):
+    model_error = factor_per_step * model_error
+    k_predicted += 1
+# in continuous time each part meets the test at ln(kappa |e(0)| / STOP) / kappa: the later one
+t_continuous = float(max(np.log(gain * size / STOP) / gain
+                         for gain, size in zip([GAIN_LINEAR, GAIN_ANGULAR], model_error_0)))
+kts_limit = 1.0 - (-1.0)  # 1 - kappa ts reaches -1
+'''),
+        "task5_answer1": ("angles wrapped by the complex exponential, the angle between by arctan2, "
+                          "the true error by the trace", '''
+
+def rpy_difference(R, R_goal):  # written another way: wrapped as the angle of exp(i x)
+    goal, now = np.array(rpy_from_rotation(R_goal)), np.array(rpy_from_rotation(R))
+    return np.angle(np.exp(1j * (goal - now)))
+
+
+R_goal = T_BG[:3, :3]
+tool_rotations = [tool_arm.fk(q)[:3, :3] for q in Q_run]
+E_rpy = np.vstack([rpy_difference(R, R_goal) for R in tool_rotations])
+E_aa = np.vstack([orientation_error(R, R_goal) for R in tool_rotations])
+angle_between = np.degrees(np.arctan2(np.linalg.norm(np.cross(E_rpy, E_aa), axis=1),
+                                      np.einsum("ij,ij->i", E_rpy, E_aa)))
+
+
+def naive_twist(q):  # written another way: my_twist's linear part, the RPY difference as w
+    return np.r_[my_twist(q)[:3], GAIN_ANGULAR * rpy_difference(tool_arm.fk(q)[:3, :3], R_goal)]
+
+
+Q_naive = kinematic_loop(naive_twist, Q0)[0]
+theta_naive = np.array([
+    np.arccos(np.clip((np.trace(R_goal @ tool_arm.fk(q)[:3, :3].T) - 1) / 2, -1.0, 1.0))
+    for q in Q_naive
+])
+'''),
+        "task5_answer2": ("E(phi) from the columns of R: the roll axis is R x, the pitch axis z x R x "
+                          "normalised", '''
+
+def rpy_rate_matrix(R):  # written another way: Rz Ry Rx x = R x, and Rz y is z x (R x) / cos(pitch)
+    roll_axis = np.asarray(R)[:, 0]
+    pitch_axis = np.cross([0.0, 0.0, 1.0], roll_axis)
+    return np.column_stack([roll_axis, pitch_axis / np.linalg.norm(pitch_axis), [0.0, 0.0, 1.0]])
+
+
+def analytic_twist(q):
+    R = tool_arm.fk(q)[:3, :3]
+    return np.r_[my_twist(q)[:3], GAIN_ANGULAR * rpy_rate_matrix(R) @ rpy_difference(R, T_BG[:3, :3])]
+
+
+Q_analytic, V_analytic = kinematic_loop(analytic_twist, Q0)
+analytic_stops = bool(np.all(np.linalg.norm(V_analytic[-1].reshape(2, 3), axis=1) < STOP))
+pitch_singular = float(np.arccos(0.0))  # det E(phi) = cos(pitch) = 0
+'''),
     },
     "05_baxter_circle": {
         "task1_answer2": ("a fourth-order central difference stencil", '''
