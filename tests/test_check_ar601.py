@@ -471,3 +471,55 @@ def test_k_regular_is_robokins_count_at_random_poses():
 ])
 def test_k_regular_mistakes(answer, code):
     assert ck.k_regular(answer, quiet=True).diagnosis == code
+
+
+# ---------------------------------------------------------------- the tests' stand-ins for the steps
+def _wrapped(a):
+    return (np.asarray(a, dtype=float) + np.pi) % (2 * np.pi) - np.pi
+
+
+def test_reference_steps_pass_their_checks_and_agree_with_the_model():
+    leg = ar601_leg()
+    assert ck.ankle_point(ck.reference_ankle_point, quiet=True).passed
+    assert ck.ankle_angles(ck.reference_ankle_angles, quiet=True).passed
+    for x in leg.random_configurations(20, seed=7):
+        T, frames = leg.fk(x), leg.frames(x)
+        assert np.allclose(ck.reference_ankle_point(T), frames[5][:3, 3], atol=1e-12)
+        u = T[:3, :3].T @ frames[5][:3, 3]
+        pairs = ck.reference_ankle_angles(u, x[3])
+        assert all(isinstance(p, tuple) and len(p) == 2 for p in pairs)
+        assert ck._same_rows(np.array(pairs), np.array(_ankle_pairs_numeric(u, x[3])))
+        R_H = frames[3][:3, :3]  # after the three hip joints
+        hips = ck.reference_hip_angles(R_H)
+        assert len(hips) == 2 and np.cos(hips[0][1]) > 0 > np.cos(hips[1][1])
+        for a, b, c in hips:
+            assert np.allclose(Rz(a)[:3, :3] * Ry(b)[:3, :3] * Rx(c)[:3, :3], R_H, atol=1e-12)
+        assert np.abs(_wrapped(np.array(hips) - x[:3])).max(axis=1).min() < 1e-9
+
+
+def test_reference_steps_in_a_leg_ik_give_robokins_solutions():
+    leg = ar601_leg()
+
+    def leg_ik(T):
+        R, a = T[:3, :3], ck.reference_ankle_point(T)
+        c4 = np.clip((a @ a - 0.18) / 0.18, -1.0, 1.0)
+        rows = []
+        for q4 in (np.arccos(c4), -np.arccos(c4)):
+            for q5, q6 in ck.reference_ankle_angles(R.T @ a, q4):
+                M = np.array(Rx(q4)[:3, :3] * Ry(q5)[:3, :3] * Rx(q6)[:3, :3], dtype=float)
+                rows += [[*h, q4, q5, q6] for h in ck.reference_hip_angles(R @ M.T)]
+        return np.array(rows)
+
+    for x in leg.random_configurations(5, seed=8):
+        T = leg.fk(x)
+        assert ck._same_rows(leg_ik(T), ar601_leg_ik(T).q)
+
+
+@pytest.mark.parametrize("call", [
+    lambda: ck.reference_ankle_point(np.eye(3)),
+    lambda: ck.reference_ankle_angles([0.0, 0.1], 0.3),
+    lambda: ck.reference_ankle_angles([0.0, np.nan, -0.5], 0.3),
+])
+def test_reference_steps_reject_bad_input(call):
+    with pytest.raises(ValueError):
+        call()

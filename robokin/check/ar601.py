@@ -70,6 +70,9 @@ __all__ = [
     "k_regular",
     "knee_angle",
     "leg_ik",
+    "reference_ankle_angles",
+    "reference_ankle_point",
+    "reference_hip_angles",
     "unreachable_reason",
 ]
 
@@ -470,7 +473,12 @@ class _IKSolverCheck(FunctionCheck):
 DELEGATION = {
     # the product written out, not the model evaluated (T_sym = leg.fk(list(q_sym)))
     "foot_transform": {"ar601_leg": "robokin.models.ar601_leg (its fk)", "leg.fk": "leg.fk (SerialChain.fk)"},
+    "ankle_point": {"reference_ankle_point": "robokin.check.ar601.reference_ankle_point"},
+    "ankle_angles": {"reference_ankle_angles": "robokin.check.ar601.reference_ankle_angles"},
     "leg_ik": {"ar601_leg_ik": "robokin.models.ar601_leg_ik",
+               "reference_ankle_point": "robokin.check.ar601.reference_ankle_point",
+               "reference_ankle_angles": "robokin.check.ar601.reference_ankle_angles",
+               "reference_hip_angles": "robokin.check.ar601.reference_hip_angles",
                "ar601_leg_ik_batch": "robokin.models.ar601_leg_ik_batch",
                "solve_ik": "robokin.motion.solve_ik"},
     "unreachable_reason": {"ar601_leg_ik": "robokin.models.ar601_leg_ik",
@@ -641,12 +649,12 @@ ankle_point = exercise(_CHAPTER, "ankle_point", _AnklePointCheck(
 ))
 
 
-def _ankle_pairs(u: np.ndarray, q4: float, mistake: str = "") -> np.ndarray:
+def _ankle_pairs(u: np.ndarray, q4: float, mistake: str = "", l1: float = LENGTHS[0],
+                 l2: float = LENGTHS[1]) -> np.ndarray:
     """Every ``(q5, q6)`` with R_y(q5) R_x(q6) u = v(q4), shape (k, 2), or what a typical
     ``mistake`` makes of them."""
     from robokin.transforms import rotx
 
-    l1, l2 = LENGTHS[:2]
     rho, phi = math.hypot(u[1], u[2]), math.atan2(u[2], u[1])
     c6 = -l1 * math.sin(q4) / rho
     if abs(c6) > 1.0:
@@ -660,6 +668,84 @@ def _ankle_pairs(u: np.ndarray, q4: float, mistake: str = "") -> np.ndarray:
               else math.atan2(w[0] / k, -w[2] / k))
         rows.append([-q5 if mistake == "ankle_q5_sign" else q5, q6])
     return np.array(rows)
+
+
+def reference_ankle_point(T: Any, L3_: float = LENGTHS[2]) -> np.ndarray:
+    """robokin's answer to the step ``ankle_point`` of Task 3 (the tests' stand-in).
+
+    As :func:`reference_ankle_angles`, for the ankle point: the tests of the later steps pass
+    it to the student's ``my_leg_ik`` as its argument ``ankle``.
+
+    Parameters
+    ----------
+    T : array_like, shape (4, 4)
+        A foot pose in B.
+    L3_ : float
+        The length from the ankle to the sole (m), the model's by default.
+
+    Returns
+    -------
+    numpy.ndarray, shape (3,)
+        The point where the two ankle axes meet, in B (m).
+    """
+    T = np.asarray(T, dtype=float)
+    if T.shape != (4, 4):
+        raise ValueError(f"T must be one foot pose (4, 4); got shape {T.shape}")
+    return T[:3, 3] + L3_ * T[:3, 2]
+
+
+def reference_ankle_angles(u: Any, q4: float, l1_: float = LENGTHS[0],
+                           l2_: float = LENGTHS[1]) -> list[tuple[float, float]]:
+    """robokin's answer to the step ``ankle_angles`` of Task 3 (the tests' stand-in).
+
+    The graded tests of the steps after it (``my_leg_ik`` and what is computed from it) pass
+    this function to the student's ``my_leg_ik`` in place of the student's own, so that a
+    mistake in ``ankle_angles`` costs the points of its own test only.
+
+    Parameters
+    ----------
+    u : array_like, shape (3,)
+        The hip–ankle vector in foot coordinates (m).
+    q4 : float
+        The knee angle (rad).
+    l1_, l2_ : float
+        The thigh and shank lengths (m), the model's by default.
+
+    Returns
+    -------
+    list of (float, float)
+        Every pair ``(q5, q6)`` (rad) with R_y(q5) R_x(q6) u = v(q4), each once; ``[]`` if
+        there is none.
+    """
+    u = np.asarray(u, dtype=float)
+    if u.shape != (3,) or not np.all(np.isfinite(u)) or not math.isfinite(q4):
+        raise ValueError(f"u must be a finite vector (3,) and q4 a finite angle; got u of shape "
+                         f"{u.shape}, q4 = {q4!r}")
+    return [(float(q5), float(q6)) for q5, q6 in _ankle_pairs(u, float(q4), l1=l1_, l2=l2_)]
+
+
+def reference_hip_angles(R_H: Any) -> list[tuple[float, float, float]]:
+    """robokin's answer to the step ``hip_angles`` of Task 3 (the tests' stand-in).
+
+    As :func:`reference_ankle_angles`, for the hip: the tests of the later steps pass it to
+    the student's ``my_leg_ik``.
+
+    Parameters
+    ----------
+    R_H : array_like, shape (3, 3)
+        A rotation matrix, the hip rotation R_z(q1) R_y(q2) R_x(q3).
+
+    Returns
+    -------
+    list of (float, float, float)
+        Both triples ``(q1, q2, q3)`` (rad) that give ``R_H``, the one with cos q2 ≥ 0 first
+        (away from cos q2 = 0, where the two coincide and only q1 ∓ q3 is defined).
+    """
+    from robokin.transforms import rpy_from_rotation
+
+    q3, q2, q1 = (float(a) for a in rpy_from_rotation(np.asarray(R_H, dtype=float)))
+    p1, p2, p3 = (float(a) for a in _wrap(np.array([q1 + math.pi, math.pi - q2, q3 + math.pi])))
+    return [(q1, q2, q3), (p1, p2, p3)]
 
 
 _ANKLE_ANGLE_MISTAKES = [
