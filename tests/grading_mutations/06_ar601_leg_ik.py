@@ -67,19 +67,39 @@ MUTATIONS = {
         ("the count of one knee sign only (4)", "k_regular = 4"),
         ("only the positive knee branch (4 solutions)",
          "_leg_ik_right = my_leg_ik\n\n"
-         "def my_leg_ik(T, ankle=ankle_point):\n"
-         "    return _leg_ik_right(T, ankle)[:4]"),
+         "def my_leg_ik(T, ankle=ankle_point, **steps):\n"
+         "    return _leg_ik_right(T, ankle, **steps)[:4]"),
         ("ankle point along the base z axis inside the solver",
          "_leg_ik_right = my_leg_ik\n\n"
-         "def my_leg_ik(T, ankle=ankle_point):\n"
-         "    return _leg_ik_right(T, lambda T: T[:3, 3] + np.array([0.0, 0.0, L3]))"),
+         "def my_leg_ik(T, ankle=ankle_point, **steps):\n"
+         "    return _leg_ik_right(T, lambda T: T[:3, 3] + np.array([0.0, 0.0, L3]), **steps)"),
+        ("no clip at the stretched knee: rounding leaves the stretched leg without solutions",
+         "_leg_ik_right = my_leg_ik\n\n"
+         "def my_leg_ik(T, ankle=ankle_point, **steps):\n"
+         "    a = ankle(T)\n"
+         "    if (a @ a - L1**2 - L2**2) / (2 * L1 * L2) > 1:\n"
+         "        return np.zeros((0, 6))\n"
+         "    return _leg_ik_right(T, ankle, **steps)"),
+        ("R_H = (Rx(q4) Ry(q5) Rx(q6))^T R: the hip taken last in the product",
+         "def my_leg_ik(T, ankle=ankle_point, ankle_angles=ankle_angles, hip_angles=hip_angles):\n"
+         "    R, a = T[:3, :3], ankle(T)\n"
+         "    cos4 = (a @ a - L1**2 - L2**2) / (2 * L1 * L2)\n"
+         "    if abs(cos4) > 1 + 1e-9:\n"
+         "        return np.zeros((0, 6))\n"
+         "    q4_abs = np.arccos(np.clip(cos4, -1.0, 1.0))\n"
+         "    sols = []\n"
+         "    for q4 in (q4_abs, -q4_abs):\n"
+         "        for q5, q6 in ankle_angles(R.T @ a, q4):\n"
+         "            R_H = (rotx(q4) @ roty(q5) @ rotx(q6)).T @ R\n"
+         "            sols += [[q1, q2, q3, q4, q5, q6] for q1, q2, q3 in hip_angles(R_H)]\n"
+         "    return np.array(sols).reshape(-1, 6)"),
         ("the two hip branches counted as one posture: 4 solutions", "k_regular = 4"),
     ],
     "task4_test1": [
         ("the hip branch with cos q2 < 0 dropped (4 solutions)",
          "_leg_ik_right = my_leg_ik\n\n"
-         "def my_leg_ik(T, ankle=ankle_point):\n"
-         "    Q = _leg_ik_right(T, ankle)\n"
+         "def my_leg_ik(T, ankle=ankle_point, **steps):\n"
+         "    Q = _leg_ik_right(T, ankle, **steps)\n"
          "    return Q[np.cos(Q[:, 1]) > 0]"),
         ("atan2's arguments swapped in the hip angles",
          "def hip_angles(R_H):\n"
@@ -89,20 +109,32 @@ MUTATIONS = {
          "        out.append((np.arctan2(R_H[0, 0] / c2, R_H[1, 0] / c2),\n"
          "                    np.arctan2(-R_H[2, 0], c2),\n"
          "                    np.arctan2(R_H[2, 2] / c2, R_H[2, 1] / c2)))\n"
-         "    return out"),
+         "    return out""\n\n_leg_ik_right = my_leg_ik\n\n"
+         "def my_leg_ik(T, ankle=ankle_point, ankle_angles=ankle_angles, hip_angles=hip_angles):\n"
+         "    return _leg_ik_right(T, ankle, ankle_angles, hip_angles)"),
         ("the hip angles read as if R_H = Rx(q3) Ry(q2) Rz(q1)",
          "_hip_angles_right = hip_angles\n\n"
          "def hip_angles(R_H):\n"
-         "    return [(-a, -b, -c) for a, b, c in _hip_angles_right(R_H.T)]"),
+         "    return [(-a, -b, -c) for a, b, c in _hip_angles_right(R_H.T)]""\n\n_leg_ik_right = my_leg_ik\n\n"
+         "def my_leg_ik(T, ankle=ankle_point, ankle_angles=ankle_angles, hip_angles=hip_angles):\n"
+         "    return _leg_ik_right(T, ankle, ankle_angles, hip_angles)"),
         ("the solutions returned in degrees",
          "_leg_ik_right = my_leg_ik\n\n"
-         "def my_leg_ik(T, ankle=ankle_point):\n"
-         "    return np.rad2deg(_leg_ik_right(T, ankle))"),
+         "def my_leg_ik(T, ankle=ankle_point, **steps):\n"
+         "    return np.rad2deg(_leg_ik_right(T, ankle, **steps))"),
         ("one q6 branch returned twice (8 rows, 4 different)",
          "_ankle_angles_right = ankle_angles\n\n"
          "def ankle_angles(u, q4, l1_=L1, l2_=L2):\n"
          "    pairs = _ankle_angles_right(u, q4, l1_, l2_)\n"
-         "    return pairs[:1] * len(pairs)"),
+         "    return pairs[:1] * len(pairs)""\n\n_leg_ik_right = my_leg_ik\n\n"
+         "def my_leg_ik(T, ankle=ankle_point, ankle_angles=ankle_angles, hip_angles=hip_angles):\n"
+         "    return _leg_ik_right(T, ankle, ankle_angles, hip_angles)"),
+        ("q5 with the wrong sign in ankle_angles, my_leg_ik built on it",
+         "_ankle_angles_right = ankle_angles\n\n"
+         "def ankle_angles(u, q4, l1_=L1, l2_=L2):\n"
+         "    return [(-q5, q6) for q5, q6 in _ankle_angles_right(u, q4, l1_, l2_)]""\n\n_leg_ik_right = my_leg_ik\n\n"
+         "def my_leg_ik(T, ankle=ankle_point, ankle_angles=ankle_angles, hip_angles=hip_angles):\n"
+         "    return _leg_ik_right(T, ankle, ankle_angles, hip_angles)"),
     ],
     "task4_test2": [
         ("every configuration its own posture, duplicates included",
@@ -135,14 +167,6 @@ MUTATIONS = {
          "    int(np.sum(leg.within_limits(my_leg_ik(transform(np.eye(3), [0.0, 0.0, -h])))))\n"
          "    for h in heights\n"
          "])"),
-        ("no clip at the stretched knee: rounding leaves the stretched leg without solutions",
-         "_leg_ik_right = my_leg_ik\n\n"
-         "def my_leg_ik(T, ankle=ankle_point):\n"
-         "    a = ankle(T)\n"
-         "    if (a @ a - L1**2 - L2**2) / (2 * L1 * L2) > 1:\n"
-         "        return np.zeros((0, 6))\n"
-         "    return _leg_ik_right(T, ankle)\n\n"
-         "stretched = my_leg_ik(transform(np.eye(3), [0.0, 0.0, -(L1 + L2 + L3)]))"),
         ("the largest singular value taken for the smallest",
          "sigma_largest = []\n"
          "for h in heights:\n"
@@ -162,15 +186,15 @@ MUTATIONS = {
     "task5_test3": [
         ("the ankle's range not checked: every failure called too_far",
          "_reason_right = unreachable_reason\n\n"
-         "def unreachable_reason(T):\n"
-         "    reason = _reason_right(T)\n"
+         "def unreachable_reason(T, leg_ik=my_leg_ik):\n"
+         "    reason = _reason_right(T, leg_ik)\n"
          "    return \"too_far\" if reason == \"ankle_range\" else reason\n\n"
          "unreachable = {name: (unreachable_reason(T), unreachable[name][1])\n"
          "               for name, T in out_of_reach.items()}"),
         ("the joint limits not checked",
          "_reason_right = unreachable_reason\n\n"
-         "def unreachable_reason(T):\n"
-         "    reason = _reason_right(T)\n"
+         "def unreachable_reason(T, leg_ik=my_leg_ik):\n"
+         "    reason = _reason_right(T, leg_ik)\n"
          "    return None if reason == \"joint_limits\" else reason\n\n"
          "unreachable = {name: (unreachable_reason(T), unreachable[name][1])\n"
          "               for name, T in out_of_reach.items()}"),
@@ -182,9 +206,10 @@ MUTATIONS = {
         ("the generator compared with the first closed-form solution only",
          "found_generator = [np.abs(wrap(my_leg_ik(T)[0] - q)).max() < 1e-8\n"
          "                   for q, T in zip(Q_bench, T_bench)]"),
-        ("only the positive knee branch (4 solutions)",
-         "_leg_ik_right = my_leg_ik\n\n"
-         "def my_leg_ik(T, ankle=ankle_point):\n"
-         "    return _leg_ik_right(T, ankle)[:4]"),
+        ("numeric_ok compared with the generating configuration, not the closed form's",
+         "numeric_ok = []\n"
+         "for q, T in zip(Q_bench, T_bench):\n"
+         "    num = solve_ik(leg, T, q0=Q_HOME, tol=1e-10)\n"
+         "    numeric_ok.append(num.success and np.abs(wrap(num.q - q)).max() < 1e-6)"),
     ],
 }
