@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import importlib
 import math
+from functools import partial
 
 import numpy as np
 import pytest
@@ -114,11 +115,12 @@ def test_slerp_reference_is_robokins_up_to_sign():
         assert min(np.abs(mine - theirs).max(), np.abs(mine + theirs).max()) < 1e-12
 
 
-def test_ptp_duration_reference():
-    data = chk.PROBLEM
-    expected = joint_trajectory_duration(np.deg2rad(data["q_a_deg"]), np.deg2rad(data["q_b_deg"]),
-                                         v_max=np.deg2rad(data["v_max_deg"]), a_max=data["a_max"])
-    assert np.isclose(float(chk.ptp_duration.reference(np.zeros(0))), expected)
+def test_least_duration_reference_is_robokins():
+    for x in chk.least_duration.sample_points():
+        start, end, v_max, a_max = chk._move(x)
+        expected = joint_trajectory_duration(start, end, v_max=v_max, a_max=a_max)
+        assert np.isclose(float(chk.least_duration.reference(x)), expected, rtol=1e-12)
+    assert all(start[2] == end[2] for start, end, _, _ in map(chk._move, chk.least_duration.sample_points()))
 
 
 def test_cases_cover_both_profiles_and_a_joint_at_rest():
@@ -139,11 +141,8 @@ def test_correct_answers_pass(capsys):
         result = check(answer, quiet=True)
         assert result.passed and result.diagnosis is None, result.message
     assert chk.peak_factors(np.array([[1.5, 6.0], [1.875, 10 / math.sqrt(3)]]), quiet=True).passed
-    data = chk.PROBLEM
-    T = max(trapezoid_by_hand(abs(math.radians(b - a)), math.radians(v), acc)
-            for a, b, v, acc in zip(data["q_a_deg"], data["q_b_deg"], data["v_max_deg"], data["a_max"]))
-    chk.ptp_duration(T)
-    assert capsys.readouterr().out == "✔ ptp_duration is correct.\n"
+    chk.least_duration(least_duration_by_hand)
+    assert capsys.readouterr().out == "✔ least_duration is correct (checked at 20 random moves).\n"
 
 
 def test_slerp_accepts_the_negative_quaternion():
@@ -305,17 +304,29 @@ def test_peak_factors_of_other_forms():
     assert chk.peak_factors(PEAKS[0], quiet=True).diagnosis == "shape"
 
 
-def test_ptp_duration_mistakes_are_diagnosed():
-    fastest = chk._moving_min(chk._ptp_times())
-    assert chk.ptp_duration(fastest, quiet=True).diagnosis == "fastest_joint"
-    degrees = float(np.max(chk._ptp_times(degrees_positions=True)))
-    assert chk.ptp_duration(degrees, quiet=True).diagnosis == "degrees"
-    assert chk.ptp_duration(float(np.sum(chk._ptp_times())), quiet=True).diagnosis == "sum"
-    assert chk.ptp_duration(1.0, quiet=True).diagnosis == "mismatch"
+def least_duration_by_hand(q_start, q_end, v_max, a_max, pick=max, swapped=False):
+    """The slowest joint's trapezoid time (``pick=max``); other ``pick`` and ``swapped``: mistakes."""
+    if swapped:
+        v_max, a_max = a_max, v_max
+    return pick(trapezoid_by_hand(abs(e - s), v, a) for s, e, v, a in zip(q_start, q_end, v_max, a_max))
+
+
+def test_least_duration_mistakes_are_diagnosed():
+    def fastest_moving(times):
+        return min(t for t in times if t > 0)
+
+    for answer, code in [
+        (partial(least_duration_by_hand, pick=fastest_moving), "fastest_joint"),
+        (partial(least_duration_by_hand, pick=min), "fastest_joint"),
+        (partial(least_duration_by_hand, pick=sum), "sum"),
+        (partial(least_duration_by_hand, swapped=True), "swapped_limits"),
+        (lambda *move: 1.0, "mismatch"),
+    ]:
+        assert chk.least_duration(answer, quiet=True).diagnosis == code
 
 
 @pytest.mark.parametrize("check_name", ["cubic_scaling", "quintic_scaling", "trapezoid_time",
-                                        "synchronised_motion", "slerp", "peak_factors", "ptp_duration"])
+                                        "synchronised_motion", "slerp", "peak_factors", "least_duration"])
 @pytest.mark.parametrize("answer", [None, "text", 3.0, np.zeros((2, 2)), lambda *args: None])
 def test_any_answer_gets_a_result(check_name, answer):
     result = getattr(chk, check_name)(answer, quiet=True)

@@ -9,7 +9,7 @@ check                    the student's answer                                   
 ``trapezoid_time``       ``trapezoid_time(distance, v_max, a_max)`` -> T (s)    the minimum time
 ``synchronised_motion``  ``synchronised_motion(t, q_start, q_end, v_max,        ``joint_trajectory``
                          a_max)`` -> positions, velocities, accelerations
-``ptp_duration``         the UR10 move's duration (s)                           the least duration
+``least_duration``       ``least_duration(q_start, q_end, v_max, a_max)`` -> T  the slowest joint's
 ``via_point_cubics``     ``via_point_cubics(points, durations)`` -> (m, 4, n)   cubics through the via
                          coefficients a0..a3 per segment and joint              points, rule's velocities
 ``slerp``                ``slerp(q0, q1, s)`` -> unit quaternion (4,)           ``quaternion_slerp``
@@ -54,7 +54,7 @@ from robokin.check._core import (
 from robokin.check._registry import exercise
 
 __all__ = ["cubic_scaling", "quintic_scaling", "peak_factors", "trapezoid_time", "synchronised_motion",
-           "ptp_duration", "via_point_cubics", "slerp", "line_reference", "track", "PROBLEM"]
+           "least_duration", "via_point_cubics", "slerp", "line_reference", "track", "PROBLEM"]
 
 _CHAPTER = "trajectories"
 
@@ -67,7 +67,7 @@ DELEGATION = {
                         "joint_trajectory": "robokin.motion.joint_trajectory"},
     "trapezoid_time": {"joint_trajectory_duration": "robokin.motion.joint_trajectory_duration",
                        "joint_trajectory": "robokin.motion.joint_trajectory"},
-    "ptp_duration": {"joint_trajectory_duration": "robokin.motion.joint_trajectory_duration",
+    "least_duration": {"joint_trajectory_duration": "robokin.motion.joint_trajectory_duration",
                      "joint_trajectory": "robokin.motion.joint_trajectory"},
     "synchronised_motion": {"joint_trajectory": "robokin.motion.joint_trajectory",
                             "joint_trajectory_duration": "robokin.motion.joint_trajectory_duration"},
@@ -342,16 +342,24 @@ trapezoid_time = exercise(_CHAPTER, "trapezoid_time", Check(
 ))
 
 
-# ------------------------------------------------------------------ the UR10 move
-def _problem_arrays(degrees_positions: bool = False):
-    start, end = np.array(PROBLEM["q_a_deg"]), np.array(PROBLEM["q_b_deg"])
-    if not degrees_positions:
-        start, end = np.deg2rad(start), np.deg2rad(end)
-    return start, end, np.deg2rad(PROBLEM["v_max_deg"]), np.array(PROBLEM["a_max"])
+# ------------------------------------------------------------------ the least duration of a move
+#: a move of four joints: start angles, steps to the end (joint 3 at rest), speed and acceleration
+#: limits; the limits' ranges put some joints on the triangle and some on the trapezoid
+_MOVE = ([Variable(f"q_start_{i}", "other", -2.0, 2.0) for i in range(1, 5)]
+         + [Variable(f"step_{i}", "other", -3.0, 3.0) for i in range(1, 5)]
+         + [Variable(f"v_max_{i}", "other", 0.3, 2.5) for i in range(1, 5)]
+         + [Variable(f"a_max_{i}", "other", 0.5, 5.0) for i in range(1, 5)])
 
 
-def _ptp_times(degrees_positions: bool = False, swapped: bool = False) -> np.ndarray:
-    start, end, v_max, a_max = _problem_arrays(degrees_positions)
+def _move(x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """(q_start, q_end, v_max, a_max) of the sample ``x``: joint 3 stays at rest."""
+    x = np.asarray(x, dtype=float)
+    step = x[4:8] * [1.0, 1.0, 0.0, 1.0]
+    return x[:4].copy(), x[:4] + step, x[8:12].copy(), x[12:16].copy()
+
+
+def _joint_times(x: np.ndarray, swapped: bool = False) -> np.ndarray:
+    start, end, v_max, a_max = _move(x)
     if swapped:
         v_max, a_max = a_max, v_max
     return np.array([_trapezoid_time(abs(e - s), v, a) for s, e, v, a in zip(start, end, v_max, a_max)])
@@ -361,28 +369,37 @@ def _moving_min(times: np.ndarray) -> float:
     return float(np.min(times[times > 0]))
 
 
-ptp_duration = exercise(_CHAPTER, "ptp_duration", Check(
-    name="ptp_duration",
-    reference=lambda x: np.asarray(np.max(_ptp_times())),
+least_duration = exercise(_CHAPTER, "least_duration", MatrixArgumentsCheck(
+    name="least_duration",
+    reference=lambda x: np.asarray(np.max(_joint_times(x))),
+    variables=_MOVE,
     diagnoses=[
-        alternatives("fastest_joint", [(lambda x: np.asarray(_moving_min(_ptp_times())), (
-            "{name} is the fastest moving joint's time: the slowest joint sets the duration "
-            "(every other joint can slow down, none can go faster)."
-        ))]),
-        alternatives("degrees", [(lambda x: np.asarray(np.max(_ptp_times(degrees_positions=True))), (
-            "{name} uses the configurations in degrees with the limits in rad/s and rad/s²: convert "
-            "the angles with np.deg2rad first."
-        ))]),
-        alternatives("swapped_limits", [(lambda x: np.asarray(np.max(_ptp_times(swapped=True))), (
+        alternatives("fastest_joint", [
+            (lambda x: np.asarray(_moving_min(_joint_times(x))), (
+                "{name} is the fastest moving joint's time: the slowest joint sets the duration "
+                "(every other joint can slow down, none can go faster)."
+            )),
+            (lambda x: np.asarray(np.min(_joint_times(x))), (
+                "{name} is the shortest of the joints' times, 0 for a joint at rest: the slowest "
+                "joint sets the duration (every other joint can slow down, none can go faster)."
+            )),
+        ]),
+        alternatives("swapped_limits", [(lambda x: np.asarray(np.max(_joint_times(x, swapped=True))), (
             "{name} swaps v_max and a_max."
         ))]),
-        alternatives("sum", [(lambda x: np.asarray(np.sum(_ptp_times())), (
+        alternatives("sum", [(lambda x: np.asarray(np.sum(_joint_times(x))), (
             "{name} is the sum of the joints' times: the joints move at the same time, so the motion "
             "lasts as long as the slowest joint's."
         ))]),
     ],
-    atol=1e-6,
-    doc="Check ptp_duration: the minimum duration (s) of the chapter's synchronised UR10 move.",
+    noun="moves",
+    arguments=_move,
+    signature="least_duration(q_start, q_end, v_max, a_max) -> T (s, a float)",
+    describe=lambda x: "least_duration({})".format(", ".join(
+        f"{name} = {fmt(value)}" for name, value in zip(("q_start", "q_end", "v_max", "a_max"), _move(x)))),
+    hint="Each joint alone needs its trapezoid time; all of them must arrive together.",
+    doc="Check least_duration(q_start, q_end, v_max, a_max) -> the least duration (s) of a synchronised "
+        "rest-to-rest move of n joints within their speed and acceleration limits.",
 ))
 
 

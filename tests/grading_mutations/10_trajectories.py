@@ -61,11 +61,16 @@ MUTATIONS = {
     ],
     "task3_test1": [
         ("synchronised by the fastest moving joint",
-         "ptp_duration = min(trapezoid_time(D, v, a) for D, v, a in zip(np.abs(Q_B - Q_A), V_MAX, A_MAX)"
-         " if D > 0)"),
-        ("the configurations in degrees, the limits in radians",
-         "ptp_duration = max(trapezoid_time(D, v, a) for D, v, a in "
-         "zip(np.rad2deg(np.abs(Q_B - Q_A)), V_MAX, A_MAX))"),
+         "def least_duration(q_start, q_end, v_max, a_max):\n"
+         "    times = [trapezoid_time(abs(b - a), v, acc) for a, b, v, acc in zip(q_start, q_end, v_max, a_max)]\n"
+         "    return min(time for time in times if time > 0)\n"
+         "ptp_duration = least_duration(Q_A, Q_B, V_MAX, A_MAX)"),
+        ("the joints' times added (one after the other)",
+         "def least_duration(q_start, q_end, v_max, a_max):\n"
+         "    return sum(trapezoid_time(abs(b - a), v, acc) for a, b, v, acc in zip(q_start, q_end, v_max, a_max))\n"
+         "ptp_duration = least_duration(Q_A, Q_B, V_MAX, A_MAX)"),
+        ("the duration of the UR10's move alone, whatever the move",
+         "least_duration = (lambda T: lambda q_start, q_end, v_max, a_max: T)(ptp_duration)"),
     ],
     "task3_test2": [
         ("synchronised by the fastest joint", _motion_mistake("fastest_joint")),
@@ -199,7 +204,15 @@ def trapezoid_time(distance, v_max, a_max):
 """),
     "task3_answer1": ("one joint at a time, the ramp time from Siciliano's formula", """
 
-# written another way: a loop over the joints; the ramp time t_c = T/2 - sqrt((T^2 a - 4 D)/a)/2
+# written another way: the joints' minimum times at once (the peak speed min(v_max, sqrt(D a_max)));
+# a loop over the joints; the ramp time t_c = T/2 - sqrt((T^2 a - 4 D)/a)/2
+def least_duration(q_start, q_end, v_max, a_max):
+    D = np.abs(np.subtract(q_end, q_start, dtype=float))
+    peak = np.minimum(v_max, np.sqrt(D * np.asarray(a_max, dtype=float)))
+    times = np.divide(D, peak, out=np.zeros_like(D), where=D > 0) + np.where(D > 0, peak / a_max, 0.0)
+    return float(times.max())
+
+
 def synchronised_motion(t, q_start, q_end, v_max, a_max):
     t = np.asarray(t, dtype=float)
     q_start, q_end = np.asarray(q_start, dtype=float), np.asarray(q_end, dtype=float)
@@ -223,6 +236,7 @@ def synchronised_motion(t, q_start, q_end, v_max, a_max):
     return tuple(np.column_stack([c[i] for c in columns]) for i in range(3))
 
 
+ptp_duration = least_duration(Q_A, Q_B, V_MAX, A_MAX)
 Q_ptp, Qd_ptp, Qdd_ptp = synchronised_motion(t_ptp, Q_A, Q_B, V_MAX, A_MAX)
 """),
     "task4_answer1": ("each segment's cubic from its 4 x 4 linear system, joint by joint", """
