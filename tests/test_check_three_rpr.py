@@ -136,6 +136,31 @@ def test_fk_mistakes_are_diagnosed():
     assert not r.passed and r.diagnosis == "reference_point"
 
 
+def _with_spurious_root(rho):
+    """The modes and the root phi = 0 of the polynomial, its position by Cramer's rule."""
+    from robokin.models.three_rpr import three_rpr
+
+    E = np.array([1.0, 0.5 + 1j * S3]) * (np.exp(1e-9j) - 1.0)   # E_i = (z - 1) a_i, z near 1
+    r = rho[1:] ** 2 - rho[0] ** 2 - np.abs(E) ** 2
+    w = (r[0] * E[1] - r[1] * E[0]) / (np.conj(E[0]) * E[1] - E[0] * np.conj(E[1]))
+    return np.vstack([[w.real, w.imag, 1e-9], three_rpr().forward_kinematics(rho).poses])
+
+
+def test_fk_spurious_root_is_named():
+    """A root where the subtracted loop equations are singular (D = 0, here phi = 0) kept as
+    a mode: its position, Cramer's rule at D near 0, is far off or not finite."""
+    r = chk.forward_kinematics(_with_spurious_root, quiet=True)
+    assert not r.passed and r.diagnosis == "spurious_root", r.message
+    assert "D vanishes" in r.message and "(row 1)" in r.message
+    r = chk.forward_kinematics(lambda rho: np.vstack([[np.nan, np.nan, 0.0], fk_newton(rho)]), quiet=True)
+    assert not r.passed and r.diagnosis == "spurious_root", r.message
+    # a pose at phi = 0 that is one (equal legs: B1 anywhere on the circle |p| = rho) passes
+    assert chk.check_poses([0.3, 0.4, 0.0], [0.5, 0.5, 0.5], quiet=True).passed
+    # NaN in a pose at another orientation stays an error
+    r = chk.forward_kinematics(lambda rho: [np.nan, 0.0, 0.5], quiet=True)
+    assert r.diagnosis == "error"
+
+
 def test_fk_bad_answers():
     assert chk.forward_kinematics(np.zeros(3), quiet=True).diagnosis == "constant"
     assert chk.forward_kinematics(lambda rho: None, quiet=True).diagnosis == "error"

@@ -254,6 +254,41 @@ def check_poses(poses: Any, rho: Any, robot: Any = None, *, name: str = "pose", 
     return report(_judge(poses, rho, robot, name, tol), raise_on_fail=raise_on_fail, quiet=quiet)
 
 
+def _subtracted_determinant(robot, phi: float) -> float:
+    """Determinant of the two subtracted loop equations in u = B1 − A1 at the orientation phi.
+
+    Subtracting the first loop equation from the others leaves 2 e_i · u = ρ_i² − ρ1² − |e_i|²
+    (i = 2, 3) with e_i = R(φ)(b_i − b_1) − (A_i − A_1): linear in u, with the matrix rows
+    2 e_i, whatever the leg lengths.
+    """
+    a, b = robot.base_anchors, robot.platform_anchors
+    e = (b[1:] - b[0]) @ _rot(phi).T - (a[1:] - a[0])
+    return float(4.0 * (e[0, 0] * e[1, 1] - e[0, 1] * e[1, 0]))
+
+
+def _spurious_root(P: np.ndarray, robot) -> int | None:
+    """The first row of P whose orientation makes the subtracted loop equations singular.
+
+    There Cramer's rule divides by D = 0: a root of the orientation polynomial that
+    Cramer's rule, not the robot, produced (for the exercise's robot φ = 0, where D has
+    the factor t²). None when no row's φ is such an orientation.
+    """
+    scale = robot.characteristic_length ** 2
+    for k, phi in enumerate(P[:, 2]):
+        if np.isfinite(phi) and abs(_subtracted_determinant(robot, float(phi))) <= 1e-6 * scale:
+            return k
+    return None
+
+
+def _spurious_message(name: str, P: np.ndarray, k: int) -> str:
+    where = f" (row {k + 1})" if P.shape[0] > 1 else ""
+    return (f"{name}{where} = {fmt(P[k])} is not an assembly mode: at its orientation φ = "
+            f"{fmt(P[k, 2])} rad the two subtracted loop equations cannot be solved for x, y (their "
+            "determinant D vanishes): a position from Cramer's rule divides by D ≈ 0 there. Where "
+            "D = 0 a root of the orientation equation can come from the elimination, not from the "
+            "robot: skip such roots, and check every pose with the inverse kinematics.")
+
+
 def _judge(poses: Any, rho: np.ndarray, robot, name: str, tol: float, n: int = 1) -> CheckResult:
     def fail(code: str, msg: str) -> CheckResult:
         return CheckResult(name, False, f"{FAIL} {msg}", code, n)
@@ -277,6 +312,9 @@ def _judge(poses: Any, rho: np.ndarray, robot, name: str, tol: float, n: int = 1
             return CheckResult(name, True, f"{PASS} {name}: correct, ρ = {fmt(rho)} has no assembly mode.",
                                None, n)
         return fail("missing", f"{name} is empty, but ρ = {fmt(rho)} has {len(modes)} assembly modes.")
+    spurious = _spurious_root(P, robot)
+    if spurious is not None and not np.all(np.isfinite(P[spurious])):
+        return fail("spurious_root", _spurious_message(name, P, spurious))
     if not np.all(np.isfinite(P)):
         return fail("error", f"{name} contains NaN or infinite values.")
     try:
@@ -301,6 +339,8 @@ def _judge(poses: Any, rho: np.ndarray, robot, name: str, tol: float, n: int = 1
     if np.abs(robot.inverse_kinematics(ref_pt) - rho).max() <= tol:
         return fail("reference_point", f"{name} gives the position of the platform centre; the pose "
                                        "of this exercise is that of the vertex B1 (ρ1 = ‖B1 − A1‖).")
+    if spurious is not None and bad[spurious]:
+        return fail("spurious_root", _spurious_message(name, P, spurious))
     where = f" (row {k + 1})" if P.shape[0] > 1 else ""
     return fail("mismatch", f"{name}{where} = {fmt(pose)} is not an assembly mode: its leg lengths are "
                             f"{fmt(got[k])}, not ρ = {fmt(rho)}. The assembly modes are: "

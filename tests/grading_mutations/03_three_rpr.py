@@ -55,6 +55,19 @@ def my_fk(rho, robot=robot):
 modes0 = my_fk(rho0)
 """
 
+_SPURIOUS_ROOT_KEPT = """
+_my_fk_right = my_fk
+
+def my_fk(rho, robot=robot):
+    modes = _my_fk_right(rho, robot)
+    phi = 2 * math.atan(1e-9)  # the root t = 0 of the polynomial, kept: there D = 0
+    M, r = linear_solve(phi, rho, robot)
+    u = np.linalg.solve(M, r)  # Cramer's rule dividing by D near 0
+    return np.vstack([modes, [u[0], u[1], phi]])
+
+modes0 = my_fk(rho0)
+"""
+
 _CRAMER_NO_CONJUGATE = """
 def cramer_parts(phi, rho, robot=robot):
     a = robot.base_anchors[:, 0] + 1j * robot.base_anchors[:, 1]
@@ -107,6 +120,7 @@ MUTATIONS = {
         ("the mirror modes -phi dropped",
          "modes0 = my_fk(rho0)[2:]"),
         ("the orientation dropped from the modes", _MODES_WITHOUT_ANGLE),
+        ("the root t = 0, where D = 0, kept as a mode", _SPURIOUS_ROOT_KEPT),
         ("my_fk solves the exercise's robot whatever robot it is given",
          "_my_fk_right = my_fk\n\ndef my_fk(rho, robot=robot):\n"
          "    return _my_fk_right(rho)\n"),
