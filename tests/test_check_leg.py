@@ -311,7 +311,13 @@ def newton_ik(r_goal, q0, damping=0.0, tol=1e-10, max_iterations=50):
         (lambda g, q0, d, tol, m: _newton_wrong_sign(g, q0, d, tol, m), "error_sign"),
         (lambda g, q0, d, tol, m: newton_ik(g, q0, np.sqrt(d), tol, m), "damping_not_squared"),
         (lambda g, q0, d, tol, m: newton_ik(g, q0, d, -1.0, m), "no_early_stop"),
-        (lambda g, q0, d, tol, m: _newton_stopped_by_step(g, q0, d, tol, m), "stop_on_step"),
+        # a stop test on the step size reaches the accuracy asked: a correct answer
+        (lambda g, q0, d, tol, m: _newton_stopped_by_step(g, q0, d, tol, m), None),
+        (lambda g, q0, d, tol, m: _newton_step_tested_first(g, q0, d, tol, m), None),
+        (lambda g, q0, d, tol, m: newton_ik(g, q0, d, 1e-2, m), "stops_short"),
+        (lambda g, q0, d, tol, m: newton_ik(g, q0, d, -1.0, m + 1), "budget"),
+        (lambda g, q0, d, tol, m: newton_ik(g, q0 + 0.1, d, tol, m), "start"),
+        (lambda g, q0, d, tol, m: newton_ik(g, q0, d, tol, m) * np.nan, "error"),
         (lambda g, q0, d, tol, m: (newton_ik(g, q0, d, tol, m), True), "error"),
         (lambda g, q0, d, tol, m: newton_ik(g, q0, d, tol, m)[-1], "error"),
         ("not a function", "constant"),
@@ -323,17 +329,30 @@ def test_newton_ik(loop, code):
 
 
 def test_loop_mistakes_without_a_name_are_shown_in_the_student_terms():
-    """Mistakes the checks have no name for (the undamped step alone flipped; twice the
-    gain): the example writes the call and names the row and column of Q, not the sampled
-    scalars or a packed index."""
+    """Mistakes the checks have no name for (half the undamped step; twice the gain): the
+    example writes the call and names the rows of Q, not the sampled scalars or a packed
+    index; a mistake of the undamped step alone is named where it shows."""
+    def undamped_halved(r_goal, q0, damping, tol, max_iterations):
+        if damping > 0:
+            return newton_ik(r_goal, q0, damping, tol, max_iterations)
+        rows = [np.array(q0, dtype=float)]
+        for _ in range(max_iterations):
+            e = np.asarray(r_goal) - r_np(rows[-1])
+            if np.linalg.norm(e) <= tol:
+                break
+            rows.append(rows[-1] + 0.5 * np.linalg.solve(J_np(rows[-1]), e))
+        return np.array(rows)
+
+    r = L.newton_ik(undamped_halved, quiet=True)
+    assert r.diagnosis == "mismatch", r.message
+    assert "Q = newton_ik(r_goal = [" in r.message and "damping = 0 m" in r.message
+    assert "the step from Q[0] to Q[1]" in r.message and "tol_exponent" not in r.message
+
     def undamped_flipped(r_goal, q0, damping, tol, max_iterations):
         return (newton_ik(r_goal, q0, damping, tol, max_iterations) if damping > 0
                 else _newton_wrong_sign(r_goal, q0, damping, tol, max_iterations))
 
-    r = L.newton_ik(undamped_flipped, quiet=True)
-    assert r.diagnosis == "mismatch", r.message
-    assert "Q = newton_ik(r_goal = [" in r.message and "damping = 0 m" in r.message
-    assert "Q[-1, 0]" in r.message and "tol_exponent" not in r.message
+    assert L.newton_ik(undamped_flipped, quiet=True).diagnosis == "error_sign"
     r = L.tracking_loop(lambda q0, r, v, kp, ts, ff: track(q0, r, v, 2 * kp, ts, ff), quiet=True)
     assert r.diagnosis == "mismatch" and "Q = track(q0 = [" in r.message and "Q[1, " in r.message
 
@@ -363,6 +382,38 @@ def _newton_stopped_by_step(r_goal, q0, damping, tol, max_iterations):
         iterates.append(q)
         k += 1
     return np.array(iterates)
+
+
+def _newton_step_tested_first(r_goal, q0, damping, tol, max_iterations):
+    """A loop that computes the step and stops, without taking it, when it is below tol."""
+    q = np.array(q0, dtype=float)
+    iterates = [q]
+    for _ in range(int(max_iterations)):
+        Jq = J_np(q)
+        step = np.linalg.solve(Jq.T @ Jq + damping**2 * np.eye(3), Jq.T @ (np.asarray(r_goal) - r_np(q)))
+        if np.linalg.norm(step) <= tol:
+            break
+        q = q + step
+        iterates.append(q)
+    return np.array(iterates)
+
+
+def test_a_step_size_stop_short_of_the_accuracy_is_named():
+    """A damped step can be below tol while the error is not: a loop that stops there has not
+    reached the accuracy asked, and the message says why."""
+    x = L.newton_ik.sample_points()[0].copy()
+    x[6], x[7] = 0.25, 8.5  # damping 0.15 m, a budget of 8 steps
+    r_goal, q0, damping, _, _ = L._newton_args(x)
+    Q = newton_ik(r_goal, q0, damping, 0.0, 8)
+    errors = np.linalg.norm(r_goal - np.array([r_np(q) for q in Q]), axis=1)
+    steps = np.linalg.norm(np.diff(Q, axis=0), axis=1)  # steps[k]: the step computed at Q[k]
+    k = int(np.argmax(steps < errors[:-1]))  # the step below the error there
+    assert k < 8 and steps[k] < errors[k]
+    x[8] = -np.log10(np.sqrt(steps[k] * errors[k]))  # tol between the two
+    verdict = L._newton_verdict(Q[: k + 1], x)
+    assert verdict is not None
+    code, text = verdict
+    assert code == "stops_short" and "a small step is not a small error" in text, text
 
 
 def test_newton_ik_reference_converges_quadratically_and_damped_settles():

@@ -477,37 +477,20 @@ def _iterates(out: Any, name: str) -> np.ndarray:
 
 
 # -- Newton's method (task 4)
-def _newton_loop(r_goal, q0, damping, tol, max_iterations, *, sign=1.0, early_stop=True,
-                 transpose=False, damping_power=2, start_row=True,
-                 stop_on_step=False) -> np.ndarray:
-    """The reference iteration (and, with the keywords, its typical mistakes): the iterates
-    q^0, q^1, ..., q^K, shape (K + 1, 3)."""
-    q = np.array(q0, dtype=float)
-    Q = [q.copy()]
-    dq = np.full(3, np.inf)
-    for _ in range(int(max_iterations)):
-        if stop_on_step and np.linalg.norm(dq) <= tol:
-            break
-        e = sign * (r_goal - _position(q))
-        if early_stop and not stop_on_step and np.linalg.norm(e) <= tol:
-            break
-        J = _jacobian(q)
-        if transpose:
-            dq = J.T @ e
-        elif damping == 0.0:
-            dq = np.linalg.pinv(J) @ e
-        else:
-            dq = J.T @ np.linalg.solve(J @ J.T + damping**damping_power * np.eye(3), e)
-        q = q + dq
-        Q.append(q.copy())
-    out = np.array(Q)
-    return out if start_row else out[1:]
+#: a step of the student's loop equals the reference step within these tolerances
+_STEP_ATOL, _STEP_RTOL = 1e-7, 1e-6
 
 
-def _pack_iterates(out: Any) -> np.ndarray:
-    """Last iterate, number of steps, first row: ``[q^K (3), K, q^0 (3)]``."""
-    Q = _iterates(out, "newton_ik")
-    return np.r_[Q[-1], float(len(Q) - 1), Q[0]]
+def _newton_step(q, r_goal, damping, *, sign=1.0, transpose=False, damping_power=2) -> np.ndarray:
+    """The step Δq of Newton's method at ``q`` (damped least squares when ``damping`` > 0) or,
+    with the keywords, of one of its typical mistakes."""
+    e = sign * (r_goal - _position(q))
+    J = _jacobian(q)
+    if transpose:
+        return J.T @ e
+    if damping == 0.0:
+        return np.linalg.pinv(J) @ e
+    return J.T @ np.linalg.solve(J @ J.T + damping**damping_power * np.eye(3), e)
 
 
 _Q_START = [
@@ -530,9 +513,6 @@ def _newton_args(x: np.ndarray) -> tuple:
     return r_goal, q0, damping, 10.0 ** -x[8], int(x[7])
 
 
-_newton_variant = packed_variants(_newton_loop, _newton_args, _pack_iterates)
-
-
 def _describe_newton(x: np.ndarray) -> str:
     """The call of the student's Newton loop at the sample ``x``, as a failure's example writes it."""
     r_goal, q0, damping, tol, budget = _newton_args(x)
@@ -540,56 +520,112 @@ def _describe_newton(x: np.ndarray) -> str:
             f"tol = {tol:.1e} m, max_iterations = {budget})")
 
 
-def _newton_entry(idx: tuple[int, ...]) -> str:
-    """What entry ``idx`` of the packed ``[q^K (3), K, q^0 (3)]`` is, for the iterates ``Q``."""
-    i = idx[0]
-    if i < 3:
-        return f"Q[-1, {i}]"
-    return "len(Q) - 1 (the steps taken)" if i == 3 else f"Q[0, {i - 4}]"
+#: the steps of typical mistakes: (code, keywords of :func:`_newton_step`, message)
+_STEP_MISTAKES: list[tuple[str, dict[str, Any], str]] = [
+    ("error_sign", {"sign": -1.0},
+     "{name} steps away from the goal: the error is e = r_goal − r(q) (goal minus current); the "
+     "step J⁺e then moves the foot towards the goal."),
+    ("damping_not_squared", {"damping_power": 1},
+     "{name} adds λ·I where λ²·I belongs: the damped step is Jᵀ(J Jᵀ + λ² I)⁻¹ e (λ in m, λ² in m² "
+     "like J Jᵀ)."),
+    ("jacobian_transpose", {"transpose": True},
+     "{name} uses Jᵀ e (a gradient step); Newton's method uses J⁺ e."),
+]
 
 
-newton_ik = exercise(_CHAPTER, "newton_ik", MatrixArgumentsCheck(
+def _same_step(got: np.ndarray, want: np.ndarray) -> bool:
+    return bool(np.allclose(got, want, atol=_STEP_ATOL, rtol=_STEP_RTOL))
+
+
+def _newton_verdict(Q: np.ndarray, x: np.ndarray) -> tuple[str, str] | None:
+    """What is wrong with the iterates ``Q`` the student's loop returned at the sample ``x``:
+    ``(code, message)`` (``{name}`` for the check's name), or None when they are right.
+
+    Right means: row 0 is q0; every row is the previous one plus the Newton (or damped) step
+    computed there; at most max_iterations steps; the last iterate within tol of the goal
+    unless the budget is spent; and no step once the iteration has converged, an iterate
+    within tol whose own step was below tol too (a test on the error stops there or earlier,
+    one on the step size there). Either stop test is a correct answer.
+    """
+    r_goal, q0, damping, tol, budget = _newton_args(x)
+    call = _describe_newton(x)
+    if not np.all(np.isfinite(Q)):
+        return "error", f"{{name}} returns NaN or infinite joint angles in {call}."
+    if not np.allclose(Q[0], q0, atol=1e-9):
+        if _same_step(Q[0] - q0, _newton_step(q0, r_goal, damping)):
+            return "no_start_row", (
+                "{name} leaves out the start: the iterates begin with q^0 = q0, so that row k of the "
+                "log is iterate k (K steps give K + 1 rows).")
+        return "start", (f"{{name}} does not start at q0: in {call}, row 0 is {fmt(Q[0])} rad. Row k of "
+                         "the iterates is iterate k, and iterate 0 is the start q0.")
+    steps = len(Q) - 1
+    if steps > budget:
+        return "budget", (f"{{name}} takes {steps} steps in {call}: at most max_iterations = {budget}, "
+                          "the budget it is given.")
+    for k in range(steps):
+        got, want = Q[k + 1] - Q[k], _newton_step(Q[k], r_goal, damping)
+        if _same_step(got, want):
+            continue
+        for code, keywords, text in _STEP_MISTAKES:
+            if (code != "damping_not_squared" or damping > 0) and _same_step(
+                    got, _newton_step(Q[k], r_goal, damping, **keywords)):
+                return code, text
+        return "mismatch", (
+            f"{{name}} is not correct: in {call}, the step from Q[{k}] to Q[{k + 1}] is {fmt(got)} rad, "
+            f"but the {'damped ' if damping > 0 else ''}Newton step at Q[{k}] is {fmt(want)} rad "
+            "(rows before it are right). Each row must be the previous iterate plus the step "
+            "computed at that iterate, with the error and the Jacobian of that iterate.")
+    errors = np.linalg.norm(r_goal - _leg().fk(Q)[:, :3, 3], axis=1)
+    moved = np.r_[0.0, np.linalg.norm(np.diff(Q, axis=0), axis=1)]
+    if steps < budget and errors[-1] > tol:
+        small = (steps > 0 and moved[-1] <= tol) or np.linalg.norm(_newton_step(Q[-1], r_goal, damping)) <= tol
+        why = (" Its step ‖Δq‖ there is below tol, but a small step is not a small error: tol is "
+               "the accuracy asked of the foot (m), and the error decides." if small else "")
+        return "stops_short", (
+            f"{{name}} stops before the foot is within tol of the goal: in {call} it ends after "
+            f"{steps} of its {budget} steps with ‖r_goal − r(q^K)‖ = {errors[-1]:.1e} m > tol.{why}")
+    done = np.flatnonzero((errors <= tol) & (moved <= tol))  # converged (row 0: no step yet)
+    if len(done) and steps > done[0]:
+        first = int(np.argmax(errors <= tol))
+        return "no_early_stop", (
+            f"{{name}} goes on after it has converged: in {call}, iterate {first} is within tol of "
+            f"the goal (‖e‖ = {errors[first]:.1e} m), yet the loop goes on to iterate {steps}. Stop as "
+            "soon as the foot is within tol of the goal, before computing another step.")
+    return None
+
+
+class _NewtonLoopCheck(FunctionCheck):
+    """``newton_ik(r_goal, q0, damping, tol, max_iterations) -> (K + 1, 3)``: judged step by step
+    (see :func:`_newton_verdict`), so that any correct stop test keeps full marks."""
+
+    def judge(self, answer: Any) -> CheckResult:
+        X = self.sample_points()
+        n = len(X)
+        for x in X:
+            r_goal, q0, damping, tol, budget = _newton_args(x)
+            out = self.call(answer, (r_goal.copy(), q0.copy(), damping, tol, budget),
+                            f"in {_describe_newton(x)}", n)
+            try:
+                Q = _iterates(out, "newton_ik")
+            except TypeError as exc:
+                return self.failure("error", f"{self.name}: {exc}.", n)
+            verdict = _newton_verdict(Q, x)
+            if verdict is not None:
+                code, text = verdict
+                return self.failure(code, text.format(name=self.name), n)
+        return self.success(f"{self.name} is correct (checked at {n} random {self.noun}).", n)
+
+
+newton_ik = exercise(_CHAPTER, "newton_ik", _NewtonLoopCheck(
     name="newton_ik(r_goal, q0, damping, tol, max_iterations)",
-    reference=_newton_variant(),
     variables=[*_Q_START, *_DQ_GOAL, *_NEWTON_MORE],
-    diagnoses=[
-        alternatives("error_sign", [(_newton_variant(sign=-1.0), (
-            "{name} steps away from the goal: the error is e = r_goal − r(q) (goal minus "
-            "current); the step J⁺e then moves the foot towards the goal."
-        ))]),
-        alternatives("no_start_row", [(_newton_variant(start_row=False), (
-            "{name} leaves out the start: the iterates begin with q^0 = q0, so that row k "
-            "of the log is iterate k (K steps give K + 1 rows)."
-        ))]),
-        alternatives("no_early_stop", [(_newton_variant(early_stop=False), (
-            "{name} always takes max_iterations steps: stop as soon as ‖r_goal − r(q^k)‖ "
-            "<= tol, before computing another step."
-        ))]),
-        alternatives("stop_on_step", [(_newton_variant(stop_on_step=True), (
-            "{name} stops when the step ‖Δq‖ is below tol, one step after the error is: "
-            "the statement stops on the error, as soon as ‖r_goal − r(q^k)‖ <= tol, "
-            "before computing another step (tol is in m)."
-        ))]),
-        alternatives("damping_not_squared", [(_newton_variant(damping_power=1), (
-            "{name} adds λ·I where λ²·I belongs: the damped step is Jᵀ(J Jᵀ + λ² I)⁻¹ e "
-            "(λ in m, λ² in m² like J Jᵀ)."
-        ))]),
-        alternatives("jacobian_transpose", [(_newton_variant(transpose=True), (
-            "{name} uses Jᵀ e (a gradient step); Newton's method uses J⁺ e."
-        ))]),
-    ],
     noun="starts, goals, dampings and iteration budgets",
-    arguments=_newton_args,
-    describe=_describe_newton,
-    entry_label=_newton_entry,
     signature="newton_ik(r_goal, q0, damping, tol, max_iterations) -> iterates (K + 1, 3)",
-    hint=("The loop: q = q0; log q; repeat at most max_iterations times: e = r_goal − r(q); "
-          "stop if ‖e‖ <= tol; J = J_v(q); Δq = J⁺e (λ = 0) or Jᵀ(J Jᵀ + λ² I)⁻¹ e; "
-          "q = q + Δq; log q."),
-    atol=1e-7,
     doc=("Check a Newton iteration newton_ik(r_goal, q0, damping, tol, max_iterations) that "
-         "returns its iterates q^0 ... q^K, shape (K + 1, 3)."),
-    pack=_pack_iterates,
+         "returns its iterates q^0 ... q^K, shape (K + 1, 3): each iterate the step of "
+         "Newton's method (damped least squares when damping > 0) from the one before, at most "
+         "max_iterations steps, and the last within tol of the goal unless they are spent. A stop "
+         "test on the error or on the step size is fine."),
 ))
 
 
@@ -682,9 +718,10 @@ tracking_loop = exercise(_CHAPTER, "tracking_loop", MatrixArgumentsCheck(
     describe=_describe_track,
     entry_label=_track_entry,
     signature="track(q0, r_des, v_des, kp, ts, feedforward) -> joint angles (N, 3)",
-    hint=("The loop: q = q0; for each sample k: log q; e = r_des[k] − r(q); "
-          "q̇ = J⁺(q)(v_des[k] + Kp e) (without v_des[k] when feedforward is False); "
-          "q = q + ts q̇."),
+    hint=("Row k must be the joint angles at sample k (row 0 = q0), and row k + 1 one Euler step "
+          "of ts from row k with the resolved-rate command of Task 5 computed at row k from r_des[k] "
+          "and v_des[k] (v_des[k] left out when feedforward is False): the first row that differs "
+          "is the step to look at."),
     atol=1e-7,
     doc=("Check a resolved-rate tracking loop track(q0, r_des, v_des, kp, ts, feedforward) "
          "that returns the joint angles at the samples, shape (N, 3), row 0 = q0."),

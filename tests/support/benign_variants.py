@@ -46,17 +46,21 @@ dq_cmd = np.linalg.lstsq(J_lift, v_cmd, rcond=None)[0]
 lifts = bool(v_cmd[2] > 0)  # z of B points up: only a positive z velocity lifts
 dq_lift = np.linalg.lstsq(J_lift, np.array([0.0, 0.0, 1.0]), rcond=None)[0]
 '''),
-        "task4_answer1": ("Newton's method as a while loop on the normal equations (no pseudoinverse)", '''
+        "task4_answer1": ("Newton's method as a while loop on the normal equations (no pseudoinverse), "
+                          "stopped when the step, not the error, is below tol", '''
 
 def newton_ik(r_goal, q0, damping=0.0, tol=1e-10, max_iterations=50):
-    """Written another way: a while loop, steps from (J^T J + lambda^2 I) dq = J^T e."""
+    """Written another way: a while loop, steps from (J^T J + lambda^2 I) dq = J^T e, that
+    stops once a step is below tol (the foot is then within tol of the goal as well)."""
     path = [np.asarray(q0, dtype=float)]
-    error = r_goal - leg.fk(path[-1])[:3, 3]
-    while np.linalg.norm(error) > tol and len(path) <= max_iterations:
+    step_size = np.inf
+    while step_size > tol and len(path) <= max_iterations:
         jac = leg.position_jacobian(path[-1])
-        normal = jac.T @ jac + damping**2 * np.eye(3)
-        path.append(path[-1] + np.linalg.solve(normal, jac.T @ error))
         error = r_goal - leg.fk(path[-1])[:3, 3]
+        normal = jac.T @ jac + damping**2 * np.eye(3)
+        step = np.linalg.solve(normal, jac.T @ error)
+        path.append(path[-1] + step)
+        step_size = np.linalg.norm(step)
     return np.vstack(path)
 
 
