@@ -98,6 +98,9 @@ WRONG = [
     ("velocity_ellipse", lambda J: (np.sqrt(np.linalg.eigh(J @ J.T)[0]), np.linalg.eigh(J @ J.T)[1]),
      "ascending"),
     ("velocity_ellipse", lambda J: np.linalg.eigh(J @ J.T), "squared"),
+    # eigh's eigenvalues sorted descending, its eigenvectors left in eigh's order
+    ("velocity_ellipse", lambda J: (np.sqrt(np.linalg.eigh(J @ J.T)[0])[::-1], np.linalg.eigh(J @ J.T)[1]),
+     "axes_not_reordered"),
     ("velocity_ellipse", lambda J: velocity_by_eigh(J.T), "jacobian_not_transposed"),
     ("velocity_ellipse", lambda J: force_by_eigh(J), "inverted"),
     ("force_ellipse", velocity_by_eigh, "not_inverted"),
@@ -105,6 +108,8 @@ WRONG = [
     ("force_ellipse", lambda J: (force_by_eigh(J)[0] ** 2, force_by_eigh(J)[1]), "squared"),
     ("force_ellipse", lambda J: (force_by_eigh(J)[0][::-1], force_by_eigh(J)[1][:, ::-1]), "ascending"),
     ("force_ellipse", lambda J: force_by_eigh(J.T), "jacobian_not_transposed"),
+    ("force_ellipse", lambda J: (force_by_eigh(J)[0], force_by_eigh(J)[1][:, ::-1]), "axes_not_reordered"),
+    ("force_ellipse", lambda J: (force_by_eigh(J)[0][::-1], force_by_eigh(J)[1]), "axes_not_reordered"),
     ("manipulability", lambda J: np.linalg.det(J @ J.T), "squared"),
     ("w_formula", lambda q2, l1, l2: l1 * l2 * math.sin(q2), "absolute_value"),
     ("w_formula", lambda q2, l1, l2: (l1 * l2 * math.sin(q2)) ** 2, "squared"),

@@ -25,7 +25,8 @@ tolerance of 1e-8 and a relative one of 1e-6 unless a check says otherwise). An 
 answer is compared with its axes' signs made canonical (each column's largest-magnitude
 entry positive): an axis and its opposite describe the same ellipse. A wrong answer is
 explained when one of the chapter's typical mistakes reproduces it (a transpose, squared or
-inverted lengths, the radii in ascending order, degrees for radians).
+inverted lengths, the radii in ascending order, radii and axes sorted apart, degrees for
+radians).
 """
 
 from __future__ import annotations
@@ -182,6 +183,10 @@ def _ellipse_mistakes(force: bool) -> list:
     def rev(a: np.ndarray) -> np.ndarray:
         return a[..., ::-1]
 
+    unpaired = (
+        "{name} orders the radii and the axes differently: column i of the axes must be the axis "
+        "of radii[i]. Sort the eigenvectors with the same index as the eigenvalues "
+        "(order = np.argsort(...); radii[order], axes[:, order]).")
     squared = (
         "{name} returns squared lengths: the eigenvalues of J Jᵀ are σ_i², the semi-axes are "
         "their square roots σ_i" + (", and the force ellipse's are 1/σ_i." if force else ".")
@@ -204,6 +209,10 @@ def _ellipse_mistakes(force: bool) -> list:
             alternatives("ascending", [(make(lambda U, s, V: (1 / s, U)), (
                 "{name} lists the radii in ascending order: give them descending (the longest "
                 "semi-axis 1/σ_min first), each axis in the column of its radius."))]),
+            alternatives("axes_not_reordered", [
+                (make(lambda U, s, V: (rev(1 / s), U)), unpaired),
+                (make(lambda U, s, V: (1 / s, rev(U))), unpaired),
+            ]),
             alternatives("jacobian_not_transposed", [(make(lambda U, s, V: (rev(1 / s), rev(V))), (
                 "the axes of {name} are the eigenvectors of Jᵀ J (joint space), as if J and Jᵀ were "
                 "swapped: the force ellipse lies in the task space, with the eigenvectors of J Jᵀ "
@@ -221,6 +230,10 @@ def _ellipse_mistakes(force: bool) -> list:
             alternatives("ascending", [(make(lambda U, s, V: (rev(s), rev(U))), (
                 "{name} lists the radii in ascending order (as numpy.linalg.eigh returns "
                 "eigenvalues): give them descending, each axis in the column of its radius."))]),
+            alternatives("axes_not_reordered", [
+                (make(lambda U, s, V: (s, rev(U))), unpaired),
+                (make(lambda U, s, V: (rev(s), U)), unpaired),
+            ]),
             alternatives("jacobian_not_transposed", [(make(lambda U, s, V: (s, V)), (
                 "the axes of {name} are the eigenvectors of Jᵀ J (joint space), as if J and Jᵀ were "
                 "swapped: the ellipse of tool velocities lies in the task space, with the "
