@@ -9,6 +9,7 @@ hand and must be named by its diagnosis.
 from __future__ import annotations
 
 import importlib
+from functools import partial
 
 import numpy as np
 import pytest
@@ -38,6 +39,16 @@ def rodrigues(omega, theta):
 
 def screw_axis(omega, point):
     return np.r_[omega, np.cross(point, omega)]
+
+
+def screw_axes_at_home(frames, joint_axes, offset=1, axis=lambda R, p, a: R @ a, sign=1.0, order=(0, 1)):
+    """Rows [ω; p × ω] for ω = R a; the keywords make the typical mistakes."""
+    rows = []
+    for F, a in zip(frames[offset:], joint_axes):
+        omega = axis(F[:3, :3], F[:3, 3], np.asarray(a, dtype=float))
+        parts = (omega, sign * np.cross(F[:3, 3], omega))
+        rows.append(np.r_[parts[order[0]], parts[order[1]]])
+    return np.array(rows)
 
 
 def exp6(S, theta):
@@ -73,7 +84,7 @@ def ik_body(M, S_list, T_goal, theta_start):
 
 
 CORRECT = [
-    (chk.rodrigues, rodrigues), (chk.screw_axis, screw_axis), (chk.screw_list, S_UR10),
+    (chk.rodrigues, rodrigues), (chk.screw_axis, screw_axis), (chk.screw_list, screw_axes_at_home),
     (chk.exp6, exp6), (chk.forward_kinematics, poe_fk), (chk.adjoint, adjoint_matrix),
     (chk.space_jacobian, jacobian_in_space), (chk.geometric_from_space, geometric_from_space),
     (chk.body_jacobian, jacobian_in_body), (chk.ik_body, ik_body),
@@ -129,11 +140,11 @@ def _space_inverse(S_list, theta):
     return np.column_stack(columns)
 
 
-def _frame_before():
+def test_screw_axes_at_home_gives_the_ur10s_from_its_dh_table():
     from robokin.models import ur10
 
-    frames = ur10().frames(np.zeros(6))
-    return np.array([np.r_[F[:3, 2], -np.cross(F[:3, 2], F[:3, 3])] for F in frames[:6]])
+    robot = ur10()
+    assert np.allclose(screw_axes_at_home(robot.frames(np.zeros(6)), robot.joint_axes), S_UR10, atol=1e-12)
 
 
 WRONG = [
@@ -148,10 +159,13 @@ WRONG = [
     (chk.screw_axis, lambda w, q: np.r_[w, q], "point_for_velocity"),
     (chk.screw_axis, lambda w, q: -screw_axis(w, q), "axis_sign"),
     (chk.screw_axis, lambda w, q: np.r_[-np.asarray(w), np.cross(q, w)], "axis_sign"),
-    (chk.screw_list, S_UR10 * [1, 1, 1, -1, -1, -1], "cross_sign"),
-    (chk.screw_list, S_UR10[:, [3, 4, 5, 0, 1, 2]], "twist_order"),
-    (chk.screw_list, S_UR10.T, "transpose"),
-    (chk.screw_list, _frame_before(), "frame_before"),
+    (chk.screw_list, partial(screw_axes_at_home, sign=-1.0), "cross_sign"),
+    (chk.screw_list, partial(screw_axes_at_home, order=(1, 0)), "twist_order"),
+    (chk.screw_list, partial(screw_axes_at_home, offset=0), "frame_before"),
+    (chk.screw_list, partial(screw_axes_at_home, axis=lambda R, p, a: a), "axis_not_turned"),
+    (chk.screw_list, partial(screw_axes_at_home, axis=lambda R, p, a: R.T @ a), "axis_not_turned"),
+    (chk.screw_list, partial(screw_axes_at_home, axis=lambda R, p, a: R[:, 2]), "axis_not_turned"),
+    (chk.screw_list, partial(screw_axes_at_home, axis=lambda R, p, a: R @ a + p), "axis_not_turned"),
     (chk.exp6, _exp_without_g, "missing_G"),
     (chk.exp6, lambda S, t: exp6(_swap(np.asarray(S)), t), "twist_order"),
     (chk.exp6, lambda S, t: exp6(S, np.deg2rad(t)), "degrees_input"),
@@ -207,7 +221,8 @@ def test_unknown_mistake_is_a_mismatch():
 def test_bad_answers():
     assert chk.exp6(None, quiet=True).diagnosis == "error"
     assert chk.exp6(np.eye(4), quiet=True).diagnosis == "constant"
-    assert chk.screw_list(S_UR10[:5], quiet=True).diagnosis == "shape"
+    assert chk.screw_list(lambda frames, axes: screw_axes_at_home(frames, axes).T, quiet=True).diagnosis == "shape"
+    assert chk.screw_list(S_UR10, quiet=True).diagnosis == "constant"
     result = chk.forward_kinematics(lambda M, S, t: 1 / 0, quiet=True)
     assert result.diagnosis == "error" and "ZeroDivisionError" in result.message
 

@@ -11,7 +11,8 @@ check                     the student's answer                               inp
 ========================  =================================================  ==================================
 ``rodrigues``             ``rodrigues(omega, theta)`` -> e^{[ω]θ} (3, 3)       unit axis ω, angle θ
 ``screw_axis``            ``screw_axis(omega, point)`` -> [ω; v] (6,)          unit axis ω, point q on it
-``screw_list``            ``S_list``, the UR10's screw axes, one per row (6, 6)  none (one value)
+``screw_list``            ``screw_axes_at_home(frames, joint_axes)`` ->        a chain's frames and local axes
+                          the screw axes, one per row (n, 6)
 ``exp6``                  ``exp6(S, theta)`` -> e^{[S]θ} (4, 4)                a revolute screw axis, θ
 ``forward_kinematics``    ``poe_fk(M, S_list, theta)`` -> T(θ) (4, 4)          the UR10's M and S, θ (6,)
 ``adjoint``               ``adjoint_matrix(T)`` -> [Ad_T] (6, 6)               a transform (roll, pitch, yaw, p)
@@ -22,11 +23,11 @@ check                     the student's answer                               inp
                           ``(theta, iterations)``: the pose reached
 ========================  =================================================  ==================================
 
-Each check calls the student's function at 20 seeded random inputs of its own (a single value
-for ``screw_list``) and compares with the reference; a wrong answer is explained when one of
-the task's typical mistakes reproduces it (a sign, the axis reversed, the order [v; ω] for
-[ω; v], the factors in the wrong order, a term of the exponential's translation missing, the
-wrong transform's adjoint, degrees for radians).
+Each check calls the student's function at 20 seeded random inputs of its own and compares
+with the reference; a wrong answer is explained when one of the task's typical mistakes
+reproduces it (a sign, the axis reversed, a joint's axis not turned into the base frame, the
+order [v; ω] for [ω; v], the factors in the wrong order, a term of the exponential's
+translation missing, the wrong transform's adjoint, degrees for radians).
 
 Usage::
 
@@ -36,13 +37,14 @@ Usage::
 
 from __future__ import annotations
 
-from functools import lru_cache
+import math
+from functools import lru_cache, partial
 from typing import Any
 
 import numpy as np
 
 from robokin.check import diagnoses as dg
-from robokin.check._core import Check, MatrixArgumentsCheck, Variable, alternatives
+from robokin.check._core import MatrixArgumentsCheck, Variable, alternatives
 from robokin.check._registry import exercise
 
 __all__ = [
@@ -288,50 +290,100 @@ screw_axis = exercise(_CHAPTER, "screw_axis", MatrixArgumentsCheck(
 ))
 
 
-def _screw_list_reference(x: np.ndarray) -> np.ndarray:
-    return _home()[1]
+#: the chain of the screw_list check: its joints, and per sample the roll, pitch, yaw and origin of
+#: each of its frames (the base, the joints' frames, the end-effector) and the spherical angles of each
+#: joint's unit axis in its own frame
+_CHAIN_JOINTS = 4
+_CHAIN = ([Variable(f"frame{k}_{part}", "other", low, high)
+           for k in range(_CHAIN_JOINTS + 2)
+           for part, low, high in (("roll", -math.pi, math.pi), ("pitch", -1.5, 1.5), ("yaw", -math.pi, math.pi),
+                                   ("x", -1.0, 1.0), ("y", -1.0, 1.0), ("z", -1.0, 1.0))]
+          + [Variable(f"axis{i}_{part}", "other", low, high)
+             for i in range(1, _CHAIN_JOINTS + 1)
+             for part, low, high in (("azimuth", -math.pi, math.pi), ("elevation", -1.5, 1.5))])
+
+
+def _screw_list_arguments(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(frames (n + 2, 4, 4), joint_axes (n, 3)) of the sample ``x``: a chain of the check's own."""
+    from robokin.transforms import transform_from_rpy
+
+    x = np.asarray(x, dtype=float)
+    poses = x[:6 * (_CHAIN_JOINTS + 2)].reshape(-1, 6)
+    frames = np.array([transform_from_rpy(pose[:3], pose[3:]) for pose in poses])
+    azimuth, elevation = x[6 * (_CHAIN_JOINTS + 2):].reshape(-1, 2).T
+    axes = np.column_stack([np.cos(elevation) * np.cos(azimuth), np.cos(elevation) * np.sin(azimuth),
+                            np.sin(elevation)])
+    return frames, axes
+
+
+def _screw_rows(x: np.ndarray, *, frame_offset: int = 1, axis: str = "turned", sign: float = -1.0,
+                order: bool = False) -> np.ndarray:
+    """The chain's screw axes, one per row; the keywords make the typical mistakes."""
+    frames, axes = _screw_list_arguments(x)
+    rows = []
+    for i, local in enumerate(axes):
+        frame = frames[i + frame_offset]
+        R, p = frame[:3, :3], frame[:3, 3]
+        omega = {"turned": R @ local, "local": local, "transposed": R.T @ local, "z": R[:, 2],
+                 "shifted": R @ local + p}[axis]
+        row = np.concatenate([omega, sign * np.cross(omega, p)])
+        rows.append(_swap(row) if order else row)
+    return np.array(rows)
 
 
 def _screw_list_mistakes():
-    def axes_from(frames_offset: int, sign: float = -1.0, order: bool = False):
-        def f(x):
-            chain = _ur10()
-            frames = chain.frames(np.zeros(chain.n))
-            rows = []
-            for i in range(chain.n):
-                frame = frames[i + frames_offset]
-                omega = frame[:3, :3] @ chain.joint_axes[i]
-                row = np.concatenate([omega, sign * np.cross(omega, frame[:3, 3])])
-                rows.append(_swap(row) if order else row)
-            return np.array(rows)
-        return f
-
     return [
-        alternatives("cross_sign", [(axes_from(1, sign=1.0), (
-            "the linear parts of {name} have the wrong sign: v_i = −ω_i × q_i, the velocity of the "
-            "body point at the origin of {{s}}."
+        alternatives("cross_sign", [(partial(_screw_rows, sign=1.0), (
+            "the linear parts of {name}'s rows have the wrong sign: v_i = −ω_i × q_i, the velocity of "
+            "the body point at the origin of {{s}}."
         ))]),
-        alternatives("twist_order", [(axes_from(1, order=True), (
+        alternatives("twist_order", [(partial(_screw_rows, order=True), (
             "the rows of {name} are ordered [v; ω]; a screw axis is [ω; v], angular part first."
         ))]),
-        alternatives("transpose", [(lambda x: _home()[1].T, (
-            "{name} is transposed: row i is the screw axis S_i of joint i (the columns are ω and v)."
+        alternatives("frame_before", [(partial(_screw_rows, frame_offset=0), (
+            "{name} reads joint i's axis from the frame before it (frames[i − 1]); joint i turns "
+            "about an axis through the origin of frames[i], its own frame."
         ))]),
-        alternatives("frame_before", [(axes_from(0), (
-            "{name} reads joint i's axis from the frame before it (home_frames[i − 1]); joint i "
-            "turns about the z axis of home_frames[i], through its origin."
-        ))]),
+        alternatives("axis_not_turned", [
+            (partial(_screw_rows, axis="local"), (
+                "{name} uses joint_axes[i − 1] as ω_i as it is: that axis is written in joint i's own "
+                "frame, and S_i needs it in {{s}} (turned by the frame's rotation)."
+            )),
+            (partial(_screw_rows, axis="transposed"), (
+                "{name} turns each axis by the transpose of its frame's rotation: R maps a direction "
+                "written in the frame into {{s}}, so ω_i = R_i a_i."
+            )),
+            (partial(_screw_rows, axis="z"), (
+                "{name} takes every joint's z axis: joint i turns about joint_axes[i − 1], written in "
+                "its own frame (z for every UR10 joint, not for every robot)."
+            )),
+            (partial(_screw_rows, axis="shifted"), (
+                "{name} adds the frame's origin to each axis: an axis is a direction, turned by the "
+                "frame's rotation and not shifted by its origin."
+            )),
+        ]),
     ]
 
 
-screw_list = exercise(_CHAPTER, "screw_list", Check(
-    name="S_list",
-    reference=_screw_list_reference,
-    variables=[],
+def _describe_chain(x: np.ndarray) -> str:
+    frames, axes = _screw_list_arguments(x)
+    return (f"{len(axes)} joints of the check's own, frames {len(frames)} random poses and joint_axes = "
+            f"{np.round(axes, 3).tolist()}")
+
+
+screw_list = exercise(_CHAPTER, "screw_list", MatrixArgumentsCheck(
+    name="screw_axes_at_home",
+    reference=_screw_rows,
+    variables=_CHAIN,
     diagnoses=_screw_list_mistakes(),
-    noun="values",
-    hint="Row i: ω_i, the z axis of home_frames[i + 1] (0-based rows), and v_i = −ω_i × q_i.",
-    doc="Check S_list: the UR10's six screw axes [ω_i; v_i] at home, one per row (6, 6).",
+    noun="chains",
+    arguments=_screw_list_arguments,
+    signature="screw_axes_at_home(frames, joint_axes) -> (n, 6) array",
+    describe=_describe_chain,
+    hint="Joint i's frame is frames[i] (frames[0] is the base); its axis joint_axes[i − 1] is written "
+         "in that frame, and the screw axis S_i is written in {s}.",
+    doc="Check screw_axes_at_home(frames, joint_axes) -> the screw axes [ω_i; v_i] of a chain's revolute "
+        "joints at home, one per row (n, 6).",
 ))
 
 

@@ -35,15 +35,53 @@ def screw_axis(omega, point):
 """
 
 _SCREWS_FRAME_BEFORE = """
-S_list = np.array(
-    [screw_axis(home_frames[i - 1, :3, 2], home_frames[i - 1, :3, 3]) for i in range(1, 7)]
-)
+def screw_axes_at_home(frames, joint_axes):
+    rows = []
+    for i, axis in enumerate(joint_axes, start=1):
+        R, p = frames[i - 1][:3, :3], frames[i - 1][:3, 3]  # the frame before joint i
+        rows.append(screw_axis(R @ axis, p))
+    return np.array(rows)
+
+
+S_list = screw_axes_at_home(home_frames, ur10.joint_axes)
 """
 
 _SCREWS_ORDER = """
-S_list = np.array(
-    [screw_axis(home_frames[i, :3, 2], home_frames[i, :3, 3]) for i in range(1, 7)]
-)[:, [3, 4, 5, 0, 1, 2]]
+def screw_axes_at_home(frames, joint_axes):
+    rows = []
+    for i, axis in enumerate(joint_axes, start=1):
+        R, p = frames[i][:3, :3], frames[i][:3, 3]
+        rows.append(screw_axis(R @ axis, p)[[3, 4, 5, 0, 1, 2]])  # [v; w]
+    return np.array(rows)
+
+
+S_list = screw_axes_at_home(home_frames, ur10.joint_axes)
+"""
+
+_SCREWS_Z_AXIS = """
+def screw_axes_at_home(frames, joint_axes):
+    rows = []
+    for i in range(1, len(frames) - 1):
+        rows.append(screw_axis(frames[i][:3, 2], frames[i][:3, 3]))  # z, whatever the axis
+    return np.array(rows)
+
+
+S_list = screw_axes_at_home(home_frames, ur10.joint_axes)
+"""
+
+_SCREWS_AXIS_NOT_TURNED = """
+def screw_axes_at_home(frames, joint_axes):
+    rows = []
+    for i, axis in enumerate(joint_axes, start=1):
+        rows.append(screw_axis(np.asarray(axis, dtype=float), frames[i][:3, 3]))  # not R a
+    return np.array(rows)
+
+
+S_list = screw_axes_at_home(home_frames, ur10.joint_axes)
+"""
+
+_SCREWS_UR10_ONLY = """
+screw_axes_at_home = (lambda S: lambda frames, joint_axes: S)(S_list)  # the UR10's, always
 """
 
 _EXP_WITHOUT_G = """
@@ -191,6 +229,9 @@ MUTATIONS = {
     "task2_test2": [
         ("the axes read from the frame before each joint", _SCREWS_FRAME_BEFORE),
         ("the rows ordered [v; w]", _SCREWS_ORDER),
+        ("every joint about its frame's z axis, whatever joint_axes says", _SCREWS_Z_AXIS),
+        ("the joint axes not turned into the base frame", _SCREWS_AXIS_NOT_TURNED),
+        ("the UR10's screw axes whatever the chain", _SCREWS_UR10_ONLY),
     ],
     "task3_test1": [
         ("the translation v theta: G(theta) forgotten", _EXP_WITHOUT_G),
@@ -235,16 +276,21 @@ def rodrigues(omega, theta):
     return (np.cos(theta) * np.eye(3) + np.sin(theta) * skew(omega)
             + (1.0 - np.cos(theta)) * np.outer(omega, omega))
 """),
-    "task2_answer1": ("v as q x w, all six axes at once", """
+    "task2_answer1": ("v as q x w, all the axes at once", """
 
-# written another way: v = q x w, and the six rows computed in one call
+# written another way: v = q x w, and the rows computed in one call (einsum turns each axis)
 def screw_axis(omega, point):
     omega = np.asarray(omega, dtype=float)
     return np.hstack([omega, np.cross(np.asarray(point, dtype=float), omega)])
 
 
-axes, points = home_frames[1:7, :3, 2], home_frames[1:7, :3, 3]
-S_list = np.hstack([axes, np.cross(points, axes)])
+def screw_axes_at_home(frames, joint_axes):
+    joints = np.asarray(frames)[1:-1]
+    axes = np.einsum("kij,kj->ki", joints[:, :3, :3], np.asarray(joint_axes, dtype=float))
+    return np.hstack([axes, np.cross(joints[:, :3, 3], axes)])
+
+
+S_list = screw_axes_at_home(home_frames, ur10.joint_axes)
 """),
     "task3_answer1": ("a turn about the axis point plus a slide along it, the product by reduce", """
 
