@@ -89,6 +89,9 @@ MUTATIONS = {
         ("the top of the line", "z_strongest = z_line[-1]"),
         ("the eigenvalues of J_v J_v^T for sigma_line", "sigma_line = sigma_line ** 2"),
         ("sigma_line ascending", "sigma_line = sigma_line[:, ::-1]"),
+        ("push_down as |J_v^T d|, not its inverse, and its largest value",
+         "push_down = np.array([np.linalg.norm(ur10.position_jacobian(q).T @ DOWN) for q in q_line])\n"
+         "z_strongest = z_line[int(np.argmax(push_down))]"),
     ],
     "task5_test3": [
         ("the velocity ellipsoid's semi-axes for the force ellipsoid's", "force_line = sigma_line.copy()"),
