@@ -80,6 +80,10 @@ MUTATIONS = {
          "shoulder_angles = (lambda f: lambda T: f(np.vstack([np.c_[T[:3, :3], T[:3, 3] + D6 * T[:3, 2]], "
          "T[3:]])))(shoulder_angles)"),
     ],
+    "task1_test3": [
+        ("the two q1 taken to coincide on the base axis", "r_shoulder = 0.0"),
+        ("the flange offset d6 added to d4", "r_shoulder = abs(D4) + D6"),
+    ],
     "task2_test1": [
         ("one wrist branch dropped", _wrist(signs="(1,)")),
         ("the arguments of atan2 swapped in q6", _wrist(q6="np.arctan2(x6z / s5, -y6z / s5)")),
@@ -87,6 +91,11 @@ MUTATIONS = {
         ("degrees for radians", "wrist_angles = " + _DEGREES.format(name="wrist_angles")),
         ("the second wrist branch as (-q5, q6)",
          "wrist_angles = (lambda f: lambda T, q1: np.array([f(T, q1)[0], f(T, q1)[0] * [-1, 1]]))(wrist_angles)"),
+    ],
+    "task2_test2": [
+        ("q5 = pi forgotten", "q5_singular = [0.0]"),
+        ("the wrist at cos q5 = 0", "q5_singular = [np.pi / 2, -np.pi / 2]"),
+        ("an angle where q6 is defined added", "q5_singular = [0.0, np.pi, np.pi / 2]"),
     ],
     "task3_test1": [
         ("positive a2 and a3", _arm(a2="abs(A2)", a3="abs(A3)")),
