@@ -137,6 +137,8 @@ ANSWERS: dict[str, dict[str, str]] = {
                      "rigid_body_jacobian": "robokin.motion.rigid_body_jacobian"},
     # chapter 4, Task 5: the wrapped RPY difference written out, not robokin's RPY error
     "rpy_difference": {"pose_error.representation": "robokin.motion.pose_error(..., representation=...)"},
+    # chapter 7, Task 5: the conditions under which two branches meet, not ur10_ik's singular flags
+    "coinciding_branches": {"ur10_ik": "robokin.models.ur10_ik", "ur10_ik_batch": "robokin.models.ur10_ik_batch"},
 }
 
 
