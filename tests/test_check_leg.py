@@ -316,6 +316,7 @@ def newton_ik(r_goal, q0, damping=0.0, tol=1e-10, max_iterations=50):
         (lambda g, q0, d, tol, m: _newton_step_tested_first(g, q0, d, tol, m), None),
         (lambda g, q0, d, tol, m: newton_ik(g, q0, d, 1e-2, m), "stops_short"),
         (lambda g, q0, d, tol, m: newton_ik(g, q0, d, -1.0, m + 1), "budget"),
+        (lambda g, q0, d, tol, m: newton_ik(g, q0, d, tol, m - 1), "stops_short"),  # rows counted
         (lambda g, q0, d, tol, m: newton_ik(g, q0 + 0.1, d, tol, m), "start"),
         (lambda g, q0, d, tol, m: newton_ik(g, q0, d, tol, m) * np.nan, "error"),
         (lambda g, q0, d, tol, m: (newton_ik(g, q0, d, tol, m), True), "error"),
@@ -414,6 +415,11 @@ def test_a_step_size_stop_short_of_the_accuracy_is_named():
     assert verdict is not None
     code, text = verdict
     assert code == "stops_short" and "a small step is not a small error" in text, text
+
+
+def test_a_loop_that_counts_rows_is_told_what_max_iterations_counts():
+    r = L.newton_ik(lambda g, q0, d, tol, m: newton_ik(g, q0, d, tol, m - 1), quiet=True)
+    assert r.diagnosis == "stops_short" and "max_iterations counts the steps" in r.message, r.message
 
 
 def test_newton_ik_reference_converges_quadratically_and_damped_settles():

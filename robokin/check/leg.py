@@ -580,7 +580,9 @@ def _newton_verdict(Q: np.ndarray, x: np.ndarray) -> tuple[str, str] | None:
     if steps < budget and errors[-1] > tol:
         small = (steps > 0 and moved[-1] <= tol) or np.linalg.norm(_newton_step(Q[-1], r_goal, damping)) <= tol
         why = (" Its step ‖Δq‖ there is below tol, but a small step is not a small error: tol is "
-               "the accuracy asked of the foot (m), and the error decides." if small else "")
+               "the accuracy asked of the foot (m), and the error decides." if small else
+               " One step more was allowed: max_iterations counts the steps, and K steps give K + 1 "
+               "rows." if steps == budget - 1 else "")
         return "stops_short", (
             f"{{name}} stops before the foot is within tol of the goal: in {call} it ends after "
             f"{steps} of its {budget} steps with ‖r_goal − r(q^K)‖ = {errors[-1]:.1e} m > tol.{why}")
