@@ -32,42 +32,48 @@ def centre(T, sign=-1.0):
     return T[:3, 3] + sign * D6 * T[:3, 2]
 
 
-def shoulder(T, *, swap=False, d4=D4, dropped=False):
+def shoulder(T, *, swap=False, d4=D4, dropped=False, solved=""):
     x, y, _ = centre(T)
     r = math.hypot(x, y)
     psi = math.atan2(x, y) if swap else math.atan2(y, x)
+    if solved == "arcsin":  # sin(q1 - psi) = d4 / r taken as q1 - psi = +-arcsin(d4 / r)
+        return wrap([psi + math.asin(d4 / r), psi - math.asin(d4 / r)])
+    if solved == "cosine":  # r cos(q1 - psi) = d4 solved instead
+        return wrap([psi + math.acos(d4 / r), psi - math.acos(d4 / r)])
     beta = math.acos(min(1.0, max(-1.0, d4 / r)))  # clipped: the flange point may be inside |d4|
     out = [psi + math.pi / 2 + beta, psi + math.pi / 2 - beta]
     return wrap(out[:1] if dropped else out)
 
 
-def wrist(T, q1, *, swap=False, dropped=False, degrees=False):
-    z1 = np.array([math.sin(q1), -math.cos(q1), 0.0])
+def wrist(T, q1, *, swap=False, dropped=False, degrees=False, z1_sign=1.0, keep_q6=False):
+    z1 = z1_sign * np.array([math.sin(q1), -math.cos(q1), 0.0])
     a, b, c5 = T[:3, :3].T @ z1  # (c6 s5, -s6 s5, c5)
     rows = []
     for sign in (1.0, -1.0)[: 1 if dropped else 2]:
         s5 = sign * math.hypot(a, b)
         q6 = math.atan2(a / s5, -b / s5) if swap else math.atan2(-b / s5, a / s5)
-        rows.append([math.atan2(s5, c5), q6])
+        rows.append([math.atan2(s5, c5), math.atan2(-b, a) if keep_q6 else q6])
     rows = wrap(rows)
     return np.rad2deg(rows) if degrees else rows
 
 
-def arm(T, q1, q5, q6, *, a_sign=1.0, dropped=False, wrist_point=False):
+def arm(T, q1, q5, q6, *, a_sign=1.0, dropped=False, wrist_point=False, height=D1, phi_swapped=False,
+        inner=-1.0, q4_without_q3=False):
     R = T[:3, :3]
     z4 = R @ [-math.sin(q6), -math.cos(q6), 0.0]
     x4 = R @ [math.cos(q5) * math.cos(q6), -math.cos(q5) * math.sin(q6), -math.sin(q5)]
     p4 = centre(T) - (0.0 if wrist_point else D5) * z4
-    X, Y = math.cos(q1) * p4[0] + math.sin(q1) * p4[1], p4[2] - D1
+    X, Y = math.cos(q1) * p4[0] + math.sin(q1) * p4[1], p4[2] - height
     a2, a3 = a_sign * A2, a_sign * A3
     c3 = (X * X + Y * Y - a2 * a2 - a3 * a3) / (2 * a2 * a3)
     if abs(c3) > 1:
         return np.zeros((0, 3))
-    phi = math.atan2(x4[2], math.cos(q1) * x4[0] + math.sin(q1) * x4[1])
+    along_x1, along_y1 = math.cos(q1) * x4[0] + math.sin(q1) * x4[1], x4[2]
+    phi = math.atan2(along_x1, along_y1) if phi_swapped else math.atan2(along_y1, along_x1)
     rows = []
     for q3 in (math.acos(c3), -math.acos(c3))[: 1 if dropped else 2]:
-        q2 = math.atan2(Y, X) - math.atan2(a3 * math.sin(q3), a2 + a3 * math.cos(q3))
-        rows.append([q2, q3, phi - q2 - q3])
+        q2 = math.atan2(Y, X) + inner * math.atan2(a3 * math.sin(q3), a2 + a3 * math.cos(q3))
+        rows.append([q2, q3, phi - q2 - (0.0 if q4_without_q3 else q3)])
     return wrap(rows)
 
 
@@ -144,6 +150,9 @@ MISTAKES = [
     ("wrist_centre", lambda T: centre(T, sign=0.0), "flange_point"),
     ("wrist_centre", lambda T: centre(T, sign=1.0), "d6_sign"),
     ("wrist_centre", lambda T: T[:3, 3] - D6 * T[2, :3], "wrong_axis"),
+    ("wrist_centre", lambda T: T[:3, 3] - D5 * T[:3, 2], "d5_for_d6"),
+    ("shoulder_angles", lambda T: shoulder(T, solved="arcsin"), "arcsin_branch"),
+    ("shoulder_angles", lambda T: shoulder(T, solved="cosine"), "cosine_for_sine"),
     ("shoulder_angles", lambda T: shoulder(T, swap=True), "atan2_swapped"),
     ("shoulder_angles", lambda T: shoulder(T, d4=-D4), "d4_sign"),
     ("shoulder_angles", lambda T: shoulder(T, dropped=True), "branch_dropped"),
@@ -152,10 +161,16 @@ MISTAKES = [
     ("wrist_angles", lambda T, q1: wrist(T, q1, swap=True), "atan2_swapped"),
     ("wrist_angles", lambda T, q1: wrist(T, q1) * [1, -1], "q6_sign"),
     ("wrist_angles", lambda T, q1: wrist(T, q1, dropped=True), "branch_dropped"),
+    ("wrist_angles", lambda T, q1: wrist(T, q1, z1_sign=-1.0), "z1_sign"),
+    ("wrist_angles", lambda T, q1: wrist(T, q1, keep_q6=True), "q6_not_flipped"),
     ("wrist_angles", lambda T, q1: wrist(T, q1, degrees=True), "degrees_output"),
     ("arm_angles", lambda T, q1, q5, q6: arm(T, q1, q5, q6, a_sign=-1.0), "a_sign"),
     ("arm_angles", lambda T, q1, q5, q6: arm(T, q1, q5, q6, dropped=True), "branch_dropped"),
     ("arm_angles", lambda T, q1, q5, q6: arm(T, q1, q5, q6, wrist_point=True), "wrist_point"),
+    ("arm_angles", lambda T, q1, q5, q6: arm(T, q1, q5, q6, height=0.0), "shoulder_height"),
+    ("arm_angles", lambda T, q1, q5, q6: arm(T, q1, q5, q6, phi_swapped=True), "atan2_swapped_phi"),
+    ("arm_angles", lambda T, q1, q5, q6: arm(T, q1, q5, q6, inner=1.0), "inner_angle_sign"),
+    ("arm_angles", lambda T, q1, q5, q6: arm(T, q1, q5, q6, q4_without_q3=True), "q3_missing_in_q4"),
     ("arm_angles", lambda T, q1, q5, q6: np.rad2deg(arm(T, q1, q5, q6)), "degrees_output"),
     ("all_solutions", lambda T: every_solution(T)[:2], "branch_dropped"),
     ("all_solutions", lambda T: np.rad2deg(every_solution(T)), "degrees_output"),

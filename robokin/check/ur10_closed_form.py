@@ -18,8 +18,9 @@ check                 the student's answer                                      
 
 Sets of solutions are compared in any order, angles modulo 2π
 (:class:`robokin.check.SolutionSetCheck`). Typical mistakes named in the messages:
-the arguments of ``atan2`` swapped, a ``±`` branch dropped, the sign of ``d4``,
-``a2``/``a3`` taken positive, the flange point used for the wrist centre, the
+the arguments of ``atan2`` swapped, a ``±`` branch dropped or the wrong second
+branch, the sign of ``d4`` or of an axis, ``a2``/``a3`` taken positive, an offset
+of the table used for another, the flange point used for the wrist centre, the
 wrist point used for the planar problem, degrees for radians.
 
 Usage::
@@ -106,27 +107,37 @@ def _centre(T: np.ndarray) -> np.ndarray:
     return T[:3, 3] - _lengths()[5] * T[:3, 2]
 
 
-def _shoulder(T: np.ndarray, *, swap: bool = False, d4_sign: float = 1.0, flange: bool = False) -> np.ndarray:
+def _shoulder(T: np.ndarray, *, swap: bool = False, d4_sign: float = 1.0, flange: bool = False,
+              second: str = "") -> np.ndarray:
     x, y, _ = T[:3, 3] if flange else _centre(T)
     r = math.hypot(x, y)
     psi = math.atan2(x, y) if swap else math.atan2(y, x)
-    beta = math.acos(max(-1.0, min(1.0, d4_sign * _lengths()[3] / r)))
+    ratio = max(-1.0, min(1.0, d4_sign * _lengths()[3] / r))
+    if second == "minus_arcsin":  # sin(q1 - psi) = d4/r solved as q1 - psi = ±arcsin(d4/r)
+        return _wrap(np.array([psi + math.asin(ratio), psi - math.asin(ratio)]))
+    if second == "cosine":  # r cos(q1 - psi) = d4 solved instead of r sin(q1 - psi) = d4
+        return _wrap(np.array([psi + math.acos(ratio), psi - math.acos(ratio)]))
+    beta = math.acos(ratio)
     return _wrap(np.array([psi + math.pi / 2 + beta, psi + math.pi / 2 - beta]))
 
 
-def _wrist(T: np.ndarray, q1: float, *, swap: bool = False, q6_sign: float = 1.0) -> np.ndarray:
-    z1 = np.array([math.sin(q1), -math.cos(q1), 0.0])
+def _wrist(T: np.ndarray, q1: float, *, swap: bool = False, q6_sign: float = 1.0, z1_sign: float = 1.0,
+           flip: bool = True) -> np.ndarray:
+    z1 = z1_sign * np.array([math.sin(q1), -math.cos(q1), 0.0])
     x6z, y6z, c5 = T[:3, :3].T @ z1
     out = []
     for sign in (1.0, -1.0):
         s5 = sign * math.hypot(x6z, y6z)
-        q6 = math.atan2(x6z / s5, -y6z / s5) if swap else math.atan2(-q6_sign * y6z / s5, x6z / s5)
+        s6_divisor = s5 if flip else abs(s5)  # not flip: q6 kept when the wrist flips
+        q6 = (math.atan2(x6z / s6_divisor, -y6z / s6_divisor) if swap
+              else math.atan2(-q6_sign * y6z / s6_divisor, x6z / s6_divisor))
         out.append([math.atan2(s5, c5), q6])
     return _wrap(np.array(out))
 
 
 def _arm(T: np.ndarray, q1: float, q5: float, q6: float, *, a_sign: float = 1.0, swap: bool = False,
-         wrist_point: bool = False) -> np.ndarray:
+         wrist_point: bool = False, phi_swap: bool = False, inner_sign: float = -1.0, q3_in_q4: bool = True,
+         shoulder_height: bool = True) -> np.ndarray:
     d1, a2, a3, _d4, d5, _d6 = _lengths()
     a2, a3 = a_sign * a2, a_sign * a3
     R = T[:3, :3]
@@ -135,16 +146,17 @@ def _arm(T: np.ndarray, q1: float, q5: float, q6: float, *, a_sign: float = 1.0,
     z4 = R @ np.array([-s6, -c6, 0.0])
     x4 = R @ np.array([c5 * c6, -c5 * s6, -s5])
     o4 = _centre(T) - (0.0 if wrist_point else d5) * z4
-    X, Y = c1 * o4[0] + s1 * o4[1], o4[2] - d1
+    X, Y = c1 * o4[0] + s1 * o4[1], o4[2] - (d1 if shoulder_height else 0.0)
     c3 = (X * X + Y * Y - a2 * a2 - a3 * a3) / (2 * a2 * a3)
     if abs(c3) > 1.0:
         return np.zeros((0, 3))
-    phi = math.atan2(x4[2], c1 * x4[0] + s1 * x4[1])
+    in_plane = (x4[2], c1 * x4[0] + s1 * x4[1])
+    phi = math.atan2(in_plane[1], in_plane[0]) if phi_swap else math.atan2(*in_plane)
     out = []
     for q3 in (math.acos(c3), -math.acos(c3)):
         to_target = math.atan2(X, Y) if swap else math.atan2(Y, X)
-        q2 = to_target - math.atan2(a3 * math.sin(q3), a2 + a3 * math.cos(q3))
-        out.append([q2, q3, phi - q2 - q3])
+        q2 = to_target + inner_sign * math.atan2(a3 * math.sin(q3), a2 + a3 * math.cos(q3))
+        out.append([q2, q3, phi - q2 - (q3 if q3_in_q4 else 0.0)])
     return _wrap(np.array(out))
 
 
@@ -243,6 +255,9 @@ def _wrist_centre_mistakes():
         alternatives("wrong_axis", [(lambda x: _pose(x)[:3, 3] - d6 * _pose(x)[2, :3], (
             "{name} uses the third row of R for z6: the tool's z axis is the third column, "
             "R[:, 2] (the columns of R are the flange's axes in the base frame)."))]),
+        alternatives("d5_for_d6", [(lambda x: _pose(x)[:3, 3] - _lengths()[4] * _pose(x)[:3, 2], (
+            "{name} steps back d5 along z6: d5 is the offset from frame 4 to frame 5; the last "
+            "row of the table, d6, is the one from the wrist centre to the flange."))]),
     ]
 
 
@@ -319,6 +334,12 @@ shoulder_angles = _pose_set_check(
         ("flange_point", {"flange": True},
          "{name} uses the flange position p instead of the wrist centre p5 = p − d6 z6: only "
          "the wrist centre is at the height d4 along z1."),
+        ("arcsin_branch", {"second": "minus_arcsin"},
+         "{name} gives q1 = ψ ± arcsin(d4/r): the second solution of sin(q1 − ψ) = d4/r is "
+         "q1 − ψ = π − arcsin(d4/r), not −arcsin(d4/r)."),
+        ("cosine_for_sine", {"second": "cosine"},
+         "{name} gives q1 = ψ ± arccos(d4/r), the solutions of cos(q1 − ψ) = d4/r; the component "
+         "of the wrist centre along z1 = (s1, −c1, 0) is x s1 − y c1 = r sin(q1 − ψ)."),
     ],
     branch_message="{name} returns only one of the two shoulder solutions: "
                    "q1 = ψ + π/2 ± arccos(d4/r), both signs.",
@@ -334,6 +355,12 @@ wrist_angles = _pose_set_check(
          "q6 = atan2(−y6·z1 / s5, x6·z1 / s5), the sine first."),
         ("q6_sign", {"q6_sign": -1.0},
          "{name} gives q6 with the wrong sign: y6·z1 = −s6 s5, so sin q6 = −y6·z1 / s5."),
+        ("q6_not_flipped", {"flip": False},
+         "{name} keeps q6 when the wrist flips: with s5 → −s5, the components (c6 s5, −s6 s5) "
+         "keep their values only if q6 turns by π too."),
+        ("z1_sign", {"z1_sign": -1.0},
+         "{name} uses −z1 = (−s1, c1, 0) for the axis of the parallel joints: "
+         "z1 = R_z(q1) R_x(π/2) e_z = (s1, −c1, 0)."),
     ],
     branch_message="{name} returns only one wrist solution: q5 = ±arccos(z6·z1), and q6 "
                    "changes by π with the sign of sin q5.",
@@ -353,6 +380,18 @@ arm_angles = _pose_set_check(
         ("wrist_point", {"wrist_point": True},
          "{name} solves the planar problem for the wrist centre p5; the three parallel links end "
          "at the origin of frame 4, p4 = p5 − d5 z4."),
+        ("shoulder_height", {"shoulder_height": False},
+         "{name} measures the height of p4 from the base; the planar links start at the origin "
+         "of frame 1, (0, 0, d1), so the arm's plane has Y = p4·e_z − d1."),
+        ("atan2_swapped_phi", {"phi_swap": True},
+         "{name} has the arguments of atan2 swapped in q2 + q3 + q4: the angle of x4 in the arm's "
+         "plane is atan2(x4·y1, x4·x1), with y1 = e_z, the Y component first."),
+        ("inner_angle_sign", {"inner_sign": 1.0},
+         "{name} adds the angle of the elbow triangle to the direction of p4: the links reach "
+         "p4 at q2 + atan2(a3 s3, a2 + a3 c3), so q2 = atan2(Y, X) − atan2(a3 s3, a2 + a3 c3)."),
+        ("q3_missing_in_q4", {"q3_in_q4": False},
+         "{name} leaves q3 out of q4: the angle of x4 in the arm's plane is q2 + q3 + q4, so "
+         "q4 is that angle minus q2 and q3."),
     ],
     branch_message="{name} returns only one elbow solution: q3 = ±arccos(c3), and q2, q4 "
                    "follow for each sign.",
