@@ -373,7 +373,7 @@ arm_angles = _pose_set_check(
     mistakes=[
         ("a_sign", {"a_sign": -1.0},
          "{name} uses positive a2, a3: the table's a2 = −0.612 m and a3 = −0.5723 m are negative "
-         "(with q = 0 the arm points along −x1), which turns q2 by π."),
+         "(with q = 0 the arm points along −x1), which turns q2 and q4 by π."),
         ("atan2_swapped", {"swap": True},
          "{name} has the arguments of atan2 swapped in q2: the direction to the point (X, Y) in "
          "the arm's plane is atan2(Y, X), the Y coordinate first."),
