@@ -417,6 +417,16 @@ def test_a_step_size_stop_short_of_the_accuracy_is_named():
     assert code == "stops_short" and "a small step is not a small error" in text, text
 
 
+def test_a_start_on_the_goal_ends_either_stop_test_and_nothing_more():
+    x = L.newton_ik.sample_points()[0].copy()
+    x[3:6], x[6], x[7] = 0.0, 0.0, 5.5  # the goal is the start's foot; undamped; 5 steps
+    r_goal, q0, damping, tol, budget = L._newton_args(x)
+    assert L._newton_verdict(newton_ik(r_goal, q0, damping, tol, budget), x) is None  # no step
+    assert L._newton_verdict(_newton_stopped_by_step(r_goal, q0, damping, tol, budget), x) is None
+    verdict = L._newton_verdict(newton_ik(r_goal, q0, damping, -1.0, budget), x)
+    assert verdict is not None and verdict[0] == "no_early_stop", verdict
+
+
 def test_a_loop_that_counts_rows_is_told_what_max_iterations_counts():
     r = L.newton_ik(lambda g, q0, d, tol, m: newton_ik(g, q0, d, tol, m - 1), quiet=True)
     assert r.diagnosis == "stops_short" and "max_iterations counts the steps" in r.message, r.message

@@ -543,9 +543,9 @@ def _newton_verdict(Q: np.ndarray, x: np.ndarray) -> tuple[str, str] | None:
 
     Right means: row 0 is q0; every row is the previous one plus the Newton (or damped) step
     computed there; at most max_iterations steps; the last iterate within tol of the goal
-    unless the budget is spent; and no step once the iteration has converged, an iterate
-    within tol whose own step was below tol too (a test on the error stops there or earlier,
-    one on the step size there). Either stop test is a correct answer.
+    unless the budget is spent; and no step once the iteration has converged: at an iterate
+    within tol that a step below tol led to (a test on the error stops there or earlier, one
+    on the step size there). Either stop test is a correct answer.
     """
     r_goal, q0, damping, tol, budget = _newton_args(x)
     call = _describe_newton(x)
@@ -576,9 +576,9 @@ def _newton_verdict(Q: np.ndarray, x: np.ndarray) -> tuple[str, str] | None:
             "(rows before it are right). Each row must be the previous iterate plus the step "
             "computed at that iterate, with the error and the Jacobian of that iterate.")
     errors = np.linalg.norm(r_goal - _leg().fk(Q)[:, :3, 3], axis=1)
-    moved = np.r_[0.0, np.linalg.norm(np.diff(Q, axis=0), axis=1)]
+    moved = np.r_[np.inf, np.linalg.norm(np.diff(Q, axis=0), axis=1)]  # the step into each row
     if steps < budget and errors[-1] > tol:
-        small = (steps > 0 and moved[-1] <= tol) or np.linalg.norm(_newton_step(Q[-1], r_goal, damping)) <= tol
+        small = moved[-1] <= tol or np.linalg.norm(_newton_step(Q[-1], r_goal, damping)) <= tol
         why = (" Its step ‖Δq‖ there is below tol, but a small step is not a small error: tol is "
                "the accuracy asked of the foot (m), and the error decides." if small else
                " One step more was allowed: max_iterations counts the steps, and K steps give K + 1 "
@@ -586,7 +586,9 @@ def _newton_verdict(Q: np.ndarray, x: np.ndarray) -> tuple[str, str] | None:
         return "stops_short", (
             f"{{name}} stops before the foot is within tol of the goal: in {call} it ends after "
             f"{steps} of its {budget} steps with ‖r_goal − r(q^K)‖ = {errors[-1]:.1e} m > tol.{why}")
-    done = np.flatnonzero((errors <= tol) & (moved <= tol))  # converged (row 0: no step yet)
+    # converged: within tol, and the step into it below tol too (a stop test on the step size
+    # needs that step, even from a start on the goal)
+    done = np.flatnonzero((errors <= tol) & (moved <= tol))
     if len(done) and steps > done[0]:
         first = int(np.argmax(errors <= tol))
         return "no_early_stop", (
