@@ -257,16 +257,16 @@ def test_provenance_follows_the_data_flow_of_an_answer_cell():
              ("code", "closed_sorted = sorted(closed)\nboth = [closed, found]"),
              ("code", "closed_sorted, both")]
     reads = trace(cells)[-1]
-    assert reads["closed_sorted"].roots == {"closed"} and not reads["closed_sorted"].answer, reads
-    assert reads["both"].roots == {"closed", "found", "newton_ik"}, reads
+    assert reads["closed_sorted"].roots == {"closed", "ik_closed_form"} and not reads["closed_sorted"].answer, reads
+    assert reads["both"].roots == {"closed", "ik_closed_form", "found", "newton_ik"}, reads
     assert trace(cells)[3]["found"].answer and "newton_ik" in trace(cells)[3]["found"].roots
 
 
 def test_a_function_uses_the_functions_its_body_calls_in_its_cell():
     """``my_leg_ik`` calls ``ankle_angles`` of its cell, defined after it: it
     uses it (``hip`` is shadowed there by a local name); a default argument from an earlier cell
-    stays a root; ``Q_mine``, a value computed in the cell, keeps the roots it had, and an unused
-    function uses nothing."""
+    stays a root; ``Q_mine``, a value computed in the cell by calling ``my_leg_ik``, uses it and its
+    helpers, and an unused function uses nothing."""
     from tools.grading.robokin_nbgrader.failure_notes import _cell_functions_used, trace
 
     cells = [("answer", "def ankle_point(T):\n    return T"),
@@ -277,11 +277,11 @@ def test_a_function_uses_the_functions_its_body_calls_in_its_cell():
              ("code", "my_leg_ik, Q_mine, ankle_angles, unused, k")]
     reads = trace(cells)[-1]
     assert reads["my_leg_ik"].roots == {"my_leg_ik", "ankle_angles", "ankle_point"}, reads
-    assert reads["Q_mine"].roots == {"Q_mine", "ankle_point"}, reads
+    assert reads["Q_mine"].roots == {"Q_mine", "my_leg_ik", "ankle_angles", "ankle_point"}, reads
     assert reads["ankle_angles"].roots == {"ankle_angles"}, reads
     assert reads["unused"].roots == {"unused"} and reads["k"].roots == {"k"}, reads
-    through_bodies = dict((name, inner) for name, _, inner in _cell_functions_used(cells[1][1]))
-    assert through_bodies == {"my_leg_ik": ("ankle_angles",)}
+    used = {name: (used, calls) for name, used, calls in _cell_functions_used(cells[1][1])}
+    assert used == {"my_leg_ik": (("ankle_angles",), ()), "Q_mine": (("ankle_angles", "my_leg_ik"), ("my_leg_ik",))}
 
 
 def test_a_helper_reached_through_a_function_body_is_judged_by_its_check():
@@ -392,3 +392,86 @@ def test_memoised_mutations_depend_on_the_statement_and_the_modules_only():
     two = "a = 1\nb = (a,\n     2)"
     assert _statements(two) == _statements(two) == ["a = 1", "b = (a,\n     2)"]
     assert _statements("a = (") == _statements("a = (") == ["a = ("]
+
+
+def _screw_notebook(screw_axis_fails: bool):
+    """Task 2 of chapter 8 in small: an answer cell defines ``screw_axis`` and computes ``S_list``
+    by calling it (through a value of its cell); ``screw_axis``'s test fails or passes, ``S_list``'s
+    fails; Task 3 reads ``S_list`` and computes ``T0`` by calling its own ``poe_fk``."""
+    first = [_error("AssertionError", 2, 1)] if screw_axis_fails else []
+    nb = nbformat.v4.new_notebook()
+    nb.cells = [
+        nbformat.v4.new_markdown_cell("## Task 2: screw axes"),
+        code_cell("def screw_axis(omega, point):\n    return omega + point\n\n\n"
+                  "rows = [screw_axis(w, p) for w, p in frames]\nS_list = np.array(rows)",
+                  "task2_answer1", solution=True, task=2, count=1),
+        code_cell("assert np.allclose(screw_axis(w, p), ref(w, p))", "task2_test1", grade=True, task=2,
+                  count=2, outputs=first),
+        code_cell("assert np.allclose(S_list, S_ref)", "task2_test2", grade=True, task=2, count=3,
+                  outputs=[_error("AssertionError", 3, 1)]),
+        nbformat.v4.new_markdown_cell("## Task 3: the pose"),
+        code_cell("def poe_fk(M, S_list, theta):\n    return M\n\n\nT0 = poe_fk(M, S_list, THETA0)",
+                  "task3_answer1", solution=True, task=3, count=4),
+        code_cell("assert np.allclose(T0, fk(THETA0))", "task3_test1", grade=True, task=3, count=5,
+                  outputs=[_error("AssertionError", 5, 1)]),
+    ]
+    return nb
+
+
+def test_a_value_computed_by_a_function_of_its_cell_leads_to_that_function():
+    """``S_list``, computed in its answer cell by calling the cell's ``screw_axis``: its failing
+    test names ``screw_axis`` (whose own test failed) as the cause, and the note says so; a test
+    of ``T0`` (computed by ``poe_fk`` from ``S_list``) starts from ``screw_axis`` too."""
+    from tools.grading.robokin_nbgrader import FailureNotes
+    from tools.grading.robokin_nbgrader.failure_notes import trace
+
+    nb = _screw_notebook(screw_axis_fails=True)
+    kinds = [("answer" if c.metadata.get("nbgrader", {}).get("solution") else "code", c.source)
+             if c.cell_type == "code" else ("markdown", "") for c in nb.cells]
+    assert trace(kinds)[3]["S_list"].roots == {"S_list", "screw_axis"}
+    assert trace(kinds)[6]["T0"].roots == {"T0", "S_list", "screw_axis", "poe_fk"}
+    report: dict[str, Any] = {"pairs": [], "explained": {}}
+    failure = nbformat.from_dict(_error("AssertionError", 3, 1))
+    notes_ = FailureNotes(nb, 3, report)
+    notes_.pairs(failure)
+    text = "\n".join(notes_.lines(failure, []))
+    assert "This test failed because of `screw_axis` (Task 2): its own test task2_test1 failed." in text, text
+    assert "`S_list` (Task 2) is computed in its answer cell by your function `screw_axis`." in text, text
+    failure = nbformat.from_dict(_error("AssertionError", 5, 1))
+    text = "\n".join(FailureNotes(nb, 6, report).lines(failure, []))
+    assert "This test failed because of `screw_axis` (Task 2): its own test task2_test1 failed." in text, text
+    assert "`T0` (Task 3) is computed in its answer cell by your function `poe_fk`." in text, text
+
+
+def test_a_correct_function_does_not_take_the_blame_of_the_value_it_computes():
+    """``screw_axis`` passes its test (or ``robokin.check`` finds it correct): ``S_list``'s failing test
+    names ``S_list`` (its call is wrong), never ``screw_axis``; a function a test reaches only
+    through a value it computed is no suspect by that test (``x = f(x)``, ``f`` unchecked)."""
+    from tools.grading.robokin_nbgrader import FailureNotes
+
+    failure = nbformat.from_dict(_error("AssertionError", 3, 1))
+    for verdicts in ([], [{"quantity": "screw_axis", "status": "correct", "typical": False,
+                           "check": "poe.screw_axis", "message": "✔ screw_axis is correct"}]):
+        nb = _screw_notebook(screw_axis_fails=False)
+        report: dict[str, Any] = {"pairs": [[2, "poe.screw_axis", "screw_axis"]], "explained": {}}
+        report["wrong"] = {"S_list": "cross_sign"}
+        notes_ = FailureNotes(nb, 3, report)
+        asked = notes_.pairs(failure)
+        assert ("poe.screw_axis", "screw_axis") in asked, asked
+        text = "\n".join(notes_.lines(failure, verdicts))
+        cause = text.split("because of")[1].split(". Fix")[0]
+        assert "`S_list` (Task 2): its value is wrong for robokin.check" in cause, text
+        assert "screw_axis" not in cause, text
+    nb = nbformat.v4.new_notebook()
+    nb.cells = [
+        nbformat.v4.new_markdown_cell("## Task 1: R"),
+        code_cell("R = np.eye(3)\n\n\ndef change(value):\n    return value.T\n\n\nR = change(R)",
+                  "task1_answer1", solution=True, task=1, count=1),
+        code_cell("assert np.allclose(R, R_ref)", "task1_test1", grade=True, task=1, count=2,
+                  outputs=[_error("AssertionError", 2, 1)]),
+        code_cell("assert np.allclose(R @ R_ref, I)", "task1_test2", grade=True, task=1, count=3,
+                  outputs=[_error("AssertionError", 3, 1)]),
+    ]
+    text = "\n".join(FailureNotes(nb, 3, {"pairs": [], "explained": {}}).lines(
+        nbformat.from_dict(_error("AssertionError", 3, 1)), []))
+    assert "This test failed because of `R` (Task 1): its own test task1_test1 failed." in text, text

@@ -54,8 +54,10 @@ class FailureNotes:
     * among those answers, the ones whose own earlier test failed, whose cell raised,
       or that ``robokin.check`` found wrong are named as the root cause (the first
       in the chain: an answer that is wrong only because it uses another wrong one
-      is left out); a helper that a test reaches only through a function's body is
-      no suspect by that test, only by ``robokin.check``'s verdict;
+      is left out); a function of an answer cell that a test reaches only through a
+      function's body or a value computed by calling it (``S_list = ... screw_axis(...)``)
+      is no suspect by that test, only by its own tests and ``robokin.check``'s verdict;
+      the note says which functions of its cell computed such a value;
     * ``robokin.check`` is asked about those answers only, and a typical mistake is
       named only for a check run on the student's value of those very names;
     * a test that fails with a wrong type (``AttributeError``, ``TypeError``, ...)
@@ -139,10 +141,11 @@ class FailureNotes:
                 other = self.nb.cells[j]
                 if other.cell_type == "code" and utils.is_grade(other) and _errors(other) \
                         and task_of(other) == task:   # a test of another task is not its own
-                    roots = set().union(*(b.roots for b in all_reads[j].values())) if all_reads[j] else set()
-                    # a helper the test reaches only through the body of a function of its cell is
-                    # not on trial there: robokin.check's verdict on it decides
-                    if name in roots and not any(name in helpers.get(other, ()) for other in roots):
+                    # a function the test reaches only through the body of a function of its cell,
+                    # or through a value computed by calling it there, is not on trial there:
+                    # robokin.check's verdict on it decides
+                    if any(name in b.roots and not any(name in helpers.get(root, ()) for root in b.roots)
+                           for b in all_reads[j].values()):
                         failed.append(other.metadata["nbgrader"]["grade_id"])
             if failed:
                 why[name] = f"own test {failed[0]} failed" if len(failed) == 1 else \
@@ -197,6 +200,7 @@ class FailureNotes:
         if self.yours:
             out.append(f"  It checks your answer{'s' if len(self.yours) > 1 else ''} "
                        f"{self._named(self.yours)}.")
+        out += self._computed_lines()
         derived = {n: b for n, b in self.derived.items() if n not in self._hidden_names()}
         if derived:
             upstream = sorted(set().union(*(b.roots for b in derived.values())))
@@ -274,6 +278,28 @@ class FailureNotes:
         except SyntaxError:
             return set()
 
+    def _computed_lines(self) -> list[str]:
+        """A line for each answer this test reads that its answer cell computes by calling
+        functions of that cell: the student is led to those functions."""
+        out = []
+        for name in sorted(self.yours):
+            functions = self._computed_by(name)
+            if functions:
+                listed = ", ".join(f"`{function}`" for function in functions)
+                out.append(f"  {self._named([name])} is computed in its answer cell by your "
+                           f"function{'s' if len(functions) > 1 else ''} {listed}.")
+        return out
+
+    def _computed_by(self, name: str) -> tuple[str, ...]:
+        """The functions of its answer cell that the student's value ``name`` (read by this test)
+        is computed by (:func:`_cell_functions_used`); none for a function."""
+        binding = self.yours.get(name)
+        if binding is None:
+            return ()
+        modules = _module_names(code for kind, code in self._kinds if kind in ("answer", "code"))
+        found = _cell_functions_used(self.nb.cells[binding.cell].source, modules)
+        return next((calls for bound, _, calls in found if bound == name), ())
+
     def _task_of_name(self, name: str) -> int | None:
         cell = self.answer_cell.get(name)
         return task_of(self.nb.cells[cell]) if cell is not None else None
@@ -315,10 +341,10 @@ def trace(cells: list[tuple[str, str]]) -> list[dict[str, Binding]]:
             parts = [("code", _with_mutations(statement, modules)) for statement in statements]
             # the names an answer cell binds are the student's answers, each its own root
             parts += [("answer", f"{name} = {name}") for name in defined_names(code) if kind == "answer"]
-            # ... and each uses the functions of its cell that its statements call, however deep
+            # ... and each uses the functions of its cell that it calls or its body calls, however deep
             if kind == "answer":
                 parts += [("answer", f"{name} = ({name}, {', '.join(helpers)})")
-                          for name, helpers, _ in _cell_functions_used(code)]
+                          for name, helpers, _ in _cell_functions_used(code, modules)]
         for part in parts or [("code", "")]:
             expanded.append(part)
             owner.append(index)
@@ -412,12 +438,15 @@ def _with_mutations(statement: str, modules: frozenset[str] = frozenset()) -> st
 
 
 @functools.lru_cache(maxsize=MEMO_SIZE)
-def _cell_functions_used(code: str) -> tuple[tuple[str, tuple[str, ...], tuple[str, ...]], ...]:
-    """For each function an answer cell defines, the functions of the same cell that its body
-    calls, transitively (twice: all it uses, and those it reaches through a body, the same for
-    a function): ``my_leg_ik``, whose body calls ``ankle_angles`` of its cell, uses
-    ``ankle_angles``. Only functions with such helpers, in order of definition; parsed, never
-    run. Memoised per source string."""
+def _cell_functions_used(code: str, modules: frozenset[str] = frozenset()) \
+        -> tuple[tuple[str, tuple[str, ...], tuple[str, ...]], ...]:
+    """For each name an answer cell binds, the functions of the same cell it uses, transitively,
+    and, for a value, those its own statements call: ``my_leg_ik``, whose body calls
+    ``ankle_angles`` of its cell, uses ``ankle_angles``; ``Q_mine = my_leg_ik(T)`` is computed by
+    ``my_leg_ik`` and uses both (a value of the cell that its statements read passes its functions
+    on: ``rows = [screw_axis(w, p) ...]`` then ``S_list = np.array(rows)``; a list changed in place
+    too, ``modules`` as in :func:`_with_mutations`). Only names with such functions, in order of
+    binding; parsed, never run. Memoised per ``(code, modules)``."""
     import ast
 
     statements = _top_level(code)
@@ -431,10 +460,13 @@ def _cell_functions_used(code: str) -> tuple[tuple[str, tuple[str, ...], tuple[s
             continue
         functions |= {node.name for node in tree.body
                       if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef))}
+    # a function: the functions its body calls; a value: those its statements call, and the
+    # functions of the values of the cell bound before them that they read
     direct: dict[str, set[str]] = {}
     for statement in statements:
-        read = free_names(statement) & functions
-        for name in defined_names(statement):
+        free = free_names(statement)
+        read = (free & functions).union(*(direct.get(name, ()) for name in free - functions))
+        for name in defined_names(_with_mutations(statement, modules)):
             direct.setdefault(name, set()).update(read - {name})
 
     def closure(start) -> set[str]:
@@ -448,23 +480,23 @@ def _cell_functions_used(code: str) -> tuple[tuple[str, tuple[str, ...], tuple[s
 
     out = []
     for name, helpers in direct.items():
-        # a function's reads are in its body; a value's calls at the top level stay as they were
-        used = closure(helpers) - {name} if name in functions else set()
+        used = closure(helpers) - {name}
         if used:
-            out.append((name, tuple(sorted(used)), tuple(sorted(used))))
+            out.append((name, tuple(sorted(used)), () if name in functions else tuple(sorted(helpers))))
     return tuple(out)
 
 
 def _helpers(kinds: list[tuple[str, str]]) -> dict[str, tuple[str, ...]]:
-    """``{answer name: the functions of its answer cell it reaches only through a function's
-    body}`` (:func:`_cell_functions_used`) for the answer cells of ``kinds``; a later cell's
-    binding replaces an earlier one."""
+    """``{answer name: the functions of its answer cell it uses}`` (:func:`_cell_functions_used`)
+    for the answer cells of ``kinds``: a test that reads the name reaches them only through a
+    function's body or a value's computation. A later cell's binding replaces an earlier one."""
+    modules = _module_names(code for kind, code in kinds if kind in ("answer", "code"))
     out: dict[str, tuple[str, ...]] = {}
     for kind, code in kinds:
         if kind == "answer":
             for name in defined_names(code):
                 out.pop(name, None)
-            out.update((name, inner) for name, _, inner in _cell_functions_used(code))
+            out.update((name, used) for name, used, _ in _cell_functions_used(code, modules))
     return out
 
 
