@@ -161,6 +161,46 @@ def test_fk_spurious_root_is_named():
     assert r.diagnosis == "error"
 
 
+def twin_by_hand(pose):
+    """The twin from the loop equations written out: B1' = -R(phi)^T B1, orientation -phi."""
+    x, y, phi = pose
+    return np.array([-(math.cos(phi) * x + math.sin(phi) * y), math.sin(phi) * x - math.cos(phi) * y,
+                     -phi])
+
+
+def test_twin_pose_correct_in_any_angle_range():
+    from robokin.models.three_rpr import three_rpr
+
+    robot = three_rpr()
+    poses = np.random.default_rng(1).uniform([-0.5, -0.5, -3.0], [1.0, 1.0, 3.0], (30, 3))
+    twins = np.array([twin_by_hand(p) for p in poses])
+    assert np.allclose(robot.inverse_kinematics(twins), robot.inverse_kinematics(poses), atol=1e-12)
+    for answer in (twin_by_hand, lambda p: twin_by_hand(p) + [0.0, 0.0, 2 * math.pi]):
+        r = chk.twin_pose(answer, quiet=True)
+        assert r.passed and r.diagnosis is None, r.message
+
+
+WRONG_TWIN = {
+    "mirror_image": lambda p: np.array([p[0], -p[1], -p[2]]),
+    "orientation_only": lambda p: np.array([p[0], p[1], -p[2]]),
+    "rotation_transposed": lambda p: twin_by_hand(np.array([p[0], p[1], -p[2]])) * [1, 1, -1],
+    "sign": lambda p: twin_by_hand(p) * [-1, -1, 1],
+}
+
+
+@pytest.mark.parametrize("code", list(WRONG_TWIN))
+def test_twin_pose_mistakes_are_diagnosed(code):
+    r = chk.twin_pose(WRONG_TWIN[code], quiet=True)
+    assert not r.passed and r.diagnosis == code, r.message
+
+
+def test_twin_pose_other_answers():
+    assert chk.twin_pose(lambda p: p, quiet=True).diagnosis == "mismatch"
+    assert chk.twin_pose(lambda p: -p, quiet=True).diagnosis == "mismatch"
+    assert chk.twin_pose(lambda p: p[:2], quiet=True).diagnosis == "shape"
+    assert chk.twin_pose(None, quiet=True).diagnosis == "error"
+
+
 def test_fk_bad_answers():
     assert chk.forward_kinematics(np.zeros(3), quiet=True).diagnosis == "constant"
     assert chk.forward_kinematics(lambda rho: None, quiet=True).diagnosis == "error"

@@ -12,6 +12,8 @@ check                    the student's answer                             compar
 ``forward_kinematics``   function ``fk(rho)`` -> one pose (3,) or           the assembly modes of
                          several (k, 3)                                   ``robot.forward_kinematics``
 ``inverse_jacobian``     function ``A(pose)`` -> 3×3 with ρ̇ = A ẋ          ``robot.jacobian``
+``twin_pose``            function ``twin_pose(pose)`` -> the pose at −φ    its closed form, at 20
+                         with the same leg lengths (3,)                    random poses (φ mod 2π)
 =======================  ===============================================  ============================
 
 A forward-kinematics answer is accepted when every pose it returns is one of the
@@ -48,7 +50,7 @@ from robokin.check._registry import exercise
 from robokin.errors import DomainError
 from robokin.validation import as_vector, check_positive
 
-__all__ = ["check_poses", "forward_kinematics", "inverse_jacobian", "inverse_kinematics"]
+__all__ = ["check_poses", "forward_kinematics", "inverse_jacobian", "inverse_kinematics", "twin_pose"]
 
 _CHAPTER = "three_rpr"
 
@@ -207,6 +209,88 @@ inverse_jacobian = exercise(_CHAPTER, "inverse_jacobian", Check(
     hint=("Row i gives ρ̇_i: differentiate ρ_i = ‖B_i − A_i‖ along the platform motion (ẋ, ẏ, φ̇), "
           "with (x, y) the point B1 and the platform turning about it."),
     doc="Check a function A(pose) -> 3×3 inverse Jacobian of the exercise robot (ρ̇ = A ẋ).",
+))
+
+
+# ------------------------------------------------------------------ the twin pose
+def _twin_reference(pose: np.ndarray) -> np.ndarray:
+    """The pose with the orientation −φ and the leg lengths of ``pose`` (the exercise's robot).
+
+    The platform is congruent to the base, E_i = (z − 1) a_i with z = e^{iφ}; at z̄ the same
+    equations hold for w' = −z̄ w: (x', y') = −R(φ)ᵀ(x, y).
+    """
+    return np.r_[-(_rot(pose[2]).T @ pose[:2]), -pose[2]]
+
+
+def _twin_mistakes() -> list[tuple[str, Callable[[np.ndarray], np.ndarray], str]]:
+    return [
+        ("mirror_image", lambda p: np.array([p[0], -p[1], -p[2]]), (
+            "{name} returns (x, −y, −φ), the pose mirrored in the x axis: A_1, A_2 and b_1, b_2 "
+            "lie on that axis, so ρ1 and ρ2 keep their values, but A_3 and b_3 do not, and ρ3 "
+            "changes. Subtract the loop equations at −φ and solve them for the position.")),
+        ("orientation_only", lambda p: np.array([p[0], p[1], -p[2]]), (
+            "{name} keeps the position (x, y) and negates φ only: with B1 in place, turning the "
+            "platform changes ρ2 and ρ3. The position of the twin moves too.")),
+        ("rotation_transposed", lambda p: np.r_[-(_rot(p[2]) @ p[:2]), -p[2]], (
+            "{name} rotates the position by +φ where the twin needs the opposite turn: R(φ) "
+            "and R(φ)ᵀ = R(−φ) differ.")),
+        ("sign", lambda p: np.r_[_rot(p[2]).T @ p[:2], -p[2]], (
+            "{name} has the position with the wrong sign: its leg lengths differ from the "
+            "pose's. Check the sign with a pose of your own and the inverse kinematics.")),
+    ]
+
+
+class _TwinPoseCheck(FunctionCheck):
+    """Check a function ``twin_pose(pose)`` -> the pose (3,) at −φ with the same leg lengths."""
+
+    def judge(self, answer: Any) -> CheckResult:
+        X = self.sample_points()
+        n = len(X)
+        got = []
+        for x in X:
+            out = self.call(answer, (x.copy(),), samples=n)
+            try:
+                out = np.array(out, dtype=float)
+            except (TypeError, ValueError):
+                return self.failure("error", f"{self.name} must return numbers (x, y, φ); got "
+                                             f"{type(out).__name__}.", n)
+            if out.shape != (3,):
+                return self.failure("shape", f"{self.name} must return a pose (x, y, φ) of shape "
+                                             f"(3,); got shape {out.shape}.", n)
+            got.append(out)
+        S = np.array(got)
+        if not np.all(np.isfinite(S)):
+            return self.failure("error", f"{self.name} gives NaN or infinite values.", n)
+
+        def same(P: np.ndarray, Q: np.ndarray) -> bool:
+            turn = np.angle(np.exp(1j * (P[:, 2] - Q[:, 2])))
+            return bool(np.allclose(P[:, :2], Q[:, :2], atol=1e-8) and np.abs(turn).max() < 1e-8)
+
+        R = np.array([_twin_reference(x) for x in X])
+        if same(S, R):
+            return self.success(f"{self.name} is correct (checked at {n} random poses).", n)
+        for code, mistake, message in _twin_mistakes():
+            if same(S, np.array([mistake(x) for x in X])):
+                return self.failure(code, message.format(name=self.name), n)
+        robot = _robot()
+        k = int(np.argmax(np.abs(S - R).max(axis=1)))
+        if abs(np.angle(np.exp(1j * (S[k, 2] + X[k, 2])))) > 1e-8:
+            return self.failure("mismatch", f"{self.name}({fmt(X[k])}) = {fmt(S[k])} does not have "
+                                            f"the orientation −φ = {fmt(-X[k, 2])} rad.", n)
+        return self.failure("mismatch", (
+            f"{self.name}({fmt(X[k])}) = {fmt(S[k])}: its leg lengths are "
+            f"{fmt(robot.inverse_kinematics(S[k]))}, the pose's are "
+            f"{fmt(robot.inverse_kinematics(X[k]))}. The twin has the same three leg lengths."), n)
+
+
+twin_pose = exercise(_CHAPTER, "twin_pose", _TwinPoseCheck(
+    name="twin_pose(pose)",
+    signature="twin_pose(pose) -> pose",
+    variables=_POSE,
+    groups=_GROUP,
+    noun="poses",
+    doc=("Check a function twin_pose(pose) -> the pose (3,) of the exercise robot with the "
+         "orientation −φ and the same leg lengths."),
 ))
 
 
