@@ -9,7 +9,7 @@ check                    the student's answer                                   
 ``trapezoid_time``       ``trapezoid_time(distance, v_max, a_max)`` -> T (s)    the minimum time
 ``synchronised_motion``  ``synchronised_motion(t, q_start, q_end, v_max,        ``joint_trajectory``
                          a_max)`` -> positions, velocities, accelerations
-``least_duration``       ``least_duration(q_start, q_end, v_max, a_max)`` -> T  the slowest joint's
+``least_duration``       ``least_duration(q_start, q_end, v_max, a_max)`` -> T  robokin's duration
 ``via_point_cubics``     ``via_point_cubics(points, durations)`` -> (m, 4, n)   cubics through the via
                          coefficients a0..a3 per segment and joint              points, rule's velocities
 ``slerp``                ``slerp(q0, q1, s)`` -> unit quaternion (4,)           ``quaternion_slerp``
