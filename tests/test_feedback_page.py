@@ -475,3 +475,28 @@ def test_a_correct_function_does_not_take_the_blame_of_the_value_it_computes():
     text = "\n".join(FailureNotes(nb, 3, {"pairs": [], "explained": {}}).lines(
         nbformat.from_dict(_error("AssertionError", 3, 1)), []))
     assert "This test failed because of `R` (Task 1): its own test task1_test1 failed." in text, text
+
+
+def test_an_answer_one_check_finds_wrong_is_a_cause_though_another_finds_it_correct():
+    """Two checks of ``leg_ik``: one finds a solution branch missing, the other (every returned
+    solution reproduces its pose) finds it correct; the wrong verdict names ``leg_ik`` as the cause."""
+    from tools.grading.robokin_nbgrader import FailureNotes
+
+    nb = nbformat.v4.new_notebook()
+    nb.cells = [
+        nbformat.v4.new_markdown_cell("## Task 1: the leg"),
+        code_cell("def leg_ik(T):\n    return [T]", "task1_answer1", solution=True, task=1, count=1),
+        code_cell("assert len(leg_ik(1.0)) == 8", "task1_test1", grade=True, task=1, count=2,
+                  outputs=[_error("AssertionError", 2, 1)]),
+    ]
+    failure = nbformat.from_dict(_error("AssertionError", 2, 1))
+    report: dict[str, Any] = {"pairs": [[1, "ar601.leg_ik", "leg_ik"], [1, "leg.ik", "leg_ik"]], "explained": {}}
+    notes_ = FailureNotes(nb, 2, report)
+    assert notes_.pairs(failure) == [("ar601.leg_ik", "leg_ik"), ("leg.ik", "leg_ik")]
+    verdicts = [{"quantity": "leg_ik", "check": "ar601.leg_ik", "status": "wrong", "typical": True,
+                 "diagnosis": "knee_branch_missing", "message": "✘ leg_ik returns only q4 ≥ 0"},
+                {"quantity": "leg_ik", "check": "leg.ik", "status": "correct", "typical": False,
+                 "message": "✔ ik(T) is correct"}]
+    text = "\n".join(notes_.lines(failure, verdicts))
+    assert ("This test failed because of `leg_ik` (Task 1): its value is wrong for robokin.check "
+            "(knee_branch_missing).") in text, text

@@ -219,7 +219,9 @@ class FailureNotes:
                 cell = self.yours[name].cell
                 out.append(f"  `{name}` was never defined: your answer cell of Task "
                            f"{task_of(self.nb.cells[cell])} did not finish (see its error above it).")
-        correct = frozenset(v["quantity"] for v in verdicts if v.get("status") == "correct")
+        # right for every check that asks about it (another check may find a mistake this one misses)
+        correct = frozenset(v["quantity"] for v in verdicts if v.get("status") == "correct") - \
+            {v["quantity"] for v in verdicts if v.get("status") in ("wrong", "missing")}
         # robokin.check finds an answer this test depends on wrong: a suspect from this test on
         found_wrong = {v["quantity"]: v.get("diagnosis") or "wrong" for v in verdicts
                        if v.get("status") == "wrong" and v["quantity"] in self.roots - correct}
