@@ -500,3 +500,41 @@ def test_an_answer_one_check_finds_wrong_is_a_cause_though_another_finds_it_corr
     text = "\n".join(notes_.lines(failure, verdicts))
     assert ("This test failed because of `leg_ik` (Task 1): its value is wrong for robokin.check "
             "(knee_branch_missing).") in text, text
+
+
+def test_where_to_start_lists_only_the_tests_that_depend_on_each_answer():
+    """``screw_axis`` and ``S_list`` are each found wrong by robokin.check (the same reason) under their
+    own tests: Where to start lists task2_test1 for ``screw_axis`` only, task2_test2 for ``S_list`` only."""
+    from tools.grading.robokin_nbgrader import AutograderReport, FailureNotes
+
+    nb = nbformat.v4.new_notebook()
+    nb.cells = [
+        nbformat.v4.new_markdown_cell("## Task 2: screw axes"),
+        code_cell("def screw_axis(omega, point):\n    return omega + point", "task2_answer1", solution=True,
+                  task=2, count=1),
+        code_cell("S_list = np.array([omega + point for omega, point in frames])", "task2_answer2",
+                  solution=True, task=2, count=2),
+        code_cell("assert np.allclose(screw_axis(w, p), ref(w, p))", "task2_test1", grade=True, task=2,
+                  count=3, outputs=[_error("AssertionError", 3, 1)]),
+        code_cell("assert np.allclose(S_list, S_ref)", "task2_test2", grade=True, task=2, count=4,
+                  outputs=[_error("AssertionError", 4, 1)]),
+    ]
+    report: dict[str, Any] = {"pairs": [[2, "poe.screw_axis", "screw_axis"], [2, "poe.screw_list", "S_list"]],
+                              "explained": {}, "incidents": []}
+    verdicts = []
+    for index, name in [(3, "screw_axis"), (4, "S_list")]:
+        failure = nbformat.from_dict(_error("AssertionError", index, 1))
+        verdict = {"quantity": name, "check": f"poe.{name}", "status": "wrong", "typical": True,
+                   "diagnosis": "cross_sign", "message": f"✘ {name} has the wrong sign"}
+        notes_ = FailureNotes(nb, index, report)
+        notes_.pairs(failure)
+        notes_.lines(failure, [verdict])
+        verdicts.append(verdict)
+    report["verdicts"] = verdicts
+    page = AutograderReport().preprocess(nb, {"robokin": report})[0].cells[0].source
+    start = page.split("**Where to start**")[1].strip().splitlines()
+    assert start == [
+        "- `S_list` (Task 2): its value is wrong for robokin.check (cross_sign); the failing test task2_test2 "
+        "depends on it. Fix it first.",
+        "- `screw_axis` (Task 2): its value is wrong for robokin.check (cross_sign); the failing test "
+        "task2_test1 depends on it. Fix it first."], start

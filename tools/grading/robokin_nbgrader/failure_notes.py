@@ -237,11 +237,13 @@ class FailureNotes:
             items = "; ".join(f"{self._named(names)}: {'its' if len(names) == 1 else 'their'} {why}"
                               for (_, why), names in groups.items())
             out.append(f"  This test failed because of {items}. Fix that first: this test may then pass.")
+            # one entry per answer and reason: a test depends on the answers of its own note only
             record = self.report.setdefault("causes", {})
             for (task, why), names in groups.items():
-                entry = record.setdefault(f"{task}|{why}", {"task": task, "why": why, "names": [], "tests": []})
-                entry["names"] = sorted(set(entry["names"]) | set(names))
-                entry["tests"].append(self.grade_id)
+                for name in names:
+                    entry = record.setdefault(f"{task}|{why}|{name}",
+                                              {"task": task, "why": why, "names": [name], "tests": []})
+                    entry["tests"].append(self.grade_id)
         checked = {name for v in verdicts if v.get("status") not in ("info", "skipped")
                    for name in identifier_names(v["quantity"])}
         infos: dict[str, list[str]] = {}
