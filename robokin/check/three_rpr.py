@@ -12,8 +12,8 @@ check                    the student's answer                             compar
 ``forward_kinematics``   function ``fk(rho)`` -> one pose (3,) or           the assembly modes of
                          several (k, 3)                                   ``robot.forward_kinematics``
 ``inverse_jacobian``     function ``A(pose)`` -> 3×3 with ρ̇ = A ẋ          ``robot.jacobian``
-``twin_pose``            function ``twin_pose(pose)`` -> the pose at −φ    its closed form, at 20
-                         with the same leg lengths (3,)                    random poses (φ mod 2π)
+``twin_pose``            function ``twin_pose(pose)`` -> the pose at −φ   its closed form, at 20
+                         with the same leg lengths (3,)                   random poses (φ mod 2π)
 =======================  ===============================================  ============================
 
 A forward-kinematics answer is accepted when every pose it returns is one of the
