@@ -1,6 +1,6 @@
 """The relations between robokin's geometric Jacobian and Lynch and Park's space and body
-Jacobians stated on the conventions page (book/conventions.md, "Velocities, twists and
-Jacobians"), checked numerically on the UR10.
+Jacobians, which the conventions page (book/conventions.md, "Velocities, twists and Jacobians")
+leaves to chapter 8's Tasks 4-5, checked numerically on the UR10.
 
 robokin: J = [J_v; J_ω], v = ṗ the velocity of the end-effector origin, ω the angular
 velocity, both in the base frame B.
