@@ -212,3 +212,18 @@ def test_an_unreachable_answer_set_is_empty_for_arm_angles():
 def test_delegation_names_the_closed_form():
     assert set(chk.DELEGATION) == {"wrist_centre", "shoulder_angles", "wrist_angles", "arm_angles", "all_solutions"}
     assert all("ur10_ik" in table for table in chk.DELEGATION.values())
+
+
+@pytest.mark.parametrize("name", ["wrist_centre", "shoulder_angles", "wrist_angles", "arm_angles", "all_solutions"])
+def test_help_and_repr_show_no_closed_form(name):
+    """What a student sees of a check before answering (``help()``, the bare name in a cell, the
+    module's help) names the function and its contract, not a message of a typical mistake."""
+    import pydoc
+
+    item = getattr(chk, name)
+    shown = [repr(item), pydoc.render_doc(item, renderer=pydoc.plaintext),
+             pydoc.render_doc(chk, renderer=pydoc.plaintext)]
+    assert name in shown[0] and item.signature in shown[0]
+    for text in shown:
+        for formula in ("arccos", "arcsin", "atan2(", "d6 z6", "p5 − d5", "π/2", "y6·z1"):
+            assert formula not in text, (name, formula)

@@ -186,8 +186,24 @@ def _same_rows(S: np.ndarray, W: np.ndarray, atol: float) -> bool:
 
 
 # ------------------------------------------------------------------ the check class
-@dataclass
-class _PoseSetCheck(SolutionSetCheck):
+class _ShortRepr:
+    """A check's repr (what ``help()`` and a bare name in a notebook show): its name and
+    signature only. The dataclass repr listed every field, the messages of the typical
+    mistakes with the closed forms among them, before the student had written a line."""
+
+    name: str
+    signature: str
+
+    def __repr__(self) -> str:
+        return f"<robokin.check.{_CHAPTER}.{self.name}: {self.signature}>"
+
+
+class _CentreCheck(_ShortRepr, MatrixArgumentsCheck):
+    """The check of ``wrist_centre``: a :class:`MatrixArgumentsCheck` with the short repr."""
+
+
+@dataclass(repr=False)
+class _PoseSetCheck(_ShortRepr, SolutionSetCheck):
     """A :class:`SolutionSetCheck` of a function of the flange pose (and earlier angles).
 
     ``arguments(q)`` gives the student's function's arguments for the generating
@@ -261,7 +277,7 @@ def _wrist_centre_mistakes():
     ]
 
 
-wrist_centre = exercise(_CHAPTER, "wrist_centre", MatrixArgumentsCheck(
+wrist_centre = exercise(_CHAPTER, "wrist_centre", _CentreCheck(
     name="wrist_centre",
     reference=lambda x: np.asarray(_robot().frames(np.asarray(x, dtype=float))[6][:3, 3], dtype=float),
     variables=_Q,
