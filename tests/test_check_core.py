@@ -482,3 +482,20 @@ def test_packed_variants_are_the_loop_with_its_mistake_packed():
     variant = packed_variants(loop, lambda x: (x[0], x[1]), np.asarray)
     x = np.array([2.0, 5.0])
     assert np.array_equal(variant()(x), [2.0, 5.0]) and np.array_equal(variant(sign=-1.0)(x), [-2.0, 5.0])
+
+
+def test_a_checks_repr_names_it_and_shows_no_message():
+    """``help(check)`` and a cell that ends with a check show its repr: the name, not the
+    messages of its typical mistakes (which hold the answer's formula)."""
+    secret = alternatives("swap_xy", [(lambda x: np.array([np.sin(x[0]), np.cos(x[0])]),
+                                       "{name} has x and y swapped: use (cos a, sin a).")])
+    made = [
+        check.Check(name="u", reference=lambda x: x, variables=[Variable("a")], diagnoses=[secret]),
+        MatrixArgumentsCheck(name="pair(v)", reference=lambda x: x, variables=[Variable("a")],
+                             arguments=lambda x: (x,), signature="pair(v) -> v", diagnoses=[secret]),
+        FunctionCheck(name="f", variables=[Variable("a")], diagnoses=[secret]),
+        check.SolutionSetCheck(name="heading", variables=[Variable("t")], reference=lambda x: x,
+                               diagnoses=[secret]),
+    ]
+    for item in made:
+        assert item.name in repr(item) and "swapped" not in repr(item) and len(repr(item)) < 80, repr(item)

@@ -648,7 +648,7 @@ def _normalise_vector(S: np.ndarray, ref_shape: tuple[int, ...]) -> np.ndarray:
     return S
 
 
-@dataclass
+@dataclass(repr=False)
 class Check:
     """An exercise check: a reference, its inputs and the mistakes to look for.
 
@@ -731,6 +731,14 @@ class Check:
         return ", ".join(f"{v.label} = {fmt(xi)}" for v, xi in zip(self.variables, x))
 
     # -- the call
+    def __repr__(self) -> str:
+        """The check's name only, in ``help()`` and under a cell that ends with the check.
+
+        The dataclass repr listed every field, the messages of the typical mistakes among
+        them, which hold the answer's formula, before the student had answered.
+        """
+        return f"<robokin check of {self.name}>"
+
     def __call__(
         self, answer: Any, *, raise_on_fail: bool = False, quiet: bool = False
     ) -> CheckResult:
@@ -882,7 +890,7 @@ def not_a_function(name: str, signature: str, answer: Any) -> CheckResult:
                        f"got {type(answer).__name__}.", "constant", 0)
 
 
-@dataclass
+@dataclass(repr=False)
 class MatrixArgumentsCheck(Check):
     """A :class:`Check` whose answer is a function of arrays (matrices, vectors, gains).
 
@@ -963,7 +971,7 @@ def _no_reference(x: np.ndarray) -> np.ndarray:
     return np.zeros(1)
 
 
-@dataclass
+@dataclass(repr=False)
 class FunctionCheck(Check):
     """A check whose answer is a Python function that it calls on inputs of its own.
 

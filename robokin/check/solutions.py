@@ -189,7 +189,7 @@ def solution_set(solutions: Any, reference: Any, name: str = "solutions", *, ato
                   raise_on_fail=raise_on_fail, quiet=quiet)
 
 
-@dataclass
+@dataclass(repr=False)
 class SolutionSetCheck(Check):
     r"""A check of a function that returns *every* solution: each once, in any order.
 
