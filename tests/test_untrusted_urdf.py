@@ -79,7 +79,7 @@ def test_loading_time_grows_linearly_with_the_links(tmp_path):
     small, large = _load_time(tmp_path, 1_000), _load_time(tmp_path, 8_000)
     # 8x the links: linear ~8x, quadratic ~64x. The bound 20 lies between the two with room on
     # each side for what CPU time still varies by (caches shared with other processes, the
-    # garbage collector): measured 8.0-8.9x with the machine idle to overloaded (load 4-7).
+    # garbage collector): measured 8.0-8.9x at load 4-7 (other work and two busy loops).
     assert large / small < 20, f"1,000 links {small:.3f} CPU-s, 8,000 links {large:.3f} CPU-s"
 
 
