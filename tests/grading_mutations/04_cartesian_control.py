@@ -218,14 +218,30 @@ def kinematic_loop(twist_of, q0, ts=TS, t_end=T_END, robot=tool_arm):
     return np.array(Q), np.array(V)
 '''
 
-# the run with the twist in the course's order [w; v]
-_RUN_COURSE_ORDER = _TWIST_COURSE_ORDER + '''
-Q_run, V_run = kinematic_loop(my_twist, Q0)
+# the run made with a ten times finer step than the exercise's
+_RUN_FINER_STEP = """
+Q_run, V_run = kinematic_loop(my_twist, Q0, ts=TS / 10)
 k_stop = len(Q_run) - 1
 q_final = Q_run[-1]
 T_final = tool_arm.fk(q_final)
 e_final = pose_error(T_final, T_BG)
-'''
+"""
+
+# the final pose of the end-effector, without the tool
+_FINAL_END_EFFECTOR = """
+T_final = arm.fk(q_final)
+e_final = pose_error(T_final, T_BG)
+"""
+
+# the final error from the goal to the tool (sign)
+_FINAL_ERROR_SIGN = """
+e_final = pose_error(T_BG, T_final)
+"""
+
+# the final error stacked in the course's order [e_o; e_p]
+_FINAL_ERROR_ORDER = """
+e_final = np.r_[pose_error(T_final, T_BG)[3:], pose_error(T_final, T_BG)[:3]]
+"""
 
 # the RPY difference without wrapping the yaw into (-pi, pi]
 _UNWRAPPED = """
@@ -410,11 +426,14 @@ MUTATIONS = {
         ("the Euler step multiplied by the gain again", _STEP_WITH_GAIN),
         ("the Euler step without the time step", _STEP_WITHOUT_TS),
     ],
+    # the run's own mistakes: a wrong loop (task4_test1) or twist (task3_test1) loses the points
+    # of its own test only, the run is graded as a correct use of them
     "task4_test2": [
-        ("the step taken before the stop test", _STEP_THEN_TEST),
-        ("the stop test on the error instead of the twist", _STOP_ON_ERROR),
-        ("the twist stacked [w; v] in the loop", _RUN_COURSE_ORDER),
         ("k_stop counts samples instead of steps", "k_stop = len(Q_run)"),
+        ("the run with a ten times finer step", _RUN_FINER_STEP),
+        ("T_final of the end-effector, without the tool", _FINAL_END_EFFECTOR),
+        ("e_final from the goal to the tool", _FINAL_ERROR_SIGN),
+        ("e_final stacked [e_o; e_p]", _FINAL_ERROR_ORDER),
     ],
     "task4_test3": [
         ("the (roll, pitch, yaw) run with the YPR tool", _SWAPPED_RUN_KEEPS_TOOL),
@@ -422,8 +441,6 @@ MUTATIONS = {
         ("joints at a limit counted strictly beyond it", _LIMITS_STRICT),
         ("off_line taken as the length of the chord", _OFF_LINE_CHORD),
         ("off_line in millimetres", _OFF_LINE_MM),
-        ("the report's skip rule instead of clamping", _SKIP_RULE),
-        ("the twist stacked [w; v] in the loop", _RUN_COURSE_ORDER),
     ],
     "task4_test4": [
         ("the factor per step taken as exp(-kappa ts)",
