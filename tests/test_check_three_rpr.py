@@ -201,6 +201,65 @@ def test_twin_pose_other_answers():
     assert chk.twin_pose(None, quiet=True).diagnosis == "error"
 
 
+def cramer_by_hand(phi, rho, robot):
+    """(N, Delta) of Cramer's rule for the pair (w, conj w), written out."""
+    a = robot.base_anchors @ [1.0, 1j]
+    b = robot.platform_anchors @ [1.0, 1j]
+    E2, E3 = np.exp(1j * phi) * (b[1:] - b[0]) - (a[1:] - a[0])
+    r2, r3 = rho[1:] ** 2 - rho[0] ** 2 - np.abs([E2, E3]) ** 2
+    return r2 * E3 - r3 * E2, np.conj(E2) * E3 - E2 * np.conj(E3)
+
+
+def test_cramer_parts_correct_with_any_common_factor():
+    from robokin.models.three_rpr import CLASSIC_RHO, three_rpr_classic
+
+    robot = three_rpr_classic()
+    for mode in robot.forward_kinematics(CLASSIC_RHO).poses:   # N / Delta is B1 - A1 at every mode
+        N, Delta = cramer_by_hand(mode[2], CLASSIC_RHO, robot)
+        u = robot.platform_points(mode)[0] - robot.base_anchors[0]
+        assert abs(N / Delta - complex(*u)) < 1e-9
+    for answer in (cramer_by_hand,
+                   lambda phi, rho, robot: tuple(np.exp(2j * phi) * v for v in cramer_by_hand(phi, rho, robot))):
+        r = chk.cramer_parts(answer, quiet=True)
+        assert r.passed and r.diagnosis is None, r.message
+
+
+def _cramer_without_norms(phi, rho, robot):
+    a = robot.base_anchors @ [1.0, 1j]
+    b = robot.platform_anchors @ [1.0, 1j]
+    E2, E3 = np.exp(1j * phi) * (b[1:] - b[0]) - (a[1:] - a[0])
+    r2, r3 = rho[1:] ** 2 - rho[0] ** 2
+    return r2 * E3 - r3 * E2, np.conj(E2) * E3 - E2 * np.conj(E3)
+
+
+WRONG_CRAMER = {
+    "conjugate": lambda *args: tuple(np.conj(cramer_by_hand(*args))),
+    "sign": lambda *args: (-cramer_by_hand(*args)[0], cramer_by_hand(*args)[1]),
+    "reciprocal": lambda *args: cramer_by_hand(*args)[::-1],
+    "missing_norms": _cramer_without_norms,
+}
+
+
+@pytest.mark.parametrize("code", list(WRONG_CRAMER))
+def test_cramer_parts_mistakes_are_diagnosed(code):
+    r = chk.cramer_parts(WRONG_CRAMER[code], quiet=True)
+    assert not r.passed and r.diagnosis == code, r.message
+
+
+def test_cramer_parts_other_answers():
+    def no_conjugates(phi, rho, robot):
+        N, _ = cramer_by_hand(phi, rho, robot)
+        a = robot.base_anchors @ [1.0, 1j]
+        b = robot.platform_anchors @ [1.0, 1j]
+        E2, E3 = np.exp(1j * phi) * (b[1:] - b[0]) - (a[1:] - a[0])
+        return N, E2 * E3
+
+    r = chk.cramer_parts(no_conjugates, quiet=True)
+    assert r.diagnosis == "mismatch" and "solves the two subtracted loop equations" in r.message
+    assert chk.cramer_parts(lambda phi, rho, robot: 3.0, quiet=True).diagnosis == "shape"
+    assert chk.cramer_parts(lambda phi, rho, robot: (1.0, 0.0), quiet=True).diagnosis == "error"
+
+
 def test_fk_bad_answers():
     assert chk.forward_kinematics(np.zeros(3), quiet=True).diagnosis == "constant"
     assert chk.forward_kinematics(lambda rho: None, quiet=True).diagnosis == "error"

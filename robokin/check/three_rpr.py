@@ -50,7 +50,9 @@ from robokin.check._registry import exercise
 from robokin.errors import DomainError
 from robokin.validation import as_vector, check_positive
 
-__all__ = ["check_poses", "forward_kinematics", "inverse_jacobian", "inverse_kinematics", "twin_pose"]
+__all__ = [
+    "check_poses", "cramer_parts", "forward_kinematics", "inverse_jacobian", "inverse_kinematics", "twin_pose",
+]
 
 _CHAPTER = "three_rpr"
 
@@ -291,6 +293,94 @@ twin_pose = exercise(_CHAPTER, "twin_pose", _TwinPoseCheck(
     noun="poses",
     doc=("Check a function twin_pose(pose) -> the pose (3,) of the exercise robot with the "
          "orientation −φ and the same leg lengths."),
+))
+
+
+# ------------------------------------------------------------------ Cramer's rule for w
+def _position_w(robot, phi: float, rho: np.ndarray, *, with_norms: bool = True) -> complex:
+    """w = B1 − A1 (a complex number) from the two subtracted loop equations at phi.
+
+    2 e_i · u = ρ_i² − ρ1² − |e_i|², e_i = R(φ)(b_i − b_1) − (A_i − A_1), i = 2, 3, solved as a
+    real 2×2 system; ``with_norms=False`` leaves out the |e_i|² (a typical mistake).
+    """
+    a, b = robot.base_anchors, robot.platform_anchors
+    e = (b[1:] - b[0]) @ _rot(phi).T - (a[1:] - a[0])
+    r = rho[1:] ** 2 - rho[0] ** 2 - (np.sum(e**2, axis=1) if with_norms else 0.0)
+    u = np.linalg.solve(2.0 * e, r)
+    return complex(u[0], u[1])
+
+
+class _CramerCheck(FunctionCheck):
+    """Check ``cramer_parts(phi, rho, robot)`` -> (N, Δ) with N/Δ = w = B1 − A1."""
+
+    def cases(self) -> list[tuple[Any, float, np.ndarray]]:
+        """(robot, φ, ρ): the classic robot and the exercise's, at seeded random φ and ρ."""
+        from robokin.models.three_rpr import CLASSIC_RHO, three_rpr_classic
+
+        rng = np.random.default_rng(self.seed)
+        out = []
+        for robot, rho in ((three_rpr_classic(), CLASSIC_RHO), (_robot(), np.array([0.5, 0.7, 0.6]))):
+            for phi in rng.uniform(0.3, 2.8, self.samples // 2) * rng.choice([-1.0, 1.0], self.samples // 2):
+                out.append((robot, float(phi), rho * rng.uniform(0.8, 1.2, 3)))
+        return out
+
+    def judge(self, answer: Any) -> CheckResult:
+        cases = self.cases()
+        n = len(cases)
+        got, ref = [], []
+        for robot, phi, rho in cases:
+            out = self.call(answer, (phi, rho.copy(), robot), samples=n)
+            try:
+                N, Delta = (complex(v) for v in out)
+            except (TypeError, ValueError):
+                return self.failure("shape", f"{self.name} must return two complex numbers (N, Δ); got "
+                                             f"{type(out).__name__}.", n)
+            if Delta == 0 or not np.isfinite(N / Delta):
+                return self.failure("error", f"{self.name} at φ = {fmt(phi)} rad gives N/Δ = {N}/{Delta}, "
+                                             "not a finite number.", n)
+            got.append(N / Delta)
+            ref.append(_position_w(robot, phi, rho))
+        S, R = np.array(got), np.array(ref)
+        scale = max(1.0, float(np.abs(R).max()))
+
+        def same(values: np.ndarray) -> bool:
+            return bool(np.abs(S - values).max() <= 1e-9 * scale)
+
+        if same(R):
+            return self.success(f"{self.name} is correct: N/Δ is B1 − A1 (checked at {n} random "
+                                "orientations and leg lengths, on two robots).", n)
+        mistakes = [
+            ("conjugate", np.conj(R), (
+                "N/Δ of {name} is the conjugate of w: Cramer's rule solved for w̄, not w (the "
+                "columns of the pair (w, w̄) exchanged).")),
+            ("sign", -R, (
+                "N/Δ of {name} is −w: a sign is wrong, in N or in Δ (the order of the two products "
+                "of Cramer's rule).")),
+            ("reciprocal", 1.0 / R, "{name} returns (Δ, N): N/Δ is 1/w. N is the numerator."),
+            ("missing_norms", np.array([_position_w(robot, phi, rho, with_norms=False)
+                                        for robot, phi, rho in cases]), (
+                "N/Δ of {name} solves the subtracted loop equations without the terms |E_i|²: "
+                "subtracting the first loop equation from loop i leaves ρ_i² − ρ1² − |E_i|² on the "
+                "right-hand side.")),
+        ]
+        for code, values, message in mistakes:
+            if same(values):
+                return self.failure(code, message.format(name=self.name), n)
+        k = int(np.argmax(np.abs(S - R)))
+        robot, phi, rho = cases[k]
+        return self.failure("mismatch", (
+            f"N/Δ of {self.name} at φ = {fmt(phi)} rad, ρ = {fmt(rho)} ({robot.name}) is "
+            f"{fmt(np.array([S[k].real, S[k].imag]))} as (x, y); the position of B1 − A1 that solves "
+            f"the two subtracted loop equations is {fmt(np.array([R[k].real, R[k].imag]))}."), n)
+
+
+cramer_parts = exercise(_CHAPTER, "cramer_parts", _CramerCheck(
+    name="cramer_parts(phi, rho, robot)",
+    signature="cramer_parts(phi, rho, robot) -> (N, Delta)",
+    samples=20,
+    noun="orientations",
+    doc=("Check a function cramer_parts(phi, rho, robot) -> (N, Δ), complex, with N/Δ the "
+         "position w of B1 relative to A1 that solves the subtracted loop equations."),
 ))
 
 
