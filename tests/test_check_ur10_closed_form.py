@@ -221,8 +221,8 @@ def test_help_and_repr_show_no_closed_form(name):
     import pydoc
 
     item = getattr(chk, name)
-    shown = [repr(item), pydoc.render_doc(item, renderer=pydoc.plaintext),
-             pydoc.render_doc(chk, renderer=pydoc.plaintext)]
+    shown = [repr(item), pydoc.plain(pydoc.render_doc(item)),
+             pydoc.plain(pydoc.render_doc(chk))]
     assert name in shown[0] and item.signature in shown[0]
     for text in shown:
         for formula in ("arccos", "arcsin", "atan2(", "d6 z6", "p5 − d5", "π/2", "y6·z1"):
