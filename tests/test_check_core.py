@@ -499,3 +499,24 @@ def test_a_checks_repr_names_it_and_shows_no_message():
     ]
     for item in made:
         assert item.name in repr(item) and "swapped" not in repr(item) and len(repr(item)) < 80, repr(item)
+
+
+def test_every_chapters_checks_show_only_their_name():
+    """Every check object of every chapter's module (those defined as dataclasses of their own
+    too) shows its name, and at most its signature, on one short line: not its fields, whose
+    typical mistakes' messages hold the answer's formula (a dataclass repr ran to 2,762
+    characters)."""
+    import importlib
+    import pkgutil
+
+    shown = {}
+    for module_info in pkgutil.iter_modules(check.__path__):
+        if module_info.name.startswith("_"):
+            continue
+        module = importlib.import_module(f"robokin.check.{module_info.name}")
+        for attribute, item in vars(module).items():
+            if isinstance(item, check.Check):
+                shown[f"{module_info.name}.{attribute}"] = repr(item)
+    assert len(shown) > 50, sorted(shown)
+    long = {name: text[:200] for name, text in shown.items() if len(text) > 160 or "\n" in text}
+    assert not long, long

@@ -165,7 +165,7 @@ def _forward_kinematics_mistakes():
     ]
 
 
-@dataclass
+@dataclass(repr=False)
 class _FixedLengthsCheck(Check):
     """A check whose sympy answers may keep the symbols L1, L2, L3 (set to :data:`LENGTHS`)."""
 
@@ -816,7 +816,7 @@ ankle_angles = exercise(_CHAPTER, "ankle_angles", _AnkleAnglesCheck(
 ))
 
 
-@dataclass
+@dataclass(repr=False)
 class _CountCheck(Check):
     """``k_regular``: how many solutions a regular reachable foot pose has (an int)."""
 
