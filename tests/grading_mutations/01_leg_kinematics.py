@@ -93,6 +93,8 @@ MUTATIONS = {
     "task4_test2": [
         ("only one knee found", "closed = closed[:1]\nfound = found[:1]"),
         ("solutions in degrees", "found = np.rad2deg(found)"),
+        ("found from the one run of Q_newton instead of the 27 starts of the grid",
+         "found = np.angle(np.exp(1j * Q_newton[-1:]))"),
         ("the closed form misses the leg swung over the top",
          "_closed_full = ik_closed_form\n"
          "ik_closed_form = lambda p: np.array([q for q in _closed_full(p) "
@@ -118,9 +120,9 @@ MUTATIONS = {
         ("the loop's error sign flipped", _track(error="leg.fk(q)[:3, 3] - r_d")),
         ("the loop never adds the feed-forward", _track(command="kp * e")),
         ("the gain applied to the feed-forward too", _track(command="kp * ((v_d if feedforward else 0.0) + e)")),
+        ("the P-only error taken from the feed-forward run", "err_p = err_ff"),
     ],
     "task5_test2": [
-        ("the P-only error taken from the feed-forward run", "err_p = err_ff"),
         ("the rule of thumb omega R / Kp as the prediction", "lag_predicted = RADIUS * OMEGA / KP"),
         ("the measured lag copied as the prediction", "lag_predicted = err_p[t >= 2.0].mean()"),
         ("the lag predicted in millimetres", "lag_predicted = 1e3 * lag_predicted"),

@@ -68,7 +68,8 @@ Q_newton = newton_ik(r_goal, q0_ik)
 r_iter = np.array([leg.fk(q)[:3, 3] for q in Q_newton])
 e_iter = np.array([np.linalg.norm(r_goal - r) for r in r_iter])
 '''),
-        "task4_answer2": ("the closed form by the law of cosines on the knee, a list per branch", '''
+        "task4_answer2": ("the closed form by the law of cosines on the knee, a list per branch; "
+                          "the grid by itertools.product, the ends wrapped by atan2", '''
 
 def ik_closed_form(p):
     """Written another way: the knee angle from the law of cosines, beta from two angles."""
@@ -91,6 +92,19 @@ def ik_closed_form(p):
 
 
 closed = ik_closed_form(r_goal)
+
+import itertools  # written another way: the 27 starts as a product, a list of ends
+
+starts = itertools.product(np.deg2rad([-60, 0, 60]), np.deg2rad([-60, 0, 60]),
+                           np.deg2rad([-150, 10, 150]))
+ends = []
+for start in starts:
+    end = newton_ik(r_goal, np.array(start))[-1]
+    end = np.arctan2(np.sin(end), np.cos(end))
+    new_end = all(np.max(np.abs(end - other)) > 1e-6 for other in ends)
+    if np.linalg.norm(leg.fk(end)[:3, 3] - r_goal) <= 1e-10 and new_end:
+        ends.append(end)
+found = np.array(ends)[np.argsort([end[2] for end in ends])]
 '''),
         "task5_answer1": (
             "the loop indexed by k with np.linalg.solve, the circle from complex numbers, the discrete lag",
