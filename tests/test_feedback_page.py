@@ -239,7 +239,7 @@ def test_where_to_start_has_one_line_per_answer_with_all_its_tests():
     report = AutograderReport().preprocess(nb, resources)[0].cells[0].source
     start = report.split("**Where to start**")[1].strip().splitlines()
     assert len(start) == 2 and sum("`newton_ik`" in line for line in start) == 1, start
-    assert start[0] == ("- `newton_ik` (Task 1): its own tests task1_test1, task4_test1 failed and answer cell "
+    assert start[0] == ("- `newton_ik` (Task 1): its own tests task1_test1, task4_test1 failed and its answer cell "
                         "In [3] raised ValueError; the failing tests task4_test1, task4_test2 depend on it. "
                         "Fix it first."), start
 

@@ -88,7 +88,8 @@ class AutograderReport(NbGraderPreprocessor):
             for name, cause in ordered[: self.max_notes]:
                 of_task = f" (Task {cause['task']})" if cause["task"] is not None else ""
                 tests = sorted(cause["tests"], key=lambda t: order.get(t, len(order)))
-                why = " and ".join(markdown_line(w) for w in _merge_own_tests(cause["why"], order))
+                # each reason reads after "its": "its own test … failed and its value is wrong"
+                why = " and its ".join(markdown_line(w) for w in _merge_own_tests(cause["why"], order))
                 out.append(f"- `{name}`{of_task}: its {why}; "
                            f"the failing test{'s' if len(tests) > 1 else ''} {', '.join(tests)} "
                            f"depend{'' if len(tests) > 1 else 's'} on it. Fix it first.")
