@@ -45,6 +45,13 @@ CHROMIUM_ARGS = [
 ]
 
 
+def pytest_addoption(parser: pytest.Parser) -> None:
+    parser.addoption(
+        "--other-machines-notebook", action="append", default=[], metavar="PATH",
+        help="run tests/test_notebooks_other_machines.py on this notebook only (repeatable; "
+             "default: every notebook) -- the check to run after editing one notebook")
+
+
 def chromium_path() -> str | None:
     """Path of the system Chromium (Debian's ``chromium`` package), or None."""
     for name in ("chromium", "chromium-browser", "google-chrome"):

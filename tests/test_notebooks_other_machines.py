@@ -28,7 +28,9 @@ run are not rendered to a PNG there: nbval does not compare images (``image/png`
 ``skip_compare``), so rasterising them checked nothing and cost about 8 of each machine's
 50 CPU-s. The main nbval run executes every cell and renders every figure on this machine.
 
-Skip it locally with ``pytest -m "not other_machines"``.
+Skip it locally with ``pytest -m "not other_machines"``; after editing one notebook, run it on
+that one: ``pytest tests/test_notebooks_other_machines.py --other-machines-notebook
+notebooks/NN_name.ipynb``.
 """
 
 from __future__ import annotations
@@ -172,9 +174,12 @@ def machine_environment(machine: str, tmp_path: Path) -> dict[str, str]:
 
 
 @pytest.mark.parametrize("machine", MACHINES)
-def test_notebook_outputs_hold_on_other_machines(tmp_path, machine):
+def test_notebook_outputs_hold_on_other_machines(tmp_path, machine, request):
     extra = machine_environment(machine, tmp_path)
-    command = [sys.executable, "-m", "pytest", "notebooks", "-q", "-p", "no:cacheprovider", "--color=no"]
+    chosen = request.config.getoption("--other-machines-notebook")   # after editing one notebook
+    notebooks = sorted(ROOT / path for path in chosen) or sorted((ROOT / "notebooks").glob("*.ipynb"))
+    command = [sys.executable, "-m", "pytest", *map(str, notebooks), "-q", "-p", "no:cacheprovider",
+               "--color=no"]
     skips_pictures = machine != MACHINES[2]   # the noise's sequence must stay the whole notebook's
     if skips_pictures:
         command += ["-p", "tests.support.picture_cells"]
@@ -205,7 +210,7 @@ def test_notebook_outputs_hold_on_other_machines(tmp_path, machine):
         assert {k.get("threads") for k in kernels} == {int(extra["OPENBLAS_NUM_THREADS"])}, kernels
     # the pictures the plugin skips, and nothing else: every other cell ran
     pictures = sum(len(skipped_cells(json.loads(path.read_text())["cells"]))
-                   for path in sorted((ROOT / "notebooks").glob("*.ipynb"))) if skips_pictures else 0
+                   for path in notebooks) if skips_pictures else 0
     last_line = output.strip().splitlines()[-1]
     skipped = re.search(r"(\d+) skipped", last_line)
     assert (int(skipped.group(1)) if skipped else 0) == pictures, last_line
