@@ -227,3 +227,71 @@ def test_help_and_repr_show_no_closed_form(name):
     for text in shown:
         for formula in ("arccos", "arcsin", "atan2(", "d6 z6", "p5 − d5", "π/2", "y6·z1"):
             assert formula not in text, (name, formula)
+
+
+# ---------------------------------------------------------------- robokin's steps, the tests' stand-ins
+REFERENCE_STEPS = {
+    "wrist_centre": chk.reference_wrist_centre,
+    "shoulder_angles": chk.reference_shoulder_angles,
+    "wrist_angles": chk.reference_wrist_angles,
+    "arm_angles": chk.reference_arm_angles,
+}
+
+
+@pytest.mark.parametrize("name", sorted(REFERENCE_STEPS))
+def test_reference_steps_pass_their_checks(name):
+    result = getattr(chk, name)(REFERENCE_STEPS[name], quiet=True)
+    assert result.passed, result.message
+
+
+def test_reference_steps_agree_with_the_steps_written_here_and_the_model():
+    rng = np.random.default_rng(17)
+    for q in rng.uniform(-np.pi, np.pi, (40, 6)):
+        T = ROBOT.fk(q)
+        assert np.allclose(chk.reference_wrist_centre(T), ROBOT.frames(q)[6][:3, 3], atol=1e-12)
+        q1_all = chk.reference_shoulder_angles(T)
+        assert np.abs(wrap(q1_all - q[0])).min() < 1e-9
+        assert np.allclose(np.sort(q1_all), np.sort(shoulder(T)), atol=1e-12)
+        rows = chk.reference_wrist_angles(T, q[0])
+        assert np.allclose(rows, wrist(T, q[0]), atol=1e-12) and np.sin(rows[0, 0]) > 0
+        elbows = chk.reference_arm_angles(T, q[0], q[4], q[5])
+        assert np.allclose(elbows, arm(T, q[0], q[4], q[5]), atol=1e-12)
+        assert np.abs(wrap(elbows - q[1:4])).max(axis=1).min() < 1e-8
+
+
+def test_reference_steps_in_the_loop_give_robokins_solutions():
+    from robokin.models.ur_ik import ur10_ik
+
+    rng = np.random.default_rng(18)
+    for q in rng.uniform(-np.pi, np.pi, (20, 6)):
+        T = ROBOT.fk(q)
+        rows = []
+        for q1 in chk.reference_shoulder_angles(T):
+            for q5, q6 in chk.reference_wrist_angles(T, q1):
+                for q2, q3, q4 in chk.reference_arm_angles(T, q1, q5, q6):
+                    x = np.array([q1, q2, q3, q4, q5, q6])
+                    if np.abs(ROBOT.fk(x) - T).max() < 1e-9:
+                        rows.append(x)
+        assert solution_set(np.array(rows).reshape(-1, 6), ur10_ik(T).q, quiet=True).passed
+
+
+def test_reference_steps_at_the_edges_of_their_steps():
+    q = np.array([0.3, -1.2, 1.0, 0.4, 0.0, 0.2])  # q5 = 0: q6 undefined, robokin's choice
+    assert np.allclose(chk.reference_wrist_angles(ROBOT.fk(q), q[0]), [[0.0, 0.0], [0.0, np.pi]])
+    T_inside = ROBOT.fk(q)
+    T_inside[:3, 3] = [0.05, -0.08, 0.6] + D6 * T_inside[:3, 2]  # wrist centre at 0.094 m < d4
+    assert chk.reference_shoulder_angles(T_inside).shape == (0,)
+    T_far = ROBOT.fk(q)
+    T_far[:3, 3] *= 1e6
+    assert chk.reference_arm_angles(T_far, 0.3, 0.9, 0.2).shape == (0, 3)
+
+
+@pytest.mark.parametrize("call", [
+    lambda: chk.reference_wrist_centre(np.eye(3)),
+    lambda: chk.reference_shoulder_angles(2.0 * np.eye(4)),
+    lambda: chk.reference_wrist_angles(np.eye(4), np.nan),
+    lambda: chk.reference_arm_angles(np.eye(4), 0.1, "x", 0.2),
+])
+def test_reference_steps_reject_bad_input(call):
+    with pytest.raises((ValueError, TypeError)):
+        call()

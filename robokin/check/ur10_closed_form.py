@@ -23,6 +23,11 @@ branch, the sign of ``d4`` or of an axis, ``a2``/``a3`` taken positive, an offse
 of the table used for another, the flange point used for the wrist centre, the
 wrist point used for the planar problem, degrees for radians.
 
+``reference_wrist_centre``, ``reference_shoulder_angles``, ``reference_wrist_angles`` and
+``reference_arm_angles`` are robokin's answers to the steps of Tasks 1-3, with the student's
+signatures: the graded tests of a later step pass them to the student's function in place of
+the student's own steps, so that a mistake in one step costs the points of that step only.
+
 Usage::
 
     from robokin import check
@@ -45,8 +50,19 @@ from robokin.check._core import (
 )
 from robokin.check._registry import exercise
 from robokin.check.solutions import SolutionSetCheck
+from robokin.validation import as_float_array, as_scalar, check_transform
 
-__all__ = ["wrist_centre", "shoulder_angles", "wrist_angles", "arm_angles", "all_solutions"]
+__all__ = [
+    "all_solutions",
+    "arm_angles",
+    "reference_arm_angles",
+    "reference_shoulder_angles",
+    "reference_wrist_angles",
+    "reference_wrist_centre",
+    "shoulder_angles",
+    "wrist_angles",
+    "wrist_centre",
+]
 
 _CHAPTER = "ur10_closed_form"
 
@@ -54,11 +70,21 @@ _CHAPTER = "ur10_closed_form"
 #: answer that hands one back (``all_solutions = ur10_ik``) is flagged for review by hand
 #: (tools/grading/bridge/delegation.py reads this literal table without importing the module)
 DELEGATION = {
-    "wrist_centre": {"ur10_ik": "robokin.models.ur10_ik", "ur10_ik_batch": "robokin.models.ur10_ik_batch"},
-    "shoulder_angles": {"ur10_ik": "robokin.models.ur10_ik", "ur10_ik_batch": "robokin.models.ur10_ik_batch"},
-    "wrist_angles": {"ur10_ik": "robokin.models.ur10_ik", "ur10_ik_batch": "robokin.models.ur10_ik_batch"},
-    "arm_angles": {"ur10_ik": "robokin.models.ur10_ik", "ur10_ik_batch": "robokin.models.ur10_ik_batch"},
+    "wrist_centre": {"ur10_ik": "robokin.models.ur10_ik", "ur10_ik_batch": "robokin.models.ur10_ik_batch",
+                     "reference_wrist_centre": "robokin.check.ur10_closed_form.reference_wrist_centre"},
+    "shoulder_angles": {"ur10_ik": "robokin.models.ur10_ik", "ur10_ik_batch": "robokin.models.ur10_ik_batch",
+                        "reference_wrist_centre": "robokin.check.ur10_closed_form.reference_wrist_centre",
+                        "reference_shoulder_angles": "robokin.check.ur10_closed_form.reference_shoulder_angles"},
+    "wrist_angles": {"ur10_ik": "robokin.models.ur10_ik", "ur10_ik_batch": "robokin.models.ur10_ik_batch",
+                     "reference_wrist_angles": "robokin.check.ur10_closed_form.reference_wrist_angles"},
+    "arm_angles": {"ur10_ik": "robokin.models.ur10_ik", "ur10_ik_batch": "robokin.models.ur10_ik_batch",
+                   "reference_wrist_centre": "robokin.check.ur10_closed_form.reference_wrist_centre",
+                   "reference_arm_angles": "robokin.check.ur10_closed_form.reference_arm_angles"},
     "all_solutions": {"ur10_ik": "robokin.models.ur10_ik", "ur10_ik_batch": "robokin.models.ur10_ik_batch",
+                      "reference_wrist_centre": "robokin.check.ur10_closed_form.reference_wrist_centre",
+                      "reference_shoulder_angles": "robokin.check.ur10_closed_form.reference_shoulder_angles",
+                      "reference_wrist_angles": "robokin.check.ur10_closed_form.reference_wrist_angles",
+                      "reference_arm_angles": "robokin.check.ur10_closed_form.reference_arm_angles",
                       "solve_ik": "robokin.motion.solve_ik", "solve_ik_batch": "robokin.motion.solve_ik_batch"},
 }
 
@@ -422,3 +448,109 @@ all_solutions = _pose_set_check(
     doc="Check all_solutions(T): every joint solution (k, 6) (rad) for the flange pose T (4, 4).",
 )
 
+
+
+# ------------------------------------------------------------------ robokin's steps, the tests' stand-ins
+def _flange_pose(T: Any) -> np.ndarray:
+    """``T`` as one flange pose (4, 4): a rigid transform, or an error naming ``T``."""
+    return check_transform(as_float_array(T, "T", shape=(4, 4)), name="T")
+
+
+def reference_wrist_centre(T: Any) -> np.ndarray:
+    """robokin's answer to the step ``wrist_centre`` of Task 1 (the tests' stand-in).
+
+    The graded tests of the steps built on it (``shoulder_angles``, ``arm_angles``,
+    ``coinciding_branches``) pass this function to the student's function in place of the
+    student's own ``wrist_centre``, so that a mistake in the wrist centre costs the points of
+    its own test only.
+
+    Parameters
+    ----------
+    T : array_like, shape (4, 4)
+        A flange pose in the base frame (m).
+
+    Returns
+    -------
+    numpy.ndarray, shape (3,)
+        The origin of DH frame 5 in the base frame (m).
+    """
+    return _centre(_flange_pose(T))
+
+
+def reference_shoulder_angles(T: Any) -> np.ndarray:
+    """robokin's answer to the step ``shoulder_angles`` of Task 1 (the tests' stand-in).
+
+    The graded test of ``all_solutions`` passes it to the student's ``all_solutions`` in
+    place of the student's own step.
+
+    Parameters
+    ----------
+    T : array_like, shape (4, 4)
+        A flange pose in the base frame (m).
+
+    Returns
+    -------
+    numpy.ndarray, shape (2,) or (0,)
+        Both shoulder angles q1 (rad, in (−π, π]), or none when the wrist centre is closer
+        to the base's z axis than d4.
+    """
+    T = _flange_pose(T)
+    x, y, _ = (float(v) for v in _centre(T))
+    if math.hypot(x, y) < abs(_lengths()[3]):
+        return np.zeros(0)
+    return _shoulder(T)
+
+
+def reference_wrist_angles(T: Any, q1: Any) -> np.ndarray:
+    """robokin's answer to the step ``wrist_angles`` of Task 2 (the tests' stand-in).
+
+    The graded test of ``all_solutions`` passes it to the student's ``all_solutions`` in
+    place of the student's own step.
+
+    Parameters
+    ----------
+    T : array_like, shape (4, 4)
+        A flange pose in the base frame (m).
+    q1 : float
+        A shoulder angle (rad).
+
+    Returns
+    -------
+    numpy.ndarray, shape (2, 2)
+        Both rows (q5, q6) (rad, in (−π, π]), the one with sin q5 > 0 first. Where q6 is
+        undefined (sin q5 = 0) the rows hold q6 = 0 and q6 = π.
+    """
+    T, q1 = _flange_pose(T), as_scalar(q1, "q1")
+    z1 = np.array([math.sin(q1), -math.cos(q1), 0.0])
+    along_x, along_y, along_z = (float(v) for v in T[:3, :3].T @ z1)
+    if math.hypot(along_x, along_y) < 1e-12:  # q6 undefined: robokin's choice, as ur10_ik
+        q5 = math.atan2(0.0, along_z)
+        return _wrap(np.array([[q5, 0.0], [-q5, math.pi]]))
+    return _wrist(T, q1)
+
+
+def reference_arm_angles(T: Any, q1: Any, q5: Any, q6: Any) -> np.ndarray:
+    """robokin's answer to the step ``arm_angles`` of Task 3 (the tests' stand-in).
+
+    The graded test of ``all_solutions`` passes it to the student's ``all_solutions`` in
+    place of the student's own step.
+
+    Parameters
+    ----------
+    T : array_like, shape (4, 4)
+        A flange pose in the base frame (m).
+    q1, q5, q6 : float
+        The angles (rad) of one shoulder and wrist solution.
+
+    Returns
+    -------
+    numpy.ndarray, shape (2, 3) or (0, 3)
+        Both rows (q2, q3, q4) (rad, in (−π, π]), the one with sin q3 ≥ 0 first, or none
+        when the two links cannot reach the origin of frame 4.
+    """
+    T = _flange_pose(T)
+    angles = [as_scalar(value, name) for value, name in ((q1, "q1"), (q5, "q5"), (q6, "q6"))]
+    d1, a2, a3, d4, d5, _d6 = _lengths()
+    if math.hypot(*(float(v) for v in _centre(T))) > d1 + abs(a2) + abs(a3) + d4 + d5:
+        return np.zeros((0, 3))  # beyond every link together (and no overflow in the squares)
+    return _arm(T, *angles)

@@ -842,6 +842,30 @@ def _is_result(r: Any, c: Ctx, v: dict) -> None:
     assert isinstance(r, CheckResult) and isinstance(r.message, str) and r.message, r
 
 
+def _rows_of(*shapes: tuple[int, ...]) -> Any:
+    """A check that the result is an array of one of ``shapes``."""
+    def check(r: Any, c: Ctx, v: dict) -> None:
+        assert isinstance(r, np.ndarray) and r.shape in shapes, (type(r), getattr(r, "shape", None))
+
+    return check
+
+
+def _ur10_closed_form_step_specs() -> list[Spec]:
+    """robokin's steps of chapter 7 (the stand-ins the graded tests pass to the student's functions)."""
+    steps = check.ur10_closed_form
+    return [
+        Spec("check.ur10_closed_form.reference_wrist_centre", steps.reference_wrist_centre, [Tf("T", batch=False)],
+             shape=lambda c, v: (3,), weight=0.3),
+        Spec("check.ur10_closed_form.reference_shoulder_angles", steps.reference_shoulder_angles,
+             [Tf("T", batch=False)], check=_rows_of((2,), (0,)), weight=0.3),
+        Spec("check.ur10_closed_form.reference_wrist_angles", steps.reference_wrist_angles,
+             [Tf("T", batch=False), Num("q1", -3.0, 3.0)], shape=lambda c, v: (2, 2), weight=0.3),
+        Spec("check.ur10_closed_form.reference_arm_angles", steps.reference_arm_angles,
+             [Tf("T", batch=False), *(Num(name, -3.0, 3.0) for name in ("q1", "q5", "q6"))],
+             check=_rows_of((2, 3), (0, 3)), weight=0.3),
+    ]
+
+
 def check_specs() -> list[Spec]:
     from robokin.check._registry import CHAPTERS, checks_of
 
@@ -870,6 +894,7 @@ def check_specs() -> list[Spec]:
         Spec("check.ar601.ik_solver", check.ar601.ik_solver, [Answer("f")],
              {"samples": Int("samples", 1, 3, minimum=1, huge=None), "seed": Int("seed", 0, 5, optional=True),
               "quiet": Const("quiet", True)}, student=("f",), check=_is_result, weight=0.5),
+        *_ur10_closed_form_step_specs(),
     ]
     seen = set()
     for chapter in sorted(CHAPTERS):
