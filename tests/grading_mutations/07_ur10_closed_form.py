@@ -10,7 +10,7 @@ The first line of each variant's code must be ASCII without quotes.
 """
 
 _SHOULDER = """
-def shoulder_angles(T):
+def shoulder_angles(T, wrist_centre=wrist_centre):
     x, y, _ = wrist_centre(T)
     r = np.hypot(x, y)
     if r < abs(D4):
@@ -31,7 +31,7 @@ def wrist_angles(T, q1):
 """
 
 _ARM = """
-def arm_angles(T, q1, q5, q6):
+def arm_angles(T, q1, q5, q6, wrist_centre=wrist_centre):
     R = T[:3, :3]
     c1, s1, c5, s5 = np.cos(q1), np.sin(q1), np.cos(q5), np.sin(q5)
     z4 = R @ [-np.sin(q6), -np.cos(q6), 0.0]
@@ -50,7 +50,23 @@ def arm_angles(T, q1, q5, q6):
     return wrap(rows)
 """
 
-_DEGREES = "(lambda f: lambda *args: np.rad2deg(np.asarray(f(*args), dtype=float)))({name})"
+_LOOP = """
+def all_solutions(T, shoulder_angles=shoulder_angles, wrist_angles=wrist_angles, arm_angles=arm_angles):
+    solutions = []
+    shoulders = shoulder_angles(T)
+    for q1 in shoulders:
+        for q5, q6 in {wrist}:
+            for q2, q3, q4 in arm_angles(T, q1, q5, q6):
+                q = np.array({row})
+                if np.abs(robot.fk(q) - T).max() < 1e-9:
+                    solutions.append(q)
+    return np.array(solutions).reshape(-1, 6)
+
+
+Q_goal = all_solutions(T_goal)
+"""
+
+_DEGREES = "(lambda f: lambda *args, **steps: np.rad2deg(np.asarray(f(*args, **steps), dtype=float)))({name})"
 
 
 def _shoulder(psi="np.arctan2(y, x)", d4="D4", rows="[psi + np.pi / 2 + beta, psi + np.pi / 2 - beta]"):
@@ -65,6 +81,10 @@ def _arm(d5="D5", a2="A2", a3="A3", elbows="(np.arccos(c3), -np.arccos(c3))"):
     return _ARM.format(d5=d5, a2=a2, a3=a3, elbows=elbows)
 
 
+def _loop(wrist="wrist_angles(T, q1)", row="[q1, q2, q3, q4, q5, q6]"):
+    return _LOOP.format(wrist=wrist, row=row)
+
+
 MUTATIONS = {
     "task1_test1": [
         ("the flange position for the wrist centre", "def wrist_centre(T):\n    return T[:3, 3].copy()"),
@@ -77,8 +97,8 @@ MUTATIONS = {
         ("the sign of d4", _shoulder(d4="-D4")),
         ("degrees for radians", "shoulder_angles = " + _DEGREES.format(name="shoulder_angles")),
         ("the flange point for the wrist centre",
-         "shoulder_angles = (lambda f: lambda T: f(np.vstack([np.c_[T[:3, :3], T[:3, 3] + D6 * T[:3, 2]], "
-         "T[3:]])))(shoulder_angles)"),
+         "shoulder_angles = (lambda f: lambda T, **steps: f(np.vstack([np.c_[T[:3, :3], T[:3, 3] + D6 * T[:3, 2]], "
+         "T[3:]]), **steps))(shoulder_angles)"),
     ],
     "task1_test3": [
         ("the two q1 taken to coincide on the base axis", "r_shoulder = 0.0"),
@@ -105,30 +125,36 @@ MUTATIONS = {
     ],
     "task4_test1": [
         ("only the first shoulder solution",
-         "all_solutions = (lambda f: lambda T: np.asarray(f(T)).reshape(-1, 6)[:4])(all_solutions)\n"
-         "Q_goal = all_solutions(T_goal)"),
+         "all_solutions = (lambda f: lambda T, **steps: np.asarray(f(T, **steps)).reshape(-1, 6)[:4])"
+         "(all_solutions)\nQ_goal = all_solutions(T_goal)"),
         ("every solution twice",
-         "all_solutions = (lambda f: lambda T: np.tile(np.asarray(f(T)).reshape(-1, 6), (2, 1)))(all_solutions)\n"
-         "Q_goal = all_solutions(T_goal)"),
+         "all_solutions = (lambda f: lambda T, **steps: np.tile(np.asarray(f(T, **steps)).reshape(-1, 6), (2, 1)))"
+         "(all_solutions)\nQ_goal = all_solutions(T_goal)"),
         ("degrees for radians",
          "all_solutions = " + _DEGREES.format(name="all_solutions") + "\nQ_goal = all_solutions(T_goal)"),
         ("unverified candidates kept (a wrong wrist branch)",
-         "all_solutions = (lambda f: lambda T: np.vstack([np.asarray(f(T)).reshape(-1, 6), "
-         "np.asarray(f(T)).reshape(-1, 6)[:1] + [0, 0, 0, 0, 0, 0.5]]))(all_solutions)\n"
+         "all_solutions = (lambda f: lambda T, **steps: np.vstack([np.asarray(f(T, **steps)).reshape(-1, 6), "
+         "np.asarray(f(T, **steps)).reshape(-1, 6)[:1] + [0, 0, 0, 0, 0, 0.5]]))(all_solutions)\n"
          "Q_goal = all_solutions(T_goal)"),
+        ("the wrist solutions of the first q1 used for both shoulder solutions",
+         _loop(wrist="wrist_angles(T, shoulders[0])")),
+        ("q5 and q6 swapped in the assembled configuration", _loop(row="[q1, q2, q3, q4, q6, q5]")),
+        ("Q_goal stored with the first shoulder solution only",
+         "Q_goal = np.asarray(all_solutions(T_goal)).reshape(-1, 6)[:4]"),
     ],
     "task5_test1": [
         ("the wrist at cos q5 = 0",
-         "coinciding_branches = (lambda f: lambda q: [n for n in f(q) if n != 'wrist']"
+         "coinciding_branches = (lambda f: lambda q, **steps: [n for n in f(q, **steps) if n != 'wrist']"
          " + (['wrist'] if abs(np.cos(q[4])) < 1e-9 else []))(coinciding_branches)"),
         ("the elbow forgotten",
-         "coinciding_branches = (lambda f: lambda q: [n for n in f(q) if n != 'elbow'])(coinciding_branches)"),
+         "coinciding_branches = (lambda f: lambda q, **steps: [n for n in f(q, **steps) if n != 'elbow'])"
+         "(coinciding_branches)"),
         ("the shoulder from the flange position",
-         "coinciding_branches = (lambda f: lambda q: [n for n in f(q) if n != 'shoulder']"
+         "coinciding_branches = (lambda f: lambda q, **steps: [n for n in f(q, **steps) if n != 'shoulder']"
          " + (['shoulder'] if abs(np.hypot(*robot.fk(q)[:2, 3]) - abs(D4)) < 1e-9 else []))"
          "(coinciding_branches)"),
         ("every configuration singular",
-         "coinciding_branches = lambda q: ['shoulder', 'wrist', 'elbow']"),
+         "coinciding_branches = lambda q, **steps: ['shoulder', 'wrist', 'elbow']"),
     ],
 }
 
@@ -140,7 +166,7 @@ def wrist_centre(T):
     return (np.asarray(T, dtype=float) @ np.array([0.0, 0.0, -D6, 1.0]))[:3]
 
 
-def shoulder_angles(T):
+def shoulder_angles(T, wrist_centre=wrist_centre):
     centre = wrist_centre(T)
     r = float(np.hypot(centre[0], centre[1]))
     if r < abs(D4):
@@ -161,8 +187,9 @@ def wrist_angles(T, q1):
 """),
     "task3_answer1": ("the planar problem with complex numbers, angles in [0, 2 pi)", """
 
-# written another way: the plane of the arm as the complex plane, the links as a2 + a3 e^(i q3)
-def arm_angles(T, q1, q5, q6):
+# written another way: the plane of the arm as the complex plane, the links as a2 + a3 e^(i q3),
+# the wrist centre from T itself (the argument wrist_centre not called)
+def arm_angles(T, q1, q5, q6, wrist_centre=None):
     T = np.asarray(T, dtype=float)
     R = T[:3, :3]
     x1 = np.array([np.cos(q1), np.sin(q1), 0.0])
@@ -187,7 +214,7 @@ def arm_angles(T, q1, q5, q6):
 import itertools
 
 
-def all_solutions(T):
+def all_solutions(T, shoulder_angles=shoulder_angles, wrist_angles=wrist_angles, arm_angles=arm_angles):
     T = np.asarray(T, dtype=float)
     found = []
     shoulders = np.atleast_1d(shoulder_angles(T))
@@ -205,7 +232,7 @@ Q_goal = all_solutions(T_goal)
     "task5_answer1": ("the shoulder from the last factor of det J, the sines as remainders", """
 
 # written another way: X of the wrist centre in frame 1 is 0 on the cylinder; q mod pi near 0
-def coinciding_branches(q, tol=1e-9):
+def coinciding_branches(q, tol=1e-9, wrist_centre=None):
     q = np.asarray(q, dtype=float)
     X = A2 * np.cos(q[1]) + A3 * np.cos(q[1] + q[2]) + D5 * np.sin(q[1] + q[2] + q[3])
     near_zero = lambda angle: min(angle % np.pi, np.pi - angle % np.pi) < tol  # noqa: E731
