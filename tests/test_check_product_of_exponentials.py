@@ -229,3 +229,47 @@ def test_bad_answers():
 
 def test_delegation_table_names_registered_checks():
     assert set(chk.DELEGATION) <= set(chk.__all__)
+
+
+# ---------------------------------------------------------------- robokin's steps, for the tests
+REFERENCE_STEPS = [
+    (chk.rodrigues, chk.reference_rodrigues),
+    (chk.exp6, chk.reference_exp6),
+    (chk.forward_kinematics, chk.reference_poe_fk),
+    (chk.adjoint, chk.reference_adjoint_matrix),
+    (chk.space_jacobian, chk.reference_jacobian_in_space),
+    (chk.body_jacobian, chk.reference_jacobian_in_body),
+]
+
+
+@pytest.mark.parametrize("check, reference", REFERENCE_STEPS, ids=[r.__name__ for _, r in REFERENCE_STEPS])
+def test_reference_steps_pass_their_checks(check, reference):
+    assert check(reference, quiet=True).passed
+
+
+def test_reference_steps_agree_with_modern_robotics_on_seven_joints():
+    rng = np.random.default_rng(8)
+    S = np.vstack([S_UR10, S_UR10[2]])  # a seventh joint, on joint 3's axis
+    for theta in rng.uniform(-np.pi, np.pi, (5, 7)):
+        assert np.allclose(chk.reference_poe_fk(M_UR10, S, theta), mr.FKinSpace(M_UR10, S.T, theta), atol=1e-12)
+        assert np.allclose(chk.reference_jacobian_in_space(S, theta), mr.JacobianSpace(S.T, theta), atol=1e-12)
+        B = mr.Adjoint(mr.TransInv(M_UR10)) @ S.T
+        assert np.allclose(chk.reference_jacobian_in_body(M_UR10, S, theta), mr.JacobianBody(B, theta), atol=1e-12)
+    omega, V = np.array([0.0, 0.6, 0.8]), np.array([0.0, 0.6, 0.8, 0.3, -0.2, 0.1])
+    assert np.allclose(chk.reference_rodrigues(omega, 0.7), mr.MatrixExp3(mr.VecToso3(omega) * 0.7), atol=1e-14)
+    assert np.allclose(chk.reference_exp6(V, 0.7), mr.MatrixExp6(mr.VecTose3(V) * 0.7), atol=1e-14)
+    T = mr.MatrixExp6(mr.VecTose3(V))
+    assert np.allclose(chk.reference_adjoint_matrix(T), mr.Adjoint(T), atol=1e-14)
+
+
+@pytest.mark.parametrize("call", [
+    lambda: chk.reference_rodrigues([0.0, 1.0], 0.3),
+    lambda: chk.reference_exp6(np.zeros(6), np.nan),
+    lambda: chk.reference_poe_fk(np.eye(4), S_UR10, np.zeros(5)),
+    lambda: chk.reference_adjoint_matrix(np.eye(3)),
+    lambda: chk.reference_jacobian_in_space(S_UR10[:, :5], np.zeros(6)),
+    lambda: chk.reference_jacobian_in_body(np.eye(4), S_UR10, "theta"),
+])
+def test_reference_steps_reject_bad_input(call):
+    with pytest.raises(ValueError):
+        call()

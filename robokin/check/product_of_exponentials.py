@@ -50,6 +50,8 @@ from robokin.check._registry import exercise
 __all__ = [
     "rodrigues", "screw_axis", "screw_list", "exp6", "forward_kinematics", "adjoint",
     "space_jacobian", "geometric_from_space", "body_jacobian", "ik_body",
+    "reference_rodrigues", "reference_exp6", "reference_poe_fk", "reference_adjoint_matrix",
+    "reference_jacobian_in_space", "reference_jacobian_in_body",
 ]
 
 _CHAPTER = "product_of_exponentials"
@@ -57,18 +59,28 @@ _CHAPTER = "product_of_exponentials"
 #: check -> {the robokin function that solves its task: how the grading report names it}: an
 #: answer that hands one back is flagged for review by hand (tools/grading/bridge/delegation.py
 #: reads this literal table without importing the module). Task 2's screw axes are read from
-#: ``SerialChain.frames``, as the chapter asks: only ``screw_axes`` hands the answer back.
+#: ``SerialChain.frames``, as the chapter asks: only ``screw_axes`` hands the answer back. The
+#: ``reference_*`` functions below are the tests' stand-ins for a task's answer: an answer that
+#: calls one hands that task's work to robokin.
 DELEGATION = {
-    "rodrigues": {"rotation_exp": "robokin.transforms.rotation_exp"},
+    "rodrigues": {"rotation_exp": "robokin.transforms.rotation_exp",
+                  "reference_rodrigues": "robokin.check.product_of_exponentials.reference_rodrigues"},
     "screw_list": {"screw_axes": "SerialChain.screw_axes"},
-    "exp6": {"transform_exp": "robokin.transforms.transform_exp"},
+    "exp6": {"transform_exp": "robokin.transforms.transform_exp",
+             "reference_exp6": "robokin.check.product_of_exponentials.reference_exp6"},
     "forward_kinematics": {"product_of_exponentials": "SerialChain.product_of_exponentials",
-                           "fk": "SerialChain.fk", "transform_exp": "robokin.transforms.transform_exp"},
-    "adjoint": {"adjoint": "robokin.transforms.adjoint"},
-    "space_jacobian": {"space_jacobian": "SerialChain.space_jacobian", "jacobian": "SerialChain.jacobian"},
+                           "fk": "SerialChain.fk", "transform_exp": "robokin.transforms.transform_exp",
+                           "reference_poe_fk": "robokin.check.product_of_exponentials.reference_poe_fk"},
+    "adjoint": {"adjoint": "robokin.transforms.adjoint",
+                "reference_adjoint_matrix": "robokin.check.product_of_exponentials.reference_adjoint_matrix"},
+    "space_jacobian": {"space_jacobian": "SerialChain.space_jacobian",
+                       "jacobian": "SerialChain.jacobian",
+                       "reference_jacobian_in_space":
+                            "robokin.check.product_of_exponentials.reference_jacobian_in_space"},
     "geometric_from_space": {"jacobian": "SerialChain.jacobian"},
     "body_jacobian": {"body_jacobian": "SerialChain.body_jacobian",
-                      "space_jacobian": "SerialChain.space_jacobian"},
+                      "space_jacobian": "SerialChain.space_jacobian",
+                      "reference_jacobian_in_body": "robokin.check.product_of_exponentials.reference_jacobian_in_body"},
     "ik_body": {"solve_ik": "robokin.motion.solve_ik", "solve_ik_once": "robokin.motion.solve_ik_once",
                 "ur10_ik": "robokin.models.ur10_ik", "body_jacobian": "SerialChain.body_jacobian"},
 }
@@ -751,3 +763,175 @@ ik_body = exercise(_CHAPTER, "ik_body", MatrixArgumentsCheck(
     doc="Check ik_body(M, S_list, T_goal, theta_start) -> (theta, iterations): T(theta) must be the goal.",
     pack=_pose_reached,
 ))
+
+
+# ------------------------------------------------------------------ robokin's steps, for the tests
+def _finite_array(value: Any, shape: tuple[int | None, ...], name: str) -> np.ndarray:
+    """``value`` as a float array of ``shape`` (None: any length) with finite entries, or ValueError."""
+    try:
+        a = np.asarray(value)
+        if a.dtype.kind not in "biuf":  # complex, text, objects: not real numbers
+            a = np.asarray(value, dtype=float) if a.dtype.kind == "O" else None
+    except (TypeError, ValueError):
+        a = None
+    if a is None:
+        raise ValueError(f"{name} must be an array of real numbers; got {type(value).__name__}")
+    a = a.astype(float)
+    if a.ndim != len(shape) or any(n is not None and n != m for n, m in zip(shape, a.shape)):
+        wanted = "(" + ", ".join("n" if n is None else str(n) for n in shape) + ")"
+        raise ValueError(f"{name} must have shape {wanted}; got shape {a.shape}")
+    if not np.all(np.isfinite(a)):
+        raise ValueError(f"{name} must have finite entries")
+    return a
+
+
+def _angle(theta: Any) -> float:
+    a = _finite_array(theta, (), "theta")
+    return float(a)
+
+
+def _screws_and_angles(S_list: Any, theta: Any) -> tuple[np.ndarray, np.ndarray]:
+    S = _finite_array(S_list, (None, 6), "S_list")
+    angles = _finite_array(theta, (None,), "theta")
+    if len(angles) != len(S):
+        raise ValueError(f"theta must hold one angle per screw axis ({len(S)}); got {len(angles)}")
+    return S, angles
+
+
+def reference_rodrigues(omega: Any, theta: Any) -> np.ndarray:
+    """robokin's answer to ``rodrigues`` of Task 1 (the tests' stand-in).
+
+    The graded test of ``exp6`` passes it to the student's ``exp6`` in place of the student's
+    own, so that a mistake in ``rodrigues`` costs the points of its own test only.
+
+    Parameters
+    ----------
+    omega : array_like, shape (3,)
+        A unit axis.
+    theta : float
+        The angle (rad).
+
+    Returns
+    -------
+    numpy.ndarray, shape (3, 3)
+        The rotation by ``theta`` about ``omega`` (robokin's ``rotation_exp(omega * theta)``).
+    """
+    from robokin.transforms import rotation_exp
+
+    return np.asarray(rotation_exp(_finite_array(omega, (3,), "omega") * _angle(theta)), dtype=float)
+
+
+def reference_exp6(S: Any, theta: Any) -> np.ndarray:
+    """robokin's answer to ``exp6`` of Task 3 (the tests' stand-in).
+
+    The graded tests of ``poe_fk`` and ``jacobian_in_space`` pass it to the student's functions
+    in place of the student's ``exp6``, so that a mistake in ``exp6`` costs the points of its own
+    test only.
+
+    Parameters
+    ----------
+    S : array_like, shape (6,)
+        A screw axis [ω; v].
+    theta : float
+        The angle (rad).
+
+    Returns
+    -------
+    numpy.ndarray, shape (4, 4)
+        The motion by ``theta`` about ``S`` (robokin's ``transform_exp(S * theta)``).
+    """
+    from robokin.transforms import transform_exp
+
+    return np.asarray(transform_exp(_finite_array(S, (6,), "S") * _angle(theta)), dtype=float)
+
+
+def reference_poe_fk(M: Any, S_list: Any, theta: Any) -> np.ndarray:
+    """robokin's answer to ``poe_fk`` of Task 3 (the tests' stand-in).
+
+    The graded tests of ``jacobian_in_body`` and ``ik_body`` pass it to the student's functions
+    in place of the student's ``poe_fk``.
+
+    Parameters
+    ----------
+    M : array_like, shape (4, 4)
+        The home pose of the end effector.
+    S_list : array_like, shape (n, 6)
+        The screw axes [ω; v] in the base frame, one per row.
+    theta : array_like, shape (n,)
+        The joint angles (rad).
+
+    Returns
+    -------
+    numpy.ndarray, shape (4, 4)
+        The pose of the end effector, with robokin's exponentials.
+    """
+    home = _finite_array(M, (4, 4), "M")
+    S, angles = _screws_and_angles(S_list, theta)
+    return _product(home, S, angles)
+
+
+def reference_adjoint_matrix(T: Any) -> np.ndarray:
+    """robokin's answer to ``adjoint_matrix`` of Task 4 (the tests' stand-in).
+
+    The graded tests of ``jacobian_in_space`` and ``jacobian_in_body`` pass it to the student's
+    functions in place of the student's ``adjoint_matrix``.
+
+    Parameters
+    ----------
+    T : array_like, shape (4, 4)
+        A homogeneous transform.
+
+    Returns
+    -------
+    numpy.ndarray, shape (6, 6)
+        robokin's ``adjoint(T)``, for twists ordered [ω; v].
+    """
+    return _adjoint(_finite_array(T, (4, 4), "T"))
+
+
+def reference_jacobian_in_space(S_list: Any, theta: Any) -> np.ndarray:
+    """robokin's answer to ``jacobian_in_space`` of Task 4 (the tests' stand-in).
+
+    The graded tests of ``jacobian_in_body`` pass it to the student's function in place of the
+    student's own.
+
+    Parameters
+    ----------
+    S_list : array_like, shape (n, 6)
+        The screw axes [ω; v] in the base frame, one per row.
+    theta : array_like, shape (n,)
+        The joint angles (rad).
+
+    Returns
+    -------
+    numpy.ndarray, shape (6, n)
+        The space Jacobian, rows [ω; v], with robokin's exponentials and adjoint.
+    """
+    return _space(*_screws_and_angles(S_list, theta))
+
+
+def reference_jacobian_in_body(M: Any, S_list: Any, theta: Any) -> np.ndarray:
+    """robokin's answer to ``jacobian_in_body`` of Task 5 (the tests' stand-in).
+
+    The graded tests of ``ik_body`` pass it to the student's function in place of the student's
+    own.
+
+    Parameters
+    ----------
+    M : array_like, shape (4, 4)
+        The home pose of the end effector.
+    S_list : array_like, shape (n, 6)
+        The screw axes [ω; v] in the base frame, one per row.
+    theta : array_like, shape (n,)
+        The joint angles (rad).
+
+    Returns
+    -------
+    numpy.ndarray, shape (6, n)
+        The body Jacobian, rows [ω; v], with robokin's exponentials and adjoint.
+    """
+    from robokin.transforms import transform_inverse
+
+    home = _finite_array(M, (4, 4), "M")
+    S, angles = _screws_and_angles(S_list, theta)
+    return _adjoint(transform_inverse(_product(home, S, angles))) @ _space(S, angles)

@@ -85,7 +85,7 @@ screw_axes_at_home = (lambda S: lambda frames, joint_axes: S)(S_list)  # the UR1
 """
 
 _EXP_WITHOUT_G = """
-def exp6(S, theta):
+def exp6(S, theta, rodrigues=rodrigues):
     omega, v = np.asarray(S[:3], dtype=float), np.asarray(S[3:], dtype=float)
     T = np.eye(4)
     T[:3, :3] = rodrigues(omega, theta)
@@ -94,7 +94,7 @@ def exp6(S, theta):
 """
 
 _FK_REVERSED = """
-def poe_fk(M, S_list, theta):
+def poe_fk(M, S_list, theta, exp6=exp6):
     T = np.eye(4)
     for S, angle in zip(S_list, theta):
         T = exp6(S, angle) @ T  # joint n on the left
@@ -104,7 +104,7 @@ T0 = poe_fk(M, S_list, THETA0)
 """
 
 _FK_M_LEFT = """
-def poe_fk(M, S_list, theta):
+def poe_fk(M, S_list, theta, exp6=exp6):
     T = M.copy()  # M on the left
     for S, angle in zip(S_list, theta):
         T = T @ exp6(S, angle)
@@ -134,14 +134,14 @@ def adjoint_matrix(T):
 """
 
 _SPACE_NO_ADJOINT = """
-def jacobian_in_space(S_list, theta):
+def jacobian_in_space(S_list, theta, exp6=exp6, adjoint_matrix=adjoint_matrix):
     return np.array(S_list, dtype=float).T  # the screw axes at home
 
 Js0 = jacobian_in_space(S_list, THETA0)
 """
 
 _SPACE_REVERSED = """
-def jacobian_in_space(S_list, theta):
+def jacobian_in_space(S_list, theta, exp6=exp6, adjoint_matrix=adjoint_matrix):
     columns, P = [], np.eye(4)
     for S, angle in zip(S_list, theta):
         columns.append(adjoint_matrix(P) @ S)
@@ -162,7 +162,8 @@ def geometric_from_space(J_s, T):
 """
 
 _BODY_ADJOINT_T = """
-def jacobian_in_body(M, S_list, theta):
+def jacobian_in_body(M, S_list, theta, poe_fk=poe_fk, jacobian_in_space=jacobian_in_space,
+                     adjoint_matrix=adjoint_matrix):
     T = poe_fk(M, S_list, theta)
     return adjoint_matrix(T) @ jacobian_in_space(S_list, theta)  # Ad(T) for Ad(T^-1)
 
@@ -170,14 +171,16 @@ Jb0 = jacobian_in_body(M, S_list, THETA0)
 """
 
 _BODY_HOME = """
-def jacobian_in_body(M, S_list, theta):
+def jacobian_in_body(M, S_list, theta, poe_fk=poe_fk, jacobian_in_space=jacobian_in_space,
+                     adjoint_matrix=adjoint_matrix):
     return adjoint_matrix(transform_inverse(M)) @ jacobian_in_space(S_list, theta)  # M for T
 
 Jb0 = jacobian_in_body(M, S_list, THETA0)
 """
 
 _IK_STEP_SIGN = """
-def ik_body(M, S_list, T_goal, theta_start, tolerance=1e-10, max_iterations=30):
+def ik_body(M, S_list, T_goal, theta_start, tolerance=1e-10, max_iterations=30, poe_fk=poe_fk,
+            jacobian_in_body=jacobian_in_body):
     theta = np.array(theta_start, dtype=float)
     for iteration in range(max_iterations + 1):
         V_b = transform_log(transform_inverse(poe_fk(M, S_list, theta)) @ T_goal)
@@ -189,7 +192,8 @@ theta_ik, iterations_ik = ik_body(M, S_list, T_GOAL, THETA_START)
 """
 
 _IK_SPACE_JACOBIAN = """
-def ik_body(M, S_list, T_goal, theta_start, tolerance=1e-10, max_iterations=30):
+def ik_body(M, S_list, T_goal, theta_start, tolerance=1e-10, max_iterations=30, poe_fk=poe_fk,
+            jacobian_in_body=jacobian_in_body):
     theta = np.array(theta_start, dtype=float)
     for iteration in range(max_iterations + 1):
         V_b = transform_log(transform_inverse(poe_fk(M, S_list, theta)) @ T_goal)
@@ -201,7 +205,8 @@ theta_ik, iterations_ik = ik_body(M, S_list, T_GOAL, THETA_START)
 """
 
 _IK_STEP_FIRST = """
-def ik_body(M, S_list, T_goal, theta_start, tolerance=1e-10, max_iterations=30):
+def ik_body(M, S_list, T_goal, theta_start, tolerance=1e-10, max_iterations=30, poe_fk=poe_fk,
+            jacobian_in_body=jacobian_in_body):
     theta = np.array(theta_start, dtype=float)
     for iteration in range(1, max_iterations + 1):
         V_b = transform_log(transform_inverse(poe_fk(M, S_list, theta)) @ T_goal)
@@ -299,7 +304,7 @@ S_list = screw_axes_at_home(home_frames, ur10.joint_axes)
 from functools import reduce
 
 
-def exp6(S, theta):
+def exp6(S, theta, rodrigues=rodrigues):
     omega, v = np.asarray(S[:3], dtype=float), np.asarray(S[3:], dtype=float)
     R = rodrigues(omega, theta)
     point, pitch = np.cross(omega, v), omega @ v
@@ -309,7 +314,7 @@ def exp6(S, theta):
     return T
 
 
-def poe_fk(M, S_list, theta):
+def poe_fk(M, S_list, theta, exp6=exp6):
     factors = [exp6(S, angle) for S, angle in zip(S_list, theta)]
     return reduce(np.matmul, factors, np.eye(4)) @ M
 
@@ -325,7 +330,7 @@ def adjoint_matrix(T):
     return np.block([[R, np.zeros((3, 3))], [skew(p) @ R, R]])
 
 
-def jacobian_in_space(S_list, theta):
+def jacobian_in_space(S_list, theta, exp6=exp6, adjoint_matrix=adjoint_matrix):
     n = len(theta)
     J = np.zeros((6, n))
     for i in range(n):
@@ -347,7 +352,8 @@ Js0 = jacobian_in_space(S_list, THETA0)
     "task5_answer1": ("the body twists written out: R^T w and R^T (v + w x p)", """
 
 # written another way: w_b = R^T w_s and v_b = R^T (v_s + w_s x p), the block form of Ad(T^-1)
-def jacobian_in_body(M, S_list, theta):
+def jacobian_in_body(M, S_list, theta, poe_fk=poe_fk, jacobian_in_space=jacobian_in_space,
+                     adjoint_matrix=adjoint_matrix):
     T = poe_fk(M, S_list, theta)
     R, p = T[:3, :3], T[:3, 3]
     J_s = jacobian_in_space(S_list, theta)
@@ -359,7 +365,8 @@ Jb0 = jacobian_in_body(M, S_list, THETA0)
     "task6_answer1": ("a while loop and the step by least squares", """
 
 # written another way: a while loop, and the Newton step from np.linalg.lstsq
-def ik_body(M, S_list, T_goal, theta_start, tolerance=1e-10, max_iterations=30):
+def ik_body(M, S_list, T_goal, theta_start, tolerance=1e-10, max_iterations=30, poe_fk=poe_fk,
+            jacobian_in_body=jacobian_in_body):
     theta, steps = np.asarray(theta_start, dtype=float).copy(), 0
     while True:
         error = transform_log(transform_inverse(poe_fk(M, S_list, theta)) @ T_goal)
