@@ -850,6 +850,34 @@ def _rows_of(*shapes: tuple[int, ...]) -> Any:
     return check
 
 
+def _poe_step_specs() -> list[Spec]:
+    """robokin's steps of chapter 8 (the stand-ins the graded tests pass to the student's functions)."""
+    steps = check.product_of_exponentials
+
+    def angles(name: str) -> Arr:
+        return Arr(name, (6,), batch=False, lo=-3.0, hi=3.0, extreme=False)
+
+    def screws() -> Arr:
+        return Arr("S_list", (6, 6), batch=False, lo=-1.0, hi=1.0, extreme=False)
+
+    return [
+        Spec("check.product_of_exponentials.reference_rodrigues", steps.reference_rodrigues,
+             [Arr("omega", (3,), batch=False, lo=-1.0, hi=1.0, extreme=False), Num("theta", -3.0, 3.0, extreme=False)],
+             shape=lambda c, v: (3, 3), weight=0.3),
+        Spec("check.product_of_exponentials.reference_exp6", steps.reference_exp6,
+             [Arr("S", (6,), batch=False, lo=-1.0, hi=1.0, extreme=False), Num("theta", -3.0, 3.0, extreme=False)],
+             shape=lambda c, v: (4, 4), weight=0.3),
+        Spec("check.product_of_exponentials.reference_poe_fk", steps.reference_poe_fk,
+             [Tf("M", batch=False, extreme=False), screws(), angles("theta")], shape=lambda c, v: (4, 4), weight=0.3),
+        Spec("check.product_of_exponentials.reference_adjoint_matrix", steps.reference_adjoint_matrix,
+             [Tf("T", batch=False)], shape=lambda c, v: (6, 6), weight=0.3),
+        Spec("check.product_of_exponentials.reference_jacobian_in_space", steps.reference_jacobian_in_space,
+             [screws(), angles("theta")], shape=lambda c, v: (6, 6), weight=0.3),
+        Spec("check.product_of_exponentials.reference_jacobian_in_body", steps.reference_jacobian_in_body,
+             [Tf("M", batch=False, extreme=False), screws(), angles("theta")], shape=lambda c, v: (6, 6), weight=0.3),
+    ]
+
+
 def _ur10_closed_form_step_specs() -> list[Spec]:
     """robokin's steps of chapter 7 (the stand-ins the graded tests pass to the student's functions)."""
     steps = check.ur10_closed_form
@@ -870,6 +898,7 @@ def check_specs() -> list[Spec]:
     from robokin.check._registry import CHAPTERS, checks_of
 
     S = [
+        *_poe_step_specs(),
         Spec("check.matrix_function", check.matrix_function,
              [Answer("student"), Fn("reference", lambda c: (lambda alpha: tr.rotx(alpha)), bad=("none", "str"))],
              {"variables": Const("variables", ["alpha"]), "quiet": Const("quiet", True),
