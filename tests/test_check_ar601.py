@@ -482,9 +482,11 @@ def test_reference_steps_pass_their_checks_and_agree_with_the_model():
     leg = ar601_leg()
     assert ck.ankle_point(ck.reference_ankle_point, quiet=True).passed
     assert ck.ankle_angles(ck.reference_ankle_angles, quiet=True).passed
+    assert ck.knee_angle(ck.reference_knee_angle, quiet=True).passed
     for x in leg.random_configurations(20, seed=7):
         T, frames = leg.fk(x), leg.frames(x)
         assert np.allclose(ck.reference_ankle_point(T), frames[5][:3, 3], atol=1e-12)
+        assert np.isclose(ck.reference_knee_angle(np.linalg.norm(frames[5][:3, 3])), abs(x[3]), atol=1e-7)
         u = T[:3, :3].T @ frames[5][:3, 3]
         pairs = ck.reference_ankle_angles(u, x[3])
         assert all(isinstance(p, tuple) and len(p) == 2 for p in pairs)
@@ -502,9 +504,9 @@ def test_reference_steps_in_a_leg_ik_give_robokins_solutions():
 
     def leg_ik(T):
         R, a = T[:3, :3], ck.reference_ankle_point(T)
-        c4 = np.clip((a @ a - 0.18) / 0.18, -1.0, 1.0)
+        q4_abs = ck.reference_knee_angle(np.linalg.norm(a))
         rows = []
-        for q4 in (np.arccos(c4), -np.arccos(c4)):
+        for q4 in (q4_abs, -q4_abs):
             for q5, q6 in ck.reference_ankle_angles(R.T @ a, q4):
                 M = np.array(Rx(q4)[:3, :3] * Ry(q5)[:3, :3] * Rx(q6)[:3, :3], dtype=float)
                 rows += [[*h, q4, q5, q6] for h in ck.reference_hip_angles(R @ M.T)]
@@ -515,8 +517,19 @@ def test_reference_steps_in_a_leg_ik_give_robokins_solutions():
         assert ck._same_rows(leg_ik(T), ar601_leg_ik(T).q)
 
 
+def test_reference_knee_angle_at_the_stretched_leg_and_beyond():
+    # d = L1 + L2: rounding puts the cosine a hair past 1 (1 + 2e-16), still the stretched knee
+    assert ck.reference_knee_angle(0.3 + 0.3) == 0.0
+    assert np.isnan(ck.reference_knee_angle(0.61)) and np.isnan(ck.reference_knee_angle(0.5, 0.1, 0.3))
+    assert np.isclose(ck.reference_knee_angle(np.hypot(0.3, 0.3)), np.pi / 2)
+    assert np.isclose(ck.reference_knee_angle(0.0), np.pi)  # folded: the ankle on the hip
+
+
 @pytest.mark.parametrize("call", [
     lambda: ck.reference_ankle_point(np.eye(3)),
+    lambda: ck.reference_knee_angle(-0.1),
+    lambda: ck.reference_knee_angle(0.4, 0.0),
+    lambda: ck.reference_hip_angles(2 * np.eye(3)),
     lambda: ck.reference_ankle_angles([0.0, 0.1], 0.3),
     lambda: ck.reference_ankle_angles([0.0, np.nan, -0.5], 0.3),
 ])

@@ -55,7 +55,10 @@ from robokin.check._core import (
     fmt,
 )
 from robokin.check._registry import exercise
-from robokin.validation import check_int, check_transform
+from robokin.errors import DomainError
+from robokin.validation import (
+    as_float_array, as_scalar, as_vector, check_int, check_length, check_rotation_matrix, check_transform,
+)
 
 __all__ = [
     "LENGTHS",
@@ -73,6 +76,7 @@ __all__ = [
     "reference_ankle_angles",
     "reference_ankle_point",
     "reference_hip_angles",
+    "reference_knee_angle",
     "unreachable_reason",
 ]
 
@@ -477,6 +481,7 @@ DELEGATION = {
     "ankle_angles": {"reference_ankle_angles": "robokin.check.ar601.reference_ankle_angles"},
     "leg_ik": {"ar601_leg_ik": "robokin.models.ar601_leg_ik",
                "reference_ankle_point": "robokin.check.ar601.reference_ankle_point",
+               "reference_knee_angle": "robokin.check.ar601.reference_knee_angle",
                "reference_ankle_angles": "robokin.check.ar601.reference_ankle_angles",
                "reference_hip_angles": "robokin.check.ar601.reference_hip_angles",
                "ar601_leg_ik_batch": "robokin.models.ar601_leg_ik_batch",
@@ -688,10 +693,39 @@ def reference_ankle_point(T: Any, L3_: float = LENGTHS[2]) -> np.ndarray:
     numpy.ndarray, shape (3,)
         The point where the two ankle axes meet, in B (m).
     """
-    T = np.asarray(T, dtype=float)
-    if T.shape != (4, 4):
-        raise ValueError(f"T must be one foot pose (4, 4); got shape {T.shape}")
-    return T[:3, 3] + L3_ * T[:3, 2]
+    T = as_float_array(T, "T", (4, 4))
+    return T[:3, 3] + float(check_length(L3_, "L3_")) * T[:3, 2]
+
+
+def reference_knee_angle(d: float, l1_: float = LENGTHS[0], l2_: float = LENGTHS[1]) -> float:
+    """robokin's answer to the step ``knee_angle`` of Task 3 (the tests' stand-in).
+
+    As :func:`reference_ankle_angles`, for the knee: the tests of the later steps pass it to
+    the student's ``my_leg_ik`` as its argument ``knee``.
+
+    Parameters
+    ----------
+    d : float
+        The hip–ankle distance (m).
+    l1_, l2_ : float
+        The thigh and shank lengths (m), the model's by default.
+
+    Returns
+    -------
+    float
+        The knee angle q4 ≥ 0 (rad) with d² = l1² + l2² + 2 l1 l2 cos q4; a cosine that
+        rounding puts past ±1 by at most 1e-9 counts as ±1 (the stretched leg has q4 = 0),
+        ``nan`` for a distance out of reach.
+    """
+    d = as_scalar(d, "d")
+    if d < 0.0:
+        raise DomainError(f"d must be a distance >= 0 (m); got {d:g}")
+    l1_, l2_ = float(check_length(l1_, "l1_")), float(check_length(l2_, "l2_"))
+    # (d² − l1² − l2²) / (2 l1 l2), in ratios that neither overflow nor divide by 0
+    cos4 = ((d / l1_) * (d / l2_) - l1_ / l2_ - l2_ / l1_) / 2.0
+    if not abs(cos4) <= 1.0 + 1e-9:  # out of reach (nan: lengths too far apart to compare)
+        return math.nan
+    return math.acos(min(1.0, max(-1.0, cos4)))
 
 
 def reference_ankle_angles(u: Any, q4: float, l1_: float = LENGTHS[0],
@@ -717,11 +751,11 @@ def reference_ankle_angles(u: Any, q4: float, l1_: float = LENGTHS[0],
         Every pair ``(q5, q6)`` (rad) with R_y(q5) R_x(q6) u = v(q4), each once; ``[]`` if
         there is none.
     """
-    u = np.asarray(u, dtype=float)
-    if u.shape != (3,) or not np.all(np.isfinite(u)) or not math.isfinite(q4):
-        raise ValueError(f"u must be a finite vector (3,) and q4 a finite angle; got u of shape "
-                         f"{u.shape}, q4 = {q4!r}")
-    return [(float(q5), float(q6)) for q5, q6 in _ankle_pairs(u, float(q4), l1=l1_, l2=l2_)]
+    u, q4 = as_vector(u, 3, "u"), as_scalar(q4, "q4")
+    l1_, l2_ = float(check_length(l1_, "l1_")), float(check_length(l2_, "l2_"))
+    if math.hypot(u[1], u[2]) == 0.0:
+        raise DomainError("u has y = z = 0: the foot's x axis along the leg leaves q6 undetermined")
+    return [(float(q5), float(q6)) for q5, q6 in _ankle_pairs(u, q4, l1=l1_, l2=l2_)]
 
 
 def reference_hip_angles(R_H: Any) -> list[tuple[float, float, float]]:
@@ -743,7 +777,8 @@ def reference_hip_angles(R_H: Any) -> list[tuple[float, float, float]]:
     """
     from robokin.transforms import rpy_from_rotation
 
-    q3, q2, q1 = (float(a) for a in rpy_from_rotation(np.asarray(R_H, dtype=float)))
+    R_H = check_rotation_matrix(as_float_array(R_H, "R_H", (3, 3)), name="R_H")
+    q3, q2, q1 = (float(a) for a in rpy_from_rotation(R_H))
     p1, p2, p3 = (float(a) for a in _wrap(np.array([q1 + math.pi, math.pi - q2, q3 + math.pi])))
     return [(q1, q2, q3), (p1, p2, p3)]
 

@@ -38,6 +38,12 @@ MUTATIONS = {
         ("knee angle as the interior angle of the triangle",
          "def knee_angle(d, l1_=L1, l2_=L2):\n"
          "    return np.arccos((l1_**2 + l2_**2 - d**2) / (2 * l1_ * l2_))"),
+        ("no clip in the knee angle: nan for the stretched leg, where rounding puts the cosine past 1",
+         "def knee_angle(d, l1_=L1, l2_=L2):\n"
+         "    return np.arccos((d**2 - l1_**2 - l2_**2) / (2 * l1_ * l2_))"),
+        ("a distance out of reach clipped to the stretched knee instead of nan",
+         "def knee_angle(d, l1_=L1, l2_=L2):\n"
+         "    return np.arccos(np.clip((d**2 - l1_**2 - l2_**2) / (2 * l1_ * l2_), -1.0, 1.0))"),
     ],
     "task3_test2": [
         ("(q6, q5) returned instead of (q5, q6)",
@@ -81,12 +87,12 @@ MUTATIONS = {
          "        return np.zeros((0, 6))\n"
          "    return _leg_ik_right(T, ankle, **steps)"),
         ("R_H = (Rx(q4) Ry(q5) Rx(q6))^T R: the hip taken last in the product",
-         "def my_leg_ik(T, ankle=ankle_point, ankle_angles=ankle_angles, hip_angles=hip_angles):\n"
+         "def my_leg_ik(T, ankle=ankle_point, knee=knee_angle, ankle_angles=ankle_angles,\n"
+         "              hip_angles=hip_angles):\n"
          "    R, a = T[:3, :3], ankle(T)\n"
-         "    cos4 = (a @ a - L1**2 - L2**2) / (2 * L1 * L2)\n"
-         "    if abs(cos4) > 1 + 1e-9:\n"
+         "    q4_abs = knee(np.linalg.norm(a))\n"
+         "    if np.isnan(q4_abs):\n"
          "        return np.zeros((0, 6))\n"
-         "    q4_abs = np.arccos(np.clip(cos4, -1.0, 1.0))\n"
          "    sols = []\n"
          "    for q4 in (q4_abs, -q4_abs):\n"
          "        for q5, q6 in ankle_angles(R.T @ a, q4):\n"
@@ -110,14 +116,16 @@ MUTATIONS = {
          "                    np.arctan2(-R_H[2, 0], c2),\n"
          "                    np.arctan2(R_H[2, 2] / c2, R_H[2, 1] / c2)))\n"
          "    return out""\n\n_leg_ik_right = my_leg_ik\n\n"
-         "def my_leg_ik(T, ankle=ankle_point, ankle_angles=ankle_angles, hip_angles=hip_angles):\n"
-         "    return _leg_ik_right(T, ankle, ankle_angles, hip_angles)"),
+         "def my_leg_ik(T, ankle=ankle_point, knee=knee_angle, ankle_angles=ankle_angles,\n"
+         "              hip_angles=hip_angles):\n"
+         "    return _leg_ik_right(T, ankle, knee, ankle_angles, hip_angles)"),
         ("the hip angles read as if R_H = Rx(q3) Ry(q2) Rz(q1)",
          "_hip_angles_right = hip_angles\n\n"
          "def hip_angles(R_H):\n"
          "    return [(-a, -b, -c) for a, b, c in _hip_angles_right(R_H.T)]""\n\n_leg_ik_right = my_leg_ik\n\n"
-         "def my_leg_ik(T, ankle=ankle_point, ankle_angles=ankle_angles, hip_angles=hip_angles):\n"
-         "    return _leg_ik_right(T, ankle, ankle_angles, hip_angles)"),
+         "def my_leg_ik(T, ankle=ankle_point, knee=knee_angle, ankle_angles=ankle_angles,\n"
+         "              hip_angles=hip_angles):\n"
+         "    return _leg_ik_right(T, ankle, knee, ankle_angles, hip_angles)"),
         ("the solutions returned in degrees",
          "_leg_ik_right = my_leg_ik\n\n"
          "def my_leg_ik(T, ankle=ankle_point, **steps):\n"
@@ -127,14 +135,23 @@ MUTATIONS = {
          "def ankle_angles(u, q4, l1_=L1, l2_=L2):\n"
          "    pairs = _ankle_angles_right(u, q4, l1_, l2_)\n"
          "    return pairs[:1] * len(pairs)""\n\n_leg_ik_right = my_leg_ik\n\n"
-         "def my_leg_ik(T, ankle=ankle_point, ankle_angles=ankle_angles, hip_angles=hip_angles):\n"
-         "    return _leg_ik_right(T, ankle, ankle_angles, hip_angles)"),
+         "def my_leg_ik(T, ankle=ankle_point, knee=knee_angle, ankle_angles=ankle_angles,\n"
+         "              hip_angles=hip_angles):\n"
+         "    return _leg_ik_right(T, ankle, knee, ankle_angles, hip_angles)"),
+        ("the knee as the interior angle in knee_angle, my_leg_ik built on it",
+         "def knee_angle(d, l1_=L1, l2_=L2):\n"
+         "    return np.arccos(np.clip((l1_**2 + l2_**2 - d**2) / (2 * l1_ * l2_), -1.0, 1.0))"
+         "\n\n_leg_ik_right = my_leg_ik\n\n"
+         "def my_leg_ik(T, ankle=ankle_point, knee=knee_angle, ankle_angles=ankle_angles,\n"
+         "              hip_angles=hip_angles):\n"
+         "    return _leg_ik_right(T, ankle, knee, ankle_angles, hip_angles)"),
         ("q5 with the wrong sign in ankle_angles, my_leg_ik built on it",
          "_ankle_angles_right = ankle_angles\n\n"
          "def ankle_angles(u, q4, l1_=L1, l2_=L2):\n"
          "    return [(-q5, q6) for q5, q6 in _ankle_angles_right(u, q4, l1_, l2_)]""\n\n_leg_ik_right = my_leg_ik\n\n"
-         "def my_leg_ik(T, ankle=ankle_point, ankle_angles=ankle_angles, hip_angles=hip_angles):\n"
-         "    return _leg_ik_right(T, ankle, ankle_angles, hip_angles)"),
+         "def my_leg_ik(T, ankle=ankle_point, knee=knee_angle, ankle_angles=ankle_angles,\n"
+         "              hip_angles=hip_angles):\n"
+         "    return _leg_ik_right(T, ankle, knee, ankle_angles, hip_angles)"),
     ],
     "task4_test2": [
         ("every configuration its own posture, duplicates included",

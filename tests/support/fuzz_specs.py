@@ -1066,6 +1066,37 @@ _ELBOW_ANGLES = check.SolutionSetCheck(
     reference=lambda x: np.array([[1.0], [-1.0]]) * np.arccos(x[0] ** 2 / 2 - 1))
 
 
+def _pairs_of(size: int) -> Any:
+    """A check that the result is a list of tuples of ``size`` floats."""
+    def check(r: Any, c: Ctx, v: dict) -> None:
+        assert isinstance(r, list) and all(isinstance(t, tuple) and len(t) == size for t in r), r
+
+    return check
+
+
+def _knee_angle_result(r: Any, c: Ctx, v: dict) -> None:
+    assert isinstance(r, float) and (math.isnan(r) or 0.0 <= r <= math.pi), r
+
+
+def ar601_step_specs() -> list[Spec]:
+    """robokin's steps of chapter 6 (the stand-ins the graded tests pass to the student's my_leg_ik)."""
+    steps = check.ar601
+    return [
+        Spec("check.ar601.reference_ankle_point", steps.reference_ankle_point, [Tf("T", batch=False, scale=0.3)],
+             {"L3_": Num("L3_", 0.05, 0.2, extreme=False)}, shape=lambda c, v: (3,), weight=0.3),
+        # nan for a distance out of reach (the lengths are drawn too)
+        Spec("check.ar601.reference_knee_angle", steps.reference_knee_angle, [Num("d", 0.0, 0.6, allow_zero=True)],
+             {"l1_": Num("l1_", 0.1, 0.5, positive=True), "l2_": Num("l2_", 0.1, 0.5, positive=True)},
+             check=_knee_angle_result, finite=False, weight=0.3),
+        Spec("check.ar601.reference_ankle_angles", steps.reference_ankle_angles,
+             [Arr("u", (3,), batch=False, lo=-0.6, hi=0.6, extreme=False), Num("q4", -2.5, 2.5, extreme=False)],
+             check=_pairs_of(2), weight=0.3),
+        Spec("check.ar601.reference_hip_angles", steps.reference_hip_angles, [Rot("R_H", batch=False)],
+             check=_pairs_of(3), weight=0.3),
+    ]
+
+
 def all_specs() -> list[Spec]:
     return (transform_specs() + chain_method_specs() + construction_specs() + model_specs() + urdf_specs()
-            + motion_specs() + parallel_specs() + check_specs() + solution_check_specs() + view_specs())
+            + motion_specs() + parallel_specs() + check_specs() + solution_check_specs() + view_specs()
+            + ar601_step_specs())
