@@ -544,3 +544,88 @@ def test_function_checks_refuse_and_report_as_every_chapter(check_name):
     raised = check(lambda *args: 1 / 0, quiet=True)
     assert raised.diagnosis == "error" and raised.message.startswith(f"✘ calling {check_name} (")
     assert raised.message.endswith(") raised ZeroDivisionError: division by zero"), raised.message
+
+
+# ---------------------------------------------------------------- the tests' stand-ins
+def test_references_pass_their_checks():
+    assert chk.cubic_scaling(chk.reference_cubic_scaling, quiet=True).passed
+    assert chk.quintic_scaling(chk.reference_quintic_scaling, quiet=True).passed
+    assert chk.trapezoid_time(chk.reference_trapezoid_time, quiet=True).passed
+    assert chk.least_duration(chk.reference_least_duration, quiet=True).passed
+    assert chk.slerp(chk.reference_slerp, quiet=True).passed
+
+
+def test_references_agree_with_robokin_and_the_hand_written_answers():
+    rng = np.random.default_rng(5)
+    for _ in range(20):
+        t, T = rng.uniform(0.0, 1.0) * 2.5, 2.5
+        assert np.allclose(chk.reference_cubic_scaling(t, T), cubic_by_hand(t, T), atol=1e-12)
+        assert np.allclose(chk.reference_quintic_scaling(t, T), quintic_by_hand(t, T), atol=1e-12)
+        D, v, a = rng.uniform([0.0, 0.2, 0.3], [3.0, 2.5, 6.0])
+        assert math.isclose(chk.reference_trapezoid_time(D, v, a), trapezoid_by_hand(D, v, a), rel_tol=1e-12)
+        start, step = rng.uniform(-2.0, 2.0, (2, 5))
+        v_max, a_max = rng.uniform(0.2, 2.5, 5), rng.uniform(0.3, 6.0, 5)
+        assert math.isclose(chk.reference_least_duration(start, start + step, v_max, a_max),
+                            joint_trajectory_duration(start, start + step, v_max=v_max, a_max=a_max), rel_tol=1e-12)
+        q0, q1 = (q / np.linalg.norm(q) for q in rng.normal(size=(2, 4)))
+        s = rng.uniform()
+        mine, theirs = chk.reference_slerp(q0, q1, s), quaternion_slerp(q0, q1, s)
+        assert np.allclose(mine, theirs, atol=1e-12) or np.allclose(mine, -theirs, atol=1e-12)
+    # at rest outside [0, T]; no joint moving: no time; equal rotations: no NaN
+    assert np.allclose(chk.reference_quintic_scaling(3.0, 2.0), [1.0, 0.0, 0.0])
+    assert np.allclose(chk.reference_cubic_scaling(-1.0, 2.0), [0.0, 0.0, 0.0])
+    assert chk.reference_least_duration(np.ones(3), np.ones(3), np.ones(3), np.ones(3)) == 0.0
+    q = np.array([0.5, 0.5, -0.5, 0.5])
+    assert np.allclose(chk.reference_slerp(q, q, 0.3), q)
+
+
+@pytest.mark.parametrize("call", [
+    lambda: chk.reference_quintic_scaling(0.5, 0.0),
+    lambda: chk.reference_trapezoid_time(-0.1, 1.0, 1.0),
+    lambda: chk.reference_trapezoid_time(0.1, 1.0, 0.0),
+    lambda: chk.reference_least_duration([0.0, 1.0], [1.0], [1.0, 1.0], [1.0, 1.0]),
+    lambda: chk.reference_least_duration([0.0], [1.0], [-1.0], [1.0]),
+    lambda: chk.reference_slerp(np.zeros(4), [1.0, 0.0, 0.0, 0.0], 0.5),
+    lambda: chk.reference_slerp([1.0, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0], 0.5),
+])
+def test_references_refuse_bad_input(call):
+    with pytest.raises((TypeError, ValueError)):
+        call()
+
+
+def test_references_are_flagged_as_answers_to_their_own_tasks():
+    for task, reference in [("cubic_scaling", "reference_cubic_scaling"),
+                            ("quintic_scaling", "reference_quintic_scaling"),
+                            ("trapezoid_time", "reference_trapezoid_time"),
+                            ("least_duration", "reference_least_duration"), ("slerp", "reference_slerp")]:
+        assert reference in chk.DELEGATION[task] and reference in chk.__all__
+
+
+def test_a_later_step_is_judged_with_robokin_steps_in_place_of_the_students():
+    def wrong_trapezoid(distance, v_max, a_max):
+        return distance / v_max + v_max / a_max  # the triangle missed
+
+    def least_duration(q_start, q_end, v_max, a_max, trapezoid_time=wrong_trapezoid):
+        return max(trapezoid_time(abs(e - s), v, a) for s, e, v, a in zip(q_start, q_end, v_max, a_max))
+
+    def wrong_duration(q_start, q_end, v_max, a_max):
+        return 0.9 * least_duration_by_hand(q_start, q_end, v_max, a_max)
+
+    def synchronised_motion(t, q_start, q_end, v_max, a_max, least_duration=wrong_duration):
+        assert math.isclose(least_duration(q_start, q_end, v_max, a_max),
+                            least_duration_by_hand(q_start, q_end, v_max, a_max), rel_tol=1e-12)
+        return motion_by_integration(t, q_start, q_end, v_max, a_max)
+
+    def wrong_law(t, T):
+        return quintic_by_hand(t, T) * [1.0, T, T * T]  # rates per unit of tau
+
+    def line_reference(t, T_start, T_end, duration, quintic_scaling=wrong_law, slerp=None):
+        assert np.allclose(quintic_scaling(0.3 * duration, duration), quintic_by_hand(0.3 * duration, duration))
+        assert slerp is chk.reference_slerp
+        return line_by_exponential(t, T_start, T_end, duration)
+
+    assert chk.least_duration(least_duration, quiet=True).passed
+    assert chk.synchronised_motion(synchronised_motion, quiet=True).passed
+    assert chk.line_reference(line_reference, quiet=True).passed
+    # a function without the argument is judged as it is: the wrong step shows
+    assert not chk.least_duration(lambda *move: least_duration(*move), quiet=True).passed

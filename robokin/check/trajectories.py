@@ -24,7 +24,10 @@ the synchronised trapezoids are compared with robokin's
 via point as the mean of the two adjacent slopes, or 0 where their signs differ, and rest at both
 ends (Siciliano et al. 2009, ch. 4; robokin's :func:`~robokin.motion.via_point_trajectory`).
 The functions are called at seeded random inputs of the checks' own and compared with the
-reference; a wrong answer is explained when one of the chapter's typical mistakes reproduces
+reference; a function that takes an earlier step as a keyword argument (``least_duration``'s
+``trapezoid_time``, ``synchronised_motion``'s ``least_duration``, ``line_reference``'s
+``quintic_scaling`` and ``slerp``) is given robokin's step (``reference_*`` below), so that
+each check judges its own step; a wrong answer is explained when one of the chapter's typical mistakes reproduces
 it (a derivative in the wrong variable, a case of the trapezoid missed, the limits swapped, the
 wrong joint setting the pace, a velocity that jumps at a via point, the ends not at rest, the
 durations mixed up, slerp the wrong way round or NaN for nearly equal rotations, degrees for
@@ -34,8 +37,10 @@ other than D = 1, T = 1).
 
 from __future__ import annotations
 
+import inspect
 import math
 from collections.abc import Callable
+from dataclasses import dataclass
 from functools import partial
 from typing import Any
 
@@ -52,9 +57,13 @@ from robokin.check._core import (
     fmt,
 )
 from robokin.check._registry import exercise
+from robokin.errors import DomainError, ShapeError
+from robokin.validation import as_float_array, as_scalar, as_vector, check_positive, check_result_finite
 
 __all__ = ["cubic_scaling", "quintic_scaling", "peak_factors", "trapezoid_time", "synchronised_motion",
-           "least_duration", "via_point_cubics", "slerp", "line_reference", "track", "PROBLEM"]
+           "least_duration", "via_point_cubics", "slerp", "line_reference", "track", "PROBLEM",
+           "reference_cubic_scaling", "reference_quintic_scaling", "reference_trapezoid_time",
+           "reference_least_duration", "reference_slerp"]
 
 _CHAPTER = "trajectories"
 
@@ -62,18 +71,24 @@ _CHAPTER = "trajectories"
 #: answer that hands one back is flagged for review by hand
 #: (tools/grading/bridge/delegation.py reads this literal table without importing the module)
 DELEGATION = {
-    "cubic_scaling": {"time_law": "robokin.motion.time_law", "joint_trajectory": "robokin.motion.joint_trajectory"},
+    "cubic_scaling": {"time_law": "robokin.motion.time_law", "joint_trajectory": "robokin.motion.joint_trajectory",
+                      "reference_cubic_scaling": "robokin.check.trajectories.reference_cubic_scaling"},
     "quintic_scaling": {"time_law": "robokin.motion.time_law",
-                        "joint_trajectory": "robokin.motion.joint_trajectory"},
+                        "joint_trajectory": "robokin.motion.joint_trajectory",
+                        "reference_quintic_scaling": "robokin.check.trajectories.reference_quintic_scaling"},
     "trapezoid_time": {"joint_trajectory_duration": "robokin.motion.joint_trajectory_duration",
-                       "joint_trajectory": "robokin.motion.joint_trajectory"},
+                       "joint_trajectory": "robokin.motion.joint_trajectory",
+                       "reference_trapezoid_time": "robokin.check.trajectories.reference_trapezoid_time",
+                       "reference_least_duration": "robokin.check.trajectories.reference_least_duration"},
     "least_duration": {"joint_trajectory_duration": "robokin.motion.joint_trajectory_duration",
-                     "joint_trajectory": "robokin.motion.joint_trajectory"},
+                       "joint_trajectory": "robokin.motion.joint_trajectory",
+                       "reference_least_duration": "robokin.check.trajectories.reference_least_duration"},
     "synchronised_motion": {"joint_trajectory": "robokin.motion.joint_trajectory",
                             "joint_trajectory_duration": "robokin.motion.joint_trajectory_duration"},
     "via_point_cubics": {"via_point_trajectory": "robokin.motion.via_point_trajectory"},
     "slerp": {"quaternion_slerp": "robokin.transforms.quaternion_slerp",
-              "pose_trajectory": "robokin.motion.pose_trajectory"},
+              "pose_trajectory": "robokin.motion.pose_trajectory",
+              "reference_slerp": "robokin.check.trajectories.reference_slerp"},
     "line_reference": {"pose_trajectory": "robokin.motion.pose_trajectory",
                        "quaternion_slerp": "robokin.transforms.quaternion_slerp"},
     "track": {"CartesianController": "robokin.motion.CartesianController", "simulate": "robokin.motion.simulate",
@@ -342,6 +357,34 @@ trapezoid_time = exercise(_CHAPTER, "trapezoid_time", Check(
 ))
 
 
+# ------------------------------------------------------------------ the later steps, judged alone
+def _with_reference_steps(answer: Any, steps: dict[str, Callable[..., Any]]) -> Any:
+    """``answer`` with robokin's earlier steps passed for those of its keyword parameters that
+    ``steps`` names (the student's own steps are their defaults), so that a check judges this
+    step alone; ``answer`` itself when it has none of them or no signature."""
+    try:
+        parameters = inspect.signature(answer).parameters
+    except (TypeError, ValueError):
+        return answer
+    given = {name: step for name, step in steps.items() if name in parameters}
+    return partial(answer, **given) if given else answer
+
+
+@dataclass(repr=False)
+class _LaterStepCheck(MatrixArgumentsCheck):
+    """A :class:`MatrixArgumentsCheck` of a function that builds on earlier steps: it is called
+    with robokin's steps (``steps()``, by the names of its keyword parameters) in place of the
+    student's."""
+
+    steps: Callable[[], dict[str, Callable[..., Any]]] = dict
+
+    def evaluate(self, answer: Any) -> CheckResult:
+        """:meth:`MatrixArgumentsCheck.evaluate` of ``answer`` given robokin's earlier steps."""
+        if callable(answer) and not isinstance(answer, np.ndarray):
+            answer = _with_reference_steps(answer, self.steps())
+        return super().evaluate(answer)
+
+
 # ------------------------------------------------------------------ the least duration of a move
 #: a move of four joints: start angles, steps to the end (joint 3 at rest), speed and acceleration
 #: limits; the limits' ranges put some joints on the triangle and some on the trapezoid
@@ -369,8 +412,9 @@ def _moving_min(times: np.ndarray) -> float:
     return float(np.min(times[times > 0]))
 
 
-least_duration = exercise(_CHAPTER, "least_duration", MatrixArgumentsCheck(
+least_duration = exercise(_CHAPTER, "least_duration", _LaterStepCheck(
     name="least_duration",
+    steps=lambda: {"trapezoid_time": reference_trapezoid_time},
     reference=lambda x: np.asarray(np.max(_joint_times(x))),
     variables=_MOVE,
     diagnoses=[
@@ -452,14 +496,15 @@ def _motion(t, start, end, v_max, a_max, mistake: str = "") -> tuple[np.ndarray,
 
 
 _MOTION_MISTAKES = {
-    "fastest_joint": ("{name} gives every joint the fastest joint's time: the slower joints then exceed "
-                      "their limits. The slowest joint sets the duration T = max_i T_i."),
+    "fastest_joint": ("{name} gives every joint the fastest joint's time (from the least_duration it "
+                      "calls, or its own): the slower joints then exceed their limits. The slowest joint "
+                      "sets the duration T = max_i T_i."),
     "unsynchronised": ("in {name} every joint moves in its own minimum time, so the joints arrive one "
                        "after the other: plan every joint again with the common duration T = max_i T_i."),
     "swapped_limits": "{name} swaps v_max and a_max.",
     "triangular_missed": ("{name} takes the duration T_i = D_i/v_max + v_max/a_max also for a joint that "
-                          "never reaches v_max (a negative cruise time): that joint's triangle is faster, "
-                          "2√(D_i/a_max)."),
+                          "never reaches v_max (a negative cruise time; check the trapezoid_time its "
+                          "duration comes from): that joint's triangle is faster, 2√(D_i/a_max)."),
     "same_shape": ("{name} stretches the slowest joint's profile for every joint (v_i and a_i scaled "
                    "by D_i/D_slow): synchronised, but the task keeps each joint's own acceleration "
                    "a_max,i and lowers its cruise speed."),
@@ -490,6 +535,7 @@ class _MotionCheck(FunctionCheck):
     """Check ``synchronised_motion(t, q_start, q_end, v_max, a_max)`` against the synchronised trapezoids."""
 
     def judge(self, answer: Callable[..., Any]) -> CheckResult:
+        answer = _with_reference_steps(answer, {"least_duration": reference_least_duration})
         cases = _cases()
         n = len(cases)
         rng = np.random.default_rng(3)
@@ -943,6 +989,8 @@ class _LineCheck(FunctionCheck):
     """Check ``line_reference(t, T_start, T_end, duration)`` on lines of its own."""
 
     def judge(self, answer: Callable[..., Any]) -> CheckResult:
+        answer = _with_reference_steps(answer, {"quintic_scaling": reference_quintic_scaling,
+                                                "slerp": reference_slerp})
         n = 3
         for seed in range(n):
             _, _, start, end = _line_case(seed)
@@ -1060,3 +1108,146 @@ track = exercise(_CHAPTER, "track", _TrackCheck(
     doc=("Check track(q0, poses, twists, ts, gain) -> joint angles (N, 6): resolved rates with feed-forward "
          "and Euler steps on the UR10."),
 ))
+
+
+# ------------------------------------------------------------------ the tests' stand-ins
+# The graded tests of the tasks that build on earlier ones pass these to the student's later
+# functions in place of the student's own earlier steps (their default arguments), so that a
+# mistake in one step costs the points of that step's own test only.
+def _reference_scaling(t: Any, T: Any, law: str) -> np.ndarray:
+    t, T = as_scalar(t, "t"), check_positive(T, "T", scalar=True)
+    with np.errstate(all="ignore"):
+        tau = t / T
+        s, ds, dds = _law(np.clip(np.asarray(tau), 0.0, 1.0), law)
+        inside = 0.0 <= tau <= 1.0   # at rest before and after
+        rates = np.array([s, ds / T if inside else 0.0, dds / (T * T) if inside else 0.0], dtype=float)
+    return check_result_finite(rates, f"the {law} law's rates", t=t, T=T)
+
+
+def reference_cubic_scaling(t: float, T: float) -> np.ndarray:
+    """robokin's answer to ``cubic_scaling`` of Task 1 (the tests' stand-in).
+
+    Parameters
+    ----------
+    t : float
+        A time (s); outside [0, T] the law is at rest (s = 0 before, 1 after).
+    T : float
+        The duration (s), positive.
+
+    Returns
+    -------
+    numpy.ndarray, shape (3,)
+        ``[s, ṡ, s̈]`` of the cubic rest-to-rest law at ``t`` (1, 1/s, 1/s²).
+    """
+    return _reference_scaling(t, T, "cubic")
+
+
+def reference_quintic_scaling(t: float, T: float) -> np.ndarray:
+    """robokin's answer to ``quintic_scaling`` of Task 1 (the tests' stand-in).
+
+    The graded tests of Task 6 pass it to the student's ``line_reference`` in place of the
+    student's own.
+
+    Parameters
+    ----------
+    t : float
+        A time (s); outside [0, T] the law is at rest (s = 0 before, 1 after).
+    T : float
+        The duration (s), positive.
+
+    Returns
+    -------
+    numpy.ndarray, shape (3,)
+        ``[s, ṡ, s̈]`` of the quintic rest-to-rest law at ``t`` (1, 1/s, 1/s²).
+    """
+    return _reference_scaling(t, T, "quintic")
+
+
+def reference_trapezoid_time(distance: float, v_max: float, a_max: float) -> float:
+    """robokin's answer to ``trapezoid_time`` of Task 2 (the tests' stand-in).
+
+    The graded tests of Task 3 pass it to the student's ``least_duration`` in place of the
+    student's own.
+
+    Parameters
+    ----------
+    distance : float
+        The distance (rad), at least 0.
+    v_max, a_max : float
+        The speed (rad/s) and acceleration (rad/s²) limits, positive.
+
+    Returns
+    -------
+    float
+        The minimum rest-to-rest time (s): a trapezoid, or a triangle for a distance below
+        v_max²/a_max.
+    """
+    return float(_trapezoid_time(check_positive(distance, "distance", allow_zero=True, scalar=True),
+                                 check_positive(v_max, "v_max", scalar=True),
+                                 check_positive(a_max, "a_max", scalar=True)))
+
+
+def reference_least_duration(q_start: Any, q_end: Any, v_max: Any, a_max: Any) -> float:
+    """robokin's answer to ``least_duration`` of Task 3 (the tests' stand-in).
+
+    The graded tests of ``synchronised_motion`` pass it in place of the student's own.
+
+    Parameters
+    ----------
+    q_start, q_end : array_like, shape (n,)
+        The start and end configurations (rad).
+    v_max, a_max : array_like, shape (n,)
+        The joints' speed (rad/s) and acceleration (rad/s²) limits, positive.
+
+    Returns
+    -------
+    float
+        The least duration (s) of the synchronised rest-to-rest move: the largest of the
+        joints' minimum times.
+    """
+    arrays = {name: as_float_array(value, name) for name, value in
+              (("q_start", q_start), ("q_end", q_end), ("v_max", v_max), ("a_max", a_max))}
+    shapes = {name: array.shape for name, array in arrays.items()}
+    if len(set(shapes.values())) != 1 or len(shapes["q_start"]) != 1:
+        raise ShapeError("q_start, q_end, v_max and a_max must be vectors of one shape (n,); got "
+                         + ", ".join(f"{name} {shape}" for name, shape in shapes.items()))
+    start, end = arrays["q_start"], arrays["q_end"]
+    v_limit, a_limit = check_positive(arrays["v_max"], "v_max"), check_positive(arrays["a_max"], "a_max")
+    with np.errstate(all="ignore"):
+        times = [float(_trapezoid_time(abs(e - s), v, a)) for s, e, v, a in zip(start, end, v_limit, a_limit)]
+    return float(check_result_finite(max(times, default=0.0), "the least duration", **arrays))
+
+
+def reference_slerp(q0: Any, q1: Any, s: float) -> np.ndarray:
+    """robokin's answer to ``slerp`` of Task 5 (the tests' stand-in).
+
+    The graded tests of Task 6 pass it to the student's ``line_reference`` in place of the
+    student's own.
+
+    Parameters
+    ----------
+    q0, q1 : array_like, shape (4,)
+        Unit quaternions (w, x, y, z) (others are normalised).
+    s : float
+        The fraction of the way, in [0, 1].
+
+    Returns
+    -------
+    numpy.ndarray, shape (4,)
+        The unit quaternion at ``s`` on the shorter great arc from ``q0`` to ``q1`` (or
+        ``-q1``).
+    """
+    a, b, s = as_vector(q0, 4, "q0"), as_vector(q1, 4, "q1"), as_scalar(s, "s")
+    if min(np.abs(a).max(), np.abs(b).max()) == 0.0:
+        raise DomainError("q0 and q1 must be quaternions of a rotation, not zero")
+    a, b = (_unit(q / np.abs(q).max()) for q in (a, b))   # scaled first: no overflow
+    if a @ b < 0.0:
+        b = -b   # the same rotation, the short way round
+    omega = 2.0 * math.atan2(np.linalg.norm(a - b), np.linalg.norm(a + b))
+    with np.errstate(all="ignore"):
+        if omega < 1e-9:
+            q = (1.0 - s) * a + s * b
+            q = q / np.linalg.norm(q)
+        else:
+            q = (np.sin((1.0 - s) * omega) * a + np.sin(s * omega) * b) / np.sin(omega)
+    return check_result_finite(q, "the slerp", s=s)

@@ -15,7 +15,7 @@ def _motion_mistake(code: str) -> str:
     """synchronised_motion replaced by the check module's typical mistake ``code``."""
     return (
         "from robokin.check.trajectories import _motion as _wrong_motion\n"
-        "def synchronised_motion(t, q_start, q_end, v_max, a_max):\n"
+        "def synchronised_motion(t, q_start, q_end, v_max, a_max, least_duration=least_duration):\n"
         "    args = [np.asarray(x, dtype=float) for x in (t, q_start, q_end, v_max, a_max)]\n"
         f"    return _wrong_motion(*args, mistake={code!r})" + _RECOMPUTE
     )
@@ -61,16 +61,16 @@ MUTATIONS = {
     ],
     "task3_test1": [
         ("synchronised by the fastest moving joint",
-         "def least_duration(q_start, q_end, v_max, a_max):\n"
+         "def least_duration(q_start, q_end, v_max, a_max, trapezoid_time=trapezoid_time):\n"
          "    times = [trapezoid_time(abs(b - a), v, acc) for a, b, v, acc in zip(q_start, q_end, v_max, a_max)]\n"
          "    return min(time for time in times if time > 0)\n"
          "ptp_duration = least_duration(Q_A, Q_B, V_MAX, A_MAX)"),
         ("the joints' times added (one after the other)",
-         "def least_duration(q_start, q_end, v_max, a_max):\n"
+         "def least_duration(q_start, q_end, v_max, a_max, trapezoid_time=trapezoid_time):\n"
          "    return sum(trapezoid_time(abs(b - a), v, acc) for a, b, v, acc in zip(q_start, q_end, v_max, a_max))\n"
          "ptp_duration = least_duration(Q_A, Q_B, V_MAX, A_MAX)"),
         ("the duration of the UR10's move alone, whatever the move",
-         "least_duration = (lambda T: lambda q_start, q_end, v_max, a_max: T)(ptp_duration)"),
+         "least_duration = (lambda T: lambda q_start, q_end, v_max, a_max, trapezoid_time=None: T)(ptp_duration)"),
     ],
     "task3_test2": [
         ("synchronised by the fastest joint", _motion_mistake("fastest_joint")),
@@ -79,10 +79,10 @@ MUTATIONS = {
         ("the slowest joint's profile stretched for every joint", _motion_mistake("same_shape")),
         ("the cruise speed from the quadratic's root with an unguarded square root (a rounding-"
          "negative discriminant at a triangle: NaN)",
-         "def synchronised_motion(t, q_start, q_end, v_max, a_max):\n"
+         "def synchronised_motion(t, q_start, q_end, v_max, a_max, least_duration=least_duration):\n"
          "    t = np.asarray(t, dtype=float)\n"
          "    delta = np.asarray(q_end, dtype=float) - np.asarray(q_start, dtype=float)\n"
-         "    T = max(trapezoid_time(abs(d), v, a) for d, v, a in zip(delta, v_max, a_max))\n"
+         "    T = least_duration(q_start, q_end, v_max, a_max)\n"
          "    Q, Qd, Qdd = (np.tile(np.zeros(len(delta)), (len(t), 1)) for _ in range(3))\n"
          "    for j, (d, a) in enumerate(zip(delta, a_max)):\n"
          "        D, sign = abs(d), np.sign(d)\n"
@@ -146,12 +146,14 @@ MUTATIONS = {
     ],
     "task6_test1": [
         ("the angular velocity in the tool's start frame",
-         "def line_reference(t, T_start, T_end, duration, _right=line_reference):\n"
-         "    pose, twist = _right(t, T_start, T_end, duration)\n"
+         "def line_reference(t, T_start, T_end, duration, quintic_scaling=quintic_scaling, slerp=slerp,\n"
+         "                   _right=line_reference):\n"
+         "    pose, twist = _right(t, T_start, T_end, duration, quintic_scaling, slerp)\n"
          "    return pose, np.concatenate([twist[:3], T_start[:3, :3].T @ twist[3:]])"),
         ("a constant angular velocity (not scaled by the timing law)",
-         "def line_reference(t, T_start, T_end, duration, _right=line_reference):\n"
-         "    pose, twist = _right(t, T_start, T_end, duration)\n"
+         "def line_reference(t, T_start, T_end, duration, quintic_scaling=quintic_scaling, slerp=slerp,\n"
+         "                   _right=line_reference):\n"
+         "    pose, twist = _right(t, T_start, T_end, duration, quintic_scaling, slerp)\n"
          "    w = T_start[:3, :3] @ rotation_log(T_start[:3, :3].T @ T_end[:3, :3])\n"
          "    return pose, np.concatenate([twist[:3], w / duration])"),
     ],
@@ -206,17 +208,17 @@ def trapezoid_time(distance, v_max, a_max):
 
 # written another way: the joints' minimum times at once (the peak speed min(v_max, sqrt(D a_max)));
 # a loop over the joints; the ramp time t_c = T/2 - sqrt((T^2 a - 4 D)/a)/2
-def least_duration(q_start, q_end, v_max, a_max):
+def least_duration(q_start, q_end, v_max, a_max, trapezoid_time=trapezoid_time):
     D = np.abs(np.subtract(q_end, q_start, dtype=float))
     peak = np.minimum(v_max, np.sqrt(D * np.asarray(a_max, dtype=float)))
     times = np.divide(D, peak, out=np.zeros_like(D), where=D > 0) + np.where(D > 0, peak / a_max, 0.0)
     return float(times.max())
 
 
-def synchronised_motion(t, q_start, q_end, v_max, a_max):
+def synchronised_motion(t, q_start, q_end, v_max, a_max, least_duration=least_duration):
     t = np.asarray(t, dtype=float)
     q_start, q_end = np.asarray(q_start, dtype=float), np.asarray(q_end, dtype=float)
-    T = max(trapezoid_time(abs(b - a), v, acc) for a, b, v, acc in zip(q_start, q_end, v_max, a_max))
+    T = least_duration(q_start, q_end, v_max, a_max)
     columns = []
     for a, b, acc in zip(q_start, q_end, np.asarray(a_max, dtype=float)):
         D, sign = abs(b - a), np.sign(b - a)
@@ -284,7 +286,7 @@ def slerp(q0, q1, s):
 from robokin.transforms import rotation_exp
 
 
-def line_reference(t, T_start, T_end, duration):
+def line_reference(t, T_start, T_end, duration, quintic_scaling=quintic_scaling, slerp=slerp):
     s, sd, _ = quintic_scaling(t, duration)
     R0 = T_start[:3, :3]
     w = rotation_log(R0.T @ T_end[:3, :3])

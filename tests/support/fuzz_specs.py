@@ -924,6 +924,22 @@ def check_specs() -> list[Spec]:
              {"samples": Int("samples", 1, 3, minimum=1, huge=None), "seed": Int("seed", 0, 5, optional=True),
               "quiet": Const("quiet", True)}, student=("f",), check=_is_result, weight=0.5),
         *_ur10_closed_form_step_specs(),
+        # chapter 10's stand-ins for the student's earlier steps in the later tests
+        Spec("check.trajectories.reference_cubic_scaling", check.trajectories.reference_cubic_scaling,
+             [Num("t", 0.0, 2.0, allow_zero=True), Num("T", 0.5, 3.0, positive=True)], shape=lambda c, v: (3,)),
+        Spec("check.trajectories.reference_quintic_scaling", check.trajectories.reference_quintic_scaling,
+             [Num("t", 0.0, 2.0, allow_zero=True), Num("T", 0.5, 3.0, positive=True)], shape=lambda c, v: (3,)),
+        Spec("check.trajectories.reference_trapezoid_time", check.trajectories.reference_trapezoid_time,
+             [Num("distance", 0.0, 3.0, positive=True, allow_zero=True), Num("v_max", 0.1, 3.0, positive=True),
+              Num("a_max", 0.1, 5.0, positive=True)], shape=lambda c, v: ()),
+        Spec("check.trajectories.reference_least_duration", check.trajectories.reference_least_duration,
+             [Arr("q_start", (4,), batch=False), Arr("q_end", (4,), batch=False),
+              Arr("v_max", (4,), batch=False, lo=0.1, hi=3.0, sign=1),
+              Arr("a_max", (4,), batch=False, lo=0.1, hi=5.0, sign=1)], shape=lambda c, v: ()),
+        Spec("check.trajectories.reference_slerp", check.trajectories.reference_slerp,
+             [Arr("q0", (4,), batch=False, extra_bad={"zero": zero_vector(4)}),
+              Arr("q1", (4,), batch=False, extra_bad={"zero": zero_vector(4)}), Num("s", 0.0, 1.0, allow_zero=True)],
+             shape=lambda c, v: (4,)),
     ]
     seen = set()
     for chapter in sorted(CHAPTERS):
