@@ -1179,8 +1179,7 @@ def reference_trapezoid_time(distance: float, v_max: float, a_max: float) -> flo
     Returns
     -------
     float
-        The minimum rest-to-rest time (s): a trapezoid, or a triangle for a distance below
-        v_max²/a_max.
+        The minimum rest-to-rest time (s) of one joint within the two limits.
     """
     return float(_trapezoid_time(check_positive(distance, "distance", allow_zero=True, scalar=True),
                                  check_positive(v_max, "v_max", scalar=True),
@@ -1202,8 +1201,8 @@ def reference_least_duration(q_start: Any, q_end: Any, v_max: Any, a_max: Any) -
     Returns
     -------
     float
-        The least duration (s) of the synchronised rest-to-rest move: the largest of the
-        joints' minimum times.
+        The least duration (s) of the synchronised rest-to-rest move of the n joints within
+        their limits.
     """
     arrays = {name: as_float_array(value, name) for name, value in
               (("q_start", q_start), ("q_end", q_end), ("v_max", v_max), ("a_max", a_max))}
@@ -1234,8 +1233,8 @@ def reference_slerp(q0: Any, q1: Any, s: float) -> np.ndarray:
     Returns
     -------
     numpy.ndarray, shape (4,)
-        The unit quaternion at ``s`` on the shorter great arc from ``q0`` to ``q1`` (or
-        ``-q1``).
+        The unit quaternion of the tool's rotation at ``s``, turning at a constant rate about
+        a fixed axis by the smaller angle.
     """
     a, b, s = as_vector(q0, 4, "q0"), as_vector(q1, 4, "q1"), as_scalar(s, "s")
     if min(np.abs(a).max(), np.abs(b).max()) == 0.0:
