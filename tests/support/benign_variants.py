@@ -475,8 +475,10 @@ def ankle_point(T, L3_=L3):  # written another way: the point (0, 0, L3) of the 
 
 
 def knee_angle(d, l1_=L1, l2_=L2):  # written another way: pi minus the interior angle
-    interior = np.arccos((l1_**2 + l2_**2 - d**2) / (2 * l1_ * l2_))
-    return np.pi - interior
+    cos_interior = (l1_**2 + l2_**2 - d**2) / (2 * l1_ * l2_)
+    if not abs(cos_interior) <= 1 + 1e-9:
+        return float("nan")  # out of reach
+    return np.pi - np.arccos(min(1.0, max(-1.0, cos_interior)))
 
 
 d_goal = float(np.sqrt(np.sum(ankle_point(T_goal) ** 2)))

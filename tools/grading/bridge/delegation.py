@@ -62,7 +62,8 @@ REFERENCES["baxter.resolved_rate"] = {"CartesianController": "robokin.motion.Car
 # knee angle and the IK solver written by hand
 REFERENCES["ar601.foot_transform"] = {"ar601_leg": "robokin.models.ar601_leg (its fk)",
                                       "fk": "SerialChain.fk", "frames": "SerialChain.frames"}
-REFERENCES["ar601.knee_angle"] = {"ar601_leg_ik": "robokin.models.ar601_leg_ik"}
+REFERENCES["ar601.knee_angle"] = {"ar601_leg_ik": "robokin.models.ar601_leg_ik",
+                                  "reference_knee_angle": "robokin.check.ar601.reference_knee_angle"}
 REFERENCES["ar601.ik_solver"] = {"ar601_leg_ik": "robokin.models.ar601_leg_ik",
                                  "ar601_leg_ik_batch": "robokin.models.ar601_leg_ik_batch", **_IK}
 
