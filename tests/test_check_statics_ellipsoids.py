@@ -172,7 +172,11 @@ def test_delegation_names_robokin_functions():
     for check, references in chk.DELEGATION.items():
         assert hasattr(chk, check)
         for attribute in references:
-            assert hasattr(ellipsoids, attribute) or attribute in ("position_jacobian", "jacobian")
+            if attribute.startswith("reference_"):  # the steps the later tests pass in
+                assert references[attribute] == f"robokin.check.statics_ellipsoids.{attribute}"
+                assert callable(getattr(chk, attribute))
+            else:
+                assert hasattr(ellipsoids, attribute) or attribute in ("position_jacobian", "jacobian")
 
 
 def test_leg_torques_j_instead_of_transpose_is_named():
@@ -192,3 +196,40 @@ def test_leg_torques_mass_arrives_as_a_number():
 
     assert chk.leg_torques(answer, quiet=True).passed
     assert all(isinstance(m, float) for m in seen)
+
+
+def eigh_ellipse(J):
+    """The velocity ellipse by NumPy's eigh of J Jᵀ, radii descending."""
+    values, vectors = np.linalg.eigh(J @ J.T)
+    return np.sqrt(values[::-1]), vectors[:, ::-1]
+
+
+def test_references_pass_their_checks():
+    """robokin's steps that the later tests pass to the student's functions are right."""
+    assert chk.tool_jacobian(chk.reference_tool_jacobian, quiet=True).passed
+    assert chk.velocity_ellipse(chk.reference_velocity_ellipse, quiet=True).passed
+    assert chk.posture_measures(chk.reference_posture_measures, quiet=True).passed
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_references_agree_with_independent_answers(seed):
+    rng = np.random.default_rng(seed)
+    q = rng.uniform(-math.pi, math.pi, 2)
+    assert np.allclose(chk.reference_tool_jacobian(q), jacobian_fd(q), atol=1e-7)
+    J = rng.normal(size=(3, 6))
+    radii, axes = chk.reference_velocity_ellipse(J)
+    radii_e, axes_e = eigh_ellipse(J)
+    assert np.allclose(radii, radii_e) and np.allclose(np.abs(axes.T @ axes_e), np.eye(3), atol=1e-8)
+    w, kappa, sigma_min = chk.reference_posture_measures(J)
+    assert np.isclose(w, np.sqrt(np.linalg.det(J @ J.T)))
+    assert np.isclose(kappa, radii_e[0] / radii_e[-1]) and np.isclose(sigma_min, radii_e[-1])
+
+
+def test_reference_steps_reject_a_tall_jacobian():
+    from robokin.errors import ShapeError
+
+    with pytest.raises(ShapeError):
+        chk.reference_velocity_ellipse(np.ones((3, 2)))
+    with pytest.raises(ShapeError):
+        chk.reference_posture_measures(np.ones(3))
+    assert chk.reference_posture_measures(np.diag([2.0, 0.0]))[1] == math.inf

@@ -47,6 +47,8 @@ from robokin.check._core import (
     alternatives,
 )
 from robokin.check._registry import exercise
+from robokin.errors import ShapeError
+from robokin.validation import as_float_array
 
 __all__ = [
     "LINKS",
@@ -57,6 +59,9 @@ __all__ = [
     "manipulability",
     "posture_measures",
     "push_capacity",
+    "reference_posture_measures",
+    "reference_tool_jacobian",
+    "reference_velocity_ellipse",
     "tool_jacobian",
     "velocity_ellipse",
     "w_formula",
@@ -77,11 +82,17 @@ GRAVITY = 9.81
 #: methods of the same names a configuration, and the finder would take the answer's own name
 #: (``manipulability = ...``) for a call of robokin's.
 DELEGATION = {
-    "tool_jacobian": {"position_jacobian": "SerialChain.position_jacobian", "jacobian": "SerialChain.jacobian"},
-    "joint_torques": {"static_torques": "robokin.chains.ellipsoids.static_torques"},
+    "tool_jacobian": {"position_jacobian": "SerialChain.position_jacobian", "jacobian": "SerialChain.jacobian",
+                      "reference_tool_jacobian": "robokin.check.statics_ellipsoids.reference_tool_jacobian"},
+    "joint_torques": {"static_torques": "robokin.chains.ellipsoids.static_torques",
+                      "reference_tool_jacobian": "robokin.check.statics_ellipsoids.reference_tool_jacobian"},
     "leg_torques": {"static_torques": "robokin.chains.ellipsoids.static_torques"},
-    "velocity_ellipse": {"velocity_ellipsoid": "robokin.chains.ellipsoids.velocity_ellipsoid"},
-    "force_ellipse": {"force_ellipsoid": "robokin.chains.ellipsoids.force_ellipsoid"},
+    "velocity_ellipse": {"velocity_ellipsoid": "robokin.chains.ellipsoids.velocity_ellipsoid",
+                         "reference_velocity_ellipse": "robokin.check.statics_ellipsoids.reference_velocity_ellipse"},
+    "force_ellipse": {"force_ellipsoid": "robokin.chains.ellipsoids.force_ellipsoid",
+                      "reference_velocity_ellipse": "robokin.check.statics_ellipsoids.reference_velocity_ellipse"},
+    "posture_measures": {
+        "reference_posture_measures": "robokin.check.statics_ellipsoids.reference_posture_measures"},
 }
 
 
@@ -507,3 +518,75 @@ posture_measures = exercise(_CHAPTER, "posture_measures", MatrixArgumentsCheck(
     hint="From the singular values σ_i of J: w = ∏ σ_i, κ = σ_max/σ_min, σ_min.",
     doc="Check posture_measures(J) -> (w, κ, σ_min): manipulability, condition number, minimum singular value.",
 ))
+
+
+# ------------------------------------------------------------------ robokin's steps
+def _wide_jacobian(J: Any) -> np.ndarray:
+    """``J`` as a float array of shape (m, n) with 1 ≤ m ≤ n."""
+    J = as_float_array(J, "J")
+    if J.ndim != 2 or not 1 <= J.shape[0] <= J.shape[1]:
+        raise ShapeError(f"J should be an (m, n) array with 1 <= m <= n; got the shape {J.shape}.")
+    return J
+
+
+def reference_tool_jacobian(q: Any) -> np.ndarray:
+    """robokin's answer to ``tool_jacobian`` of Task 1 (the tests' stand-in).
+
+    The test of ``joint_torques`` passes it as the student's argument ``jacobian``, so that
+    the torques are graded on their own, whatever the student's Jacobian.
+
+    Parameters
+    ----------
+    q : array_like, shape (2,)
+        The joint angles of the exercise arm (rad).
+
+    Returns
+    -------
+    numpy.ndarray, shape (2, 2)
+        The Jacobian ∂p/∂q of the tool position (rows x, y; columns q1, q2), m/rad.
+    """
+    return _jacobian(as_float_array(q, "q", (2,)))
+
+
+def reference_velocity_ellipse(J: Any) -> tuple[np.ndarray, np.ndarray]:
+    """robokin's answer to ``velocity_ellipse`` of Task 2 (the tests' stand-in).
+
+    The test of ``force_ellipse`` passes it as the student's argument ``velocity_ellipse``.
+
+    Parameters
+    ----------
+    J : array_like, shape (m, n)
+        A Jacobian with m ≤ n and rank m.
+
+    Returns
+    -------
+    radii : numpy.ndarray, shape (m,)
+        The semi-axes σ_i, descending.
+    axes : numpy.ndarray, shape (m, m)
+        The unit principal axes u_i as columns, column i for ``radii[i]``.
+    """
+    J = _wide_jacobian(J)
+    U, sigma, _ = np.linalg.svd(J)
+    return sigma, U
+
+
+def reference_posture_measures(J: Any) -> tuple[float, float, float]:
+    """robokin's answer to ``posture_measures`` of Task 6 (the tests' stand-in).
+
+    The test of ``preferred_postures`` passes it as the student's argument ``measures``.
+
+    Parameters
+    ----------
+    J : array_like, shape (m, n)
+        A Jacobian with m ≤ n.
+
+    Returns
+    -------
+    tuple of float
+        ``(w, kappa, sigma_min)``: the product of the singular values, their ratio
+        σ_max/σ_min (infinite at a singularity) and the smallest one.
+    """
+    J = _wide_jacobian(J)
+    sigma = np.linalg.svd(J, compute_uv=False)
+    kappa = float(sigma[0] / sigma[-1]) if sigma[-1] > 0.0 else float("inf")
+    return float(np.prod(sigma)), kappa, float(sigma[-1])
