@@ -291,3 +291,151 @@ def test_an_unexplained_wrong_jacobian_gets_a_direction_not_the_answer():
     assert result.diagnosis == "mismatch"
     assert "differentiate ρ_i" in result.message
     assert "×" not in result.message and "n_i" not in result.message
+
+
+# ---------------------------------------------------------------- the robot of the graded tests
+def test_robot_without_solvers_withholds_only_its_task():
+    from robokin.parallel import Planar3RPR
+
+    base, platform = np.array([[0.0, 0.0], [1.2, 0.1], [0.4, 0.9]]), np.array([[0.0, 0.0], [0.5, 0.0], [0.1, 0.3]])
+    robot = chk.RobotWithoutSolvers(base, platform, chk.WITHHELD["forward_kinematics"])
+    reference = Planar3RPR(base, platform)
+    pose = np.array([0.3, 0.2, 0.5])
+    assert np.allclose(robot.inverse_kinematics(pose), reference.inverse_kinematics(pose))
+    assert np.allclose(robot.base_anchors, base) and np.allclose(robot.platform_anchors, platform)
+    for name in chk.WITHHELD["forward_kinematics"]:
+        with pytest.raises(AttributeError, match=f"has no {name}: the test grades your own derivation"):
+            getattr(robot, name)
+    with pytest.raises(AttributeError):
+        assert robot._model_of_another_name is None   # private names are not looked up in the model
+
+
+def test_robot_without_solvers_crosses_the_bridge():
+    """The grading bridge rebuilds it in the student's kernel from its fields, solvers withheld."""
+    codec = pytest.importorskip("tools.grading.bridge.codec")
+    robot = chk.RobotWithoutSolvers(np.eye(3, 2), np.eye(3, 2)[::-1], chk.WITHHELD["inverse_jacobian"])
+    copy = codec.decode(json_round_trip(codec.encode(robot)))
+    assert type(copy) is chk.RobotWithoutSolvers and copy.withheld == robot.withheld
+    assert np.array_equal(copy.base_anchors, robot.base_anchors)
+    with pytest.raises(AttributeError, match="has no jacobian"):
+        copy.jacobian(np.zeros(3))
+
+
+def json_round_trip(data):
+    import json
+
+    return json.loads(json.dumps(data))
+
+
+# ---------------------------------------------------------------- the orientation polynomial
+def sextic_by_hand(mistake=""):
+    """(1 + t^2)^3 F of the exercise's robot written out with sympy (steps 1-2 of the chapter)."""
+    sp = pytest.importorskip("sympy")
+    t = sp.symbols("t", real=True)
+    r1, r2, r3 = sp.symbols("rho1:4", positive=True)
+    c, s = (1 - t**2) / (1 + t**2), 2 * t / (1 + t**2)
+    if mistake == "swapped_substitution":
+        c, s = s, c
+    th = sp.pi / 3
+    sign = -1 if mistake == "addition_sign" else 1
+    ct, st = c * sp.cos(th) - sign * s * sp.sin(th), s * sp.cos(th) + sign * c * sp.sin(th)
+    c3, d3 = sp.Rational(1, 2), sp.sqrt(3) / 2
+    al2, be2, ga2 = 2 * (c - 1), 2 * s, 2 - 2 * c
+    al3, be3 = 2 * (ct - c3), 2 * (st - d3)
+    ga3 = 2 - 2 * (c3 * ct + d3 * st)
+    first = 0 if mistake == "rho1_left_in_a" else r1**2
+    a2, a3 = r2**2 - first - ga2, r3**2 - first - ga3
+    D = al2 * be3 - be2 * al3
+    last = {"rho1_term_sign": -1, "rho1_term_missing": 0}.get(mistake, 1)
+    F = (be3 * a2 - be2 * a3) ** 2 + (al2 * a3 - al3 * a2) ** 2 - last * r1**2 * D**2
+    return sp.Poly(sp.expand(sp.cancel(F * (1 + t**2) ** 3)), t), t
+
+
+def test_orientation_polynomial_correct_with_any_factor():
+    poly, t = sextic_by_hand()
+    assert chk.orientation_polynomial(poly, quiet=True).passed
+    assert chk.orientation_polynomial(poly * -3, quiet=True).passed
+
+
+@pytest.mark.parametrize("code", ["addition_sign", "swapped_substitution", "rho1_left_in_a", "rho1_term_sign",
+                                  "rho1_term_missing"])
+def test_orientation_polynomial_mistakes_are_named(code):
+    poly, _ = sextic_by_hand(code)
+    result = chk.orientation_polynomial(poly, quiet=True)
+    assert not result.passed and result.diagnosis == code, result.message
+
+
+def test_orientation_polynomial_degree_and_divided_factor():
+    sp = pytest.importorskip("sympy")
+    poly, t = sextic_by_hand()
+    high = chk.orientation_polynomial(sp.Poly(poly.as_expr() * (1 + t**2), t), quiet=True)
+    assert high.diagnosis == "degree" and "degree 8" in high.message
+    low = chk.orientation_polynomial(sp.Poly(sp.cancel(poly.as_expr() / t**2), t), quiet=True)
+    assert low.diagnosis == "factor_divided"
+    other = chk.orientation_polynomial(sp.Poly(poly.as_expr() + t**2, t), quiet=True)
+    assert other.diagnosis == "mismatch" and "does not vanish" in other.message
+
+
+def test_orientation_polynomial_other_answers():
+    sp = pytest.importorskip("sympy")
+    t, x = sp.symbols("t x")
+    assert chk.orientation_polynomial(None, quiet=True).diagnosis == "error"
+    assert "sympy Poly" in chk.orientation_polynomial(t**2, quiet=True).message
+    assert "symbols x" in chk.orientation_polynomial(sp.Poly(x * t**2, t), quiet=True).message
+
+
+# ---------------------------------------------------------------- the orientation equation
+def F_by_hand(phi, rho, robot, mistake=""):
+    """(D x)^2 + (D y)^2 - rho1^2 D^2 from the subtracted loop equations, with a typical slip."""
+    a, b = robot.base_anchors, robot.platform_anchors
+    c, s = math.cos(phi), math.sin(phi)
+    e = (b[1:] - b[0]) @ np.array([[c, -s], [s, c]]).T - (a[1:] - a[0])
+    M, r = 2 * e, rho[1:] ** 2 - rho[0] ** 2 - np.sum(e**2, axis=1)
+    D = M[0, 0] * M[1, 1] - M[0, 1] * M[1, 0]
+    Dx, Dy = M[1, 1] * r[0] - M[0, 1] * r[1], M[0, 0] * r[1] - M[1, 0] * r[0]
+    last = {"rho1_term_sign": -D**2, "determinant_missing": 1.0, "determinant_not_squared": D}.get(mistake, D**2)
+    return Dx**2 + Dy**2 - rho[0] ** 2 * last
+
+
+def test_orientation_function_correct_with_any_factor():
+    assert chk.orientation_function(F_by_hand, quiet=True).passed
+    assert chk.orientation_function(lambda p, r, robot: -0.25 * F_by_hand(p, r, robot), quiet=True).passed
+
+
+@pytest.mark.parametrize("code", ["rho1_term_sign", "determinant_missing", "determinant_not_squared"])
+def test_orientation_function_mistakes_are_named(code):
+    result = chk.orientation_function(lambda p, r, robot: F_by_hand(p, r, robot, code), quiet=True)
+    assert not result.passed and result.diagnosis == code, result.message
+
+
+def test_orientation_function_angle_readings_and_delegation():
+    degrees = chk.orientation_function(lambda p, r, robot: F_by_hand(math.radians(p), r, robot), quiet=True)
+    assert degrees.diagnosis == "degrees"
+    halved = chk.orientation_function(lambda p, r, robot: F_by_hand(p / 2, r, robot), quiet=True)
+    assert halved.diagnosis == "half_angle"
+    other = chk.orientation_function(lambda p, r, robot: F_by_hand(p, r, robot) + 1.0, quiet=True)
+    assert other.diagnosis == "mismatch"
+
+    def delegating(phi, rho, robot):
+        t = math.tan(phi / 2)
+        return np.polyval(robot.orientation_polynomial(rho)[::-1], t) / (1 + t**2) ** 3
+
+    result = chk.orientation_function(delegating, quiet=True)
+    assert result.diagnosis == "error" and "has no orientation_polynomial" in result.message
+
+
+def test_reference_orientation_function_vanishes_at_the_modes():
+    from robokin.models.three_rpr import CLASSIC_RHO, three_rpr_classic
+
+    classic = three_rpr_classic()
+    modes = classic.forward_kinematics(CLASSIC_RHO).poses
+    values = [chk.reference_orientation_function(phi, CLASSIC_RHO, classic) for phi in modes[:, 2]]
+    scale = max(abs(chk.reference_orientation_function(phi, CLASSIC_RHO, classic)) for phi in (-2.0, 0.5, 2.0))
+    assert np.abs(values).max() < 1e-12 * scale
+    # the same function as one written by hand, up to its factor
+    phis = np.linspace(-3.0, 3.0, 7)
+    mine = np.array([F_by_hand(phi, CLASSIC_RHO, classic) for phi in phis])
+    ref = np.array([chk.reference_orientation_function(phi, CLASSIC_RHO, classic) for phi in phis])
+    assert abs(mine @ ref) > (1 - 1e-12) * np.linalg.norm(mine) * np.linalg.norm(ref)
+    with pytest.raises(TypeError):
+        chk.reference_orientation_function(0.3, CLASSIC_RHO, "robot")

@@ -4,17 +4,26 @@ References come from :func:`robokin.models.three_rpr.three_rpr` (the exercise's 
 unit equilateral base and platform, pose ``(x, y, φ)`` of the platform vertex
 :math:`B_1` and of the side :math:`B_1B_2`), or from the robot passed as ``robot=``.
 
-=======================  ===============================================  ============================
-check                    the student's answer                             compared with
-=======================  ===============================================  ============================
-``inverse_kinematics``   function ``ik(pose)`` or ``ik(x, y, phi)`` ->      ``robot.inverse_kinematics``
-                         leg lengths ρ (3,)                               at 20 random poses
-``forward_kinematics``   function ``fk(rho)`` -> one pose (3,) or           the assembly modes of
-                         several (k, 3)                                   ``robot.forward_kinematics``
-``inverse_jacobian``     function ``A(pose)`` -> 3×3 with ρ̇ = A ẋ          ``robot.jacobian``
-``twin_pose``            function ``twin_pose(pose)`` -> the pose at −φ   its closed form, at 20
-                         with the same leg lengths (3,)                   random poses (φ mod 2π)
-=======================  ===============================================  ============================
+==========================  ===============================================  ============================
+check                       the student's answer                             compared with
+==========================  ===============================================  ============================
+``inverse_kinematics``      function ``ik(pose)`` or ``ik(x, y, phi)`` ->      ``robot.inverse_kinematics``
+                            leg lengths ρ (3,)                               at 20 random poses
+``forward_kinematics``      function ``fk(rho)`` -> one pose (3,) or           the assembly modes of
+                            several (k, 3)                                   ``robot.forward_kinematics``
+``inverse_jacobian``        function ``A(pose)`` -> 3×3 with ρ̇ = A ẋ          ``robot.jacobian``
+``twin_pose``               function ``twin_pose(pose)`` -> the pose at −φ   its closed form, at 20
+                            with the same leg lengths (3,)                   random poses (φ mod 2π)
+``orientation_polynomial``  ``poly_t``, a sympy Poly in t over rho1..rho3     ``robot.orientation_polynomial``
+                                                                             (any constant factor)
+``orientation_function``    function ``F_of_phi(phi, rho, robot)`` -> F(φ)   its pieces from the subtracted
+                                                                             loop equations, on three
+                                                                             robots (any constant factor)
+==========================  ===============================================  ============================
+
+The graded tests pass the student's functions a :class:`RobotWithoutSolvers`, a robot of their own
+whose solvers of the task under test (:data:`WITHHELD`) are missing: a derivation from the anchors
+runs on it, a function that hands the task back to robokin raises.
 
 A forward-kinematics answer is accepted when every pose it returns is one of the
 assembly modes (a pose whose leg lengths are ρ); any one mode is enough.
@@ -27,6 +36,7 @@ Usage::
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Callable
 from functools import lru_cache
@@ -48,13 +58,25 @@ from robokin.check._core import (
 )
 from robokin.check._registry import exercise
 from robokin.errors import DomainError
-from robokin.validation import as_vector, check_positive
+from robokin.validation import as_scalar, as_vector, check_positive
 
 __all__ = [
-    "check_poses", "cramer_parts", "forward_kinematics", "inverse_jacobian", "inverse_kinematics", "twin_pose",
+    "RobotWithoutSolvers", "WITHHELD", "check_poses", "cramer_parts", "forward_kinematics", "inverse_jacobian",
+    "inverse_kinematics", "orientation_function", "orientation_polynomial", "reference_orientation_function",
+    "twin_pose",
 ]
 
 _CHAPTER = "three_rpr"
+
+#: check -> {the robokin method that solves its task: how the grading report names it}: an
+#: answer that hands one back is flagged for review by hand (tools/grading/bridge/delegation.py
+#: reads this literal table without importing the module; its own table lists the other checks)
+DELEGATION = {
+    "orientation_function": {"orientation_polynomial": "Planar3RPR.orientation_polynomial",
+                             "orientation_harmonics": "Planar3RPR.orientation_harmonics",
+                             "forward_kinematics": "Planar3RPR.forward_kinematics"},
+    "twin_pose": {"forward_kinematics": "Planar3RPR.forward_kinematics"},
+}
 
 
 @lru_cache(maxsize=1)
@@ -555,3 +577,433 @@ forward_kinematics = exercise(_CHAPTER, "forward_kinematics", _ForwardKinematics
     doc=("Check a function fk(rho) -> pose (3,) or poses (k, 3) of the exercise robot: "
          "every pose must reproduce the leg lengths (any assembly mode is accepted)."),
 ))
+
+
+# ------------------------------------------------------------------ the robot of the graded tests
+@dataclasses.dataclass(frozen=True, eq=False)
+class RobotWithoutSolvers:
+    """A 3-RPR robot whose solvers of one task are withheld: the robot the graded tests pass.
+
+    A graded test of chapter 3 calls the student's function with ``robot=`` one of these, of
+    anchors of its own. Everything of :class:`robokin.parallel.Planar3RPR` is there (the anchors,
+    ``platform_points``, ``inverse_kinematics``, ...) except the methods named in ``withheld``,
+    the ones that solve the task under test: a function that hands the task back to robokin
+    raises, one derived from the anchors runs as on any robot. The bridge of the grading rebuilds
+    it in the student's kernel from its three fields.
+
+    Parameters
+    ----------
+    base_anchors, platform_anchors : array_like, shape (3, 2)
+        The anchors A_i in the base frame and b_i in the platform frame, m.
+    withheld : tuple of str
+        Names of the ``Planar3RPR`` methods the robot does not have.
+
+    Raises
+    ------
+    DomainError, ShapeError
+        Anchors ``Planar3RPR`` refuses.
+    """
+
+    base_anchors: Any
+    platform_anchors: Any
+    withheld: tuple[str, ...] = ()
+
+    def __post_init__(self) -> None:
+        from robokin.parallel import Planar3RPR
+
+        model = Planar3RPR(self.base_anchors, self.platform_anchors, name="the test's robot")
+        object.__setattr__(self, "base_anchors", model.base_anchors)
+        object.__setattr__(self, "platform_anchors", model.platform_anchors)
+        object.__setattr__(self, "withheld", tuple(str(name) for name in self.withheld))
+        object.__setattr__(self, "_model", model)
+
+    def __getattr__(self, name: str) -> Any:
+        if name.startswith("_"):
+            raise AttributeError(name)
+        if name in self.withheld:
+            raise AttributeError(
+                f"the robot this test passes has no {name}: the test grades your own derivation "
+                f"(from robot.base_anchors and robot.platform_anchors), not robokin's {name}; "
+                "compare with robokin's outside your function")
+        return getattr(self._model, name)
+
+
+#: The methods of Planar3RPR that solve each task: a graded test's robot withholds them.
+WITHHELD = {
+    "inverse_kinematics": ("inverse_kinematics", "platform_points", "leg_vectors", "leg_angles"),
+    "forward_kinematics": ("forward_kinematics", "orientation_polynomial", "orientation_harmonics"),
+    "inverse_jacobian": ("jacobian", "direct_jacobian", "condition_number", "is_singular"),
+}
+
+
+# ------------------------------------------------------------------ the orientation polynomial
+_T_DEN = np.array([1.0, 0.0, 1.0])   # 1 + t², ascending powers of t
+_POLY = np.polynomial.polynomial
+
+
+def _polynomial_variant(rho: np.ndarray, mistake: str = "") -> np.ndarray:
+    """(1 + t²)⁴ F of the exercise's robot at leg lengths rho, ascending coefficients of t.
+
+    Steps 1-2 of the chapter written with cos φ = (1 − t²)/(1 + t²), sin φ = 2t/(1 + t²), every
+    quantity a numerator over 1 + t²; ``mistake`` names a typical slip made in them.
+    """
+    robot = _robot()
+    A, b = robot.base_anchors, robot.platform_anchors
+    c2, (c3, d3) = A[1, 0] - A[0, 0], A[2] - A[0]
+    l2, l3 = np.linalg.norm(b[1] - b[0]), np.linalg.norm(b[2] - b[0])
+    theta = math.atan2(*(b[2] - b[0])[::-1]) - math.atan2(*(b[1] - b[0])[::-1])
+    den, mul = _T_DEN, _POLY.polymul
+    cos_n, sin_n = np.array([1.0, 0.0, -1.0]), np.array([0.0, 2.0])
+    if mistake == "swapped_substitution":
+        cos_n, sin_n = sin_n, cos_n
+    elif mistake == "half_sine":
+        sin_n = np.array([0.0, 1.0])
+    turn = -1.0 if mistake == "addition_sign" else 1.0
+    cos_t = _POLY.polysub(cos_n * math.cos(theta), turn * sin_n * math.sin(theta))
+    sin_t = _POLY.polyadd(sin_n * math.cos(theta), turn * cos_n * math.sin(theta))
+    law = -1.0 if mistake == "law_of_cosines_sign" else 1.0
+    alpha2, beta2 = 2 * _POLY.polysub(l2 * cos_n, c2 * den), 2 * l2 * sin_n
+    gamma2 = _POLY.polysub((l2**2 + c2**2) * den, law * 2 * l2 * c2 * cos_n)
+    alpha3 = 2 * _POLY.polysub(l3 * cos_t, c3 * den)
+    beta3 = 2 * _POLY.polysub(l3 * sin_t, d3 * den)
+    gamma3 = _POLY.polysub((l3**2 + c3**2 + d3**2) * den,
+                           law * 2 * l3 * _POLY.polyadd(c3 * cos_t, d3 * sin_t))
+    first = 0.0 if mistake == "rho1_left_in_a" else rho[0] ** 2
+    a2 = _POLY.polysub((rho[1] ** 2 - first) * den, gamma2)
+    a3 = _POLY.polysub((rho[2] ** 2 - first) * den, gamma3)
+    num_x = _POLY.polysub(mul(beta3, a2), mul(beta2, a3))
+    num_y = _POLY.polysub(mul(alpha2, a3), mul(alpha3, a2))
+    det = _POLY.polysub(mul(alpha2, beta3), mul(beta2, alpha3))
+    squares = _POLY.polyadd(mul(num_x, num_x), mul(num_y, num_y))
+    rho1_term = {"": mul(det, det), "rho1_term_sign": -mul(det, det), "rho1_term_missing": np.zeros(1),
+                 "determinant_not_squared": mul(det, mul(den, den))}.get(mistake, mul(det, det))
+    return _POLY.polysub(squares, rho[0] ** 2 * rho1_term)
+
+
+def _divided(coefficients: np.ndarray, divisor: np.ndarray) -> np.ndarray | None:
+    """coefficients / divisor (ascending) when the division is exact, else None."""
+    quotient, remainder = _POLY.polydiv(coefficients, divisor)
+    scale = max(float(np.abs(coefficients).max()), 1e-300)
+    return quotient if np.abs(remainder).max() <= 1e-9 * scale else None
+
+
+def _proportional(a: np.ndarray, b: np.ndarray | None) -> bool:
+    """True when the coefficient vectors a and b (ascending, any lengths) are parallel."""
+    if b is None:
+        return False
+    n = max(len(a), len(b))
+    a, b = np.pad(a, (0, n - len(a))), np.pad(b, (0, n - len(b)))
+    na, nb = np.linalg.norm(a), np.linalg.norm(b)
+    return bool(na > 0 and nb > 0 and abs(a @ b) >= (1 - 1e-9) * na * nb)
+
+
+#: typical slips in the orientation polynomial: code -> (the computed variant's mistake, message)
+_POLYNOMIAL_MISTAKES = [
+    ("addition_sign", "{name} is the polynomial of cos(φ + θ) = cos φ cos θ + sin φ sin θ (and sin(φ + θ) "
+                      "with the same sign slip): that is φ − θ. A sign in the addition formulas: "
+                      "cos(φ + θ) = cos φ cos θ − sin φ sin θ, sin(φ + θ) = sin φ cos θ + cos φ sin θ."),
+    ("law_of_cosines_sign", "{name} is the polynomial of γ_i with + 2 l_i (…) where the loop equation gives "
+                            "− 2 l_i (…): a sign in the constant terms γ_2, γ_3 (expand the squares of the "
+                            "loop equations again)."),
+    ("rho1_term_sign", "{name} is the polynomial of (β3 a2 − β2 a3)² + (α2 a3 − α3 a2)² + ρ1² D²: a sign. "
+                       "x² + y² = ρ1², multiplied by D², leaves − ρ1² D²."),
+    ("rho1_term_missing", "{name} is the polynomial of (β3 a2 − β2 a3)² + (α2 a3 − α3 a2)² alone: a missing "
+                          "term. The first loop equation is x² + y² = ρ1²: after multiplying by D² the "
+                          "term − ρ1² D² remains."),
+    ("determinant_not_squared", "{name} is the polynomial of (β3 a2 − β2 a3)² + (α2 a3 − α3 a2)² − ρ1² D, D not "
+                                "squared: x = (…)/D and y = (…)/D, so x² + y² = ρ1² times D² is the equation."),
+    ("rho1_left_in_a", "{name} is the polynomial of a_i = ρ_i² − γ_i: a missing term. Subtracting the first "
+                       "loop equation removes x² + y² and leaves a_i = ρ_i² − ρ1² − γ_i."),
+    ("swapped_substitution", "{name} is the polynomial of cos φ = 2t/(1 + t²), sin φ = (1 − t²)/(1 + t²): a wrong "
+                             "substitution (cos and sin swapped). With t = tan(φ/2), cos φ = (1 − t²)/(1 + t²) "
+                             "and sin φ = 2t/(1 + t²)."),
+    ("half_sine", "{name} is the polynomial of sin φ = t/(1 + t²): a wrong substitution (the factor 2 "
+                  "missing). With t = tan(φ/2), sin φ = 2t/(1 + t²)."),
+]
+
+
+def _polynomial_coefficients(answer: Any, name: str) -> tuple[Callable[[np.ndarray], np.ndarray] | None, str]:
+    """A function rho -> the ascending coefficients of the answer, or None and why not."""
+    sympy = __import__("sympy")
+    if answer is None:
+        return None, f"{name} is None: did you forget to define it?"
+    if not isinstance(answer, sympy.Poly):
+        return None, (f"{name} must be a sympy Poly in t (sp.Poly(expression, t)); got "
+                      f"{type(answer).__name__}.")
+    if len(answer.gens) != 1:
+        return None, f"{name} must be a polynomial in t alone; its generators are {answer.gens}."
+    free = sorted(answer.free_symbols - set(answer.gens), key=lambda s: s.name)
+    names = [s.name for s in free]
+    if not set(names) <= {"rho1", "rho2", "rho3"}:
+        return None, (f"{name} holds the symbols {', '.join(names)}; the leg lengths must be the symbols "
+                      "rho1, rho2, rho3 and t the variable of the polynomial.")
+    lookup = {s.name: s for s in free}
+    symbols = [lookup.get(f"rho{i}", sympy.Symbol(f"rho{i}")) for i in (1, 2, 3)]
+    try:
+        fn = sympy.lambdify(symbols, answer.all_coeffs()[::-1], "numpy")
+    except Exception as exc:  # noqa: BLE001 - a Poly sympy cannot turn into numbers
+        return None, f"{name}'s coefficients cannot be evaluated: {type(exc).__name__}: {exc}"
+
+    def coefficients(rho: np.ndarray) -> np.ndarray:
+        return np.array([complex(c) for c in fn(*rho)], dtype=complex)
+
+    return coefficients, ""
+
+
+class _OrientationPolynomialCheck(FunctionCheck):
+    """Check ``poly_t``: (1 + t²)³ F of the exercise's robot as a sympy Poly in t over rho1, rho2, rho3."""
+
+    def evaluate(self, answer: Any) -> CheckResult:
+        """The verdict on a sympy Poly (not a function: the base class's refusal is not used)."""
+        return self.judge(answer)
+
+    def leg_lengths(self) -> np.ndarray:
+        """The leg lengths (N, 3) of seeded random poses of the exercise's robot."""
+        rng = np.random.default_rng(self.seed)
+        lo = np.array([v.low for v in _POSE])
+        hi = np.array([v.high for v in _POSE])
+        return _robot().inverse_kinematics(lo + (hi - lo) * rng.random((self.samples, 3)))
+
+    def judge(self, answer: Any) -> CheckResult:
+        R = self.leg_lengths()
+        n = len(R)
+        coefficients, why = _polynomial_coefficients(answer, self.name)
+        if coefficients is None:
+            return self.failure("error", why, n)
+        try:
+            S = [coefficients(rho) for rho in R]
+        except Exception as exc:  # noqa: BLE001 - report the student's error
+            return self.failure("error", f"{self.name}'s coefficients cannot be evaluated at leg lengths: "
+                                         f"{type(exc).__name__}: {exc}", n)
+        if any(not np.all(np.isfinite(s)) or np.abs(s.imag).max(initial=0) > 1e-9 * max(1.0, np.abs(s).max())
+               for s in S):
+            return self.failure("error", f"{self.name} has coefficients that are not finite real numbers.", n)
+        S = [s.real for s in S]
+        right = [_POLY.polydiv(_polynomial_variant(rho), _T_DEN)[0] for rho in R]  # exact: (1 + t²)³ F
+
+        def all_match(variants: list) -> bool:
+            return all(_proportional(s, v) for s, v in zip(S, variants))
+
+        if all_match(right):
+            return self.success(f"{self.name} is correct (checked at {n} random leg lengths).", n)
+        degree = max(len(np.trim_zeros(s, "b")) - 1 for s in S)
+        for k in (1, 2, 3):
+            if all_match([_POLY.polymul(v, _POLY.polypow(_T_DEN, k)) for v in right]):
+                return self.failure("degree", (
+                    f"{self.name} has degree {degree}: it is (1 + t²)^{3 + k} F. The 4φ harmonics of F "
+                    "cancel, so (1 + t²)³ F is already a polynomial (of degree 6): multiply by (1 + t²)³."), n)
+        if all_match([_divided(v, np.array([0.0, 0.0, 1.0])) for v in right]):
+            return self.failure("factor_divided", (
+                f"{self.name} is (1 + t²)³ F divided by t²: the factor t² (the root t = 0 where D = 0) "
+                "belongs to the polynomial; my_fk skips that root, poly_t keeps it."), n)
+        for code, message in _POLYNOMIAL_MISTAKES:
+            variants = [_polynomial_variant(rho, code) for rho in R]
+            reduced = [_divided(v, _T_DEN) for v in variants]
+            if all_match(variants) or all_match(reduced):
+                return self.failure(code, message.format(name=self.name), n)
+        rho = R[0]
+        modes = _robot().forward_kinematics(rho).poses
+        roots = np.tan(modes[:, 2] / 2)
+        values = np.array([np.polyval(S[0][::-1], r) for r in roots])
+        k = int(np.argmax(np.abs(values)))
+        return self.failure("mismatch", (
+            f"{self.name} at ρ = {fmt(rho)} does not vanish at t = tan(φ/2) = {fmt(roots[k])} of the assembly "
+            f"mode {fmt(modes[k])}: (1 + t²)³ F is {fmt(values[k])} there. Derive F again from the "
+            "subtracted loop equations; a wrong sign, a missing term or a substitution other than "
+            "cos φ = (1 − t²)/(1 + t²), sin φ = 2t/(1 + t²) each change it."), n)
+
+
+orientation_polynomial = exercise(_CHAPTER, "orientation_polynomial", _OrientationPolynomialCheck(
+    name="poly_t",
+    signature="poly_t: sympy Poly in t",
+    samples=4,
+    noun="leg lengths",
+    doc=("Check poly_t, (1 + t²)³ F of the exercise's robot as a sympy Poly in t whose coefficients hold "
+         "the symbols rho1, rho2, rho3 (any constant factor)."),
+))
+
+
+# ------------------------------------------------------------------ the orientation equation F(φ)
+def _equation_pieces(robot, phi: float, rho: np.ndarray) -> np.ndarray:
+    """The pieces (D²|u|², ρ1² D², ρ1², ρ1² D) of F at phi: F = D²|u|² − ρ1² D² (Cramer's x, y times D)."""
+    D = _subtracted_determinant(robot, phi)
+    w = _position_w(robot, phi, rho)
+    return np.array([D**2 * abs(w) ** 2, rho[0] ** 2 * D**2, rho[0] ** 2, rho[0] ** 2 * D])
+
+
+#: how the orientation handed to F may have been read: code -> (φ the answer used, message)
+_ANGLE_READINGS = [
+    ("degrees", lambda phi: math.radians(phi), (
+        "{name} reads φ in degrees: F_of_phi(φ) is F(φ · π/180). φ is in radians.")),
+    ("half_angle_variable", lambda phi: 2 * math.atan(phi), (
+        "{name} takes t = tan(φ/2) where φ is passed: F_of_phi(φ, …) is F(2 arctan φ). The argument is the "
+        "orientation φ itself (rad).")),
+    ("half_angle", lambda phi: phi / 2, "{name} evaluates F at φ/2: the loop equations hold φ itself."),
+    ("double_angle", lambda phi: 2 * phi, "{name} evaluates F at 2φ: the loop equations hold φ itself."),
+]
+
+
+class _OrientationFunctionCheck(FunctionCheck):
+    """Check ``F_of_phi(phi, rho, robot)``: the orientation equation, up to a constant factor."""
+
+    def cases(self) -> list[tuple[Any, np.ndarray, np.ndarray]]:
+        """(robot, ρ, orientations): the classic robot, the exercise's (off φ = 0) and a random one."""
+        from robokin.models.three_rpr import CLASSIC_RHO, three_rpr_classic
+
+        rng = np.random.default_rng(self.seed)
+        withheld = WITHHELD["forward_kinematics"]
+        robots = [three_rpr_classic(), _robot(), None]
+        out: list[tuple[Any, np.ndarray, np.ndarray]] = []
+        for robot in robots:
+            if robot is None:
+                base, platform = rng.uniform(-1.0, 1.0, (3, 2)), rng.uniform(-0.5, 0.5, (3, 2))
+            else:
+                base, platform = robot.base_anchors, robot.platform_anchors
+            rho = CLASSIC_RHO.copy() if robot is not None and len(out) == 0 else rng.uniform(0.6, 1.3, 3)
+            phis = rng.uniform(0.3, 2.8, self.samples) * rng.choice([-1.0, 1.0], self.samples)
+            out.append((RobotWithoutSolvers(base, platform, withheld), rho, phis))
+        return out
+
+    def judge(self, answer: Any) -> CheckResult:
+        cases = self.cases()
+        n = sum(len(phis) for _, _, phis in cases)
+        got = []
+        for robot, rho, phis in cases:
+            values = []
+            for phi in phis:
+                out = self.call(answer, (float(phi), rho.copy(), robot), samples=n)
+                try:
+                    values.append(float(out))
+                except (TypeError, ValueError):
+                    return self.failure("shape", f"{self.name} must return one number F(φ); got "
+                                                 f"{type(out).__name__}.", n)
+            if not np.all(np.isfinite(values)):
+                return self.failure("error", f"{self.name} gives NaN or infinite values.", n)
+            got.append(np.array(values))
+
+        def fit(reading: Callable[[float], float]) -> list[tuple[np.ndarray, float]]:
+            """Per case, the weights of the pieces that make the answer's values, and the misfit."""
+            out: list[tuple[np.ndarray, float]] = []
+            for (robot, rho, phis), S in zip(cases, got):
+                P = np.array([_equation_pieces(robot, reading(float(p)), rho) for p in phis])
+                scale = np.linalg.norm(P, axis=0)
+                weights, *_ = np.linalg.lstsq(P / scale, S, rcond=None)
+                misfit = np.linalg.norm(P / scale @ weights - S) / max(float(np.linalg.norm(S)), 1e-300)
+                out.append((weights / scale, float(misfit)))
+            return out
+
+        def verdict(fits: list[tuple[np.ndarray, float]]) -> str | None:
+            codes = set()
+            for weights, misfit in fits:
+                if misfit > 1e-7:
+                    return None
+                c1, c2, c3, c4 = weights
+                if abs(c1) <= 1e-300:
+                    return None
+                tiny = [abs(c) <= 1e-6 * abs(c1) for c in (c2, c3, c4)]
+                if tiny[1] and tiny[2] and abs(c2 + c1) <= 1e-6 * abs(c1):
+                    codes.add("")
+                elif tiny[1] and tiny[2] and abs(c2 - c1) <= 1e-6 * abs(c1):
+                    codes.add("rho1_term_sign")
+                elif all(tiny):
+                    codes.add("rho1_term_missing")
+                elif tiny[0] and tiny[1]:
+                    codes.add("determinant_not_squared")
+                elif tiny[0] and tiny[2]:
+                    codes.add("determinant_missing")
+                else:
+                    return None
+            return codes.pop() if len(codes) == 1 else None
+
+        code = verdict(fit(lambda phi: phi))
+        if code == "":
+            return self.success(f"{self.name} is correct (checked at {n} random orientations, on three "
+                                "robots).", n)
+        messages = {
+            "rho1_term_sign": ("{name} is x² + y² + ρ1² (times D²): a sign. The first loop equation "
+                               "x² + y² = ρ1², times D², gives F = (D x)² + (D y)² − ρ1² D²."),
+            "rho1_term_missing": ("{name} is (D x)² + (D y)² alone: a missing term. The first loop equation "
+                                  "is x² + y² = ρ1²: F = (D x)² + (D y)² − ρ1² D²."),
+            "determinant_not_squared": ("{name} is (D x)² + (D y)² − ρ1² D: the determinant is not squared. "
+                                        "x = (…)/D and y = (…)/D: multiply x² + y² = ρ1² by D²."),
+            "determinant_missing": ("{name} is (D x)² + (D y)² − ρ1², without the factor D² on ρ1²: both "
+                                    "sides of x² + y² = ρ1² are multiplied by D², so F = (D x)² + (D y)² − "
+                                    "ρ1² D². Without it F is no trigonometric polynomial of order 3 and its "
+                                    "roots are not the modes'."),
+        }
+        if code in messages:
+            return self.failure(code, messages[code].format(name=self.name), n)
+        for reading_code, reading, message in _ANGLE_READINGS:
+            if verdict(fit(reading)) == "":
+                return self.failure(reading_code, message.format(name=self.name), n)
+        from robokin.parallel import Planar3RPR
+
+        robot, rho, phis = cases[0]
+        modes = Planar3RPR(robot.base_anchors, robot.platform_anchors).forward_kinematics(rho).poses
+        value = self.call(answer, (float(modes[0, 2]), rho.copy(), robot), samples=n)
+        return self.failure("mismatch", (
+            f"{self.name} is not F(φ) = (D x)² + (D y)² − ρ1² D² up to a constant factor (nor a typical "
+            f"slip of it): on the classic robot at ρ = {fmt(rho)}, F_of_phi({fmt(modes[0, 2])}) = "
+            f"{fmt(value)}, where the assembly mode {fmt(modes[0])} makes F vanish."), n)
+
+
+orientation_function = exercise(_CHAPTER, "orientation_function", _OrientationFunctionCheck(
+    name="F_of_phi(phi, rho, robot)",
+    signature="F_of_phi(phi, rho, robot) -> F",
+    samples=16,
+    noun="orientations",
+    doc=("Check a function F_of_phi(phi, rho, robot) -> the orientation equation F(φ) of a 3-RPR robot, "
+         "the trigonometric polynomial whose roots are the orientations of the assembly modes (any "
+         "constant factor)."),
+))
+
+
+def reference_orientation_function(phi: float, rho: Any, robot: Any = None) -> float:
+    """robokin's answer to ``F_of_phi`` of Task 2 (the tests' stand-in).
+
+    The graded test of ``my_fk`` passes it to the student's ``my_fk`` as its argument ``F``, so
+    that a mistake in ``F_of_phi`` costs only the test of ``F_of_phi``.
+
+    Parameters
+    ----------
+    phi : float
+        The orientation of the platform, rad.
+    rho : array_like, shape (3,)
+        Leg lengths, m.
+    robot : Planar3RPR or RobotWithoutSolvers, optional
+        The robot (default the chapter's).
+
+    Returns
+    -------
+    float
+        F(φ), m⁶ for anchors in m: zero at the orientations of the assembly modes (and where the
+        two subtracted loop equations are singular).
+
+    Raises
+    ------
+    TypeError
+        ``robot`` is no 3-RPR robot.
+    DomainError, ShapeError
+        ``phi`` not a finite number, ``rho`` not three non-negative lengths.
+    """
+    from robokin.parallel import Planar3RPR
+
+    if robot is None:
+        robot = _robot()
+    elif not isinstance(robot, (Planar3RPR, RobotWithoutSolvers)):
+        raise TypeError(f"robot must be a robokin.parallel.Planar3RPR (e.g. robokin.models.three_rpr()); "
+                        f"got {type(robot).__name__}")
+    phi = float(as_scalar(phi, "phi"))
+    rho = as_vector(rho, 3, "rho")
+    if (rho < 0).any():
+        raise DomainError(f"rho must be non-negative leg lengths; got {rho.tolist()}")
+    a, b = robot.base_anchors, robot.platform_anchors
+    e = (b[1:] - b[0]) @ _rot(phi).T - (a[1:] - a[0])
+    with np.errstate(over="ignore", invalid="ignore"):
+        M, r = 2.0 * e, rho[1:] ** 2 - rho[0] ** 2 - np.sum(e**2, axis=1)
+        adjugate_r = np.array([M[1, 1] * r[0] - M[0, 1] * r[1], M[0, 0] * r[1] - M[1, 0] * r[0]])
+        det = M[0, 0] * M[1, 1] - M[0, 1] * M[1, 0]
+        value = float(adjugate_r @ adjugate_r - rho[0] ** 2 * det**2)
+    if not math.isfinite(value):
+        raise DomainError(f"F overflows at rho = {rho.tolist()} m: the leg lengths are too large")
+    return value

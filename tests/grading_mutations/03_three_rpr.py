@@ -7,19 +7,19 @@ under a private name (``_..._right``), restored with the others afterwards.
 """
 
 _IK_TRANSPOSED = """
-def ik(pose):
+def ik(pose, robot=robot):
     x, y, phi = pose
-    B = np.array([x, y]) + b_anchor @ rot(phi)  # R(-phi): the platform turned backwards
-    return np.linalg.norm(B - A_anchor, axis=1)
+    # R(-phi): the platform turned backwards
+    B = np.array([x, y]) + robot.platform_anchors @ rot(phi)
+    return np.linalg.norm(B - robot.base_anchors, axis=1)
 
 rho0 = ik(POSE0)
 """
 
 _ARM_FROM_ORIGIN = """
-def inverse_jacobian(pose):
-    x, y, phi = pose
-    B = np.array([x, y]) + b_anchor @ rot(phi).T
-    n = (B - A_anchor) / np.linalg.norm(B - A_anchor, axis=1)[:, None]
+def inverse_jacobian(pose, robot=robot):
+    B = robot.platform_points(pose)
+    n = (B - robot.base_anchors) / np.linalg.norm(B - robot.base_anchors, axis=1)[:, None]
     return np.column_stack([n, B[:, 0] * n[:, 1] - B[:, 1] * n[:, 0]])  # arm O B_i
 
 A0 = inverse_jacobian(POSE0)
@@ -27,11 +27,10 @@ J0 = np.linalg.inv(A0)
 """
 
 _UNNORMALISED = """
-def inverse_jacobian(pose):
-    x, y, phi = pose
-    B = np.array([x, y]) + b_anchor @ rot(phi).T
-    d = B - A_anchor  # leg vectors, not unit vectors
-    arm = B - np.array([x, y])
+def inverse_jacobian(pose, robot=robot):
+    B = robot.platform_points(pose)
+    d = B - robot.base_anchors  # leg vectors, not unit vectors
+    arm = B - np.asarray(pose, dtype=float)[:2]
     return np.column_stack([d, arm[:, 0] * d[:, 1] - arm[:, 1] * d[:, 0]])
 
 A0 = inverse_jacobian(POSE0)
@@ -48,8 +47,8 @@ def F_of_phi(phi, rho, robot=robot):
 _MODES_WITHOUT_ANGLE = """
 _my_fk_right = my_fk
 
-def my_fk(rho, robot=robot):
-    modes = _my_fk_right(rho, robot)
+def my_fk(rho, robot=robot, F=F_of_phi):
+    modes = _my_fk_right(rho, robot, F)
     return modes[:, :2]  # the orientation dropped
 
 modes0 = my_fk(rho0)
@@ -58,8 +57,8 @@ modes0 = my_fk(rho0)
 _SPURIOUS_ROOT_KEPT = """
 _my_fk_right = my_fk
 
-def my_fk(rho, robot=robot):
-    modes = _my_fk_right(rho, robot)
+def my_fk(rho, robot=robot, F=F_of_phi):
+    modes = _my_fk_right(rho, robot, F)
     phi = 2 * math.atan(1e-9)  # the root t = 0 of the polynomial, kept: there D = 0
     M, r = linear_solve(phi, rho, robot)
     u = np.linalg.solve(M, r)  # Cramer's rule dividing by D near 0
@@ -84,6 +83,52 @@ def cramer_parts(phi, rho, robot=robot):
     return complex(*u), 1.0  # the right w, but not Cramer's rule: not a sum of powers of z
 """
 
+_IK_FROM_ROBOKIN = """
+def ik(pose, robot=robot):
+    return robot.inverse_kinematics(np.asarray(pose, dtype=float))  # robokin's solver
+
+rho0 = ik(POSE0)
+"""
+
+_IK_OF_THE_EXERCISE_ONLY = """
+def ik(pose, robot=robot):
+    x, y, phi = pose
+    # the exercise's anchors, whatever robot is given
+    B = np.array([x, y]) + b_anchor @ rot(phi).T
+    return np.linalg.norm(B - A_anchor, axis=1)
+
+rho0 = ik(POSE0)
+"""
+
+_FK_FROM_ROBOKIN = """
+def my_fk(rho, robot=robot, F=F_of_phi):
+    modes = robot.forward_kinematics(rho).poses  # robokin's solver
+    return modes[np.argsort(modes[:, 2])]
+
+modes0 = my_fk(rho0)
+"""
+
+_F_FROM_ROBOKIN = """
+def F_of_phi(phi, rho, robot=robot):
+    s = math.tan(phi / 2)  # robokin's polynomial, evaluated
+    return np.polyval(robot.orientation_polynomial(rho)[::-1], s) / (1 + s**2) ** 3
+"""
+
+_F_SIGN = """
+def F_of_phi(phi, rho, robot=robot):
+    M, r = linear_solve(phi, rho, robot)
+    adj_r = np.array([[M[1, 1], -M[0, 1]], [-M[1, 0], M[0, 0]]]) @ r
+    return adj_r @ adj_r + rho[0] ** 2 * np.linalg.det(M) ** 2  # the sign of rho1^2 D^2
+"""
+
+_JACOBIAN_FROM_ROBOKIN = """
+def inverse_jacobian(pose, robot=robot):
+    return robot.jacobian(pose)  # robokin's solver
+
+A0 = inverse_jacobian(POSE0)
+J0 = np.linalg.inv(A0)
+"""
+
 _PIVOT_AT_B1 = """
 pivot = np.asarray(pose_s[:2], dtype=float).copy()  # the platform's reference point
 """
@@ -94,6 +139,8 @@ MUTATIONS = {
         ("squared leg lengths",
          "_ik_right = ik\n\ndef ik(pose):\n    return _ik_right(pose) ** 2\n\nrho0 = ik(POSE0)"),
         ("platform turned by R(-phi) (rotation transposed)", _IK_TRANSPOSED),
+        ("ik hands the task to robokin's inverse_kinematics", _IK_FROM_ROBOKIN),
+        ("ik of the exercise's anchors whatever robot it is given", _IK_OF_THE_EXERCISE_ONLY),
         ("the answer right at x0 only (a table of one pose)",
          "_rho0_right = rho0.copy()\n\ndef ik(pose):\n    return _rho0_right.copy()\n"),
     ],
@@ -102,6 +149,12 @@ MUTATIONS = {
          "poly_t = sp.Poly(sp.cancel(poly_t.as_expr() / t**2), t)"),
         ("F without the factor D^2 on rho1^2 (a polynomial of other roots)",
          "poly_t = sp.Poly(sp.expand(poly_t.as_expr() + 5 * t**2), t)"),
+        ("the sign of rho1^2 D^2 flipped",
+         "poly_t = sp.Poly(sp.expand(sp.cancel((F_t + 2 * r1**2 * D**2) * (1 + t**2) ** 3)), t)"),
+        ("the term rho1^2 D^2 missing",
+         "poly_t = sp.Poly(sp.expand(sp.cancel((F_t + r1**2 * D**2) * (1 + t**2) ** 3)), t)"),
+        ("multiplied by (1 + t^2)^4 (degree 8)",
+         "poly_t = sp.Poly(sp.expand(poly_t.as_expr() * (1 + t**2)), t)"),
     ],
     "task2_test2": [
         ("only the odd coefficients named", "vanishing_coefficients = {1, 3, 5}"),
@@ -125,12 +178,15 @@ MUTATIONS = {
          "modes0 = my_fk(rho0)[2:]"),
         ("the orientation dropped from the modes", _MODES_WITHOUT_ANGLE),
         ("the root t = 0, where D = 0, kept as a mode", _SPURIOUS_ROOT_KEPT),
+        ("my_fk hands the task to robokin's forward_kinematics", _FK_FROM_ROBOKIN),
         ("my_fk solves the exercise's robot whatever robot it is given",
-         "_my_fk_right = my_fk\n\ndef my_fk(rho, robot=robot):\n"
+         "_my_fk_right = my_fk\n\ndef my_fk(rho, robot=robot, F=F_of_phi):\n"
          "    return _my_fk_right(rho)\n"),
     ],
     "task2_test5": [
         ("F without the factor det(M)^2 on rho1^2", _F_WITHOUT_D),
+        ("F_of_phi from robokin's orientation polynomial", _F_FROM_ROBOKIN),
+        ("F_of_phi with + rho1^2 D^2", _F_SIGN),
         ("modes6 solved for the exercise's robot instead of the classic one",
          "modes6 = my_fk(CLASSIC_RHO)"),
     ],
@@ -138,6 +194,7 @@ MUTATIONS = {
         ("moment arm from the base origin", _ARM_FROM_ORIGIN),
         ("leg vectors not normalised (rho_i rho_i-dot)", _UNNORMALISED),
         ("J0 = A0 (the direct Jacobian taken for the inverse one)", "J0 = A0"),
+        ("inverse_jacobian hands the task to robokin's jacobian", _JACOBIAN_FROM_ROBOKIN),
     ],
     "task4_test1": [
         ("det A instead of rho1 rho2 rho3 det A (not a conic)",

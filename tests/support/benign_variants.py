@@ -139,12 +139,16 @@ lag_predicted = RADIUS * abs(z_step - 1) / abs(z_step - 1 + KP * TS)
     "03_three_rpr": {
         "task1_answer1": ("leg lengths one leg at a time with hypot", '''
 
-def ik(pose):  # written another way: leg by leg, the platform point rotated by hand
+def ik(pose, robot=robot):  # written another way: leg by leg, the platform point rotated by hand
     x, y, phi = pose
     c, s = np.cos(phi), np.sin(phi)
     lengths = [np.hypot(x + c * bx - s * by - ax, y + s * bx + c * by - ay)
-               for (ax, ay), (bx, by) in zip(A_anchor, b_anchor)]
+               for (ax, ay), (bx, by) in zip(robot.base_anchors, robot.platform_anchors)]
     return np.array(lengths)
+
+
+# checked with robokin after writing my own
+assert np.allclose(ik(POSE0), robot.inverse_kinematics(POSE0))
 
 
 rho0 = ik(POSE0)
@@ -160,10 +164,14 @@ def twin_pose(pose):  # written another way: B1 - A1 as a complex number w, z = 
 _my_fk_principal = my_fk
 
 
-def my_fk(rho, robot=robot):  # written another way: angles in [0, 2 pi), sorted there
-    modes = _my_fk_principal(rho, robot).copy()
+def my_fk(rho, robot=robot, F=F_of_phi):  # written another way: angles in [0, 2 pi), sorted there
+    modes = _my_fk_principal(rho, robot, F).copy()
     modes[:, 2] = np.mod(modes[:, 2], 2 * np.pi)
     return modes[np.argsort(modes[:, 2])]
+
+
+# checked with robokin after writing my own
+assert len(my_fk(CLASSIC_RHO, three_rpr_classic())) == three_rpr_classic().forward_kinematics(CLASSIC_RHO).count
 
 
 _cramer_principal = cramer_parts
@@ -179,10 +187,10 @@ modes0 = my_fk(rho0)
 '''),
         "task3_answer1": ("the moment column by a 3D cross product", '''
 
-def inverse_jacobian(pose):  # written another way: rows [u_i, (R b_i x u_i)_z], np.cross
+def inverse_jacobian(pose, robot=robot):  # written another way: rows [u_i, (R b_i x u_i)_z], np.cross
     x, y, phi = pose
-    rotated = b_anchor @ rot(phi).T
-    legs = np.array([x, y]) + rotated - A_anchor
+    rotated = robot.platform_anchors @ rot(phi).T
+    legs = np.array([x, y]) + rotated - robot.base_anchors
     units = legs / np.linalg.norm(legs, axis=1, keepdims=True)
     flat = np.zeros((len(legs), 1))
     moments = np.cross(np.hstack([rotated, flat]), np.hstack([units, flat]))[:, 2]
