@@ -103,6 +103,8 @@ MUTATIONS = {
         ("no feed-forward in the loop (the hand lags)",
          "Q_loop = {**Q_loop, 'closed loop': track(Q_START, r_ref, 0 * v_ref, kp=KP)}\n"
          "hand = {**hand, 'closed loop': arm.fk(Q_loop['closed loop'])[:, :3, 3]}"),
+        ("the margin to the limits taken from the lower limits only",
+         "margin = (Q_loop['closed loop'] - LOWER).min(axis=0)"),
     ],
     "task4_test1": [
         ("the chosen runs tracked open loop",
@@ -125,15 +127,17 @@ MUTATIONS = {
          "_hand_to = hand_to\n"
          "def hand_to(q, target, tol=1e-10, max_steps=50):\n"
          "    return _hand_to(q, P_START, tol, max_steps)"),
-    ],
-    "task4_test4": [
         ("five copies of q_start",
          "same_q = np.array([track(Q_START, r_ref, v_ref)] * 5)"),
+    ],
+    "task4_test4": [
         ("the travel taken as the net change of each joint over the lap",
          "travel = np.abs(same_q[:, -1] - same_q[:, 0])"),
         ("every joint negated in the mirror image", "mirror = -np.ones(7)"),
         ("the pitch joints negated instead of the roll joints",
          "mirror = np.array([1, -1, 1, -1, 1, -1, 1])"),
+        ("the neighbouring postures taken for the mirror images",
+         "mirror_pairs = [(0, 1), (3, 4)]"),
     ],
     "task5_test1": [
         ("sigma_min taken as the largest singular value",
@@ -189,6 +193,8 @@ MUTATIONS = {
          "lost_direction = U[:, 0]"),
         ("the joint speed taken per step, not per second",
          "speed_loss = speed_loss * TS"),
+        ("the bound taken as the hand speed times sigma_min, not divided by it",
+         "speed_bound = np.linalg.norm(v_ref[k_loss]) * S[-1]"),
         ("the time of the smallest sigma_min taken for the time of the rank loss",
          "t_loss = TS * int(np.argmin([sigma_min_of(q) for q in runs_open[failing]]))\n"
          "k_loss = int(round(t_loss / TS))\n"
