@@ -63,17 +63,41 @@ MUTATIONS = {
         ("factors composed in the wrong order", "H_BF = sp.simplify(H_3F * H_23 * H_12 * H_B1)"),
         ("the knee frame's origin taken for the foot",
          "r_BF = sp.simplify(H_B1 * H_12 * H_23)[:3, 3]"),
+        # with a wrong rotation of Task 1 the transforms are graded as built from it: a
+        # mistake of Task 2's own is still rejected
+        ("R_12 transposed in Task 1, and the factors composed in the wrong order",
+         "R_12 = R_12.T\nH_12 = transform(R_12, [0, 0, -1])\n"
+         "H_BF = sp.simplify(H_3F * H_23 * H_12 * H_B1)\nr_BF = H_BF[:3, 3]"),
+        ("the knee about x in Task 1, and no offset in H_23",
+         "R_23 = rotx(gamma)\nH_23 = transform(R_23, [0, 0, 0])\n"
+         "H_BF = sp.simplify(H_B1 * H_12 * H_23 * H_3F)\nr_BF = H_BF[:3, 3]"),
     ],
     "task3_test1": [
         ("sign slip in entry (3, 3) of J", "J_lift = J_lift.copy()\nJ_lift[2, 2] = -J_lift[2, 2]"),
         ("the joint velocity that lifts the foot instead", "dq_cmd = -dq_cmd"),
         ("v_cmd taken as the lift [0, 0, +1] m/s", "v_cmd = np.array([0.0, 0.0, 1.0])"),
         ("J evaluated at degrees", "J_lift = np.array(J_sym.subs(dict(zip(q_sym, [0.0, 60.0, -120.0]))), dtype=float)"),
+        # with a wrong foot position of Task 2, J is graded as the Jacobian of it: a mistake
+        # of Task 3's own is still rejected
+        ("the factors in the wrong order in Task 2, and J evaluated at degrees",
+         "H_BF = sp.simplify(H_3F * H_23 * H_12 * H_B1)\nr_BF = H_BF[:3, 3]\n"
+         "J_sym = r_BF.jacobian(q_sym)\n"
+         "J_lift = np.array(J_sym.subs(dict(zip(q_sym, [0.0, 60.0, -120.0]))), dtype=float)\n"
+         "dq_cmd = np.linalg.pinv(J_lift) @ v_cmd"),
+        ("R_12 transposed in Task 1, and the joint velocity that lifts the foot instead",
+         "R_12 = R_12.T\nr_BF = (transform(R_B1, [0, 1, 0]) * transform(R_12, [0, 0, -1])\n"
+         "        * transform(R_23, [0, 0, -1]) * transform(sp.eye(3), [0, 0, -1]))[:3, 3]\n"
+         "J_sym = r_BF.jacobian(q_sym)\n"
+         "J_lift = np.array(J_sym.subs(dict(zip(q_sym, q_lift))), dtype=float)\n"
+         "dq_cmd = -np.linalg.solve(J_lift, v_cmd)"),
     ],
     "task3_test2": [
         ("the statement's 'lift' taken at its word", "lifts = True"),
         ("the lift computed with v = [0, 0, -1] m/s", "dq_lift = dq_cmd"),
         ("the lift at the wrong speed (2 m/s)", "dq_lift = 2 * dq_lift"),
+        ("J evaluated at degrees in the part above, and the lift with v = [0, 0, -1] m/s",
+         "J_lift = np.array(J_sym.subs(dict(zip(q_sym, [0.0, 60.0, -120.0]))), dtype=float)\n"
+         "dq_lift = np.linalg.solve(J_lift, v_cmd)"),
     ],
     "task4_test1": [
         ("the error's sign flipped (r(q) - r_goal)", _newton(error="leg.fk(q)[:3, 3] - r_goal")),
