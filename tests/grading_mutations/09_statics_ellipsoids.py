@@ -18,11 +18,16 @@ MUTATIONS = {
          "                     [L1 * np.cos(q1) + L2 * np.cos(q2), L2 * np.cos(q2)]])"),
     ],
     "task1_test2": [
-        ("J instead of J^T", "joint_torques = lambda q, F: tool_jacobian(q) @ np.asarray(F, dtype=float)"),
-        ("the opposite sign", "joint_torques = (lambda f: lambda q, F: -f(q, F))(joint_torques)"),
+        ("J instead of J^T",
+         "joint_torques = lambda q, F, jacobian=tool_jacobian: jacobian(q) @ np.asarray(F, dtype=float)"),
+        ("the opposite sign",
+         "joint_torques = (lambda f: lambda q, F, jacobian=tool_jacobian: -f(q, F, jacobian))(joint_torques)"),
         ("tau0 from the load's weight (0, -m g)", "tau0 = joint_torques(Q0, -F0)"),
         ("degrees for radians",
-         "joint_torques = (lambda f: lambda q, F: f(np.rad2deg(q), F))(joint_torques)"),
+         "joint_torques = (lambda f: lambda q, F, jacobian=tool_jacobian:"
+         " f(np.rad2deg(q), F, jacobian))(joint_torques)"),
+        ("tau0 from a Jacobian transposed, not from joint_torques",
+         "tau0 = tool_jacobian(Q0) @ F0"),
     ],
     "task1_test3": [
         ("the foot pushing up, as a hand holding a load",
@@ -45,13 +50,17 @@ MUTATIONS = {
          "velocity_ellipse = (lambda f: lambda J: (1 / f(J)[0], f(J)[1]))(velocity_ellipse)"),
     ],
     "task3_test1": [
-        ("the lengths not inverted", "force_ellipse = velocity_ellipse"),
+        ("the lengths not inverted",
+         "force_ellipse = lambda J, velocity_ellipse=velocity_ellipse: velocity_ellipse(J)"),
         ("1/sigma^2 (inverse eigenvalues)",
-         "force_ellipse = (lambda f: lambda J: (f(J)[0] ** 2, f(J)[1]))(force_ellipse)"),
+         "force_ellipse = (lambda f: lambda J, velocity_ellipse=velocity_ellipse: "
+         "(f(J, velocity_ellipse)[0] ** 2, f(J, velocity_ellipse)[1]))(force_ellipse)"),
         ("1/sigma in ascending order",
-         "force_ellipse = (lambda f: lambda J: (f(J)[0][::-1], f(J)[1][:, ::-1]))(force_ellipse)"),
+         "force_ellipse = (lambda f: lambda J, velocity_ellipse=velocity_ellipse: "
+         "(f(J, velocity_ellipse)[0][::-1], f(J, velocity_ellipse)[1][:, ::-1]))(force_ellipse)"),
         ("the inverted lengths on the velocity ellipse's axes in their order",
-         "force_ellipse = (lambda f: lambda J: (f(J)[0], f(J)[1][:, ::-1]))(force_ellipse)"),
+         "force_ellipse = (lambda f: lambda J, velocity_ellipse=velocity_ellipse: "
+         "(f(J, velocity_ellipse)[0], f(J, velocity_ellipse)[1][:, ::-1]))(force_ellipse)"),
         ("force_from_velocity: the velocity ellipse unchanged",
          "force_from_velocity = lambda radii_v, axes_v: (radii_v, axes_v)"),
         ("force_from_velocity: 1/sigma in the velocity ellipse's order",
@@ -109,11 +118,12 @@ MUTATIONS = {
     ],
     "task6_test2": [
         ("the largest condition number preferred",
-         "preferred_postures = (lambda f: lambda jacobians: {**f(jacobians), 'condition_number': int("
-         "np.argmax([posture_measures(J)[1] for J in jacobians]))})(preferred_postures)"),
+         "preferred_postures = (lambda f: lambda jacobians, measures=posture_measures: "
+         "{**f(jacobians, measures), 'condition_number': int("
+         "np.argmax([measures(J)[1] for J in jacobians]))})(preferred_postures)"),
         ("one posture for all three measures",
-         "preferred_postures = (lambda f: lambda jacobians: dict.fromkeys(f(jacobians),"
-         " f(jacobians)['manipulability']))(preferred_postures)"),
+         "preferred_postures = (lambda f: lambda jacobians, measures=posture_measures: dict.fromkeys("
+         "f(jacobians, measures), f(jacobians, measures)['manipulability']))(preferred_postures)"),
         ("the verdict at POSTURES_6 typed in, w at 90 degrees for all",
          "choice_6 = {'manipulability': 1, 'condition_number': 1, 'sigma_min': 1}"),
     ],
@@ -140,7 +150,7 @@ def tool_jacobian(q):
     return np.array([[column.real for column in columns], [column.imag for column in columns]])
 
 
-def joint_torques(q, F):
+def joint_torques(q, F, jacobian=tool_jacobian):  # the moments need no Jacobian
     first, second = np.asarray(q, dtype=float)
     elbow = L1 * np.array([np.cos(first), np.sin(first)])
     tip = elbow + L2 * np.array([np.cos(first + second), np.sin(first + second)])
@@ -174,7 +184,7 @@ def velocity_ellipse(J):
     "task3_answer1": ("the eigen-decomposition of the force ellipse's own matrix J J^T", """
 
 # written another way: |J^T F|^2 = F^T (J J^T) F; the semi-axes are 1/sqrt of its eigenvalues
-def force_ellipse(J):
+def force_ellipse(J, velocity_ellipse=velocity_ellipse):  # J J^T, not the velocity ellipse
     values, vectors = np.linalg.eigh(np.asarray(J, dtype=float) @ np.asarray(J, dtype=float).T)
     return 1.0 / np.sqrt(values), vectors
 
@@ -235,8 +245,8 @@ def posture_measures(J):
             float(np.sqrt(values[0])))
 
 
-def preferred_postures(jacobians):
-    rows = [posture_measures(J) for J in jacobians]
+def preferred_postures(jacobians, measures=posture_measures):
+    rows = [measures(J) for J in jacobians]
     order = range(len(rows))
     return {"manipulability": max(order, key=lambda i: rows[i][0]),
             "condition_number": min(order, key=lambda i: rows[i][1]),
