@@ -260,9 +260,11 @@ def test_reference_steps_agree_with_modern_robotics_on_seven_joints():
     assert np.allclose(chk.reference_exp6(V, 0.7), mr.MatrixExp6(mr.VecTose3(V) * 0.7), atol=1e-14)
     T = mr.MatrixExp6(mr.VecTose3(V))
     assert np.allclose(chk.reference_adjoint_matrix(T), mr.Adjoint(T), atol=1e-14)
+    assert np.allclose(chk.reference_skew(V[3:]), mr.VecToso3(V[3:]), atol=0)
 
 
 @pytest.mark.parametrize("call", [
+    lambda: chk.reference_skew([0.0, 1.0]),
     lambda: chk.reference_rodrigues([0.0, 1.0], 0.3),
     lambda: chk.reference_exp6(np.zeros(6), np.nan),
     lambda: chk.reference_poe_fk(np.eye(4), S_UR10, np.zeros(5)),

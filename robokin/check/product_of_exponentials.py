@@ -50,7 +50,7 @@ from robokin.check._registry import exercise
 __all__ = [
     "rodrigues", "screw_axis", "screw_list", "exp6", "forward_kinematics", "adjoint",
     "space_jacobian", "geometric_from_space", "body_jacobian", "ik_body",
-    "reference_rodrigues", "reference_exp6", "reference_poe_fk", "reference_adjoint_matrix",
+    "reference_skew", "reference_rodrigues", "reference_exp6", "reference_poe_fk", "reference_adjoint_matrix",
     "reference_jacobian_in_space", "reference_jacobian_in_body",
 ]
 
@@ -64,6 +64,7 @@ _CHAPTER = "product_of_exponentials"
 #: calls one hands that task's work to robokin.
 DELEGATION = {
     "rodrigues": {"rotation_exp": "robokin.transforms.rotation_exp",
+                  "reference_skew": "robokin.check.product_of_exponentials.reference_skew",
                   "reference_rodrigues": "robokin.check.product_of_exponentials.reference_rodrigues"},
     "screw_list": {"screw_axes": "SerialChain.screw_axes"},
     "exp6": {"transform_exp": "robokin.transforms.transform_exp",
@@ -796,6 +797,26 @@ def _screws_and_angles(S_list: Any, theta: Any) -> tuple[np.ndarray, np.ndarray]
     if len(angles) != len(S):
         raise ValueError(f"theta must hold one angle per screw axis ({len(S)}); got {len(angles)}")
     return S, angles
+
+
+def reference_skew(w: Any) -> np.ndarray:
+    """robokin's answer to ``skew`` of Task 1 (the tests' stand-in).
+
+    The graded tests of ``exp6``, ``adjoint_matrix`` and ``geometric_from_space`` pass it to the
+    student's functions in place of the student's ``skew``, so that a mistake in ``skew`` costs
+    the points of Task 1 only.
+
+    Parameters
+    ----------
+    w : array_like, shape (3,)
+        A 3-vector.
+
+    Returns
+    -------
+    numpy.ndarray, shape (3, 3)
+        The skew-symmetric matrix [w] with [w] x = w × x.
+    """
+    return _skew(_finite_array(w, (3,), "w"))
 
 
 def reference_rodrigues(omega: Any, theta: Any) -> np.ndarray:

@@ -85,7 +85,7 @@ screw_axes_at_home = (lambda S: lambda frames, joint_axes: S)(S_list)  # the UR1
 """
 
 _EXP_WITHOUT_G = """
-def exp6(S, theta, rodrigues=rodrigues):
+def exp6(S, theta, rodrigues=rodrigues, skew=skew):
     omega, v = np.asarray(S[:3], dtype=float), np.asarray(S[3:], dtype=float)
     T = np.eye(4)
     T[:3, :3] = rodrigues(omega, theta)
@@ -114,7 +114,7 @@ T0 = poe_fk(M, S_list, THETA0)
 """
 
 _ADJOINT_R_P = """
-def adjoint_matrix(T):
+def adjoint_matrix(T, skew=skew):
     R, p = T[:3, :3], T[:3, 3]
     A = np.zeros((6, 6))
     A[:3, :3] = R
@@ -124,7 +124,7 @@ def adjoint_matrix(T):
 """
 
 _ADJOINT_ORDER = """
-def adjoint_matrix(T):
+def adjoint_matrix(T, skew=skew):
     R, p = T[:3, :3], T[:3, 3]
     A = np.zeros((6, 6))
     A[:3, :3] = R
@@ -152,12 +152,12 @@ Js0 = jacobian_in_space(S_list, THETA0)
 """
 
 _GEOMETRIC_SWAP_ONLY = """
-def geometric_from_space(J_s, T):
+def geometric_from_space(J_s, T, skew=skew):
     return np.vstack([J_s[3:], J_s[:3]])  # rows swapped, the point not moved
 """
 
 _GEOMETRIC_SIGN = """
-def geometric_from_space(J_s, T):
+def geometric_from_space(J_s, T, skew=skew):
     return np.vstack([J_s[3:] + skew(T[:3, 3]) @ J_s[:3], J_s[:3]])  # +[p] for -[p]
 """
 
@@ -304,7 +304,7 @@ S_list = screw_axes_at_home(home_frames, ur10.joint_axes)
 from functools import reduce
 
 
-def exp6(S, theta, rodrigues=rodrigues):
+def exp6(S, theta, rodrigues=rodrigues, skew=skew):
     omega, v = np.asarray(S[:3], dtype=float), np.asarray(S[3:], dtype=float)
     R = rodrigues(omega, theta)
     point, pitch = np.cross(omega, v), omega @ v
@@ -325,7 +325,7 @@ T0 = poe_fk(M, S_list, THETA0)
 
 # written another way: np.block, the partial product rebuilt for each column, and
 # v_point = v_s + w x p column by column
-def adjoint_matrix(T):
+def adjoint_matrix(T, skew=skew):
     R, p = T[:3, :3], T[:3, 3]
     return np.block([[R, np.zeros((3, 3))], [skew(p) @ R, R]])
 
@@ -341,7 +341,7 @@ def jacobian_in_space(S_list, theta, exp6=exp6, adjoint_matrix=adjoint_matrix):
     return J
 
 
-def geometric_from_space(J_s, T):
+def geometric_from_space(J_s, T, skew=skew):
     J_s = np.asarray(J_s, dtype=float)
     v_point = J_s[3:] + np.cross(J_s[:3].T, T[:3, 3]).T
     return np.vstack([v_point, J_s[:3]])

@@ -861,6 +861,8 @@ def _poe_step_specs() -> list[Spec]:
         return Arr("S_list", (6, 6), batch=False, lo=-1.0, hi=1.0, extreme=False)
 
     return [
+        Spec("check.product_of_exponentials.reference_skew", steps.reference_skew,
+             [Arr("w", (3,), batch=False)], shape=lambda c, v: (3, 3), weight=0.3),
         Spec("check.product_of_exponentials.reference_rodrigues", steps.reference_rodrigues,
              [Arr("omega", (3,), batch=False, lo=-1.0, hi=1.0, extreme=False), Num("theta", -3.0, 3.0, extreme=False)],
              shape=lambda c, v: (3, 3), weight=0.3),
