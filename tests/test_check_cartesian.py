@@ -275,3 +275,35 @@ def test_checks_use_the_course_arm():
     assert X.shape == (20, 7)
     assert ((X[:, 5] > 0.0) & (X[:, 5] < 1.0)).all()
     assert ROBOT.within_limits(X).all()
+
+
+def test_reference_steps_pass_their_checks_and_agree_with_the_sheet():
+    """The later tests' stand-ins: the orientation error passes its check and agrees with the
+    quaternion form; the tool arm carries the sheet's tool (its fk is the table's pose times
+    E T_T); the goal is the sheet's."""
+    assert cart.orientation_error(cart.reference_orientation_error, quiet=True).passed
+    rng = np.random.default_rng(5)
+    for _ in range(5):
+        R, R_goal = (rotation_from_rpy_local(*rng.uniform(-3, 3, 3)) for _ in range(2))
+        assert np.allclose(cart.reference_orientation_error(R, R_goal), orientation_error_quat(R, R_goal),
+                           atol=1e-9)
+    tool_arm = cart.reference_tool_arm()
+    assert np.allclose(tool_arm.tool, T_ET, atol=1e-12)
+    for q in ROBOT.random_configurations(5, seed=3):
+        assert np.allclose(tool_arm.fk(q), fk_table(q) @ T_ET, atol=1e-12)
+    assert np.allclose(cart.reference_goal(), _tf(R_BG, P_BG), atol=1e-12)
+    assert cart.tool_frame(tool_arm.tool, quiet=True).passed and cart.goal_frame(cart.reference_goal(),
+                                                                                   quiet=True).passed
+
+
+def rotation_from_rpy_local(roll, pitch, yaw):
+    return rotz(yaw) @ roty(pitch) @ rotx(roll)
+
+
+@pytest.mark.parametrize("call", [
+    lambda: cart.reference_orientation_error(np.eye(3), np.eye(4)),
+    lambda: cart.reference_orientation_error(np.eye(2), np.eye(3)),
+])
+def test_reference_orientation_error_rejects_what_is_not_two_rotations(call):
+    with pytest.raises(ValueError):
+        call()

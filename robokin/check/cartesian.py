@@ -68,6 +68,9 @@ __all__ = [
     "goal_frame",
     "kinematic_loop",
     "orientation_error",
+    "reference_goal",
+    "reference_orientation_error",
+    "reference_tool_arm",
     "rpy_rate_matrix",
     "tool_frame",
     "tool_jacobian",
@@ -85,7 +88,11 @@ DELEGATION = {
                        "CartesianController": "robokin.motion.CartesianController"},
     "orientation_error": {"rotation_log": "robokin.transforms.rotation_log",
                           "pose_error": "robokin.motion.pose_error",
-                          "angle_axis_from_rotation": "robokin.transforms.angle_axis_from_rotation"},
+                          "angle_axis_from_rotation": "robokin.transforms.angle_axis_from_rotation",
+                          "reference_orientation_error":
+                              "robokin.check.cartesian.reference_orientation_error"},
+    "tool_frame": {"reference_tool_arm": "robokin.check.cartesian.reference_tool_arm"},
+    "goal_frame": {"reference_goal": "robokin.check.cartesian.reference_goal"},
 }
 #: Number of joints of the course's arm.
 N_JOINTS = 7
@@ -770,3 +777,58 @@ rpy_rate_matrix = exercise(_CHAPTER, "rpy_rate_matrix", MatrixArgumentsCheck(
     doc=("Check a function rpy_rate_matrix(R) -> E(φ) (3×3), ω = E(φ) (roll, pitch, yaw) rates in "
          "the base frame: compared at 20 random rotations (pitch within ±1.4 rad)."),
 ))
+
+
+# ------------------------------------------------------------------ the later tests' stand-ins
+def reference_orientation_error(R: Any, R_goal: Any) -> np.ndarray:
+    r"""robokin's answer to ``orientation_error`` of Task 2 (the later tests' stand-in).
+
+    The graded tests of the tasks after it pass this function to the student's functions that
+    take an orientation error as an argument (``my_twist(q, orientation_error=...)``), so that a
+    mistake in ``orientation_error`` costs the points of its own test only.
+
+    Parameters
+    ----------
+    R, R_goal : array_like, shape (3, 3)
+        Rotation matrices: the current orientation and the goal's, in the base frame.
+
+    Returns
+    -------
+    numpy.ndarray, shape (3,)
+        The rotation vector θh (rad) of the rotation that takes ``R`` to ``R_goal``, in the base
+        frame, with θ in [0, π].
+    """
+    from robokin.validation import as_float_array, check_rotation_matrix
+
+    R = check_rotation_matrix(as_float_array(R, "R", (3, 3)), name="R")
+    R_goal = check_rotation_matrix(as_float_array(R_goal, "R_goal", (3, 3)), name="R_goal")
+    return rotation_log(R_goal @ R.T, check=False)
+
+
+def reference_tool_arm() -> Any:
+    """robokin's answer to ``tool_arm`` of Task 1 (the later tests' stand-in).
+
+    The graded tests of the tasks after it run the exercise's loop on this chain and towards
+    :func:`reference_goal`, so that a mistake in the tool or the goal costs the points of their
+    own tests only.
+
+    Returns
+    -------
+    robokin.chains.SerialChain
+        The course's arm with its end-effector moved to the exercise's tool.
+    """
+    from robokin.motion.tool import chain_with_tool
+
+    return chain_with_tool(_robot(), _T_ET(), name="genova_arm+tool")
+
+
+def reference_goal() -> np.ndarray:
+    """robokin's answer to ``T_BG`` of Task 2 (the later tests' stand-in), as
+    :func:`reference_tool_arm`.
+
+    Returns
+    -------
+    numpy.ndarray, shape (4, 4)
+        The exercise's goal pose in the base frame (m).
+    """
+    return _T_BG()

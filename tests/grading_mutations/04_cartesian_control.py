@@ -125,10 +125,10 @@ qdot0 = np.linalg.pinv(J_T0) @ twist0
 
 # the desired twist stacked in the course's order [w; v]
 _TWIST_COURSE_ORDER = """
-from robokin.motion import pose_error
-def my_twist(q):
-    e = pose_error(tool_arm.fk(q), T_BG)
-    return np.r_[GAIN_ANGULAR * e[3:], GAIN_LINEAR * e[:3]]
+def my_twist(q, orientation_error=orientation_error):
+    T = tool_arm.fk(q)
+    e_o = orientation_error(T[:3, :3], T_BG[:3, :3])
+    return np.r_[GAIN_ANGULAR * e_o, GAIN_LINEAR * (GOAL_POSITION - T[:3, 3])]
 
 twist0 = my_twist(Q0)
 qdot0 = np.linalg.pinv(J_T0) @ twist0
@@ -337,6 +337,16 @@ swapped_arm = tool_arm
 Q_swapped, V_swapped = kinematic_loop(swapped_twist, Q0, robot=tool_arm)
 """
 
+# the (roll, pitch, yaw) twist towards the YPR goal
+_SWAPPED_TWIST_YPR_GOAL = """
+def swapped_twist(q):
+    T = swapped_arm.fk(q)
+    e_o = orientation_error(T[:3, :3], T_BG[:3, :3])
+    return np.r_[GAIN_LINEAR * (T_BG[:3, 3] - T[:3, 3]), GAIN_ANGULAR * e_o]
+
+Q_swapped, V_swapped = kinematic_loop(swapped_twist, Q0, robot=swapped_arm)
+"""
+
 # the joints at a limit counted strictly beyond it: a clamped joint is never beyond
 _LIMITS_STRICT = """
 joints_at_limit = int(((Q_swapped < Q_MIN) | (Q_swapped > Q_MAX)).any(axis=0).sum())
@@ -437,6 +447,7 @@ MUTATIONS = {
     ],
     "task4_test3": [
         ("the (roll, pitch, yaw) run with the YPR tool", _SWAPPED_RUN_KEEPS_TOOL),
+        ("the (roll, pitch, yaw) twist towards the YPR goal", _SWAPPED_TWIST_YPR_GOAL),
         ("swapped_stops taken as True", "swapped_stops = True"),
         ("joints at a limit counted strictly beyond it", _LIMITS_STRICT),
         ("off_line taken as the length of the chord", _OFF_LINE_CHORD),
