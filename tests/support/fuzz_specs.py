@@ -952,6 +952,9 @@ def check_specs() -> list[Spec]:
             S.append(Spec(f"check.{chapter}.{attr}", lambda answer, quiet, _c=chk: _c(answer, quiet=quiet),
                           [Answer("answer")], {"quiet": Const("quiet", True)}, student=("answer",),
                           check=_is_result, weight=0.3))
+    # chapter 4's stand-in for the student's orientation error in the later tests
+    S.append(Spec("check.cartesian.reference_orientation_error", check.cartesian.reference_orientation_error,
+                  [Rot("R", batch=False), Rot("R_goal", batch=False)], shape=lambda c, v: (3,), weight=0.3))
     return S
 
 
