@@ -50,6 +50,13 @@ and name the typical mistake:
   ``ValueError`` without a bracket (the wrong half kept, a fixed number of halvings, the
   sign of ``f(middle)`` alone, no ``ValueError``).
 
+The ``reference_*`` functions are robokin's answers to the steps of Task 2
+(``reference_weighted_pinv``, ``reference_dls_step``, ``reference_nullspace_projector``,
+``reference_joint_limit_objective``, ``reference_joint_limit_gradient`` and the loop
+``reference_ik_position``): the graded tests of the later tasks pass them to the student's
+functions (``summary``, ``self_motion``, ``ik_restarts`` take the steps they build on as
+arguments) so that a mistake in one step costs the points of that step only.
+
 Usage::
 
     from robokin.check import ur10 as check_ur10
@@ -58,6 +65,7 @@ Usage::
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from functools import lru_cache
 from typing import Any
@@ -66,9 +74,19 @@ import numpy as np
 
 from robokin.check._core import CheckResult, FunctionCheck, MatrixArgumentsCheck, Variable, alternatives, fmt
 from robokin.check._registry import exercise
+from robokin.validation import (
+    as_batch,
+    as_float_array,
+    check_callable,
+    check_chain,
+    check_int,
+    check_result_finite,
+)
 
 __all__ = ["weighted_pinv", "dls_step", "nullspace_projector", "ik_position", "summary", "self_motion",
-           "ik_restarts", "bisect", "N_JOINTS", "WORK_LIMITS"]
+           "ik_restarts", "bisect", "N_JOINTS", "WORK_LIMITS", "PseudoinverseStep", "reference_dls_step",
+           "reference_ik_position", "reference_joint_limit_gradient", "reference_joint_limit_objective",
+           "reference_nullspace_projector", "reference_weighted_pinv"]
 
 _CHAPTER = "ur10"
 #: Number of joints of the UR10.
@@ -334,6 +352,22 @@ _LOOP_TOL = 1e-9
 def _pinv_step(J: np.ndarray, e: np.ndarray, q: np.ndarray) -> np.ndarray:
     """The step the check hands to the loop: the pseudoinverse step J⁺ e."""
     return np.linalg.pinv(J) @ e
+
+
+@dataclasses.dataclass(frozen=True)
+class PseudoinverseStep:
+    r"""The plain pseudoinverse step :math:`\Delta q = J^+ e` as a step rule ``step(J, e, q)``.
+
+    A test hands it to the student's ``ik_restarts``, which passes it on to the loop it is
+    given (robokin's :func:`reference_ik_position` in the graded test). Being data, not a
+    function of the test, it goes to the student's kernel and back whole: the grader calls a
+    function of its own (the loop) with it, not a function of the student's.
+    """
+
+    def __call__(self, J: Any, e: Any, q: Any = None) -> np.ndarray:
+        """The step J⁺e (n,) for the task Jacobian ``J`` (m, n) and the error ``e`` (m,);
+        ``q`` is not used."""
+        return np.linalg.pinv(np.asarray(J, dtype=float)) @ np.asarray(e, dtype=float)
 
 
 def _loop_args(x: np.ndarray) -> tuple:
@@ -647,7 +681,8 @@ class _RestartsCheck(FunctionCheck):
         n = len(cases)
         got = []
         for what, goal, starts in cases:
-            out = self.call(answer, (_cell(), goal.copy(), starts.copy(), _pinv_step), f"for {what}")
+            out = self.call(answer, (_cell(), goal.copy(), starts.copy(), PseudoinverseStep()),
+                            f"for {what}")
             if not isinstance(out, tuple) or len(out) != 4:
                 return self.failure("type", (
                     f"{name} should return the tuple (q, converged, attempts, iterations); "
@@ -684,11 +719,12 @@ class _RestartsCheck(FunctionCheck):
                     "attempts": f" (expected {int(r[7])})", "iterations": f" (expected {int(r[8])})"}
         return self.failure("mismatch", (
             f"{name} for {cases[k][0]} (3 starts, the pseudoinverse step) returns a wrong "
-            f"{wrong}{expected[wrong]}. It runs your ik_position: if Task 2's test of ik_position "
-            "or check_ur10.ik_position(ik_position) fails, fix ik_position first, the cause may "
-            "be there. Otherwise: run ik_position from each start in turn, with its defaults, stop at "
-            "the first that converges, and return that attempt's q, whether it converged, the "
-            "attempts made and the steps over all of them."), n)
+            f"{wrong}{expected[wrong]}. It runs the loop it is given as solve (your ik_position by "
+            "default; the graded test passes robokin's): if check_ur10.ik_position(ik_position) "
+            "fails, fix ik_position first, the cause may be there. Otherwise: run solve from each "
+            "start in turn, with its defaults, stop at the first that converges, and return that "
+            "attempt's q, whether it converged, the attempts made and the steps over all of "
+            "them."), n)
 
 
 ik_restarts = exercise(_CHAPTER, "ik_restarts", _RestartsCheck(
@@ -947,9 +983,11 @@ class _SelfMotionCheck(FunctionCheck):
         row = int(np.argmax(np.abs(g - r).max(axis=1) > 1e-9))
         return self.failure("mismatch", (
             f"{name} for {cases[k][0]} differs from q ← q + J⁺e + N k ∇H(q) from row {row} "
-            f"on (row 0 is q_start). If it calls your joint_limit_gradient or nullspace_projector "
-            "and Task 2's test of them fails, fix those first, the cause may be there. Otherwise "
-            "check the step e = p_goal − p(q), J⁺, N = I − J⁺J and ∇H with the chain's limits."), n)
+            f"on (row 0 is q_start). It takes N and ∇H from the projector and gradient it is given "
+            "(your nullspace_projector and joint_limit_gradient by default; the graded test passes "
+            "robokin's): if Task 2's test of them fails, fix those first, the cause may be there. "
+            "Otherwise check the step e = p_goal − p(q), J⁺, N = I − J⁺J and ∇H with the chain's "
+            "limits."), n)
 
 
 self_motion = exercise(_CHAPTER, "self_motion", _SelfMotionCheck(
@@ -961,10 +999,209 @@ self_motion = exercise(_CHAPTER, "self_motion", _SelfMotionCheck(
 ))
 
 
+# ------------------------------------------------------------------ robokin's steps (the tests' stand-ins)
+def reference_weighted_pinv(J: Any, W: Any) -> np.ndarray:
+    r"""robokin's answer to ``weighted_pinv`` of Task 2 (the tests' stand-in).
+
+    The graded tests of the later steps pass robokin's steps to the student's functions in
+    place of the student's own, so that a mistake in one step costs the points of that step
+    only.
+
+    Parameters
+    ----------
+    J : array_like, shape (m, 6)
+        A task Jacobian of the UR10, of full row rank.
+    W : array_like, shape (6, 6)
+        A positive-definite weight matrix.
+
+    Returns
+    -------
+    numpy.ndarray, shape (6, m)
+        :math:`W^{-1} J^\top (J W^{-1} J^\top)^{-1}`.
+    """
+    J = as_float_array(J, "J", shape=(None, N_JOINTS))
+    W = as_float_array(W, "W", shape=(N_JOINTS, N_JOINTS))
+    with np.errstate(all="ignore"):
+        try:
+            out = _weighted(J, W)
+        except np.linalg.LinAlgError:
+            raise ValueError("J W⁻¹ Jᵀ is singular: J must have full row rank and W be "
+                             "positive definite") from None
+    return check_result_finite(out, "the weighted pseudoinverse", J=J, W=W)
+
+
+def reference_dls_step(J: Any, e: Any, damping: float) -> np.ndarray:
+    r"""robokin's answer to ``dls_step`` of Task 2 (the tests' stand-in).
+
+    As :func:`reference_weighted_pinv`, for the damped least-squares step.
+
+    Parameters
+    ----------
+    J : array_like, shape (m, 6)
+        A task Jacobian of the UR10.
+    e : array_like, shape (m,)
+        The task error.
+    damping : float
+        The damping :math:`\lambda`, in the units of ``J``.
+
+    Returns
+    -------
+    numpy.ndarray, shape (6,)
+        :math:`J^\top (J J^\top + \lambda^2 I)^{-1} e`.
+    """
+    J = as_float_array(J, "J", shape=(None, N_JOINTS))
+    e = as_float_array(e, "e", shape=(J.shape[0],))
+    damping = float(as_float_array(damping, "damping", shape=()))
+    with np.errstate(all="ignore"):
+        try:
+            out = _dls(J, e, damping**2)
+        except np.linalg.LinAlgError:
+            raise ValueError("J Jᵀ + λ² I is singular: give a damping > 0 or a J of full row "
+                             "rank") from None
+    return check_result_finite(out, "the damped step", J=J, e=e, damping=damping)
+
+
+def reference_nullspace_projector(J: Any) -> np.ndarray:
+    r"""robokin's answer to ``nullspace_projector`` of Task 2 (the tests' stand-in).
+
+    As :func:`reference_weighted_pinv`, for the null-space projector.
+
+    Parameters
+    ----------
+    J : array_like, shape (m, 6)
+        A task Jacobian of the UR10.
+
+    Returns
+    -------
+    numpy.ndarray, shape (6, 6)
+        :math:`I - J^+ J`.
+    """
+    J = as_float_array(J, "J", shape=(None, N_JOINTS))
+    with np.errstate(all="ignore"):
+        try:
+            out = np.eye(J.shape[1]) - np.linalg.pinv(J) @ J
+        except np.linalg.LinAlgError:
+            raise ValueError("J has no singular value decomposition (its entries overflow)") from None
+    return check_result_finite(out, "the null-space projector", J=J)
+
+
+def _limits_of(q: np.ndarray, limits: Any) -> np.ndarray:
+    """``limits`` as an (n, 2) array of floats for configurations ``q`` (..., n), each range
+    of positive length."""
+    limits = as_float_array(limits, "limits", shape=(q.shape[-1], 2))
+    if not np.all(limits[:, 1] > limits[:, 0]):
+        raise ValueError("limits must hold [lower, upper] with lower < upper for every joint")
+    return limits
+
+
+def reference_joint_limit_objective(q: Any, limits: Any = WORK_LIMITS) -> float | np.ndarray:
+    r"""robokin's answer to ``joint_limit_objective`` of Task 2 (the tests' stand-in).
+
+    As :func:`reference_weighted_pinv`, for Siciliano's joint-limit objective.
+
+    Parameters
+    ----------
+    q : array_like, shape (n,) or (N, n)
+        One configuration or a batch (rad).
+    limits : array_like, shape (n, 2)
+        ``[lower, upper]`` of each joint (rad); the chapter's working limits by default.
+
+    Returns
+    -------
+    float or numpy.ndarray, shape (N,)
+        :math:`H(q) = -\frac{1}{2n}\sum_i \left(\frac{q_i - \bar q_i}{q_{M,i} - q_{m,i}}\right)^2`.
+    """
+    q, batched = as_batch(q, None, "q")
+    limits = _limits_of(q, limits)
+    middle, span = limits.mean(axis=1), limits[:, 1] - limits[:, 0]
+    with np.errstate(all="ignore"):
+        H = -np.sum(((q - middle) / span) ** 2, axis=-1) / (2 * len(middle))
+    H = check_result_finite(H, "H", q=q, limits=limits)
+    return H if batched else float(H)
+
+
+def reference_joint_limit_gradient(q: Any, limits: Any = WORK_LIMITS) -> np.ndarray:
+    r"""robokin's answer to ``joint_limit_gradient`` of Task 2 (the tests' stand-in).
+
+    As :func:`reference_weighted_pinv`, for the gradient of
+    :func:`reference_joint_limit_objective`.
+
+    Parameters
+    ----------
+    q : array_like, shape (n,)
+        A configuration (rad).
+    limits : array_like, shape (n, 2)
+        ``[lower, upper]`` of each joint (rad); the chapter's working limits by default.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,)
+        :math:`\partial H/\partial q_i = -\frac{1}{n}\,(q_i - \bar q_i)/(q_{M,i} - q_{m,i})^2`.
+    """
+    q = as_float_array(q, "q", shape=(None,))
+    limits = _limits_of(q, limits)
+    with np.errstate(all="ignore"):
+        out = _gradient(q, limits)
+    return check_result_finite(out, "the gradient of H", q=q, limits=limits)
+
+
+def reference_ik_position(chain: Any, p_goal: Any, q0: Any, step: Any, max_step: float = 0.5,
+                          tol: float = 1e-9, max_iterations: int = 100) -> tuple[np.ndarray, bool, int]:
+    r"""robokin's answer to ``ik_position`` of Task 2 (the tests' stand-in).
+
+    As :func:`reference_weighted_pinv`, for the IK loop: the graded test of ``ik_restarts``
+    passes it in place of the student's ``ik_position``.
+
+    Parameters
+    ----------
+    chain : robokin chain
+        Its ``fk``, ``position_jacobian`` and ``limits`` (n, 2) are used.
+    p_goal : array_like, shape (3,)
+        The goal position of the flange (m, base frame).
+    q0 : array_like, shape (n,)
+        The start (rad).
+    step : callable
+        ``step(J, e, q) -> dq`` (n,), with ``J`` the 3×n position Jacobian and
+        :math:`e = p_{goal} - p(q)`.
+    max_step : float
+        Cap on the norm of a step (rad); the chapter's 0.5 by default.
+    tol : float
+        Stop when :math:`\|e\| \le` ``tol`` (m).
+    max_iterations : int
+        At most this many steps.
+
+    Returns
+    -------
+    tuple
+        ``(q, converged, iterations)``: the last configuration (n,), whether
+        :math:`\|e(q)\| \le` ``tol``, and the number of steps taken.
+    """
+    check_chain(chain, "chain", methods=("fk", "position_jacobian"))
+    p_goal = as_float_array(p_goal, "p_goal", shape=(3,))
+    q0 = as_float_array(q0, "q0", shape=(chain.n,))
+    check_callable(step, "step", "step(J, e, q) -> dq (n,)")
+    max_step = float(as_float_array(max_step, "max_step", shape=()))
+    tol = float(as_float_array(tol, "tol", shape=()))
+    if max_step <= 0 or tol < 0:
+        raise ValueError(f"max_step must be > 0 and tol >= 0; got max_step {max_step}, tol {tol}")
+    max_iterations = check_int(max_iterations, "max_iterations", minimum=0, maximum=100_000)
+    packed = _loop(chain, p_goal, q0, step, max_step, tol, max_iterations)
+    n = len(packed) - 2
+    return packed[:n], bool(packed[n]), int(packed[n + 1])
+
+
 #: check -> {robokin (or SciPy) function that solves its task: how the review report names it}
 #: (an answer that hands one back is flagged for review by hand).
 DELEGATION = {
-    "ik_restarts": {"solve_ik": "robokin.motion.solve_ik", "solve_ik_batch": "robokin.motion.solve_ik_batch"},
+    "weighted_pinv": {"reference_weighted_pinv": "robokin.check.ur10.reference_weighted_pinv"},
+    "dls_step": {"reference_dls_step": "robokin.check.ur10.reference_dls_step"},
+    "nullspace_projector": {"reference_nullspace_projector": "robokin.check.ur10.reference_nullspace_projector"},
+    "ik_position": {"reference_ik_position": "robokin.check.ur10.reference_ik_position"},
+    "summary": {"reference_joint_limit_objective": "robokin.check.ur10.reference_joint_limit_objective"},
+    "self_motion": {"reference_nullspace_projector": "robokin.check.ur10.reference_nullspace_projector",
+                    "reference_joint_limit_gradient": "robokin.check.ur10.reference_joint_limit_gradient"},
+    "ik_restarts": {"solve_ik": "robokin.motion.solve_ik", "solve_ik_batch": "robokin.motion.solve_ik_batch",
+                    "reference_ik_position": "robokin.check.ur10.reference_ik_position"},
     "bisect": {"brentq": "scipy.optimize.brentq", "root_scalar": "scipy.optimize.root_scalar",
                "brenth": "scipy.optimize.brenth", "ridder": "scipy.optimize.ridder"},
 }

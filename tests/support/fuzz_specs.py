@@ -861,8 +861,6 @@ def _poe_step_specs() -> list[Spec]:
         return Arr("S_list", (6, 6), batch=False, lo=-1.0, hi=1.0, extreme=False)
 
     return [
-        Spec("check.product_of_exponentials.reference_skew", steps.reference_skew,
-             [Arr("w", (3,), batch=False)], shape=lambda c, v: (3, 3), weight=0.3),
         Spec("check.product_of_exponentials.reference_rodrigues", steps.reference_rodrigues,
              [Arr("omega", (3,), batch=False, lo=-1.0, hi=1.0, extreme=False), Num("theta", -3.0, 3.0, extreme=False)],
              shape=lambda c, v: (3, 3), weight=0.3),
@@ -896,6 +894,42 @@ def _ur10_closed_form_step_specs() -> list[Spec]:
     ]
 
 
+def _ur10_step_specs() -> list[Spec]:
+    """robokin's steps of chapter 2 (the stand-ins the graded tests pass to the student's functions)."""
+    steps = check.ur10
+    jacobian = lambda name="J": Arr(name, (3, 6), batch=False, extreme=False)  # noqa: E731
+    return [
+        Spec("check.ur10.reference_weighted_pinv", steps.reference_weighted_pinv,
+             [jacobian(), Const("W", np.diag([2.0, 2.0, 2.0, 1.0, 1.0, 1.0]))], shape=lambda c, v: (6, 3),
+             weight=0.3),
+        Spec("check.ur10.reference_dls_step", steps.reference_dls_step,
+             [jacobian(), Arr("e", (3,), batch=False, extreme=False), Num("damping", 0.01, 0.5, extreme=False)],
+             shape=lambda c, v: (6,), weight=0.3),
+        Spec("check.ur10.reference_nullspace_projector", steps.reference_nullspace_projector, [jacobian()],
+             shape=lambda c, v: (6, 6), weight=0.3),
+        Spec("check.ur10.reference_joint_limit_objective", steps.reference_joint_limit_objective,
+             [Arr("q", (6,), extreme=False)], {"limits": Limits("limits", 6, optional=True)},
+             shape=lambda c, v: batch_shape(c), batch=True, weight=0.3),
+        Spec("check.ur10.reference_joint_limit_gradient", steps.reference_joint_limit_gradient,
+             [Arr("q", (6,), batch=False, extreme=False)], {"limits": Limits("limits", 6, optional=True)},
+             shape=lambda c, v: (6,), weight=0.3),
+        Spec("check.ur10.reference_ik_position", steps.reference_ik_position,
+             [Obj("chain", lambda c: models.ur10()), Arr("p_goal", (3,), batch=False, lo=-0.8, hi=0.8, extreme=False),
+              Arr("q0", (6,), batch=False, extreme=False), Fn("step", lambda c: steps.PseudoinverseStep())],
+             {"max_step": Num("max_step", 0.1, 1.0, positive=True, extreme=False),
+              "tol": Num("tol", 1e-9, 1e-3, positive=True, allow_zero=True, extreme=False),
+              "max_iterations": Int("max_iterations", 0, 5)},
+             check=lambda r, c, v: _ik_position_result(r), weight=0.3),
+    ]
+
+
+def _ik_position_result(result: Any) -> None:
+    """A loop's result: (q (6,) finite, converged, iterations)."""
+    q, converged, iterations = result
+    assert np.shape(q) == (6,) and np.all(np.isfinite(q)) and isinstance(converged, bool)
+    assert isinstance(iterations, int) and 0 <= iterations <= 5
+
+
 def check_specs() -> list[Spec]:
     from robokin.check._registry import CHAPTERS, checks_of
 
@@ -926,6 +960,7 @@ def check_specs() -> list[Spec]:
              {"samples": Int("samples", 1, 3, minimum=1, huge=None), "seed": Int("seed", 0, 5, optional=True),
               "quiet": Const("quiet", True)}, student=("f",), check=_is_result, weight=0.5),
         *_ur10_closed_form_step_specs(),
+        *_ur10_step_specs(),
         # chapter 10's stand-ins for the student's earlier steps in the later tests
         Spec("check.trajectories.reference_cubic_scaling", check.trajectories.reference_cubic_scaling,
              [Num("t", 0.0, 2.0, allow_zero=True), Num("T", 0.5, 3.0, positive=True)], shape=lambda c, v: (3,)),
@@ -952,9 +987,6 @@ def check_specs() -> list[Spec]:
             S.append(Spec(f"check.{chapter}.{attr}", lambda answer, quiet, _c=chk: _c(answer, quiet=quiet),
                           [Answer("answer")], {"quiet": Const("quiet", True)}, student=("answer",),
                           check=_is_result, weight=0.3))
-    # chapter 4's stand-in for the student's orientation error in the later tests
-    S.append(Spec("check.cartesian.reference_orientation_error", check.cartesian.reference_orientation_error,
-                  [Rot("R", batch=False), Rot("R_goal", batch=False)], shape=lambda c, v: (3,), weight=0.3))
     return S
 
 
