@@ -861,6 +861,8 @@ def _poe_step_specs() -> list[Spec]:
         return Arr("S_list", (6, 6), batch=False, lo=-1.0, hi=1.0, extreme=False)
 
     return [
+        Spec("check.product_of_exponentials.reference_skew", steps.reference_skew,
+             [Arr("w", (3,), batch=False)], shape=lambda c, v: (3, 3), weight=0.3),
         Spec("check.product_of_exponentials.reference_rodrigues", steps.reference_rodrigues,
              [Arr("omega", (3,), batch=False, lo=-1.0, hi=1.0, extreme=False), Num("theta", -3.0, 3.0, extreme=False)],
              shape=lambda c, v: (3, 3), weight=0.3),
@@ -987,6 +989,9 @@ def check_specs() -> list[Spec]:
             S.append(Spec(f"check.{chapter}.{attr}", lambda answer, quiet, _c=chk: _c(answer, quiet=quiet),
                           [Answer("answer")], {"quiet": Const("quiet", True)}, student=("answer",),
                           check=_is_result, weight=0.3))
+    # chapter 4's stand-in for the student's orientation error in the later tests
+    S.append(Spec("check.cartesian.reference_orientation_error", check.cartesian.reference_orientation_error,
+                  [Rot("R", batch=False), Rot("R_goal", batch=False)], shape=lambda c, v: (3,), weight=0.3))
     return S
 
 
