@@ -23,11 +23,11 @@ _SELF_FIGURES = (
 
 def _summary_with(change: str) -> str:
     """``summary`` with some of its figures changed: ``change`` is code on the right dict ``s``
-    (and ``chain``, ``p_goal``, ``path`` as an array); ``stats3`` is recomputed."""
+    (and ``chain``, ``p_goal``, ``path`` as an array, ``objective``); ``stats3`` is recomputed."""
     return (
         "_right_summary = summary\n"
-        "def summary(chain, p_goal, path):\n"
-        "    s = dict(_right_summary(chain, p_goal, path))\n"
+        "def summary(chain, p_goal, path, objective=joint_limit_objective):\n"
+        "    s = dict(_right_summary(chain, p_goal, path, objective))\n"
         "    path = np.asarray(path)\n"
         + indent(change, "    ") + "\n"
         "    return s\n"
@@ -37,19 +37,21 @@ def _summary_with(change: str) -> str:
 
 def _self_motion_with(update: str, record: str = "before") -> str:
     """``self_motion`` whose step is ``q = <update>`` (in terms of ``q``, ``e``, ``J``, ``N``,
-    ``g`` = ∇H with the chain's limits and ``gain``), recording ``q`` before (or after) each
-    step; the figures of Task 4 are recomputed."""
+    ``g`` = ∇H with the chain's limits, ``gain`` and the arguments ``projector`` and
+    ``gradient``), recording ``q`` before (or after) each step; the figures of Task 4 are
+    recomputed."""
     before, after = ("        path.append(q)\n", "") if record == "before" else ("", "        path.append(q)\n")
     return (
-        "def self_motion(chain, p_goal, q_start, gain, steps):\n"
+        "def self_motion(chain, p_goal, q_start, gain, steps, projector=nullspace_projector,\n"
+        "                gradient=joint_limit_gradient):\n"
         "    q = np.array(q_start, dtype=float)\n"
         "    path = []\n"
         "    for step in range(steps):\n"
         + before
         + "        e = p_goal - chain.fk(q)[:3, 3]\n"
         "        J = chain.position_jacobian(q)\n"
-        "        N = nullspace_projector(J)\n"
-        "        g = joint_limit_gradient(q, chain.limits)\n"
+        "        N = projector(J)\n"
+        "        g = gradient(q, chain.limits)\n"
         f"        q = {update}\n"
         + after
         + "    return np.array(path)\n"
@@ -62,8 +64,8 @@ def _restarts_with(result: str) -> str:
     ``(q, converged, attempts, iterations)``."""
     return (
         "_right_restarts = ik_restarts\n"
-        "def ik_restarts(chain, p_goal, starts, step):\n"
-        "    q, converged, attempts, iterations = _right_restarts(chain, p_goal, starts, step)\n"
+        "def ik_restarts(chain, p_goal, starts, step, solve=ik_position):\n"
+        "    q, converged, attempts, iterations = _right_restarts(chain, p_goal, starts, step, solve)\n"
         f"    return {result}"
     )
 
@@ -159,6 +161,15 @@ MUTATIONS = {
             "loop_runs = {**loop_runs, 'c': ik_position(cell, TARGETS['B'], Q0, STEPS['null space'])}",
         ),
         (
+            "the null-space gain doubled (k = n pi^2)",
+            "K_NULL = len(Q0) * np.pi**2\n"
+            "STEPS = {**STEPS, 'null space': lambda J, e, q: (\n"
+            "    np.linalg.pinv(J) @ e + nullspace_projector(J) @ (K_NULL * joint_limit_gradient(q)))}\n"
+            "loop_runs = {**loop_runs, 'c': ik_position(cell, TARGETS['B'], Q0, STEPS['null space'])}",
+        ),
+        ("run (c) taken with the weighted step",
+         "loop_runs = {**loop_runs, 'c': ik_position(cell, TARGETS['B'], Q0, STEPS['weighted'])}"),
+        (
             "ik_position left as the stub, the runs taken from robokin's solve_ik_once",
             "def ik_position(chain, p_goal, q0, step, max_step=MAX_STEP, tol=1e-9, max_iterations=100):\n"
             "    raise NotImplementedError()\n"
@@ -181,9 +192,9 @@ MUTATIONS = {
          _summary_with("near = np.min(path - chain.limits[:, 0], axis=1)\n"
                        "s['min_limit'], s['end_limit'] = near[1:].min(), near[-1]")),
         ("H with limits other than the chain's",
-         _summary_with("s['end_H'] = joint_limit_objective(path[-1], np.array([[-2.0, 2.0]] * 6))")),
+         _summary_with("s['end_H'] = objective(path[-1], np.array([[-2.0, 2.0]] * 6))")),
         ("H with the default limits, not the chain's (the same on the work cell)",
-         _summary_with("s['end_H'] = joint_limit_objective(path[-1])")),
+         _summary_with("s['end_H'] = objective(path[-1])")),
         ("the iterates counted, not the steps", _summary_with("s['iterations'] = len(path)")),
         ("the final error left in metres", _summary_with("s['error_nm'] = s['error_nm'] / 1e9")),
     ],
@@ -192,6 +203,9 @@ MUTATIONS = {
         ("the null-space method read as quadratic", "convergence = {**convergence, 'null space': 'quadratic'}"),
     ],
     "task4_test1": [
+        ("self_q taken with half the gain", "self_q = self_motion(cell, TARGETS['B'], runs['B', 'weighted'].q, "
+         "K_SELF / 2, 121)"),
+        ("self_H with H's sign flipped", "self_H = -self_H"),
         ("self-motion without the J+ e correction", _self_motion_with("q + N @ (gain * g)")),
         ("the gradient not projected: the flange moves",
          _self_motion_with("q + np.linalg.pinv(J) @ e + gain * g")),
@@ -201,30 +215,30 @@ MUTATIONS = {
         ("the configurations recorded after each step",
          _self_motion_with("q + np.linalg.pinv(J) @ e + N @ (gain * g)", record="after")),
         ("grad H with the default limits, not the chain's (the same on the work cell)",
-         _self_motion_with("q + np.linalg.pinv(J) @ e + N @ (gain * joint_limit_gradient(q))")),
+         _self_motion_with("q + np.linalg.pinv(J) @ e + N @ (gain * gradient(q))")),
     ],
     "task5_test1": [
         (
             "the steps of the last attempt only",
-            "def ik_restarts(chain, p_goal, starts, step):\n"
+            "def ik_restarts(chain, p_goal, starts, step, solve=ik_position):\n"
             "    for attempts, q_start in enumerate(starts, start=1):\n"
-            "        q, converged, iterations = ik_position(chain, p_goal, q_start, step)\n"
+            "        q, converged, iterations = solve(chain, p_goal, q_start, step)\n"
             "        if converged:\n"
             "            break\n"
             "    return q, converged, attempts, iterations",
         ),
         (
             "no restart: the first start only",
-            "def ik_restarts(chain, p_goal, starts, step):\n"
-            "    q, converged, iterations = ik_position(chain, p_goal, starts[0], step)\n"
+            "def ik_restarts(chain, p_goal, starts, step, solve=ik_position):\n"
+            "    q, converged, iterations = solve(chain, p_goal, starts[0], step)\n"
             "    return q, converged, 1, iterations",
         ),
         (
             "each restart goes on from where the last attempt ended",
-            "def ik_restarts(chain, p_goal, starts, step):\n"
+            "def ik_restarts(chain, p_goal, starts, step, solve=ik_position):\n"
             "    total, q = 0, starts[0]\n"
             "    for attempts in range(1, len(starts) + 1):\n"
-            "        q, converged, iterations = ik_position(chain, p_goal, q, step)\n"
+            "        q, converged, iterations = solve(chain, p_goal, q, step)\n"
             "        total += iterations\n"
             "        if converged:\n"
             "            break\n"
@@ -235,10 +249,10 @@ MUTATIONS = {
          _restarts_with("starts[attempts - 1], converged, attempts, iterations")),
         (
             "no stop after an attempt converged",
-            "def ik_restarts(chain, p_goal, starts, step):\n"
+            "def ik_restarts(chain, p_goal, starts, step, solve=ik_position):\n"
             "    total, ever = 0, False\n"
             "    for attempts, q_start in enumerate(starts, start=1):\n"
-            "        q, converged, iterations = ik_position(chain, p_goal, q_start, step)\n"
+            "        q, converged, iterations = solve(chain, p_goal, q_start, step)\n"
             "        total += iterations\n"
             "        ever = ever or converged\n"
             "    return q, ever, attempts, total",
@@ -276,6 +290,7 @@ MUTATIONS = {
         ),
     ],
     "task6_test3": [
+        ("step_mm taken on the metre model", "step_mm = dls_step(J_m, e_m, np.sqrt(0.1))"),
         ("the target left in metres for the millimetre robot",
          "e_mm = TARGETS['A'] - robot_mm.fk(Q0)[:3, 3]"),
         ("the metres' damping converted to mm (lambda = 1000 sqrt(0.1) mm): the same step",
@@ -312,9 +327,8 @@ def nullspace_projector(J):  # written another way: the right singular vectors o
 '''),
     "task3_answer1": ("the figures with robokin's measures of a run and a cumulative sum", '''
 
-def summary(chain, p_goal, path):  # written another way: robokin's distance and manipulability
+def summary(chain, p_goal, path, objective=joint_limit_objective):  # another way: robokin's measures
     path = np.asarray(path, dtype=float)
-    distance = JointLimitDistance(chain.limits)
     gaps = np.concatenate([path - chain.limits[:, 0], chain.limits[:, 1] - path], axis=1)
     nearest = gaps.min(axis=1)
     w = chain.manipulability(path, position_only=True)
@@ -325,7 +339,7 @@ def summary(chain, p_goal, path):  # written another way: robokin's distance and
         "path": travelled[-1],
         "min_limit": np.sort(nearest[1:])[0],
         "end_limit": nearest[-1],
-        "end_H": distance.value(path[-1]),
+        "end_H": objective(path[-1], limits=chain.limits),
         "min_w": np.sort(w[1:])[0],
         "end_w": w[-1],
     }
@@ -335,7 +349,8 @@ stats3 = {key: summary(cell, TARGETS[key[0]], run.history.q) for key, run in run
 '''),
     "task4_answer1": ("self-motion with a preallocated array and the projector from the SVD", '''
 
-def self_motion(chain, p_goal, q_start, gain, steps):  # written another way: rows filled in place
+def self_motion(chain, p_goal, q_start, gain, steps, projector=nullspace_projector,
+                gradient=joint_limit_gradient):  # written another way: rows filled in place
     rows = np.empty((steps, len(q_start)))
     q = np.asarray(q_start, dtype=float)
     for i in range(steps):
@@ -343,7 +358,7 @@ def self_motion(chain, p_goal, q_start, gain, steps):  # written another way: ro
         J = chain.position_jacobian(q)
         kernel = np.linalg.svd(J)[2][J.shape[0]:]  # full row rank: the null space of J
         correction = np.linalg.lstsq(J, p_goal - chain.fk(q)[:3, 3], rcond=None)[0]
-        q = q + correction + kernel.T @ (kernel @ (gain * joint_limit_gradient(q, chain.limits)))
+        q = q + correction + kernel.T @ (kernel @ (gain * gradient(q, chain.limits)))
     return rows
 
 
@@ -358,11 +373,11 @@ self_dist = np.min(np.minimum(self_q - WORK_LIMITS[:, 0], WORK_LIMITS[:, 1] - se
 '''),
     "task5_answer1": ("the restarts by recursion on the remaining starts", '''
 
-def ik_restarts(chain, p_goal, starts, step):  # written another way: recursion
-    q, converged, iterations = ik_position(chain, p_goal, starts[0], step)
+def ik_restarts(chain, p_goal, starts, step, solve=ik_position):  # written another way: recursion
+    q, converged, iterations = solve(chain, p_goal, starts[0], step)
     if converged or len(starts) == 1:
         return q, converged, 1, iterations
-    q, converged, attempts, more = ik_restarts(chain, p_goal, starts[1:], step)
+    q, converged, attempts, more = ik_restarts(chain, p_goal, starts[1:], step, solve)
     return q, converged, attempts + 1, iterations + more
 '''),
     "task6_answer1": ("bisection by recursion on the bracket", '''
