@@ -46,6 +46,7 @@ import numpy as np
 from robokin.check import diagnoses as dg
 from robokin.check._core import MatrixArgumentsCheck, Variable, alternatives
 from robokin.check._registry import exercise
+from robokin.validation import as_float_array
 
 __all__ = [
     "rodrigues", "screw_axis", "screw_list", "exp6", "forward_kinematics", "adjoint",
@@ -767,33 +768,14 @@ ik_body = exercise(_CHAPTER, "ik_body", MatrixArgumentsCheck(
 
 
 # ------------------------------------------------------------------ robokin's steps, for the tests
-def _finite_array(value: Any, shape: tuple[int | None, ...], name: str) -> np.ndarray:
-    """``value`` as a float array of ``shape`` (None: any length) with finite entries, or ValueError."""
-    try:
-        a = np.asarray(value)
-        if a.dtype.kind not in "biuf":  # complex, text, objects: not real numbers
-            a = np.asarray(value, dtype=float) if a.dtype.kind == "O" else None
-    except (TypeError, ValueError):
-        a = None
-    if a is None:
-        raise ValueError(f"{name} must be an array of real numbers; got {type(value).__name__}")
-    a = a.astype(float)
-    if a.ndim != len(shape) or any(n is not None and n != m for n, m in zip(shape, a.shape)):
-        wanted = "(" + ", ".join("n" if n is None else str(n) for n in shape) + ")"
-        raise ValueError(f"{name} must have shape {wanted}; got shape {a.shape}")
-    if not np.all(np.isfinite(a)):
-        raise ValueError(f"{name} must have finite entries")
-    return a
-
-
 def _angle(theta: Any) -> float:
-    a = _finite_array(theta, (), "theta")
+    a = as_float_array(theta, "theta", ())
     return float(a)
 
 
 def _screws_and_angles(S_list: Any, theta: Any) -> tuple[np.ndarray, np.ndarray]:
-    S = _finite_array(S_list, (None, 6), "S_list")
-    angles = _finite_array(theta, (None,), "theta")
+    S = as_float_array(S_list, "S_list", (None, 6))
+    angles = as_float_array(theta, "theta", (None,))
     if len(angles) != len(S):
         raise ValueError(f"theta must hold one angle per screw axis ({len(S)}); got {len(angles)}")
     return S, angles
@@ -816,7 +798,7 @@ def reference_skew(w: Any) -> np.ndarray:
     numpy.ndarray, shape (3, 3)
         The skew-symmetric matrix [w] with [w] x = w × x.
     """
-    return _skew(_finite_array(w, (3,), "w"))
+    return _skew(as_float_array(w, "w", (3,)))
 
 
 def reference_rodrigues(omega: Any, theta: Any) -> np.ndarray:
@@ -839,7 +821,7 @@ def reference_rodrigues(omega: Any, theta: Any) -> np.ndarray:
     """
     from robokin.transforms import rotation_exp
 
-    return np.asarray(rotation_exp(_finite_array(omega, (3,), "omega") * _angle(theta)), dtype=float)
+    return np.asarray(rotation_exp(as_float_array(omega, "omega", (3,)) * _angle(theta)), dtype=float)
 
 
 def reference_exp6(S: Any, theta: Any) -> np.ndarray:
@@ -863,7 +845,7 @@ def reference_exp6(S: Any, theta: Any) -> np.ndarray:
     """
     from robokin.transforms import transform_exp
 
-    return np.asarray(transform_exp(_finite_array(S, (6,), "S") * _angle(theta)), dtype=float)
+    return np.asarray(transform_exp(as_float_array(S, "S", (6,)) * _angle(theta)), dtype=float)
 
 
 def reference_poe_fk(M: Any, S_list: Any, theta: Any) -> np.ndarray:
@@ -886,7 +868,7 @@ def reference_poe_fk(M: Any, S_list: Any, theta: Any) -> np.ndarray:
     numpy.ndarray, shape (4, 4)
         The pose of the end effector, with robokin's exponentials.
     """
-    home = _finite_array(M, (4, 4), "M")
+    home = as_float_array(M, "M", (4, 4))
     S, angles = _screws_and_angles(S_list, theta)
     return _product(home, S, angles)
 
@@ -907,7 +889,7 @@ def reference_adjoint_matrix(T: Any) -> np.ndarray:
     numpy.ndarray, shape (6, 6)
         robokin's ``adjoint(T)``, for twists ordered [ω; v].
     """
-    return _adjoint(_finite_array(T, (4, 4), "T"))
+    return _adjoint(as_float_array(T, "T", (4, 4)))
 
 
 def reference_jacobian_in_space(S_list: Any, theta: Any) -> np.ndarray:
@@ -953,6 +935,6 @@ def reference_jacobian_in_body(M: Any, S_list: Any, theta: Any) -> np.ndarray:
     """
     from robokin.transforms import transform_inverse
 
-    home = _finite_array(M, (4, 4), "M")
+    home = as_float_array(M, "M", (4, 4))
     S, angles = _screws_and_angles(S_list, theta)
     return _adjoint(transform_inverse(_product(home, S, angles))) @ _space(S, angles)
