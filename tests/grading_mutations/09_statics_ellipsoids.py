@@ -19,13 +19,15 @@ MUTATIONS = {
     ],
     "task1_test2": [
         ("J instead of J^T",
-         "joint_torques = lambda q, F, jacobian=tool_jacobian: jacobian(q) @ np.asarray(F, dtype=float)"),
+         "joint_torques = lambda q, F, tool_jacobian=tool_jacobian:"
+         " tool_jacobian(q) @ np.asarray(F, dtype=float)"),
         ("the opposite sign",
-         "joint_torques = (lambda f: lambda q, F, jacobian=tool_jacobian: -f(q, F, jacobian))(joint_torques)"),
+         "joint_torques = (lambda f: lambda q, F, tool_jacobian=tool_jacobian:"
+         " -f(q, F, tool_jacobian))(joint_torques)"),
         ("tau0 from the load's weight (0, -m g)", "tau0 = joint_torques(Q0, -F0)"),
         ("degrees for radians",
-         "joint_torques = (lambda f: lambda q, F, jacobian=tool_jacobian:"
-         " f(np.rad2deg(q), F, jacobian))(joint_torques)"),
+         "joint_torques = (lambda f: lambda q, F, tool_jacobian=tool_jacobian:"
+         " f(np.rad2deg(q), F, tool_jacobian))(joint_torques)"),
         ("tau0 from a Jacobian transposed, not from joint_torques",
          "tau0 = tool_jacobian(Q0) @ F0"),
     ],
@@ -150,7 +152,7 @@ def tool_jacobian(q):
     return np.array([[column.real for column in columns], [column.imag for column in columns]])
 
 
-def joint_torques(q, F, jacobian=tool_jacobian):  # the moments need no Jacobian
+def joint_torques(q, F, tool_jacobian=tool_jacobian):  # the moments need no Jacobian
     first, second = np.asarray(q, dtype=float)
     elbow = L1 * np.array([np.cos(first), np.sin(first)])
     tip = elbow + L2 * np.array([np.cos(first + second), np.sin(first + second)])
