@@ -74,7 +74,9 @@ _CHAPTER = "three_rpr"
 DELEGATION = {
     "orientation_function": {"orientation_polynomial": "Planar3RPR.orientation_polynomial",
                              "orientation_harmonics": "Planar3RPR.orientation_harmonics",
-                             "forward_kinematics": "Planar3RPR.forward_kinematics"},
+                             "forward_kinematics": "Planar3RPR.forward_kinematics",
+                             "reference_orientation_function":
+                                 "robokin.check.three_rpr.reference_orientation_function"},
     "twin_pose": {"forward_kinematics": "Planar3RPR.forward_kinematics"},
 }
 
