@@ -85,6 +85,8 @@ MUTATIONS = {
         ("the ratio of the eigenvalues (kappa squared)",
          "condition_number = (lambda f: lambda J: f(J) ** 2)(condition_number)"),
         ("sigma_min / sigma_max", "condition_number = (lambda f: lambda J: 1 / f(J))(condition_number)"),
+    ],
+    "task4_test4": [
         ("l2 = sqrt(2) l1", "l_ratio_iso = np.sqrt(2)"),
         ("the elbow at 45 degrees", "q2_iso = np.pi / 4"),
     ],
