@@ -71,22 +71,24 @@ MUTATIONS = {
     "task4_test1": [
         ("det(J J^T) without the square root",
          "manipulability = lambda J: float(np.linalg.det(J @ J.T))"),
+    ],
+    "task4_test2": [
         ("the closed form without the absolute value",
          "w_formula = lambda q2, l1, l2: l1 * l2 * np.sin(q2)"),
         ("the closed form in degrees",
          "w_formula = lambda q2, l1, l2: abs(l1 * l2 * np.sin(np.deg2rad(q2)))"),
         ("the closed form with cos q2", "w_formula = lambda q2, l1, l2: abs(l1 * l2 * np.cos(q2))"),
     ],
-    "task4_test2": [
+    "task4_test3": [
         ("the elbow at 45 degrees", "q2_best = np.pi / 4"),
         ("the angle in degrees", "q2_best = 90.0"),
     ],
-    "task4_test3": [
+    "task4_test4": [
         ("the ratio of the eigenvalues (kappa squared)",
          "condition_number = (lambda f: lambda J: f(J) ** 2)(condition_number)"),
         ("sigma_min / sigma_max", "condition_number = (lambda f: lambda J: 1 / f(J))(condition_number)"),
     ],
-    "task4_test4": [
+    "task4_test5": [
         ("l2 = sqrt(2) l1", "l_ratio_iso = np.sqrt(2)"),
         ("the elbow at 45 degrees", "q2_iso = np.pi / 4"),
     ],
