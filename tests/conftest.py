@@ -233,7 +233,7 @@ def pytest_sessionfinish(session, exitstatus):
 
 
 #: the CPU-seconds of each test with ROBOKIN_CPU_REPORT=FILE (tests/support/cpu_accounting.py)
-pytest_plugins = ("support.cpu_accounting",)
+pytest_plugins = ("support.cpu_accounting", "support.chapter_keywords")
 
 from support.parallel_plan import (  # noqa: E402,F401 - pytest hooks and a fixture of the parallel run
     pytest_cmdline_main,

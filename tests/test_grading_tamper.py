@@ -76,11 +76,12 @@ for _name in {names!r}:
 #: a delegating student imports it, as these answers do.
 IMPORT_CLOSED_FORM = "from robokin.models import ur10_ik\n\n\n"
 DELEGATE = {
-    "task1_answer1": (r"def shoulder_angles\(T\):\n(    .*\n)+",
-                      IMPORT_CLOSED_FORM + "def shoulder_angles(T):\n    return np.unique(ur10_ik(T).q[:, 0])\n"),
-    "task4_answer1": (r"def all_solutions\(T\):\n(    .*\n)+",
+    "task1_answer1": (r"def shoulder_angles\([^)]*\):\n(    .*\n)+",
+                      IMPORT_CLOSED_FORM + "def shoulder_angles(T, wrist_centre=wrist_centre):\n"
+                      "    return np.unique(ur10_ik(T).q[:, 0])\n"),
+    "task4_answer1": (r"def all_solutions\([^)]*\):\n(    .*\n)+",
                       IMPORT_CLOSED_FORM + "def _closed_form(T):\n    return ur10_ik(T)\n\n\n"
-                      "def all_solutions(T):\n    return _closed_form(T).q\n"),
+                      "def all_solutions(T, **steps):\n    return _closed_form(T).q\n"),
 }
 
 
@@ -92,10 +93,10 @@ def _never_for_the_grader(function):
     import inspect
     import time
 
-    def all_solutions(T):
+    def all_solutions(T, **steps):
         if any("robokin grading bridge" in frame.filename for frame in inspect.stack()):
             time.sleep(10**6)
-        return function(T)
+        return function(T, **steps)
     return all_solutions
 
 
