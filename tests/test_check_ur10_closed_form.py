@@ -122,6 +122,32 @@ def test_correct_answers_pass(name, answer):
     assert result.samples == 20
 
 
+def test_a_later_step_is_judged_on_robokins_earlier_steps():
+    """A step that takes earlier ones as keyword arguments (the student's own by default) is
+    checked with robokin's in their place: a wrong earlier step is not blamed on it (the grading
+    report asks these checks about the bare answers)."""
+    def flange_point(T):  # a wrong wrist centre: the flange's origin
+        return T[:3, 3]
+
+    def shoulder_from(T, wrist_centre=flange_point):
+        x, y, _ = wrist_centre(T)
+        psi, beta = math.atan2(y, x), math.acos(D4 / math.hypot(x, y))
+        return wrap([psi + math.pi / 2 + beta, psi + math.pi / 2 - beta])
+
+    def no_arm(T, q1, q5, q6):  # a wrong planar step: never a solution
+        return np.zeros((0, 3))
+
+    def loop(T, shoulder_angles=shoulder, wrist_angles=wrist, arm_angles=no_arm):
+        rows = [np.r_[q1, q234, q5, q6] for q1 in shoulder_angles(T) for q5, q6 in wrist_angles(T, q1)
+                for q234 in arm_angles(T, q1, q5, q6)]
+        return np.array([q for q in rows if np.abs(ROBOT.fk(q) - T).max() < 1e-9]).reshape(-1, 6)
+
+    for name, answer in [("shoulder_angles", shoulder_from), ("all_solutions", loop)]:
+        assert getattr(chk, name)(answer, quiet=True).passed
+        # called without its keyword parameters, it runs on the wrong step it holds
+        assert not getattr(chk, name)(lambda T, f=answer: f(T), quiet=True).passed
+
+
 def test_the_references_are_what_a_dense_numerical_search_finds():
     for x in chk.all_solutions.sample_points()[:3]:
         T = chk._pose(x)

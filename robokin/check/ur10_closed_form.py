@@ -26,7 +26,10 @@ wrist point used for the planar problem, degrees for radians.
 ``reference_wrist_centre``, ``reference_shoulder_angles``, ``reference_wrist_angles`` and
 ``reference_arm_angles`` are robokin's answers to the steps of Tasks 1-3, with the student's
 signatures: the graded tests of a later step pass them to the student's function in place of
-the student's own steps, so that a mistake in one step costs the points of that step only.
+the student's own steps, so that a mistake in one step costs the points of that step only. The
+checks of the later steps pass them too, to the keyword parameters through which the student's
+function takes its steps (``wrist_centre=``, ``shoulder_angles=``, ...), so that their verdict
+(and the grading report's) is on that step alone.
 
 Usage::
 
@@ -36,6 +39,7 @@ Usage::
 
 from __future__ import annotations
 
+import inspect
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
@@ -243,14 +247,16 @@ class _PoseSetCheck(_ShortRepr, SolutionSetCheck):
     mistakes: list[tuple[str, Callable[[np.ndarray], np.ndarray], str]] = field(default_factory=list)
     branch_message: str = ""
     columns: int = 0
+    steps: Callable[[], dict[str, Callable[..., Any]]] = dict
 
     def evaluate(self, answer: Any) -> CheckResult:
-        """Call ``answer(*arguments(q))`` at the sampled configurations and compare the sets."""
+        """Call ``answer(*arguments(q))`` at the sampled configurations and compare the sets;
+        a keyword parameter of ``answer`` that ``steps()`` names gets robokin's step."""
         if answer is not None and not callable(answer):
             return not_a_function(self.name, self.signature, answer)
         if answer is None or self.arguments is None:
             return super().evaluate(answer)
-        build, student = self.arguments, answer
+        build, student = self.arguments, _with_reference_steps(answer, self.steps())
 
         def call(q: np.ndarray) -> Any:
             out = student(*build(np.asarray(q, dtype=float)))
@@ -282,6 +288,19 @@ class _PoseSetCheck(_ShortRepr, SolutionSetCheck):
         if self.branch_message and all(subsets):
             return self._fail("branch_dropped", self.branch_message.format(name=self.name), len(X))
         return result
+
+
+def _with_reference_steps(answer: Any, steps: dict[str, Callable[..., Any]]) -> Any:
+    """``answer`` with robokin's earlier steps passed for those of its keyword parameters that
+    ``steps`` names (the student's own steps are their defaults), so that a check judges this
+    step alone (and the grading report blames no later step for an earlier one); ``answer``
+    itself when it has none of them or no signature."""
+    try:
+        parameters = inspect.signature(answer).parameters
+    except (TypeError, ValueError):
+        return answer
+    given = {name: step for name, step in steps.items() if name in parameters}
+    return partial(answer, **given) if given else answer
 
 
 # ------------------------------------------------------------------ the checks
@@ -318,7 +337,8 @@ wrist_centre = exercise(_CHAPTER, "wrist_centre", _CentreCheck(
 
 def _pose_set_check(name: str, solve: Callable[..., np.ndarray], arguments: Callable[[np.ndarray], tuple], *,
                     signature: str, branch_message: str, doc: str,
-                    mistakes: Sequence[tuple[str, dict[str, Any], str]] = (), columns: int = 0) -> Check:
+                    mistakes: Sequence[tuple[str, dict[str, Any], str]] = (), columns: int = 0,
+                    steps: Callable[[], dict[str, Callable[..., Any]]] = dict) -> Check:
     """The chapter's check of a step ``solve(*arguments(q))`` over the sampled configurations.
 
     Parameters
@@ -335,6 +355,10 @@ def _pose_set_check(name: str, solve: Callable[..., np.ndarray], arguments: Call
         ``(code, keywords of solve, message)``: the answer ``solve(*arguments(q), **keywords)``.
     columns : int, optional
         1 where the answer is one angle per solution (a column).
+    steps : callable, optional
+        ``steps()``: robokin's earlier steps by the names of the keyword parameters through
+        which the student's function takes them (``wrist_centre=``, ...), passed in place of
+        the student's own.
 
     Returns
     -------
@@ -355,6 +379,7 @@ def _pose_set_check(name: str, solve: Callable[..., np.ndarray], arguments: Call
         mistakes=[(code, partial(solved, **keywords), message) for code, keywords, message in mistakes],
         branch_message=branch_message,
         columns=columns,
+        steps=steps,
         diagnoses=[dg.degrees_output()],  # named by evaluate: every returned angle in degrees
         noun="configurations",
         atol=1e-7,
@@ -366,6 +391,7 @@ shoulder_angles = _pose_set_check(
     "shoulder_angles", _shoulder, lambda x: (_pose(x),),
     signature="shoulder_angles(T) -> (2,) array of q1 in rad",
     columns=1,
+    steps=lambda: {"wrist_centre": reference_wrist_centre},
     mistakes=[
         ("atan2_swapped", {"swap": True},
          "{name} uses atan2(x, y) for the direction of the wrist centre: atan2 takes the y "
@@ -412,6 +438,7 @@ wrist_angles = _pose_set_check(
 arm_angles = _pose_set_check(
     "arm_angles", _arm, lambda x: (_pose(x), float(x[0]), float(x[4]), float(x[5])),
     signature="arm_angles(T, q1, q5, q6) -> (2, 3) array of rows (q2, q3, q4) in rad",
+    steps=lambda: {"wrist_centre": reference_wrist_centre},
     mistakes=[
         ("a_sign", {"a_sign": -1.0},
          "{name} uses positive a2, a3: the table's a2 = −0.612 m and a3 = −0.5723 m are negative "
@@ -443,6 +470,8 @@ arm_angles = _pose_set_check(
 all_solutions = _pose_set_check(
     "all_solutions", _all, lambda x: (_pose(x),),
     signature="all_solutions(T) -> (k, 6) array of solutions in rad",
+    steps=lambda: {"shoulder_angles": reference_shoulder_angles, "wrist_angles": reference_wrist_angles,
+                   "arm_angles": reference_arm_angles},
     branch_message="{name} misses solutions: every one it returns is right, but a generic "
                    "reachable pose has 8 (2 shoulder × 2 wrist × 2 elbow); loop over every branch.",
     doc="Check all_solutions(T): every joint solution (k, 6) (rad) for the flange pose T (4, 4).",
