@@ -97,6 +97,37 @@ def test_correct_answers_pass(check, answer):
     assert result.passed and result.diagnosis is None, result.message
 
 
+def test_a_later_step_is_judged_on_robokins_earlier_steps():
+    """A step that takes earlier ones as keyword arguments (the student's own by default) is
+    checked with robokin's in their place: a wrong earlier step is not blamed on it (the grading
+    report asks these checks about the bare answers)."""
+    def transposed_skew(w):  # a wrong [w]: its transpose
+        return skew(w).T
+
+    def adjoint_with(T, skew=transposed_skew):
+        R, p = T[:3, :3], T[:3, 3]
+        return np.block([[R, np.zeros((3, 3))], [skew(p) @ R, R]])
+
+    def exp6_with(S, theta, rodrigues=rodrigues, skew=transposed_skew):
+        w, v = np.asarray(S[:3], dtype=float), np.asarray(S[3:], dtype=float)
+        W = skew(w)
+        G = np.eye(3) * theta + (1 - np.cos(theta)) * W + (theta - np.sin(theta)) * W @ W
+        return np.block([[rodrigues(w, theta), (G @ v)[:, None]], [np.zeros((1, 3)), np.ones((1, 1))]])
+
+    def space_with(S_list, theta, exp6=exp6_with, adjoint_matrix=adjoint_with):
+        columns, T = [], np.eye(4)
+        for S, angle in zip(S_list, theta):
+            columns.append(adjoint_matrix(T) @ S)
+            T = T @ exp6(S, angle)
+        return np.column_stack(columns)
+
+    for check, answer in [(chk.adjoint, adjoint_with), (chk.exp6, exp6_with),
+                          (chk.space_jacobian, space_with)]:
+        assert check(answer, quiet=True).passed
+        # called without its keyword parameters, it runs on the wrong steps it holds
+        assert not check(lambda *arguments, f=answer: f(*arguments), quiet=True).passed
+
+
 def test_ur10_data_written_out_match_the_model():
     from robokin.models import ur10
 

@@ -27,7 +27,10 @@ Each check calls the student's function at 20 seeded random inputs of its own an
 with the reference; a wrong answer is explained when one of the task's typical mistakes
 reproduces it (a sign, the axis reversed, a joint's axis not turned into the base frame, the
 order [v; ω] for [ω; v], the factors in the wrong order, a term of the exponential's
-translation missing, the wrong transform's adjoint, degrees for radians).
+translation missing, the wrong transform's adjoint, degrees for radians). A function that takes
+earlier steps as keyword arguments (``exp6(S, theta, rodrigues=..., skew=...)``, ...) is called
+with robokin's steps (``reference_*``) in their place, so that a check's verdict (and the grading
+report's) is on that step alone, not on a mistake in an earlier one.
 
 Usage::
 
@@ -37,14 +40,17 @@ Usage::
 
 from __future__ import annotations
 
+import inspect
 import math
+from collections.abc import Callable
+from dataclasses import dataclass
 from functools import lru_cache, partial
 from typing import Any
 
 import numpy as np
 
 from robokin.check import diagnoses as dg
-from robokin.check._core import MatrixArgumentsCheck, Variable, alternatives
+from robokin.check._core import CheckResult, MatrixArgumentsCheck, Variable, alternatives
 from robokin.check._registry import exercise
 from robokin.validation import as_float_array
 
@@ -402,6 +408,35 @@ screw_list = exercise(_CHAPTER, "screw_list", MatrixArgumentsCheck(
 
 
 # ------------------------------------------------------------------ Task 3: exponential and FK
+# ------------------------------------------------------------------ the later steps, judged alone
+def _with_reference_steps(answer: Any, steps: dict[str, Callable[..., Any]]) -> Any:
+    """``answer`` with robokin's earlier steps passed for those of its keyword parameters that
+    ``steps`` names (the student's own steps are their defaults), so that a check judges this
+    step alone (and the grading report blames no later step for an earlier one); ``answer``
+    itself when it has none of them or no signature."""
+    try:
+        parameters = inspect.signature(answer).parameters
+    except (TypeError, ValueError):
+        return answer
+    given = {name: step for name, step in steps.items() if name in parameters}
+    return partial(answer, **given) if given else answer
+
+
+@dataclass(repr=False)
+class _LaterStepCheck(MatrixArgumentsCheck):
+    """A :class:`MatrixArgumentsCheck` of a function that builds on earlier steps: it is called
+    with robokin's steps (``steps()``, by the names of its keyword parameters: ``skew=``,
+    ``exp6=``, ...) in place of the student's."""
+
+    steps: Callable[[], dict[str, Callable[..., Any]]] = dict
+
+    def evaluate(self, answer: Any) -> CheckResult:
+        """:meth:`MatrixArgumentsCheck.evaluate` of ``answer`` given robokin's earlier steps."""
+        if callable(answer) and not isinstance(answer, np.ndarray):
+            answer = _with_reference_steps(answer, self.steps())
+        return super().evaluate(answer)
+
+
 def _exp6_arguments(x: np.ndarray) -> tuple[np.ndarray, float]:
     omega, point = _unit(x[:3]), np.asarray(x[3:6], dtype=float)
     return np.concatenate([omega, -np.cross(omega, point)]), float(x[6])
@@ -453,7 +488,8 @@ def _exp6_mistakes():
     ]
 
 
-exp6 = exercise(_CHAPTER, "exp6", MatrixArgumentsCheck(
+exp6 = exercise(_CHAPTER, "exp6", _LaterStepCheck(
+    steps=lambda: {"rodrigues": reference_rodrigues, "skew": reference_skew},
     name="exp6(S, theta)",
     reference=_exp6_reference,
     variables=[*_AXIS, *_POINT, *_ANGLE],
@@ -502,7 +538,8 @@ def _fk_mistakes():
     ]
 
 
-forward_kinematics = exercise(_CHAPTER, "forward_kinematics", MatrixArgumentsCheck(
+forward_kinematics = exercise(_CHAPTER, "forward_kinematics", _LaterStepCheck(
+    steps=lambda: {"exp6": reference_exp6},
     name="poe_fk(M, S_list, theta)",
     reference=_fk_reference,
     variables=_Q,
@@ -562,7 +599,8 @@ def _adjoint_mistakes():
     ]
 
 
-adjoint = exercise(_CHAPTER, "adjoint", MatrixArgumentsCheck(
+adjoint = exercise(_CHAPTER, "adjoint", _LaterStepCheck(
+    steps=lambda: {"skew": reference_skew},
     name="adjoint_matrix(T)",
     reference=_adjoint_reference,
     variables=_POSE,
@@ -610,7 +648,8 @@ def _space_mistakes():
     ]
 
 
-space_jacobian = exercise(_CHAPTER, "space_jacobian", MatrixArgumentsCheck(
+space_jacobian = exercise(_CHAPTER, "space_jacobian", _LaterStepCheck(
+    steps=lambda: {"exp6": reference_exp6, "adjoint_matrix": reference_adjoint_matrix},
     name="jacobian_in_space(S_list, theta)",
     reference=_space_reference,
     variables=_Q,
@@ -655,7 +694,8 @@ def _geometric_mistakes():
     ]
 
 
-geometric_from_space = exercise(_CHAPTER, "geometric_from_space", MatrixArgumentsCheck(
+geometric_from_space = exercise(_CHAPTER, "geometric_from_space", _LaterStepCheck(
+    steps=lambda: {"skew": reference_skew},
     name="geometric_from_space(J_s, T)",
     reference=_geometric_reference,
     variables=_Q,
@@ -701,7 +741,9 @@ def _body_mistakes():
     ]
 
 
-body_jacobian = exercise(_CHAPTER, "body_jacobian", MatrixArgumentsCheck(
+body_jacobian = exercise(_CHAPTER, "body_jacobian", _LaterStepCheck(
+    steps=lambda: {"poe_fk": reference_poe_fk, "jacobian_in_space": reference_jacobian_in_space,
+                   "adjoint_matrix": reference_adjoint_matrix},
     name="jacobian_in_body(M, S_list, theta)",
     reference=_body_reference,
     variables=_Q,
@@ -752,7 +794,8 @@ def _ik_mistakes():
     ]
 
 
-ik_body = exercise(_CHAPTER, "ik_body", MatrixArgumentsCheck(
+ik_body = exercise(_CHAPTER, "ik_body", _LaterStepCheck(
+    steps=lambda: {"poe_fk": reference_poe_fk, "jacobian_in_body": reference_jacobian_in_body},
     name="ik_body(M, S_list, T_goal, theta_start)",
     reference=_ik_reference,
     variables=[*_Q, *_OFFSET],
