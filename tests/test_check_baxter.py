@@ -272,3 +272,120 @@ def test_help_shows_no_answer():
     for answer in ("CENTRE", "JOINT2_OFFSET"):
         assert answer not in data and answer not in cb.__all__
     assert np.allclose(cb._JOINT2_OFFSET, [0.0, np.pi / 2, 0.0, 0.0, 0.0, 0.0, 0.0])
+
+
+# ---------------------------------------------------------------- the first loss of rank, the link, the chord
+def approach_by_loop(Q, ts=cb.TS, threshold=0.01):
+    """One sample at a time, sigma_min from the eigenvalues of J_v J_v^T (not an SVD)."""
+    values = [sigma_min_eigen(q) for q in Q]
+    first = next((k for k, value in enumerate(values) if value < threshold), None)
+    return min(values), (None if first is None else first * ts)
+
+
+def _approach_mistake(**slip):
+    def answer(Q, ts=cb.TS, threshold=0.01):
+        values = np.array([sigma_min_eigen(q) for q in Q])
+        below = np.flatnonzero(values < slip.get("threshold", threshold))
+        if not below.size:
+            return values.min(), None
+        k = slip.get("pick", lambda below, values: below[0])(below, values)
+        return values.min(), (k if slip.get("index") else slip.get("ts", ts) * (k + slip.get("shift", 0)))
+    return answer
+
+
+WRONG_APPROACH = {
+    "time_of_minimum": _approach_mistake(pick=lambda below, values: int(np.argmin(values))),
+    "last_sample": _approach_mistake(pick=lambda below, values: below[-1]),
+    "counted_from_one": _approach_mistake(shift=1),
+    "index_not_time": _approach_mistake(index=True),
+    "time_step_ignored": _approach_mistake(ts=cb.TS),
+    "threshold_ignored": _approach_mistake(threshold=0.01),
+}
+
+
+def test_closest_approach_correct_answer_passes():
+    r = cb.closest_approach(approach_by_loop, quiet=True)
+    assert r.passed and r.diagnosis is None, r.message
+
+
+@pytest.mark.parametrize("code", WRONG_APPROACH)
+def test_closest_approach_mistakes(code):
+    r = cb.closest_approach(WRONG_APPROACH[code], quiet=True)
+    assert not r.passed and r.diagnosis == code, r.message
+
+
+def test_closest_approach_explains_a_wrong_form_and_a_wrong_none():
+    assert cb.closest_approach(lambda Q, ts, threshold: 0.1, quiet=True).diagnosis == "shape"
+    never = cb.closest_approach(lambda Q, ts, threshold: (approach_by_loop(Q, ts, threshold)[0], None), quiet=True)
+    assert never.diagnosis == "mismatch" and "None exactly when no sample is" in never.message
+
+
+def link_by_product(a, alpha, d, theta):
+    """R_x(alpha) T_x(a) R_z(theta) T_z(d) from the rotation and translation of each factor."""
+    def transform(rotation=None, shift=(0.0, 0.0, 0.0)):
+        T = np.eye(4)
+        T[:3, :3], T[:3, 3] = np.eye(3) if rotation is None else rotation, shift
+        return T
+
+    c, s = np.cos(alpha), np.sin(alpha)
+    rx = transform(np.array([[1, 0, 0], [0, c, -s], [0, s, c]]))
+    c, s = np.cos(theta), np.sin(theta)
+    rz = transform(np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]]))
+    return rx @ transform(shift=[a, 0, 0]) @ rz @ transform(shift=[0, 0, d])
+
+
+def test_link_transform_is_the_rows_of_the_table():
+    assert cb.link_transform(mdh_link, quiet=True).passed
+    assert cb.link_transform(link_by_product, quiet=True).passed
+    # the table of the tutorial multiplied link by link is the model (with the flange)
+    q = np.array([0.3, -1.0, 0.5, 1.5, -0.7, 1.0, 2.0])
+    assert np.linalg.norm(fk_by_hand(q)[:3, 3] - ARM.fk(q)[:3, 3]) < 5e-4
+
+
+@pytest.mark.parametrize("code, answer", [
+    ("standard_dh", lambda a, alpha, d, theta: (link_by_product(0, 0, d, theta) @ link_by_product(a, 0, 0, 0)
+                                                 @ link_by_product(0, alpha, 0, 0))),
+    ("composition_order", lambda a, alpha, d, theta: (link_by_product(0, alpha, 0, theta)
+                                                       @ link_by_product(a, 0, 0, 0) @ link_by_product(0, 0, d, 0))),
+    ("degrees_input", lambda a, alpha, d, theta: link_by_product(a, np.radians(alpha), d, np.radians(theta))),
+])
+def test_link_transform_mistakes(code, answer):
+    r = cb.link_transform(answer, quiet=True)
+    assert not r.passed and r.diagnosis == code, r.message
+
+
+def chord_by_cosines(rho, step):
+    """The chord by the law of cosines: |p1 - p0|^2 = 2 rho^2 (1 - cos step)."""
+    return np.sqrt(2 * rho**2 * (1 - np.cos(step)))
+
+
+@pytest.mark.parametrize("code, answer", [
+    (None, chord_by_cosines),
+    ("arc", lambda rho, step: rho * step),
+    ("full_angle", lambda rho, step: chord_by_cosines(rho, 2 * step)),
+    ("half_chord", lambda rho, step: chord_by_cosines(rho, step) / 2),
+])
+def test_chord_length(code, answer):
+    r = cb.chord_length(answer, quiet=True)
+    assert r.passed == (code is None) and r.diagnosis == code, r.message
+
+
+def dls_by_stacking(q, r_des, v_des, kp=cb.KP, damping=0.02, *, damping_term=None, feedback=True):
+    """The damped command as the least-squares solution of [J; damping I] qdot = [v; 0] (not the
+    closed form), and, with the keywords, its typical mistakes."""
+    J = ARM.position_jacobian(q)
+    v = v_des + (kp * (r_des - ARM.fk(q)[:3, 3]) if feedback else 0.0)
+    weight = damping if damping_term is None else damping_term
+    return np.linalg.lstsq(np.vstack([J, weight * np.eye(7)]), np.r_[v, np.zeros(7)], rcond=None)[0]
+
+
+@pytest.mark.parametrize("code, answer", [
+    (None, dls_by_stacking),
+    ("damping_not_squared", lambda q, r, v, kp, damping: dls_by_stacking(q, r, v, kp, damping,
+                                                                          damping_term=np.sqrt(damping))),
+    ("no_damping", lambda q, r, v, kp, damping: dls_by_stacking(q, r, v, kp, damping, damping_term=0.0)),
+    ("no_feedback", lambda q, r, v, kp, damping: dls_by_stacking(q, r, v, kp, damping, feedback=False)),
+])
+def test_damped_rate(code, answer):
+    r = cb.damped_rate(answer, quiet=True)
+    assert r.passed == (code is None) and r.diagnosis == code, r.message

@@ -24,6 +24,14 @@ check                    the student's answer                                 in
 ``hand_position_at``     numbers: the hand position at :data:`Q_START` (m)     --
 ``sigma_min``            function ``sigma_min_of(q)`` -> smallest singular    q within the limits
                          value of the position Jacobian J_v (m/rad)
+``closest_approach``     function ``closest_approach(Q, ts, threshold)`` ->   joint paths, time
+                         (smallest σ_min along the run, time of the first     steps, thresholds
+                         sample below threshold or None)
+``link_transform``       function ``mdh_link(a, alpha, d, theta)`` -> 4×4      rows of a table
+``chord_length``         function ``chord_length(rho, step)`` -> the hand's   radius, step
+                         displacement (m) when a joint turns by step (rad)
+``damped_rate``          function ``dls_rate(q, r_des, v_des, kp, damping)``  q, r_des, v_des,
+                         -> the damped least-squares command q̇ (7,)          gain, damping
 =======================  ==================================================  ====================
 
 The forward-kinematics checks accept answers within 1 mm (so a table with the
@@ -41,16 +49,27 @@ from __future__ import annotations
 
 import math
 from functools import cache
+from typing import Any
 
 import numpy as np
 
 from robokin.check import diagnoses as dg
-from robokin.check._core import Check, MatrixArgumentsCheck, Variable, alternatives, pack_joint_rows, packed_variants
+from robokin.check._core import (
+    Check,
+    CheckResult,
+    FunctionCheck,
+    MatrixArgumentsCheck,
+    Variable,
+    alternatives,
+    fmt,
+    pack_joint_rows,
+    packed_variants,
+)
 from robokin.check._registry import exercise
 
 __all__ = [
     "circle_position", "circle_velocity", "resolved_rate", "tracking_loop", "forward_kinematics",
-    "hand_position_at", "sigma_min",
+    "hand_position_at", "sigma_min", "closest_approach", "link_transform", "chord_length", "damped_rate",
     "Q_START", "P_START", "RADIUS", "OMEGA", "PERIOD", "TS", "KP",
 ]
 
@@ -68,6 +87,10 @@ DELEGATION = {
                       "track_position_batch": "robokin.motion.track_position_batch"},
     "sigma_min": {"singular_values": "SerialChain.singular_values",
                   "track_position_batch": "robokin.motion.track_position_batch (its sigma_min)"},
+    "damped_rate": {"CartesianController": "robokin.motion.CartesianController",
+                    "track_position_batch": "robokin.motion.track_position_batch"},
+    "closest_approach": {"singular_values": "SerialChain.singular_values",
+                         "track_position_batch": "robokin.motion.track_position_batch (its sigma_min)"},
 }
 _PI = math.pi
 
@@ -526,4 +549,252 @@ sigma_min = exercise(_CHAPTER, "sigma_min", Check(
     atol=1e-9,
     doc=("Check a function sigma_min_of(q) -> the smallest singular value of the 3×7 position "
          "Jacobian J_v of the Baxter left arm (shoulder frame, hand flange), in m/rad."),
+))
+
+
+# ------------------------------------------------------------------ the first loss of rank along a run
+#: The runs of the closest_approach check: (start, the W1 angles of a straight joint path
+#: towards the straight wrist, time step [s], thresholds [m/rad]). The runs come within their
+#: first threshold first at a sample other than the first, the last and the most singular one
+#: (sigma_min falls and rises again along the second), and never within their last.
+_RUN_CASES = (
+    (Q_START, (0.6, -0.4, 41), 0.05, (0.2, 0.1)),
+    (np.array([-1.16, -3.29, -2.44, 0.24, -2.56, 0.03, -2.53]), (0.4, -0.3, 50), 0.03, (0.03, 0.01, 0.003)),
+)
+
+
+def _run_cases() -> list[tuple[np.ndarray, float, float]]:
+    """``(run, ts, threshold)``: straight joint paths (N, 7) that turn W1 through zero."""
+    cases = []
+    for start, (first, last, samples), ts, thresholds in _RUN_CASES:
+        run = np.tile(start, (samples, 1))
+        run[:, 5] = np.linspace(first, last, samples)
+        cases += [(run, ts, threshold) for threshold in thresholds]
+    return cases
+
+
+def _approach(sigma: np.ndarray, ts: float, threshold: float, mistake: str = "") -> tuple:
+    """``(smallest sigma_min, time of the first sample below threshold or None)`` of the values
+    ``sigma`` (N,) of a run, and, with ``mistake``, what a typical slip of it returns."""
+    below = np.flatnonzero(sigma < (0.01 if mistake == "threshold_ignored" else threshold))
+    smallest = float(sigma.max() if mistake == "largest_value" else sigma.min())
+    if not below.size:
+        return smallest, None
+    index = {"time_of_minimum": int(np.argmin(sigma)), "last_sample": int(below[-1]),
+             "counted_from_one": int(below[0]) + 1}.get(mistake, int(below[0]))
+    if mistake == "time_of_minimum" and sigma.min() >= threshold:
+        return smallest, None
+    if mistake == "index_not_time":
+        return smallest, float(index)
+    return smallest, (TS if mistake == "time_step_ignored" else ts) * index
+
+
+_APPROACH_MISTAKES = (
+    ("time_of_minimum", ("{name} gives the time of the smallest σ_min, not of the first sample below the "
+                         "threshold: a run comes within the threshold before it is closest.")),
+    ("last_sample", "{name} gives the time of the last sample below the threshold, not of the first."),
+    ("counted_from_one", ("{name} gives (k + 1)·ts for sample k: row 0 of the run is at time 0, so "
+                          "sample k is at k·ts.")),
+    ("index_not_time", "{name} gives the index k of the sample, not its time k·ts in seconds."),
+    ("time_step_ignored", "{name} ignores its argument ts: the samples are ts seconds apart, not 2 ms."),
+    ("threshold_ignored", "{name} ignores its argument threshold: it compares with 0.01 m/rad always."),
+    ("largest_value", "{name} gives the largest σ_min along the run: the closest approach is the smallest."),
+)
+
+
+class _ClosestApproachCheck(FunctionCheck):
+    """Check ``closest_approach(Q, ts, threshold) -> (sigma, time)`` on joint paths of its own."""
+
+    def judge(self, answer: Any) -> CheckResult:
+        cases = _run_cases()
+        n = len(cases)
+        sigmas = [_arm().singular_values(run, position_only=True)[:, -1] for run, _, _ in cases]
+        got = []
+        for run, ts, threshold in cases:
+            where = f"for a run of {len(run)} samples, ts = {ts:g} s, threshold = {threshold:g} m/rad"
+            out = self.call(answer, (run.copy(), ts, threshold), where, samples=n)
+            try:
+                smallest, time = out
+                got.append((float(smallest), None if time is None else float(time)))
+            except (TypeError, ValueError):
+                return self.failure("shape", (f"{self.name} must return a pair (sigma, time): the smallest "
+                                              f"σ_min in m/rad and a time in s, or None; got {out!r}."), n)
+
+        def same(pairs) -> bool:
+            for (s, t), (s_ref, t_ref) in zip(got, pairs):
+                if not np.isclose(s, s_ref, rtol=1e-9, atol=1e-12) or (t is None) != (t_ref is None):
+                    return False
+                if t is not None and not np.isclose(t, t_ref, rtol=1e-9, atol=1e-12):
+                    return False
+            return True
+
+        def expected(mistake: str = "") -> list:
+            return [_approach(sigma, ts, threshold, mistake) for (_, ts, threshold), sigma in zip(cases, sigmas)]
+
+        if same(expected()):
+            return self.success(f"{self.name} is correct (checked on {n} runs, time steps and thresholds "
+                                "of its own).", n)
+        found = self.diagnose(_APPROACH_MISTAKES, lambda code: same(expected(code)), n)
+        if found is not None:
+            return found
+        for ((run, ts, threshold), (s, t), (s_ref, t_ref)) in zip(cases, got, expected()):
+            if not np.isclose(s, s_ref, rtol=1e-9, atol=1e-12):
+                return self.failure("mismatch", (
+                    f"{self.name}: the smallest σ_min along a run of {len(run)} samples is {fmt(s_ref)} "
+                    f"m/rad; yours {fmt(s)}. Check your σ_min of one configuration first."), n)
+            if (t is None) != (t_ref is None):
+                said = "None (never)" if t is None else f"{fmt(t)} s"
+                return self.failure("mismatch", (
+                    f"{self.name}: with ts = {ts:g} s and threshold = {threshold:g} m/rad your time is "
+                    f"{said}, but {'a sample is' if t_ref is not None else 'no sample is'} below the "
+                    "threshold: the time is None exactly when no sample is."), n)
+        return self.failure("mismatch", (
+            f"{self.name} gives other times than those of the first sample below the threshold "
+            "(row k of the run is at k·ts)."), n)
+
+
+closest_approach = exercise(_CHAPTER, "closest_approach", _ClosestApproachCheck(
+    name="closest_approach(Q, ts, threshold)",
+    signature="closest_approach(Q, ts, threshold) -> (sigma, time)",
+    noun="runs",
+    doc=("Check a function closest_approach(Q, ts, threshold) -> (sigma, time): the smallest σ_min of "
+         "J_v along the run Q (N, 7) and the time of its first sample below threshold (None: none is), "
+         "on joint paths, time steps and thresholds of its own (Baxter left arm)."),
+))
+
+
+# ------------------------------------------------------------------ the link transform and the chord
+def _elementary(x) -> list[np.ndarray]:
+    """R_x(α), T_x(a), R_z(θ), T_z(d) at ``x = (a, α, d, θ)``."""
+    a, alpha, d, theta = (float(v) for v in x[:4])
+    rot_x, shift_x, rot_z, shift_z = np.eye(4), np.eye(4), np.eye(4), np.eye(4)
+    c, s = math.cos(alpha), math.sin(alpha)
+    rot_x[1:3, 1:3] = [[c, -s], [s, c]]
+    shift_x[0, 3] = a
+    c, s = math.cos(theta), math.sin(theta)
+    rot_z[:2, :2] = [[c, -s], [s, c]]
+    shift_z[2, 3] = d
+    return [rot_x, shift_x, rot_z, shift_z]
+
+
+def _link(x, order=(0, 1, 2, 3)) -> np.ndarray:
+    factors = _elementary(x)
+    return factors[order[0]] @ factors[order[1]] @ factors[order[2]] @ factors[order[3]]
+
+
+def _factor(k: int):
+    """The function x -> the k-th elementary transform of the link (see :func:`_elementary`)."""
+    return lambda x: _elementary(x)[k]
+
+
+_LINK_FACTORS = [(name, _factor(k)) for k, name in enumerate(("R_x(α)", "T_x(a)", "R_z(θ)", "T_z(d)"))]
+
+link_transform = exercise(_CHAPTER, "link_transform", Check(
+    name="mdh_link(a, alpha, d, theta)",
+    reference=_link,
+    variables=[Variable("a", "length", -0.4, 0.4), Variable("alpha", "angle", -3.0, 3.0),
+               Variable("d", "length", -0.4, 0.4), Variable("theta", "angle", -3.0, 3.0)],
+    groups=[("a", [0]), ("alpha", [1]), ("d", [2]), ("theta", [3])],
+    diagnoses=[
+        alternatives("standard_dh", [(
+            lambda x: _link(x, order=(2, 3, 1, 0)),
+            ("{name} is the standard (Denavit–Hartenberg) link transform R_z(θ) T_z(d) T_x(a) R_x(α): "
+             "the table is in the modified (Craig) convention, R_x(α) T_x(a) R_z(θ) T_z(d)."),
+        )]),
+        dg.composition_order(_LINK_FACTORS, "ⁱ⁻¹T_i"),
+        dg.missing_factor(_LINK_FACTORS, "ⁱ⁻¹T_i"),
+        *dg.standard("transform"),
+    ],
+    noun="rows (a, α, d, θ)",
+    atol=1e-9,
+    doc=("Check a function mdh_link(a, alpha, d, theta) -> the 4×4 link transform of one row of a "
+         "modified (Craig) DH table, at 20 random rows."),
+))
+
+
+def _chord(x, factor=2.0, angle=0.5, arc=False) -> np.ndarray:
+    rho, step = float(x[0]), float(x[1])
+    return np.asarray(rho * step if arc else factor * rho * math.sin(angle * step))
+
+
+chord_length = exercise(_CHAPTER, "chord_length", Check(
+    name="chord_length(rho, step)",
+    reference=_chord,
+    variables=[Variable("rho", "length", 0.0, 0.5), Variable("step", "angle", 0.1, 3.0)],
+    groups=[("rho", [0]), ("step", [1])],
+    diagnoses=[
+        alternatives("arc", [(
+            lambda x: _chord(x, arc=True),
+            ("{name} is the arc ρ·Δθ the hand travels, not the straight distance between its two "
+             "positions (the chord): they agree only for small steps."),
+        )]),
+        alternatives("full_angle", [(
+            lambda x: _chord(x, angle=1.0),
+            ("{name} takes the sine of the whole step: the two radii to the ends of the chord and the "
+             "chord form an isosceles triangle whose half splits the step in two."),
+        )]),
+        alternatives("half_chord", [(
+            lambda x: _chord(x, factor=1.0),
+            "{name} is half the chord: the isosceles triangle has two halves, one on each side.",
+        )]),
+        dg.degrees(),
+        dg.scale(),
+    ],
+    noun="radii and steps",
+    atol=1e-12,
+    doc=("Check a function chord_length(rho, step) -> the distance (m) between the two positions of a "
+         "point at distance rho (m) from a revolute joint's axis when the joint turns by step (rad)."),
+))
+
+
+# ------------------------------------------------------------------ damped least squares
+_DAMPED_VARIABLES = [*_Q_ANY, *_RDES, *_VDES, Variable("kp", "other", 2.0, 20.0),
+                     Variable("damping", "length", 0.01, 0.1)]
+
+
+def _damped(x, *, squared=True, feedback=True, damped=True, error_sign=1.0) -> np.ndarray:
+    """J_v^T (J_v J_v^T + λ² I)^-1 (v_des + kp (r_des − r(q))) at ``x = (q, r_des, v_des, kp, λ)``
+    (and, with the keywords, its typical mistakes)."""
+    q, r_des, v_des, kp, damping = np.asarray(x[:7]), x[7:10], x[10:13], float(x[13]), float(x[14])
+    arm = _arm()
+    J = arm.position_jacobian(q)
+    v = v_des + (kp * error_sign * (r_des - arm.fk(q)[:3, 3]) if feedback else 0.0)
+    if not damped:
+        return np.linalg.pinv(J) @ v
+    return J.T @ np.linalg.solve(J @ J.T + (damping**2 if squared else damping) * np.eye(3), v)
+
+
+damped_rate = exercise(_CHAPTER, "damped_rate", MatrixArgumentsCheck(
+    name="dls_rate(q, r_des, v_des, kp, damping)",
+    reference=_damped,
+    variables=_DAMPED_VARIABLES,
+    diagnoses=[
+        alternatives("damping_not_squared", [(
+            lambda x: _damped(x, squared=False),
+            ("{name} adds λ I to J_v J_vᵀ: λ is in m and J_v J_vᵀ in m², so the damping term is "
+             "λ² I."),
+        )]),
+        alternatives("no_damping", [(
+            lambda x: _damped(x, damped=False),
+            "{name} is the undamped pseudoinverse law: the damping λ never enters.",
+        )]),
+        alternatives("no_feedback", [(
+            lambda x: _damped(x, feedback=False),
+            "{name} leaves out the feedback term kp (r_des − r(q)): damp the same command as in Task 3.",
+        )]),
+        alternatives("error_sign", [(
+            lambda x: _damped(x, error_sign=-1.0),
+            "{name} feeds back r − r_des: the error is r_des − r(q).",
+        )]),
+        dg.degrees(),
+        dg.scale(),
+    ],
+    noun="configurations, references, gains and dampings",
+    arguments=lambda x: (np.array(x[:7]), np.array(x[7:10]), np.array(x[10:13]), float(x[13]),
+                         float(x[14])),
+    signature="dls_rate(q, r_des, v_des, kp, damping) -> joint velocity (7,)",
+    atol=1e-7,
+    doc=("Check a damped least-squares command dls_rate(q, r_des, v_des, kp, damping) -> joint "
+         "velocity (7,) in rad/s, at random configurations within the limits (Baxter left arm, "
+         "shoulder frame, hand flange)."),
 ))

@@ -20,7 +20,10 @@ MUTATIONS = {
          "        T = T @ mdh_link(a, alpha, d, qi + off)\n"
          "    return T"),
         ("the joint-2 offset left out of with_offset",
-         "with_offset = as_printed\ngap_offset = max(hand_gap(with_offset, q) for q in Q_TEST)"),
+         "with_offset = as_printed\n"
+         "gap_offset = max(np.linalg.norm(fk_table(with_offset, q, D_HAND_TUTORIAL)[:3, 3]"
+         " - arm.fk(q)[:3, 3]) for q in Q_TEST)"),
+        ("the hand at q_start taken from the table as printed", "p_start = p_start_printed"),
         ("the printed table compared with the robot at q + offset instead of q - offset",
          "gap_shifted = max(np.linalg.norm(fk_table(as_printed, q, D_HAND_TUTORIAL)[:3, 3]"
          " - arm.fk(q + JOINT2_OFFSET)[:3, 3]) for q in Q_TEST)"),
@@ -34,9 +37,13 @@ MUTATIONS = {
     "task1_test3": [
         ("'as printed' table already carrying the offset", "as_printed = with_offset"),
         ("the table 'with the offset' left as printed", "with_offset = as_printed"),
+        ("the verdict: not the same links", "same_links = False"),
+        ("the verdict: the same pose for the same joint reading", "same_pose = True"),
     ],
     "task2_test1": [
         ("the circle centred on the hand", "CENTRE = P_START"),
+        ("the speed taken as the angular speed omega", "SPEED = OMEGA"),
+        ("the period taken as 1 / omega", "PERIOD = 1 / OMEGA"),
         ("the velocity without the chain rule's factor omega",
          "_reference = reference\n"
          "def reference(time):\n"
@@ -118,7 +125,14 @@ MUTATIONS = {
         ("rho measured from the joint's origin, not from its axis",
          "rho = np.array([np.linalg.norm(P_START - arm.frames(Q_START)[j + 1][:3, 3])"
          " for j in range(7)])"),
-        ("the chord taken as the arc rho dtheta", "chord = rho * 0.1 * SPAN"),
+        ("the chord taken as the arc rho dtheta",
+         "def chord_length(rho, step):\n"
+         "    return rho * step\n"
+         "chord = chord_length(rho, 0.1 * SPAN)"),
+        ("the chords read off the start points, chord_length the arc",
+         "def chord_length(rho, step):\n"
+         "    return rho * step\n"
+         "chord = np.linalg.norm(P0_SWEEP[1::9] - P0_SWEEP[::9], axis=1)"),
         ("the centres taken as the start points", "centres_chosen = P0_SWEEP[CHOSEN]"),
     ],
     "task4_test3": [

@@ -392,10 +392,17 @@ def track(q0, r_des, v_des, kp=KP, ts=TS):  # written another way: rows filled i
         Q[k + 1] = Q[k] + ts * resolved_rate(Q[k], r_des[k], v_des[k], kp)
     return Q
 '''),
-        "task4_answer1": ("rho as the lengths of J_v's columns", '''
+        "task4_answer1": ("rho as the lengths of J_v's columns, the chord by the law of cosines", '''
 
 # written another way: a revolute joint's column of J_v is z_j x (r - p_j), of length rho_j
 rho = np.linalg.norm(arm.position_jacobian(Q_START), axis=0)
+
+
+def chord_length(rho, step):  # written another way: |p1 - p0|^2 = 2 rho^2 (1 - cos step)
+    return float(np.sqrt(2 * rho**2 * (1 - np.cos(step))))
+
+
+chord = np.array([chord_length(r, s) for r, s in zip(rho, 0.1 * SPAN)])
 '''),
         "task4_answer2": ("hand_to with J^T (J J^T)^-1 and a while loop", '''
 
