@@ -385,6 +385,9 @@ def dls_by_stacking(q, r_des, v_des, kp=cb.KP, damping=0.02, *, damping_term=Non
                                                                           damping_term=np.sqrt(damping))),
     ("no_damping", lambda q, r, v, kp, damping: dls_by_stacking(q, r, v, kp, damping, damping_term=0.0)),
     ("no_feedback", lambda q, r, v, kp, damping: dls_by_stacking(q, r, v, kp, damping, feedback=False)),
+    ("undamped", lambda q, r, v, kp, damping: np.linalg.solve(
+        ARM.position_jacobian(q).T @ ARM.position_jacobian(q) + damping**2 * np.eye(7),
+        ARM.position_jacobian(q).T @ (v + kp * (r - ARM.fk(q)[:3, 3])))),
 ])
 def test_damped_rate(code, answer):
     r = cb.damped_rate(answer, quiet=True)

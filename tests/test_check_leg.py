@@ -72,7 +72,7 @@ def test_registry_lists_every_check_of_the_chapter():
     assert names == {
         "rotation_B1", "rotation_12", "rotation_23", "transform_B1", "transform_12",
         "transform_23", "transform_3F", "transform_BF", "foot_position", "foot_jacobian",
-        "foot_jacobian_at", "lift_velocity", "newton_step", "tracking_controller",
+        "foot_jacobian_at", "lift_velocity", "joint_velocity", "newton_step", "tracking_controller",
         "newton_ik", "tracking_loop", "ik_closed_form",
     }
     assert check.leg is L and "leg" in dir(check)
@@ -518,3 +518,21 @@ def test_closed_form_reference_solves_the_goals():
 def test_ik_closed_form(answer, code):
     r = L.ik_closed_form(answer, quiet=True)
     assert r.diagnosis == code, r.message
+
+
+def test_joint_velocity_function():
+    """joint_velocity(v, jacobian) solves J q̇ = v for the Jacobian it is given; typical mistakes named."""
+    JL = J_np(Q_LIFT)
+    right = [lambda v, jacobian: np.linalg.solve(jacobian, v),
+             lambda v, J: np.linalg.lstsq(J, v, rcond=None)[0]]
+    for answer in right:
+        r = L.joint_velocity(answer, quiet=True)
+        assert r.passed, r.message
+    for answer, code in [
+        (lambda v, jacobian: jacobian.T @ v, "transpose"),
+        (lambda v, jacobian: -np.linalg.solve(jacobian, v), "velocity_sign"),
+        (lambda v, jacobian: np.linalg.solve(JL, v), "argument_ignored"),
+        (lambda v, jacobian: np.rad2deg(np.linalg.solve(jacobian, v)), "degrees_output"),
+    ]:
+        r = L.joint_velocity(answer, quiet=True)
+        assert not r.passed and r.diagnosis == code, r.message

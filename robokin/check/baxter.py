@@ -55,6 +55,7 @@ import numpy as np
 
 from robokin.check import diagnoses as dg
 from robokin.check._core import (
+    FAIL,
     Check,
     CheckResult,
     FunctionCheck,
@@ -591,7 +592,7 @@ def _approach(sigma: np.ndarray, ts: float, threshold: float, mistake: str = "")
 
 _APPROACH_MISTAKES = (
     ("time_of_minimum", ("{name} gives the time of the smallest σ_min, not of the first sample below the "
-                         "threshold: a run comes within the threshold before it is closest.")),
+                         "threshold: a run can come within the threshold samples before it is closest.")),
     ("last_sample", "{name} gives the time of the last sample below the threshold, not of the first."),
     ("counted_from_one", ("{name} gives (k + 1)·ts for sample k: row 0 of the run is at time 0, so "
                           "sample k is at k·ts.")),
@@ -731,7 +732,7 @@ chord_length = exercise(_CHAPTER, "chord_length", Check(
         alternatives("full_angle", [(
             lambda x: _chord(x, angle=1.0),
             ("{name} takes the sine of the whole step: the two radii to the ends of the chord and the "
-             "chord form an isosceles triangle whose half splits the step in two."),
+             "chord form an isosceles triangle, and its altitude from the axis halves the step."),
         )]),
         alternatives("half_chord", [(
             lambda x: _chord(x, factor=1.0),
@@ -764,7 +765,31 @@ def _damped(x, *, squared=True, feedback=True, damped=True, error_sign=1.0) -> n
     return J.T @ np.linalg.solve(J @ J.T + (damping**2 if squared else damping) * np.eye(3), v)
 
 
-damped_rate = exercise(_CHAPTER, "damped_rate", MatrixArgumentsCheck(
+class _DampedRateCheck(MatrixArgumentsCheck):
+    """The damped command at the sampled dampings, then without damping: the law of Task 3."""
+
+    def evaluate(self, answer: Any) -> CheckResult:
+        result = super().evaluate(answer)
+        build = self.arguments
+        if not result.passed or build is None:
+            return result
+        undamped = self.sample_points()[:5].copy()
+        undamped[:, 14] = 0.0
+        for x in undamped:
+            try:
+                value = np.array(answer(*build(x)), dtype=np.float64)
+                same = value.shape == (7,) and np.allclose(value, _damped(x), atol=self.atol)
+            except Exception:  # noqa: BLE001 - a singular solve is the mistake named below
+                same = False
+            if not same:
+                return CheckResult(self.name, False, (
+                    f"{FAIL} {self.name} with damping = 0 is not J_v⁺ v, the command of Task 3 (checked at "
+                    "5 configurations): J_vᵀJ_v (7×7) has rank 3 and no inverse; damp J_v J_vᵀ (3×3), "
+                    "which has one away from singular configurations."), "undamped", len(undamped))
+        return result
+
+
+damped_rate = exercise(_CHAPTER, "damped_rate", _DampedRateCheck(
     name="dls_rate(q, r_des, v_des, kp, damping)",
     reference=_damped,
     variables=_DAMPED_VARIABLES,
@@ -795,6 +820,6 @@ damped_rate = exercise(_CHAPTER, "damped_rate", MatrixArgumentsCheck(
     signature="dls_rate(q, r_des, v_des, kp, damping) -> joint velocity (7,)",
     atol=1e-7,
     doc=("Check a damped least-squares command dls_rate(q, r_des, v_des, kp, damping) -> joint "
-         "velocity (7,) in rad/s, at random configurations within the limits (Baxter left arm, "
-         "shoulder frame, hand flange)."),
+         "velocity (7,) in rad/s, at random configurations within the limits, and without damping "
+         "(Baxter left arm, shoulder frame, hand flange)."),
 ))

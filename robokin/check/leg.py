@@ -17,6 +17,7 @@ check                      the student's answer                                 
 ``foot_jacobian_at``       J_lift, J at q = [0°, 60°, −120°]: numbers           --
 ``lift_velocity``          dq_cmd for the foot velocity v = [0, 0, −1] m/s       --
                            at that q
+``joint_velocity``         function (v, jacobian) -> q̇ with J q̇ = v: (3,)      q, v
 ``newton_step``            function (q, r_goal) -> the next Newton iterate      q, r_goal
 ``newton_ik``              function (r_goal, q0, damping, tol, max_iterations)  start, goal, λ,
                            -> the iterates q^0 ... q^K, (K + 1, 3)              budget
@@ -50,7 +51,7 @@ from robokin.validation import as_vector, check_positive
 __all__ = [
     "rotation_B1", "rotation_12", "rotation_23",
     "transform_B1", "transform_12", "transform_23", "transform_3F", "transform_BF",
-    "foot_position", "foot_jacobian", "foot_jacobian_at", "lift_velocity",
+    "foot_position", "foot_jacobian", "foot_jacobian_at", "lift_velocity", "joint_velocity",
     "newton_step", "ik_solution", "tracking_controller", "newton_ik", "tracking_loop",
     "ik_closed_form",
     "Q_LIFT", "V_LIFT", "R_GOAL", "KP",
@@ -305,6 +306,47 @@ lift_velocity = exercise(_CHAPTER, "lift_velocity", Check(
     doc=("Check the joint velocity q̇ (rad/s) that moves the foot with v = [0, 0, −1] m/s at "
          "q = [0°, 60°, −120°], against the model's Jacobian."),
 ))
+
+_V_FOOT = [Variable(f"v_{c}", "other", -1.0, 1.0) for c in "xyz"]
+
+
+def _joint_velocity_arguments(x: np.ndarray) -> tuple:
+    """``(v, J)``: a foot velocity and the model's Jacobian at a regular configuration."""
+    return np.array(x[3:6]), _jacobian(x[:3])
+
+
+def _solved_velocity(x: np.ndarray, jacobian=None, sign: float = 1.0) -> np.ndarray:
+    v, J = _joint_velocity_arguments(x)
+    return sign * np.linalg.solve(J if jacobian is None else jacobian, v)
+
+
+joint_velocity = exercise(_CHAPTER, "joint_velocity", MatrixArgumentsCheck(
+    name="joint_velocity(v, jacobian)",
+    reference=_solved_velocity,
+    variables=[*_Q_REGULAR, *_V_FOOT],
+    diagnoses=[
+        alternatives("velocity_sign", [(lambda x: _solved_velocity(x, sign=-1.0), (
+            "{name} returns −J⁻¹ v: that joint velocity moves the foot with −v."
+        ))]),
+        alternatives("transpose", [(lambda x: _joint_velocity_arguments(x)[1].T @ x[3:6], (
+            "{name} returns Jᵀ v; the joint velocity solves J q̇ = v (q̇ = J⁻¹ v): the "
+            "transpose is not the inverse."
+        ))]),
+        alternatives("argument_ignored", [(lambda x: _solved_velocity(x, jacobian=_jacobian(Q_LIFT)), (
+            "{name} ignores its argument jacobian and uses the Jacobian at "
+            "q = [0°, 60°, −120°] (your J_lift?) whatever it is given."
+        ))]),
+        dg.degrees_output(),
+    ],
+    noun="configurations and foot velocities",
+    arguments=_joint_velocity_arguments,
+    signature="joint_velocity(v, jacobian) -> (3,) array",
+    atol=1e-9,
+    doc=("Check a function joint_velocity(v, jacobian) -> q̇ (3,), the joint velocity (rad/s) "
+         "that gives the foot the velocity v (m/s) where its Jacobian is jacobian: compared "
+         "with the model's Jacobian at 20 random regular configurations and foot velocities."),
+))
+
 
 # ------------------------------------------------------------------ inverse kinematics
 def _box(name: str, low: float, high: float) -> Variable:

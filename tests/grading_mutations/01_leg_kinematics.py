@@ -74,30 +74,44 @@ MUTATIONS = {
     ],
     "task3_test1": [
         ("sign slip in entry (3, 3) of J", "J_lift = J_lift.copy()\nJ_lift[2, 2] = -J_lift[2, 2]"),
-        ("the joint velocity that lifts the foot instead", "dq_cmd = -dq_cmd"),
-        ("v_cmd taken as the lift [0, 0, +1] m/s", "v_cmd = np.array([0.0, 0.0, 1.0])"),
         ("J evaluated at degrees", "J_lift = np.array(J_sym.subs(dict(zip(q_sym, [0.0, 60.0, -120.0]))), dtype=float)"),
+        ("J_sym transposed (one row per joint)", "J_sym = J_sym.T\nJ_lift = J_lift.T.copy()"),
         # with a wrong foot position of Task 2, J is graded as the Jacobian of it: a mistake
         # of Task 3's own is still rejected
         ("the factors in the wrong order in Task 2, and J evaluated at degrees",
          "H_BF = sp.simplify(H_3F * H_23 * H_12 * H_B1)\nr_BF = H_BF[:3, 3]\n"
          "J_sym = r_BF.jacobian(q_sym)\n"
-         "J_lift = np.array(J_sym.subs(dict(zip(q_sym, [0.0, 60.0, -120.0]))), dtype=float)\n"
-         "dq_cmd = np.linalg.pinv(J_lift) @ v_cmd"),
-        ("R_12 transposed in Task 1, and the joint velocity that lifts the foot instead",
+         "J_lift = np.array(J_sym.subs(dict(zip(q_sym, [0.0, 60.0, -120.0]))), dtype=float)"),
+        ("R_12 transposed in Task 1, and J at q_lift transposed",
          "R_12 = R_12.T\nr_BF = (transform(R_B1, [0, 1, 0]) * transform(R_12, [0, 0, -1])\n"
          "        * transform(R_23, [0, 0, -1]) * transform(sp.eye(3), [0, 0, -1]))[:3, 3]\n"
          "J_sym = r_BF.jacobian(q_sym)\n"
-         "J_lift = np.array(J_sym.subs(dict(zip(q_sym, q_lift))), dtype=float)\n"
-         "dq_cmd = -np.linalg.solve(J_lift, v_cmd)"),
+         "J_lift = np.array(J_sym.subs(dict(zip(q_sym, q_lift))), dtype=float).T"),
     ],
     "task3_test2": [
+        ("v_cmd taken as the lift [0, 0, +1] m/s", "v_cmd = np.array([0.0, 0.0, 1.0])"),
+        ("J^T v instead of J^-1 v", "def joint_velocity(v, jacobian=J_lift):\n    return jacobian.T @ v"),
+        ("the joint velocity with the wrong sign",
+         "def joint_velocity(v, jacobian=J_lift):\n    return -np.linalg.solve(jacobian, v)"),
+        ("the joint velocity in deg/s",
+         "def joint_velocity(v, jacobian=J_lift):\n    return np.rad2deg(np.linalg.solve(jacobian, v))"),
+        ("the argument jacobian ignored: always the student's J_lift",
+         "def joint_velocity(v, jacobian=J_lift):\n    return np.linalg.solve(J_lift, v)"),
+        # with the knee's origin taken for the foot in Task 2 the student's own J is singular
+        # at q_lift: joint_velocity is graded on the model's Jacobian, and its mistake caught
+        ("the knee's origin as r_BF in Task 2, and J^T v instead of J^-1 v",
+         "r_BF = sp.simplify(H_B1 * H_12 * H_23)[:3, 3]\nJ_sym = r_BF.jacobian(q_sym)\n"
+         "J_lift = np.array(J_sym.subs(dict(zip(q_sym, q_lift))), dtype=float)\n"
+         "def joint_velocity(v, jacobian=J_lift):\n    return jacobian.T @ v"),
+    ],
+    "task3_test3": [
         ("the statement's 'lift' taken at its word", "lifts = True"),
-        ("the lift computed with v = [0, 0, -1] m/s", "dq_lift = dq_cmd"),
-        ("the lift at the wrong speed (2 m/s)", "dq_lift = 2 * dq_lift"),
+        ("the lift with v = [0, 0, -1] m/s", "v_lift = v_cmd"),
+        ("the lift at the wrong speed (2 m/s)", "v_lift = 2 * v_lift"),
+        ("the lift as a joint velocity (the answer of the question before)", "v_lift = dq_lift"),
         ("J evaluated at degrees in the part above, and the lift with v = [0, 0, -1] m/s",
          "J_lift = np.array(J_sym.subs(dict(zip(q_sym, [0.0, 60.0, -120.0]))), dtype=float)\n"
-         "dq_lift = np.linalg.solve(J_lift, v_cmd)"),
+         "v_lift = np.array([0.0, 0.0, -1.0])"),
     ],
     "task4_test1": [
         ("the error's sign flipped (r(q) - r_goal)", _newton(error="leg.fk(q)[:3, 3] - r_goal")),

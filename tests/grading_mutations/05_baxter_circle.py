@@ -24,6 +24,8 @@ MUTATIONS = {
          "gap_offset = max(np.linalg.norm(fk_table(with_offset, q, D_HAND_TUTORIAL)[:3, 3]"
          " - arm.fk(q)[:3, 3]) for q in Q_TEST)"),
         ("the hand at q_start taken from the table as printed", "p_start = p_start_printed"),
+        ("the verdict: not the same links", "same_links = False"),
+        ("the verdict: the same pose for the same joint reading", "same_pose = True"),
         ("the printed table compared with the robot at q + offset instead of q - offset",
          "gap_shifted = max(np.linalg.norm(fk_table(as_printed, q, D_HAND_TUTORIAL)[:3, 3]"
          " - arm.fk(q + JOINT2_OFFSET)[:3, 3]) for q in Q_TEST)"),
@@ -37,8 +39,6 @@ MUTATIONS = {
     "task1_test3": [
         ("'as printed' table already carrying the offset", "as_printed = with_offset"),
         ("the table 'with the offset' left as printed", "with_offset = as_printed"),
-        ("the verdict: not the same links", "same_links = False"),
-        ("the verdict: the same pose for the same joint reading", "same_pose = True"),
     ],
     "task2_test1": [
         ("the circle centred on the hand", "CENTRE = P_START"),
@@ -229,6 +229,11 @@ MUTATIONS = {
          "def dls_rate(q, r_des, v_des, kp=KP, damping=LAMBDA):\n"
          "    J = arm.position_jacobian(q)\n"
          "    return J.T @ np.linalg.solve(J @ J.T + damping**2 * np.eye(3), v_des)"),
+        ("the damped law by the 7 x 7 normal equations, singular without damping",
+         "def dls_rate(q, r_des, v_des, kp=KP, damping=LAMBDA):\n"
+         "    J = arm.position_jacobian(q)\n"
+         "    v = v_des + kp * (r_des - arm.fk(q)[:3, 3])\n"
+         "    return np.linalg.solve(J.T @ J + damping**2 * np.eye(7), J.T @ v)"),
         ("the damped loop ignores its time step",
          "_track_damped_right = track_damped\n\n"
          "def track_damped(q0, r_des, v_des, kp=KP, ts=TS, damping=LAMBDA):\n"

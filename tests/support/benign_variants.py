@@ -42,9 +42,16 @@ VARIANTS: dict[str, dict[str, tuple[str, str]]] = {
 # written another way: the Jacobian one column per joint, the rates by least squares
 columns = [sp.diff(r_BF, joint) for joint in q_sym]
 J_sym = sp.Matrix.hstack(*columns)
-dq_cmd = np.linalg.lstsq(J_lift, v_cmd, rcond=None)[0]
+
+
+def joint_velocity(v, J=J_lift):
+    return np.linalg.lstsq(J, v, rcond=None)[0]
+
+
 lifts = bool(v_cmd[2] > 0)  # z of B points up: only a positive z velocity lifts
-dq_lift = np.linalg.lstsq(J_lift, np.array([0.0, 0.0, 1.0]), rcond=None)[0]
+v_lift = -v_cmd / np.linalg.norm(v_cmd)
+dq_cmd = joint_velocity(v_cmd)
+dq_lift = joint_velocity(v_lift)
 '''),
         "task4_answer1": ("Newton's method as a while loop on the normal equations (no pseudoinverse), "
                           "stopped when the step, not the error, is below tol", '''
