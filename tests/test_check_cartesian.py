@@ -88,9 +88,9 @@ def tool_jacobian_point(J_e, R_be, p_et):
     return np.vstack([J_e[:3] + np.cross(J_e[3:].T, r).T, J_e[3:]])
 
 
-def my_tool_jacobian(q):
+def my_tool_jacobian(q, offset=(0.2, 0.0, 0.0)):
     # the tool's Jacobian of the exercise, column by column from the arm's J_E(q)
-    return tool_jacobian_point(ROBOT.jacobian(q), fk_table(q)[:3, :3], np.array([0.2, 0.0, 0.0]))
+    return tool_jacobian_point(ROBOT.jacobian(q), fk_table(q)[:3, :3], np.asarray(offset, dtype=float))
 
 
 def control_lstsq(J, e, gain_linear, gain_angular):
@@ -198,12 +198,14 @@ WRONG = [
     ("tool_jacobian", lambda J, R, p: np.vstack([J[:3], J[3:] - np.cross(R @ p, J[:3].T).T]), "twist_order"),
     ("tool_jacobian", lambda J, R, p: np.vstack([J[:3], J[3:] + np.cross(R @ p, J[:3].T).T]),
      "transposed_transport"),
-    ("tool_jacobian_of_q", lambda q: tool_jacobian_point(ROBOT.jacobian(q), np.eye(3), [0.2, 0, 0]),
+    ("tool_jacobian_of_q", lambda q, p: tool_jacobian_point(ROBOT.jacobian(q), np.eye(3), p),
      "offset_not_rotated"),
-    ("tool_jacobian_of_q", lambda q: tool_jacobian_point(ROBOT.jacobian(q), -fk_table(q)[:3, :3], [0.2, 0, 0]),
+    ("tool_jacobian_of_q", lambda q, p: tool_jacobian_point(ROBOT.jacobian(q), -fk_table(q)[:3, :3], p),
      "cross_sign"),
-    ("tool_jacobian_of_q", lambda q: ROBOT.jacobian(q), "no_transport"),
-    ("tool_jacobian_of_q", lambda q: my_tool_jacobian(q)[:, :6], "shape"),
+    ("tool_jacobian_of_q", lambda q, p: ROBOT.jacobian(q), "no_transport"),
+    ("tool_jacobian_of_q", lambda q, p: my_tool_jacobian(q), "offset_ignored"),       # the sheet's tool
+    ("tool_jacobian_of_q", lambda q, p: my_tool_jacobian(q, [0.002, 0, 0]), "offset_ignored"),  # in cm
+    ("tool_jacobian_of_q", lambda q, p: my_tool_jacobian(q, p)[:, :6], "shape"),
     ("control_law", lambda J, e, kl, ka: -control_lstsq(J, e, kl, ka), "error_sign"),
     ("control_law", lambda J, e, kl, ka: control_lstsq(J, e, ka, kl), "swapped_gains"),
     ("control_law", lambda J, e, kl, ka: np.linalg.pinv(J) @ np.r_[ka * e[3:], kl * e[:3]], "twist_order"),

@@ -15,7 +15,7 @@ check                    the student's answer                                   
 ``tool_pose``            ``f(q)`` -> :math:`{}^{B}\mathbf{T}_{T}` (4×4)                  at 20 random configurations
 ``orientation_error``    ``f(R, R_goal)`` -> :math:`\theta\mathbf{h}` (3,), base frame    at 20 random pairs of rotations
 ``tool_jacobian``        ``f(J_e, R_be, p_et)`` -> :math:`\mathbf{J}_T` (6×n)              at 20 random configurations and offsets
-``tool_jacobian_of_q``   ``f(q)`` -> :math:`\mathbf{J}_T(\mathbf{q})` (6×7)              at 20 random configurations
+``tool_jacobian_of_q``   ``f(q, offset)`` -> :math:`\mathbf{J}_T(\mathbf{q})` (6×7)      at 20 random configurations and offsets
 ``control_law``          ``f(J, e, gain_linear, gain_angular)`` -> :math:`\dot{\mathbf{q}}`    at 20 random configurations, errors, gains
 ``kinematic_loop``       ``f(twist_of, q0, ts, t_end, robot)`` -> ``(Q, V)``         on P laws to 20 random goals near the start
 ``rpy_rate_matrix``      ``f(R)`` -> :math:`\mathbf{E}(\boldsymbol\phi)` (3×3)       at 20 random rotations
@@ -458,11 +458,15 @@ tool_jacobian = exercise(_CHAPTER, "tool_jacobian", MatrixArgumentsCheck(
 ))
 
 
-# ------------------------------------------------------------------ tool Jacobian f(q) of the exercise
+# ------------------------------------------------------------------ tool Jacobian f(q, offset) of the exercise
+def _tool_jacobian_of_q_arguments(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The student's arguments at x: the configuration q (7,) and the tool offset ₑr_ET (3,) [m]."""
+    return np.asarray(x[:N_JOINTS], dtype=float), np.array(x[N_JOINTS:N_JOINTS + 3])
+
+
 def _tool_jacobian_of_q_parts(x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The arm's J_E(q) (6×7), the offset ᴮr_ET = ᴮR_E(q) ₑr_ET and the tool's ₑr_ET (3,) at x."""
-    q = np.asarray(x[:N_JOINTS], dtype=float)
-    offset = np.array(_TOOL_OFFSET)
+    """The arm's J_E(q) (6×7), the offset ᴮr_ET = ᴮR_E(q) ₑr_ET and ₑr_ET (3,) at x."""
+    q, offset = _tool_jacobian_of_q_arguments(x)
     return _robot().jacobian(q), _robot().fk(q)[:3, :3] @ offset, offset
 
 
@@ -471,16 +475,35 @@ def _tool_jacobian_of_q_reference(x: np.ndarray) -> np.ndarray:
     return _rigid_body(r) @ J
 
 
-tool_jacobian_of_q = exercise(_CHAPTER, "tool_jacobian_of_q", Check(
-    name="my_tool_jacobian(q)",
+def _offset_ignored_mistakes() -> list[Diagnosis]:
+    """The answer transports with a fixed offset (the exercise's, in m or read as cm), not its argument."""
+    def fixed_offset(offset: tuple[float, float, float]) -> Callable[[np.ndarray], np.ndarray]:
+        def answer(x):
+            q = np.asarray(x[:N_JOINTS], dtype=float)
+            return _rigid_body(_robot().fk(q)[:3, :3] @ np.array(offset)) @ _robot().jacobian(q)
+        return answer
+
+    message = ("{name} returns the same Jacobian whatever offset is passed: it transports with a "
+               "fixed offset (your TOOL_OFFSET?) instead of its argument offset.")
+    return [alternatives("offset_ignored", [
+        (fixed_offset(_TOOL_OFFSET), message),
+        (fixed_offset(tuple(0.01 * np.array(_TOOL_OFFSET))), message),
+    ])]
+
+
+tool_jacobian_of_q = exercise(_CHAPTER, "tool_jacobian_of_q", MatrixArgumentsCheck(
+    name="my_tool_jacobian(q, offset)",
     reference=_tool_jacobian_of_q_reference,
-    variables=_Q,
-    groups=[("q", list(range(N_JOINTS)))],
-    diagnoses=_transport_mistakes(_tool_jacobian_of_q_parts, "ₑr_ET = [0.2, 0, 0] m", "(q)"),
-    noun="configurations",
+    variables=[*_Q, *_P],
+    diagnoses=[*_offset_ignored_mistakes(),
+               *_transport_mistakes(_tool_jacobian_of_q_parts, "ₑr_ET (the argument offset)", "(q)")],
+    noun="configurations and offsets",
+    arguments=_tool_jacobian_of_q_arguments,
+    signature="my_tool_jacobian(q, offset) -> (6, 7) array",
     hint="J_T(q) = [[I, −[r×]], [0, I]] J_E(q) with r = ᴮR_E(q) ₑr_ET (rows [v; ω]).",
-    doc=("Check a function my_tool_jacobian(q) -> J_T(q) (6×7), rows [v; ω], of the course's arm "
-         "with the exercise's tool: compared with the model at 20 random configurations."),
+    doc=("Check a function my_tool_jacobian(q, offset) -> J_T(q) (6×7), rows [v; ω], of the course's "
+         "arm with a tool at the offset ₑr_ET (3,) [m] from E: compared with the model at 20 random "
+         "configurations and offsets."),
 ))
 
 

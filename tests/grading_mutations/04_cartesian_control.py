@@ -103,8 +103,8 @@ h_B = T_BT0[:3, :3] @ h_T
 
 # the offset used without rotating it into the base frame
 _OFFSET_NOT_ROTATED = """
-def my_tool_jacobian(q):
-    r = TOOL_OFFSET  # E r_ET used as if it were B r_ET
+def my_tool_jacobian(q, offset=TOOL_OFFSET):
+    r = offset  # E r_ET used as if it were B r_ET
     J_rb = np.block([[np.eye(3), -skew(r)], [np.zeros((3, 3)), np.eye(3)]])
     return J_rb @ arm.jacobian(q)
 
@@ -112,10 +112,18 @@ J_T0 = my_tool_jacobian(Q0)
 qdot0 = np.linalg.pinv(J_T0) @ twist0
 """
 
+# the tool's own offset used instead of the argument offset
+_OFFSET_ARGUMENT_IGNORED = """
+def my_tool_jacobian(q, offset=TOOL_OFFSET):
+    r = arm.fk(q)[:3, :3] @ TOOL_OFFSET  # the argument offset left unused
+    J_rb = np.block([[np.eye(3), -skew(r)], [np.zeros((3, 3)), np.eye(3)]])
+    return J_rb @ arm.jacobian(q)
+"""
+
 # the course's transport matrix (angular rows first) pasted into linear-first code
 _COURSE_TRANSPORT = """
-def my_tool_jacobian(q):
-    r = arm.fk(q)[:3, :3] @ TOOL_OFFSET
+def my_tool_jacobian(q, offset=TOOL_OFFSET):
+    r = arm.fk(q)[:3, :3] @ offset
     J_rb = np.block([[np.eye(3), np.zeros((3, 3))], [skew(r).T, np.eye(3)]])
     return J_rb @ arm.jacobian(q)
 
@@ -397,7 +405,6 @@ MUTATIONS = {
     ],
     "task1_test2": [
         ("the YPR triple read as (roll, pitch, yaw)", _TOOL_AS_RPY),
-        ("the offset taken in centimetres", _OFFSET_CM),
         ("the triple stored in (roll, pitch, yaw) order", _TRIPLE_IN_RPY_ORDER),
         ("the angle between the two tools in degrees", _TOOL_ANGLE_DEGREES),
         ("the angle between the two tools as the sum of the turns", _TOOL_ANGLE_SUM),
@@ -418,6 +425,7 @@ MUTATIONS = {
     "task3_test1": [
         ("the tool offset not rotated into the base frame", _OFFSET_NOT_ROTATED),
         ("the course's [w; v] transport matrix in linear-first code", _COURSE_TRANSPORT),
+        ("the tool's own offset used instead of the argument offset", _OFFSET_ARGUMENT_IGNORED),
         ("the desired twist stacked [w; v]", _TWIST_COURSE_ORDER),
         ("the row swap taken as the identity", _SWAP_IDENTITY),
     ],
@@ -466,6 +474,7 @@ MUTATIONS = {
         ("the yaw difference not wrapped into (-pi, pi]", _UNWRAPPED),
         ("the angle between the errors in radians", _ANGLE_IN_RADIANS),
         ("the naive loop converts the rates with E(phi) after all", _NAIVE_CONVERTED),
+        ("naive_stops taken as True", "naive_stops = True"),
     ],
     "task5_test2": [
         ("E(phi) with its columns in the order (yaw, pitch, roll)", _E_COLUMNS_REVERSED),

@@ -240,7 +240,17 @@ def orientation_error(R, R_goal):  # written another way: R_goal R^T is already 
     axis, angle = angle_axis(R_goal @ R.T)
     return angle * axis
 '''),
-        "task3_answer1": ("the slide's column as the tool's motion per metre of slide; spare with the other sign", '''
+        "task3_answer1": ("the transport column by column with cross products; the slide's column as the "
+                          "tool's motion per metre of slide; spare with the other sign", '''
+
+def my_tool_jacobian(q, offset=TOOL_OFFSET):  # written another way: v_T = v_E + w x r, per column
+    J_E = arm.jacobian(q)
+    r = arm.fk(q)[:3, :3] @ np.asarray(offset, dtype=float)
+    return np.vstack([J_E[:3] + np.cross(J_E[3:].T, r).T, J_E[3:]])
+
+
+J_T0 = my_tool_jacobian(Q0)
+qdot0 = np.linalg.pinv(J_T0) @ twist0
 
 def slide_column(q):  # written another way: the tool pose is affine in q6, so a secant is exact
     step = np.zeros(7)
