@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import textwrap
+from pathlib import Path
 
 import pytest
 
@@ -36,3 +37,27 @@ def test_check_calls_follow_aliases_and_the_full_path():
 
 def test_unparsable_code_has_no_calls():
     assert check_calls("check.leg.rotation_B1(", ALIASES) == []
+
+
+def _code(text: str, *tags: str) -> dict:
+    return {"cell_type": "code", "metadata": {"tags": list(tags)}, "source": text, "outputs": []}
+
+
+def test_a_test_tagged_explains_names_only_the_answers_it_grades():
+    """Without the tag a test is explained by the checks of every answer of its task so far; with
+    ``explains-<answer>`` by those of the answers it names only."""
+    from tools.notebook_analysis import analyse
+
+    cells = [
+        {"cell_type": "markdown", "metadata": {}, "source": "## Task 1: Two steps"},
+        _code("from robokin.check import demo as check_demo"),
+        _code("def first(x):\n    return x\n\n\ndef second(x, step=first):\n    return step(x)", "solution"),
+        _code("assert second(1.0) == 1.0", "check"),
+        _code("assert second(2.0, step=abs) == 2.0", "check", "explains-second"),
+        {"cell_type": "markdown", "metadata": {}, "source": "## Try it yourself"},
+        _code("check_demo.first(first)\ncheck_demo.second(second)"),
+    ]
+    chapter = analyse(Path("demo.ipynb"), {"cells": cells})
+    plain, tagged = chapter.tests(1)
+    assert plain.explain == [("demo.first", "first"), ("demo.second", "second")]
+    assert tagged.explain == [("demo.second", "second")]

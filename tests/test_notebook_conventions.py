@@ -31,6 +31,8 @@ ALLOWED_TAGS = {
 
 #: A check cell's weight in points (``points-N``, tools/authoring/nbgrader_metadata.py); only on check cells.
 POINTS_TAG = re.compile(r"^points-[1-9][0-9]?$")
+#: An answer a test grades (``explains-<answer>``, tools/notebook_analysis.py); only on check cells.
+EXPLAINS_TAG = re.compile(r"^explains-[A-Za-z_][A-Za-z0-9_]*$")
 
 #: Output types that may be left out of nbval's comparison.
 UNCOMPARABLE_MIME = {"image/png", "image/svg+xml", "text/html", "application/vnd.jupyter.widget-view+json"}
@@ -78,8 +80,11 @@ def test_no_warnings_in_outputs(path):
 def test_tags(path):
     for index, cell in enumerate(load(path)["cells"]):
         tags = set(cell.get("metadata", {}).get("tags", []))
-        unknown = {t for t in tags - ALLOWED_TAGS if not POINTS_TAG.match(t)}
+        unknown = {t for t in tags - ALLOWED_TAGS if not POINTS_TAG.match(t) and not EXPLAINS_TAG.match(t)}
         assert not unknown, f"{path.name} cell {index}: unknown tags {unknown}"
+        assert "check" in tags or not any(EXPLAINS_TAG.match(t) for t in tags), (
+            f"{path.name} cell {index}: explains-<answer> belongs on a check cell"
+        )
         points = {t for t in tags if POINTS_TAG.match(t)}
         assert not points or ("check" in tags and len(points) == 1), (
             f"{path.name} cell {index}: {points} belongs on one check cell"

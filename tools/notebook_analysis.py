@@ -45,6 +45,10 @@ TASK_RE = re.compile(r"^##\s+Task\s+(\d+)\s*[:.\u2014-]?\s*(.*?)\s*$")
 H2_RE = re.compile(r"^##\s+(.+?)\s*$")
 FENCE_RE = re.compile(r"^\s*(```+|~~~+)")
 POINTS_TAG_RE = re.compile(r"^points-([1-9][0-9]?)$")  # a test cell's weight, e.g. ``points-3``
+#: An answer a test cell grades, e.g. ``explains-ik_position``: with one or more, the test's
+#: failures are explained by the checks of those answers only (a test that runs a later answer
+#: on robokin's earlier steps grades that answer, not the earlier ones it could read).
+EXPLAINS_TAG_RE = re.compile(r"^explains-([A-Za-z_][A-Za-z0-9_]*)$")
 TRY_RE = re.compile(r"try it yourself", re.IGNORECASE)
 SOLUTION_START = "{solution-start}"
 SOLUTION_END = "{solution-end}"
@@ -561,6 +565,7 @@ class Cell:
     explain: list[tuple[str, str]] = field(default_factory=list)
     interface: set[str] = field(default_factory=set)  # for answers: names later cells read
     points: int = 1  # for tests: the tag ``points-N`` on the check cell (default 1)
+    explains: set[str] = field(default_factory=set)  # for tests: the tags ``explains-<answer>``
 
 
 @dataclass
@@ -636,6 +641,9 @@ def _read_cells(raw_cells: list[dict]) -> tuple[list[Cell], dict[int, str], list
             m = POINTS_TAG_RE.match(tag)
             if m:
                 cell.points = int(m.group(1))
+            m = EXPLAINS_TAG_RE.match(tag)
+            if m:
+                cell.explains.add(m.group(1))
         cells.append(cell)
     if in_span:
         problems.append("a solution-start block is never closed (no solution-end)")
@@ -696,7 +704,8 @@ def _mark_interfaces(cells: list[Cell]) -> None:
 
 def _explain_tests(cells: list[Cell], check_names: dict[str, str]) -> None:
     """What explains a failing test: checks called on the task's answers, and checks whose
-    quantity has the name of an answer's variable."""
+    quantity has the name of an answer's variable; of a test tagged ``explains-<answer>``,
+    only those on the answers it names."""
     aliases: dict[str, str] = {}
     for cell in cells:
         if cell.cell_type == "code":
@@ -727,6 +736,8 @@ def _explain_tests(cells: list[Cell], check_names: dict[str, str]) -> None:
                 if check.split(".")[0] in chapters_used and quantity in names:
                     if not any(c == check for c, _ in pairs):
                         pairs.append((check, quantity))
+            if cell.explains:  # the answers the test grades, named by its tags
+                pairs = [(check, expr) for check, expr in pairs if free_names(expr) <= cell.explains]
             cell.explain = pairs
         if cell.role == "answer":
             task_answers.setdefault(cell.task, set()).update(cell.defines)

@@ -17,7 +17,8 @@ cell                           nbgrader metadata                                
 markdown in a solution block   read-only ``cell-<id>``, ``robokin.role = prose``     removed (empty)
 ``check`` code in a task that  autograder test ``taskK_testJ``, **1 point** (or N  kept, restored before
 reads the student's answer     with the tag ``points-N``), ``robokin.explain`` =    grading
-                               checks that explain a failure
+                               checks that explain a failure (with tags
+                               ``explains-<answer>``: those of the answers named)
 *Try it yourself* code         none (editable, not graded)                          kept
 everything else                read-only ``cell-<id>``                               kept, restored before grading
 =============================  ==================================================  ===================
