@@ -550,3 +550,114 @@ def test_pseudoinverse_step_crosses_the_bridge_as_data():
     encoded = codec.encode(ur.PseudoinverseStep(), {})
     assert encoded == {"$robokin": ["robokin.check.ur10", "PseudoinverseStep", {}]}
     assert isinstance(codec.decode(encoded), ur.PseudoinverseStep)
+
+
+# ---------------------------------------------------------------- the graded tests' machinery
+#: The chapter's start, goals and weights (notebooks/02_ur10_ik.ipynb).
+Q_PARKED = np.array([0.0, -2.6, 2.6, -np.pi / 2, -np.pi / 2, 0.0])
+GOALS = {"A": np.array([-0.8, -0.4, 0.8]), "B": np.array([-0.6, -0.9, 0.4])}
+WEIGHTS = np.array([2.0, 2.0, 2.0, 1.0, 1.0, 1.0])
+
+
+def steps_written(damping=None, gain=6 * np.pi**2 / 2):
+    """The three step rules of Task 2 (d), written with the independent answers above (the
+    damping lambda^2 = 0.1 by default)."""
+    from robokin.motion import JointLimitDistance
+
+    damping = np.sqrt(0.1) if damping is None else damping
+    H = JointLimitDistance(ur.WORK_LIMITS)
+    return {
+        "weighted": lambda J, e, q: weighted_kkt(J, np.diag(WEIGHTS)) @ e,
+        "DLS": lambda J, e, q: dls_normal(J, e, damping),
+        "null space": lambda J, e, q: np.linalg.lstsq(J, e, rcond=None)[0] + projector_svd(J) @ (gain * H.gradient(q)),
+    }
+
+
+def test_step_rules_are_the_steps_of_part_d():
+    """robokin's rules (the defaults) agree with the rules written independently, and rules built
+    on other steps use them."""
+    rules, written = ur.step_rules(WEIGHTS), steps_written()
+    assert np.isclose(ur.NULLSPACE_GAIN, 6 * np.pi**2 / 2)
+    cell = ur._cell()
+    for q in cell.random_configurations(4, seed=61):
+        J, e = cell.position_jacobian(q), np.array([0.03, 0.02, -0.05])
+        for name in written:
+            assert np.allclose(rules[name](J, e, q), written[name](J, e, q))
+    doubled = ur.step_rules(WEIGHTS, 0.5, 2.0, dls_step=lambda J, e, damping: 2 * dls_normal(J, e, damping))
+    assert np.allclose(doubled["DLS"](J, e, q), 2 * dls_normal(J, e, 0.5))
+    with pytest.raises(TypeError):
+        ur.step_rules(WEIGHTS, weighted_pinv=None)
+
+
+def test_assert_steps_follow_takes_either_rule_and_names_a_wrong_step():
+    cell = ur._cell()
+    Q = cell.random_configurations(3, seed=44)
+    wrong_dls = lambda J, e, damping: dls_normal(J, e, damping**2)  # noqa: E731 - λ for λ²
+    on_wrong_part = ur.step_rules(WEIGHTS, dls_step=wrong_dls)
+    rules = [on_wrong_part, ur.step_rules(WEIGHTS)]
+    ur.assert_steps_follow(cell, Q, steps_written(), rules)      # robokin's formula
+    ur.assert_steps_follow(cell, Q, dict(on_wrong_part), rules)  # the formula on a wrong part of its own
+    with pytest.raises(AssertionError, match="STEPS\\['DLS'\\]"):
+        ur.assert_steps_follow(cell, Q, dict(steps_written(), DLS=steps_written(damping=0.1)["DLS"]),
+                               [ur.step_rules(WEIGHTS)])
+    with pytest.raises(AssertionError, match="keys"):
+        ur.assert_steps_follow(cell, Q, {"weighted": steps_written()["weighted"]}, rules)
+    raising = ur.step_rules(WEIGHTS, nullspace_projector=lambda J: 1 / 0)
+    ur.assert_steps_follow(cell, Q, steps_written(), [raising, ur.step_rules(WEIGHTS)])
+
+
+def test_loop_as_solve_ik_passes_a_loop_and_rejects_a_mistake():
+    """The loop written independently takes solve_ik_once's steps on the chapter's three runs; a
+    loop without the step cap does not."""
+    cell = ur._cell()
+    for goal, method in (("A", "weighted"), ("A", "DLS"), ("B", "null space")):
+        q, iterations = ur.loop_as_solve_ik(cell, GOALS[goal], Q_PARKED, method, WEIGHTS, 0.5, loop=loop_for)
+        assert np.linalg.norm(cell.fk(q)[:3, 3] - GOALS[goal]) < 1e-9 and iterations > 1
+    with pytest.raises(AssertionError, match="weighted"):
+        ur.loop_as_solve_ik(cell, GOALS["A"], Q_PARKED, "weighted", WEIGHTS, 0.5,
+                            loop=lambda *args: loop_for(*args, cap=False))
+
+
+def test_assert_self_motion_rows():
+    cell = ur._cell()
+    q_start = cell.random_configurations(1, seed=62)[0]
+    goal = cell.fk(q_start)[:3, 3] + 0.001
+    ur.assert_self_motion_rows(self_motion_written(cell, goal, q_start, 0.75, 8), cell, goal, 0.75)
+    with pytest.raises(AssertionError, match="row 1 "):
+        ur.assert_self_motion_rows(self_motion_written(cell, goal, q_start, 0.75, 8, variant="no_gain"),
+                                   cell, goal, 0.75)
+
+
+def test_assert_path_figures():
+    """The figures of a path computed another way pass; one wrong figure is named."""
+    from robokin.motion import JointLimitDistance
+
+    cell = ur._cell()
+    path = cell.random_configurations(5, seed=63)
+    goal = np.array([-0.6, -0.9, 0.4])
+    H = JointLimitDistance(cell.limits)
+    figures = {
+        "H": H.value(path),
+        "error": [np.sqrt(np.sum((goal - cell.fk(q)[:3, 3]) ** 2)) for q in path],
+        "JN": [np.abs(cell.position_jacobian(q) @ projector_svd(cell.position_jacobian(q))).max() for q in path],
+        "distance": [min(np.min(q - cell.limits[:, 0]), np.min(cell.limits[:, 1] - q)) for q in path],
+    }
+    ur.assert_path_figures(cell, goal, path, figures, H.value, projector_svd)
+    with pytest.raises(AssertionError, match="distance"):
+        ur.assert_path_figures(cell, goal, path, dict(figures, distance=np.zeros(5)), H.value, projector_svd)
+    with pytest.raises(AssertionError, match="expected"):
+        ur.assert_path_figures(cell, goal, path, {"H": figures["H"]}, H.value, projector_svd)
+
+
+def test_assert_summary_of_path():
+    """The summary written independently passes on random paths; a wrong figure is named."""
+    cell = ur._cell()
+    goal = np.array([0.3, -0.5, 0.6])
+    for seed in (64, 65):
+        path = cell.random_configurations(6, seed=seed)
+        ur.assert_summary_of_path(cell, goal, path, summary_written(cell, goal, path))
+    figures = summary_written(cell, goal, path)
+    with pytest.raises(AssertionError, match="min_w"):
+        ur.assert_summary_of_path(cell, goal, path, dict(figures, min_w=figures["end_w"] + 1.0))
+    with pytest.raises(AssertionError, match="iterations"):
+        ur.assert_summary_of_path(cell, goal, path, dict(figures, iterations=6))

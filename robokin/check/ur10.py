@@ -86,7 +86,9 @@ from robokin.validation import (
 __all__ = ["weighted_pinv", "dls_step", "nullspace_projector", "ik_position", "summary", "self_motion",
            "ik_restarts", "bisect", "N_JOINTS", "WORK_LIMITS", "PseudoinverseStep", "reference_dls_step",
            "reference_ik_position", "reference_joint_limit_gradient", "reference_joint_limit_objective",
-           "reference_nullspace_projector", "reference_weighted_pinv"]
+           "reference_nullspace_projector", "reference_weighted_pinv", "NULLSPACE_GAIN", "step_rules",
+           "assert_steps_follow", "loop_as_solve_ik", "assert_self_motion_rows", "assert_path_figures",
+           "assert_summary_of_path"]
 
 _CHAPTER = "ur10"
 #: Number of joints of the UR10.
@@ -1190,13 +1192,284 @@ def reference_ik_position(chain: Any, p_goal: Any, q0: Any, step: Any, max_step:
     return packed[:n], bool(packed[n]), int(packed[n + 1])
 
 
+
+# ------------------------------------------------------------------ the graded tests' machinery
+#: The gain k of the null-space step of Task 2 (d) for the joint-limit objective, n π²/2:
+#: ``solve_ik``'s own for ``objective="joint_limits"`` on the work cell.
+NULLSPACE_GAIN = N_JOINTS * np.pi**2 / 2
+
+
+def step_rules(weights: Any, damping: float = math.sqrt(0.1), gain: float = NULLSPACE_GAIN,
+               weighted_pinv: Any = reference_weighted_pinv, dls_step: Any = reference_dls_step,
+               nullspace_projector: Any = reference_nullspace_projector,
+               joint_limit_gradient: Any = reference_joint_limit_gradient) -> dict[str, Any]:
+    r"""The three step rules ``step(J, e, q) -> dq`` of Task 2 (d), built on the given steps.
+
+    The graded test of Task 2 (d) runs the student's loop with robokin's steps of parts
+    (a)-(c) (the defaults), and checks the student's ``STEPS`` against these rules built on
+    the student's steps or on robokin's, so that a mistake in one part costs that part's
+    points only.
+
+    Parameters
+    ----------
+    weights : array_like, shape (6,)
+        The diagonal of the weight matrix :math:`W` (the chapter's ``W_DIAG``).
+    damping : float, optional
+        The :math:`\lambda` of the damped step (m); the chapter's :math:`\sqrt{0.1}`.
+    gain : float, optional
+        The gain :math:`k` of the null-space term; :data:`NULLSPACE_GAIN` by default.
+    weighted_pinv, dls_step, nullspace_projector, joint_limit_gradient : callable, optional
+        The steps of parts (a)-(c): ``weighted_pinv(J, W)``, ``dls_step(J, e, damping)``,
+        ``nullspace_projector(J)``, ``joint_limit_gradient(q)``; robokin's by default.
+
+    Returns
+    -------
+    dict
+        ``"weighted"``: :math:`J_W^+ e`, ``"DLS"``: ``dls_step(J, e, damping)``, ``"null
+        space"``: :math:`J^+ e + N k \nabla H(q)`.
+    """
+    W = np.diag(as_float_array(weights, "weights", shape=(N_JOINTS,)))
+    damping = float(as_float_array(damping, "damping", shape=()))
+    gain = float(as_float_array(gain, "gain", shape=()))
+    for name, part in (("weighted_pinv", weighted_pinv), ("dls_step", dls_step),
+                       ("nullspace_projector", nullspace_projector),
+                       ("joint_limit_gradient", joint_limit_gradient)):
+        check_callable(part, name, "a step of Task 2 (a)-(c)")
+    return {
+        "weighted": lambda J, e, q: weighted_pinv(J, W) @ e,
+        "DLS": lambda J, e, q: dls_step(J, e, damping),
+        "null space": lambda J, e, q: (
+            np.linalg.pinv(J) @ e + nullspace_projector(J) @ (gain * joint_limit_gradient(q))
+        ),
+    }
+
+
+def _same_step(dq: np.ndarray, rule: Any, J: np.ndarray, e: np.ndarray, q: np.ndarray) -> bool:
+    """Whether ``dq`` is the step of ``rule`` at (J, e, q) (False if the rule raises: a student's
+    step of that part that fails its own test)."""
+    try:
+        return bool(np.allclose(dq, rule(J, e, q), rtol=1e-9, atol=1e-12))
+    except Exception:  # noqa: BLE001 - the other rule decides
+        return False
+
+
+def assert_steps_follow(chain: Any, configurations: Any, steps: Any, rules: Any,
+                        error: Any = (0.04, -0.03, 0.02)) -> None:
+    """Assert that each step rule of ``steps`` is the rule of its name in one of ``rules``.
+
+    Parameters
+    ----------
+    chain : robokin chain
+        ``J`` is its position Jacobian at each configuration.
+    configurations : array_like, shape (K, n)
+        Where the steps are compared (rad).
+    steps : dict
+        The student's ``STEPS``: name -> ``step(J, e, q)``.
+    rules : sequence of dict
+        Rules with the same names (:func:`step_rules` on the student's steps, on robokin's).
+    error : array_like, shape (3,), optional
+        The position error ``e`` (m) they are given.
+
+    Raises
+    ------
+    AssertionError
+        Naming the first step that follows none of ``rules`` (to rtol 1e-9, atol 1e-12), or
+        the names when they differ from the rules'.
+    """
+    names = sorted(rules[0])
+    if sorted(steps) != names:
+        raise AssertionError(f"STEPS has the keys {sorted(steps)}; expected {names}")
+    e = as_float_array(error, "error", shape=(3,))
+    for q in as_float_array(configurations, "configurations", shape=(None, chain.n)):
+        J = chain.position_jacobian(q)
+        for name in names:
+            dq = np.asarray(steps[name](J, e.copy(), q.copy()), dtype=float)
+            if not any(_same_step(dq, rule[name], J, e, q) for rule in rules):
+                raise AssertionError(f"STEPS[{name!r}] is not the step of part (d) at q = {fmt(q)} rad")
+
+
+def loop_as_solve_ik(chain: Any, p_goal: Any, q0: Any, method: str, weights: Any, max_step: float, *,
+                     loop: Any, tol: float = 1e-9) -> tuple[np.ndarray, int]:
+    """Assert that the student's loop, run with robokin's step, is robokin's ``solve_ik_once``.
+
+    Runs ``loop(chain, p_goal, q0, step)`` with its defaults (``max_step``, ``tol``)
+    and ``step`` robokin's rule ``method`` (:func:`step_rules`), and
+    ``robokin.motion.solve_ik_once(chain, p_goal, q0=q0, max_step=max_step, tol=tol, ...)``
+    with that method's options: one attempt of the method alone, the same iteration.
+
+    Parameters
+    ----------
+    chain : robokin chain
+        The work cell.
+    p_goal : array_like, shape (3,)
+        The goal (m).
+    q0 : array_like, shape (n,)
+        The start (rad).
+    method : {"weighted", "DLS", "null space"}
+        The step rule.
+    weights : array_like, shape (6,)
+        The weights of the weighted pseudoinverse.
+    max_step : float
+        The default of the student's loop, handed to ``solve_ik_once``.
+    loop : callable
+        The student's ``ik_position``, returning ``(q, converged, iterations)``.
+    tol : float, optional
+        The default of the student's loop, handed to ``solve_ik_once``.
+
+    Returns
+    -------
+    tuple
+        ``(q, iterations)`` of the student's loop.
+
+    Raises
+    ------
+    AssertionError
+        When the two differ in success, number of steps or final ``q`` (by more than 1e-9 rad).
+    """
+    from robokin.motion import solve_ik_once
+
+    all_options: dict[str, dict[str, Any]] = {
+        "weighted": dict(method="weighted", weights=np.asarray(weights, dtype=float)),
+        "DLS": dict(method="dls", damping=math.sqrt(0.1)),
+        "null space": dict(method="nullspace", objective="joint_limits"),
+    }
+    options = all_options[method]
+    q, converged, iterations = loop(chain, p_goal, q0, step_rules(weights)[method])
+    reference = solve_ik_once(chain, p_goal, q0=q0, max_step=max_step, tol=tol, **options)
+    assert reference.success, f"solve_ik_once did not converge with the {method} step"
+    assert converged, f"your ik_position with robokin's {method} step did not converge"
+    assert iterations == reference.iterations, (
+        f"your ik_position with robokin's {method} step took {iterations} steps; "
+        f"solve_ik_once took {reference.iterations}")
+    q = np.asarray(q, dtype=float)
+    assert np.allclose(q, reference.q, rtol=0.0, atol=1e-9), (
+        f"your ik_position with robokin's {method} step ends at q = {fmt(q)} rad; "
+        f"solve_ik_once at {fmt(reference.q)} rad")
+    return q, int(iterations)
+
+
+def assert_self_motion_rows(path: Any, chain: Any, p_goal: Any, gain: float, atol: float = 1e-12) -> None:
+    r"""Assert that each row of ``path`` is the self-motion step of Task 4 from the row before.
+
+    :math:`q_{i+1} = q_i + J^+ e + (I - J^+ J)\,k\,\nabla H(q_i)`, with :math:`J` the chain's
+    position Jacobian at :math:`q_i`, :math:`e = p_{goal} - p(q_i)`, :math:`k` = ``gain`` and
+    :math:`\nabla H` robokin's gradient of the joint-limit objective for the chain's limits.
+
+    Raises
+    ------
+    AssertionError
+        Naming the first row that differs by more than ``atol`` (rad).
+    """
+    path = as_float_array(path, "path", shape=(None, chain.n))
+    p_goal = as_float_array(p_goal, "p_goal", shape=(3,))
+    for row, (q, q_next) in enumerate(zip(path[:-1], path[1:]), start=1):
+        J = chain.position_jacobian(q)
+        J_pinv = np.linalg.pinv(J)
+        e = p_goal - chain.fk(q)[:3, 3]
+        expected = q + J_pinv @ e + (np.eye(chain.n) - J_pinv @ J) @ (gain * _gradient(q, chain.limits))
+        assert np.allclose(q_next, expected, rtol=0.0, atol=atol), (
+            f"row {row} is not q + J⁺e + N k ∇H(q) of row {row - 1}")
+
+
+
+def assert_path_figures(chain: Any, p_goal: Any, path: Any, figures: Any, objective: Any,
+                        projector: Any) -> None:
+    r"""Assert the figures of Task 4 along a path against the given functions, run again.
+
+    Parameters
+    ----------
+    chain : robokin chain
+        Its ``fk``, ``position_jacobian`` and ``limits``.
+    p_goal : array_like, shape (3,)
+        The goal of the flange (m).
+    path : array_like, shape (K, n)
+        The configurations (rad).
+    figures : dict
+        Shape (K,) each: ``"H"`` (``objective(q)``), ``"error"`` (the flange's distance from
+        ``p_goal``, m), ``"JN"`` (the largest entry of :math:`|J\,N|`, N = ``projector(J)``)
+        and ``"distance"`` (of the joint nearest to a limit of ``chain.limits``, rad).
+    objective, projector : callable
+        ``objective(q)`` and ``projector(J)`` (the student's :math:`H` and :math:`N`).
+
+    Raises
+    ------
+    AssertionError
+        Naming the first figure that differs (``"JN"``, 0 to rounding, to 1e-12 absolute).
+    """
+    path = as_float_array(path, "path", shape=(None, chain.n))
+    p_goal = as_float_array(p_goal, "p_goal", shape=(3,))
+    lower, upper = chain.limits[:, 0], chain.limits[:, 1]
+    expected = {
+        "H": [objective(q) for q in path],
+        "error": np.linalg.norm(p_goal - chain.fk(path)[:, :3, 3], axis=1),
+        "JN": [np.abs(J @ projector(J)).max() for J in chain.position_jacobian(path)],
+        "distance": np.min(np.minimum(path - lower, upper - path), axis=1),
+    }
+    assert sorted(figures) == sorted(expected), f"figures {sorted(figures)}; expected {sorted(expected)}"
+    for name, values in expected.items():
+        rtol, atol = (1e-6, 1e-12) if name == "JN" else (1e-5, 1e-8)  # 1e-5, 1e-8: NumPy's defaults
+        assert np.allclose(figures[name], values, rtol=rtol, atol=atol), (
+            f"the figure {name} differs from its value computed again along the path")
+
+
+
+def assert_summary_of_path(chain: Any, p_goal: Any, path: Any, figures: Any) -> None:
+    r"""Assert a ``summary`` dict of Task 3 against the figures of ``path`` computed here.
+
+    The figures are computed with robokin's own tools: the forward kinematics for
+    ``error_nm``, the sum of the step lengths for ``path``, the joints' distances to
+    ``chain.limits`` for ``min_limit`` and ``end_limit``, robokin's joint-limit objective
+    (:class:`robokin.motion.JointLimitDistance`) for ``end_H``, and the chain's position
+    manipulability for ``min_w`` and ``end_w`` (the minima over the iterates after the start).
+
+    Parameters
+    ----------
+    chain : robokin chain
+        The chain of the run.
+    p_goal : array_like, shape (3,)
+        Its goal (m).
+    path : array_like, shape (k + 1, n)
+        Its iterates (rad), ``path[0]`` the start.
+    figures : dict
+        What the student's ``summary(chain, p_goal, path, objective=...)`` returned, with
+        robokin's :math:`H` for ``objective``.
+
+    Raises
+    ------
+    AssertionError
+        Naming the first figure that differs.
+    """
+    from robokin.motion import JointLimitDistance
+
+    path = as_float_array(path, "path", shape=(None, chain.n))
+    p_goal = as_float_array(p_goal, "p_goal", shape=(3,))
+    lower, upper = chain.limits[:, 0], chain.limits[:, 1]
+    near = np.array([min(np.min(q - lower), np.min(upper - q)) for q in path])
+    w = chain.manipulability(path, position_only=True)
+    expected = {
+        "iterations": len(path) - 1,
+        "error_nm": 1e9 * np.linalg.norm(p_goal - chain.fk(path[-1])[:3, 3]),
+        "path": np.linalg.norm(np.diff(path, axis=0), axis=1).sum(),
+        "min_limit": near[1:].min(),
+        "end_limit": near[-1],
+        "end_H": JointLimitDistance(chain.limits).value(path[-1]),
+        "min_w": w[1:].min(),
+        "end_w": w[-1],
+    }
+    assert figures["iterations"] == expected["iterations"], (
+        f"iterations is {figures['iterations']}; the path has {expected['iterations']} steps")
+    for name, value in expected.items():
+        assert np.isclose(figures[name], value), f"{name} is {figures[name]}; expected {value:.6g}"
+
+
 #: check -> {robokin (or SciPy) function that solves its task: how the review report names it}
 #: (an answer that hands one back is flagged for review by hand).
 DELEGATION = {
     "weighted_pinv": {"reference_weighted_pinv": "robokin.check.ur10.reference_weighted_pinv"},
     "dls_step": {"reference_dls_step": "robokin.check.ur10.reference_dls_step"},
     "nullspace_projector": {"reference_nullspace_projector": "robokin.check.ur10.reference_nullspace_projector"},
-    "ik_position": {"reference_ik_position": "robokin.check.ur10.reference_ik_position"},
+    "ik_position": {"reference_ik_position": "robokin.check.ur10.reference_ik_position",
+                    "step_rules": "robokin.check.ur10.step_rules"},
     "summary": {"reference_joint_limit_objective": "robokin.check.ur10.reference_joint_limit_objective"},
     "self_motion": {"reference_nullspace_projector": "robokin.check.ur10.reference_nullspace_projector",
                     "reference_joint_limit_gradient": "robokin.check.ur10.reference_joint_limit_gradient"},
