@@ -9,7 +9,10 @@ The preprocessors of ``generate_feedback`` and the notes autograde writes
 * *Where to start* and the note under a failing test never blame an answer that
   ``robokin.check`` finds correct, an answer's "own tests" are tests of its task, a value
   computed from robokin's model is not called the student's, and the note on an error in an
-  ungraded cell quotes the line that raised.
+  ungraded cell quotes the line that raised (the cell's statement, not a line in the body of a
+  function it called);
+* a value ``robokin.check`` finds wrong because it is computed from a wrong earlier answer, while
+  its own tests pass, says that it follows from that answer.
 
 ``tests/test_nbgrader.py`` checks the pages of real graded submissions.
 """
@@ -538,3 +541,77 @@ def test_where_to_start_lists_only_the_tests_that_depend_on_each_answer():
         "depends on it. Fix it first.",
         "- `screw_axis` (Task 2): its value is wrong for robokin.check (cross_sign); the failing test "
         "task2_test1 depends on it. Fix it first."], start
+
+
+def _jacobian_notebook(jacobian_test_fails: bool):
+    """Task 2: the foot position (its test fails); Task 3: a Jacobian computed from it, and its test."""
+    nb = nbformat.v4.new_notebook()
+    nb.cells = [
+        nbformat.v4.new_markdown_cell("# Chapter"),
+        nbformat.v4.new_markdown_cell("## Task 2: the foot"),
+        code_cell("H = H_1 * H_2\nr_foot = H[:3, 3]", "task2_answer1", solution=True, task=2, count=1),
+        code_cell("assert r_foot == model", "task2_test1", grade=True, task=2, count=2,
+                  outputs=[_error("AssertionError", 2, 1)]),
+        nbformat.v4.new_markdown_cell("## Task 3: the Jacobian"),
+        code_cell("J_sym = r_foot.jacobian(q_sym)\nJ_lift = J_sym.subs(at_lift)\nv_up = [0, 0, 1]",
+                  "task3_answer1", solution=True, task=3, count=3),
+        code_cell("assert J_sym == r_foot.jacobian(q_sym) and J_lift == J_sym.subs(at_lift)", "task3_test1",
+                  grade=True, task=3, count=4,
+                  outputs=[_error("AssertionError", 4, 1)] if jacobian_test_fails else []),
+    ]
+    wrong = [("r_foot", 2, "leg.foot"), ("J_sym", 3, "leg.jacobian"), ("J_lift", 3, "leg.jacobian_at"),
+             ("v_up", 3, "leg.up")]
+    resources = {"robokin": {
+        "pairs": [(task, check, name) for name, task, check in wrong],
+        "verdicts": [{"quantity": name, "check": check, "status": "wrong", "typical": True,
+                      "diagnosis": "transpose", "message": f"✘ {name} is not correct"}
+                     for name, _, check in wrong],
+        "causes": {"2|own test task2_test1 failed": {"task": 2, "why": "own test task2_test1 failed",
+                                                     "names": ["r_foot"], "tests": ["task2_test1"]}},
+        "incidents": []}}
+    return _findings(nb, resources)
+
+
+def _findings(nb, resources) -> list[str]:
+    """The lines of the report's *What robokin.check says about your answers*."""
+    from tools.grading.robokin_nbgrader import AutograderReport
+
+    report = AutograderReport().preprocess(nb, resources)[0].cells[0].source
+    return report.split("**What `robokin.check` says about your answers**")[1].split("**")[0].strip().splitlines()
+
+
+def test_a_value_computed_from_a_wrong_earlier_answer_follows_from_it():
+    """``J_sym`` and ``J_lift`` are computed from the wrong ``r_foot`` of Task 2 and Task 3's test of
+    them passes: their ✘ says they follow from ``r_foot``, with no typical mistake of their own;
+    ``v_up``, which uses nothing of Task 2, and ``r_foot`` itself keep their own verdicts."""
+    findings = _jacobian_notebook(jacobian_test_fails=False)
+    follows = " *(follows from your `r_foot` (Task 2); its own tests pass)*"
+    assert findings == [
+        "- Task 2: ✘ r_foot is not correct *(typical mistake: transpose)*",
+        "- Task 3: ✘ J_sym is not correct" + follows,
+        "- Task 3: ✘ J_lift is not correct" + follows,
+        "- Task 3: ✘ v_up is not correct *(typical mistake: transpose)*",
+    ], findings
+
+
+def test_a_value_whose_own_test_fails_does_not_follow_from_an_earlier_answer():
+    """Task 3's test of ``J_sym`` and ``J_lift`` fails: they may be wrong on their own, and the page
+    says nothing more."""
+    findings = _jacobian_notebook(jacobian_test_fails=True)
+    assert not any("follows from" in line for line in findings), findings
+    assert "- Task 3: ✘ J_sym is not correct *(typical mistake: transpose)*" in findings, findings
+
+
+def test_an_error_in_a_function_of_the_cell_quotes_the_statement_that_called_it():
+    """The traceback's first frame in the cell is the statement that ran: the call, not the function's
+    ``def`` (whose body raised)."""
+    from tools.grading.robokin_nbgrader.cells import cell_label, failing_line
+
+    cell = code_cell("def velocity(v):\n    return solve(J, v)\n\n\ndq = velocity(v_cmd)", "task3_answer1",
+                     solution=True, task=3, count=7)
+    error = {"output_type": "error", "ename": "LinAlgError", "evalue": "Singular matrix",
+             "traceback": ["Cell In[7], line 5\n----> 5 dq = velocity(v_cmd)",
+                           "Cell In[7], line 2, in velocity(v)\n----> 2     return solve(J, v)",
+                           "LinAlgError: Singular matrix"]}
+    assert failing_line(cell, error) == 5
+    assert cell_label(cell, failing_line(cell, error)) == "In [7], line 5, `dq = velocity(v_cmd)`"

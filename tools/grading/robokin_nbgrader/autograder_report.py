@@ -1,8 +1,9 @@
 """``AutograderReport`` (autograde, after ``SaveAutoGrades``).
 
 A markdown cell on top of the graded notebook (and so of the feedback): the score per task, what
-``robokin.check`` found, and what went wrong outside the tests (a cell that raised, a cell that
-timed out, a test cell that was deleted).
+``robokin.check`` found (a value found wrong that follows from a wrong earlier answer, while its own
+tests pass, says so: :func:`follows_from`), and what went wrong outside the tests (a cell that
+raised, a cell that timed out, a test cell that was deleted).
 """
 
 from __future__ import annotations
@@ -13,8 +14,11 @@ from nbformat.notebooknode import from_dict
 from nbgrader import utils
 from nbgrader.preprocessors import NbGraderPreprocessor
 
+from tools.notebook_analysis import defined_names
+
 from .cells import cell_label, failing_line, markdown_line, task_of
 from .checks import called_as
+from .failure_notes import cell_kinds, error_outputs, trace
 
 
 #: What nbgrader writes into a test cell it put back (``OverwriteCells.missing_cell_transform``).
@@ -54,12 +58,19 @@ class AutograderReport(NbGraderPreprocessor):
 
         verdicts = report.get("verdicts") or []
         pairs = report.get("pairs") or []
+        # the answers found wrong: by a check, or as the cause of a failing test
+        wrong = {v["quantity"] for v in verdicts if v["status"] == "wrong"} | set(report.get("wrong") or {})
+        wrong |= {name for cause in (report.get("causes") or {}).values() for name in cause["names"]}
         findings = []
         for (task, _, _), v in zip(pairs, verdicts):
             lost = scores.get(task, [1, 1])[0] < scores.get(task, [1, 1])[1]
             if v["status"] == "wrong" or (v["status"] == "missing" and lost):
                 tag = f" *(typical mistake: {v['diagnosis']})*" if v["typical"] else ""
                 text = v["message"] if v["status"] == "wrong" else f"✘ {v['message']}"
+                earlier = follows_from(nb, v["quantity"], wrong) if v["status"] == "wrong" else []
+                if earlier:   # its own tests pass: the value is wrong because an earlier answer is
+                    named = ", ".join(f"`{name}` (Task {task_of(nb.cells[cell])})" for name, cell in earlier)
+                    tag = f" *(follows from your {named}; its own tests pass)*"
                 called = called_as(v)
                 where = f" {markdown_line(called)}" if called else ""
                 findings.append(f"- Task {task}{where}: {markdown_line(text)}{tag}")
@@ -148,6 +159,48 @@ def _merge_own_tests(reasons: list[str], order: dict) -> list[str]:
     own.sort(key=lambda t: order.get(t, len(order)))
     merged = [f"own test{'s' if len(own) > 1 else ''} {', '.join(own)} failed"] if own else []
     return merged + others
+
+
+def follows_from(nb, name: str, wrong: set[str]) -> list[tuple[str, int]]:
+    """``[(answer, its cell)]``: the answers of earlier answer cells among ``wrong`` that the
+    student's answer ``name`` is computed from (traced through the statements of its answer cell),
+    when the tests of its task that read ``name`` all passed (one at least); else ``[]``.
+
+    Such a value is wrong because of them: the tests of its task, which grade it against the
+    student's own earlier answers, find its own step right. The report says so next to
+    ``robokin.check``'s ✘, instead of a typical mistake of its own."""
+    if not name.isidentifier():
+        return []
+    kinds = cell_kinds(nb)
+    home = _answer_cell(kinds, len(kinds), name)
+    if home is None:
+        return []
+    # the answer cell read as plain code: its name then has the answers of earlier cells as roots
+    binding = trace(kinds[:home] + [("code", kinds[home][1]), ("code", name)])[-1].get(name)
+    roots = sorted(binding.roots - {name}) if binding is not None else []
+    earlier = [(root, cell) for root, cell in ((r, _answer_cell(kinds, home, r)) for r in roots)
+               if root in wrong and cell is not None]
+    if not earlier:
+        return []
+    task = task_of(nb.cells[home])
+    reads = trace(kinds)
+    tests = [cell for index, cell in enumerate(nb.cells)
+             if index > home and cell.cell_type == "code" and utils.is_grade(cell) and task_of(cell) == task
+             and any(name in b.roots for b in reads[index].values())]
+    # no test of it, or one that failed: it may be wrong on its own
+    return earlier if tests and not any(error_outputs(cell) for cell in tests) else []
+
+
+def _answer_cell(kinds: list[tuple[str, str]], before: int, name: str) -> int | None:
+    """The index of the last answer cell before ``before`` that binds ``name``, if any."""
+    found = None
+    for index, (kind, code) in enumerate(kinds[:before]):
+        try:
+            if kind == "answer" and name in defined_names(code):
+                found = index
+        except SyntaxError:
+            continue
+    return found
 
 
 def _num(x: float) -> str:

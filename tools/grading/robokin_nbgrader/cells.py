@@ -66,12 +66,14 @@ def visible_source(source: str) -> str:
 
 
 def failing_line(cell, error) -> int | None:
-    """The line (from 1) of ``cell`` at which its error output ``error`` was raised, if its traceback says."""
+    """The line (from 1) of ``cell`` at which its error output ``error`` was raised, if its traceback says:
+    the statement of the cell that was running (the traceback's first frame in it), not a line in the
+    body of a function of the cell that the statement called."""
     text = ANSI.sub("", "\n".join(error.get("traceback", [])))
     count = cell.get("execution_count")
     found = [int(line) for number, line in re.findall(r"Cell In\[(\d+)\], line (\d+)", text)
              if str(number) == str(count)]
-    return found[-1] if found and 0 < found[-1] <= len(cell.source.splitlines()) else None
+    return found[0] if found and 0 < found[0] <= len(cell.source.splitlines()) else None
 
 
 def cell_label(cell, line: int | None = None) -> str:

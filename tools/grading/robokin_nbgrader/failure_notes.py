@@ -26,7 +26,7 @@ from .cells import ANSI, hidden_lines, robokin_metadata, task_of, visible_source
 from .checks import BUILTIN_NAMES, TYPE_PROBE, called_as, identifier_names
 
 
-def _cell_kinds(nb) -> list[tuple[str, str]]:
+def cell_kinds(nb) -> list[tuple[str, str]]:
     """``(kind, source)`` of every cell for ``notebook_analysis.trace``: the student's answer
     cells are ``"answer"``, other code cells (given, tests, the student's own) ``"code"``."""
     out = []
@@ -38,7 +38,8 @@ def _cell_kinds(nb) -> list[tuple[str, str]]:
     return out
 
 
-def _errors(cell) -> list:
+def error_outputs(cell) -> list:
+    """The error outputs of the code cell ``cell`` (none if it ran through)."""
     return [o for o in cell.get("outputs", []) if o.get("output_type") == "error"]
 
 
@@ -94,7 +95,7 @@ class FailureNotes:
             return
         self._analysed = True
         line = self.line = self._failing_line(error)
-        kinds = _cell_kinds(self.nb)[: self.index]
+        kinds = cell_kinds(self.nb)[: self.index]
         self.statement = statement_at(self.cell.source, line) if line else ""
         if line and self.statement:
             first, _ = statement_span(self.cell.source, line)
@@ -129,8 +130,8 @@ class FailureNotes:
         helpers = _helpers(kinds)
         for name in sorted(self.roots - set(correct)):
             cell = self.answer_cell.get(name)
-            if cell is not None and _errors(self.nb.cells[cell]):
-                error = _errors(self.nb.cells[cell])[0]
+            if cell is not None and error_outputs(self.nb.cells[cell]):
+                error = error_outputs(self.nb.cells[cell])[0]
                 count = self.nb.cells[cell].get("execution_count")
                 where = f" In [{count}]" if count else ""
                 why[name] = f"answer cell{where} raised {error.get('ename')}"
@@ -139,7 +140,7 @@ class FailureNotes:
             task = task_of(self.nb.cells[cell]) if cell is not None else None
             for j in range(cell + 1 if cell is not None else 0, self.index):
                 other = self.nb.cells[j]
-                if other.cell_type == "code" and utils.is_grade(other) and _errors(other) \
+                if other.cell_type == "code" and utils.is_grade(other) and error_outputs(other) \
                         and task_of(other) == task:   # a test of another task is not its own
                     # a function the test reaches only through the body of a function of its cell,
                     # or through a value computed by calling it there, is not on trial there:
