@@ -140,6 +140,8 @@ ANSWERS: dict[str, dict[str, str]] = {
     "rpy_difference": {"pose_error.representation": "robokin.motion.pose_error(..., representation=...)"},
     # chapter 7, Task 5: the conditions under which two branches meet, not ur10_ik's singular flags
     "coinciding_branches": {"ur10_ik": "robokin.models.ur10_ik", "ur10_ik_batch": "robokin.models.ur10_ik_batch"},
+    # chapter 2, Task 2 (d): the three step rules written on the parts, not the tests' helper
+    "STEPS": {"step_rules": "robokin.check.ur10.step_rules"},
 }
 
 
