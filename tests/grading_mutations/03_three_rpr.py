@@ -129,6 +129,35 @@ A0 = inverse_jacobian(POSE0)
 J0 = np.linalg.inv(A0)
 """
 
+_TWIN_TRANSPOSED = """
+def twin_pose(pose, robot=robot):
+    x, y, phi = pose
+    c, s = math.cos(phi), math.sin(phi)
+    return np.array([-(c * x - s * y), -(s * x + c * y), -phi])  # -R(phi) (x, y)
+"""
+
+_TWIN_A1_AT_ORIGIN = """
+def twin_pose(pose, robot=robot):
+    x, y, phi = pose
+    c, s = math.cos(phi), math.sin(phi)
+    return np.array([-(c * x + s * y), s * x - c * y, -phi])  # -R(phi)^T (x, y): B1 - A1 with A1 = 0
+"""
+
+_TWIN_FROM_ROBOKIN = """
+def twin_pose(pose, robot=robot):
+    pose = np.asarray(pose, dtype=float)
+    modes = robot.forward_kinematics(robot.inverse_kinematics(pose)).poses  # robokin's solver
+    return modes[np.argmin(np.abs(np.angle(np.exp(1j * (modes[:, 2] + pose[2])))))]
+"""
+
+_TWIN_FROM_THE_EXERCISE_ROBOT = """
+def twin_pose(pose, robot=robot):
+    pose = np.asarray(pose, dtype=float)
+    exercise = three_rpr()  # the exercise's robot, whatever robot is given
+    modes = exercise.forward_kinematics(exercise.inverse_kinematics(pose)).poses
+    return modes[np.argmin(np.abs(np.angle(np.exp(1j * (modes[:, 2] + pose[2])))))]
+"""
+
 _PIVOT_AT_B1 = """
 pivot = np.asarray(pose_s[:2], dtype=float).copy()  # the platform's reference point
 """
@@ -164,16 +193,26 @@ MUTATIONS = {
          "twin_coefficients = {3, 5}"),
         ("every vanishing coefficient blamed on the twin (C_0 is D's factor t^2)",
          "twin_coefficients = {0, 1, 3, 5}"),
-        ("the twin pose taken as the mirror image (x, -y, -phi)",
-         "def twin_pose(pose):\n    return np.array([pose[0], -pose[1], -pose[2]])\n"),
+        ("k counted from the highest power (Poly.all_coeffs() order)",
+         "vanishing_coefficients = {1, 3, 5, 6}"),
     ],
     "task2_test3": [
+        ("the twin pose taken as the mirror image (x, -y, -phi)",
+         "def twin_pose(pose, robot=robot):\n    return np.array([pose[0], -pose[1], -pose[2]])\n"),
+        ("the twin's position turned by R(phi) instead of R(phi)^T", _TWIN_TRANSPOSED),
+        ("the exercise's closed form, A1 taken at the origin whatever robot is given",
+         _TWIN_A1_AT_ORIGIN),
+        ("twin_pose hands the task to robokin's forward_kinematics", _TWIN_FROM_ROBOKIN),
+        ("twin_pose from robokin's forward kinematics of the exercise's robot, whatever robot "
+         "it is given", _TWIN_FROM_THE_EXERCISE_ROBOT),
+    ],
+    "task2_test4": [
         ("Delta without the conjugates", _CRAMER_NO_CONJUGATE),
         ("w itself returned (no Cramer's rule)", _CRAMER_REAL_FORM),
         ("the powers of the real form (order 2 each)", "N_powers, Delta_powers = (-2, 2), (-2, 2)"),
         ("the naive count of harmonics: order 4, degree 8", "highest_harmonic = 4"),
     ],
-    "task2_test4": [
+    "task2_test5": [
         ("the mirror modes -phi dropped",
          "modes0 = my_fk(rho0)[2:]"),
         ("the orientation dropped from the modes", _MODES_WITHOUT_ANGLE),
@@ -183,7 +222,7 @@ MUTATIONS = {
          "_my_fk_right = my_fk\n\ndef my_fk(rho, robot=robot, F=F_of_phi):\n"
          "    return _my_fk_right(rho)\n"),
     ],
-    "task2_test5": [
+    "task2_test6": [
         ("F without the factor det(M)^2 on rho1^2", _F_WITHOUT_D),
         ("F_of_phi from robokin's orientation polynomial", _F_FROM_ROBOKIN),
         ("F_of_phi with + rho1^2 D^2", _F_SIGN),

@@ -162,9 +162,10 @@ rho0 = ik(POSE0)
 '''),
         "task2_answer1": ("the twin pose through complex numbers, w' = -conj(z) w", '''
 
-def twin_pose(pose):  # written another way: B1 - A1 as a complex number w, z = e^(i phi)
-    w = complex(pose[0], pose[1]) * -np.exp(-1j * pose[2])
-    return np.array([w.real, w.imag, -pose[2]])
+def twin_pose(pose, robot=robot):  # written another way: B1 - A1 as a complex number w, z = e^(i phi)
+    a1 = complex(*robot.base_anchors[0])
+    twin = a1 - np.exp(-1j * pose[2]) * (complex(pose[0], pose[1]) - a1)
+    return np.array([twin.real, twin.imag, -pose[2]])
 '''),
         "task2_answer2": ("modes with phi in [0, 2 pi), N and Delta both times z", '''
 
