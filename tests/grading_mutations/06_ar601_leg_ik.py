@@ -180,18 +180,40 @@ MUTATIONS = {
     ],
     "task5_test1": [
         ("solutions counted within the joint limits only",
-         "n_solutions = np.array([\n"
-         "    int(np.sum(leg.within_limits(my_leg_ik(transform(np.eye(3), [0.0, 0.0, -h])))))\n"
-         "    for h in heights\n"
-         "])"),
+         "_sweep_right = sole_sweep\n\n"
+         "def sole_sweep(heights, leg_ik=my_leg_ik):\n"
+         "    counts, sigmas = _sweep_right(heights, leg_ik)\n"
+         "    inside = [int(np.sum(leg.within_limits(np.reshape(\n"
+         "        leg_ik(transform(np.eye(3), [0.0, 0.0, -h])), (-1, 6))))) for h in heights]\n"
+         "    return np.array(inside), sigmas"),
         ("the largest singular value taken for the smallest",
-         "sigma_largest = []\n"
-         "for h in heights:\n"
-         "    Q = my_leg_ik(transform(np.eye(3), [0.0, 0.0, -h]))\n"
-         "    sigma_largest.append(leg.singular_values(Q[0])[0] if len(Q) else np.nan)\n"
-         "sigma_min = np.array(sigma_largest)"),
+         "def sole_sweep(heights, leg_ik=my_leg_ik):\n"
+         "    counts, sigmas = [], []\n"
+         "    for h in heights:\n"
+         "        Q = leg_ik(transform(np.eye(3), [0.0, 0.0, -h]))\n"
+         "        counts.append(len(Q))\n"
+         "        sigmas.append(leg.singular_values(Q[0])[0] if len(Q) else np.nan)\n"
+         "    return np.array(counts), np.array(sigmas)"),
+        ("my_leg_ik called directly: the argument leg_ik ignored",
+         "_sweep_right = sole_sweep\n\n"
+         "def sole_sweep(heights, leg_ik=my_leg_ik):\n"
+         "    return _sweep_right(heights, my_leg_ik)"),
+        ("the sole put above the hip (+h)",
+         "_sweep_right = sole_sweep\n\n"
+         "def sole_sweep(heights, leg_ik=my_leg_ik):\n"
+         "    return _sweep_right(-np.asarray(heights), leg_ik)"),
         ("every row of the stretched leg counted as a different solution",
-         "stretched_different = len(stretched)"),
+         "def different_solutions(Q):\n"
+         "    return len(Q)\n\n"
+         "stretched_different = different_solutions(stretched)"),
+        ("rows compared without wrapping: full turns counted as different solutions",
+         "def different_solutions(Q):\n"
+         "    kept = []\n"
+         "    for q in Q:\n"
+         "        if all(np.abs(q - other).max() > 1e-9 for other in kept):\n"
+         "            kept.append(q)\n"
+         "    return len(kept)\n\n"
+         "stretched_different = different_solutions(stretched)"),
     ],
     "task5_test2": [
         ("q2 = pi/4: no gimbal lock, and the family moves q2 too",

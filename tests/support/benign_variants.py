@@ -516,6 +516,26 @@ def knee_angle(d, l1_=L1, l2_=L2):  # written another way: pi minus the interior
 
 d_goal = float(np.sqrt(np.sum(ankle_point(T_goal) ** 2)))
 '''),
+        "task5_answer1": ("the sweep as one comprehension per array, the different rows by "
+                          "pairwise differences", '''
+
+def sole_sweep(heights, leg_ik=my_leg_ik):  # written another way: all solutions first
+    solutions = [np.reshape(leg_ik(transform(np.eye(3), [0, 0, -h])), (-1, 6)) for h in heights]
+    counts = np.array([Q.shape[0] for Q in solutions], dtype=int)
+    smallest = np.array([np.linalg.svd(leg.jacobian(Q[0]), compute_uv=False).min()
+                         if Q.shape[0] else float("nan") for Q in solutions])
+    return counts, smallest
+
+
+def different_solutions(Q):  # written another way: a row counts unless an earlier one is it
+    Q = np.reshape(Q, (-1, 6))
+    gaps = np.abs(np.angle(np.exp(1j * (Q[:, None, :] - Q[None, :, :])))).max(axis=2)
+    return int(sum(not np.any(gaps[k, :k] <= 1e-9) for k in range(len(Q))))
+
+
+n_solutions, sigma_min = sole_sweep(heights)
+stretched_different = different_solutions(stretched)
+'''),
     },
 }
 
