@@ -58,6 +58,7 @@ CORRECT = {
     "leg_torques": leg_by_energy,
     "velocity_ellipse": velocity_by_eigh,
     "force_ellipse": force_by_eigh,
+    "force_from_velocity": lambda radii_v, axes_v: (1 / radii_v[::-1], axes_v[:, ::-1]),
     "manipulability": lambda J: math.sqrt(np.linalg.det(J @ J.T)),
     "w_formula": lambda q2, l1, l2: abs(l1 * l2 * math.sin(q2)),
     "condition_number": lambda J: np.linalg.cond(J),
@@ -110,6 +111,12 @@ WRONG = [
     ("force_ellipse", lambda J: force_by_eigh(J.T), "jacobian_not_transposed"),
     ("force_ellipse", lambda J: (force_by_eigh(J)[0], force_by_eigh(J)[1][:, ::-1]), "axes_not_reordered"),
     ("force_ellipse", lambda J: (force_by_eigh(J)[0][::-1], force_by_eigh(J)[1]), "axes_not_reordered"),
+    ("force_from_velocity", lambda r, a: (r, a), "not_inverted"),
+    ("force_from_velocity", lambda r, a: (r[::-1], a[:, ::-1]), "not_inverted"),
+    ("force_from_velocity", lambda r, a: (1 / r, a), "ascending"),
+    ("force_from_velocity", lambda r, a: (1 / r[::-1], a), "axes_not_reordered"),
+    ("force_from_velocity", lambda r, a: (1 / r, a[:, ::-1]), "axes_not_reordered"),
+    ("force_from_velocity", lambda r, a: (1 / r[::-1] ** 2, a[:, ::-1]), "squared"),
     ("manipulability", lambda J: np.linalg.det(J @ J.T), "squared"),
     ("w_formula", lambda q2, l1, l2: l1 * l2 * math.sin(q2), "absolute_value"),
     ("w_formula", lambda q2, l1, l2: (l1 * l2 * math.sin(q2)) ** 2, "squared"),
@@ -152,6 +159,10 @@ def test_ellipse_answers_of_the_wrong_form():
     assert not r.passed
     r = chk.force_ellipse(np.eye(2), quiet=True)
     assert not r.passed and "function" in r.message
+    r = chk.force_from_velocity(lambda J: force_by_eigh(J), quiet=True)  # given J, not the ellipse
+    assert not r.passed and r.diagnosis == "error" and "force_from_velocity" in r.message
+    r = chk.force_from_velocity(lambda r, a: r, quiet=True)
+    assert not r.passed and r.diagnosis == "shape" and "pair (radii, axes)" in r.message
 
 
 def test_unknown_mistake_is_a_mismatch():

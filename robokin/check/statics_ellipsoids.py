@@ -13,6 +13,7 @@ check                    the student's answer                                   
                          on its foot, N·m
 ``velocity_ellipse``     (radii, axes) of {J q̇ : ‖q̇‖ ≤ 1}, radii descending         J (2×2)
 ``force_ellipse``        (radii, axes) of {F : ‖Jᵀ F‖ ≤ 1}, radii descending        J (2×2)
+``force_from_velocity``  the force ellipse from the velocity ellipse alone          radii_v, axes_v
 ``manipulability``       w(J) = √det(J Jᵀ)                                          J (2×2)
 ``w_formula``            w of the two-link arm in closed form, f(q2, l1, l2)        q2, l1, l2
 ``condition_number``     κ(J) = σ_max / σ_min                                       J (2×2)
@@ -54,6 +55,7 @@ __all__ = [
     "LINKS",
     "condition_number",
     "force_ellipse",
+    "force_from_velocity",
     "joint_torques",
     "leg_torques",
     "manipulability",
@@ -139,9 +141,9 @@ class _EllipseCheck(MatrixArgumentsCheck):
     """A check of a function ``f(J) -> (radii, axes)``, compared in canonical form (``pack``)."""
 
     def evaluate(self, answer: Any) -> CheckResult:
-        if callable(answer) and not isinstance(answer, np.ndarray):
+        if callable(answer) and not isinstance(answer, np.ndarray) and self.arguments is not None:
             try:   # the form of the pair, told as such (not as an error raised by the answer)
-                _canonical(answer(_jacobian(self.sample_points()[0])), self.name)
+                _canonical(answer(*self.arguments(self.sample_points()[0])), self.name)
             except AnswerError as exc:
                 return self._fail(exc.code, exc.message, 1)
             except Exception:  # noqa: BLE001 - the evaluation below reports the student's error
@@ -185,7 +187,7 @@ def _pair(radii: np.ndarray, axes: np.ndarray) -> np.ndarray:
     return np.concatenate([radii, _signed(axes).ravel()])
 
 
-def _ellipse_mistakes(force: bool) -> list:
+def _ellipse_mistakes(force: bool, from_velocity: bool = False) -> list:
     def make(transform: Callable[[np.ndarray, np.ndarray, np.ndarray], tuple]) -> Callable:
         def mistaken(x: np.ndarray) -> np.ndarray:
             return _pair(*transform(*_svd(x)))
@@ -198,6 +200,11 @@ def _ellipse_mistakes(force: bool) -> list:
         "{name} orders the radii and the axes differently: column i of the axes must be the axis "
         "of radii[i]. Sort the eigenvectors with the same index as the eigenvalues "
         "(order = np.argsort(...); radii[order], axes[:, order]).")
+    if from_velocity:
+        unpaired = (
+            "{name} orders the radii and the axes differently: column i of the axes must be the "
+            "axis of radii[i], so reversing the order of the radii reverses the columns of the "
+            "axes too.")
     squared = (
         "{name} returns squared lengths: the eigenvalues of J Jᵀ are σ_i², the semi-axes are "
         "their square roots σ_i" + (", and the force ellipse's are 1/σ_i." if force else ".")
@@ -224,11 +231,13 @@ def _ellipse_mistakes(force: bool) -> list:
                 (make(lambda U, s, V: (rev(1 / s), U)), unpaired),
                 (make(lambda U, s, V: (1 / s, rev(U))), unpaired),
             ]),
-            alternatives("jacobian_not_transposed", [(make(lambda U, s, V: (rev(1 / s), rev(V))), (
-                "the axes of {name} are the eigenvectors of Jᵀ J (joint space), as if J and Jᵀ were "
-                "swapped: the force ellipse lies in the task space, with the eigenvectors of J Jᵀ "
-                "(the left singular vectors u_i of J)."))]),
         ]
+        if not from_velocity:  # (no J to transpose: the answer is given the velocity ellipse)
+            items.append(alternatives("jacobian_not_transposed", [(
+                make(lambda U, s, V: (rev(1 / s), rev(V))), (
+                    "the axes of {name} are the eigenvectors of Jᵀ J (joint space), as if J and Jᵀ "
+                    "were swapped: the force ellipse lies in the task space, with the eigenvectors "
+                    "of J Jᵀ (the left singular vectors u_i of J)."))]))
     else:
         items = [
             alternatives("squared", [
@@ -257,22 +266,36 @@ def _one_jacobian(x: np.ndarray) -> tuple[np.ndarray]:
     return (_jacobian(x),)
 
 
-def _ellipse_check(name: str, force: bool, doc: str) -> _EllipseCheck:
+def _velocity_pair(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The velocity ellipse ``(radii_v, axes_v)`` of the arm's Jacobian at ``x``, from NumPy's SVD."""
+    U, sigma, _ = np.linalg.svd(_jacobian(x))
+    return sigma, U
+
+
+def _ellipse_check(name: str, force: bool, doc: str, from_velocity: bool = False) -> _EllipseCheck:
     def reference(x: np.ndarray) -> np.ndarray:
         U, s, _ = _svd(x)
         return _pair(1.0 / s[::-1], U[:, ::-1]) if force else _pair(s, U)
 
+    arguments: Callable[[np.ndarray], tuple]
+    if from_velocity:
+        arguments, signature, noun = (_velocity_pair, f"{name}(radii_v, axes_v) -> (radii (m,), axes (m, m))",
+                                      "velocity ellipses of the arm")
+        hint = "the velocity ellipse's axes in reverse order, with the reciprocal radii 1/σ_i, descending"
+    else:
+        arguments, signature, noun = _one_jacobian, f"{name}(J) -> (radii (m,), axes (m, m))", "Jacobians of the arm"
+        hint = ("radii 1/σ_i descending, axes u_i (columns) from J = U Σ Vᵀ" if force
+                else "radii σ_i descending, axes u_i (columns) from J = U Σ Vᵀ")
     return _EllipseCheck(
         name=name,
         reference=reference,
         variables=_Q,
-        diagnoses=_ellipse_mistakes(force),
-        noun="Jacobians of the arm",
-        arguments=_one_jacobian,
-        signature=f"{name}(J) -> (radii (m,), axes (m, m))",
+        diagnoses=_ellipse_mistakes(force, from_velocity),
+        noun=noun,
+        arguments=arguments,
+        signature=signature,
         pack=partial(_canonical, name=name),
-        hint=("radii 1/σ_i descending, axes u_i (columns) from J = U Σ Vᵀ" if force
-              else "radii σ_i descending, axes u_i (columns) from J = U Σ Vᵀ"),
+        hint=hint,
         doc=doc,
     )
 
@@ -385,6 +408,14 @@ force_ellipse = exercise(_CHAPTER, "force_ellipse", _ellipse_check(
     "force_ellipse", True,
     ("Check force_ellipse(J) -> (radii, axes): the semi-axes' lengths in descending order and "
      "the unit axes as columns, compared with the reference at 20 random Jacobians of the arm."),
+))
+
+force_from_velocity = exercise(_CHAPTER, "force_from_velocity", _ellipse_check(
+    "force_from_velocity", True,
+    ("Check force_from_velocity(radii_v, axes_v) -> (radii, axes): the force ellipse of a Jacobian "
+     "from its velocity ellipse alone (radii descending, unit axes as columns), compared with the "
+     "reference at the velocity ellipses (NumPy's SVD) of 20 random Jacobians of the arm."),
+    from_velocity=True,
 ))
 
 

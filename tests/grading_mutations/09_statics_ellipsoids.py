@@ -63,10 +63,17 @@ MUTATIONS = {
         ("the inverted lengths on the velocity ellipse's axes in their order",
          "force_ellipse = (lambda f: lambda J, velocity_ellipse=velocity_ellipse: "
          "(f(J, velocity_ellipse)[0], f(J, velocity_ellipse)[1][:, ::-1]))(force_ellipse)"),
+    ],
+    "task3_test2": [
         ("force_from_velocity: the velocity ellipse unchanged",
          "force_from_velocity = lambda radii_v, axes_v: (radii_v, axes_v)"),
         ("force_from_velocity: 1/sigma in the velocity ellipse's order",
          "force_from_velocity = lambda radii_v, axes_v: (1 / np.asarray(radii_v), axes_v)"),
+        ("force_from_velocity: the radii reversed, the axes left in their order",
+         "force_from_velocity = lambda radii_v, axes_v: (1 / np.asarray(radii_v)[::-1], axes_v)"),
+        ("force_from_velocity: 1/sigma^2",
+         "force_from_velocity = lambda radii_v, axes_v: "
+         "(1 / np.asarray(radii_v)[::-1] ** 2, np.asarray(axes_v)[:, ::-1])"),
     ],
     "task4_test1": [
         ("det(J J^T) without the square root",
@@ -187,12 +194,14 @@ def velocity_ellipse(J):
     left, singular_values, _ = np.linalg.svd(np.asarray(J, dtype=float))
     return singular_values, left
 """),
-    "task3_answer1": ("the eigen-decomposition of the force ellipse's own matrix J J^T", """
+    "task3_answer1": ("the force ellipse on the velocity ellipse passed in; from the velocity "
+                      "ellipse alone by an eigen-decomposition of J J^T rebuilt", """
 
-# written another way: |J^T F|^2 = F^T (J J^T) F; the semi-axes are 1/sqrt of its eigenvalues
-def force_ellipse(J, velocity_ellipse=velocity_ellipse):  # J J^T, not the velocity ellipse
-    values, vectors = np.linalg.eigh(np.asarray(J, dtype=float) @ np.asarray(J, dtype=float).T)
-    return 1.0 / np.sqrt(values), vectors
+# written another way: the velocity ellipse passed in, its radii inverted and reordered by argsort
+def force_ellipse(J, velocity_ellipse=velocity_ellipse):
+    radii_v, axes_v = (np.asarray(a, dtype=float) for a in velocity_ellipse(J))
+    order = np.argsort(radii_v)  # the shortest velocity axis is the longest force axis
+    return 1.0 / radii_v[order], axes_v[:, order]
 
 
 # and from the velocity ellipse alone: rebuild J J^T = A diag(r^2) A^T, then the same
