@@ -6,6 +6,7 @@
 ``execute``       nbgrader's autograde pipeline: ``BridgedExecute``, its executor (the student's kernel in a
                   sandbox, the grader kernel beside it)
 ``grader_kernel`` ``GraderKernel``: the grader kernel, in which the instructor's cells and the verdicts run
+``pictures``      which read-only cells the grader kernel runs (``skip_pictures``; nbgrader not imported)
 ``bridge_report`` nbgrader's autograde pipeline: ``BridgeReport``, what the bridge adds to the report
 ``fork_server``   grader kernels forked from a warm process (imports paid once per autograde)
 ``fork_launcher`` the command jupyter_client runs for a forked grader kernel (standard library only)

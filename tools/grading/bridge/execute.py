@@ -55,6 +55,7 @@ from traitlets.config.loader import DeferredConfig
 from tools.grading.bridge import delegation, fork_server
 from tools.grading.bridge.grader_kernel import PRELOAD, GraderKernel
 from tools.grading.bridge.grader_side import NOT_CALLED
+from tools.grading.bridge.pictures import skip_pictures
 from tools.grading.robokin_nbgrader.cells import cell_label, robokin_metadata, task_of
 from tools.grading.robokin_nbgrader.checks import VERDICT_MARK, registered_pairs
 from tools.grading.robokin_nbgrader.failure_notes import FailureNotes
@@ -602,33 +603,3 @@ class BridgedExecute(JoinedStreamsClient, Execute):
         note = from_dict({"output_type": "stream", "name": "stdout", "text": "\n".join(lines) + "\n\n"})
         position = cell.outputs.index(error)
         cell.outputs.insert(position, note)
-
-
-def skip_pictures(cells: list[dict], tags: dict[str, list[str]]) -> None:
-    """Mark the given cells the grader need not run (``item["skip"] = True``).
-
-    Parameters
-    ----------
-    cells : list of dict
-        The notebook's read-only code cells in order, each ``{"grade_id", "source", "test"}``
-        (``test``: a graded test cell).
-    tags : dict
-        The instructor's tags of each cell, by grade id.
-
-    Notes
-    -----
-    Skipped: the cells after the last test (nothing is graded there), and pictures and 3D
-    scenes (tagged ``nbval-ignore-output``, book/conventions) that define nothing a later
-    cell *the grader runs* reads. The pictures are judged from the last one back, so a
-    picture whose names only later skipped pictures read is skipped too (a drawing helper
-    read by the next figure alone).
-    """
-    tests = [i for i, item in enumerate(cells) if item["test"]]
-    for item in cells[tests[-1] + 1:] if tests else []:
-        item["skip"] = True
-    read_later: set[str] = set()   # the free names of the cells after `index` that run
-    for item in reversed(cells):
-        if not item["test"] and "nbval-ignore-output" in tags.get(item["grade_id"], []):
-            item["skip"] = item.get("skip", False) or not set(defined_names(item["source"])) & read_later
-        if not item.get("skip", False):
-            read_later |= set(free_names(item["source"]))
