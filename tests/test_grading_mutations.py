@@ -11,9 +11,11 @@ Per chapter, ``tests/grading_mutations/<notebook stem>.py`` defines::
     }
 
 keyed by the nbgrader ``grade_id`` of a test cell (``tools/authoring/nbgrader_metadata.py --list``
-shows them). The chapter's instructor notebook runs top to bottom in ONE kernel
-(``ROBOKIN_VIEWER=static``, working directory ``notebooks/``); just before the test
-cell of a ``grade_id``, for each mutation:
+shows them). The chapter's instructor notebook runs from the top to its last graded test in ONE kernel
+(``ROBOKIN_VIEWER=static``, working directory ``notebooks/``), without the cells the grader
+kernel leaves out (:func:`cells_not_run`: what follows the last test, and the pictures no later
+cell that runs reads; nbval runs them all and compares their outputs, in both tiers); just
+before the test cell of a ``grade_id``, for each mutation:
 
 1. the names the mutation binds at top level (assignments, ``def``, ``import``) are
    saved in the kernel (or noted as absent);
@@ -40,6 +42,7 @@ from pathlib import Path
 import pytest
 
 from conftest import ROOT
+from tools.grading.bridge.pictures import skip_pictures
 from tools.kernel_sockets import AsyncPrivateSocketsKernelManager
 from tools.authoring.nbgrader_metadata import chapter_notebooks
 from tools.notebook_analysis import defined_names
@@ -85,6 +88,21 @@ def graded_tests(nb: dict) -> dict[str, int]:
     return out
 
 
+def cells_not_run(nb: dict) -> set[int]:
+    """Indices of the cells the mutation run leaves out, by the grader's own rule
+    (``tools.grading.bridge.pictures.skip_pictures``), applied to every code cell of the
+    instructor's notebook: the cells after the last graded test (nothing is graded there;
+    nbval runs them and compares their outputs, in both tiers), and the pictures and 3D scenes
+    that define nothing a later cell that runs reads (the grader kernel does not run them either)."""
+    indices = [index for index, cell in enumerate(nb["cells"]) if cell["cell_type"] == "code"]
+    cells = [{"grade_id": str(index), "source": _source(nb["cells"][index]),
+              "test": bool(nb["cells"][index].get("metadata", {}).get("nbgrader", {}).get("grade"))}
+             for index in indices]
+    tags = {str(index): nb["cells"][index].get("metadata", {}).get("tags", []) for index in indices}
+    skip_pictures(cells, tags)
+    return {index for index, item in zip(indices, cells) if item.get("skip")}
+
+
 def coverage_problems(chapter: str, tests: dict[str, int], mutations: dict) -> list[str]:
     problems = [
         f"{chapter}: MUTATIONS names {grade_id!r}, which is not a graded test of the notebook "
@@ -125,10 +143,11 @@ def run_with_mutations(chapter: str, nb: dict, mutations: dict) -> list[str]:
         cell = nbformat.v4.new_code_cell(code)
         client.execute_cell(cell, index, store_history=False)
 
+    skipped = cells_not_run(nb)
     with client.setup_kernel():
         run(f"{ABSENT} = object()", 0)
         for index, cell in enumerate(notebook.cells):
-            if cell.cell_type != "code":
+            if cell.cell_type != "code" or index in skipped:
                 continue
             grade_id = cell.get("metadata", {}).get("nbgrader", {}).get("grade_id")
             if cell.get("metadata", {}).get("nbgrader", {}).get("grade"):
