@@ -195,6 +195,9 @@ MUTATIONS = {
          "twin_coefficients = {0, 1, 3, 5}"),
         ("k counted from the highest power (Poly.all_coeffs() order)",
          "vanishing_coefficients = {1, 3, 5, 6}"),
+        ("the set read off a poly_t with t^2 divided out (degree 4)",
+         "poly_t = sp.Poly(sp.cancel(poly_t.as_expr() / t**2), t)\n"
+         "vanishing_coefficients = {k for k in range(7) if poly_t.coeff_monomial(t**k) == 0}"),
     ],
     "task2_test3": [
         ("the twin pose taken as the mirror image (x, -y, -phi)",
