@@ -10,7 +10,8 @@ The preprocessors of ``generate_feedback`` and the notes autograde writes
   ``robokin.check`` finds correct, an answer's "own tests" are tests of its task, a value
   computed from robokin's model is not called the student's, and the note on an error in an
   ungraded cell quotes the line that raised (the cell's statement, not a line in the body of a
-  function it called);
+  function it called), and an answer cell that raised blames a function of the cell only when the
+  error passed through its body (else the line that raised);
 * a value ``robokin.check`` finds wrong because it is computed from a wrong earlier answer, while
   its own tests pass, says that it follows from that answer.
 
@@ -615,3 +616,49 @@ def test_an_error_in_a_function_of_the_cell_quotes_the_statement_that_called_it(
                            "LinAlgError: Singular matrix"]}
     assert failing_line(cell, error) == 5
     assert cell_label(cell, failing_line(cell, error)) == "In [7], line 5, `dq = velocity(v_cmd)`"
+
+
+def _raising_answer_page(raised_in_function: bool) -> tuple[str, str]:
+    """Task 3: an answer cell that defines ``A_unnormalised`` and raises ``DomainError`` at line 5, inside
+    ``A_unnormalised`` (called there) or inside robokin's ``condition_number``; its test fails.
+    The note under the test and the report's *Where to start*."""
+    from tools.grading.robokin_nbgrader import AutograderReport, FailureNotes
+
+    call = "A_unnormalised(P_grid)" if raised_in_function else "robot.condition_number(P_grid)"
+    frames = [f"Cell In[5], line 5\n----> 5 cond_grid = {call}"]
+    if raised_in_function:
+        frames.append("Cell In[5], line 2, in A_unnormalised(poses)\n----> 2     return robot.jacobian(poses)")
+    frames += ["File ~/robokin/parallel.py:120, in ThreeRPR.condition_number(self, poses)\n"
+               "--> 120     raise DomainError('a leg of length 0')",
+               "DomainError: a leg of length 0"]
+    error = {"output_type": "error", "ename": "DomainError", "evalue": "a leg of length 0", "traceback": frames}
+    answer = code_cell("def A_unnormalised(poses):\n    return robot.jacobian(poses)\n\n\n"
+                       f"cond_grid = {call}", "task3_answer1", solution=True, task=3, count=5, outputs=[error])
+    answer.metadata["robokin"]["role"] = "answer"
+    nb = nbformat.v4.new_notebook()
+    nb.cells = [nbformat.v4.new_markdown_cell("## Task 3: singularities"), answer,
+                code_cell("assert np.allclose(A_unnormalised(pose_t), A_ref)", "task3_test1", grade=True, task=3,
+                          count=6, outputs=[_error("AssertionError", 6, 1)])]
+    report: dict[str, Any] = {"pairs": [], "explained": {}, "incidents": []}
+    failure = nbformat.from_dict(_error("AssertionError", 6, 1))
+    notes_ = FailureNotes(nb, 2, report)
+    notes_.pairs(failure)
+    note = "\n".join(notes_.lines(failure, []))
+    page = AutograderReport().preprocess(nb, {"robokin": report})[0].cells[0].source
+    return note, page.split("**Where to start**")[1].split("**Notes")[0].strip()
+
+
+def test_an_answer_cell_that_raised_blames_the_function_only_when_its_body_raised():
+    """The error passed through ``A_unnormalised``'s body: it is the cause. The error came from robokin's
+    ``condition_number`` called on another line: that line is the cause, ``A_unnormalised`` is not."""
+    note, start = _raising_answer_page(raised_in_function=True)
+    assert "because of `A_unnormalised` (Task 3): its answer cell In [5] raised DomainError." in note, note
+    assert start == ("- `A_unnormalised` (Task 3): its answer cell In [5] raised DomainError; the failing test "
+                     "task3_test1 depends on it. Fix it first."), start
+
+    note, start = _raising_answer_page(raised_in_function=False)
+    line = "In [5], line 5, `cond_grid = robot.condition_number(P_grid)` (your answer to Task 3)"
+    assert f"because of {line}, which raised DomainError." in note, note
+    assert start == (f"- {line} raised DomainError; the failing test task3_test1 depends on that cell. "
+                     "Fix it first."), start
+    assert "A_unnormalised" not in note.split("because of")[1] and "A_unnormalised" not in start, (note, start)

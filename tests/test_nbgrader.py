@@ -29,6 +29,7 @@ of another folder instead (e.g. a copy the script was run on).
 from __future__ import annotations
 
 import copy
+import html
 import json
 import re
 import shutil
@@ -469,16 +470,19 @@ def _feedback_probe(graded, kind: str, none: str) -> tuple[Run, dict, str]:
 
 @grading_course.reads(FEEDBACK_CHAPTER)
 def test_knock_on_failure_names_the_root_cause(graded):
-    """An answer cell that raises: a later task's test that needs its names says so."""
+    """An answer cell that raises on its first line: a later task's test that needs its names says so,
+    and names that line (not the answer, whose code did not raise) as the root cause."""
     run, probe, note = _feedback_probe(graded, "knockon", "no test of a later task reads an answer of an earlier one")
     assert note, f"{FEEDBACK_CHAPTER}: {probe['test']} does not fail without {probe['name']} (Task {probe['task']})"
     cause = re.search(r"This test failed because of (.*?)\. Fix that first", note)
-    assert cause and f"`{probe['name']}`" in cause.group(1) and f"(Task {probe['task']}): " in cause.group(1) \
-        and "raised RuntimeError" in cause.group(1), (
-        f"{FEEDBACK_CHAPTER} {probe['test']}: the note does not name {probe['name']} (Task {probe['task']}), "
-        f"whose answer cell raised, as the root cause:\n{note}")
+    line = (f', line 1, `raise RuntimeError("not finished")` (your answer to Task {probe["task"]}), '
+            "which raised RuntimeError")
+    assert cause and line in cause.group(1) and f"`{probe['name']}`" not in cause.group(1), (
+        f"{FEEDBACK_CHAPTER} {probe['test']}: the note does not name the line of {probe['name']}'s answer cell "
+        f"(Task {probe['task']}) that raised as the root cause:\n{note}")
     page = run.feedback["knockon"]
-    assert "Where to start" in page and f"<code>{probe['name']}</code>" in page
+    start = html.unescape(page.split("Where to start", 1)[-1])
+    assert "Where to start" in page and 'raise RuntimeError("not finished")' in start, start[:2000]
 
 
 @grading_course.reads(FEEDBACK_CHAPTER)

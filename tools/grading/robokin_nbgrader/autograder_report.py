@@ -87,6 +87,11 @@ class AutograderReport(NbGraderPreprocessor):
         order = {cell.metadata.get("nbgrader", {}).get("grade_id"): i for i, cell in enumerate(nb.cells)}
         causes: dict[str, dict] = {}
         for cause in (report.get("causes") or {}).values():
+            if cause.get("line"):   # a line of an answer cell that raised, not in an answer's body
+                merged = causes.setdefault(cause["line"], {"task": cause["task"], "why": [], "tests": [],
+                                                           "line": True})
+                merged["why"] += [cause["why"]] if cause["why"] not in merged["why"] else []
+                merged["tests"] += [t for t in cause["tests"] if t not in merged["tests"]]
             for name in cause["names"]:
                 if name in right:
                     continue
@@ -99,6 +104,11 @@ class AutograderReport(NbGraderPreprocessor):
             for name, cause in ordered[: self.max_notes]:
                 of_task = f" (Task {cause['task']})" if cause["task"] is not None else ""
                 tests = sorted(cause["tests"], key=lambda t: order.get(t, len(order)))
+                if cause.get("line"):   # the label says where: In [5], line 7, `...` (your answer to Task 3)
+                    out.append(f"- {name} {' and '.join(markdown_line(w) for w in cause['why'])}; "
+                               f"the failing test{'s' if len(tests) > 1 else ''} {', '.join(tests)} "
+                               f"depend{'' if len(tests) > 1 else 's'} on that cell. Fix it first.")
+                    continue
                 # each reason reads after "its": "its own test … failed and its value is wrong"
                 why = " and its ".join(markdown_line(w) for w in _merge_own_tests(cause["why"], order))
                 out.append(f"- `{name}`{of_task}: its {why}; "

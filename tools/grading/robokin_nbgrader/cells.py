@@ -76,6 +76,17 @@ def failing_line(cell, error) -> int | None:
     return found[0] if found and 0 < found[0] <= len(cell.source.splitlines()) else None
 
 
+def raising_functions(cell, error) -> set[str]:
+    """The names of the functions of ``cell`` that its error output ``error`` passed through: the
+    traceback's frames in the body of a function defined in the cell (``Cell In[7], line 2, in
+    velocity(v)``), not the cell's own statement nor a frame in a module it called."""
+    text = ANSI.sub("", "\n".join(error.get("traceback", [])))
+    count = cell.get("execution_count")
+    # a method or a nested function is shown by its qualified name: ``Robot.jacobian``, ``f.<locals>.g``
+    frames = re.findall(r"Cell In\[(\d+)\], line \d+, in ([\w.<>]+)\(", text)
+    return {function.split(".")[0] for number, function in frames if str(number) == str(count)}
+
+
 def cell_label(cell, line: int | None = None) -> str:
     """``In [5] `first line` (your answer to Task 2)``; with ``line``, that line is quoted (where the
     cell raised) instead of the first -- never a line of its hidden tests."""

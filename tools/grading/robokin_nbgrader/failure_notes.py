@@ -22,7 +22,16 @@ from tools.notebook_analysis import (
 )
 from tools.notebook_analysis import trace as cell_trace
 
-from .cells import ANSI, hidden_lines, robokin_metadata, task_of, visible_source
+from .cells import (
+    ANSI,
+    cell_label,
+    failing_line,
+    hidden_lines,
+    raising_functions,
+    robokin_metadata,
+    task_of,
+    visible_source,
+)
 from .checks import BUILTIN_NAMES, TYPE_PROBE, called_as, identifier_names
 
 
@@ -59,6 +68,9 @@ class FailureNotes:
       function's body or a value computed by calling it (``S_list = ... screw_axis(...)``)
       is no suspect by that test, only by its own tests and ``robokin.check``'s verdict;
       the note says which functions of its cell computed such a value;
+    * an answer cell that raised is the cause as the line that raised (its label, ``In [5], line 7,
+      `cond = robot.condition_number(P)```) unless the error passed through the body of the answer
+      (a function of the cell): an answer is named only for an error in its own code;
     * ``robokin.check`` is asked about those answers only, and a typical mistake is
       named only for a check run on the student's value of those very names;
     * a test that fails with a wrong type (``AttributeError``, ``TypeError``, ...)
@@ -231,20 +243,7 @@ class FailureNotes:
             self.report.setdefault("wrong", {}).setdefault(name, diagnosis)
         if correct & set(self.causes) or fresh:   # right: not the cause; wrong: a cause
             self.causes = self._causes(self._kinds, correct)
-        if self.causes:
-            groups: dict[tuple, list[str]] = {}
-            for name, why in sorted(self.causes.items()):
-                groups.setdefault((self._task_of_name(name), why), []).append(name)
-            items = "; ".join(f"{self._named(names)}: {'its' if len(names) == 1 else 'their'} {why}"
-                              for (_, why), names in groups.items())
-            out.append(f"  This test failed because of {items}. Fix that first: this test may then pass.")
-            # one entry per answer and reason: a test depends on the answers of its own note only
-            record = self.report.setdefault("causes", {})
-            for (task, why), names in groups.items():
-                for name in names:
-                    entry = record.setdefault(f"{task}|{why}|{name}",
-                                              {"task": task, "why": why, "names": [name], "tests": []})
-                    entry["tests"].append(self.grade_id)
+        out += self._cause_lines()
         checked = {name for v in verdicts if v.get("status") not in ("info", "skipped")
                    for name in identifier_names(v["quantity"])}
         infos: dict[str, list[str]] = {}
@@ -304,6 +303,53 @@ class FailureNotes:
         modules = _module_names(code for kind, code in self._kinds if kind in ("answer", "code"))
         found = _cell_functions_used(self.nb.cells[binding.cell].source, modules)
         return next((calls for bound, _, calls in found if bound == name), ())
+
+    def _cause_lines(self) -> list[str]:
+        """The note's line naming the root causes (none without a cause), recorded in the run's report
+        for *Where to start*."""
+        if not self.causes:
+            return []
+        groups: dict[tuple, list[str]] = {}
+        # an answer cell that raised on a line of its own (not in the body of the answer): that line
+        raised: dict[tuple[str, str], int | None] = {}
+        for name, why in sorted(self.causes.items()):
+            line = self._line_that_raised(name)
+            if line:
+                raised.setdefault(line, self._task_of_name(name))
+            else:
+                groups.setdefault((self._task_of_name(name), why), []).append(name)
+        items = [f"{self._named(names)}: {'its' if len(names) == 1 else 'their'} {why}"
+                 for (_, why), names in groups.items()]
+        items += [f"{label}, which {why}" for label, why in raised]
+        out = [f"  This test failed because of {'; '.join(items)}. Fix that first: this test may then pass."]
+        # one entry per answer (or line) and reason: a test depends on the causes of its own note only
+        record = self.report.setdefault("causes", {})
+        for (task, why), names in groups.items():
+            for name in names:
+                entry = record.setdefault(f"{task}|{why}|{name}",
+                                          {"task": task, "why": why, "names": [name], "tests": []})
+                entry["tests"].append(self.grade_id)
+        for (label, why), task in raised.items():
+            entry = record.setdefault(f"{task}|{why}|{label}",
+                                      {"task": task, "why": why, "names": [], "line": label, "tests": []})
+            entry["tests"].append(self.grade_id)
+        return out
+
+    def _line_that_raised(self, name: str) -> tuple[str, str] | None:
+        """``(the line's label, "raised DomainError")`` when the answer cell of the cause ``name``
+        raised at a line whose error did not pass through ``name``: a call of robokin's, or of a
+        module's, on another line of the cell. That line is the cause, not ``name`` (a function of
+        the cell is named only when its body raised). ``None`` when it did, or the traceback gives
+        no line of the cell."""
+        index = self.answer_cell.get(name)
+        errors = error_outputs(self.nb.cells[index]) if index is not None else []
+        if not errors:
+            return None
+        cell, error = self.nb.cells[index], errors[0]
+        line = failing_line(cell, error)
+        if line is None or name in raising_functions(cell, error):
+            return None
+        return cell_label(cell, line), f"raised {error.get('ename')}"
 
     def _task_of_name(self, name: str) -> int | None:
         cell = self.answer_cell.get(name)
