@@ -204,16 +204,14 @@ MUTATIONS = {
          "    return _sweep_right(-np.asarray(heights), leg_ik)"),
         ("every row of the stretched leg counted as a different solution",
          "def different_solutions(Q):\n"
-         "    return len(Q)\n\n"
-         "stretched_different = different_solutions(stretched)"),
+         "    return len(Q)"),
         ("rows compared without wrapping: full turns counted as different solutions",
          "def different_solutions(Q):\n"
          "    kept = []\n"
          "    for q in Q:\n"
          "        if all(np.abs(q - other).max() > 1e-9 for other in kept):\n"
          "            kept.append(q)\n"
-         "    return len(kept)\n\n"
-         "stretched_different = different_solutions(stretched)"),
+         "    return len(kept)"),
     ],
     "task5_test2": [
         ("q2 = pi/4: no gimbal lock, and the family moves q2 too",

@@ -534,7 +534,6 @@ def different_solutions(Q):  # written another way: a row counts unless an earli
 
 
 n_solutions, sigma_min = sole_sweep(heights)
-stretched_different = different_solutions(stretched)
 '''),
     },
 }
