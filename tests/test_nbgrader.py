@@ -325,6 +325,11 @@ def _answer_names(source: dict) -> set[str]:
     return {n for c in source["cells"] if nbg(c).get("solution") for n in defined_names(src(c))}
 
 
+#: A cause that is the line an answer cell raised at (tools/grading/robokin_nbgrader/cells.py's
+#: cell_label): ``In [4], line 13, `raise NotImplementedError()` (your answer to Task 3), which raised ...``
+ANSWER_LINE_RAISED = re.compile(r"In \[\d+\], line \d+, `[^`]*` \(your answer to Task \d+\), which raised \w+")
+
+
 @pytest.mark.parametrize("chapter", grading_course.chapter_params(CHAPTERS))
 def test_feedback_calls_only_answers_your_answers_and_quotes_whole_statements(graded, chapter):
     """Names from read-only and test cells are never "your answers"; a root cause is an
@@ -341,9 +346,12 @@ def test_feedback_calls_only_answers_your_answers_and_quotes_whole_statements(gr
             where = f"{chapter}, submission {student!r}, test {grade_id}"
             for line in note.splitlines():
                 if line.strip().startswith(("It checks your answer", "This test failed because of")):
-                    part = line.split("This test failed because of")[-1].split(":")[0]
+                    part = line.split("This test failed because of")[-1]
+                    # a cause may be the line of an answer cell that raised, quoted with its label
+                    raised = ANSWER_LINE_RAISED.findall(part) if "because" in line else []
+                    part = ANSWER_LINE_RAISED.sub("", part).split(":")[0]
                     named = set(re.findall(r"`([A-Za-z_]\w*)`", part if "because" in line else line))
-                    assert named and named <= answers, (
+                    assert (named or raised) and named <= answers, (
                         f"{where}: {line.strip()!r} calls {sorted(named - answers)} the student's answers, "
                         f"but no answer cell defines them")
             quoted = re.search(r"failed at line \d+:\n((?:      .*\n)+)", note)
