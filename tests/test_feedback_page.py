@@ -13,7 +13,9 @@ The preprocessors of ``generate_feedback`` and the notes autograde writes
   function it called), and an answer cell that raised blames a function of the cell only when the
   error passed through its body (else the line that raised);
 * a value ``robokin.check`` finds wrong because it is computed from a wrong earlier answer, while
-  its own tests pass, says that it follows from that answer.
+  its own tests pass, says that it follows from that answer;
+* the note under a test tagged ``explains-<answer>`` asks about and blames only the answers it
+  names (an earlier answer whose cell raised is still the cause).
 
 ``tests/test_nbgrader.py`` checks the pages of real graded submissions.
 """
@@ -662,3 +664,35 @@ def test_an_answer_cell_that_raised_blames_the_function_only_when_its_body_raise
     assert start == (f"- {line} raised DomainError; the failing test task3_test1 depends on that cell. "
                      "Fix it first."), start
     assert "A_unnormalised" not in note.split("because of")[1] and "A_unnormalised" not in start, (note, start)
+
+
+def test_a_test_tagged_explains_names_only_the_answers_it_grades():
+    from tools.grading.robokin_nbgrader import FailureNotes
+
+    nb = nbformat.v4.new_notebook()
+    nb.cells = [
+        nbformat.v4.new_markdown_cell("## Task 1: a step"),
+        code_cell("def step(x):\n    return 2 * x", "task1_answer1", solution=True, task=1, count=1),
+        nbformat.v4.new_markdown_cell("## Task 2: built on it"),
+        code_cell("def later(x, f=step):\n    return f(x) + 1", "task2_answer1", solution=True, task=2,
+                  count=2),
+        code_cell("y = later(1, f=lambda x: 3 * x)\nassert y == 4", "task2_test1", grade=True, task=2,
+                  count=3),
+    ]
+    failure = nbformat.from_dict(_error("AssertionError", 3, 2))
+    pairs = [(1, "chapter.step", "step"), (2, "chapter.later", "later")]
+
+    def note(tags):
+        nb.cells[-1].metadata["tags"] = tags
+        notes = FailureNotes(nb, len(nb.cells) - 1, {"pairs": pairs, "explained": {}})
+        return notes.pairs(failure), "\n".join(notes.lines(failure, []))
+
+    asked, text = note(["check"])   # untagged: step, used through later's default, is named
+    assert ("chapter.step", "step") in asked and "`step`" in text, text
+    asked, text = note(["check", "explains-later"])   # the test passes a step of its own
+    assert asked == [("chapter.later", "later")] and "`step`" not in text, (asked, text)
+    assert "`later` (Task 2)" in text, text
+    # ... but an earlier answer whose cell raised is still the cause
+    nb.cells[1].outputs = [nbformat.from_dict(_error("NameError", 1, 1))]
+    _, text = note(["check", "explains-later"])
+    assert "because of In [1], line 1, `def step(x): return 2 * x`, which raised NameError" in text, text

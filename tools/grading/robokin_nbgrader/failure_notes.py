@@ -13,6 +13,7 @@ import textwrap
 
 from nbgrader import utils
 from tools.notebook_analysis import (
+    EXPLAINS_TAG_RE,
     Binding,
     defined_names,
     free_names,
@@ -68,6 +69,10 @@ class FailureNotes:
       function's body or a value computed by calling it (``S_list = ... screw_axis(...)``)
       is no suspect by that test, only by its own tests and ``robokin.check``'s verdict;
       the note says which functions of its cell computed such a value;
+    * a test tagged ``explains-<answer>`` (one that runs a later answer on robokin's earlier
+      steps) asks ``robokin.check`` about the answers its tags name only and blames no other
+      (unless that answer's cell raised): not the earlier answers it reads, nor those the named
+      ones use through default arguments;
     * an answer cell that raised is the cause as the line that raised (its label, ``In [5], line 7,
       `cond = robot.condition_number(P)```) unless the error passed through the body of the answer
       (a function of the cell): an answer is named only for an error in its own code;
@@ -91,6 +96,9 @@ class FailureNotes:
         self.report = report
         self.grade_id = self.cell.metadata.get("nbgrader", {}).get("grade_id", "?")
         self.task = task_of(self.cell)
+        # the answers the test grades (its tags explains-<answer>): none, every answer it uses
+        self.graded = frozenset(m.group(1) for m in map(EXPLAINS_TAG_RE.match, self.cell.metadata.get("tags", []))
+                                if m)
         self._analysed = False
 
     # -- the static analysis
@@ -148,6 +156,8 @@ class FailureNotes:
                 where = f" In [{count}]" if count else ""
                 why[name] = f"answer cell{where} raised {error.get('ename')}"
                 continue
+            if self.graded and name not in self.graded:   # graded by tests of its own, not this one
+                continue
             failed = []
             task = task_of(self.nb.cells[cell]) if cell is not None else None
             for j in range(cell + 1 if cell is not None else 0, self.index):
@@ -175,6 +185,8 @@ class FailureNotes:
         the registered checks, on the student's answers it depends on; type probes."""
         self.analyse(error)
         names = self.roots | set(self.yours)
+        if self.graded:   # the answers it grades: the earlier ones it reads have their own tests
+            names &= self.graded
         out: list[tuple[str, str]] = []
         own = [tuple(p) for p in robokin_metadata(self.cell).get("explain", [])]
         candidates = [(check, quantity, names | self.checked) for check, quantity in own]
@@ -215,8 +227,11 @@ class FailureNotes:
                        f"{self._named(self.yours)}.")
         out += self._computed_lines()
         derived = {n: b for n, b in self.derived.items() if n not in self._hidden_names()}
+        # of a test tagged explains-<answer>, the answers it grades (the others are graded elsewhere)
+        named = (lambda roots: roots & self.graded) if self.graded else set
+        derived = {n: b for n, b in derived.items() if named(b.roots)}
         if derived:
-            upstream = sorted(set().union(*(b.roots for b in derived.values())))
+            upstream = sorted(set().union(*(named(b.roots) for b in derived.values())))
             given = ", ".join(f"`{n}`" for n in sorted(derived))
             here = [b.cell >= self.index for b in derived.values()]
             where = ("earlier in this test cell" if all(here) else "by read-only cells" if not any(here)
