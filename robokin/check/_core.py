@@ -25,6 +25,7 @@ and, with ``raise_on_fail=True``, a wrong answer raises :class:`AssertionError`.
 
 from __future__ import annotations
 
+import functools
 import inspect
 import math
 import sys
@@ -69,6 +70,8 @@ __all__ = [
     "Diagnosis",
     "Check",
     "MatrixArgumentsCheck",
+    "LaterStepCheck",
+    "with_reference_steps",
     "FunctionCheck",
     "not_a_function",
     "pack_joint_rows",
@@ -955,6 +958,42 @@ class MatrixArgumentsCheck(Check):
             return super().evaluate(call_with_arguments)
         if answer is not None and not callable(answer):
             return not_a_function(self.name, self.signature, answer)
+        return super().evaluate(answer)
+
+
+def with_reference_steps(answer: Any, steps: dict[str, Callable[..., Any]]) -> Any:
+    """``answer`` with robokin's earlier steps passed for those of its keyword parameters that
+    ``steps`` names (the student's own steps are their defaults), so that a check judges this
+    step alone (and the grading report blames no later step for an earlier one); ``answer``
+    itself when it has none of them or no signature.
+
+    Parameters
+    ----------
+    answer : callable
+        The student's function, e.g. ``poe_fk(screws, M, q, exp6=exp6)``.
+    steps : dict
+        ``{parameter name: robokin's step}``, e.g. ``{"exp6": reference_exp6}``.
+    """
+    try:
+        parameters = inspect.signature(answer).parameters
+    except (TypeError, ValueError):
+        return answer
+    given = {name: step for name, step in steps.items() if name in parameters}
+    return functools.partial(answer, **given) if given else answer
+
+
+@dataclass(repr=False)
+class LaterStepCheck(MatrixArgumentsCheck):
+    """A :class:`MatrixArgumentsCheck` of a function that builds on earlier steps: it is called
+    with robokin's steps (``steps()``, by the names of its keyword parameters: ``skew=``,
+    ``exp6=``, ...; :func:`with_reference_steps`) in place of the student's."""
+
+    steps: Callable[[], dict[str, Callable[..., Any]]] = dict
+
+    def evaluate(self, answer: Any) -> CheckResult:
+        """:meth:`MatrixArgumentsCheck.evaluate` of ``answer`` given robokin's earlier steps."""
+        if callable(answer) and not isinstance(answer, np.ndarray):
+            answer = with_reference_steps(answer, self.steps())
         return super().evaluate(answer)
 
 

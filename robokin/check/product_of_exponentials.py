@@ -40,17 +40,16 @@ Usage::
 
 from __future__ import annotations
 
-import inspect
 import math
-from collections.abc import Callable
-from dataclasses import dataclass
 from functools import lru_cache, partial
 from typing import Any
 
 import numpy as np
 
 from robokin.check import diagnoses as dg
-from robokin.check._core import CheckResult, MatrixArgumentsCheck, Variable, alternatives
+from robokin.check._core import (
+    LaterStepCheck, MatrixArgumentsCheck, Variable, alternatives,
+)
 from robokin.check._registry import exercise
 from robokin.validation import as_float_array
 
@@ -409,32 +408,7 @@ screw_list = exercise(_CHAPTER, "screw_list", MatrixArgumentsCheck(
 
 # ------------------------------------------------------------------ Task 3: exponential and FK
 # ------------------------------------------------------------------ the later steps, judged alone
-def _with_reference_steps(answer: Any, steps: dict[str, Callable[..., Any]]) -> Any:
-    """``answer`` with robokin's earlier steps passed for those of its keyword parameters that
-    ``steps`` names (the student's own steps are their defaults), so that a check judges this
-    step alone (and the grading report blames no later step for an earlier one); ``answer``
-    itself when it has none of them or no signature."""
-    try:
-        parameters = inspect.signature(answer).parameters
-    except (TypeError, ValueError):
-        return answer
-    given = {name: step for name, step in steps.items() if name in parameters}
-    return partial(answer, **given) if given else answer
 
-
-@dataclass(repr=False)
-class _LaterStepCheck(MatrixArgumentsCheck):
-    """A :class:`MatrixArgumentsCheck` of a function that builds on earlier steps: it is called
-    with robokin's steps (``steps()``, by the names of its keyword parameters: ``skew=``,
-    ``exp6=``, ...) in place of the student's."""
-
-    steps: Callable[[], dict[str, Callable[..., Any]]] = dict
-
-    def evaluate(self, answer: Any) -> CheckResult:
-        """:meth:`MatrixArgumentsCheck.evaluate` of ``answer`` given robokin's earlier steps."""
-        if callable(answer) and not isinstance(answer, np.ndarray):
-            answer = _with_reference_steps(answer, self.steps())
-        return super().evaluate(answer)
 
 
 def _exp6_arguments(x: np.ndarray) -> tuple[np.ndarray, float]:
@@ -488,7 +462,7 @@ def _exp6_mistakes():
     ]
 
 
-exp6 = exercise(_CHAPTER, "exp6", _LaterStepCheck(
+exp6 = exercise(_CHAPTER, "exp6", LaterStepCheck(
     steps=lambda: {"rodrigues": reference_rodrigues, "skew": reference_skew},
     name="exp6(S, theta)",
     reference=_exp6_reference,
@@ -538,7 +512,7 @@ def _fk_mistakes():
     ]
 
 
-forward_kinematics = exercise(_CHAPTER, "forward_kinematics", _LaterStepCheck(
+forward_kinematics = exercise(_CHAPTER, "forward_kinematics", LaterStepCheck(
     steps=lambda: {"exp6": reference_exp6},
     name="poe_fk(M, S_list, theta)",
     reference=_fk_reference,
@@ -599,7 +573,7 @@ def _adjoint_mistakes():
     ]
 
 
-adjoint = exercise(_CHAPTER, "adjoint", _LaterStepCheck(
+adjoint = exercise(_CHAPTER, "adjoint", LaterStepCheck(
     steps=lambda: {"skew": reference_skew},
     name="adjoint_matrix(T)",
     reference=_adjoint_reference,
@@ -648,7 +622,7 @@ def _space_mistakes():
     ]
 
 
-space_jacobian = exercise(_CHAPTER, "space_jacobian", _LaterStepCheck(
+space_jacobian = exercise(_CHAPTER, "space_jacobian", LaterStepCheck(
     steps=lambda: {"exp6": reference_exp6, "adjoint_matrix": reference_adjoint_matrix},
     name="jacobian_in_space(S_list, theta)",
     reference=_space_reference,
@@ -694,7 +668,7 @@ def _geometric_mistakes():
     ]
 
 
-geometric_from_space = exercise(_CHAPTER, "geometric_from_space", _LaterStepCheck(
+geometric_from_space = exercise(_CHAPTER, "geometric_from_space", LaterStepCheck(
     steps=lambda: {"skew": reference_skew},
     name="geometric_from_space(J_s, T)",
     reference=_geometric_reference,
@@ -741,7 +715,7 @@ def _body_mistakes():
     ]
 
 
-body_jacobian = exercise(_CHAPTER, "body_jacobian", _LaterStepCheck(
+body_jacobian = exercise(_CHAPTER, "body_jacobian", LaterStepCheck(
     steps=lambda: {"poe_fk": reference_poe_fk, "jacobian_in_space": reference_jacobian_in_space,
                    "adjoint_matrix": reference_adjoint_matrix},
     name="jacobian_in_body(M, S_list, theta)",
@@ -794,7 +768,7 @@ def _ik_mistakes():
     ]
 
 
-ik_body = exercise(_CHAPTER, "ik_body", _LaterStepCheck(
+ik_body = exercise(_CHAPTER, "ik_body", LaterStepCheck(
     steps=lambda: {"poe_fk": reference_poe_fk, "jacobian_in_body": reference_jacobian_in_body},
     name="ik_body(M, S_list, T_goal, theta_start)",
     reference=_ik_reference,

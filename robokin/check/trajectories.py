@@ -37,10 +37,8 @@ other than D = 1, T = 1).
 
 from __future__ import annotations
 
-import inspect
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
 from functools import partial
 from typing import Any
 
@@ -51,10 +49,12 @@ from robokin.check._core import (
     Check,
     CheckResult,
     FunctionCheck,
+    LaterStepCheck,
     MatrixArgumentsCheck,
     Variable,
     alternatives,
     fmt,
+    with_reference_steps,
 )
 from robokin.check._registry import exercise
 from robokin.errors import DomainError, ShapeError
@@ -358,31 +358,7 @@ trapezoid_time = exercise(_CHAPTER, "trapezoid_time", Check(
 
 
 # ------------------------------------------------------------------ the later steps, judged alone
-def _with_reference_steps(answer: Any, steps: dict[str, Callable[..., Any]]) -> Any:
-    """``answer`` with robokin's earlier steps passed for those of its keyword parameters that
-    ``steps`` names (the student's own steps are their defaults), so that a check judges this
-    step alone; ``answer`` itself when it has none of them or no signature."""
-    try:
-        parameters = inspect.signature(answer).parameters
-    except (TypeError, ValueError):
-        return answer
-    given = {name: step for name, step in steps.items() if name in parameters}
-    return partial(answer, **given) if given else answer
 
-
-@dataclass(repr=False)
-class _LaterStepCheck(MatrixArgumentsCheck):
-    """A :class:`MatrixArgumentsCheck` of a function that builds on earlier steps: it is called
-    with robokin's steps (``steps()``, by the names of its keyword parameters) in place of the
-    student's."""
-
-    steps: Callable[[], dict[str, Callable[..., Any]]] = dict
-
-    def evaluate(self, answer: Any) -> CheckResult:
-        """:meth:`MatrixArgumentsCheck.evaluate` of ``answer`` given robokin's earlier steps."""
-        if callable(answer) and not isinstance(answer, np.ndarray):
-            answer = _with_reference_steps(answer, self.steps())
-        return super().evaluate(answer)
 
 
 # ------------------------------------------------------------------ the least duration of a move
@@ -412,7 +388,7 @@ def _moving_min(times: np.ndarray) -> float:
     return float(np.min(times[times > 0]))
 
 
-least_duration = exercise(_CHAPTER, "least_duration", _LaterStepCheck(
+least_duration = exercise(_CHAPTER, "least_duration", LaterStepCheck(
     name="least_duration",
     steps=lambda: {"trapezoid_time": reference_trapezoid_time},
     reference=lambda x: np.asarray(np.max(_joint_times(x))),
@@ -535,7 +511,7 @@ class _MotionCheck(FunctionCheck):
     """Check ``synchronised_motion(t, q_start, q_end, v_max, a_max)`` against the synchronised trapezoids."""
 
     def judge(self, answer: Callable[..., Any]) -> CheckResult:
-        answer = _with_reference_steps(answer, {"least_duration": reference_least_duration})
+        answer = with_reference_steps(answer, {"least_duration": reference_least_duration})
         cases = _cases()
         n = len(cases)
         rng = np.random.default_rng(3)
@@ -989,7 +965,7 @@ class _LineCheck(FunctionCheck):
     """Check ``line_reference(t, T_start, T_end, duration)`` on lines of its own."""
 
     def judge(self, answer: Callable[..., Any]) -> CheckResult:
-        answer = _with_reference_steps(answer, {"quintic_scaling": reference_quintic_scaling,
+        answer = with_reference_steps(answer, {"quintic_scaling": reference_quintic_scaling,
                                                 "slerp": reference_slerp})
         n = 3
         for seed in range(n):

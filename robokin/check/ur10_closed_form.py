@@ -39,7 +39,6 @@ Usage::
 
 from __future__ import annotations
 
-import inspect
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
@@ -51,6 +50,7 @@ import numpy as np
 from robokin.check import diagnoses as dg
 from robokin.check._core import (
     AnswerError, Check, CheckResult, MatrixArgumentsCheck, Variable, alternatives, not_a_function,
+    with_reference_steps,
 )
 from robokin.check._registry import exercise
 from robokin.check.solutions import SolutionSetCheck
@@ -256,7 +256,7 @@ class _PoseSetCheck(_ShortRepr, SolutionSetCheck):
             return not_a_function(self.name, self.signature, answer)
         if answer is None or self.arguments is None:
             return super().evaluate(answer)
-        build, student = self.arguments, _with_reference_steps(answer, self.steps())
+        build, student = self.arguments, with_reference_steps(answer, self.steps())
 
         def call(q: np.ndarray) -> Any:
             out = student(*build(np.asarray(q, dtype=float)))
@@ -290,17 +290,6 @@ class _PoseSetCheck(_ShortRepr, SolutionSetCheck):
         return result
 
 
-def _with_reference_steps(answer: Any, steps: dict[str, Callable[..., Any]]) -> Any:
-    """``answer`` with robokin's earlier steps passed for those of its keyword parameters that
-    ``steps`` names (the student's own steps are their defaults), so that a check judges this
-    step alone (and the grading report blames no later step for an earlier one); ``answer``
-    itself when it has none of them or no signature."""
-    try:
-        parameters = inspect.signature(answer).parameters
-    except (TypeError, ValueError):
-        return answer
-    given = {name: step for name, step in steps.items() if name in parameters}
-    return partial(answer, **given) if given else answer
 
 
 # ------------------------------------------------------------------ the checks
