@@ -485,6 +485,54 @@ def test_self_motion_mismatch_names_the_answers_it_calls():
     assert "joint_limit_gradient" in r.message and "fix those first" in r.message
 
 
+def test_later_steps_are_judged_on_robokins_earlier_steps():
+    """summary, self_motion and ik_restarts take the steps they build on as keyword arguments
+    (the student's own by default): their checks pass robokin's in their place, so that a wrong
+    earlier step is not blamed on them (the grading report asks these checks about the bare
+    answers, whose defaults are the student's steps)."""
+    def objective_without_2n(q, limits=ur.WORK_LIMITS):  # H without its factor 1/(2n)
+        return 2 * ur.N_JOINTS * ur.reference_joint_limit_objective(q, limits)
+
+    def gradient_descending(q, limits=ur.WORK_LIMITS):  # the sign of the gradient flipped
+        return -ur.reference_joint_limit_gradient(q, limits)
+
+    def row_space_projector(J):  # J+ J for I - J+ J
+        return np.linalg.pinv(J) @ J
+
+    def loop_capped_per_joint(chain, p_goal, q0, step):
+        return loop_for(chain, p_goal, q0, step, per_joint=True)
+
+    def summary_with(chain, p_goal, path, objective=objective_without_2n):
+        out = summary_written(chain, p_goal, path)
+        out["end_H"] = objective(np.asarray(path, dtype=float)[-1], chain.limits)
+        return out
+
+    def self_motion_with(chain, p_goal, q_start, gain, steps, projector=row_space_projector,
+                         gradient=gradient_descending):
+        q, rows = np.array(q_start, dtype=float), []
+        for _ in range(steps):
+            rows.append(q)
+            J = chain.position_jacobian(q)
+            q = q + np.linalg.pinv(J) @ (p_goal - chain.fk(q)[:3, 3]) + projector(J) @ (
+                gain * gradient(q, chain.limits))
+        return np.array(rows)
+
+    def restarts_with(chain, p_goal, starts, step, solve=loop_capped_per_joint):
+        total, attempts = 0, 0
+        for q_start in starts:
+            q, converged, iterations = solve(chain, p_goal, q_start, step)
+            total, attempts = total + iterations, attempts + 1
+            if converged:
+                break
+        return q, converged, attempts, total
+
+    for check, answer in [(ur.summary, summary_with), (ur.self_motion, self_motion_with),
+                          (ur.ik_restarts, restarts_with)]:
+        assert check(answer, quiet=True).passed, check(answer, quiet=True).message
+        # called without its keyword parameters, it runs on the wrong steps it holds
+        assert not check(lambda *arguments, f=answer: f(*arguments), quiet=True).passed
+
+
 # ---------------------------------------------------------------- robokin's steps (the tests' stand-ins)
 def test_reference_steps_are_the_correct_answers():
     """Each reference_* agrees with the answers written independently above, at random

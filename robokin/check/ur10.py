@@ -55,7 +55,10 @@ The ``reference_*`` functions are robokin's answers to the steps of Task 2
 ``reference_joint_limit_objective``, ``reference_joint_limit_gradient`` and the loop
 ``reference_ik_position``): the graded tests of the later tasks pass them to the student's
 functions (``summary``, ``self_motion``, ``ik_restarts`` take the steps they build on as
-arguments) so that a mistake in one step costs the points of that step only.
+arguments) so that a mistake in one step costs the points of that step only. The checks of
+those three pass them too (``objective=``, ``projector=``, ``gradient=``, ``solve=``, where the
+student's function has those parameters), so that their verdicts, and the grading report's, blame
+no later step for an earlier one.
 
 Usage::
 
@@ -67,12 +70,21 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Callable
 from functools import lru_cache
 from typing import Any
 
 import numpy as np
 
-from robokin.check._core import CheckResult, FunctionCheck, MatrixArgumentsCheck, Variable, alternatives, fmt
+from robokin.check._core import (
+    CheckResult,
+    FunctionCheck,
+    MatrixArgumentsCheck,
+    Variable,
+    alternatives,
+    fmt,
+    with_reference_steps,
+)
 from robokin.check._registry import exercise
 from robokin.validation import (
     as_batch,
@@ -674,7 +686,24 @@ _RESTART_MISTAKES = [
 ]
 
 
-class _RestartsCheck(FunctionCheck):
+@dataclasses.dataclass(repr=False)
+class _LaterStepFunctionCheck(FunctionCheck):
+    """A :class:`FunctionCheck` of a function that builds on earlier steps: it is called with
+    robokin's steps (``steps()``, by the names of its keyword parameters: ``solve=``,
+    ``objective=``, ``projector=``, ``gradient=``; :func:`with_reference_steps`) in place of the
+    student's own defaults, as the graded tests call it, so that its verdict (and the grading
+    report's) is on this step alone, not on a mistake in an earlier one."""
+
+    steps: Callable[[], dict[str, Callable[..., Any]]] = dict
+
+    def evaluate(self, answer: Any) -> CheckResult:
+        """:meth:`FunctionCheck.evaluate` of ``answer`` given robokin's earlier steps."""
+        if callable(answer):
+            answer = with_reference_steps(answer, self.steps())
+        return super().evaluate(answer)
+
+
+class _RestartsCheck(_LaterStepFunctionCheck):
     """``ik_restarts(chain, p_goal, starts, step) -> (q, converged, attempts, iterations)``."""
 
     def judge(self, answer: Any) -> CheckResult:
@@ -721,15 +750,17 @@ class _RestartsCheck(FunctionCheck):
                     "attempts": f" (expected {int(r[7])})", "iterations": f" (expected {int(r[8])})"}
         return self.failure("mismatch", (
             f"{name} for {cases[k][0]} (3 starts, the pseudoinverse step) returns a wrong "
-            f"{wrong}{expected[wrong]}. It runs the loop it is given as solve (your ik_position by "
-            "default; the graded test passes robokin's): if check_ur10.ik_position(ik_position) "
-            "fails, fix ik_position first, the cause may be there. Otherwise: run solve from each "
-            "start in turn, with its defaults, stop at the first that converges, and return that "
-            "attempt's q, whether it converged, the attempts made and the steps over all of "
-            "them."), n)
+            f"{wrong}{expected[wrong]}. It was given robokin's loop as solve, as the graded test "
+            "gives it: if it runs the solve it is given, the cause is in ik_restarts itself; if it "
+            "calls your ik_position directly, a mistake there shows here too (if "
+            "check_ur10.ik_position(ik_position) fails, fix ik_position first, and run solve). "
+            "Run solve from each start in turn, with its defaults, stop at the first that "
+            "converges, and return that attempt's q, whether it converged, the attempts made and "
+            "the steps over all of them."), n)
 
 
 ik_restarts = exercise(_CHAPTER, "ik_restarts", _RestartsCheck(
+    steps=lambda: {"solve": reference_ik_position},
     name="ik_restarts",
     signature="ik_restarts(chain, p_goal, starts, step) -> (q, converged, attempts, iterations)",
     noun="goals",
@@ -848,7 +879,7 @@ def _summary_cases() -> tuple[tuple[str, Any, np.ndarray, np.ndarray], ...]:
     return tuple(out)
 
 
-class _SummaryCheck(FunctionCheck):
+class _SummaryCheck(_LaterStepFunctionCheck):
     """``summary(chain, p_goal, path) -> dict`` of the figures of one IK run."""
 
     def judge(self, answer: Any) -> CheckResult:
@@ -883,6 +914,7 @@ class _SummaryCheck(FunctionCheck):
 
 
 summary = exercise(_CHAPTER, "summary", _SummaryCheck(
+    steps=lambda: {"objective": reference_joint_limit_objective},
     name="summary",
     signature="summary(chain, p_goal, path) -> dict",
     noun="runs",
@@ -947,7 +979,7 @@ def _self_motion_cases() -> tuple[tuple[str, Any, np.ndarray, np.ndarray, float,
     return tuple(out)
 
 
-class _SelfMotionCheck(FunctionCheck):
+class _SelfMotionCheck(_LaterStepFunctionCheck):
     """``self_motion(chain, p_goal, q_start, gain, steps) -> (steps, n)``."""
 
     def judge(self, answer: Any) -> CheckResult:
@@ -985,14 +1017,16 @@ class _SelfMotionCheck(FunctionCheck):
         row = int(np.argmax(np.abs(g - r).max(axis=1) > 1e-9))
         return self.failure("mismatch", (
             f"{name} for {cases[k][0]} differs from q ← q + J⁺e + N k ∇H(q) from row {row} "
-            f"on (row 0 is q_start). It takes N and ∇H from the projector and gradient it is given "
-            "(your nullspace_projector and joint_limit_gradient by default; the graded test passes "
-            "robokin's): if Task 2's test of them fails, fix those first, the cause may be there. "
-            "Otherwise check the step e = p_goal − p(q), J⁺, N = I − J⁺J and ∇H with the chain's "
-            "limits."), n)
+            f"on (row 0 is q_start). It was given robokin's projector and gradient, as the graded "
+            "test gives them: if it takes N and ∇H from its arguments projector and gradient, the "
+            "cause is in self_motion itself; if it calls your nullspace_projector or "
+            "joint_limit_gradient directly, a mistake of Task 2 shows here too (if Task 2's test "
+            "of them fails, fix those first, and take them from the arguments). Check the step "
+            "e = p_goal − p(q), J⁺, N = I − J⁺J and ∇H with the chain's limits."), n)
 
 
 self_motion = exercise(_CHAPTER, "self_motion", _SelfMotionCheck(
+    steps=lambda: {"projector": reference_nullspace_projector, "gradient": reference_joint_limit_gradient},
     name="self_motion",
     signature="self_motion(chain, p_goal, q_start, gain, steps) -> (steps, n) array",
     noun="starts",
