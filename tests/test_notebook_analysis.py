@@ -61,3 +61,59 @@ def test_a_test_tagged_explains_names_only_the_answers_it_grades():
     plain, tagged = chapter.tests(1)
     assert plain.explain == [("demo.first", "first"), ("demo.second", "second")]
     assert tagged.explain == [("demo.second", "second")]
+
+
+ANSWER_WITH_DEMONSTRATION = '''\
+def double(x):
+    # twice x
+    return 2 * x
+
+
+total = double(DATA)
+# Given: your double at the problem's data
+shown = double(3)
+print("double(3) =", shown)
+'''
+
+
+def test_the_given_tail_of_an_answer_stays_as_written():
+    """From a top-level ``# Given:`` line on, an answer cell's code is a demonstration the student
+    edition keeps: no second stub there, and its names are not the student's to declare."""
+    from tools.notebook_analysis import analyse, stub_source
+
+    stub = stub_source(ANSWER_WITH_DEMONSTRATION, {"double", "total"})
+    assert stub == (
+        "def double(x):\n    # YOUR CODE HERE\n    raise NotImplementedError()\n\n\n"
+        "total = None\n# YOUR CODE HERE\nraise NotImplementedError()\n"
+        "# Given: your double at the problem's data\nshown = double(3)\n"
+        'print("double(3) =", shown)'
+    )
+    cells = [
+        {"cell_type": "markdown", "metadata": {}, "source": "## Task 1: Double"},
+        _code("DATA = 2"),
+        _code(ANSWER_WITH_DEMONSTRATION, "solution"),
+        _code("assert double(5) == 10 and total == 4 and shown == 6", "check"),
+    ]
+    answer = analyse(Path("demo.ipynb"), {"cells": cells}).cells[2]
+    assert answer.interface == {"double", "total"}  # `shown` comes with the given tail
+
+
+def test_without_a_given_line_every_statement_is_the_students():
+    from tools.notebook_analysis import stub_source
+
+    code = ANSWER_WITH_DEMONSTRATION.replace("# Given: your", "# your")
+    assert stub_source(code, {"double", "total"}).endswith(
+        "total = None\n# YOUR CODE HERE\nraise NotImplementedError()")
+
+
+@pytest.mark.parametrize("code, message", [
+    # the tail would overwrite (and show) the student's answer
+    (ANSWER_WITH_DEMONSTRATION + "total = 4\n", "assigns total, which the student's answer defines"),
+    # the line must start the tail at the top level, not sit inside a statement
+    ("def double(x):\n# Given: inside\n    return 2 * x\n", "inside a statement"),
+])
+def test_a_misplaced_given_tail_is_refused(code, message):
+    from tools.notebook_analysis import stub_plan
+
+    with pytest.raises(ValueError, match=message):
+        stub_plan(code, {"double", "total"})

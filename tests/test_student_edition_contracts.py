@@ -34,6 +34,7 @@ from tools.notebook_analysis import (
     Chapter,
     analyse,
     defined_names,
+    given_tail_start,
     removed_in_student_edition,
     student_markdown,
     stub_source,
@@ -170,3 +171,18 @@ def test_contract_finds_an_undocumented_name(tmp_path):
     assert "name `hidden` in backticks" in text
     assert "`total`" not in text.replace("reads `hidden`", "")   # `total` is named in the statement
     assert "markdown cell 6" in text and "is empty" in text
+
+
+@pytest.mark.parametrize("path", CHAPTERS, ids=[p.stem for p in CHAPTERS])
+def test_given_tails_are_kept_and_ask_nothing(path):
+    """An answer cell's given tail (from its ``# Given:`` line, book/authoring.md) is in the student
+    edition as written, after the last stub, and assigns none of the student's names."""
+    for cell in analyse(path).answers():
+        start = given_tail_start(cell.source)
+        if start is None:
+            continue
+        declare = {n for n in cell.defines if n in cell.interface}
+        stub = stub_source(cell.source, declare)  # ValueError: the tail assigns a declared name
+        tail = "\n".join(cell.source.splitlines()[start - 1:])
+        assert stub.endswith(tail), f"{path.stem} cell {cell.index}: the given tail is not kept"
+        assert "NotImplementedError" not in tail, f"{path.stem} cell {cell.index}: a stub in the tail"

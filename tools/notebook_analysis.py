@@ -39,6 +39,9 @@ __all__ = [
     "free_names",
     "check_calls",
     "stub_plan",
+    "GIVEN_MARKER",
+    "given_tail_start",
+    "solution_part",
 ]
 
 TASK_RE = re.compile(r"^##\s+Task\s+(\d+)\s*[:.\u2014-]?\s*(.*?)\s*$")
@@ -458,13 +461,37 @@ class StubPlan:
     kept: list[int] = field(default_factory=list)  # lines kept as they are (signatures, imports)
 
 
+#: A top-level comment line that starts the *given* tail of an answer cell: from it to the
+#: end of the cell the code is the solution's demonstration (it runs the answer, e.g. prints
+#: it at the problem's data), which the student edition keeps as it is written.
+GIVEN_MARKER = "# Given:"
+
+
+def given_tail_start(code: str) -> int | None:
+    """The line (1-based) of the :data:`GIVEN_MARKER` comment of an answer cell; None without one."""
+    for number, line in enumerate(code.splitlines(), 1):
+        if line.startswith(GIVEN_MARKER):
+            return number
+    return None
+
+
+def solution_part(code: str) -> str:
+    """An answer cell's code without its given tail (the lines from :data:`GIVEN_MARKER` on)."""
+    start = given_tail_start(code)
+    return code if start is None else "\n".join(code.splitlines()[: start - 1])
+
+
 def stub_plan(code: str, interface: set[str] | None = None) -> StubPlan | None:
     """Regions of a solution cell to replace by a stub, keeping signatures and imports.
 
     * ``import`` statements stay;
     * a function keeps its decorators, signature and docstring; its body is a region;
     * every run of other statements is one region; the names it assigns that later
-      cells read (``interface``; all of them when None) are declared ``= None``.
+      cells read (``interface``; all of them when None) are declared ``= None``;
+    * the given tail, from a top-level comment line that starts with :data:`GIVEN_MARKER`
+      to the end of the cell, stays as it is: a demonstration that runs the answer and
+      asks nothing of the student (so the stub asks for nothing there). It must not assign
+      a name of ``interface``: that would overwrite the student's answer (ValueError).
 
     Returns None when the cell is not valid Python (then nbgrader replaces the whole cell).
     """
@@ -474,6 +501,22 @@ def stub_plan(code: str, interface: set[str] | None = None) -> StubPlan | None:
     lines = code.splitlines()
     plan = StubPlan()
     run: list[ast.stmt] = []
+    tail = given_tail_start(code)
+    if tail is not None:
+        inside = [stmt for stmt in tree.body if stmt.lineno < tail < _end_line(stmt)]
+        if inside:
+            raise ValueError(f"the {GIVEN_MARKER!r} line {tail} is inside a statement (line "
+                             f"{inside[0].lineno}): put it at the top level, before the given code")
+        given = [stmt for stmt in tree.body if stmt.lineno > tail]
+        overwritten = sorted(
+            {name for stmt in given for name in _names(ast.unparse(stmt)).defined}
+            & (interface or set()))
+        if overwritten:
+            raise ValueError(f"the given tail (from line {tail}) assigns {', '.join(overwritten)}, "
+                             "which the student's answer defines: move it above the "
+                             f"{GIVEN_MARKER!r} line")
+        plan.kept.extend(range(tail, len(lines) + 1))
+        tree.body = [stmt for stmt in tree.body if stmt.lineno < tail]
 
     def flush() -> None:
         if not run:
@@ -699,7 +742,8 @@ def _mark_interfaces(cells: list[Cell]) -> None:
         for other in cells[k + 1:]:
             if other.cell_type == "code" and other.role != "answer":
                 later |= other.reads
-        cell.interface = {n for n in cell.defines if n in later}
+        own = set(defined_names(solution_part(cell.source)))  # the given tail is not the student's
+        cell.interface = {n for n in cell.defines if n in later and n in own}
 
 
 def _explain_tests(cells: list[Cell], check_names: dict[str, str]) -> None:
