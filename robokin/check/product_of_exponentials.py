@@ -75,7 +75,7 @@ DELEGATION = {
     "screw_list": {"screw_axes": "SerialChain.screw_axes"},
     "exp6": {"transform_exp": "robokin.transforms.transform_exp",
              "reference_exp6": "robokin.check.product_of_exponentials.reference_exp6"},
-    "forward_kinematics": {"product_of_exponentials": "SerialChain.product_of_exponentials",
+    "forward_kinematics": {"product_of_exponentials": "robokin.chains.screws.product_of_exponentials",
                            "fk": "SerialChain.fk", "transform_exp": "robokin.transforms.transform_exp",
                            "reference_poe_fk": "robokin.check.product_of_exponentials.reference_poe_fk"},
     "adjoint": {"adjoint": "robokin.transforms.adjoint",
