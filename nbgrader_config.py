@@ -37,6 +37,7 @@ from tools.grading.robokin_nbgrader import (
     HideHiddenTests,
     MarkSolutionRegions,
     MystMarkdown,
+    NotRunNote,
     OfflineMathJaxHTMLExporter,
     PointsHeader,
     RequireGradingMetadata,
@@ -90,6 +91,7 @@ c.Autograde.sanitize_preprocessors = [
 ]
 c.Autograde.autograde_preprocessors = [
     BridgedExecute,           # the student's kernel (sandboxed) + a grader kernel for the tests
+    NotRunNote,               # the cells after the last graded one are not run: a note says so
     IgnorePattern,
     ClearMetadataPreprocessor,
     LimitOutput,

@@ -13,15 +13,17 @@ submission costs about 5 CPU-s, chapter 3's about 27) is graded end to end:
   tests/test_grading_tamper.py, shows scores what the blank scores);
 * ``tools/grading/grade_many.py`` (``make grade``) with two jobs grades the typical mistake again and
   a correct submission with two incidents: the mistake scores what it scored alone;
-  - 8 GB allocated in the last ungraded cell, after every graded test: the allocation fails
-    (``MemoryError`` in its feedback) and costs no mark;
+  - 8 GB allocated in an ungraded cell of the student's own, after the first test: the
+    allocation fails (``MemoryError`` in its feedback) and costs no mark;
   - a fork bomb at the top of the last answer cell: it gets ``BlockingIOError`` at the cap on
     the kernel's processes; its children stay counted until the kernel ends, so the kernel
     left at its cap is restarted: that task's tests lose their points, the others keep theirs,
     grading returns and no process of the bomb is left.
-  The two are independent (the allocation runs after every graded test, so it can change no
-  score, the bombed task's included) and are graded in one submission, not two (a grading
-  costs about 10 CPU-s).
+  The two are independent (the allocation is in an ungraded cell, so it can change no score,
+  the bombed task's included) and are graded in one submission, not two (a grading costs about
+  10 CPU-s). The same submission's last ungraded cell, after every graded one, ends in a loop
+  that never ends: the student's kernel stops after the last graded cell, so it is not run (no
+  time limit is waited for) and the page says why that cell has no output.
 
 The rest is cheap: the zip holds what grading needs and no other chapter, ``run_autograder``
 explains a submission without exactly one notebook, the cap on processes (``--max-processes``,
@@ -50,7 +52,7 @@ import pytest
 
 from conftest import ROOT
 from support import grading_course
-from support.benign_variants import with_incident
+from support.benign_variants import HANG, with_incident, with_own_cell
 from support.tampering import tampered
 from support.nbgrader_course import correct_submission, mistaken_submission, save
 from tools.grading import grade_many, grade_submission, gradescope, process_cap
@@ -111,15 +113,16 @@ def bombed_answer(nb: dict) -> dict:
 
 
 def with_incidents(correct: dict) -> dict:
-    """``correct`` with :data:`FORK_BOMB` at the top of its last answer cell and :data:`ALLOCATE_8GB` at
-    the end of its last ungraded cell, which must come after every graded test (so that the
-    allocation can change no score, and the bomb's loss is the bomb's alone)."""
-    nb = with_incident(correct, ALLOCATE_8GB)
+    """``correct`` with :data:`FORK_BOMB` at the top of its last answer cell, :data:`ALLOCATE_8GB` in
+    an ungraded cell of the student's own after the first test (so that the allocation can change
+    no score, and the bomb's loss is the bomb's alone), and benign_variants' endless ``HANG`` at
+    the end of its last ungraded cell, which must come after every graded one (it is not run)."""
+    nb = with_incident(with_own_cell(correct, ALLOCATE_8GB), HANG)
     cells = nb["cells"]
-    allocating = next(index for index, cell in enumerate(cells) if ALLOCATE_8GB in "".join(cell["source"]))
-    last_test = max(index for index, cell in enumerate(cells)
-                    if cell.get("metadata", {}).get("nbgrader", {}).get("grade"))
-    assert allocating > last_test, f"{CHAPTER}: the allocation's cell ({allocating}) is before a graded test"
+    hanging = next(index for index, cell in enumerate(cells) if HANG in "".join(cell["source"]))
+    grading = [cell.get("metadata", {}).get("nbgrader", {}) for cell in cells]
+    last_graded = max(index for index, info in enumerate(grading) if info.get("grade") or info.get("solution"))
+    assert hanging > last_graded, f"{CHAPTER}: the endless cell ({hanging}) is before a graded cell"
     bombed = bombed_answer(nb)
     bombed["source"] = FORK_BOMB + "".join(bombed["source"])
     return nb
@@ -260,6 +263,16 @@ def test_allocating_8_gb_fails_and_keeps_the_other_marks(graded):
     # the report's note on the incident, and nothing printed after the allocation
     assert re.search(r"raised MemoryError ?: Unable to allocate 8\.00 GiB", text), logs
     assert "allocated 8589934592" not in text
+
+
+@grading_course.reads(CHAPTER)
+def test_a_loop_after_the_last_graded_cell_is_not_run(graded):
+    """The endless loop after every graded cell is not run (nothing there is graded): no time limit
+    is waited for, no incident is reported, and the page says once why the cells have no output."""
+    results, expected, text, logs = _incidents(graded)
+    assert scores(results) == pytest.approx(expected), logs
+    assert "my experiment never ends" in text, "the endless cell is not shown (the test tests nothing)"
+    assert "ran longer than the time limit" not in text and text.count("Not run while grading") == 1, text[:3000]
 
 
 @grading_course.reads(CHAPTER)
@@ -541,7 +554,7 @@ def test_a_cell_that_leaves_the_kernel_at_its_cap_loses_the_kernel(monkeypatch):
     bomb, test = new_code_cell("fork_bomb()"), new_code_cell("assert answer() == 1", metadata={"nbgrader": {
         "grade": True, "solution": False, "points": 2, "grade_id": "task5_test1", "schema_version": 3}})
     execute.nb, execute.km = new_notebook(cells=[bomb, test]), SandboxedKernelManager(writable="/tmp")
-    execute._stopped, execute._replays, execute._last_code = None, 0, 1
+    execute._stopped, execute._replays, execute._last_code, execute._last_graded = None, 0, 1, 1
     execute._report = {"incidents": []}
     execute.preprocess_cell(bomb, {}, 0)
     assert execute._stopped is None and execute._replays == 1   # restarted: grading goes on

@@ -10,13 +10,18 @@ instructor's solutions, plus ...) -- each keeps full marks:
     ``noisy``   answers that log (``logging.warning``), warn (``RuntimeWarning``),
                 print to stderr and use helpers of their own, called by the tests,
                 and a post-run hook that shows a number (``0.0``) under every cell,
-                which nbgrader would take for partial credit; and ``os._exit(1)`` at
-                the end of the ungraded *Try it yourself* cell (the kernel dies);
+                which nbgrader would take for partial credit; and ``os._exit(1)`` in a
+                cell of the student's own after the first test (the kernel dies);
     ``hang``    answers written another way (tests/support/benign_variants.py: other
                 intermediate names, another valid method), and a loop that ignores
-                SIGINT at the end of that cell (the kernel is killed at the time limit);
-                in both no test comes after that cell: grading stops there, with no
-                restart, and the report names the incident;
+                SIGINT in a cell of the student's own after the first test (the kernel
+                is killed at the time limit); in both, tests come after that cell: the
+                kernel is restarted, the cells before are run again, the tests after it
+                keep their points, and the report names the incident. ``hang`` also ends
+                its ungraded *Try it yourself* cell, after the last test, with
+                ``os._exit(1)``: nothing after the last graded cell is run, so it costs
+                nothing and takes no time, and the feedback says why those cells have no
+                outputs;
 benign, every other chapter (in that chapter's one autograde run), one submission:
     ``written_talkative``
                 answers written another way (tests/support/benign_variants.py: other
@@ -31,14 +36,16 @@ benign, every other chapter (in that chapter's one autograde run), one submissio
                 and its kernel dies (``os._exit``) at the end of the last *Try it
                 yourself* cell -- where tests follow (chapters 4, 5 and 10), the kernel is
                 restarted and the cells before are run again (the stopped cell
-                excepted), elsewhere grading stops there. One submission, not one per
+                excepted); elsewhere that cell comes after the last graded one and is not
+                run (nothing after the last graded cell is). One submission, not one per
                 property: each costs a full execution of the notebook and its grading
                 (8-28 CPU-s), and every check of both properties reads it;
 sandbox:
-    ``escape``  the solutions, and a *Try it yourself* cell that writes outside its
-                folder, reads the instructor's source notebook, the repository's
-                notebook and the gradebook and prints what it got, and leaves a
-                detached process behind that keeps trying to rewrite ``gradebook.db``.
+    ``escape``  the solutions, and a cell of the student's own (after the first test: the
+                student's kernel runs it) that writes outside its folder, reads the
+                instructor's source notebook, the repository's notebook and the gradebook
+                and prints what it got, and leaves a detached process behind that keeps
+                trying to rewrite ``gradebook.db``.
 
 The hangs sleep: waiting for the time limit costs no CPU, and to the grader they are
 the same incidents as busy loops. The sandbox needs ``bwrap`` (Debian package
@@ -80,6 +87,7 @@ from support.benign_variants import (
     last_try_cell,
     with_earlier_hang,
     with_incident,
+    with_own_cell,
     written_another_way,
 )
 from tools.grading.sandbox import PACKAGE, SWITCH, sandbox_arguments, sandbox_wanted
@@ -210,14 +218,6 @@ def _with_answer_code(nb: dict, grade_id: str, code: str) -> dict:
     return nb
 
 
-def _with_try_cell(nb: dict, code: str) -> dict:
-    """``code`` in the (editable, ungraded) Try it yourself cell."""
-    nb = json.loads(json.dumps(nb))
-    cell = next(c for c in nb["cells"] if c["cell_type"] == "code" and "nbgrader" not in c["metadata"])
-    cell["source"] = code + "\n" + src(cell)
-    return nb
-
-
 def submissions(correct: dict, course: Path) -> dict[str, dict]:
     gradebook = course / "gradebook.db"
     escape = ESCAPE.format(
@@ -227,9 +227,9 @@ def submissions(correct: dict, course: Path) -> dict[str, dict]:
                  str(gradebook)],
         gradebook=str(gradebook), delay=ATTACK_DELAY, wait=ESCAPE_WAIT)
     return {
-        "noisy": with_incident(_with_answer_code(correct, "task1_answer1", NOISY + HOOKED), CRASH),
-        "hang": with_incident(written_another_way(correct, CHAPTER), HANG_IGNORING_SIGINT),
-        "escape": _with_try_cell(correct, escape),
+        "noisy": with_own_cell(_with_answer_code(correct, "task1_answer1", NOISY + HOOKED), CRASH),
+        "hang": with_incident(with_own_cell(written_another_way(correct, CHAPTER), HANG_IGNORING_SIGINT), CRASH),
+        "escape": with_own_cell(correct, escape),
     }
 
 
@@ -471,8 +471,12 @@ def test_talkative_solutions_keep_full_marks(request, tmp_path_factory, chapter)
     if any(declared_functions(c) for c in run.source["cells"] if nbg(c).get("solution")):
         assert "noisy: debugging" in page or "noisy: debugging" in json.dumps(run.autograded[BENIGN]), (
             f"{what}: no talkative function was called (the test tests nothing)")
-    # ... and its kernel dies in its last ungraded cell (benign_variants.CRASH)
-    _kernel_died_in_the_last_try_cell(run, BENIGN, report)
+    # ... and its kernel dies in its last ungraded cell (benign_variants.CRASH), where a test follows
+    # it; elsewhere that cell, after the last graded one, is not run
+    if _tests_after_the_last_try_cell(run.source):
+        _kernel_died_and_was_restarted(report)
+    else:
+        _not_run_after_the_last_graded_cell(run, BENIGN, report)
 
 
 def _tests_after_the_last_try_cell(source: dict) -> bool:
@@ -482,13 +486,31 @@ def _tests_after_the_last_try_cell(source: dict) -> bool:
     return any(nbg(c).get("grade") for c in cells[last + 1:])
 
 
-def _kernel_died_in_the_last_try_cell(run: Run, student: str, report: str) -> None:
+def _kernel_died_and_was_restarted(report: str) -> None:
+    """The kernel died in an ungraded cell that tests follow: restarted, the notebook went on (its tests ran)."""
     assert "The kernel stopped" in report and "the kernel died" in report and "os._exit" in report, report[:3000]
-    if _tests_after_the_last_try_cell(run.source):   # restarted, the notebook went on: its tests ran
-        assert "The kernel was restarted and the cells before it were run again" in report, report[:3000]
-    else:   # nothing graded after it: grading stops there, with no restart and no replay
-        assert "No test comes after it, so grading stopped there" in report, report[:3000]
-        assert "restarted" not in report, report[:3000]
+    assert "The kernel was restarted and the cells before it were run again" in report, report[:3000]
+
+
+def _not_run_after_the_last_graded_cell(run: Run, student: str, report: str) -> None:
+    """``student``'s cells after the last graded one (its crash among them) were not run: no incident,
+    no output, and one note above them in the feedback page, where their code is shown."""
+    from tools.grading.robokin_nbgrader.not_run_note import NOTE
+
+    assert "os._exit" not in report and "No test comes after it" not in report, (
+        f"{student}: a cell after the last graded one ran:\n{report[:3000]}")
+    cells = run.autograded[student]["cells"]
+    last = max(i for i, c in enumerate(cells) if nbg(c).get("grade") or nbg(c).get("solution"))
+    after = [c for c in cells[last + 1:] if c["cell_type"] == "code"]
+    crashing = [c for c in after if CRASH.strip() in src(c)]
+    assert crashing, f"{student}: the crash is not after the last graded cell (the test tests nothing)"
+    assert all(not c.get("outputs") and c.get("execution_count") is None for c in after), (
+        f"{student}: a cell after the last graded one has outputs")
+    assert src(cells[last + 1]) == NOTE and [src(c) for c in cells].count(NOTE) == 1, (
+        f"{student}: no note, or not one, above the cells not run")
+    page = run.feedback[student]
+    assert page.count("Not run while grading") == 1 and "my experiment killed the kernel" in page, (
+        f"{student}: the feedback does not show the cells not run under one note")
 
 
 @pytest.mark.parametrize("chapter", grading_course.chapter_params(
@@ -496,8 +518,9 @@ def _kernel_died_in_the_last_try_cell(run: Run, student: str, report: str) -> No
 def test_correct_answers_written_another_way_keep_full_marks(request, tmp_path_factory, chapter):
     """Every chapter's solutions with answers computed by another valid method, other
     intermediate names (tests/support/benign_variants.py), and a hang in an ungraded cell: the
-    everyday chapter's in its last (killed: it ignores the interrupt), every other chapter's in an
-    earlier one (interrupted; the benign submission, also talkative: see the module's docstring)."""
+    everyday chapter's in a cell of the student's own (killed: it ignores the interrupt; restarted),
+    every other chapter's in an earlier one (interrupted; the benign submission, also talkative: see
+    the module's docstring)."""
     what = f"{chapter}: written another way"
     _require_bwrap()
     run = grading_course.graded_courses(request, tmp_path_factory)[chapter]
@@ -523,7 +546,7 @@ def test_correct_answers_written_another_way_keep_full_marks(request, tmp_path_f
 @grading_course.reads(CHAPTER, ("noisy",))
 def test_kernel_that_dies_in_an_ungraded_cell(trusted):
     _full_marks(trusted, "noisy")
-    _kernel_died_in_the_last_try_cell(trusted, "noisy", _report(trusted.feedback["noisy"]))
+    _kernel_died_and_was_restarted(_report(trusted.feedback["noisy"]))
 
 
 @grading_course.reads(CHAPTER, ("hang",))
@@ -531,10 +554,17 @@ def test_kernel_that_ignores_the_interrupt_is_killed(trusted):
     _full_marks(trusted, "hang")
     report = _report(trusted.feedback["hang"])
     assert "The kernel stopped" in report and "ignored the interrupt" in report and "killed" in report
-    if _tests_after_the_last_try_cell(trusted.source):
-        assert "The kernel was restarted and the cells before it were run again" in report
-    else:
-        assert "No test comes after it, so grading stopped there" in report and "restarted" not in report
+    assert "The kernel was restarted and the cells before it were run again" in report
+
+
+@grading_course.reads(CHAPTER, ("hang",))
+def test_a_crash_after_the_last_graded_cell_is_not_run(trusted):
+    """os._exit at the end of the last ungraded cell, after every graded one: not run (no second
+    incident, no output), full marks, and the feedback shows those cells under one note."""
+    _full_marks(trusted, "hang")
+    report = _report(trusted.feedback["hang"])
+    assert report.count("The kernel stopped") == 1, report[:3000]   # the hang's, before the last test
+    _not_run_after_the_last_graded_cell(trusted, "hang", report)
 
 
 def test_tests_after_a_lost_kernel_score_zero_and_say_why():
@@ -748,15 +778,18 @@ def test_when_the_kernel_cannot_be_restarted_grading_stops_there():
 
 
 def test_after_the_last_test_a_lost_kernel_is_not_restarted():
-    """_kernel_lost after the last test: no restart, no replay; the report says nothing graded was lost."""
+    """_kernel_lost after the last test (the kernel runs on to an answer that no test follows): no
+    restart, no replay; the report says nothing graded was lost."""
     from nbclient.exceptions import DeadKernelError
     from nbformat.v4 import new_code_cell, new_notebook
     from tools.grading.robokin_nbgrader import GradingIncidents
 
     test = _graded_test_cell()
-    crash, after = new_code_cell("import os\nos._exit(1)"), new_code_cell("print('a plot')")
+    crash = new_code_cell("import os\nos._exit(1)")
+    after = new_code_cell("print('an answer no test reads')", metadata={"nbgrader": {
+        "grade": False, "solution": True, "grade_id": "task2_answer1", "schema_version": 3}})
     manager = _FakeKernelManager(_refuse("the kernel must not be restarted: nothing graded comes after the cell"))
-    execute = _execute([test, crash, after], manager, _last_code=0)
+    execute = _execute([test, crash, after], manager, _last_code=0, _last_graded=2)
     execute._kernel_lost(crash, 1, DeadKernelError("Kernel died"))
     incident = execute._stopped
     assert manager.stopped and manager.restarts == 0
@@ -765,3 +798,38 @@ def test_after_the_last_test_a_lost_kernel_is_not_restarted():
     nb, _ = GradingIncidents().preprocess(new_notebook(cells=[]), {"robokin": {"incidents": [incident]}})
     assert "No test comes after it, so grading stopped there: the cells after it were not run, and no " \
         "points were lost" in nb.cells[0].source
+
+
+def test_cells_after_the_last_graded_cell_are_not_run():
+    """The student's kernel stops after the last cell that is graded or holds an answer (a manually
+    graded one counts): a crash, a hang or any code after it is not run, costs nothing and takes no
+    time; the graded notebook shows those cells without outputs, under one note saying why."""
+    from nbformat.v4 import new_code_cell, new_markdown_cell, new_notebook, new_output
+    from tools.grading.bridge.execute import last_graded_cell
+    from tools.grading.robokin_nbgrader import NotRunNote
+    from tools.grading.robokin_nbgrader.not_run_note import NOTE
+
+    manual = new_markdown_cell("My reasoning.", metadata={"nbgrader": {
+        "grade": True, "solution": True, "points": 1, "grade_id": "task2_answer2", "schema_version": 3}})
+    heading = new_markdown_cell("## Going further")
+    crash = new_code_cell("import os\nos._exit(1)", outputs=[new_output("stream", name="stdout", text="mine\n")],
+                          execution_count=9)
+    picture = new_code_cell("while True:\n    pass")
+    cells = [_graded_test_cell(), manual, heading, crash, picture]
+    assert last_graded_cell(cells) == (1, 2)
+    assert last_graded_cell(cells[:3]) == (1, None)   # no code after it: nothing is left out
+    assert last_graded_cell([new_code_cell("x = 1")]) == (0, None)   # no grading metadata: all of it runs
+
+    # a kernel that ran a cell would fail: the fake manager has no kernel and no client
+    execute = _execute(cells, _FakeKernelManager(_refuse("no kernel")), _last_graded=1)
+    for index in (2, 3, 4):
+        cell, _ = execute.preprocess_cell(cells[index], {}, index)
+        assert cell is cells[index]
+    assert crash.outputs == [] and crash.execution_count is None and not execute._report["incidents"]
+
+    nb, _ = NotRunNote().preprocess(new_notebook(cells=list(cells)), {"robokin": {"not_run_from": 2}})
+    notes = [c for c in nb.cells if c.source == NOTE]
+    assert len(notes) == 1 and nb.cells.index(notes[0]) == 2 and nb.cells[3] is heading
+    assert "error" not in NOTE.lower() and "graded" in NOTE and "your own" in NOTE.lower()
+    nb, _ = NotRunNote().preprocess(new_notebook(cells=list(cells)), {"robokin": {"not_run_from": None}})
+    assert len(nb.cells) == len(cells)

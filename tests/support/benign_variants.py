@@ -17,7 +17,8 @@ submission (tests/test_grading_trust.py), after the code of ungraded cells: a ke
 the end of the last *Try it yourself* cell (:func:`with_incident`), and a cell that never ends (it
 sleeps, so that waiting for the time limit costs no CPU; interrupted at the limit), at the end of
 an earlier one (:func:`with_earlier_hang`): the notebook runs on after the hang, and the crash
-comes after it.
+comes after it. Where no test follows the last *Try it yourself* cell, the crash is not run at
+all: the student's kernel stops after the last cell that is graded or holds an answer.
 """
 
 from __future__ import annotations
@@ -667,7 +668,8 @@ def earlier_try_cell(nb: dict) -> dict | None:
     return cells[-2] if len(cells) > 1 else None
 
 
-#: the id of the cell :func:`with_earlier_hang` adds where a chapter has one *Try it yourself* cell
+#: the id of the cell :func:`with_own_cell` adds (:func:`with_earlier_hang`, where a chapter has one
+#: *Try it yourself* cell)
 OWN_CELL_ID = "my-own-experiment"
 
 
@@ -675,16 +677,26 @@ def with_earlier_hang(nb: dict, code: str) -> dict:
     """``nb`` with ``code`` in an ungraded cell before the last one, where :func:`with_incident` puts the crash.
 
     At the end of the *Try it yourself* cell before the last (:func:`earlier_try_cell`); in a
-    chapter that has one only, in a code cell of the student's own, added right after the first
-    test cell -- as a student adds a cell to experiment in, ungraded like the *Try it yourself*
-    cells (no nbgrader metadata). Either way tests come after it in every chapter, so that their
-    full marks show that the notebook ran on after the cell was stopped.
+    chapter that has one only, in a code cell of the student's own (:func:`with_own_cell`).
+    Either way tests come after it in every chapter, so that their full marks show that the
+    notebook ran on after the cell was stopped.
     """
     nb = copy.deepcopy(nb)
     cell = earlier_try_cell(nb)
-    if cell is not None:
-        cell["source"] = _source(cell).rstrip() + "\n\n" + code
-        return nb
+    if cell is None:
+        return with_own_cell(nb, code)
+    cell["source"] = _source(cell).rstrip() + "\n\n" + code
+    return nb
+
+
+def with_own_cell(nb: dict, code: str) -> dict:
+    """``nb`` with ``code`` in a code cell of the student's own, added right after the first test cell.
+
+    As a student adds a cell to experiment in, ungraded like the *Try it yourself* cells (no
+    nbgrader metadata); tests come after it in every chapter, so that the student's kernel runs it
+    (it stops after the last cell that is graded or holds an answer).
+    """
+    nb = copy.deepcopy(nb)
     cells = nb["cells"]
     first_test = next(i for i, c in enumerate(cells)
                       if c["cell_type"] == "code" and c.get("metadata", {}).get("nbgrader", {}).get("grade"))

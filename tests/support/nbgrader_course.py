@@ -259,16 +259,22 @@ def mistaken_submission(correct: dict, mistake: dict) -> dict:
 
 
 def bad_submission(correct: dict) -> tuple[dict, dict]:
-    """Raises in an ungraded cell, runs forever in an answer, and lost its first test cell."""
+    """Raises in an ungraded cell, runs forever in an answer, and lost its first test cell.
+
+    The cell that raises is one of the student's own, added before the last answer: the student's
+    kernel stops after the last cell that is graded or holds an answer, so a *Try it yourself*
+    cell after it (chapter 7's only one) would not be run.
+    """
     nb = copy.deepcopy(correct)
     cells = nb["cells"]
-    tried = [c for c in cells if c["cell_type"] == "code" and "nbgrader" not in c.get("metadata", {})]
     answers = [c for c in cells if nbg(c).get("solution")]
     tests = [c for c in cells if nbg(c).get("grade")]
-    what = {"raises": None, "loops": answers[-1], "deleted": nbg(tests[0])["grade_id"]}
-    if tried:
-        tried[0]["source"] = 'raise ValueError("my own experiment went wrong")\n' + src(tried[0])
-        what["raises"] = tried[0]
+    own: dict = {"cell_type": "code", "metadata": {}, "outputs": [], "execution_count": None,
+                 "source": 'raise ValueError("my own experiment went wrong")\n'}
+    if "id" in answers[-1]:
+        own["id"] = "my-own-experiment"
+    cells.insert(cells.index(answers[-1]), own)
+    what = {"raises": own, "loops": answers[-1], "deleted": nbg(tests[0])["grade_id"]}
     # it sleeps: to the grader the same endless cell as a busy loop, interrupted at the time
     # limit, but the wait costs no CPU. At the top of the cell: the loop runs even where the
     # answer reads a name that an earlier answer, left as given, never defined

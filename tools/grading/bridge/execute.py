@@ -6,7 +6,10 @@ the **student's kernel** runs the submission, in a bubblewrap sandbox (``tools/g
     a test scores by pass/fail only (its stderr is a note, a result it shows no partial credit); a
     kernel that dies or ignores the interrupt is killed, restarted and brought back to where it was
     (the cells before are run again), so it costs only that cell (after the last test, grading just
-    stops there: nothing graded is left to run).
+    stops there: nothing graded is left to run). It stops after the last cell that is graded or holds
+    an answer (nbgrader's ``grade`` or ``solution``): the cells after it (*Going further*, pictures)
+    are graded by nobody, so they are not run; the graded notebook shows them without outputs, and
+    ``NotRunNote`` (``tools/grading/robokin_nbgrader/not_run_note.py``) says why above the first.
 a **grader kernel** beside it (:mod:`grader_kernel`), for every chapter, runs each read-only cell (given
     or test) of the assignment -- its text from nbgrader's gradebook, never from the submission -- in
     order; before it runs, the answers it reads (names declared by answer cells,
@@ -74,6 +77,30 @@ def _grade_id(cell) -> str | None:
     return cell.get("metadata", {}).get("nbgrader", {}).get("grade_id")
 
 
+def last_graded_cell(cells) -> tuple[int, int | None]:
+    """Where the student's kernel stops: the index of the last cell that is graded or holds an answer.
+
+    Parameters
+    ----------
+    cells : list
+        The submission's cells (after autograde's sanitizing steps, which restore the
+        instructor's nbgrader metadata and put deleted test cells back).
+
+    Returns
+    -------
+    last : int
+        The last cell with nbgrader's ``grade`` or ``solution`` (a manually graded answer
+        counts); the last cell when there is none.
+    first_not_run : int or None
+        The index of the cell after ``last`` when a code cell with code follows it (those
+        cells are not run: nothing there is graded), else None.
+    """
+    last = max((i for i, c in enumerate(cells) if utils.is_grade(c) or utils.is_solution(c)),
+               default=len(cells) - 1)
+    later = any(c.cell_type == "code" and c.source.strip() for c in cells[last + 1:])
+    return last, last + 1 if later else None
+
+
 #: Settings of ``BridgedExecute`` that are gone, and why an old ``nbgrader_config.py`` may drop them.
 RETIRED_SETTINGS = {
     "chapters": "every chapter is graded through the bridge (the verdicts are decided in a grader kernel); "
@@ -104,6 +131,10 @@ class BridgedExecute(JoinedStreamsClient, Execute):
       reason. After the last test (nothing graded follows) it is not restarted: the
       cells after it are not run, and no score changes. The report names the
       incident (``resources['robokin']['incidents']``, written by ``GradingIncidents``).
+    - The cells after the last one that is graded or holds an answer are not run at all
+      (nothing there is graded): their outputs are cleared, and
+      ``resources['robokin']['not_run_from']`` is the index of the first of them (None when
+      no code follows), where ``NotRunNote`` puts its note.
     """
 
     viewer = Unicode("matplotlib", help="ROBOKIN_VIEWER of the grading kernel (how 3D scenes are shown)"
@@ -122,6 +153,7 @@ class BridgedExecute(JoinedStreamsClient, Execute):
     _timed_out: set[int]
     _report: dict[str, Any]           # resources["robokin"]
     _last_code: int
+    _last_graded: int                 # the last cell that is graded or holds an answer: the kernel stops there
     # the notebook being graded, set by preprocess: the bridge's plan and the grader kernel (None
     # between notebooks; the kernel also before it starts)
     _plan: dict | None
@@ -541,7 +573,7 @@ class BridgedExecute(JoinedStreamsClient, Execute):
         self._stopped = None
         self._replays = 0
         self._timed_out = set()
-        self._report = {"explained": {}, "verdicts": None, "pairs": [], "incidents": []}
+        self._report = {"explained": {}, "verdicts": None, "pairs": [], "incidents": [], "not_run_from": None}
         pairs = []
         for cell in nb.cells:
             for pair in robokin_metadata(cell).get("explain", []):
@@ -554,6 +586,7 @@ class BridgedExecute(JoinedStreamsClient, Execute):
         # there), so that a kernel that dies in a later cell does not take them along
         self._last_code = max((i for i, c in enumerate(nb.cells) if c.cell_type == "code" and utils.is_grade(c)),
                               default=max((i for i, c in enumerate(nb.cells) if c.cell_type == "code"), default=-1))
+        self._last_graded, self._report["not_run_from"] = last_graded_cell(nb.cells)
         previous = os.environ.get("ROBOKIN_VIEWER")
         os.environ["ROBOKIN_VIEWER"] = self.viewer  # inherited by the kernel started below
         try:
@@ -570,6 +603,10 @@ class BridgedExecute(JoinedStreamsClient, Execute):
     def preprocess_cell(self, cell, resources, index):
         if self._stopped is not None:
             return self._not_run(cell), self.resources
+        if index > self._last_graded:   # nothing graded from here on: not run
+            if cell.cell_type == "code":
+                cell.outputs, cell.execution_count = [], None
+            return cell, self.resources
         try:
             cell, resources = super().preprocess_cell(cell, resources, index)
         except (DeadKernelError, CellTimeoutError) as exc:

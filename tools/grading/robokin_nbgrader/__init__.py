@@ -14,6 +14,8 @@ class (pipeline)                          module                      what it do
 ``DropSolutionProse`` (generate)          drop_solution_prose         the emptied solution prose goes
 ``PointsHeader`` (generate)               points_header               points per task, under the title
 ``RestoreMissingCells`` (autograde)       restore_missing_cells       a deleted test cell is put back
+``NotRunNote`` (autograde)                not_run_note                a note above the cells not run
+                                                                      (nothing after them is graded)
 ``AutograderReport`` (autograde)          autograder_report           the report on top: score per task,
                                                                       findings, what went wrong
 ``GradingIncidents`` (autograde)          grading_incidents           what happened to the kernel
@@ -48,6 +50,7 @@ from .grading_incidents import KERNEL_LOST, NOT_RUN, GradingIncidents
 from .hide_hidden_tests import HideHiddenTests
 from .mark_solution_regions import MarkSolutionRegions
 from .myst_markdown import MystMarkdown
+from .not_run_note import NotRunNote
 from .offline_mathjax import OfflineMathJaxHTMLExporter, inline_mathjax, mathjax_script
 from .points_header import PointsHeader
 from .require_grading_metadata import RequireGradingMetadata
@@ -55,7 +58,7 @@ from .restore_missing_cells import RestoreMissingCells
 
 __all__ = [
     "AutograderReport", "DropSolutionProse", "FailureNotes", "FeedbackStyle", "GradingIncidents",
-    "HideHiddenTests", "KERNEL_LOST", "MarkSolutionRegions", "MystMarkdown", "NOT_RUN",
+    "HideHiddenTests", "KERNEL_LOST", "MarkSolutionRegions", "MystMarkdown", "NOT_RUN", "NotRunNote",
     "OfflineMathJaxHTMLExporter", "PointsHeader", "RequireGradingMetadata", "RestoreMissingCells",
     "VERDICT_MARK", "hidden_lines",
     "inline_mathjax", "mathjax_script", "registered_pairs", "visible_source",
