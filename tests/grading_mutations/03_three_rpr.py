@@ -186,18 +186,23 @@ MUTATIONS = {
          "poly_t = sp.Poly(sp.expand(poly_t.as_expr() * (1 + t**2)), t)"),
     ],
     "task2_test2": [
-        ("only the odd coefficients named", "vanishing_coefficients = {1, 3, 5}"),
-        ("a coefficient named that does not vanish", "vanishing_coefficients = {0, 1, 2, 3, 5}"),
+        ("the exercise's set written in, whatever polynomial it is given",
+         "def vanishing_coefficients(poly=poly_t):\n    return {0, 1, 3, 5}\n"),
+        ("a coefficient that vanishes at equal leg lengths taken as vanishing",
+         "def vanishing_coefficients(poly=poly_t):\n"
+         "    C = [sp.sympify(c) for c in reversed(poly.all_coeffs())]\n"
+         "    return {k for k, c in enumerate(C) if c.subs({s: 1 for s in c.free_symbols}) == 0}\n"),
         ("D's zero put at phi = pi (the root t = infinity)", "D_zero_phi = np.pi"),
         ("only the coefficients D does not explain blamed on the twin (C_1 left out)",
          "twin_coefficients = {3, 5}"),
         ("every vanishing coefficient blamed on the twin (C_0 is D's factor t^2)",
          "twin_coefficients = {0, 1, 3, 5}"),
         ("k counted from the highest power (Poly.all_coeffs() order)",
-         "vanishing_coefficients = {1, 3, 5, 6}"),
-        ("the set read off a poly_t with t^2 divided out (degree 4)",
-         "poly_t = sp.Poly(sp.cancel(poly_t.as_expr() / t**2), t)\n"
-         "vanishing_coefficients = {k for k in range(7) if poly_t.coeff_monomial(t**k) == 0}"),
+         "def vanishing_coefficients(poly=poly_t):\n"
+         "    return {k for k, c in enumerate(poly.all_coeffs()) if c == 0}\n"),
+        ("only the odd coefficients kept (C_0, the factor of D, left out)",
+         "def vanishing_coefficients(poly=poly_t):\n"
+         "    return {k for k, c in enumerate(reversed(poly.all_coeffs())) if c == 0 and k % 2}\n"),
     ],
     "task2_test3": [
         ("the twin pose taken as the mirror image (x, -y, -phi)",
