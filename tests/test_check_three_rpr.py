@@ -260,6 +260,23 @@ def test_cramer_parts_other_answers():
     assert chk.cramer_parts(lambda phi, rho, robot: (1.0, 0.0), quiet=True).diagnosis == "error"
 
 
+def _no_roots(phi, rho, robot=None):
+    return 1.0  # a wrong orientation equation: no root anywhere
+
+
+def fk_through(rho, robot=None, F=_no_roots):
+    """One assembly mode when the orientation equation ``F`` has a root, none otherwise."""
+    values = [F(phi, rho, robot) for phi in np.linspace(-math.pi, math.pi, 181)]
+    return fk_newton(rho) if min(values) < 0 < max(values) else np.zeros((0, 3))
+
+
+def test_fk_is_judged_with_robokins_orientation_function():
+    # my_fk(rho, robot, F=F_of_phi): the check passes robokin's F, so that a wrong F_of_phi (the
+    # default) is not blamed on the forward kinematics, in the check or in the grading report
+    assert chk.forward_kinematics(fk_through, quiet=True).passed
+    assert chk.forward_kinematics(lambda rho: fk_through(rho), quiet=True).diagnosis == "missing"
+
+
 def test_fk_bad_answers():
     assert chk.forward_kinematics(np.zeros(3), quiet=True).diagnosis == "constant"
     assert chk.forward_kinematics(lambda rho: None, quiet=True).diagnosis == "error"

@@ -26,7 +26,10 @@ whose solvers of the task under test (:data:`WITHHELD`) are missing: a derivatio
 runs on it, a function that hands the task back to robokin raises.
 
 A forward-kinematics answer is accepted when every pose it returns is one of the
-assembly modes (a pose whose leg lengths are ρ); any one mode is enough.
+assembly modes (a pose whose leg lengths are ρ); any one mode is enough. A function with the
+keyword parameter ``F`` (``my_fk(rho, robot=robot, F=F_of_phi)``) is called with robokin's
+:func:`reference_orientation_function` in its place, so that the verdict (and the grading
+report's) is on the forward kinematics alone, not on a mistake in ``F_of_phi``.
 
 Usage::
 
@@ -55,6 +58,7 @@ from robokin.check._core import (
     alternatives,
     fmt,
     report,
+    with_reference_steps,
 )
 from robokin.check._registry import exercise
 from robokin.errors import DomainError
@@ -546,7 +550,15 @@ def _judge(poses: Any, rho: np.ndarray, robot, name: str, tol: float, n: int = 1
 
 
 class _ForwardKinematicsCheck(FunctionCheck):
-    """Check a function ``fk(rho)`` -> one assembly mode (3,) or several (k, 3)."""
+    """Check a function ``fk(rho)`` -> one assembly mode (3,) or several (k, 3); a function with
+    the keyword parameter ``F`` is given robokin's orientation equation there."""
+
+    def evaluate(self, answer: Any) -> CheckResult:
+        """:meth:`FunctionCheck.evaluate` of ``answer`` given robokin's
+        :func:`reference_orientation_function` as ``F`` (when it takes one)."""
+        if callable(answer) and not isinstance(answer, np.ndarray):
+            answer = with_reference_steps(answer, {"F": reference_orientation_function})
+        return super().evaluate(answer)
 
     def leg_lengths(self) -> np.ndarray:
         """The leg lengths (N, 3) at which the answer is tested (from seeded random poses)."""
