@@ -157,9 +157,10 @@ def _tool_frame_mistakes():
     R_swapped = _ypr(*_TOOL_YPR[::-1])
     return [
         alternatives("offset_in_cm", [(lambda x: _transform(R, p / 100.0), (
-            "the offset of {name} is 0.002 m: 0.2 was read as centimetres. The robot's link "
-            "table and the goal are in metres (the goal is about 1 m from the base), and a 2 mm "
-            "tool would barely leave the end-effector: the offset is 0.2 m = 20 cm."
+            "the offset of {name} is 0.002 m: 0.2 was read as centimetres (look at your "
+            "TOOL_OFFSET, the offset {name} is built from). The robot's link table and the goal "
+            "are in metres (the goal is about 1 m from the base), and a 2 mm tool would barely "
+            "leave the end-effector: the offset is 0.2 m = 20 cm."
         ))]),
         alternatives("rpy_order", [
             (lambda x: _transform(R_swapped, p), _SWAPPED_TOOL),
