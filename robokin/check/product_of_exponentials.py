@@ -561,8 +561,8 @@ def _adjoint_mistakes():
             "it is [[R, 0], [[p]R, R]]."
         ))]),
         alternatives("product_order", [(lambda x: blocks(x, lower=lambda R, p: R @ _skew(p)), (
-            "the lower-left block of {name} is R[p]; it is [p]R (the velocity p × (Rω) of the "
-            "moved frame's origin)."
+            "the lower-left block of {name} is R[p]; it is [p]R: the body point at the fixed "
+            "frame's origin, −p from the moved frame's, gains the velocity (Rω) × (−p) = p × (Rω)."
         ))]),
         alternatives("sign", [(lambda x: blocks(x, lower=lambda R, p: -_skew(p) @ R), (
             "the lower-left block of {name} has the wrong sign: [p]R, with [p]x = p × x."
