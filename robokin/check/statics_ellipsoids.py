@@ -1,7 +1,7 @@
 r"""Exercise checks of chapter 9: statics and the velocity and force ellipsoids.
 
 The exercise's arm is :func:`robokin.models.planar_two_link` with :math:`l_1 = 1` m and
-:math:`l_2 = 0.6` m (:data:`LINKS`); the functions of Tasks 2–5 take a Jacobian, and the checks
+:math:`l_2 = 0.6` m (:data:`LINKS`); the functions of Tasks 2–6 take a Jacobian, and the checks
 hand them the arm's 2×2 position Jacobian at random configurations away from its singularities.
 
 =======================  =========================================================  ==============
@@ -281,11 +281,12 @@ def _ellipse_check(name: str, force: bool, doc: str, from_velocity: bool = False
     if from_velocity:
         arguments, signature, noun = (_velocity_pair, f"{name}(radii_v, axes_v) -> (radii (m,), axes (m, m))",
                                       "velocity ellipses of the arm")
-        hint = "the velocity ellipse's axes in reverse order, with the reciprocal radii 1/σ_i, descending"
+        hint = ("Compare the two sets in the coordinates of the eigenvectors of J Jᵀ: which axes, "
+                "which lengths, in which order (radii descending)?")
     else:
         arguments, signature, noun = _one_jacobian, f"{name}(J) -> (radii (m,), axes (m, m))", "Jacobians of the arm"
-        hint = ("radii 1/σ_i descending, axes u_i (columns) from J = U Σ Vᵀ" if force
-                else "radii σ_i descending, axes u_i (columns) from J = U Σ Vᵀ")
+        hint = ("Write the set's boundary in the coordinates of the eigenvectors of J Jᵀ; radii "
+                "descending, each axis in the column of its radius.")
     return _EllipseCheck(
         name=name,
         reference=reference,
@@ -308,7 +309,7 @@ tool_jacobian = exercise(_CHAPTER, "tool_jacobian", Check(
     groups=[("q", [0, 1])],
     diagnoses=dg.standard("jacobian"),
     noun="angles",
-    hint="J = [[−l1 s1 − l2 s12, −l2 s12], [l1 c1 + l2 c12, l2 c12]] with l1 = 1 m, l2 = 0.6 m.",
+    hint="Column j of J is ∂p/∂q_j: differentiate both rows of p(q) (l1 = 1 m, l2 = 0.6 m).",
     doc="Check tool_jacobian(q): the 2×2 Jacobian ∂p/∂q of the exercise arm's tool position, m/rad.",
 ))
 
@@ -337,7 +338,7 @@ joint_torques = exercise(_CHAPTER, "joint_torques", Check(
     groups=[("q", [0, 1]), ("F", [2, 3])],
     diagnoses=_torques_mistakes(),
     noun="configurations and forces",
-    hint="τ = J(q)ᵀ F (virtual work).",
+    hint="Virtual work: the motors' work τ·δq equals the tool's work F·δp for every δq.",
     doc=("Check joint_torques(q, F): the torques τ (N·m) with which the arm's tool pushes with F (N), "
          "compared with the reference at 20 random configurations and forces."),
 ))
@@ -392,7 +393,7 @@ leg_torques = exercise(_CHAPTER, "leg_torques", _MassCheck(
         dg.degrees(),
     ],
     noun="configurations of the leg and body masses",
-    hint="τ = J_F(q)ᵀ F with the force F that the foot exerts on the ground.",
+    hint="Which force, in which frame and with which sign? The body's potential energy decides.",
     doc="Check leg_torques(q, m): the torques (N·m) of chapter 1's leg holding a body of m kg on its foot.",
 ))
 

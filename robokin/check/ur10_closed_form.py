@@ -509,8 +509,8 @@ def reference_shoulder_angles(T: Any) -> np.ndarray:
     Returns
     -------
     numpy.ndarray, shape (2,) or (0,)
-        Both shoulder angles q1 (rad, in (−π, π]), or none when the wrist centre is closer
-        to the base's z axis than d4.
+        Both shoulder angles q1 (rad, in (−π, π]), or none when the pose has no shoulder
+        solution.
     """
     T = _flange_pose(T)
     x, y, _ = (float(v) for v in _centre(T))
@@ -536,7 +536,7 @@ def reference_wrist_angles(T: Any, q1: Any) -> np.ndarray:
     -------
     numpy.ndarray, shape (2, 2)
         Both rows (q5, q6) (rad, in (−π, π]), the one with sin q5 > 0 first. Where q6 is
-        undefined (sin q5 = 0) the rows hold q6 = 0 and q6 = π.
+        undefined the rows hold q6 = 0 and q6 = π.
     """
     T, q1 = _flange_pose(T), as_scalar(q1, "q1")
     z1 = np.array([math.sin(q1), -math.cos(q1), 0.0])
