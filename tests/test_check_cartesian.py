@@ -298,6 +298,23 @@ def test_reference_steps_pass_their_checks_and_agree_with_the_sheet():
                                                                                    quiet=True).passed
 
 
+def test_reference_rpy_difference_is_robokins_rpy_error():
+    """The stand-in for rpy_difference: robokin's RPY error (pose_error with the "rpy"
+    representation), each difference in (-pi, pi], zero between equal rotations."""
+    from robokin.motion import pose_error
+
+    rng = np.random.default_rng(8)
+    for _ in range(10):
+        R, R_goal = (rotation_from_rpy_local(*rng.uniform([-3, -1.4, -3], [3, 1.4, 3])) for _ in range(2))
+        difference = cart.reference_rpy_difference(R, R_goal)
+        assert np.all(difference > -np.pi) and np.all(difference <= np.pi)
+        expected = pose_error(_tf(R, np.zeros(3)), _tf(R_goal, np.zeros(3)), representation="rpy")[3:]
+        assert np.allclose(difference, expected, atol=1e-12)
+        assert np.allclose(cart.reference_rpy_difference(R, R), 0.0, atol=1e-12)
+    with pytest.raises(ValueError):
+        cart.reference_rpy_difference(np.eye(3), np.eye(4))
+
+
 def rotation_from_rpy_local(roll, pitch, yaw):
     return rotz(yaw) @ roty(pitch) @ rotx(roll)
 

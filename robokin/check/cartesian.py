@@ -70,6 +70,7 @@ __all__ = [
     "orientation_error",
     "reference_goal",
     "reference_orientation_error",
+    "reference_rpy_difference",
     "reference_tool_arm",
     "rpy_rate_matrix",
     "tool_frame",
@@ -827,6 +828,31 @@ def reference_orientation_error(R: Any, R_goal: Any) -> np.ndarray:
     R = check_rotation_matrix(as_float_array(R, "R", (3, 3)), name="R")
     R_goal = check_rotation_matrix(as_float_array(R_goal, "R_goal", (3, 3)), name="R_goal")
     return rotation_log(R_goal @ R.T, check=False)
+
+
+def reference_rpy_difference(R: Any, R_goal: Any) -> np.ndarray:
+    r"""robokin's answer to ``rpy_difference`` of Task 5 (the later test's stand-in).
+
+    The graded test of ``analytic_twist(q, rpy_difference=...)`` passes it in place of the
+    student's, so that a mistake in ``rpy_difference`` costs the points of its own test only.
+
+    Parameters
+    ----------
+    R, R_goal : array_like, shape (3, 3)
+        Rotation matrices: the current orientation and the goal's, in the base frame.
+
+    Returns
+    -------
+    numpy.ndarray, shape (3,)
+        The (roll, pitch, yaw) angles of ``R_goal`` minus those of ``R`` (rad), each difference
+        wrapped into (−π, π]: coordinates of the rotation set, not a vector in the base frame.
+    """
+    from robokin.validation import as_float_array, check_rotation_matrix
+
+    R = check_rotation_matrix(as_float_array(R, "R", (3, 3)), name="R")
+    R_goal = check_rotation_matrix(as_float_array(R_goal, "R_goal", (3, 3)), name="R_goal")
+    raw = np.asarray(rpy_from_rotation(R_goal)) - np.asarray(rpy_from_rotation(R))
+    return np.pi - np.mod(np.pi - raw, 2.0 * np.pi)
 
 
 def reference_tool_arm() -> Any:

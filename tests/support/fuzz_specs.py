@@ -996,6 +996,9 @@ def check_specs() -> list[Spec]:
     # chapter 4's stand-in for the student's orientation error in the later tests
     S.append(Spec("check.cartesian.reference_orientation_error", check.cartesian.reference_orientation_error,
                   [Rot("R", batch=False), Rot("R_goal", batch=False)], shape=lambda c, v: (3,), weight=0.3))
+    # and for its RPY difference in the test of analytic_twist
+    S.append(Spec("check.cartesian.reference_rpy_difference", check.cartesian.reference_rpy_difference,
+                  [Rot("R", batch=False), Rot("R_goal", batch=False)], shape=lambda c, v: (3,), weight=0.3))
     return S
 
 

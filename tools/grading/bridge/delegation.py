@@ -137,7 +137,8 @@ ANSWERS: dict[str, dict[str, str]] = {
     "slide_column": {"jacobian": "SerialChain.jacobian", "tool_jacobian": "robokin.motion.tool_jacobian",
                      "rigid_body_jacobian": "robokin.motion.rigid_body_jacobian"},
     # chapter 4, Task 5: the wrapped RPY difference written out, not robokin's RPY error
-    "rpy_difference": {"pose_error.representation": "robokin.motion.pose_error(..., representation=...)"},
+    "rpy_difference": {"pose_error.representation": "robokin.motion.pose_error(..., representation=...)",
+                       "reference_rpy_difference": "robokin.check.cartesian.reference_rpy_difference"},
     # chapter 7, Task 5: the conditions under which two branches meet, not ur10_ik's singular flags
     "coinciding_branches": {"ur10_ik": "robokin.models.ur10_ik", "ur10_ik_batch": "robokin.models.ur10_ik_batch"},
     # chapter 2, Task 2 (d): the three step rules written on the parts, not the tests' helper
