@@ -18,6 +18,7 @@ import sympy as sp
 from robokin.models.ar601 import ar601_leg
 from robokin.models.ar601_ik import ar601_leg_ik
 from robokin.motion import solve_ik
+from robokin.transforms import transform
 
 ck = importlib.import_module("robokin.check.ar601")
 
@@ -536,3 +537,60 @@ def test_reference_knee_angle_at_the_stretched_leg_and_beyond():
 def test_reference_steps_reject_bad_input(call):
     with pytest.raises(ValueError):
         call()
+
+
+# ---------------------------------------------------------------- sole_sweep
+def _sweep(heights, leg_ik, row=0, none=np.nan, value=-1, sign=-1.0):
+    """A sole_sweep: the rows of leg_ik for the sole level at each height, sigma at ``row``."""
+    leg = ar601_leg()
+    counts, sigmas = [], []
+    for h in heights:
+        Q = np.asarray(leg_ik(transform(np.eye(3), [0.0, 0.0, sign * h])))
+        counts.append(len(Q))
+        sigmas.append(leg.singular_values(Q[row])[value] if len(Q) else none)
+    return np.array(counts), np.array(sigmas)
+
+
+def test_sole_sweep_correct(capsys):
+    assert ck.sole_sweep(_sweep).passed
+    assert "6 heights" in capsys.readouterr().out
+
+
+def _own_ik_only(heights, leg_ik):
+    """Ignores leg_ik: robokin's closed form in its place."""
+    return _sweep(heights, lambda T: ar601_leg_ik(T).q)
+
+
+@pytest.mark.parametrize("answer, code", [
+    (lambda h, ik: _sweep(h, ik, row=-1), "sigma_last_row"),
+    (lambda h, ik: _sweep(h, ik, none=0.0), "zero_for_none"),
+    (lambda h, ik: _sweep(h, ik, value=0), "largest_singular_value"),
+    (lambda h, ik: _sweep(h, ik, sign=1.0), "height_sign"),
+    (lambda h, ik: _sweep(h, lambda T: [q for q in ik(T) if ar601_leg().within_limits(q)]),
+     "within_limits_only"),
+    (_own_ik_only, "leg_ik_ignored"),
+    (lambda h, ik: (_sweep(h, ik)[0] * 2, _sweep(h, ik)[1]), "count"),
+    (lambda h, ik: 3, "type"),
+    (None, "error"),
+])
+def test_sole_sweep_mistakes(answer, code):
+    result = ck.sole_sweep(answer, quiet=True)
+    assert not result.passed and result.diagnosis == code, result.message
+
+
+def test_later_functions_are_judged_on_robokins_steps():
+    """my_leg_ik and unreachable_reason take their earlier steps as keyword parameters: the checks
+    pass robokin's, so a wrong knee (the interior angle) of the student's leaves them correct."""
+    def interior_knee(d, l1_=0.3, l2_=0.3):
+        return np.arccos((l1_**2 + l2_**2 - d**2) / (2 * l1_ * l2_))
+
+    def assembly(T, ankle=None, knee=interior_knee, ankle_angles=None, hip_angles=None):
+        return ar601_leg_ik(T).q if knee is not interior_knee else np.zeros((0, 6))
+
+    def reason(T, leg_ik=lambda T: np.zeros((0, 6))):
+        return _reason_by_robokin(T) if len(leg_ik(ck.T_GOAL)) else "too_far"
+
+    assert ck.leg_ik(assembly, quiet=True).passed
+    assert ck.unreachable_reason(reason, quiet=True).passed
+    # a function without those parameters is called as it is
+    assert not ck.leg_ik(lambda T: np.zeros((0, 6)), quiet=True).passed

@@ -21,6 +21,9 @@ check                   the student's answer                                    
 ``leg_ik``              function my_leg_ik(T) -> (k, 6): every solution, each once   20 random foot poses
 ``unreachable_reason``  function f(T) -> None, or why T is out of reach:             targets near the
                         ``"too_far"``, ``"ankle_range"`` or ``"joint_limits"``       boundaries
+``sole_sweep``          function f(heights, leg_ik) -> (counts, sigma_min): the      6 heights, with an
+                        rows leg_ik returns for the sole level at each height and    inverse kinematics
+                        sigma_min of J at the first (NaN where there is none)        of the check's own
 ======================  ==========================================================  ======================
 
 A solution that puts the foot at the right *place* but with the wrong
@@ -53,6 +56,7 @@ from robokin.check._core import (
     alternatives,
     report,
     fmt,
+    with_reference_steps,
 )
 from robokin.check._registry import exercise
 from robokin.errors import DomainError
@@ -77,6 +81,7 @@ __all__ = [
     "reference_ankle_point",
     "reference_hip_angles",
     "reference_knee_angle",
+    "sole_sweep",
     "unreachable_reason",
 ]
 
@@ -887,8 +892,25 @@ k_regular = exercise(_CHAPTER, "k_regular", _CountCheck(
 ))
 
 
+def _reference_steps() -> dict[str, Any]:
+    """robokin's steps by the names of the keyword parameters the chapter's later functions take
+    (``my_leg_ik(T, ankle=, knee=, ankle_angles=, hip_angles=)``, ``unreachable_reason(T,
+    leg_ik=)``): a check of a later function judges it alone, and the grading report blames no
+    later function for an earlier step."""
+    return {"ankle": reference_ankle_point, "knee": reference_knee_angle,
+            "ankle_angles": reference_ankle_angles, "hip_angles": reference_hip_angles,
+            "leg_ik": _closed_form}
+
+
 class _LegIKCheck(FunctionCheck):
-    """``my_leg_ik(T) -> (k, 6)``: every solution of a foot pose, each once, in any order."""
+    """``my_leg_ik(T) -> (k, 6)``: every solution of a foot pose, each once, in any order; called
+    with robokin's steps for those of its keyword parameters that name them (:func:`_reference_steps`)."""
+
+    def evaluate(self, answer: Any) -> CheckResult:
+        """:meth:`FunctionCheck.evaluate` of ``answer`` given robokin's steps."""
+        if callable(answer):
+            answer = with_reference_steps(answer, _reference_steps())
+        return super().evaluate(answer)
 
     def judge(self, answer: Any) -> CheckResult:
         X = self.sample_points()
@@ -943,7 +965,9 @@ leg_ik = exercise(_CHAPTER, "leg_ik", _LegIKCheck(
     variables=_Q,
     noun="foot poses",
     doc=("Check a function my_leg_ik(T) -> (k, 6) that returns every solution of a foot pose "
-         "T (4×4) of the leg, each once (angles compared modulo 2π), at 20 random poses."),
+         "T (4×4) of the leg, each once (angles compared modulo 2π), at 20 random poses; "
+         "robokin's steps are passed for its keyword parameters ankle, knee, ankle_angles and "
+         "hip_angles, so that it is judged on its own."),
 ))
 
 
@@ -1005,7 +1029,14 @@ _REASON_HELP = {
 
 
 class _ReasonCheck(FunctionCheck):
-    """``unreachable_reason(T) -> None | "too_far" | "ankle_range" | "joint_limits"``."""
+    """``unreachable_reason(T) -> None | "too_far" | "ankle_range" | "joint_limits"``; called with
+    robokin's inverse kinematics for a keyword parameter ``leg_ik`` (:func:`_reference_steps`)."""
+
+    def evaluate(self, answer: Any) -> CheckResult:
+        """:meth:`FunctionCheck.evaluate` of ``answer`` given robokin's steps."""
+        if callable(answer):
+            answer = with_reference_steps(answer, _reference_steps())
+        return super().evaluate(answer)
 
     def judge(self, answer: Any) -> CheckResult:
         name = self.name
@@ -1037,5 +1068,106 @@ unreachable_reason = exercise(_CHAPTER, "unreachable_reason", _ReasonCheck(
     noun="targets",
     doc=("Check a function unreachable_reason(T) -> None (a solution within the joint limits "
          "exists) or why the foot pose T is out of reach: \"too_far\", \"ankle_range\", "
-         "\"joint_limits\"."),
+         "\"joint_limits\"; robokin's inverse kinematics is passed for its keyword parameter "
+         "leg_ik, so that it is judged on its own."),
+))
+
+
+# ------------------------------------------------------------------ the sweep of the sole's height
+#: The sweep's heights (m below the hip) and how many rows the check's inverse kinematics
+#: returns at each (not a count of the leg's: the sweep is judged on its own).
+_SWEEP_ROWS = {0.42: 2, 0.5: 0, 0.57: 4, 0.63: 1, 0.69: 3, 0.74: 0}
+
+
+class _SoleSweepCheck(FunctionCheck):
+    """``sole_sweep(heights, leg_ik) -> (n_solutions, sigma_min)``, called with an inverse
+    kinematics of the check's own that returns the first k_h rows of a fixed set of configurations."""
+
+    def judge(self, answer: Any) -> CheckResult:
+        name = self.name
+        leg = _leg()
+        # four configurations, within the joint limits and beyond them alternately
+        rng = np.random.default_rng(self.seed if self.seed is not None else 0)
+        pool = rng.uniform(-1.2, 1.2, (4, 6)) * np.array([[1.0], [2.5], [1.0], [2.5]])
+        heights = np.array(list(_SWEEP_ROWS))
+        asked: list[np.ndarray] = []
+
+        def check_ik(T: Any) -> np.ndarray:
+            """The first k_h rows of the pool, for the height nearest the pose's."""
+            T = np.asarray(T, dtype=float)
+            asked.append(T)
+            h = min(_SWEEP_ROWS, key=lambda height: abs(height + T[2, 3]))
+            return pool[: _SWEEP_ROWS[h]].copy()
+
+        n = len(heights)
+        got = self.call(answer, (heights.copy(), check_ik), "with an inverse kinematics of the check's own", n)
+        try:
+            counts, sigmas = (np.asarray(part, dtype=float).reshape(-1) for part in got)
+        except (TypeError, ValueError):
+            return self.failure("type", f"{name} should return two arrays (n_solutions, sigma_min), one "
+                                f"entry per height; got {type(got).__name__}.", n)
+        if not asked:
+            return self.failure("leg_ik_ignored", f"{name} never calls the inverse kinematics passed as "
+                                "its argument leg_ik: call leg_ik(T), not my_leg_ik(T).", n)
+        if counts.shape != heights.shape or sigmas.shape != heights.shape:
+            return self.failure("shape", f"{name} should return one count and one sigma_min per height "
+                                f"({len(heights)} here); got {counts.size} and {sigmas.size}.", n)
+        poses = np.array(asked)
+        if not (np.allclose(poses[:, :3, :3], np.eye(3)) and np.allclose(poses[:, :2, 3], 0.0)):
+            return self.failure("pose", f"{name} asks leg_ik for poses that are not the sole level "
+                                "(rotation I) straight below the hip: T = transform(I, [0, 0, -h]).", n)
+        depth = -poses[:, 2, 3]
+        if not all(np.isclose(np.abs(heights - z).min(), 0.0, atol=1e-12) for z in depth):
+            if all(np.isclose(np.abs(heights + z).min(), 0.0, atol=1e-12) for z in depth):
+                return self.failure("height_sign", f"{name} puts the sole above the hip: the heights are "
+                                    "below it, T[2, 3] = -h.", n)
+            return self.failure("pose", f"{name} asks leg_ik for the sole at other heights than those "
+                                "given: T = transform(I, [0, 0, -h]) for each h.", n)
+        expected_counts = np.array([float(_SWEEP_ROWS[h]) for h in _SWEEP_ROWS])
+        inside = np.cumsum(np.r_[0, leg.within_limits(pool)])[expected_counts.astype(int)]
+        if np.array_equal(counts, inside) and not np.array_equal(inside, expected_counts):
+            return self.failure("within_limits_only", f"{name} counts only the rows within the joint "
+                                "limits: n_solutions is every row leg_ik returns.", n)
+        if not np.array_equal(counts, expected_counts):
+            return self.failure("count", f"{name}'s n_solutions should count every row leg_ik returns "
+                                f"(here {expected_counts.astype(int).tolist()}); got "
+                                f"{counts.tolist()}.", n)
+        sigma_of = [leg.singular_values(q)[-1] for q in pool]
+        first = np.where(expected_counts > 0, sigma_of[0], np.nan)
+
+        def same(values: np.ndarray) -> bool:
+            return bool(np.allclose(sigmas, values, rtol=1e-6, atol=1e-12, equal_nan=True))
+
+        if same(first):
+            return self.success(f"{name} is correct (checked at {n} heights with an inverse kinematics "
+                                "of its own).", n)
+        k = expected_counts.astype(int)
+        mistakes = (
+            ("zero_for_none", np.where(k > 0, sigma_of[0], 0.0),
+             f"{name} gives 0 where leg_ik returns no row: that is NaN (there is no Jacobian to measure)."),
+            ("sigma_last_row", np.array([sigma_of[c - 1] if c else np.nan for c in k]),
+             f"{name} takes sigma_min at the last row leg_ik returns: the task asks for the first."),
+            ("sigma_smallest_of_rows", np.array([min(sigma_of[:c]) if c else np.nan for c in k]),
+             f"{name} takes the smallest sigma_min over the rows: the task asks for the first row's."),
+            ("largest_singular_value",
+             np.where(k > 0, leg.singular_values(pool[0])[0], np.nan),
+             f"{name} takes the largest singular value: sigma_min is the smallest, "
+             "leg.singular_values(q)[-1]."),
+        )
+        for code, values, text in mistakes:
+            if same(values):
+                return self.failure(code, text, n)
+        return self.failure("sigma", f"{name}'s sigma_min should be the smallest singular value of the "
+                            "leg's Jacobian at the first row leg_ik returns (NaN where it returns "
+                            "none).", n)
+
+
+sole_sweep = exercise(_CHAPTER, "sole_sweep", _SoleSweepCheck(
+    name="sole_sweep",
+    signature="sole_sweep(heights, leg_ik) -> (n_solutions, sigma_min)",
+    noun="heights",
+    doc=("Check a function sole_sweep(heights, leg_ik) -> (n_solutions, sigma_min): for the sole "
+         "level at each height below the hip, the number of rows leg_ik returns and sigma_min of "
+         "the Jacobian at the first (NaN where there is none), with an inverse kinematics of the "
+         "check's own."),
 ))
