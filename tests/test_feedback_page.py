@@ -696,3 +696,49 @@ def test_a_test_tagged_explains_names_only_the_answers_it_grades():
     nb.cells[1].outputs = [nbformat.from_dict(_error("NameError", 1, 1))]
     _, text = note(["check", "explains-later"])
     assert "because of In [1], line 1, `def step(x): return 2 * x`, which raised NameError" in text, text
+
+
+def _sweep_notebook():
+    """Chapter 6 in small: Task 3's knee, whose test fails; Task 5's answer cell defines
+    ``sole_sweep`` and raises when it calls it on the student's own inverse kinematics; Task 5's
+    test (tagged ``explains-sole_sweep``) calls ``sole_sweep`` on an inverse kinematics of its own."""
+    nb = nbformat.v4.new_notebook()
+    test = code_cell("counts, sigmas = sole_sweep(heights_test, leg_ik=ik_test)\n"
+                     "assert np.allclose(sigmas, expected)", "task5_test1", grade=True, task=5, count=4,
+                     outputs=[_error("AssertionError", 4, 2)])
+    test.metadata["tags"] = ["check", "explains-sole_sweep"]
+    nb.cells = [
+        nbformat.v4.new_markdown_cell("## Task 3: the knee"),
+        code_cell("def knee_angle(d):\n    return d", "task3_answer1", solution=True, task=3, count=1),
+        code_cell("assert knee_angle(0.5) == 1.0", "task3_test1", grade=True, task=3, count=2,
+                  outputs=[_error("AssertionError", 2, 1)]),
+        nbformat.v4.new_markdown_cell("## Task 5: the sweep"),
+        code_cell("def sole_sweep(heights, leg_ik=knee_angle):\n    return heights, heights\n\n\n"
+                  "n_solutions, sigma_min = sole_sweep(heights)", "task5_answer1", solution=True, task=5,
+                  count=3, outputs=[_error("DomainError", 3, 5)]),
+        test,
+    ]
+    return nb
+
+
+def test_a_raising_answer_cell_may_be_the_whole_cause_only_if_the_answer_is_right_for_its_check():
+    """The answer cell of ``sole_sweep`` raised, and the test of ``sole_sweep`` failed on its own
+    inputs: the note says fixing the cell may make the test pass only while ``robokin.check`` finds
+    no answer the test grades wrong; when it finds ``sole_sweep`` wrong, both must be fixed."""
+    from tools.grading.robokin_nbgrader import FailureNotes
+
+    failure = nbformat.from_dict(_error("AssertionError", 4, 2))
+    wrong = [{"quantity": "sole_sweep", "status": "wrong", "check": "ar601.sole_sweep", "typical": True,
+              "diagnosis": "sigma_last_row", "message": "✘ sole_sweep takes sigma_min at the last row"}]
+    for verdicts, advice in [([], "Fix that first: this test may then pass."),
+                             (wrong, "Fix that first, and your `sole_sweep` (Task 5) too: robokin.check "
+                                     "finds it wrong (below), so this test fails until both are fixed.")]:
+        nb = _sweep_notebook()
+        report: dict[str, Any] = {"pairs": [], "explained": {}}
+        notes_ = FailureNotes(nb, 5, report)
+        notes_.pairs(failure)
+        text = "\n".join(notes_.lines(failure, verdicts))
+        cause = next(line for line in text.splitlines() if "This test failed because of" in line)
+        assert "`n_solutions, sigma_min = sole_sweep(heights)`, which raised DomainError" in cause, text
+        assert cause.endswith(advice), text
+        assert "knee_angle" not in cause, text

@@ -258,7 +258,11 @@ class FailureNotes:
             self.report.setdefault("wrong", {}).setdefault(name, diagnosis)
         if correct & set(self.causes) or fresh:   # right: not the cause; wrong: a cause
             self.causes = self._causes(self._kinds, correct)
-        out += self._cause_lines()
+        # the answers this test grades that robokin.check finds wrong: fixing the cause is not enough
+        graded = self.graded or set(self.yours)
+        own_wrong = frozenset(v["quantity"] for v in verdicts
+                              if v.get("status") in ("wrong", "missing") and v["quantity"] in graded)
+        out += self._cause_lines(own_wrong)
         checked = {name for v in verdicts if v.get("status") not in ("info", "skipped")
                    for name in identifier_names(v["quantity"])}
         infos: dict[str, list[str]] = {}
@@ -319,9 +323,10 @@ class FailureNotes:
         found = _cell_functions_used(self.nb.cells[binding.cell].source, modules)
         return next((calls for bound, _, calls in found if bound == name), ())
 
-    def _cause_lines(self) -> list[str]:
+    def _cause_lines(self, own_wrong: frozenset[str] = frozenset()) -> list[str]:
         """The note's line naming the root causes (none without a cause), recorded in the run's report
-        for *Where to start*."""
+        for *Where to start*. It says the test may then pass only when robokin.check finds none of the
+        answers the test grades wrong (``own_wrong``) besides the causes to be fixed anyway."""
         if not self.causes:
             return []
         groups: dict[tuple, list[str]] = {}
@@ -336,7 +341,17 @@ class FailureNotes:
         items = [f"{self._named(names)}: {'its' if len(names) == 1 else 'their'} {why}"
                  for (_, why), names in groups.items()]
         items += [f"{label}, which {why}" for label, why in raised]
-        out = [f"  This test failed because of {'; '.join(items)}. Fix that first: this test may then pass."]
+        # a cause named for its own failing test or its value is already to be fixed; one whose
+        # answer cell raised may still be wrong itself
+        also = sorted(name for name in own_wrong
+                      if self.causes.get(name, "answer cell").startswith("answer cell"))
+        if also:
+            them = "it" if len(also) == 1 else "them"
+            advice = (f"Fix that first, and your {self._named(also)} too: robokin.check finds {them} "
+                      "wrong (below), so this test fails until both are fixed.")
+        else:
+            advice = "Fix that first: this test may then pass."
+        out = [f"  This test failed because of {'; '.join(items)}. {advice}"]
         # one entry per answer (or line) and reason: a test depends on the causes of its own note only
         record = self.report.setdefault("causes", {})
         for (task, why), names in groups.items():
