@@ -194,6 +194,14 @@ MUTATIONS = {
          "        counts.append(len(Q))\n"
          "        sigmas.append(leg.singular_values(Q[0])[0] if len(Q) else np.nan)\n"
          "    return np.array(counts), np.array(sigmas)"),
+        ("sigma_min taken at the last row instead of the first",
+         "def sole_sweep(heights, leg_ik=my_leg_ik):\n"
+         "    counts, sigmas = [], []\n"
+         "    for h in heights:\n"
+         "        Q = leg_ik(transform(np.eye(3), [0.0, 0.0, -h]))\n"
+         "        counts.append(len(Q))\n"
+         "        sigmas.append(leg.singular_values(Q[-1])[-1] if len(Q) else np.nan)\n"
+         "    return np.array(counts), np.array(sigmas)"),
         ("my_leg_ik called directly: the argument leg_ik ignored",
          "_sweep_right = sole_sweep\n\n"
          "def sole_sweep(heights, leg_ik=my_leg_ik):\n"
