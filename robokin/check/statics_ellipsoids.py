@@ -564,7 +564,7 @@ def _wide_jacobian(J: Any) -> np.ndarray:
 def reference_tool_jacobian(q: Any) -> np.ndarray:
     """robokin's answer to ``tool_jacobian`` of Task 1 (the tests' stand-in).
 
-    The test of ``joint_torques`` passes it as the student's argument ``jacobian``, so that
+    The test of ``joint_torques`` passes it as the student's argument ``tool_jacobian``, so that
     the torques are graded on their own, whatever the student's Jacobian.
 
     Parameters
@@ -593,9 +593,9 @@ def reference_velocity_ellipse(J: Any) -> tuple[np.ndarray, np.ndarray]:
     Returns
     -------
     radii : numpy.ndarray, shape (m,)
-        The semi-axes σ_i, descending.
+        The semi-axis lengths, descending.
     axes : numpy.ndarray, shape (m, m)
-        The unit principal axes u_i as columns, column i for ``radii[i]``.
+        The unit principal axes as columns, column i for ``radii[i]``.
     """
     J = _wide_jacobian(J)
     U, sigma, _ = np.linalg.svd(J)
