@@ -8,10 +8,11 @@ from __future__ import annotations
 from nbformat.notebooknode import from_dict
 from nbgrader.preprocessors import NbGraderPreprocessor
 
+#: The note's first words, which name it (the report's "Not run (0 points)" names a loss: not these).
+TITLE = "Nothing from here on is graded"
 #: The note above the first cell the grader did not run.
-NOTE = ("> **Not run while grading.** Nothing from here to the end of the notebook is graded, so the "
-        "grader did not run these cells: they are shown without outputs. Your own copy of the "
-        "notebook keeps their outputs.")
+NOTE = (f"> **{TITLE}**, so the grader did not run the cells below: they are shown without outputs. "
+        "Your own copy of the notebook keeps their outputs.")
 #: The note's role in ``metadata.robokin`` (and its cell id, where the notebook's cells have ids).
 ROLE = "not-run-note"
 
