@@ -293,8 +293,8 @@ lift_velocity = exercise(_CHAPTER, "lift_velocity", Check(
     diagnoses=[
         alternatives("velocity_sign", [(
             lambda x: _lift(x, -V_LIFT),
-            "{name} moves the foot with v = [0, 0, +1] m/s (upwards: z of B points up), "
-            "not with the exercise's v = [0, 0, −1] m/s.",
+            "{name} moves the foot with v = [0, 0, +1] m/s, not with the exercise's "
+            "v = [0, 0, −1] m/s: solve J q̇ = v for the v the statement gives.",
         )]),
         alternatives("transpose", [(
             lambda x: _jacobian(x).T @ V_LIFT,
