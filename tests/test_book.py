@@ -81,10 +81,21 @@ def edition_book(request) -> Path:
     return request.getfixturevalue(EDITIONS[request.param])
 
 
+#: Sphinx's count of the pages it reads: "updating environment: [new config] 28 added, 0 changed, 0 removed"
+#: when it reads every page (tests/conftest.py, ``build_book``), "0 added, 3 changed" when it reads again
+#: only the pages changed since the last build of the checkout (the others print none of their warnings).
+READ_PAGES = re.compile(r"updating environment: (\[[^]]*\] )?(\d+) added, (\d+) changed, (\d+) removed")
+ANSI_STYLE = re.compile(r"\x1b\[[0-9;]*m")
+
+
 def test_book_builds_without_warnings(edition_book):
     built_book = edition_book
     log = (built_book.parent / "book-build.log").read_text()
     assert "build succeeded" in log
+    read = READ_PAGES.search(ANSI_STYLE.sub("", log))
+    assert read and int(read.group(2)) >= len(PAGES), (
+        f"the build did not read every page again, so it could not print every page's warnings: "
+        f"{read.group(0) if read else 'no updating environment line in the log'}")
     sphinx_warnings = [line for line in log.splitlines() if "WARNING" in line and "[IPKernelApp]" not in line]
     assert not sphinx_warnings, f"the build printed warnings (they are errors here): {sphinx_warnings[:5]}"
     for page in PAGES:
