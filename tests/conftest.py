@@ -243,6 +243,7 @@ pytest_plugins = ("support.cpu_accounting", "support.chapter_keywords")
 
 from support.parallel_plan import (  # noqa: E402,F401 - pytest hooks and a fixture of the parallel run
     pytest_cmdline_main,
+    pytest_collection,
     pytest_collection_modifyitems,
     pytest_configure,
     pytest_configure_node,

@@ -24,14 +24,21 @@
   workers finish together; the durations of the last run are kept in pytest's cache
   (``.pytest_cache``, key ``robokin/unit-durations``), the estimates below serve a
   fresh clone. Shorter tests keep their order and follow.
+* **A fresh checkout is collected by one worker first.** Every worker imports every test
+  module; without bytecode caches (``__pycache__``: a fresh clone) each one compiles and
+  rewrites the asserts of all of them at the same time. There the first worker collects
+  alone, the others after it, from the caches it wrote (:func:`pytest_collection`).
 """
 
 from __future__ import annotations
 
+import fcntl
 import os
 import re
+import sys
 import uuid
 from collections import defaultdict
+from pathlib import Path
 
 import pytest
 
@@ -121,6 +128,44 @@ def pytest_cmdline_main(config):
     if option.dist == "no":
         option.dist = "loadgroup"
     option.loadscopereorder = False   # our order: longest first (below)
+
+
+def _bytecode_cached(root: Path) -> bool:
+    """Whether pytest has cached a rewritten test module in ``root/tests`` (False in a fresh clone)."""
+    return any((root / "tests" / "__pycache__").glob("test_*-pytest-*.pyc"))
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_collection(session):
+    """(in an xdist worker) in a checkout without bytecode caches, collect after the first worker.
+
+    The worker that takes the lock first decides for all: where its caches are missing, it
+    collects while it holds the lock and writes them (compiled and assert-rewritten modules);
+    the others wait for it, then collect at once from those caches (in a fresh clone 9.8 CPU-s
+    for the first and 5.2 for each other, instead of 9.8 each: benchmarks/README.md, "The
+    suite's start, end and book builds"). Where the caches exist, nobody waits for a
+    collection; where they cannot be written (``PYTHONDONTWRITEBYTECODE``), nothing is locked.
+    """
+    config = session.config
+    cache = getattr(config, "cache", None)
+    if not hasattr(config, "workerinput") or cache is None or sys.dont_write_bytecode:
+        yield
+        return
+    folder = cache.mkdir("robokin")
+    decided = folder / "collection-decided-by-run"
+    with open(folder / "collection.lock", "a") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        try:
+            first = not (decided.is_file() and decided.read_text() == config.robokin_run_id)
+            if not first or _bytecode_cached(config.rootpath):
+                decided.write_text(config.robokin_run_id)
+                fcntl.flock(lock, fcntl.LOCK_UN)   # collect beside the others
+                yield
+                return
+            yield
+            decided.write_text(config.robokin_run_id)
+        finally:
+            fcntl.flock(lock, fcntl.LOCK_UN)
 
 
 @pytest.hookimpl(optionalhook=True)
