@@ -17,7 +17,8 @@
 * **Groups** (``xdist_group``; one group runs in one worker, in collection order):
   the cells of one notebook under nbval (``nbval:<stem>``: its kernel lives in the
   worker, cell after cell), and the tests of a module with module- or class-scoped
-  fixtures (``module:<path>``: the fixture is built once, not once per worker). A
+  fixtures (``module:<path>``: the fixture is built once, not once per worker), and the
+  tests that mostly wait (``waiting``: :data:`WAITING_TESTS`, one wait at a time). A
   test that already has an ``xdist_group`` mark keeps it.
 * **Longest first.** A work unit is a group or a single test. Units that took (or
   are expected to take) a second or more run first, longest first, so that the two
@@ -99,6 +100,19 @@ NBGRADER_ESTIMATES = [
     (NBGRADER_GROUPS, 120.0),
 ]
 ESTIMATES += NBGRADER_ESTIMATES
+
+#: Tests that mostly wait (a time limit reached on purpose, a process slow to start, a call that
+#: never returns): 10-14 s of wall for 0.1-1.0 CPU-s each. Each test on its own, two of them ran
+#: at the same time on two of the three workers (the two of test_nbgrader_runner.py, neighbours in
+#: collection order, in fresh clones and warm checkouts alike) and left a core idle for 10 s. In one
+#: group they wait one after the other on one worker, started early beside the long computations.
+WAITING_TESTS = (
+    r"^tests/test_nbgrader_runner\.py::test_a_runner_slow_to_start_takes_none_of_the_commands_time_limit$",
+    r"^tests/test_nbgrader_runner\.py::test_a_command_past_its_time_limit_is_killed_and_the_next_one_runs$",
+    r"^tests/test_grading_tamper\.py::test_call_channel_calls_calls_back_and_stops_a_call_that_never_returns$",
+)
+WAITING_GROUP = "waiting"
+ESTIMATES.insert(0, (rf"^{WAITING_GROUP}$", 35.0))
 
 
 def is_nbgrader_group(name: str) -> bool:
@@ -237,6 +251,8 @@ def _assign_groups(items) -> None:
             continue
         if _is_nbval_cell(item):
             item.add_marker(pytest.mark.xdist_group(f"nbval:{item.path.stem}"))
+        elif any(re.search(pattern, item.nodeid) for pattern in WAITING_TESTS):
+            item.add_marker(pytest.mark.xdist_group(WAITING_GROUP))
         elif _has_module_fixture(item):
             module = item.nodeid.split("::", 1)[0]
             item.add_marker(pytest.mark.xdist_group(f"module:{module}"))
