@@ -368,7 +368,7 @@ def rpy_rate_matrix(R):  # written another way: Rz Ry Rx x = R x, and Rz y is z 
     return np.column_stack([roll_axis, pitch_axis / np.linalg.norm(pitch_axis), [0.0, 0.0, 1.0]])
 
 
-def analytic_twist(q):
+def analytic_twist(q, rpy_difference=rpy_difference):
     R = tool_arm.fk(q)[:3, :3]
     return np.r_[my_twist(q)[:3], GAIN_ANGULAR * rpy_rate_matrix(R) @ rpy_difference(R, T_BG[:3, :3])]
 
