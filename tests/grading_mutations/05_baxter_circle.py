@@ -202,7 +202,7 @@ MUTATIONS = {
          "lost_direction = U[:, -1]\n"
          "speed_loss = np.linalg.norm(Q_f[k_loss + 1] - Q_f[k_loss]) / TS"),
         ("the failing run tracked closed loop, not with the exercise's open-loop law",
-         "runs_open = {**runs_open, 'exercise': track(q_bad, p_bad + relative, v_ref)}"),
+         "runs_open = {**runs_open, 'exercise': track(q_ex, p_ex + relative, v_ref)}"),
         ("the lost direction taken as u_1, the direction the hand moves in most easily",
          "lost_direction = U[:, 0]"),
         ("the joint speed taken per step, not per second",
@@ -241,11 +241,11 @@ MUTATIONS = {
     ],
     "task5_test4": [
         ("damping of 0.02 mm instead of 0.02 m",
-         "runs_bad = {**runs_bad, 'DLS': track_damped(q_bad, circle_bad, v_ref, damping=2e-5)}\n"
+         "runs_bad = {**runs_bad, 'DLS': track_damped(q_ex, circle_bad, v_ref, damping=2e-5)}\n"
          "peak_speed = {**peak_speed, 'DLS': (np.linalg.norm(np.diff(runs_bad['DLS'], axis=0),"
          " axis=1) / TS).max()}"),
         ("the damped run without feedback",
-         "runs_bad = {**runs_bad, 'DLS': track_damped(q_bad, circle_bad, v_ref, kp=0.0)}"),
+         "runs_bad = {**runs_bad, 'DLS': track_damped(q_ex, circle_bad, v_ref, kp=0.0)}"),
         ("the joint speed taken per step, not per second",
          "peak_speed = {name: value * TS for name, value in peak_speed.items()}"),
         ("the final error in metres, not millimetres",
