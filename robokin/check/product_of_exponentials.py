@@ -277,20 +277,20 @@ def _screw_axis_mistakes():
         alternatives("cross_sign", [(sign, _SIGN_TEXT)]),
         alternatives("twist_order", [
             (order, _ORDER_TEXT),
-            (order_and_sign, "{name} is ordered [v; ω] and its v has the wrong sign: S = [ω; −ω × q]."),
+            (order_and_sign, "{name} is ordered [v; ω] and its v has the wrong sign: the angular part comes "
+             "first, and v is the velocity of the body point at the origin of {{s}}."),
         ]),
         alternatives("point_for_velocity", [(point_as_v, (
-            "the linear part of {name} is the point q itself; it is the velocity of the body point "
-            "at the origin, v = −ω × q."
+            "the linear part of {name} is the point q itself; it is a velocity: that of the body "
+            "point at the origin of {{s}} when the body turns about the axis through q."
         ))]),
         alternatives("axis_sign", [
             (reversed_axis, (
                 "{name} is −S: both parts have the wrong sign, a joint turning about −ω. The angular "
-                "part is the axis ω as given, and v = −ω × q."
+                "part is the axis ω as given."
             )),
             (angular_sign, (
-                "the angular part of {name} is −ω: it is the joint's axis ω as given (its v = −ω × q "
-                "is right)."
+                "the angular part of {name} is −ω: it is the joint's axis ω as given (its v is right)."
             )),
         ]),
     ]
@@ -353,8 +353,8 @@ def _screw_rows(x: np.ndarray, *, frame_offset: int = 1, axis: str = "turned", s
 def _screw_list_mistakes():
     return [
         alternatives("cross_sign", [(partial(_screw_rows, sign=1.0), (
-            "the linear parts of {name}'s rows have the wrong sign: v_i = −ω_i × q_i, the velocity of "
-            "the body point at the origin of {{s}}."
+            "the linear parts of {name}'s rows have the wrong sign: v_i is the velocity of the body "
+            "point at the origin of {{s}} when the body turns about joint i's axis."
         ))]),
         alternatives("twist_order", [(partial(_screw_rows, order=True), (
             "the rows of {name} are ordered [v; ω]; a screw axis is [ω; v], angular part first."
@@ -369,8 +369,8 @@ def _screw_list_mistakes():
                 "frame, and S_i needs it in {{s}} (turned by the frame's rotation)."
             )),
             (partial(_screw_rows, axis="transposed"), (
-                "{name} turns each axis by the transpose of its frame's rotation: R maps a direction "
-                "written in the frame into {{s}}, so ω_i = R_i a_i."
+                "{name} turns each axis by the transpose of its frame's rotation: Rᵀ maps a direction "
+                "written in {{s}} into the frame, the opposite of what ω_i needs."
             )),
             (partial(_screw_rows, axis="z"), (
                 "{name} takes every joint's z axis: joint i turns about joint_axes[i − 1], written in "
@@ -421,8 +421,8 @@ def _exp6_reference(x: np.ndarray) -> np.ndarray:
 
 
 _NO_G_TEXT = (
-    "the translation of {name} is v θ: G(θ) is missing. The exponential's translation is "
-    "G(θ) v with G(θ) = Iθ + (1 − cos θ)[ω] + (θ − sin θ)[ω]²."
+    "the translation of {name} is v θ: G(θ) is missing. Sum the series' translation column "
+    "as Task 1 summed the rotation: its powers of [ω] reduce with [ω]³ = −[ω]."
 )
 
 
@@ -449,11 +449,12 @@ def _exp6_mistakes():
     return [
         alternatives("missing_G", [
             (no_g, _NO_G_TEXT),
-            (no_theta, "the translation of {name} is v: it is G(θ) v, G(θ) = Iθ + (1 − cos θ)[ω] + "
-                       "(θ − sin θ)[ω]²."),
+            (no_theta, "the translation of {name} is v: it is G(θ) v, with G(θ) the sum of the "
+                       "series' translation column (the powers of [ω] times θ^k/k!)."),
         ]),
         alternatives("rotation_transposed", [(reversed_rotation, (
-            "the rotation of {name} turns by −θ: it is e^{{[ω]θ}} = I + sin θ [ω] + (1 − cos θ)[ω]²."
+            "the rotation of {name} turns by −θ (its transpose): the rotation block is e^{{[ω]θ}}, "
+            "the rodrigues it is given, as it is."
         ))]),
         alternatives("twist_order", [(order, (
             "{name} reads S as [v; ω]: S = [ω; v], the angular part first."
@@ -491,22 +492,22 @@ def _fk_mistakes():
 
     return [
         alternatives("product_order", [(variant(reverse=True), (
-            "{name} multiplies the exponentials in the wrong order: T(θ) = e^{{[S1]θ1}} e^{{[S2]θ2}} "
-            "··· e^{{[Sn]θn}} M, joint 1 (nearest the base) on the left."
+            "{name} multiplies the exponentials in the reverse order: which screw axes are still "
+            "valid, in {{s}}, when joint i turns?"
         ))]),
         alternatives("M_on_left", [
             (variant(m_left=True), (
                 "{name} puts M on the left: the screw axes S_i are written in the space frame {{s}}, "
-                "so the exponentials act from the left on the home pose: T = e^{{[S1]θ1}} ··· M."
+                "so the exponentials act from the left on the home pose."
             )),
             (variant(with_m=False), (
-                "{name} leaves out the home pose M: the product of exponentials moves M, "
-                "T = e^{{[S1]θ1}} ··· e^{{[Sn]θn}} M."
+                "{name} leaves out the home pose M: the product of exponentials moves M, the pose at "
+                "θ = 0."
             )),
         ]),
         alternatives("missing_G", [(variant(with_g=False), (
-            "the exponentials in {name} have the translation v θ: G(θ) is missing "
-            "(G(θ) v, G(θ) = Iθ + (1 − cos θ)[ω] + (θ − sin θ)[ω]²)."
+            "the exponentials in {name} have the translation v θ: G(θ) is missing (the translation "
+            "is G(θ) v, as in exp6)."
         ))]),
         dg.degrees(),
     ]
@@ -557,18 +558,21 @@ def _adjoint_mistakes():
 
     return [
         alternatives("twist_order", [(lambda x: blocks(x, order=True), (
-            "{name} is the adjoint for twists ordered [v; ω] ([[R, [p]R], [0, R]]); for [ω; v] "
-            "it is [[R, 0], [[p]R, R]]."
+            "{name} is the adjoint for twists ordered [v; ω]; the twists here are [ω; v], the "
+            "angular part first."
         ))]),
         alternatives("product_order", [(lambda x: blocks(x, lower=lambda R, p: R @ _skew(p)), (
-            "the lower-left block of {name} is R[p]; it is [p]R: the body point at the fixed "
-            "frame's origin, −p from the moved frame's, gains the velocity (Rω) × (−p) = p × (Rω)."
+            "the lower-left block of {name} is R[p], the factors in the wrong order: the velocity "
+            "gained at the fixed frame's origin comes from the angular velocity written in the "
+            "fixed frame, Rω, not ω."
         ))]),
         alternatives("sign", [(lambda x: blocks(x, lower=lambda R, p: -_skew(p) @ R), (
-            "the lower-left block of {name} has the wrong sign: [p]R, with [p]x = p × x."
+            "the lower-left block of {name} has the wrong sign: the fixed frame's origin is at −p "
+            "from the moved frame's, and [p]x = p × x."
         ))]),
         alternatives("inverse_transform", [(lambda x: _adjoint(transform_inverse(_adjoint_arguments(x)[0])), (
-            "{name} is the adjoint of T⁻¹, [Ad_T]⁻¹; [Ad_T] = [[R, 0], [[p]R, R]] of T itself."
+            "{name} is the adjoint of T⁻¹, [Ad_T]⁻¹: it maps twists from the fixed frame to the "
+            "moved one, the opposite way."
         ))]),
     ]
 
@@ -596,8 +600,8 @@ def _space_reference(x: np.ndarray) -> np.ndarray:
 
 
 _ADJOINT_INVERSE_TEXT = (
-    "{name} takes the adjoint of the inverse of the partial product; column i is "
-    "[Ad_P] S_i with P = e^{{[S1]θ1}} ··· e^{{[S(i−1)]θ(i−1)}} itself."
+    "{name} takes the adjoint of the inverse of the partial product: that moves the screw "
+    "axis back, while the joints before joint i carry it forward from its home place."
 )
 
 
@@ -610,13 +614,13 @@ def _space_mistakes():
             "the rows of {name} are ordered [v; ω]: the space Jacobian's columns are twists [ω; v]."
         ))]),
         alternatives("product_order", [(variant(reverse=True), (
-            "{name} builds the partial products in the wrong order: column i is [Ad_P] S_i with "
-            "P = e^{{[S1]θ1}} ··· e^{{[S(i−1)]θ(i−1)}}, joint 1 on the left."
+            "{name} builds the partial products in the reverse order: multiply them in the order "
+            "of the product of exponentials."
         ))]),
         alternatives("adjoint_of_inverse", [(variant(inverse=True), _ADJOINT_INVERSE_TEXT)]),
         alternatives("home_axes", [(variant(adjoint_on=False), (
-            "{name} returns the screw axes at home: column i moves with the joints before it, "
-            "[Ad_P] S_i with P = e^{{[S1]θ1}} ··· e^{{[S(i−1)]θ(i−1)}}."
+            "{name} returns the screw axes at home: column i is joint i's screw axis at the "
+            "configuration θ, carried by the motions of the joints before it."
         ))]),
         dg.degrees(),
     ]
@@ -655,11 +659,11 @@ def _geometric_mistakes():
     return [
         alternatives("rows_swapped_only", [(relation(0.0), (
             "{name} only swaps the rows: v_s is the velocity of the body point at the origin of "
-            "{{s}}, not of the end-effector; ṗ = v_s + ω × p = v_s − [p]ω."
+            "{{s}}, not of the end-effector's origin p: move it to p as for any rigid body."
         ))]),
         alternatives("cross_sign", [(relation(1.0), (
-            "{name} moves the velocity with the wrong sign: ṗ = v_s + ω × p = v_s − [p]ω, "
-            "so J_v = J_s,v − [p] J_s,ω."
+            "{name} moves the velocity to p with the wrong sign: mind the order of the cross "
+            "product's factors (a × b = −b × a)."
         ))]),
         alternatives("twist_order", [(lambda x: _geometric_arguments(x)[0], (
             "{name} is J_s itself ([ω; v_s]); robokin's geometric Jacobian is [J_v; J_ω], "
@@ -677,7 +681,8 @@ geometric_from_space = exercise(_CHAPTER, "geometric_from_space", LaterStepCheck
     noun="configurations",
     arguments=_geometric_arguments,
     signature="geometric_from_space(J_s, T) -> (6, n) array",
-    hint="The end-effector's origin p moves with ṗ = v_s + ω × p.",
+    hint=("v_s is the velocity of the body point at the origin of {s}; J_v needs that of the "
+          "end-effector's origin p, the same rigid body's point at p."),
     doc="Check geometric_from_space(J_s, T) -> robokin's geometric Jacobian [J_v; J_ω] (6, n).",
 ))
 
@@ -699,14 +704,15 @@ def _body_mistakes():
 
     return [
         alternatives("adjoint_of_T", [(with_adjoint(lambda T, M: T), (
-            "{name} is [Ad_T] J_s; the body Jacobian is [Ad_{{T⁻¹}}] J_s: it writes the twists "
-            "in the end-effector frame, which T⁻¹ maps to."
+            "{name} is [Ad_T] J_s: [Ad_T] maps twists written in the end-effector frame to {{s}}, "
+            "the opposite of the change of frame the body Jacobian needs."
         ))]),
         alternatives("home_pose", [(with_adjoint(lambda T, M: transform_inverse(M)), (
             "{name} is [Ad_{{M⁻¹}}] J_s: the home pose M in place of the current pose T(θ)."
         ))]),
         alternatives("space_jacobian", [(with_adjoint(lambda T, M: np.eye(4)), (
-            "{name} is the space Jacobian J_s; the body Jacobian is [Ad_{{T⁻¹}}] J_s."
+            "{name} is the space Jacobian J_s, its twists written in {{s}}; the body Jacobian's "
+            "are written in the end-effector frame."
         ))]),
         alternatives("twist_order", [(lambda x: _swap(_body_reference(x)), (
             "the rows of {name} are ordered [v; ω]: the body Jacobian's columns are twists [ω; v]."
@@ -725,7 +731,8 @@ body_jacobian = exercise(_CHAPTER, "body_jacobian", LaterStepCheck(
     noun="configurations",
     arguments=_fk_arguments,
     signature="jacobian_in_body(M, S_list, theta) -> (6, n) array",
-    hint="J_b = [Ad_{T⁻¹}] J_s with T = T(θ) the current pose.",
+    hint=("J_b holds the joints' twists of J_s written in the end-effector frame at the "
+          "current pose: a change of frame as in Task 4."),
     doc="Check jacobian_in_body(M, S_list, theta) -> J_b (6, n), rows [ω; v], on the UR10.",
 ))
 
@@ -763,7 +770,7 @@ def _ik_mistakes():
     return [
         alternatives("not_updated", [(start_pose, (
             "the joint angles {name} returns reach the pose of the start: the loop does not update "
-            "θ (θ ← θ + Δθ with J_b(θ) Δθ = V_b)."
+            "θ after each Newton step."
         ))]),
     ]
 
@@ -777,8 +784,9 @@ ik_body = exercise(_CHAPTER, "ik_body", LaterStepCheck(
     noun="goals and starts",
     arguments=_ik_arguments,
     signature="ik_body(M, S_list, T_goal, theta_start) -> (theta, iterations)",
-    hint=("The pose reached, T(θ) of the angles returned, is compared with the goal; Newton's step "
-          "solves J_b(θ) Δθ = V_b with [V_b] = log(T(θ)⁻¹ T_goal)."),
+    hint=("The pose reached, T(θ) of the angles returned, is compared with the goal; the error "
+          "is the body twist that carries the flange from T(θ) to T_goal in unit time, written "
+          "in the flange frame."),
     doc="Check ik_body(M, S_list, T_goal, theta_start) -> (theta, iterations): T(theta) must be the goal.",
     pack=_pose_reached,
 ))
