@@ -179,6 +179,24 @@ def test_jacobian_evaluated_at_degrees():
     assert r.diagnosis == "degrees_evaluated" and "sin(60) instead of sin(60°)" in r.message
 
 
+def test_numbers_the_statement_asks_for_name_wrong_entries_not_their_values():
+    """At the one input of J_lift, dq_cmd and H_3F the reference is the answer itself: a wrong
+    attempt learns which entries differ and the principle, not what they should be."""
+    J_slip = J_np(Q_LIFT)
+    J_slip[0, 1] += 0.3
+    dq_slip = np.linalg.solve(J_np(Q_LIFT), [0, 0, -1]) + [0, 0.2, 0]
+    H_slip = H(sp.eye(3), [0, 0, -2])
+    for check_of, answer, entries in [
+        (L.foot_jacobian_at, J_slip, "entry (1, 2) differs"),
+        (L.lift_velocity, dq_slip, "entry [2] differs"),
+        (L.transform_3F, H_slip, "entry (3, 4) differs"),
+    ]:
+        r = check_of(answer, quiet=True)
+        assert r.diagnosis == "mismatch" and entries in r.message, r.message
+        assert "should be" not in r.message and "yours is" not in r.message, r.message
+    assert "J_lift @ dq_cmd gives v" in L.lift_velocity(dq_slip, quiet=True).message
+
+
 @pytest.mark.parametrize(
     "answer, code, text",
     [
