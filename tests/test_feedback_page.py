@@ -742,3 +742,32 @@ def test_a_raising_answer_cell_may_be_the_whole_cause_only_if_the_answer_is_righ
         assert "`n_solutions, sigma_min = sole_sweep(heights)`, which raised DomainError" in cause, text
         assert cause.endswith(advice), text
         assert "knee_angle" not in cause, text
+
+
+def test_an_answer_wrong_through_the_cause_needs_only_the_cause_fixed():
+    """``my_ik`` uses the student's ``knee_angle``, whose own test failed: robokin.check finding
+    ``my_ik`` wrong does not make the note ask for both (fixing the knee may fix it)."""
+    from tools.grading.robokin_nbgrader import FailureNotes
+
+    nb = nbformat.v4.new_notebook()
+    nb.cells = [
+        nbformat.v4.new_markdown_cell("## Task 3: the knee"),
+        code_cell("def knee_angle(d):\n    return d", "task3_answer1", solution=True, task=3, count=1),
+        code_cell("assert knee_angle(0.5) == 1.0", "task3_test1", grade=True, task=3, count=2,
+                  outputs=[_error("AssertionError", 2, 1)]),
+        nbformat.v4.new_markdown_cell("## Task 4: the leg"),
+        code_cell("def my_ik(T, knee=knee_angle):\n    return knee(T)", "task4_answer1", solution=True,
+                  task=4, count=3),
+        code_cell("assert my_ik(1.0) == 2.0", "task4_test1", grade=True, task=4, count=4,
+                  outputs=[_error("AssertionError", 4, 1)]),
+    ]
+    failure = nbformat.from_dict(_error("AssertionError", 4, 1))
+    wrong = [{"quantity": "my_ik", "status": "wrong", "check": "ar601.ik_solver", "typical": False,
+              "diagnosis": "", "message": "✘ my_ik misses the target"}]
+    report: dict[str, Any] = {"pairs": [], "explained": {}}
+    notes_ = FailureNotes(nb, 5, report)
+    notes_.pairs(failure)
+    text = "\n".join(notes_.lines(failure, wrong))
+    cause = next(line for line in text.splitlines() if "This test failed because of" in line)
+    assert "`knee_angle` (Task 3): its own test task3_test1 failed" in cause, text
+    assert cause.endswith("Fix that first: this test may then pass."), text

@@ -342,9 +342,11 @@ class FailureNotes:
                  for (_, why), names in groups.items()]
         items += [f"{label}, which {why}" for label, why in raised]
         # a cause named for its own failing test or its value is already to be fixed; one whose
-        # answer cell raised may still be wrong itself
+        # answer cell raised may still be wrong itself; one that uses a cause may be wrong through it
+        causes = set(self.causes)
         also = sorted(name for name in own_wrong
-                      if self.causes.get(name, "answer cell").startswith("answer cell"))
+                      if self.causes.get(name, "answer cell").startswith("answer cell")
+                      and not (set(self.root_roots.get(name, ())) - {name}) & causes)
         if also:
             them = "it" if len(also) == 1 else "them"
             advice = (f"Fix that first, and your {self._named(also)} too: robokin.check finds {them} "
