@@ -288,14 +288,19 @@ def test_peak_factor_mistakes_are_diagnosed(answer, code, words):
     assert result.diagnosis == code and words in result.message
 
 
-@pytest.mark.parametrize("answer", [
-    np.array([[1.0, 2.0], [3.0, 4.0]]),            # no entry right
-    peaks_with(0, 0, 1.6),                         # one entry wrong, no typical value
-    np.array([[1.0, 6.0], [1.7, 10 / math.sqrt(3)]]),  # one entry explained, the other not
+@pytest.mark.parametrize("answer, where", [
+    (np.array([[1.0, 2.0], [3.0, 4.0]]), "the cubic's c_v (entry (1, 1)), the cubic's c_a (entry (1, 2)), "
+     "the quintic's c_v (entry (2, 1)), the quintic's c_a (entry (2, 2)) differ"),   # no entry right
+    (peaks_with(0, 0, 1.6), "the cubic's c_v (entry (1, 1)) differs"),   # one wrong, no typical value
+    # one entry explained, the other not
+    (np.array([[1.0, 6.0], [1.7, 10 / math.sqrt(3)]]), "(entry (1, 1)), the quintic's c_v (entry (2, 1)) differ"),
 ])
-def test_peak_factors_without_a_typical_mistake_say_where(answer):
+def test_peak_factors_without_a_typical_mistake_say_where(answer, where):
+    """They name the factors that differ, not the values they should have (the answer)."""
     result = chk.peak_factors(answer, quiet=True)
-    assert result.diagnosis == "mismatch" and "should be" in result.message
+    assert result.diagnosis == "mismatch" and where in result.message, result.message
+    assert "should be" not in result.message and "1.875" not in result.message
+    assert result.message.endswith(chk.peak_factors.hint)
 
 
 def test_peak_factors_of_other_forms():

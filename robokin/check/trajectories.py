@@ -212,11 +212,10 @@ def _peak_entry_mistakes(row: int, column: int) -> list[tuple[str, float, str]]:
     else:
         mistakes.append(("quintic_acceleration", _rate(law, 2, 0.5), (
             f"{entry} is zero, the quintic's acceleration at τ = 1/2 (where its speed peaks) and at "
-            "the ends: its largest acceleration is where the jerk d³s/dτ³ vanishes, at "
-            "τ = 1/2 ∓ √3/6.")))
+            "the ends: its largest acceleration is where the jerk d³s/dτ³ vanishes.")))
         mistakes.append(("acceleration_at_quarter", _rate(law, 2, 0.25), (
             f"{entry} is the quintic's acceleration at τ = 1/4, halfway to the speed's peak: it is "
-            "largest where the jerk d³s/dτ³ vanishes, at τ = 1/2 ∓ √3/6.")))
+            "largest where the jerk d³s/dτ³ vanishes.")))
     return mistakes
 
 
@@ -264,9 +263,22 @@ def _peak_cause(values: np.ndarray, name: str) -> tuple[str, str] | None:
     return causes[0][0], " ".join(message[:1].upper() + message[1:] for _, message in causes)
 
 
+def _peak_mismatch(values: np.ndarray | None, name: str, hint: str) -> str:
+    """The message for wrong factors that no typical mistake explains: the factors that differ,
+    not the values they should have (those are the answer), and the hint."""
+    if values is None or values.shape != _PEAKS.shape:
+        return f"{name} is not correct. {hint}"
+    wrong = np.argwhere(~np.isclose(values, _PEAKS, atol=1e-8, rtol=1e-6))
+    named = [f"the {_LAWS[row]}'s {_FACTORS[column]} (entry ({row + 1}, {column + 1}))"
+             for row, column in wrong]
+    return (f"{name} is not correct: {', '.join(named)} differ{'s' if len(named) == 1 else ''}. "
+            f"{hint}")
+
+
 class _PeakFactorsCheck(Check):
     """The factors (2, 2); a wrong one is explained by the whole array's mistakes or by the
-    typical wrong value of the entry that differs first."""
+    typical wrong value of the entry that differs first; otherwise the message names the factors
+    that differ, not their values (the check has one input: its reference is the answer)."""
 
     def evaluate(self, answer: Any) -> CheckResult:
         result = super().evaluate(answer)
@@ -275,10 +287,10 @@ class _PeakFactorsCheck(Check):
         try:
             values = np.asarray(answer, dtype=float)
         except (TypeError, ValueError):      # not an array of numbers (a function, a sympy matrix)
-            return result
-        cause = _peak_cause(values, self.name) if values.shape == (2, 2) else None
+            values = None
+        cause = _peak_cause(values, self.name) if values is not None and values.shape == (2, 2) else None
         if cause is None:
-            return result
+            return self._fail("mismatch", _peak_mismatch(values, self.name, self.hint), result.samples)
         return self._fail(cause[0], cause[1], result.samples)
 
 
@@ -308,28 +320,27 @@ _TRAPEZOID = [Variable("distance", "angle", 0.02, 3.0), Variable("v_max", "other
 def _trapezoid_mistakes():
     return [
         alternatives("triangular_missed", [(lambda x: np.asarray(_trapezoid_time(*x, triangle=False)), (
-            "{name} always uses T = D/v_max + v_max/a_max. For a short move (D < v_max²/a_max) its "
-            "cruise time D/v_max − v_max/a_max is negative: the joint never reaches v_max, and the "
-            "profile is a triangle."
+            "{name} always uses T = D/v_max + v_max/a_max. For a short move its cruise time "
+            "D/v_max − v_max/a_max is negative: the joint never reaches v_max, and the profile is "
+            "a triangle."
         ))]),
         alternatives("swapped_limits", [(lambda x: np.asarray(_trapezoid_time(x[0], x[2], x[1])), (
             "{name} swaps v_max and a_max (check the units: D/v_max is in s, v_max/a_max in s)."
         ))]),
         alternatives("threshold", [
             (lambda x: np.asarray(_trapezoid_time(*x, threshold=0.5)), (
-                "{name} switches to the triangle at D = v_max²/(2 a_max); the two ramps together cover "
-                "v_max²/a_max, so the triangle is needed for D < v_max²/a_max."
+                "{name} switches to the triangle at D = v_max²/(2 a_max); the two ramps to v_max and back cover "
+                "a distance of their own: the triangle is needed when that is more than D."
             )),
             (lambda x: np.asarray(_trapezoid_time(*x, threshold=2.0)), (
-                "{name} switches to the triangle at D = 2 v_max²/a_max; the two ramps together cover "
-                "v_max²/a_max, so the triangle is needed for D < v_max²/a_max."
+                "{name} switches to the triangle at D = 2 v_max²/a_max; the two ramps to v_max and back cover "
+                "a distance of their own: the triangle is needed when that is more than D."
             )),
         ]),
         alternatives("ramps_added", [
             (lambda x: np.asarray(_trapezoid_time(*x, ramps=2.0)), (
                 "{name} adds the two ramps' times 2 v_max/a_max to D/v_max: but the ramps also cover "
-                "distance (v_max²/a_max together), so the cruise lasts only D/v_max − v_max/a_max and "
-                "T = D/v_max + v_max/a_max."
+                "distance, so the cruise at v_max covers less than D and lasts less than D/v_max."
             )),
             (lambda x: np.asarray(x[0] / x[1]), (
                 "{name} ignores the acceleration limit (T = D/v_max): the joint cannot jump to v_max."
@@ -338,12 +349,12 @@ def _trapezoid_mistakes():
         dg.degrees(),
         alternatives("triangle_time", [
             (lambda x: np.asarray(_trapezoid_time(*x, triangle_factor=1.0)), (
-                "{name}'s triangle is too short: each half covers D/2 at a_max, in √(D/a_max), so "
-                "T = 2√(D/a_max)."
+                "{name}'s triangle is too short: it speeds up at a_max over D/2 and brakes over the "
+                "other D/2, each half from rest (or to rest)."
             )),
             (lambda x: np.asarray(_trapezoid_time(*x, triangle_factor=2.0 * math.sqrt(2.0))), (
-                "{name}'s triangle is too long: each half covers D/2 at a_max, in √(D/a_max), so "
-                "T = 2√(D/a_max)."
+                "{name}'s triangle is too long: it speeds up at a_max over D/2 and brakes over the "
+                "other D/2, each half from rest (or to rest)."
             )),
         ]),
     ]
@@ -484,7 +495,7 @@ _MOTION_MISTAKES = {
     "swapped_limits": "{name} swaps v_max and a_max.",
     "triangular_missed": ("{name} takes the duration T_i = D_i/v_max + v_max/a_max also for a joint that "
                           "never reaches v_max (a negative cruise time; check the trapezoid_time its "
-                          "duration comes from): that joint's triangle is faster, 2√(D_i/a_max)."),
+                          "duration comes from): that joint's triangle is faster."),
     "same_shape": ("{name} stretches the slowest joint's profile for every joint (v_i and a_i scaled "
                    "by D_i/D_slow): synchronised, but the task keeps each joint's own acceleration "
                    "a_max,i and lowers its cruise speed."),
