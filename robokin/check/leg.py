@@ -232,9 +232,9 @@ transform_3F = exercise(_CHAPTER, "transform_3F", Check(
     name="H_3F",
     reference=lambda x: _relative(3, 4, np.zeros(3)),
     diagnoses=[*dg.standard("transform"), _wrong_entries(
-        "Its rotation block holds the foot frame's axes written in frame 3, its last column the "
-        "foot's origin in frame 3 (both from the problem statement), and its last row is "
-        "[0, 0, 0, 1].")],
+        "Its rotation block holds the foot frame's axes written in frame 3, the top of its last "
+        "column the foot's position in frame 3, ₃r_3F of the problem statement, and its last "
+        "row is [0, 0, 0, 1].")],
     doc="Check the constant transform H_3F from the knee frame 3 to the foot frame F.",
 ))
 
