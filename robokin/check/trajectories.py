@@ -843,8 +843,8 @@ _SLERP_MISTAKES: list[tuple[str, Callable[..., np.ndarray], str]] = [
         "when q0·q1 < 0 so that the rotation turns by the smaller angle (≤ π).")),
     ("nlerp", lambda q0, q1, s: _slerp(q0, q1, s, linear=True), (
         "{name} normalises the straight-line interpolation (1 − s) q0 + s q1: the right rotations at the "
-        "ends, but not at a constant angular rate in between. Use the weights sin((1 − s)Ω)/sin Ω and "
-        "sin(sΩ)/sin Ω.")),
+        "ends, but not at a constant angular rate in between: on the great circle the angle from q0 "
+        "grows in proportion to s, and the weights a(s), b(s) follow from that.")),
     ("lerp", lambda q0, q1, s: (1 - s) * q0 + s * (q1 if q0 @ q1 >= 0 else -q1), (
         "{name} returns (1 − s) q0 + s q1, which is not a unit quaternion: interpolate on the sphere "
         "(slerp).")),
@@ -892,7 +892,8 @@ class _SlerpCheck(FunctionCheck):
                 return self.failure("shape", f"{self.name} should return a quaternion (w, x, y, z) of shape (4,); "
                                     f"got {got.size} numbers {where}.", n)
             if not np.all(np.isfinite(got)):
-                near = " for (nearly) equal rotations: sin Ω ≈ 0 there; use (1 − s) q0 + s q1" if k >= 12 else ""
+                near = (" for (nearly) equal rotations: sin Ω ≈ 0 there; what do the weights tend to as "
+                        "Ω → 0?") if k >= 12 else ""
                 return self.failure("nan", f"{self.name} gives NaN or infinite values{near} {where}.", n)
             reference = _slerp(q0, q1, s)
             if _same_rotation(got, reference):
@@ -956,9 +957,9 @@ def _line_reference(t: float, start: np.ndarray, end: np.ndarray, duration: floa
 
 _LINE_MISTAKES = {
     "body_frame": ("the angular velocity of {name} is in the start (tool) frame: the twist is in the base "
-                   "frame, ω = ṡ R_0 w with w the rotation vector of R_0ᵀ R_1."),
+                   "frame, as the twist [v; ω] of the conventions."),
     "not_scaled": ("the angular velocity of {name} is constant, θ h/T: the orientation follows s(t), so "
-                   "ω = ṡ(t) R_0 w, zero at both ends."),
+                   "ω changes with ṡ(t), zero at both ends."),
     "linear_law": ("{name} uses s = t/T: the line must use the quintic law (rest at both ends)."),
 }
 
