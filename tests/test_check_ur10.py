@@ -142,8 +142,110 @@ def test_references_match_robokin_solvers():
 def test_registered():
     from robokin.check._registry import _REGISTRY
 
-    assert set(_REGISTRY["ur10"]) == {"weighted_pinv", "dls_step", "nullspace_projector", "ik_position",
-                                      "summary", "self_motion", "ik_restarts", "bisect"}
+    assert set(_REGISTRY["ur10"]) == {"weighted_pinv", "dls_step", "nullspace_projector", "joint_limit_objective",
+                                      "joint_limit_gradient", "ik_position", "summary", "self_motion",
+                                      "ik_restarts", "bisect"}
+
+
+# ---------------------------------------------------------------- the joint-limit objective (task 2 c)
+def objective_written(q, limits=ur.WORK_LIMITS, *, variant=""):
+    """H of eq. 3.57 written independently of the check (the joints in a loop, the middle as
+    lower + half the range), and its typical mistakes."""
+    q = np.asarray(q, dtype=float)
+    limits = ur.WORK_LIMITS if variant == "default_limits" else np.asarray(limits, dtype=float)
+    n = limits.shape[0]
+    total = np.zeros(q.shape[:-1])
+    for i, (lower, upper) in enumerate(limits):
+        centre = 0.0 if variant == "not_centred" else lower + (upper - lower) / 2
+        scale = 1.0 if variant == "not_normalised" else upper - lower
+        total = total + ((q[..., i] - centre) / scale) ** 2
+    if variant == "batch_summed_whole":
+        total = total.sum()
+    factor = {"no_factor": -1.0, "sign": 1.0 / (2 * n), "factor": -1.0 / n}.get(variant, -1.0 / (2 * n))
+    return factor * total
+
+
+def gradient_written(q, limits=ur.WORK_LIMITS, *, variant=""):
+    """∇H written independently of the check (the derivative of each square by the chain rule,
+    joint by joint), and its typical mistakes."""
+    q = np.asarray(q, dtype=float)
+    limits = ur.WORK_LIMITS if variant == "default_limits" else np.asarray(limits, dtype=float)
+    n = len(limits)
+    out = []
+    for i, (lower, upper) in enumerate(limits):
+        inner = (q[i] - (0.0 if variant == "not_centred" else (lower + upper) / 2))
+        scale = {"not_normalised": 1.0, "span_not_squared": upper - lower}.get(variant, (upper - lower) ** 2)
+        derivative = {"square_not_brought_down": 1.0}.get(variant, 2.0) * inner / scale  # d/dq of inner²/range²
+        out.append({"no_factor": -1.0, "sign": 1.0 / (2 * n)}.get(variant, -1.0 / (2 * n)) * derivative)
+    return np.array(out)
+
+
+def test_joint_limit_answers_written_independently_pass(capsys):
+    assert ur.joint_limit_objective(objective_written).passed
+    assert ur.joint_limit_gradient(gradient_written).passed
+    out = capsys.readouterr().out
+    assert "✔ joint_limit_objective is correct" in out and "✔ joint_limit_gradient is correct" in out
+
+
+def test_joint_limit_answers_agree_with_robokin():
+    """The functions written above are robokin's JointLimitDistance, its value and gradient, on the
+    check's own configurations and limits."""
+    from robokin.motion import JointLimitDistance
+
+    for _, limits, Q in ur._limit_cases():
+        limits = ur.WORK_LIMITS if limits is None else limits
+        H = JointLimitDistance(limits)
+        assert np.allclose(objective_written(Q, limits), H.value(Q), rtol=1e-12, atol=0.0)
+        for q in Q:
+            assert np.allclose(gradient_written(q, limits), H.gradient(q), rtol=1e-12, atol=0.0)
+
+
+@pytest.mark.parametrize("variant, code", [
+    ("sign", "sign"), ("no_factor", "no_factor"), ("factor", "factor"), ("not_normalised", "not_normalised"),
+    ("not_centred", "not_centred"), ("default_limits", "default_limits"), ("batch_summed_whole", "batch"),
+])
+def test_joint_limit_objective_mistakes(variant, code):
+    r = ur.joint_limit_objective(lambda *args: objective_written(*args, variant=variant), quiet=True)
+    assert not r.passed and r.diagnosis == code, r.message
+    assert "joint_limit_objective" in r.message
+
+
+def test_joint_limit_objective_other_factor_is_named_by_its_value():
+    r = ur.joint_limit_objective(lambda *args: objective_written(*args, variant="factor"), quiet=True)
+    assert "2 × H" in r.message and "1/(2n)" in r.message
+
+
+@pytest.mark.parametrize("code", ["sign", "no_factor", "square_not_brought_down", "span_not_squared",
+                                  "not_normalised", "not_centred", "default_limits"])
+def test_joint_limit_gradient_mistakes(code):
+    r = ur.joint_limit_gradient(lambda *args: gradient_written(*args, variant=code), quiet=True)
+    assert not r.passed and r.diagnosis == code, r.message
+
+
+def test_joint_limit_gradient_mismatch_shows_central_differences():
+    """A gradient no typical mistake explains (one joint's term left out) is shown against central
+    differences of H at the check's configuration; no message states the closed form asked for."""
+    def one_term_missing(q, limits=ur.WORK_LIMITS):
+        out = gradient_written(q, limits)
+        out[2] = 0.0
+        return out
+
+    r = ur.joint_limit_gradient(one_term_missing, quiet=True)
+    assert not r.passed and r.diagnosis == "mismatch", r.message
+    assert "central differences of H give" in r.message
+    for code in ("sign", "no_factor", "square_not_brought_down", "span_not_squared"):
+        def mistake(*args, code=code):
+            return gradient_written(*args, variant=code)
+
+        assert "(1/n)" not in ur.joint_limit_gradient(mistake, quiet=True).message
+    assert "(1/n)" not in r.message
+
+
+def test_joint_limit_bad_answers():
+    assert ur.joint_limit_gradient(lambda q, limits=None: gradient_written(q)[:3], quiet=True).diagnosis == "shape"
+    assert ur.joint_limit_objective(lambda q, limits=None: "H", quiet=True).diagnosis == "type"
+    assert ur.joint_limit_objective(None, quiet=True).diagnosis == "error"
+    assert ur.joint_limit_gradient(lambda q, limits=None: 1 / 0, quiet=True).diagnosis == "error"
 
 
 # ---------------------------------------------------------------- the IK loop

@@ -32,6 +32,18 @@ steps; the returned ``(q, converged, iterations)`` is compared with this loop.
 Diagnosed: the error's sign flipped, no step cap, the cap applied joint by
 joint, no joint limits, no early stop.
 
+Two checks call the student's joint-limit objective of Task 2 (c) and its gradient at
+configurations of their own (passing the work cell's limits, another chain's, and none: the
+default), and name the typical mistake:
+
+- ``joint_limit_objective(q, limits=WORK_LIMITS)``: Siciliano's :math:`H` (eq. 3.57) at single
+  configurations and at batches (N, n) (the sign, the factor 1/(2n) left out or another factor,
+  the ranges not normalised, q not measured from mid-range, the default limits for the given
+  ones, a batch summed whole);
+- ``joint_limit_gradient(q, limits=WORK_LIMITS)``: :math:`\nabla H` (the sign, 2n times it,
+  half of it, the range not squared, not normalised, not centred, the default limits; any other
+  mismatch is shown against central differences of :math:`H`).
+
 Four more checks call the student's functions of Tasks 3 to 6 on inputs of their own
 and name the typical mistake:
 
@@ -95,7 +107,8 @@ from robokin.validation import (
     check_result_finite,
 )
 
-__all__ = ["weighted_pinv", "dls_step", "nullspace_projector", "ik_position", "summary", "self_motion",
+__all__ = ["weighted_pinv", "dls_step", "nullspace_projector", "joint_limit_objective",
+           "joint_limit_gradient", "ik_position", "summary", "self_motion",
            "ik_restarts", "bisect", "N_JOINTS", "WORK_LIMITS", "PseudoinverseStep", "reference_dls_step",
            "reference_ik_position", "reference_joint_limit_gradient", "reference_joint_limit_objective",
            "reference_nullspace_projector", "reference_weighted_pinv", "NULLSPACE_GAIN", "step_rules",
@@ -528,6 +541,207 @@ def _gradient(q: np.ndarray, limits: np.ndarray) -> np.ndarray:
     """∇H of :func:`_objective`, shape (n,)."""
     middle, span = limits.mean(axis=1), limits[:, 1] - limits[:, 0]
     return -(np.asarray(q) - middle) / span**2 / len(middle)
+
+
+# ------------------------------------------------------------------ the joint-limit objective (task 2 c)
+def _limit_cases() -> list[tuple[str, np.ndarray | None, np.ndarray]]:
+    """(what, limits or None for the default, configurations (4, n)): the work cell's limits
+    passed, another chain's passed, and the default; the configurations within the limits."""
+    other = _other_limits_chain()
+    return [
+        ("with limits = WORK_LIMITS", WORK_LIMITS, _cell().random_configurations(4, seed=71)),
+        ("with other joint limits", other.limits, other.random_configurations(4, seed=72)),
+        ("with the default limits", None, _cell().random_configurations(4, seed=73)),
+    ]
+
+
+def _objective_variant(q: np.ndarray, limits: np.ndarray, code: str = "") -> np.ndarray:
+    """H of :func:`_objective` over the last axis of ``q`` (or the typical mistake ``code``)."""
+    limits = WORK_LIMITS if code == "default_limits" else limits
+    middle, span = limits.mean(axis=1), limits[:, 1] - limits[:, 0]
+    n = len(middle)
+    centre = 0.0 if code == "not_centred" else middle
+    scale = 1.0 if code == "not_normalised" else span
+    factor = {"no_factor": 1.0, "sign": -1.0 / (2 * n)}.get(code, 1.0 / (2 * n))
+    return -factor * np.sum(((q - centre) / scale) ** 2, axis=-1)
+
+
+_OBJECTIVE_MISTAKES = [
+    ("sign",
+     "{name} is −H: H = −1/(2n) Σ ((q_i − q̄_i)/(q_M,i − q_m,i))² is ≤ 0, and 0 with every joint "
+     "at mid-range, its maximum."),
+    ("no_factor",
+     "{name} leaves out the factor 1/(2n) of eq. 3.57: H = −1/(2n) Σ ((q_i − q̄_i)/(q_M,i − "
+     "q_m,i))², n = 6 joints."),
+    ("not_normalised",
+     "{name} does not divide by the joints' ranges: each term is ((q_i − q̄_i)/(q_M,i − q_m,i))², "
+     "the distance from mid-range as a fraction of joint i's range."),
+    ("not_centred",
+     "{name} measures q_i from 0, not from the middle of its range q̄_i = (q_m,i + q_M,i)/2."),
+    ("default_limits",
+     "{name} ignores its argument limits: it uses WORK_LIMITS whatever limits it is given."),
+]
+
+
+class _JointLimitObjectiveCheck(FunctionCheck):
+    """``joint_limit_objective(q, limits=WORK_LIMITS)``: H at one configuration and at a batch."""
+
+    def judge(self, answer: Any) -> CheckResult:
+        name = self.name
+        cases = _limit_cases()
+        n = sum(len(Q) for _, _, Q in cases) + len(cases)
+
+        def arguments(q: np.ndarray, limits: np.ndarray | None) -> tuple:
+            return (q.copy(),) if limits is None else (q.copy(), limits.copy())
+
+        got: list[np.ndarray] = []
+        for what, limits, Q in cases:
+            values = []
+            for q in Q:
+                out = self.call(answer, arguments(q, limits), f"at q = {fmt(q)} rad {what}")
+                try:
+                    values.append(float(np.asarray(out, dtype=float).reshape(())))
+                except (TypeError, ValueError):
+                    return self.failure("type", f"{name} should return one number H for q of shape (n,); "
+                                        f"{what} it returned {type(out).__name__} of shape "
+                                        f"{np.shape(out)}.", n)
+            out = self.call(answer, arguments(Q, limits), f"at a batch q of shape {Q.shape} {what}")
+            try:
+                batch = np.asarray(out, dtype=float)
+            except (TypeError, ValueError):
+                batch = np.full(0, np.nan)
+            if batch.shape != (len(Q),):
+                return self.failure("batch", (
+                    f"{name} for a batch q of shape {Q.shape} {what} returns shape {batch.shape}; "
+                    f"expected ({len(Q)},), one H per row: sum over the joints only, the last axis "
+                    "(np.sum(..., axis=-1))."), n)
+            got.append(np.r_[values, batch])
+
+        def same(a: np.ndarray, b: np.ndarray) -> bool:
+            return bool(np.allclose(a, b, rtol=1e-9, atol=1e-12))
+
+        def expected(code: str = "") -> list[np.ndarray]:
+            return [np.tile(_objective_variant(Q, WORK_LIMITS if limits is None else limits, code), 2)
+                    for _, limits, Q in cases]
+
+        if all(same(g, r) for g, r in zip(got, expected())):
+            return self.success(f"{name} is correct (checked at {n - len(cases)} configurations and "
+                                f"{len(cases)} batches, with other joint limits and the default).", n)
+        named = self.diagnose(_OBJECTIVE_MISTAKES, lambda code: all(
+            same(g, r) for g, r in zip(got, expected(code))), n)
+        if named is not None:
+            return named
+        ratio = np.concatenate(got) / np.concatenate(expected())
+        if np.allclose(ratio, ratio[0], rtol=1e-9):
+            return self.failure("factor", (
+                f"{name} is {ratio[0]:.6g} × H at every configuration: the factor in front of the "
+                "sum is −1/(2n), n = 6 joints, H = −1/(2n) Σ ((q_i − q̄_i)/(q_M,i − q_m,i))²."), n)
+        k = next(i for i, (g, r) in enumerate(zip(got, expected())) if not same(g, r))
+        what, limits, Q = cases[k]
+        row = int(np.argmax(~np.isclose(got[k], expected()[k], rtol=1e-9, atol=1e-12))) % len(Q)
+        return self.failure("mismatch", (
+            f"{name} at q = {fmt(Q[row])} rad {what} returns {got[k][row]:.6g}; H = "
+            f"{expected()[k][row]:.6g}. H = −1/(2n) Σ ((q_i − q̄_i)/(q_M,i − q_m,i))², q̄_i the "
+            "middle of joint i's range."), n)
+
+
+joint_limit_objective = exercise(_CHAPTER, "joint_limit_objective", _JointLimitObjectiveCheck(
+    name="joint_limit_objective",
+    signature="joint_limit_objective(q, limits=WORK_LIMITS) -> H (a number; (N,) for q (N, n))",
+    noun="configurations",
+    doc=("Check joint_limit_objective(q, limits=WORK_LIMITS) -> H, Siciliano's eq. 3.57, at "
+         "configurations and batches of the work cell and of a chain with other joint limits."),
+))
+
+
+def _gradient_variant(q: np.ndarray, limits: np.ndarray, code: str = "") -> np.ndarray:
+    """∇H of :func:`_gradient` (or the typical mistake ``code``), shape (n,)."""
+    limits = WORK_LIMITS if code == "default_limits" else limits
+    middle, span = limits.mean(axis=1), limits[:, 1] - limits[:, 0]
+    n = len(middle)
+    if code == "span_not_squared":
+        return -(q - middle) / span / n
+    if code == "not_normalised":
+        return -(q - middle) / n
+    if code == "not_centred":
+        return -q / span**2 / n
+    factor = {"sign": -1.0, "no_factor": 2.0 * n, "square_not_brought_down": 0.5}.get(code, 1.0)
+    return factor * _gradient(q, limits)
+
+
+_GRADIENT_MISTAKES = [
+    ("sign",
+     "{name} is −∇H: it points towards the joint limits. H is largest (0) with every joint at "
+     "mid-range, so its gradient points from each joint towards the middle of its range."),
+    ("no_factor",
+     "{name} is 2n times ∇H: the gradient of the sum without H's factor −1/(2n)."),
+    ("square_not_brought_down",
+     "{name} is ∇H/2: the derivative of x² is 2x (the chain rule on each square)."),
+    ("span_not_squared",
+     "{name} divides by the range (q_M,i − q_m,i) once: each term is ((q_i − q̄_i)/(q_M,i − "
+     "q_m,i))², a square of the quotient, the range's too."),
+    ("not_normalised",
+     "{name} does not divide by the joints' ranges: each term of H is ((q_i − q̄_i)/(q_M,i − "
+     "q_m,i))²."),
+    ("not_centred",
+     "{name} measures q_i from 0, not from the middle of its range q̄_i = (q_m,i + q_M,i)/2."),
+    ("default_limits",
+     "{name} ignores its argument limits: it uses WORK_LIMITS whatever limits it is given."),
+]
+
+
+class _JointLimitGradientCheck(FunctionCheck):
+    """``joint_limit_gradient(q, limits=WORK_LIMITS)``: ∇H at configurations of its own."""
+
+    def judge(self, answer: Any) -> CheckResult:
+        name = self.name
+        cases = _limit_cases()
+        n = sum(len(Q) for _, _, Q in cases)
+        got: list[np.ndarray] = []
+        for what, limits, Q in cases:
+            for q in Q:
+                args = (q.copy(),) if limits is None else (q.copy(), limits.copy())
+                out = self.call(answer, args, f"at q = {fmt(q)} rad {what}")
+                try:
+                    value = np.asarray(out, dtype=float)
+                except (TypeError, ValueError):
+                    value = np.full(0, np.nan)
+                if value.shape != (N_JOINTS,):
+                    return self.failure("shape", (
+                        f"{name} at q = {fmt(q)} rad {what} returns {type(out).__name__} of shape "
+                        f"{np.shape(out)}; expected shape ({N_JOINTS},), one ∂H/∂q_i per joint."), n)
+                got.append(value)
+        points = [(q, WORK_LIMITS if limits is None else limits, what) for what, limits, Q in cases for q in Q]
+
+        def explains(code: str) -> bool:
+            return all(np.allclose(g, _gradient_variant(q, limits, code), rtol=1e-9, atol=1e-12)
+                       for g, (q, limits, _) in zip(got, points))
+
+        if explains(""):
+            return self.success(f"{name} is correct (checked at {n} configurations, with other joint "
+                                "limits and the default).", n)
+        named = self.diagnose(_GRADIENT_MISTAKES, explains, n)
+        if named is not None:
+            return named
+        k = next(i for i, (g, (q, limits, _)) in enumerate(zip(got, points))
+                 if not np.allclose(g, _gradient(q, limits), rtol=1e-9, atol=1e-12))
+        q, limits, what = points[k]
+        central = np.array([(_objective(q + h, limits) - _objective(q - h, limits)) / 2e-6
+                            for h in 1e-6 * np.eye(N_JOINTS)])
+        return self.failure("mismatch", (
+            f"{name} at q = {fmt(q)} rad {what} returns {fmt(got[k])}; it is not the slope of H "
+            f"(eq. 3.57): central differences of H give {fmt(central)}. Differentiate H term by "
+            "term (the chain rule on each square)."), n)
+
+
+joint_limit_gradient = exercise(_CHAPTER, "joint_limit_gradient", _JointLimitGradientCheck(
+    name="joint_limit_gradient",
+    signature="joint_limit_gradient(q, limits=WORK_LIMITS) -> (n,) array",
+    noun="configurations",
+    doc=("Check joint_limit_gradient(q, limits=WORK_LIMITS) -> ∇H (n,), the gradient of "
+         "Siciliano's eq. 3.57, at configurations of the work cell and of a chain with other "
+         "joint limits."),
+))
 
 
 # ------------------------------------------------------------------ bisection (task 6)
@@ -1502,6 +1716,12 @@ DELEGATION = {
     "weighted_pinv": {"reference_weighted_pinv": "robokin.check.ur10.reference_weighted_pinv"},
     "dls_step": {"reference_dls_step": "robokin.check.ur10.reference_dls_step"},
     "nullspace_projector": {"reference_nullspace_projector": "robokin.check.ur10.reference_nullspace_projector"},
+    "joint_limit_objective": {
+        "reference_joint_limit_objective": "robokin.check.ur10.reference_joint_limit_objective",
+        "JointLimitDistance": "robokin.motion.JointLimitDistance"},
+    "joint_limit_gradient": {
+        "reference_joint_limit_gradient": "robokin.check.ur10.reference_joint_limit_gradient",
+        "JointLimitDistance": "robokin.motion.JointLimitDistance"},
     "ik_position": {"reference_ik_position": "robokin.check.ur10.reference_ik_position"},
     "summary": {"reference_joint_limit_objective": "robokin.check.ur10.reference_joint_limit_objective"},
     "self_motion": {"reference_nullspace_projector": "robokin.check.ur10.reference_nullspace_projector",
