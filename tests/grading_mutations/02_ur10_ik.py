@@ -127,6 +127,20 @@ MUTATIONS = {
             "    middle, span = limits.mean(axis=1), limits[:, 1] - limits[:, 0]\n"
             "    return (q - middle) / span**2 / len(middle)",
         ),
+        (
+            "H without its factor 1/(2n)",
+            "def joint_limit_objective(q, limits=WORK_LIMITS):\n"
+            "    middle, span = limits.mean(axis=1), limits[:, 1] - limits[:, 0]\n"
+            "    return -np.sum(((q - middle) / span) ** 2, axis=-1)",
+        ),
+        (
+            "H and its gradient with the ranges not normalised (consistent with each other)",
+            "def joint_limit_objective(q, limits=WORK_LIMITS):\n"
+            "    middle = limits.mean(axis=1)\n"
+            "    return -np.sum((q - middle) ** 2, axis=-1) / (2 * len(middle))\n"
+            "def joint_limit_gradient(q, limits=WORK_LIMITS):\n"
+            "    return -(q - limits.mean(axis=1)) / len(limits)",
+        ),
     ],
     "task2_test4": [
         (
@@ -310,12 +324,10 @@ def weighted_pinv(J, W):  # written another way: X = W^-1 J^T, then X (J X)^-1 b
     X = np.linalg.solve(W, J.T)
     return np.linalg.solve((J @ X).T, X.T).T
 '''),
-    "task2_answer2": ("the damped step as a least-squares problem [J; lambda I] dq = [e; 0]", '''
+    "task2_answer2": ("the damped step from the normal equations (J^T J + lambda^2 I) dq = J^T e", '''
 
-def dls_step(J, e, damping):  # written another way: min |J dq - e|^2 + damping^2 |dq|^2
-    stacked = np.vstack([J, damping * np.eye(J.shape[1])])
-    target = np.concatenate([e, np.zeros(J.shape[1])])
-    return np.linalg.lstsq(stacked, target, rcond=None)[0]
+def dls_step(J, e, damping):  # written another way: the n x n normal equations, not J J^T
+    return np.linalg.solve(J.T @ J + damping**2 * np.eye(J.shape[1]), J.T @ e)
 '''),
     "task2_answer3": ("the null-space projector from the SVD: V_0 V_0^T", '''
 
@@ -324,6 +336,24 @@ def nullspace_projector(J):  # written another way: the right singular vectors o
     rank = int(np.sum(sigma > sigma.max() * max(J.shape) * np.finfo(float).eps))
     kernel = Vt[rank:]
     return kernel.T @ kernel
+
+
+def joint_limit_objective(q, limits=WORK_LIMITS):  # written another way: half ranges, einsum
+    half = (limits[:, 1] - limits[:, 0]) / 2
+    x = (np.asarray(q, dtype=float) - (limits[:, 0] + half)) / (2 * half)
+    return -np.einsum("...i,...i->...", x, x) / (2 * limits.shape[0])
+
+
+def joint_limit_gradient(q, limits=WORK_LIMITS):  # written another way: weights 1/range^2
+    weights = 1.0 / np.diff(limits, axis=1)[:, 0] ** 2
+    return weights * (limits.mean(axis=1) - np.asarray(q, dtype=float)) / len(limits)
+'''),
+    "task2_answer5": ("the DLS rule of STEPS as a least-squares problem [J; lambda I] dq = [e; 0]", '''
+
+# written another way: the damped step of STEPS as min |J dq - e|^2 + lambda^2 |dq|^2
+STEPS = dict(STEPS, DLS=lambda J, e, q: np.linalg.lstsq(
+    np.vstack([J, LAMBDA * np.eye(J.shape[1])]), np.r_[e, np.zeros(J.shape[1])], rcond=None)[0])
+loop_runs = dict(loop_runs, b=ik_position(cell, TARGETS["A"], Q0, STEPS["DLS"]))
 '''),
     "task3_answer1": ("the figures with robokin's measures of a run and a cumulative sum", '''
 
