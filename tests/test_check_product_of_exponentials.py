@@ -241,7 +241,8 @@ def test_ik_mistakes():
     result = chk.ik_body(lambda M, S, T, t: (np.asarray(t), 0), quiet=True)
     assert not result.passed and result.diagnosis == "not_updated"
     result = chk.ik_body(lambda M, S, T, t: (ik_body(M, S, T, t)[0] + 0.1, 5), quiet=True)
-    assert not result.passed and result.diagnosis == "mismatch" and "the body twist that carries the flange from T(θ) to T_goal" in result.message
+    assert not result.passed and result.diagnosis == "mismatch"
+    assert "the body twist that carries the flange from T(θ) to T_goal" in result.message
 
 
 def test_unknown_mistake_is_a_mismatch():
