@@ -1386,7 +1386,8 @@ def reference_joint_limit_gradient(q: Any, limits: Any = WORK_LIMITS) -> np.ndar
     Returns
     -------
     numpy.ndarray, shape (n,)
-        :math:`\partial H/\partial q_i = -\frac{1}{n}\,(q_i - \bar q_i)/(q_{M,i} - q_{m,i})^2`.
+        :math:`\nabla H(q)`, the gradient of :func:`reference_joint_limit_objective` with the
+        same ``limits`` (its closed form is the answer of Task 2 (c), so it is not written here).
     """
     q = as_float_array(q, "q", shape=(None,))
     limits = _limits_of(q, limits)
