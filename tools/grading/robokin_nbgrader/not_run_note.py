@@ -12,7 +12,7 @@ from nbgrader.preprocessors import NbGraderPreprocessor
 TITLE = "Nothing from here on is graded"
 #: The note above the first cell the grader did not run.
 NOTE = (f"> **{TITLE}**, so the grader did not run the cells below: they are shown without outputs. "
-        "Your own copy of the notebook keeps their outputs.")
+        "To see what they show, run them in your own copy of the notebook.")
 #: The note's role in ``metadata.robokin`` (and its cell id, where the notebook's cells have ids).
 ROLE = "not-run-note"
 
