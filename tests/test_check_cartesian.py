@@ -326,3 +326,32 @@ def rotation_from_rpy_local(roll, pitch, yaw):
 def test_reference_orientation_error_rejects_what_is_not_two_rotations(call):
     with pytest.raises(ValueError):
         call()
+
+
+@pytest.mark.parametrize("name, answer", [
+    ("tool_frame", np.zeros((4, 4))),
+    ("tool_frame", np.eye(4)),
+    ("tool_frame", _tf(-T_ET[:3, :3], [0.2, 0, 0])),
+    ("tool_frame", _tf(T_ET[:3, :3], [20.0, 0, 0])),
+    ("goal_frame", np.zeros((4, 4))),
+    ("goal_frame", _tf(np.eye(3), P_BG)),
+    ("goal_frame", _tf(R_BG, [0.0, 0.0, 0.0])),
+])
+def test_wrong_constants_name_entries_not_their_values(name, answer):
+    """T_ET and T_BG are the answers themselves (one input): a wrong attempt learns which entries
+    differ and the principle, not what they should be, nor the rotation they hold."""
+    r = getattr(cart, name)(answer, quiet=True)
+    assert r.diagnosis == "mismatch" and "differ" in r.message, r.message
+    for give_away in ("should be", "yours is", "Rx(π/10)", "0.2, 0, 0", "0.951", "−3.02", "-0.914",
+                      "rotation_from_rpy(π/10", "rotation_from_rpy(−1.33"):
+        assert give_away not in r.message, r.message
+
+
+@pytest.mark.parametrize("name, answer", [w[:2] for w in WRONG if w[0] not in ("kinematic_loop",)])
+def test_messages_state_no_closed_form(name, answer):
+    """No diagnosis or hint writes the answer's closed form: the tool's rotation, the log of the
+    error, the transport matrix, the first column of E(phi)."""
+    message = getattr(cart, name)(answer, quiet=True).message
+    for closed_form in ("Rx(π/10)", "log(R_goal Rᵀ)", "[[I, −[r×]], [0, I]]", "−[r×] ω",
+                        "Rz(ψ) Ry(ϑ) x", "ᴮT_T = ᴮT_E ᴱT_T", "ᴮR_E ₑr_ET", "Rz(−3.02) Ry(−0.40)"):
+        assert closed_form not in message, message

@@ -46,7 +46,9 @@ from typing import Any
 
 import numpy as np
 
-from robokin.check._core import Check, Diagnosis, MatrixArgumentsCheck, Variable, alternatives, fmt
+from robokin.check._core import (
+    Check, Context, Diagnosis, MatrixArgumentsCheck, Mistake, Variable, alternatives, fmt,
+)
 from robokin.check._registry import exercise
 from robokin.check.diagnoses import inverse_transform, transform_mistakes
 from robokin.transforms import (
@@ -144,12 +146,41 @@ def _joint_variables() -> list[Variable]:
 _Q = _joint_variables()
 
 
+def _wrong_entries(advice: str) -> Diagnosis:
+    """The last diagnosis of a check of a constant the statement asks for (T_ET, T_BG): it names
+    the wrong entries, not the values they should have, since those values are the answer.
+
+    Parameters
+    ----------
+    advice : str
+        The principle the student is sent back to (no ``{`` or ``}``).
+
+    Returns
+    -------
+    Diagnosis
+        Code ``"mismatch"``; it applies to any answer of the right shape.
+    """
+    def variants(ctx: Context) -> list[Mistake]:
+        if ctx.S.shape != ctx.R.shape:
+            return []
+        with np.errstate(all="ignore"):
+            bad = ~np.isclose(ctx.S, ctx.R, atol=max(ctx.check.atol, 1e-9), rtol=ctx.check.rtol)
+        wrong = [f"({i + 1}, {j + 1})" for i, j in zip(*np.nonzero(bad.any(axis=0)))]
+        what = ("every entry differs" if len(wrong) == ctx.R[0].size else
+                f"entr{'y' if len(wrong) == 1 else 'ies'} {', '.join(wrong)} "
+                f"differ{'s' if len(wrong) == 1 else ''}")
+        student = ctx.S
+        return [Mistake("mismatch", lambda reference: (lambda x: student[0]),
+                        f"{{name}} is not correct: {what}. {advice}")]
+
+    return Diagnosis("mismatch", variants)
+
+
 # ------------------------------------------------------------------ tool frame (a constant)
 _SWAPPED_TOOL = (
-    "{name} turns about z_E: you read η = [0, 0, π/10] as (roll, pitch, yaw), so the roll "
-    "became a yaw. The course's triple is YPR, (yaw, pitch, roll), with R = Rz(yaw) Ry(pitch) "
-    "Rx(roll): [0, 0, π/10] is a roll of π/10 about x_E, R = Rx(π/10). In robokin's argument "
-    "order that is rotation_from_rpy(π/10, 0, 0)."
+    "{name} reads the triple η = [0, 0, π/10] as (roll, pitch, yaw), so its last angle became "
+    "a yaw. The course lists a YPR triple as (yaw, pitch, roll) (the Conventions table): "
+    "reverse the list before you pass it to rotation_from_rpy(roll, pitch, yaw)."
 )
 
 
@@ -161,17 +192,21 @@ def _tool_frame_mistakes():
             "the offset of {name} is 0.002 m: 0.2 was read as centimetres (look at your "
             "TOOL_OFFSET, the offset {name} is built from). The robot's link table and the goal "
             "are in metres (the goal is about 1 m from the base), and a 2 mm tool would barely "
-            "leave the end-effector: the offset is 0.2 m = 20 cm."
+            "leave the end-effector: ask whether the number makes sense in that unit."
         ))]),
         alternatives("rpy_order", [
             (lambda x: _transform(R_swapped, p), _SWAPPED_TOOL),
-            (lambda x: _transform(R_swapped, p / 100.0), _SWAPPED_TOOL + " Also, its offset is 0.2 m, not 0.2 cm."),
+            (lambda x: _transform(R_swapped, p / 100.0), _SWAPPED_TOOL + " Also, its offset was read as "
+                                                          "centimetres: the exercise is in metres."),
         ]),
         alternatives("degrees_input", [(lambda x: _transform(rotx(math.radians(math.pi / 10)), p), (
             "the rotation of {name} is π/10 DEGREES: pass radians (π/10 rad = 18°)."
         ))]),
         inverse_transform(),
         *transform_mistakes(),
+        _wrong_entries("Its rotation block is the rotation of the YPR triple ᴱη_T, read as the "
+                       "course lists it (the Conventions table), the top of its last column the "
+                       "offset ₑr_ET in metres, and its last row [0, 0, 0, 1]."),
     ]
 
 
@@ -180,8 +215,8 @@ tool_frame = exercise(_CHAPTER, "tool_frame", Check(
     reference=lambda x: _T_ET(),
     diagnoses=_tool_frame_mistakes(),
     atol=1e-4, rtol=1e-4,
-    hint=("T_ET = [[R, p], [0, 1]] with R = Rz(yaw) Ry(pitch) Rx(roll) for (yaw, pitch, roll) = "
-          "(0, 0, π/10), i.e. R = Rx(π/10), and p = [0.2, 0, 0] m."),
+    hint=("T_ET = [[R, p], [0, 1]]: R the rotation of the YPR triple as the course lists it, p "
+          "the offset in metres."),
     doc=("Check the tool frame T_ET (4×4) built from the exercise's YPR triple and offset: "
          "compared with the model's tool frame to 1e-4."),
 ))
@@ -193,10 +228,10 @@ def _goal_frame_mistakes():
     y, pi_, r = _GOAL_YPR
     return [
         alternatives("rpy_order", [(lambda x: _transform(_ypr(r, pi_, y), p), (
-            "{name} reads η_G = (−3.02, −0.40, −1.33) as (roll, pitch, yaw): your rotation is "
-            "Rz(−1.33) Ry(−0.40) Rx(−3.02), the roll taken for the yaw. The course's triple is "
-            "YPR, (yaw, pitch, roll): R_BG = Rz(−3.02) Ry(−0.40) Rx(−1.33), in robokin's "
-            "argument order rotation_from_rpy(−1.33, −0.40, −3.02)."
+            "{name} reads η_G = (−3.02, −0.40, −1.33) as (roll, pitch, yaw): its first angle "
+            "became the roll and its last the yaw. The course lists a YPR triple as (yaw, pitch, "
+            "roll) (the Conventions table): reverse the list before you pass it to "
+            "rotation_from_rpy(roll, pitch, yaw)."
         ))]),
         alternatives("composition_order", [
             (lambda x: _transform(rotx(r) @ roty(pi_) @ rotz(y), p), (
@@ -205,9 +240,9 @@ def _goal_frame_mistakes():
                 "turn about the fixed x axis first, then y, then z (or z, new y, newest x)."
             )),
             (lambda x: _transform(rotx(y) @ roty(pi_) @ rotz(r), p), (
-                "{name} is Rx(−3.02) Ry(−0.40) Rz(−1.33): both the order of the angles and the order "
-                "of the product are reversed. The course builds R_BG = Rz(yaw) Ry(pitch) Rx(roll) "
-                "= Rz(−3.02) Ry(−0.40) Rx(−1.33)."
+                "{name} reverses both the order of the angles and the order of the product: the "
+                "course's triple is (yaw, pitch, roll) and its rotation R = Rz(yaw) Ry(pitch) "
+                "Rx(roll) (the Conventions table)."
             )),
         ]),
         alternatives("degrees_input", [(lambda x: _transform(_ypr(*np.radians(_GOAL_YPR)), p), (
@@ -215,6 +250,9 @@ def _goal_frame_mistakes():
         ))]),
         inverse_transform(),
         *transform_mistakes(),
+        _wrong_entries("Its rotation block is the rotation of the YPR triple ᴮη_G, read as the "
+                       "course lists it (the Conventions table), the top of its last column the "
+                       "goal's origin ᴮr_BG in metres, and its last row [0, 0, 0, 1]."),
     ]
 
 
@@ -223,8 +261,8 @@ goal_frame = exercise(_CHAPTER, "goal_frame", Check(
     reference=lambda x: _T_BG(),
     diagnoses=_goal_frame_mistakes(),
     atol=1e-4, rtol=1e-4,
-    hint=("T_BG = [[R, p], [0, 1]] with R = Rz(−3.02) Ry(−0.40) Rx(−1.33) (YPR: yaw first) and "
-          "p = [−0.14, −0.85, 0.6] m."),
+    hint=("T_BG = [[R, p], [0, 1]]: R the rotation of the YPR triple as the course lists it, p "
+          "the goal's origin in metres."),
     doc=("Check the goal frame T_BG (4×4) built from the exercise's YPR triple and origin: "
          "compared with the model's goal frame to 1e-4."),
 ))
@@ -239,17 +277,17 @@ def _tool_pose_mistakes():
 
     return [
         alternatives("composition_order", [(lambda x: T_et @ fk(x), (
-            "{name} multiplies in the wrong order: ᴱT_T ᴮT_E. Match the inner letters: "
-            "ᴮT_T = ᴮT_E ᴱT_T (the tool is attached after the end-effector)."
+            "{name} multiplies in the wrong order: ᴱT_T ᴮT_E. Match the inner letters (the "
+            "tool is attached after the end-effector)."
         ))]),
         alternatives("no_tool", [(fk, "{name} is the end-effector pose ᴮT_E: the tool transform ᴱT_T is missing.")]),
         alternatives("inverse_tool", [(lambda x: fk(x) @ np.linalg.inv(T_et), (
-            "{name} uses the inverse tool transform ᵀT_E = (ᴱT_T)⁻¹: ᴮT_T = ᴮT_E ᴱT_T."
+            "{name} uses the inverse tool transform ᵀT_E = (ᴱT_T)⁻¹: match the inner letters."
         ))]),
         alternatives("offset_not_rotated", [(lambda x: _transform(fk(x)[:3, :3] @ T_et[:3, :3],
                                                           fk(x)[:3, 3] + T_et[:3, 3]), (
             "the tool origin in {name} adds the offset ₑr_ET as if it were written in the base "
-            "frame. Rotate it first: ᴮr_T = ᴮr_E + ᴮR_E ₑr_ET (that is what ᴮT_E ᴱT_T does)."
+            "frame: it is written in E, so it must be rotated into B first."
         ))]),
     ]
 
@@ -261,7 +299,7 @@ tool_pose = exercise(_CHAPTER, "tool_pose", Check(
     groups=[("q", list(range(N_JOINTS)))],
     diagnoses=_tool_pose_mistakes(),
     noun="configurations",
-    hint="ᴮT_T(q) = ᴮT_E(q) ᴱT_T with the arm's ᴮT_E(q) = genova_arm().fk(q).",
+    hint="Compose the arm's end-effector pose with the tool's pose in E, matching the inner letters.",
     doc=("Check a function tool_pose(q) -> ᴮT_T(q) (4×4) of the course's arm with the exercise's "
          "tool: compared with the model at 20 random configurations within the joint limits."),
 ))
@@ -304,18 +342,19 @@ def _orientation_error_mistakes():
     return [
         alternatives("sign", [(lambda x: -_orientation_error_reference(x), (
             "{name} has the wrong sign: it is the rotation from the goal back to the current "
-            "frame. The error is the rotation still to do, θh = log(R_goal Rᵀ), so that "
+            "frame. The error is the rotation still to do, from R to R_goal, so that "
             "ω = K θh turns the tool TOWARDS the goal (with the opposite sign the loop diverges)."
         ))]),
         alternatives("wrong_frame", [
             (tool_frame_err, (
-                "{name} is the right rotation vector but expressed in the TOOL frame: "
-                "log(Rᵀ R_goal) = Rᵀ·(θh). The controller commands ω in the base frame, so "
-                "rotate it back: ᴮR_T·log(Rᵀ R_goal) = log(R_goal Rᵀ)."
+                "{name} is the right rotation vector but expressed in the TOOL frame (the axis "
+                "of Rᵀ R_goal is written in tool coordinates). The controller commands ω in the "
+                "base frame: express the axis there."
             )),
             (tool_frame_other, (
-                "{name} = log(R_goalᵀ R) is expressed in the tool frame AND has the wrong sign. "
-                "Use θh = log(R_goal Rᵀ) (base frame)."
+                "{name} is expressed in the tool frame AND has the wrong sign (the rotation "
+                "from the goal back to R): the error is the rotation from R to R_goal, its axis "
+                "in the base frame."
             )),
         ]),
         alternatives("degrees_output", [(lambda x: np.degrees(_orientation_error_reference(x)), (
@@ -350,7 +389,8 @@ orientation_error = exercise(_CHAPTER, "orientation_error", MatrixArgumentsCheck
     arguments=_orientation_error_arguments,
     signature="orientation_error(R, R_goal) -> (3,) array",
     atol=1e-7,
-    hint="θh = log(R_goal Rᵀ), with θ in [0, π] and h the unit axis, both in the base frame.",
+    hint=("θh is the rotation that takes R to R_goal, with θ in [0, π] and h the unit axis "
+          "written in the base frame."),
     doc=("Check a function orientation_error(R, R_goal) -> θh (3,), base frame, radians: compared "
          "with the model at 20 random pairs of rotations (errors below π), to 1e-7."),
 ))
@@ -425,20 +465,22 @@ def _transport_mistakes(parts: Callable[[np.ndarray], tuple[np.ndarray, np.ndarr
     return [
         alternatives("offset_not_rotated", [(not_rotated, (
             f"{{name}} uses the offset {offset_words} as if it were written in the base "
-            f"frame. The transport needs ᴮr_ET = ᴮR_E{of_q} ₑr_ET (the two agree only while ᴮR_E = I)."
+            f"frame: it is written in E, and the transport needs it in B (the two agree only "
+            f"while ᴮR_E{of_q} = I)."
         ))]),
         alternatives("cross_sign", [(plus_skew, (
-            "{name} has the sign of the cross-product block reversed. v_T = v_E + ω × r = "
-            "v_E − [r×] ω, so the top-right block is −[r×] (r from E to T)."
+            "{name} has the sign of the cross-product block reversed: write v_T = v_E + ω × r "
+            "(r from E to T) as a matrix times ω, with the skew-symmetric matrix of the "
+            "conventions page."
         ))]),
         alternatives("twist_order", [(angular_first_block, (
             "{name} uses [[I, 0], [[r×]ᵀ, I]], the course's transport for twists ordered [ω; v] "
-            "(angular first), on robokin's Jacobian ordered [v; ω]. With linear rows first the same "
-            "map is [[I, −[r×]], [0, I]]."
+            "(angular first), on robokin's Jacobian ordered [v; ω]: convert the map with the row "
+            "swap S of the Conventions section (S M S)."
         ))]),
         alternatives("transposed_transport", [(transposed, (
-            "{name} uses the transposed transport matrix [[I, 0], [[r×], I]] (it carries wrenches, "
-            "not twists): J_T = [[I, −[r×]], [0, I]] J_E."
+            "{name} uses the transposed transport matrix (it carries wrenches, not twists): "
+            "derive it from v_T = v_E + ω × r and ω_T = ω_E."
         ))]),
         alternatives("no_transport", [(untouched, (
             f"{{name}} is the end-effector Jacobian J_E{of_q}: the tool offset is ignored."
@@ -454,7 +496,8 @@ tool_jacobian = exercise(_CHAPTER, "tool_jacobian", MatrixArgumentsCheck(
     noun="configurations and offsets",
     arguments=_tool_jacobian_arguments,
     signature="tool_jacobian(J_e, R_be, p_et) -> (6, n) array",
-    hint="J_T = [[I, −[r×]], [0, I]] J_E with r = R_be p_et (rows [v; ω]).",
+    hint=("The tool and E are one rigid body: the same ω, and v_T = v_E + ω × r with r from E "
+          "to T in the base frame (rows [v; ω])."),
     doc=("Check a function tool_jacobian(J_e, R_be, p_et) -> J_T (6×n), rows [v; ω]: compared "
          "with the model at 20 random configurations and tool offsets."),
 ))
@@ -502,7 +545,8 @@ tool_jacobian_of_q = exercise(_CHAPTER, "tool_jacobian_of_q", MatrixArgumentsChe
     noun="configurations and offsets",
     arguments=_tool_jacobian_of_q_arguments,
     signature="my_tool_jacobian(q, offset) -> (6, 7) array",
-    hint="J_T(q) = [[I, −[r×]], [0, I]] J_E(q) with r = ᴮR_E(q) ₑr_ET (rows [v; ω]).",
+    hint=("The tool and E are one rigid body: the same ω, and v_T = v_E + ω × r with r from E "
+          "to T in the base frame (rows [v; ω])."),
     doc=("Check a function my_tool_jacobian(q, offset) -> J_T(q) (6×7), rows [v; ω], of the course's "
          "arm with a tool at the offset ₑr_ET (3,) [m] from E: compared with the model at 20 random "
          "configurations and offsets."),
@@ -777,7 +821,7 @@ def _rpy_rate_mistakes() -> list[Diagnosis]:
         ))]),
         alternatives("roll_axis_without_pitch", [(roll_axis_without_pitch, (
             "{name} turns the roll's axis x by Rz(yaw) only: in R = Rz(ψ) Ry(ϑ) Rx(φ) the roll "
-            "comes after the pitch too, its axis in the base frame is Rz(ψ) Ry(ϑ) x."
+            "comes after the pitch too."
         ))]),
         alternatives("transpose", [(lambda x: _rpy_rate_reference(x).T, (
             "{name} is transposed: its columns are the axes of the three turns, in the base frame."
