@@ -28,11 +28,12 @@ pytestmark = pytest.mark.book
 #: after scrolling through all of its scenes. Measured as a web server sends them:
 #: text files (HTML, JS, CSS, SVG) gzip-compressed, fonts and images as they are.
 PAGE_WEIGHT_BUDGET = 2_000_000
-#: A page's own HTML, uncompressed (scene data lives in _static/scenes/), in either edition. Mostly
-#: highlighted code (a span per token, about ten times the source). The instructor edition carries
-#: the solutions and the hidden tests too (about 140 kB more than the student's): its largest
-#: pages, chapters 2 and 5, are 598 and 597 kB (their student pages 464 and 459 kB), after the
-#: long machinery of their graded tests moved into tested functions of robokin.check. A chapter
+#: A page's own HTML, uncompressed (scene data lives in _static/scenes/, the scenes' script in
+#: _static/robokin-scene.js: about 6 kB a scene when each carried its copy), in either edition.
+#: Mostly highlighted code (a span per token, about six times the source). The instructor edition
+#: carries the solutions and the hidden tests too (about 145 kB more than the student's): its
+#: largest pages, chapters 5 and 2, are 577 and 572 kB (their student pages about 425 kB), after
+#: the long machinery of their graded tests moved into tested functions of robokin.check. A chapter
 #: that needs more moves code out of its tests, or its *Going further* cells, the same way.
 PAGE_HTML_BUDGET = 600_000
 #: Widths the pages are read at: a laptop, and a phone.

@@ -103,6 +103,10 @@ def test_scene_data_moved_beside_the_page_still_renders(tmp_path, browser):
     files = list((tmp_path / "_static" / "scenes").glob("*.js"))
     assert len(files) == 1 and len(page.read_text()) < inline - 2000  # stored once, out of the page
     assert 'data-src="../_static/scenes/' in page.read_text()
+    # one script for every scene, linked, not a copy in each (about 6 kB a scene)
+    assert (tmp_path / "_static" / "robokin-scene.js").exists()
+    assert "(function ()" not in page.read_text()
+    assert page.read_text().count('<script src="../_static/robokin-scene.js" data-animated="false">') == 2
 
     pg, errors = watched_page(browser, 800, 800)
     pg.goto(page.as_uri())
@@ -139,6 +143,32 @@ def test_large_command_shared_by_two_scenes_is_stored_once(tmp_path, browser):
     pg.goto(page.as_uri())
     pg.evaluate("document.querySelectorAll('.robokin-scene')[1].scrollIntoView()")
     pg.wait_for_function("document.querySelectorAll('.robokin-scene canvas').length == 2", timeout=WAIT_MS)
+    assert not errors, errors
+
+
+def test_linked_scene_script_reads_each_scene_s_animated_flag(tmp_path, browser):
+    """The book links one script from every scene; it opens the animation controls of an
+    animated scene only, as each scene's own copy did."""
+    from robokin.views import Scene
+    from robokin.views.sphinx_extension import externalize_scene_data
+    from robokin.views.static_html import save_page
+
+    chain, q0, Q = _robot()
+    still, animated = Scene(height=300), Scene(height=300)
+    for scene in (still, animated):
+        scene.add_chain(chain, q0)
+    animated.animate("robot", Q[:3], dt=0.05, play=False)
+    page = save_page(tmp_path / "index.html", [still, animated])
+    assert externalize_scene_data(tmp_path) == 2
+    assert 'data-animated="false"' in page.read_text() and 'data-animated="true"' in page.read_text()
+
+    pg, errors = watched_page(browser, 800, 700)
+    pg.goto(page.as_uri())
+    pg.evaluate("document.querySelectorAll('.robokin-scene')[1].scrollIntoView()")
+    pg.wait_for_function("document.querySelectorAll('.robokin-scene canvas').length == 2", timeout=WAIT_MS)
+    controls = pg.evaluate("Array.from(document.querySelectorAll('.robokin-scene')).map("
+                           "s => Array.from(s.querySelectorAll('.dg .property-name')).map(e => e.textContent))")
+    assert "play" not in controls[0] and "play" in controls[1], controls
     assert not errors, errors
 
 

@@ -11,7 +11,8 @@ After an HTML build it
   ``<outdir>/_static/meshcat/``, where the static scenes written by
   :mod:`robokin.views.static_html` load it from (``<content root>_static/meshcat/``);
 * gives every static scene the script of this version of robokin (the notebooks store
-  the snippets written when they were executed);
+  the snippets written when they were executed), as one file, ``<outdir>/_static/robokin-scene.js``,
+  that each scene links instead of carrying its own copy (about 6 kB a scene);
 * moves the data of every static scene out of its page into
   ``<outdir>/_static/scenes/<key>.js`` (``key`` = hash of the data, so a scene shown on
   two pages is stored once) and leaves ``data-src``/``data-key`` attributes in the page:
@@ -31,9 +32,12 @@ import re
 from pathlib import Path
 from typing import Any
 
-from robokin.views.static_html import copy_viewer_files, refresh_scene_scripts
+from robokin.views.static_html import copy_viewer_files, share_scene_scripts, shared_scene_script
 
 __all__ = ["setup", "copy_viewer", "externalize_scene_data"]
+
+#: The scenes' shared script, under ``<outdir>/_static/``.
+SCENE_SCRIPT = "robokin-scene.js"
 
 #: Commands at least this long (base64 characters) are stored in a file of their own.
 SHARED_COMMAND_SIZE = 4_000
@@ -60,10 +64,11 @@ def copy_viewer(app: Any, exception: Exception | None) -> None:
 def externalize_scene_data(outdir: Path) -> int:
     """Move inline scene data of every page under ``outdir`` to ``_static/scenes/``.
 
-    Each scene also gets the script of the robokin that builds the book
-    (:func:`~robokin.views.static_html.refresh_scene_scripts`): a notebook stores its
-    scenes as they were when it was executed. Idempotent: a page already rewritten has
-    no inline data left and current scripts.
+    Each scene also gets the script of the robokin that builds the book: a notebook stores
+    its scenes as they were when it was executed. The script is written once, to
+    ``_static/robokin-scene.js`` (:func:`~robokin.views.static_html.shared_scene_script`),
+    and each scene links it (:func:`~robokin.views.static_html.share_scene_scripts`).
+    Idempotent: a page already rewritten has no inline data or scripts left.
 
     Parameters
     ----------
@@ -76,6 +81,7 @@ def externalize_scene_data(outdir: Path) -> int:
         The number of scenes moved.
     """
     scenes = outdir / "_static" / "scenes"
+    script = outdir / "_static" / SCENE_SCRIPT
     moved = 0
     for page in outdir.rglob("*.html"):
         if "_static" in page.relative_to(outdir).parts:
@@ -95,7 +101,11 @@ def externalize_scene_data(outdir: Path) -> int:
             return (f'<script type="application/json" class="robokin-scene-data" data-key="{key}" '
                     f'data-src="{prefix}/{key}.js">[]</script>')
 
-        new, _ = refresh_scene_scripts(_DATA.sub(move, text))
+        if not script.exists() or script.read_text(encoding="utf-8") != shared_scene_script():
+            script.parent.mkdir(parents=True, exist_ok=True)   # this robokin's, not an older build's
+            script.write_text(shared_scene_script(), encoding="utf-8")
+        src = os.path.relpath(script, page.parent).replace(os.sep, "/")
+        new, _ = share_scene_scripts(_DATA.sub(move, text), src)
         if new != text:
             page.write_text(new, encoding="utf-8")
     return moved
