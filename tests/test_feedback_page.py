@@ -442,11 +442,59 @@ def test_a_value_computed_by_a_function_of_its_cell_leads_to_that_function():
     notes_.pairs(failure)
     text = "\n".join(notes_.lines(failure, []))
     assert "This test failed because of `screw_axis` (Task 2): its own test task2_test1 failed." in text, text
-    assert "`S_list` (Task 2) is computed in its answer cell by your function `screw_axis`." in text, text
+    assert ("`S_list` (Task 2) is computed in its answer cell from your `rows`; it uses your function "
+            "`screw_axis`.") in text, text
     failure = nbformat.from_dict(_error("AssertionError", 5, 1))
     text = "\n".join(FailureNotes(nb, 6, report).lines(failure, []))
     assert "This test failed because of `screw_axis` (Task 2): its own test task2_test1 failed." in text, text
     assert "`T0` (Task 3) is computed in its answer cell by your function `poe_fk`." in text, text
+
+
+def _tool_notebook():
+    """Task 1 of chapter 4 in small: an answer cell builds ``T_ET`` from its values ``TOOL_YPR``,
+    ``TOOL_OFFSET`` by its function ``transform_from_ypr``, then ``tool_arm`` from ``T_ET`` and
+    ``T_BT0, T_BE0`` from ``tool_arm`` and the model; tests of ``T_ET`` and ``T_BT0`` fail."""
+    nb = nbformat.v4.new_notebook()
+    nb.cells = [
+        nbformat.v4.new_markdown_cell("## Task 1: the tool frame"),
+        code_cell("TOOL_YPR = np.array([0.0, 0.0, np.pi / 10])\nTOOL_OFFSET = np.array([0.002, 0.0, 0.0])\n\n\n"
+                  "def transform_from_ypr(ypr, position):\n    return homogeneous(rotz(ypr[0]), position)\n\n\n"
+                  "T_ET = transform_from_ypr(TOOL_YPR, TOOL_OFFSET)\ntool_arm = chain_with_tool(arm, T_ET)\n"
+                  "T_BT0, T_BE0 = tool_arm.fk(Q0), arm.fk(Q0)\nmine = []\nmine.append(T_BE0)",
+                  "task1_answer1", solution=True, task=1, count=1),
+        code_cell("assert np.allclose(T_ET[:3, 3], OFFSET)", "task1_test1", grade=True, task=1, count=2,
+                  outputs=[_error("AssertionError", 2, 1)]),
+        code_cell("assert np.allclose(T_BT0, T_BE0 @ T_ET)\nassert np.allclose(mine, 0)", "task1_test2",
+                  grade=True, task=1, count=3, outputs=[_error("AssertionError", 3, 2)]),
+    ]
+    return nb
+
+
+def test_a_value_computed_from_values_of_its_cell_names_them():
+    """``T_ET``, computed in its answer cell from the cell's ``TOOL_YPR`` and ``TOOL_OFFSET`` by its
+    function: the note names the two values it was computed from, then the function; ``T_BT0``
+    names ``tool_arm``, the value it read (not ``T_BE0``, the other element of its assignment, nor the
+    values ``tool_arm`` was computed from); a list changed in place reads what the change reads."""
+    from tools.grading.robokin_nbgrader import FailureNotes
+    from tools.grading.robokin_nbgrader.failure_notes import _cell_values_read
+
+    nb = _tool_notebook()
+    read = dict(_cell_values_read(nb.cells[1].source, frozenset({"np"})))
+    assert read == {"T_ET": ("TOOL_YPR", "TOOL_OFFSET"), "tool_arm": ("T_ET",), "T_BT0": ("tool_arm",),
+                    "mine": ("T_BE0",)}, read
+    report: dict[str, Any] = {"pairs": [], "explained": {}}
+    failure = nbformat.from_dict(_error("AssertionError", 2, 1))
+    text = "\n".join(FailureNotes(nb, 2, report).lines(failure, []))
+    assert ("`T_ET` (Task 1) is computed in its answer cell from your `TOOL_YPR`, `TOOL_OFFSET`; it uses "
+            "your function `transform_from_ypr`.") in text, text
+    failure = nbformat.from_dict(_error("AssertionError", 3, 1))
+    text = "\n".join(FailureNotes(nb, 3, report).lines(failure, []))
+    assert ("`T_BT0` (Task 1) is computed in its answer cell from your `tool_arm`; it uses your function "
+            "`transform_from_ypr`.") in text, text
+    assert "`T_BE0` (Task 1) is computed" not in text, text   # read from the model alone
+    failure = nbformat.from_dict(_error("AssertionError", 3, 2))
+    text = "\n".join(FailureNotes(nb, 3, report).lines(failure, []))
+    assert "`mine` (Task 1) is computed in its answer cell from your `T_BE0`." in text, text
 
 
 def test_a_correct_function_does_not_take_the_blame_of_the_value_it_computes():

@@ -302,26 +302,36 @@ class FailureNotes:
             return set()
 
     def _computed_lines(self) -> list[str]:
-        """A line for each answer this test reads that its answer cell computes by calling
-        functions of that cell: the student is led to those functions."""
+        """A line for each answer this test reads that its answer cell computes from other values
+        of that cell or by calling functions of that cell: the student is led to what the value was
+        really computed from (``T_ET = transform_from_ypr(TOOL_YPR, TOOL_OFFSET)``: the two values
+        and the function, not the function alone)."""
         out = []
         for name in sorted(self.yours):
-            functions = self._computed_by(name)
-            if functions:
-                listed = ", ".join(f"`{function}`" for function in functions)
-                out.append(f"  {self._named([name])} is computed in its answer cell by your "
-                           f"function{'s' if len(functions) > 1 else ''} {listed}.")
+            values, functions = self._computed_from(name)
+            listed = ", ".join(f"`{function}`" for function in functions)
+            plural = "s" if len(functions) > 1 else ""
+            if values:
+                read = ", ".join(f"`{value}`" for value in values)
+                uses = f"; it uses your function{plural} {listed}" if functions else ""
+                out.append(f"  {self._named([name])} is computed in its answer cell from your {read}{uses}.")
+            elif functions:
+                out.append(f"  {self._named([name])} is computed in its answer cell by your function{plural} {listed}.")
         return out
 
-    def _computed_by(self, name: str) -> tuple[str, ...]:
-        """The functions of its answer cell that the student's value ``name`` (read by this test)
-        is computed by (:func:`_cell_functions_used`); none for a function."""
+    def _computed_from(self, name: str) -> tuple[tuple[str, ...], tuple[str, ...]]:
+        """``(values, functions)`` of its answer cell that the student's value ``name`` (read by this
+        test) is computed from: the cell's other values its statements read, in the order the cell
+        binds them (:func:`_cell_values_read`), and the functions it uses, directly or through those
+        values (:func:`_cell_functions_used`); none for a function."""
         binding = self.yours.get(name)
         if binding is None:
-            return ()
+            return (), ()
         modules = _module_names(code for kind, code in self._kinds if kind in ("answer", "code"))
-        found = _cell_functions_used(self.nb.cells[binding.cell].source, modules)
-        return next((calls for bound, _, calls in found if bound == name), ())
+        source = self.nb.cells[binding.cell].source
+        functions = next((calls for bound, _, calls in _cell_functions_used(source, modules) if bound == name), ())
+        values = next((read for bound, read in _cell_values_read(source, modules) if bound == name), ())
+        return values, functions
 
     def _cause_lines(self, own_wrong: frozenset[str] = frozenset()) -> list[str]:
         """The note's line naming the root causes (none without a cause), recorded in the run's report
@@ -528,8 +538,9 @@ def _cell_functions_used(code: str, modules: frozenset[str] = frozenset()) \
     ``ankle_angles`` of its cell, uses ``ankle_angles``; ``Q_mine = my_leg_ik(T)`` is computed by
     ``my_leg_ik`` and uses both (a value of the cell that its statements read passes its functions
     on: ``rows = [screw_axis(w, p) ...]`` then ``S_list = np.array(rows)``; a list changed in place
-    too, ``modules`` as in :func:`_with_mutations`). Only names with such functions, in order of
-    binding; parsed, never run. Memoised per ``(code, modules)``."""
+    too, ``modules`` as in :func:`_with_mutations`; in ``a, b = f(x), y`` each name its own element,
+    :func:`_unpacked`). Only names with such functions, in order of binding; parsed, never run.
+    Memoised per ``(code, modules)``."""
     import ast
 
     statements = _top_level(code)
@@ -546,11 +557,16 @@ def _cell_functions_used(code: str, modules: frozenset[str] = frozenset()) \
     # a function: the functions its body calls; a value: those its statements call, and the
     # functions of the values of the cell bound before them that they read
     direct: dict[str, set[str]] = {}
+
+    def uses(free: set[str]) -> set[str]:
+        return (free & functions).union(*(direct.get(name, ()) for name in free - functions))
+
     for statement in statements:
-        free = free_names(statement)
-        read = (free & functions).union(*(direct.get(name, ()) for name in free - functions))
+        read = uses(free_names(statement))
+        # a, b = f(x), y: each name its own element
+        own = {name: uses(free_names(part)) for name, part in _unpacked(ast.parse(statement)).items()}
         for name in defined_names(_with_mutations(statement, modules)):
-            direct.setdefault(name, set()).update(read - {name})
+            direct.setdefault(name, set()).update(own.get(name, read) - {name})
 
     def closure(start) -> set[str]:
         used, todo = set(), list(start)
@@ -567,6 +583,70 @@ def _cell_functions_used(code: str, modules: frozenset[str] = frozenset()) \
         if used:
             out.append((name, tuple(sorted(used)), () if name in functions else tuple(sorted(helpers))))
     return tuple(out)
+
+
+@functools.lru_cache(maxsize=MEMO_SIZE)
+def _cell_values_read(code: str, modules: frozenset[str] = frozenset()) -> tuple[tuple[str, tuple[str, ...]], ...]:
+    """For each value an answer cell binds, the other values of the same cell it is computed from:
+    those its binding statements read, bound earlier in the cell, in the order the cell first binds
+    them. ``T_ET = transform_from_ypr(TOOL_YPR, TOOL_OFFSET)`` reads ``TOOL_YPR`` and
+    ``TOOL_OFFSET``; ``T_BT0 = tool_arm.fk(Q0)`` reads ``tool_arm`` (which reads ``T_ET``: the
+    student follows the chain value by value); ``R_a, R_b = T_a[:3, :3], T_b[:3, :3]`` gives each
+    name its own element. Functions, classes and imported names are not values (a function's uses
+    are :func:`_cell_functions_used`'s); a list changed in place reads what the change reads
+    (``modules`` as in :func:`_with_mutations`). Only values that read others; parsed, never run.
+    Memoised per ``(code, modules)``."""
+    import ast
+
+    statements = _top_level(code)
+    if statements is None:
+        return ()
+    trees = []
+    not_values: set[str] = set()
+    for statement in statements:
+        try:
+            tree = ast.parse(statement)
+        except SyntaxError:   # pragma: no cover - a statement of a parsed cell parses
+            continue
+        trees.append((statement, tree))
+        for node in tree.body:
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
+                not_values.add(node.name)
+            elif isinstance(node, (ast.Import, ast.ImportFrom)):
+                not_values.update(alias.asname or alias.name.split(".")[0] for alias in node.names)
+    order: list[str] = []   # the cell's values, in the order it first binds them
+    reads: dict[str, set[str]] = {}
+    for statement, tree in trees:
+        earlier = set(order)
+        read = free_names(statement) & earlier
+        own = _unpacked(tree)
+        for name in defined_names(_with_mutations(statement, modules)):
+            if name in not_values:
+                continue
+            mine = free_names(own[name]) & earlier if name in own else read
+            reads.setdefault(name, set()).update(mine - {name})
+            if name not in order:
+                order.append(name)
+    return tuple((name, tuple(value for value in order if value in reads[name]))
+                 for name in order if reads[name])
+
+
+def _unpacked(tree) -> dict[str, str]:
+    """``{name: its element's source}`` of a statement ``a, b = x, y`` (as many names as elements, no
+    starred one): each name reads its own element only. Empty for any other statement."""
+    import ast
+
+    node = tree.body[0] if len(tree.body) == 1 else None
+    if not isinstance(node, ast.Assign) or len(node.targets) != 1:
+        return {}
+    target, value = node.targets[0], node.value
+    if not (isinstance(target, (ast.Tuple, ast.List)) and isinstance(value, (ast.Tuple, ast.List))
+            and len(target.elts) == len(value.elts)
+            and all(isinstance(element, ast.Name) for element in target.elts)
+            and not any(isinstance(element, ast.Starred) for element in value.elts)):
+        return {}
+    return {element.id: ast.unparse(part) for element, part in zip(target.elts, value.elts)
+            if isinstance(element, ast.Name)}
 
 
 def _helpers(kinds: list[tuple[str, str]]) -> dict[str, tuple[str, ...]]:
