@@ -594,3 +594,75 @@ def test_later_functions_are_judged_on_robokins_steps():
     assert ck.unreachable_reason(reason, quiet=True).passed
     # a function without those parameters is called as it is
     assert not ck.leg_ik(lambda T: np.zeros((0, 6)), quiet=True).passed
+
+
+# ---------------------------------------------------------------- different_solutions
+def _wrap_angles(a):
+    return (np.asarray(a) + np.pi) % (2 * np.pi) - np.pi
+
+
+def _counted(Q, apart):
+    """The rows of Q that differ from every earlier kept row by ``apart``, counted."""
+    kept = []
+    for q in Q:
+        if all(apart(q - other) for other in kept):
+            kept.append(q)
+    return len(kept)
+
+
+@pytest.mark.parametrize("answer", [
+    lambda Q: _counted(Q, lambda d: np.abs(_wrap_angles(d)).max() > 1e-9),
+    lambda Q: len(np.unique(np.hstack([np.cos(Q), np.sin(Q)]).round(9), axis=0)),
+    lambda Q: np.int64(_counted(Q, lambda d: np.abs(np.arctan2(np.sin(d), np.cos(d))).max() > 1e-9)),
+])
+def test_different_solutions_correct(answer, capsys):
+    assert ck.different_solutions(answer).passed
+    assert "5 sets of rows" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("answer, code", [
+    (lambda Q: _counted(Q, lambda d: np.abs(d).max() > 1e-9), "no_wrapping"),
+    (lambda Q: len(Q), "rows_counted"),
+    (lambda Q: len(np.unique(_wrap_angles(Q), axis=0)), "exact_equality"),
+    (lambda Q: _counted(Q, lambda d: np.abs(_wrap_angles(d)).max() > 0.0), "exact_equality"),
+    (lambda Q: len(np.unique(_wrap_angles(Q).round(4), axis=0)), "tolerance_too_loose"),
+    (lambda Q: 0, "count"),
+    (lambda Q: None, "type"),
+    (lambda Q: "2", "type"),
+    (3, "constant"),
+])
+def test_different_solutions_mistakes(answer, code):
+    result = ck.different_solutions(answer, quiet=True)
+    assert not result.passed and result.diagnosis == code, result.message
+
+
+def test_delegation_lists_every_function_check_of_a_solving_task():
+    """The sweep's rows come from the inverse kinematics it is given: robokin's closed form in
+    its place is flagged for review (tools/grading/bridge/delegation.py reads this table)."""
+    assert set(ck.DELEGATION) <= set(ck.__all__)
+    assert "ar601_leg_ik" in ck.DELEGATION["sole_sweep"]
+
+
+# ---------------------------------------------------------------- no answer in a message
+def test_messages_of_wrong_answers_name_no_expected_value():
+    """A wrong attempt learns its mistake and the principle, not the graded values: the target's
+    hip-ankle distance (Task 3's d_goal), the right ankle point or ankle pairs, the count of
+    solutions (k_regular) or the closed forms of the steps."""
+    d_goal = np.linalg.norm(ck.reference_ankle_point(ck.T_GOAL))
+    q_wrong_knee = ck._closed_form(ck.T_GOAL)[0] + [0, 0, 0, 0.05, 0, 0]
+    messages = [
+        ck.ik_solution(q_wrong_knee, quiet=True).message,
+        ck.ik_solver(lambda T: ck._closed_form(T)[0] + [0, 0, 0, 0.05, 0, 0], quiet=True).message,
+        ck.ankle_point(lambda T: np.zeros(3), quiet=True).message,
+        ck.ankle_angles(lambda u, q4: [(0.0, 0.0)], quiet=True).message,
+        ck.k_regular(4, quiet=True).message,
+        ck.leg_ik(lambda T: ck._closed_form(T)[:1], quiet=True).message,
+        ck.leg_ik(lambda T: ck._closed_form(T, "knee_branch_missing"), quiet=True).message,
+        ck.leg_ik(lambda T: ck._closed_form(T, "hip_atan2_swapped"), quiet=True).message,
+        ck.knee_angle(lambda d, l1, l2: np.arccos((l1**2 + l2**2 - d**2) / (2 * l1 * l2)), quiet=True).message,
+    ]
+    assert not any(result.startswith("✔") for result in messages)
+    text = "\n".join(messages)
+    assert f"{d_goal:.4f}" not in text and f"{d_goal:.3f}" not in text
+    for closed_form in ("arccos(−L1 s4", "atan2(r21", "atan2(w_x", "(d² − L1² − L2²) / (2 L1 L2)", "has 8"):
+        assert closed_form not in text, closed_form

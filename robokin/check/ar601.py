@@ -4,27 +4,29 @@ Every reference comes from :func:`robokin.models.ar601_leg` (lengths
 ``L1 = L2 = 0.3 m``, ``L3 = 0.1 m``) and
 :func:`robokin.models.ar601_ik.ar601_leg_ik`.
 
-======================  ==========================================================  ======================
-check                   the student's answer                                        inputs
-======================  ==========================================================  ======================
-``foot_transform``      B T_F(q): sympy Matrix in q1..q6 (L1, L2, L3 allowed) or    q = (q1, ..., q6)
-                        a function f(q) -> 4×4
-``knee_angle``          function f(d, l1, l2) -> q4 ≥ 0 (rad) from the hip–ankle    d, l1, l2
-                        distance d
-``ankle_point``         function ankle_point(T) -> (3,): where the ankle axes meet   20 random foot poses
-``ankle_angles``        function ankle_angles(u, q4) -> every (q5, q6) pair with     20 random foot poses
-                        R_y(q5) R_x(q6) u = v(q4), each once
-``ik_solution``         q (6,) or several solutions (k, 6) for :data:`T_GOAL`        --
-``ik_solver``           function f(T) -> q (6,) or (k, 6): every returned row must   20 random foot poses
-                        reproduce T (any solution is accepted)
-``k_regular``           the number of solutions of a regular reachable pose (int)    20 random foot poses
-``leg_ik``              function my_leg_ik(T) -> (k, 6): every solution, each once   20 random foot poses
-``unreachable_reason``  function f(T) -> None, or why T is out of reach:             targets near the
-                        ``"too_far"``, ``"ankle_range"`` or ``"joint_limits"``       boundaries
-``sole_sweep``          function f(heights, leg_ik) -> (counts, sigma_min): the      6 heights, with an
-                        rows leg_ik returns for the sole level at each height and    inverse kinematics
-                        sigma_min of J at the first (NaN where there is none)        of the check's own
-======================  ==========================================================  ======================
+=======================  ==========================================================  ======================
+check                    the student's answer                                        inputs
+=======================  ==========================================================  ======================
+``foot_transform``       B T_F(q): sympy Matrix in q1..q6 (L1, L2, L3 allowed) or    q = (q1, ..., q6)
+                         a function f(q) -> 4×4
+``knee_angle``           function f(d, l1, l2) -> q4 ≥ 0 (rad) from the hip–ankle    d, l1, l2
+                         distance d
+``ankle_point``          function ankle_point(T) -> (3,): where the ankle axes meet   20 random foot poses
+``ankle_angles``         function ankle_angles(u, q4) -> every (q5, q6) pair with     20 random foot poses
+                         R_y(q5) R_x(q6) u = v(q4), each once
+``ik_solution``          q (6,) or several solutions (k, 6) for :data:`T_GOAL`        --
+``ik_solver``            function f(T) -> q (6,) or (k, 6): every returned row must   20 random foot poses
+                         reproduce T (any solution is accepted)
+``k_regular``            the number of solutions of a regular reachable pose (int)    20 random foot poses
+``leg_ik``               function my_leg_ik(T) -> (k, 6): every solution, each once   20 random foot poses
+``unreachable_reason``   function f(T) -> None, or why T is out of reach:             targets near the
+                         ``"too_far"``, ``"ankle_range"`` or ``"joint_limits"``       boundaries
+``sole_sweep``           function f(heights, leg_ik) -> (counts, sigma_min): the      6 heights, with an
+                         rows leg_ik returns for the sole level at each height and    inverse kinematics
+                         sigma_min of J at the first (NaN where there is none)        of the check's own
+``different_solutions``  function f(Q) -> int: how many rows of Q (k, 6) are         5 sets of rows of
+                         different solutions (equal modulo 2π to 1e-9 rad: one)       the check's own
+=======================  ==========================================================  ======================
 
 A solution that puts the foot at the right *place* but with the wrong
 *orientation* is recognised and explained (a 6-DOF leg has to match all six
@@ -71,6 +73,7 @@ __all__ = [
     "T_GOAL",
     "ankle_angles",
     "ankle_point",
+    "different_solutions",
     "foot_transform",
     "ik_solution",
     "ik_solver",
@@ -234,15 +237,15 @@ def _knee_mistakes():
     return [
         alternatives("interior_angle", [(interior, (
             "{name} is the interior angle between thigh and shank, π − q4 (the law of cosines "
-            "with −2 L1 L2 cos). q4 is measured from the STRETCHED leg (q4 = 0 when d = L1 + L2): "
-            "d² = L1² + L2² + 2 L1 L2 cos q4, so cos q4 = (d² − L1² − L2²) / (2 L1 L2).")),
+            "with −2 L1 L2 cos). q4 is measured from the STRETCHED leg (q4 = 0 when d = L1 + L2), "
+            "so the angle of the triangle at the knee is π − q4.")),
         ]),
         alternatives("negative_branch", [(lambda x: -_knee(x), (
             "{name} returns −q4: that is the other knee solution (both are valid); this check "
             "asks for the non-negative one, arccos(...) ≥ 0.")),
         ]),
         alternatives("missing_factor_two", [(no_two, (
-            "{name} forgets the factor 2: cos q4 = (d² − L1² − L2²) / (2 L1 L2).")),
+            "{name} forgets the factor 2 in front of L1 L2 in the law of cosines.")),
         ]),
         alternatives("sole_in_shank", [(sole_included, (
             "{name} uses the distance to the sole with L2 + L3 as the shank. The knee "
@@ -338,11 +341,10 @@ def _position_diagnosis(q: np.ndarray, T: np.ndarray, dp: float, name: str) -> t
     d_target, d_reached = float(np.linalg.norm(ankle_target)), float(np.linalg.norm(ankle_reached))
     if abs(d_reached - d_target) > _TOL_ANKLE:
         return "hip_ankle_distance", lead + (
-            f"Its knee angle q4 gives a hip–ankle distance of {fmt(d_reached, 4)} m, the target's is "
-            f"d = |p + L3 R e_z| = {fmt(d_target, 4)} m: the ankle point or the knee angle is wrong "
-            "(d² = L1² + L2² + 2 L1 L2 cos q4).")
+            "Its knee angle q4 does not give the target's hip–ankle distance d = |p + L3 R e_z|: "
+            "the ankle point or the knee angle is wrong (check q4 at the stretched leg, d = L1 + L2).")
     return "ankle_angles", lead + (
-        f"Its knee angle fits the hip–ankle distance d = {fmt(d_target, 4)} m, but the ankle lands "
+        "Its knee angle fits the target's hip–ankle distance, but the ankle lands "
         f"{fmt(float(np.linalg.norm(ankle_reached - ankle_target)), 4)} m from the target's ankle "
         "point: look at the ankle angles (q5, q6 from u = Rᵀ a) and the hip angles.")
 
@@ -363,9 +365,8 @@ def _verdict(rows: np.ndarray, T: np.ndarray, name: str) -> tuple[bool, str, str
     if dp <= 1e-4 and dr > 1e-4:
         return False, "position_only", (
             f"{name}{which} puts the foot at the right place but turned by {fmt(math.degrees(dr), 1)}° "
-            "from the target orientation. A 6-joint leg has to match the whole pose: the hip "
-            "angles come from R_hip = R_target (R_x(q4) R_y(q5) R_x(q6))ᵀ, and the ankle angles "
-            "from the hip seen in FOOT coordinates, Rᵀ a."
+            "from the target orientation. A 6-joint leg has to match the whole pose, position "
+            "and orientation: solve with the target's rotation too."
         )
     if dr <= 1e-4 < dp:
         return (False, *_position_diagnosis(rows[bad], T, dp, f"{name}{which}"))
@@ -493,6 +494,9 @@ DELEGATION = {
                "solve_ik": "robokin.motion.solve_ik"},
     "unreachable_reason": {"ar601_leg_ik": "robokin.models.ar601_leg_ik",
                            "ar601_leg_ik_batch": "robokin.models.ar601_leg_ik_batch"},
+    # the sweep counts the rows of the inverse kinematics it is given (leg_ik), not robokin's
+    "sole_sweep": {"ar601_leg_ik": "robokin.models.ar601_leg_ik",
+                   "ar601_leg_ik_batch": "robokin.models.ar601_leg_ik_batch"},
 }
 
 
@@ -568,28 +572,28 @@ def _distinct(A: np.ndarray, atol: float = 1e-6) -> int:
 
 _LEG_IK_MISTAKES = [
     ("knee_branch_missing",
-     "{name} returns only the knee solutions with q4 ≥ 0 (4 per pose). The law of cosines fixes "
-     "cos q4 only: q4 and −q4 both put the ankle at the hip–ankle distance d, so each pose has "
-     "4 solutions with the knee bent each way."),
+     "{name} returns only the knee solutions with q4 ≥ 0. The law of cosines fixes cos q4 only: "
+     "q4 and −q4 both put the ankle at the hip–ankle distance d; keep the solutions with the "
+     "knee bent either way."),
     ("ankle_branch_missing",
-     "{name} takes one of the two arccos branches of q6 only (4 solutions per pose). "
-     "c6 u_y − s6 u_z = −L1 s4 has two solutions, q6 = −φ ± arccos(−L1 s4 / ρ): keep both."),
+     "{name} takes one of the two arccos branches of q6 only: an arccos gives an angle and its "
+     "negative, and both solve the equation for q6; keep both."),
     ("hip_branch_missing",
-     "{name} keeps only the hip triple with cos q2 > 0 (4 solutions per pose). The same hip "
-     "rotation R_H is also (q1 + π, π − q2, q3 + π): take both signs of cos q2."),
+     "{name} keeps only the hip triple with cos q2 > 0. The same hip rotation R_H has a second "
+     "triple, with cos q2 < 0: take both signs of cos q2."),
     ("hip_atan2_swapped",
-     "{name} swaps the arguments of atan2 in the hip angles: atan2(y, x) takes the sine-like "
-     "entry first, q1 = atan2(r21, r11) and q3 = atan2(r32, r33) (each divided by cos q2)."),
+     "{name} swaps the arguments of atan2 in the hip angles q1 and q3: atan2(y, x) takes first "
+     "the entry proportional to the angle's sine, then the one proportional to its cosine."),
     ("ankle_atan2_swapped",
-     "{name} swaps the arguments of atan2 for q5: with w = R_x(q6) u = k (s5, ·, −c5), "
-     "q5 = atan2(w_x / k, −w_z / k) (the sine first)."),
+     "{name} swaps the arguments of atan2 for q5: atan2(y, x) takes first the entry of "
+     "w = R_x(q6) u proportional to sin q5, then the one proportional to cos q5."),
     ("hip_order",
      "{name} reads the hip angles of R_H as if R_H = R_x(q3) R_y(q2) R_z(q1). The hip yaw q1 "
-     "comes first from the body: R_H = R_z(q1) R_y(q2) R_x(q3) (ZYX), so q2 = atan2(−r31, "
-     "±√(r11² + r21²)) and q1, q3 from the first column and the last row."),
+     "comes first from the body: R_H = R_z(q1) R_y(q2) R_x(q3) (ZYX); read the angles off that "
+     "product's entries."),
     ("hip_product_side",
      "{name} computes R_H = (R_x(q4) R_y(q5) R_x(q6))ᵀ R. The hip comes first in the product, "
-     "R = R_H R_x(q4) R_y(q5) R_x(q6), so R_H = R (R_x(q4) R_y(q5) R_x(q6))ᵀ."),
+     "R = R_H R_x(q4) R_y(q5) R_x(q6): solve that for R_H."),
 ]
 
 
@@ -643,10 +647,11 @@ class _AnklePointCheck(FunctionCheck):
             return named
         k = next(i for i, (a, T) in enumerate(zip(got, poses))
                  if not np.allclose(a, _ankle_point_of(T), atol=1e-9))
+        off = float(np.linalg.norm(got[k] - _ankle_point_of(poses[k])))
         return self.failure("mismatch", (
-            f"{name} at pose {k + 1} (the foot pose of q = {fmt(X[k])}) returns {fmt(got[k], 4)} "
-            f"m; the ankle axes meet at {fmt(_ankle_point_of(poses[k]), 4)} m (the origin of the "
-            "model's ankle frames)."), n)
+            f"{name} at pose {k + 1} (the foot pose of q = {fmt(X[k])}) returns a point {fmt(off, 4)} m "
+            "from where the ankle axes meet (the origin of the model's ankle frames, "
+            "leg.frames(q)[5])."), n)
 
 
 ankle_point = exercise(_CHAPTER, "ankle_point", _AnklePointCheck(
@@ -791,15 +796,37 @@ def reference_hip_angles(R_H: Any) -> list[tuple[float, float, float]]:
 _ANKLE_ANGLE_MISTAKES = [
     ("ankle_q5_sign",
      "{name} returns q5 with the wrong sign: R_y(q5) turns z towards x (its first row is "
-     "[c5, 0, s5]), so R_y(q5) w = v with v = (0, ·, −k) gives (w_x, w_z) = k (s5, −c5) and "
-     "q5 = atan2(w_x / k, −w_z / k)."),
+     "[c5, 0, s5]); write R_y(q5) w = v out row by row with that matrix."),
     ("ankle_atan2_swapped",
-     "{name} swaps the arguments of atan2 for q5: with w = R_x(q6) u = k (s5, ·, −c5), "
-     "q5 = atan2(w_x / k, −w_z / k) (the sine first)."),
+     "{name} swaps the arguments of atan2 for q5: atan2(y, x) takes first the entry of "
+     "w = R_x(q6) u proportional to sin q5, then the one proportional to cos q5."),
     ("ankle_branch_missing",
-     "{name} returns one (q5, q6) pair only: c6 u_y − s6 u_z = −L1 s4 has two solutions, "
-     "q6 = −φ ± arccos(−L1 s4 / ρ); keep both."),
+     "{name} returns one (q5, q6) pair only: the equation for q6 (the y row, which R_y leaves "
+     "alone) has two solutions in a full turn; keep both."),
 ]
+
+
+def _ankle_pairs_fault(pairs: np.ndarray, u: np.ndarray, q4: float, where: str) -> tuple[str, str]:
+    """(code, message) for ankle pairs that are not every solution, each once: what is wrong
+    with the pairs themselves, without the right ones."""
+    from robokin.transforms import rotx, roty
+
+    l1, l2 = LENGTHS[:2]
+    v = np.array([0.0, -l1 * math.sin(q4), -(l1 * math.cos(q4) + l2)])
+    for q5, q6 in pairs:
+        miss = float(np.linalg.norm(roty(q5) @ rotx(q6) @ u - v))
+        if miss > 1e-7:
+            return "mismatch", (
+                f"{where} returns the pair (q5, q6) = {fmt(np.array([q5, q6]), 4)} rad, which misses "
+                f"R_y(q5) R_x(q6) u = v(q4) by {fmt(miss, 3)} m: check the equations of q6 (the y "
+                "row) and q5 (the x and z rows).")
+    if _distinct(np.hstack([pairs, np.zeros((len(pairs), 4))])) < len(pairs):
+        return "duplicate", f"{where} returns a pair twice (angles compared modulo 2π): each pair once."
+    if len(pairs) == 0:
+        return "missing", f"{where} returns no pair, but this u has solutions (it comes from a configuration)."
+    return "missing", (
+        f"{where} returns {len(pairs)} pair(s), each a solution, but misses another: keep every "
+        "q6 in a full turn that solves its equation, each with its q5.")
 
 
 class _AnkleAnglesCheck(FunctionCheck):
@@ -839,10 +866,8 @@ class _AnkleAnglesCheck(FunctionCheck):
             return named
         k = next(i for i, (S, R) in enumerate(zip(got, refs)) if not _same_rows(S, R))
         u, q4 = cases[k]
-        return self.failure("mismatch", (
-            f"{name}(u = {fmt(u, 4)} m, q4 = {q4:.4g} rad) returns {fmt(got[k], 4)}; the pairs "
-            f"with R_y(q5) R_x(q6) u = v(q4) are {fmt(refs[k], 4)} (rad, angles compared modulo "
-            "2π)."), n)
+        where = f"{name}(u = {fmt(u, 4)} m, q4 = {q4:.4g} rad)"
+        return self.failure(*_ankle_pairs_fault(got[k], u, q4, where), n)
 
 
 ankle_angles = exercise(_CHAPTER, "ankle_angles", _AnkleAnglesCheck(
@@ -875,9 +900,9 @@ class _CountCheck(Check):
                                "poses).", None, len(X))
         if expected is not None and float(answer) in (expected / 2, expected / 4):
             return CheckResult(name, False, (
-                f"{FAIL} {name} = {answer} leaves out a branch: each of the three steps with a choice "
-                "doubles the count (the knee's sign, the two arccos branches of q6, the two hip "
-                "triples with cos q2 of either sign)."), "branch_missing", len(X))
+                f"{FAIL} {name} = {answer} leaves out a branch: count the values each step (knee, "
+                "ankle, hip) allows at a regular pose, for each value of the step before."),
+                "branch_missing", len(X))
         return CheckResult(name, False, (
             f"{FAIL} {name} = {answer} is not the number of solutions of a regular reachable "
             "foot pose: count the choices each step leaves (knee, ankle, hip)."), "count", len(X))
@@ -952,11 +977,11 @@ class _LegIKCheck(FunctionCheck):
         if n_distinct < len(S):
             return self.failure("duplicate", (
                 f"{where} returns {len(S)} rows but only {n_distinct} different "
-                "solutions (angles compared modulo 2π): each solution once, the pose has 8."), n)
+                "solutions (angles compared modulo 2π): return each solution once."), n)
         return self.failure("missing", (
             f"{where} (the foot pose of q = {fmt(X[k])}) returns {len(S)} solution(s); "
-            "every one reproduces the pose, but the pose has 8: two knee signs × two q6 "
-            "branches × two hip branches (cos q2 of either sign)."), n)
+            "every one reproduces the pose, but the pose has more: keep every value each step "
+            "(knee, ankle angles, hip angles) allows."), n)
 
 
 leg_ik = exercise(_CHAPTER, "leg_ik", _LegIKCheck(
@@ -1023,7 +1048,7 @@ _REASON_HELP = {
                 "\"too_far\""),
     "ankle_range": ("the knee reaches (|cos q4| <= 1), but no (q5, q6) turns the foot to R at "
                     "that distance (ankle_angles returns [] for both knee signs): \"ankle_range\""),
-    "joint_limits": ("all 8 solutions exist, but none is within the joint limits "
+    "joint_limits": ("solutions exist, but none is within the joint limits "
                      "(leg.within_limits): \"joint_limits\""),
 }
 
@@ -1170,4 +1195,102 @@ sole_sweep = exercise(_CHAPTER, "sole_sweep", _SoleSweepCheck(
          "level at each height below the hip, the number of rows leg_ik returns and sigma_min of "
          "the Jacobian at the first (NaN where there is none), with an inverse kinematics of the "
          "check's own."),
+))
+
+
+# ------------------------------------------------------------------ different solutions among rows
+def _count_apart(Q: np.ndarray, apart: Any) -> int:
+    """How many rows of ``Q`` differ from every earlier kept row by ``apart(q, kept) > 0``."""
+    kept: list[np.ndarray] = []
+    for row in Q:
+        if all(apart(row, other) for other in kept):
+            kept.append(row)
+    return len(kept)
+
+
+def _different_count(Q: np.ndarray, mistake: str = "") -> int:
+    """The number of different solutions among the rows of ``Q`` (angles modulo 2π, to 1e-9 rad),
+    or what a typical ``mistake`` counts."""
+    if mistake == "rows_counted":
+        return len(Q)
+    if mistake == "no_wrapping":
+        return _count_apart(Q, lambda q, k: np.abs(q - k).max() > 1e-9)
+    if mistake == "tolerance_too_loose":
+        return _count_apart(Q, lambda q, k: np.abs(_wrap(q - k)).max() > 1e-4)
+    return _count_apart(Q, lambda q, k: np.abs(_wrap(q - k)).max() > 1e-9)
+
+
+_DIFFERENT_MISTAKES = [
+    ("rows_counted",
+     "{name} counts every row: rows that are one solution written twice (the same angles, "
+     "or the same up to full turns) count once."),
+    ("no_wrapping",
+     "{name} compares the joint angles as they are: a row turned by full turns (2π in some "
+     "joints) is the same solution. Compare the differences modulo 2π (wrapped into [−π, π))."),
+    ("exact_equality",
+     "{name} asks for exactly equal angles: copies that rounding moved by 1e-12 rad count "
+     "twice. Two rows are one solution when they agree to 1e-9 rad (modulo 2π)."),
+    ("tolerance_too_loose",
+     "{name} merges rows that are 1e-6 rad apart: those are different solutions. The "
+     "statement's tolerance is 1e-9 rad (modulo 2π)."),
+]
+
+
+class _DifferentSolutionsCheck(FunctionCheck):
+    """``different_solutions(Q) -> int``: rows that agree modulo 2π (to 1e-9 rad) count once."""
+
+    def judge(self, answer: Any) -> CheckResult:
+        from robokin.transforms import transform
+
+        name = self.name
+        rng = np.random.default_rng(self.seed if self.seed is not None else 0)
+        turns = 2.0 * math.pi * rng.integers(-2, 3, (8, 6))
+        straight = _closed_form(transform(np.eye(3), [0.0, 0.0, -sum(LENGTHS)]))  # 8 rows, 4 apart
+        regular = _closed_form(_fk(rng.uniform(-1.2, 1.2, 6)))
+        single = regular[:1]
+        cases = [
+            straight,                                                        # each solution twice
+            np.vstack([regular, regular[:3] + turns[:3]]),                   # full turns
+            np.vstack([regular, regular[:2] + 1e-12]),                       # rounding
+            np.vstack([single, single + 1e-6, single + turns[5]]),           # 1e-6 rad apart
+            single,
+        ]
+        n = len(cases)
+        got = []
+        for k, Q in enumerate(cases):
+            value = self.call(answer, (Q.copy(),), f"at case {k + 1}", n)
+            try:
+                if value is None or isinstance(value, str):
+                    raise TypeError(type(value).__name__)
+                count = float(np.asarray(value, dtype=float).reshape(()))
+            except (TypeError, ValueError):
+                return self.failure("type", f"{name} should return one number, how many rows are "
+                                    f"different solutions; got {type(value).__name__} at case {k + 1}.", n)
+            got.append(count)
+        if all(count == _different_count(Q) for count, Q in zip(got, cases)):
+            return self.success(f"{name} is correct (checked at {n} sets of rows: copies turned by full "
+                                "turns, moved by rounding, and rows 1e-6 rad apart).", n)
+
+        def explains(code: str) -> bool:
+            if code == "exact_equality":  # the turned copies may or may not round back exactly
+                return got[2] == len(cases[2]) and all(
+                    got[i] == _different_count(cases[i]) for i in (0, 4))
+            return all(count == _different_count(Q, code) for count, Q in zip(got, cases))
+
+        named = self.diagnose(_DIFFERENT_MISTAKES, explains, n)
+        if named is not None:
+            return named
+        k = next(i for i, (count, Q) in enumerate(zip(got, cases)) if count != _different_count(Q))
+        return self.failure("count", (
+            f"{name} miscounts case {k + 1} ({len(cases[k])} rows): two rows are one solution when every "
+            "joint angle agrees up to full turns (2π), to 1e-9 rad; count each solution once."), n)
+
+
+different_solutions = exercise(_CHAPTER, "different_solutions", _DifferentSolutionsCheck(
+    name="different_solutions",
+    signature="different_solutions(Q) -> int",
+    noun="sets of rows",
+    doc=("Check a function different_solutions(Q) -> int: how many rows of Q (k, 6) are "
+         "different solutions (rows that agree modulo 2π to 1e-9 rad are one), on sets of rows "
+         "of the check's own."),
 ))
