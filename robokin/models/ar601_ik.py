@@ -48,7 +48,7 @@ REASONS = (
 SINGULARITIES = (
     "stretched_knee",  # q4 = 0: the two knee solutions coincide (workspace boundary)
     "folded_knee",     # q4 = ±π: the other boundary (|L1 − L2|)
-    "hip_gimbal",      # q2 = ±π/2: only q1 ∓ q3 is determined (q3 = 0 returned)
+    "hip_gimbal",      # q2 = ±π/2: only q1 ∓ q3 is determined (q1 = 0 returned)
     "ankle_axis",      # hip on the q6 axis: q6 free (q6 = 0 returned)
     "ankle_roll",      # L1 cos q4 + L2 = 0: q5 free (q5 = 0 returned)
 )
