@@ -245,6 +245,50 @@ def test_ik_mistakes():
     assert "the body twist that carries the flange from T(θ) to T_goal" in result.message
 
 
+def _ik_written(twist="body", jacobian="body", sign=1.0):
+    """Lynch and Park's loop with a typical mistake: the twist or the Jacobian in the wrong frame,
+    or the step's sign."""
+    def ik(M, S_list, T_goal, theta_start, tolerance=1e-10, max_iterations=30):
+        theta = np.array(theta_start, dtype=float)
+        for iteration in range(max_iterations + 1):
+            T = poe_fk(M, S_list, theta)
+            V_b = mr.se3ToVec(mr.MatrixLog6(mr.TransInv(T) @ T_goal))
+            if max(np.linalg.norm(V_b[:3]), np.linalg.norm(V_b[3:])) < tolerance or iteration == max_iterations:
+                return theta, iteration
+            V = mr.se3ToVec(mr.MatrixLog6(T_goal @ mr.TransInv(T))) if twist == "space" else V_b
+            J = jacobian_in_space(S_list, theta) if jacobian == "space" else jacobian_in_body(M, S_list, theta)
+            theta = theta + sign * np.linalg.pinv(J) @ V
+        return theta, max_iterations
+    return ik
+
+
+@pytest.mark.parametrize(("mistake", "code"), [
+    ({"twist": "space"}, "twist_in_space"), ({"jacobian": "space"}, "jacobian_in_space"),
+    ({"sign": -1.0}, "step_sign"),
+])
+def test_ik_step_mistakes_are_named_by_the_first_step(mistake, code):
+    """A loop whose twist and Jacobian are in different frames wanders far off: its pose after 30
+    steps cannot be rebuilt, its first step can. The message names the frames, not the formula."""
+    assert chk.ik_body(_ik_written(), quiet=True).passed
+    result = chk.ik_body(_ik_written(**mistake), quiet=True)
+    assert not result.passed and result.diagnosis == code, result.message
+    assert "same frame" in result.message or "away from the goal" in result.message
+    assert "log" not in result.message and "T⁻¹" not in result.message
+
+
+def test_ik_without_max_iterations_is_not_diagnosed_by_a_step():
+    """An answer that cannot be asked for one step keeps the generic verdict."""
+    def ik(M, S_list, T_goal, theta_start):
+        return _ik_written(twist="space")(M, S_list, T_goal, theta_start)
+
+    assert chk.ik_body(ik, quiet=True).diagnosis == "mismatch"
+
+
+def test_screw_sign_message_states_no_formula():
+    result = chk.screw_axis(lambda w, q: np.r_[w, np.cross(w, q)], quiet=True)
+    assert result.diagnosis == "cross_sign" and "= −ω" not in result.message and "−q" in result.message
+
+
 def test_unknown_mistake_is_a_mismatch():
     result = chk.exp6(lambda S, t: exp6(S, t) + np.diag([0, 0, 0.01, 0]), quiet=True)
     assert not result.passed and result.diagnosis == "mismatch" and "entry (3, 3)" in result.message

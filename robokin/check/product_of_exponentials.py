@@ -41,6 +41,7 @@ Usage::
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from functools import lru_cache, partial
 from typing import Any
 
@@ -48,7 +49,7 @@ import numpy as np
 
 from robokin.check import diagnoses as dg
 from robokin.check._core import (
-    LaterStepCheck, MatrixArgumentsCheck, Variable, alternatives,
+    CheckResult, LaterStepCheck, MatrixArgumentsCheck, Variable, alternatives, with_reference_steps,
 )
 from robokin.check._registry import exercise
 from robokin.validation import as_float_array
@@ -202,16 +203,16 @@ def _rodrigues_mistakes():
 
     return [
         alternatives("transpose", [(sin_sign, (
-            "{name} turns by −θ: it is the transpose of e^{{[ω]θ}}. The sine term is "
-            "+sin θ [ω], with [ω]x = ω × x."
+            "{name} turns by −θ: it is the transpose of e^{{[ω]θ}}. Check the sign of the term "
+            "that collects the odd powers of [ω]θ, with [ω]x = ω × x."
         ))]),
         alternatives("missing_square", [(no_square, (
-            "{name} has (1 − cos θ)[ω] where (1 − cos θ)[ω]² belongs: the series of e^{{[ω]θ}} "
-            "collects its even powers with [ω]², not [ω]."
+            "{name} multiplies the even powers' sum by [ω]: reduce the even powers of [ω] with "
+            "[ω]³ = −[ω] and see which power of [ω] is left."
         ))]),
         alternatives("sin_cos_swapped", [(swapped, (
-            "{name} has sin θ and 1 − cos θ traded: the odd powers of [ω]θ sum to sin θ [ω], "
-            "the even ones to (1 − cos θ)[ω]²."
+            "{name} has the two series' sums traded: which one collects the odd powers of [ω]θ, "
+            "and which the even ones?"
         ))]),
         dg.degrees(),
     ]
@@ -241,8 +242,10 @@ def _screw_axis_reference(x: np.ndarray) -> np.ndarray:
 
 
 _SIGN_TEXT = (
-    "the linear part of {name} has the wrong sign: v is the velocity of the body point at the "
-    "origin of {{s}} when the body turns at unit rate about the axis, v = ω × (0 − q) = −ω × q."
+    "the linear part of {name} has the wrong sign: it describes the same axis through −q. v is "
+    "the velocity of the body point at the origin of {{s}} when the body turns at unit rate about "
+    "the axis through q: write the velocity of a point r turning about that axis (it depends on "
+    "r − q), then put r at the origin; mind the order of the cross product's factors."
 )
 _ORDER_TEXT = (
     "{name} is ordered [v; ω]: Lynch & Park's screw axis puts the angular part first, "
@@ -775,7 +778,74 @@ def _ik_mistakes():
     ]
 
 
-ik_body = exercise(_CHAPTER, "ik_body", LaterStepCheck(
+#: the Newton steps a typical mistake takes from the start (code, the twist, the Jacobian, the sign
+#: of the step, the message): each step of the loop sends the chain far off when the twist and the
+#: Jacobian do not match, so the pose after 30 steps depends on the last bits of every number and
+#: cannot be rebuilt; the first step can, and names the mistake
+_FIRST_STEP_MISTAKES = (
+    ("twist_in_space", "space", "body", 1.0, (
+        "the first Newton step of {name} uses the error twist written in the base frame {{s}} with "
+        "the body Jacobian J_b, whose columns are written in the flange frame: the twist and the "
+        "Jacobian of one linearisation must be written in the same frame (a body twist is the "
+        "motion from T(θ) to T_goal seen from the flange)."
+    )),
+    ("jacobian_in_space", "body", "space", 1.0, (
+        "the first Newton step of {name} uses the body twist with the space Jacobian J_s, whose "
+        "columns are written in {{s}}: the twist and the Jacobian of one linearisation must be "
+        "written in the same frame."
+    )),
+    ("step_sign", "body", "body", -1.0, (
+        "the first Newton step of {name} moves away from the goal: the error twist is the motion "
+        "from T(θ) to T_goal, and the step Δθ makes J_b Δθ equal to it (check the order of the two "
+        "poses in the twist and the sign of the update)."
+    )),
+)
+
+
+def _newton_step(M: np.ndarray, S: np.ndarray, goal: np.ndarray, theta: np.ndarray, twist: str,
+                 jacobian: str, sign: float) -> np.ndarray:
+    """One Newton step of ``ik_body`` from ``theta`` with the given twist, Jacobian and sign."""
+    from robokin.transforms import transform_inverse, transform_log
+
+    T = _product(M, S, theta)
+    error = goal @ transform_inverse(T) if twist == "space" else transform_inverse(T) @ goal
+    J = (_space(S, theta) if jacobian == "space"
+         else _adjoint(transform_inverse(T)) @ _space(S, theta))
+    return theta + sign * np.linalg.pinv(J) @ np.asarray(transform_log(error), dtype=float)
+
+
+@dataclass(repr=False)
+class _IKBodyCheck(LaterStepCheck):
+    """The check of ``ik_body``: the pose reached; an answer whose pose no typical mistake
+    explains is then asked for one step (``max_iterations = 1``, the sixth argument of the
+    statement's signature), which a mistake in the step's frames or sign reproduces."""
+
+    def evaluate(self, answer: Any) -> CheckResult:
+        """:meth:`LaterStepCheck.evaluate`, then the first step of an unexplained wrong loop."""
+        result = super().evaluate(answer)
+        if result.passed or result.diagnosis != "mismatch" or not callable(answer):
+            return result
+        student = with_reference_steps(answer, self.steps())
+        firsts: list[np.ndarray] = []
+        mistaken: dict[str, list[np.ndarray]] = {code: [] for code, *_ in _FIRST_STEP_MISTAKES}
+        for x in self.sample_points()[:5]:
+            M, S, goal, start = _ik_arguments(x)
+            try:
+                with np.errstate(all="ignore"):
+                    firsts.append(_configuration(student(M.copy(), S.copy(), goal.copy(), start.copy(),
+                                                         1e-10, 1)))
+            except Exception:  # noqa: BLE001 - an answer that cannot take one step is not diagnosed
+                return result
+            for code, twist, jacobian, sign, _ in _FIRST_STEP_MISTAKES:
+                mistaken[code].append(_newton_step(M, S, goal, start, twist, jacobian, sign))
+        yours = np.array(firsts)
+        for code, *_, text in _FIRST_STEP_MISTAKES:
+            if yours.shape == np.shape(mistaken[code]) and np.allclose(yours, mistaken[code], atol=1e-8):
+                return self._fail(code, text.format(name=self.name), result.samples)
+        return result
+
+
+ik_body = exercise(_CHAPTER, "ik_body", _IKBodyCheck(
     steps=lambda: {"poe_fk": reference_poe_fk, "jacobian_in_body": reference_jacobian_in_body},
     name="ik_body(M, S_list, T_goal, theta_start)",
     reference=_ik_reference,

@@ -204,6 +204,20 @@ def ik_body(M, S_list, T_goal, theta_start, tolerance=1e-10, max_iterations=30, 
 theta_ik, iterations_ik = ik_body(M, S_list, T_GOAL, THETA_START)
 """
 
+_IK_SPACE_TWIST = """
+def ik_body(M, S_list, T_goal, theta_start, tolerance=1e-10, max_iterations=30, poe_fk=poe_fk,
+            jacobian_in_body=jacobian_in_body):
+    theta = np.array(theta_start, dtype=float)
+    for iteration in range(max_iterations + 1):
+        T = poe_fk(M, S_list, theta)
+        V_s = transform_log(T_goal @ transform_inverse(T))  # the space twist, with J_b below
+        if np.linalg.norm(V_s) < tolerance or iteration == max_iterations:
+            return theta, iteration
+        theta = theta + np.linalg.pinv(jacobian_in_body(M, S_list, theta)) @ V_s
+
+theta_ik, iterations_ik = ik_body(M, S_list, T_GOAL, THETA_START)
+"""
+
 _IK_STEP_FIRST = """
 def ik_body(M, S_list, T_goal, theta_start, tolerance=1e-10, max_iterations=30, poe_fk=poe_fk,
             jacobian_in_body=jacobian_in_body):
@@ -264,6 +278,7 @@ MUTATIONS = {
     "task6_test1": [
         ("the Newton step with the wrong sign", _IK_STEP_SIGN),
         ("the space Jacobian with the body twist", _IK_SPACE_JACOBIAN),
+        ("the space twist with the body Jacobian", _IK_SPACE_TWIST),
         ("a step before the convergence test (a start at the goal takes one step)", _IK_STEP_FIRST),
     ],
 }
