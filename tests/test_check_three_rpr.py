@@ -125,7 +125,8 @@ def test_fk_mistakes_are_diagnosed():
     r = chk.forward_kinematics(lambda rho: fk_newton(rho) * [1, 1, 180 / math.pi], quiet=True)
     assert not r.passed and r.diagnosis == "degrees_output"
     r = chk.forward_kinematics(lambda rho: fk_newton(rho) + [0.0, 0.0, 0.05], quiet=True)
-    assert not r.passed and r.diagnosis == "mismatch" and "assembly modes are" in r.message
+    assert not r.passed and r.diagnosis == "mismatch" and "must reproduce ρ" in r.message
+    assert "assembly modes are" not in r.message   # they would answer modes0 at rho0
 
     def centre(rho):
         x, y, phi = fk_newton(rho)
@@ -456,3 +457,30 @@ def test_reference_orientation_function_vanishes_at_the_modes():
     assert abs(mine @ ref) > (1 - 1e-12) * np.linalg.norm(mine) * np.linalg.norm(ref)
     with pytest.raises(TypeError):
         chk.reference_orientation_function(0.3, CLASSIC_RHO, "robot")
+
+
+@pytest.mark.parametrize("name, answer", [
+    ("inverse_kinematics", lambda pose: np.zeros(3)),
+    ("inverse_jacobian", lambda pose: np.eye(3)),
+    ("inverse_jacobian", lambda pose: jacobian_fd(pose).T),
+    ("inverse_jacobian", lambda pose: np.linalg.inv(jacobian_fd(pose))),
+    ("orientation_function", lambda phi, rho, robot: math.cos(phi)),
+])
+def test_messages_state_no_closed_form(name, answer):
+    """A dummy or a typical wrong answer is told the mistake and the principle, not the closed
+    form of the task: not the leg-length formula, not the rows of A, not F = (D x)² + (D y)² − ρ1² D²,
+    and F's example is no mode of the classic robot at CLASSIC_RHO (those are modes6)."""
+    message = getattr(chk, name)(answer, quiet=True).message
+    for closed_form in ("‖p + R(φ) b_i", "((B_i − P) × n_i)_z", "[n_iᵀ", "(D x)²", "ρ1² D²",
+                        "[1.498, 1.538, 1.2]"):
+        assert closed_form not in message, message
+
+
+def test_check_poses_does_not_list_the_modes_it_was_asked_about():
+    """check_poses(wrong, rho0) would otherwise print every mode at rho0: modes0 of Task 2."""
+    from robokin.models.three_rpr import three_rpr
+
+    rho0 = three_rpr().inverse_kinematics([0.3, 0.2, 0.4])
+    for wrong in ([0.1, 0.1, 0.5], np.zeros((0, 3))):
+        r = chk.check_poses(wrong, rho0, quiet=True)
+        assert not r.passed and "0.3, 0.2, 0.4" not in r.message and "4 assembly" not in r.message, r.message

@@ -163,7 +163,8 @@ inverse_kinematics = exercise(_CHAPTER, "inverse_kinematics", Check(
     groups=_GROUP,
     diagnoses=_inverse_kinematics_mistakes(),
     noun="poses",
-    hint="ρ_i = ‖p + R(φ) b_i − A_i‖ with p = B1 and b = [(0, 0), (1, 0), (1/2, √3/2)].",
+    hint=("ρ_i is the distance from the base anchor A_i to the platform anchor B_i, with B_i from the "
+          "pose as the problem statement's Parameterisation writes it."),
     doc="Check a function ik(pose) (or ik(x, y, phi)) -> leg lengths (ρ1, ρ2, ρ3) of the exercise robot.",
 ))
 
@@ -204,26 +205,26 @@ def _jacobian_mistakes():
         ))]),
         alternatives("moment_arm", [
             (arm_from_origin, (
-                "the last column of {name} uses the moment arm from the base origin, "
-                "(O B_i × n_i)_z; the platform turns about its reference point P = B1: "
-                "((B_i − P) × n_i)_z."
+                "the last column of {name} uses the moment arm from the base origin: the moment "
+                "must be taken about the point whose velocity (ẋ, ẏ) is, the platform's reference "
+                "point P = B1."
             )),
             (arm_from_base_anchor, (
-                "the last column of {name} is zero: the moment arm is B_i − P (from the platform's "
-                "reference point), not B_i − A_i (which is parallel to n_i)."
+                "the last column of {name} is zero: the moment arm was taken from the base anchor "
+                "A_i (B_i − A_i is parallel to n_i); take it from the point whose velocity (ẋ, ẏ) "
+                "is, the platform's reference point P = B1."
             )),
         ]),
         alternatives("cross_order", [(flipped, (
-            "the last column of {name} has the wrong sign: it is ((B_i − P) × n_i)_z, "
-            "not (n_i × (B_i − P))_z."
+            "the last column of {name} has the wrong sign: check the order of the two factors of "
+            "the cross product (the moment of n_i about P, with the arm from P to B_i)."
         ))]),
         alternatives("direct_jacobian", [(direct, (
             "{name} is the direct Jacobian A⁻¹ (ẋ = A⁻¹ ρ̇); the question asks for the inverse "
-            "Jacobian A with ρ̇ = A ẋ, rows [n_iᵀ, ((B_i − P) × n_i)_z]."
+            "Jacobian A with ρ̇ = A ẋ."
         ))]),
         alternatives("transpose", [(lambda x: _jacobian_reference(x).T, (
-            "{name} is transposed: row i belongs to leg i, [n_iᵀ, ((B_i − P) × n_i)_z], "
-            "so that ρ̇_i = row_i · [ẋ, ẏ, φ̇]."
+            "{name} is transposed: row i belongs to leg i, so that ρ̇_i = row_i · [ẋ, ẏ, φ̇]."
         ))]),
         dg.degrees(),
     ]
@@ -387,9 +388,8 @@ class _CramerCheck(FunctionCheck):
             ("reciprocal", 1.0 / R, "{name} returns (Δ, N): N/Δ is 1/w. N is the numerator."),
             ("missing_norms", np.array([_position_w(robot, phi, rho, with_norms=False)
                                         for robot, phi, rho in cases]), (
-                "N/Δ of {name} solves the subtracted loop equations without the terms |E_i|²: "
-                "subtracting the first loop equation from loop i leaves ρ_i² − ρ1² − |E_i|² on the "
-                "right-hand side.")),
+                "N/Δ of {name} solves the subtracted loop equations without the terms |E_i|² on "
+                "their right-hand sides: expand the squares of the loop equations again.")),
         ]
         for code, values, message in mistakes:
             if same(values):
@@ -413,10 +413,6 @@ cramer_parts = exercise(_CHAPTER, "cramer_parts", _CramerCheck(
 
 
 # ------------------------------------------------------------------ forward kinematics
-def _modes_text(modes: np.ndarray) -> str:
-    return "; ".join(fmt(m) for m in modes)
-
-
 def check_poses(poses: Any, rho: Any, robot: Any = None, *, name: str = "pose", tol: float = 1e-6,
                 quiet: bool = False, raise_on_fail: bool = False) -> CheckResult:
     """Check that each row of ``poses`` (3,) or (k, 3) is an assembly mode for the leg lengths ``rho``.
@@ -513,7 +509,7 @@ def _judge(poses: Any, rho: np.ndarray, robot, name: str, tol: float, n: int = 1
         if modes.shape[0] == 0:
             return CheckResult(name, True, f"{PASS} {name}: correct, ρ = {fmt(rho)} has no assembly mode.",
                                None, n)
-        return fail("missing", f"{name} is empty, but ρ = {fmt(rho)} has {len(modes)} assembly modes.")
+        return fail("missing", f"{name} is empty, but ρ = {fmt(rho)} has assembly modes.")
     spurious = _spurious_root(P, robot)
     if spurious is not None and not np.all(np.isfinite(P[spurious])):
         return fail("spurious_root", _spurious_message(name, P, spurious))
@@ -529,7 +525,6 @@ def _judge(poses: Any, rho: np.ndarray, robot, name: str, tol: float, n: int = 1
         return CheckResult(name, True, f"{PASS} {name} is correct: {what} for ρ = {fmt(rho)}.",
                            None, n)
     k = int(np.argmax(bad))
-    modes = robot.forward_kinematics(rho).poses
     pose = P[k]
     deg = np.array([pose[0], pose[1], math.radians(pose[2])])
     if np.abs(robot.inverse_kinematics(deg) - rho).max() <= tol:
@@ -545,8 +540,8 @@ def _judge(poses: Any, rho: np.ndarray, robot, name: str, tol: float, n: int = 1
         return fail("spurious_root", _spurious_message(name, P, spurious))
     where = f" (row {k + 1})" if P.shape[0] > 1 else ""
     return fail("mismatch", f"{name}{where} = {fmt(pose)} is not an assembly mode: its leg lengths are "
-                            f"{fmt(got[k])}, not ρ = {fmt(rho)}. The assembly modes are: "
-                            f"{_modes_text(modes) or 'none'}.")
+                            f"{fmt(got[k])}, not ρ = {fmt(rho)}. Every pose returned must reproduce ρ "
+                            "through the inverse kinematics.")
 
 
 class _ForwardKinematicsCheck(FunctionCheck):
@@ -716,18 +711,17 @@ _POLYNOMIAL_MISTAKES = [
     ("addition_sign", "{name} is the polynomial of cos(φ + θ) = cos φ cos θ + sin φ sin θ (and sin(φ + θ) "
                       "with the same sign slip): that is φ − θ. A sign in the addition formulas: "
                       "cos(φ + θ) = cos φ cos θ − sin φ sin θ, sin(φ + θ) = sin φ cos θ + cos φ sin θ."),
-    ("law_of_cosines_sign", "{name} is the polynomial of γ_i with + 2 l_i (…) where the loop equation gives "
-                            "− 2 l_i (…): a sign in the constant terms γ_2, γ_3 (expand the squares of the "
-                            "loop equations again)."),
-    ("rho1_term_sign", "{name} is the polynomial of (β3 a2 − β2 a3)² + (α2 a3 − α3 a2)² + ρ1² D²: a sign. "
-                       "x² + y² = ρ1², multiplied by D², leaves − ρ1² D²."),
-    ("rho1_term_missing", "{name} is the polynomial of (β3 a2 − β2 a3)² + (α2 a3 − α3 a2)² alone: a missing "
-                          "term. The first loop equation is x² + y² = ρ1²: after multiplying by D² the "
-                          "term − ρ1² D² remains."),
-    ("determinant_not_squared", "{name} is the polynomial of (β3 a2 − β2 a3)² + (α2 a3 − α3 a2)² − ρ1² D, D not "
-                                "squared: x = (…)/D and y = (…)/D, so x² + y² = ρ1² times D² is the equation."),
-    ("rho1_left_in_a", "{name} is the polynomial of a_i = ρ_i² − γ_i: a missing term. Subtracting the first "
-                       "loop equation removes x² + y² and leaves a_i = ρ_i² − ρ1² − γ_i."),
+    ("law_of_cosines_sign", "{name} has a sign wrong in the cross terms 2 l_i (…) of the constant parts of the "
+                            "subtracted equations: expand the squares of the loop equations again."),
+    ("rho1_term_sign", "{name} has the sign of its ρ1² term reversed: move every term of the first loop "
+                       "equation to one side before you clear the denominators."),
+    ("rho1_term_missing", "{name} lacks its ρ1² term: the first loop equation has two sides, and both must "
+                          "appear in F."),
+    ("determinant_not_squared", "{name} multiplies the ρ1² side of the first loop equation by D where the "
+                                "other side holds D²: clear the denominators of both sides by the same "
+                                "factor."),
+    ("rho1_left_in_a", "{name} forgets ρ1² in the subtracted equations: subtracting the first loop equation "
+                       "from loop i removes x² + y² from one side and ρ1² from the other."),
     ("swapped_substitution", "{name} is the polynomial of cos φ = 2t/(1 + t²), sin φ = (1 − t²)/(1 + t²): a wrong "
                              "substitution (cos and sin swapped). With t = tan(φ/2), cos φ = (1 − t²)/(1 + t²) "
                              "and sin φ = 2t/(1 + t²)."),
@@ -804,12 +798,12 @@ class _OrientationPolynomialCheck(FunctionCheck):
         for k in (1, 2, 3):
             if all_match([_POLY.polymul(v, _POLY.polypow(_T_DEN, k)) for v in right]):
                 return self.failure("degree", (
-                    f"{self.name} has degree {degree}: it is (1 + t²)^{3 + k} F. The 4φ harmonics of F "
-                    "cancel, so (1 + t²)³ F is already a polynomial (of degree 6): multiply by (1 + t²)³."), n)
+                    f"{self.name} has degree {degree}: it is (1 + t²)^{3 + k} F. poly_t is (1 + t²)³ F, "
+                    "as the statement defines it: multiply by (1 + t²)³."), n)
         if all_match([_divided(v, np.array([0.0, 0.0, 1.0])) for v in right]):
             return self.failure("factor_divided", (
-                f"{self.name} is (1 + t²)³ F divided by t²: the factor t² (the root t = 0 where D = 0) "
-                "belongs to the polynomial; my_fk skips that root, poly_t keeps it."), n)
+                f"{self.name} is (1 + t²)³ F divided by a factor t²: poly_t keeps every factor of "
+                "(1 + t²)³ F (my_fk may skip roots that are no assembly modes, poly_t keeps them)."), n)
         for code, message in _POLYNOMIAL_MISTAKES:
             variants = [_polynomial_variant(rho, code) for rho in R]
             reduced = [_divided(v, _T_DEN) for v in variants]
@@ -934,31 +928,46 @@ class _OrientationFunctionCheck(FunctionCheck):
             return self.success(f"{self.name} is correct (checked at {n} random orientations, on three "
                                 "robots).", n)
         messages = {
-            "rho1_term_sign": ("{name} is x² + y² + ρ1² (times D²): a sign. The first loop equation "
-                               "x² + y² = ρ1², times D², gives F = (D x)² + (D y)² − ρ1² D²."),
-            "rho1_term_missing": ("{name} is (D x)² + (D y)² alone: a missing term. The first loop equation "
-                                  "is x² + y² = ρ1²: F = (D x)² + (D y)² − ρ1² D²."),
-            "determinant_not_squared": ("{name} is (D x)² + (D y)² − ρ1² D: the determinant is not squared. "
-                                        "x = (…)/D and y = (…)/D: multiply x² + y² = ρ1² by D²."),
-            "determinant_missing": ("{name} is (D x)² + (D y)² − ρ1², without the factor D² on ρ1²: both "
-                                    "sides of x² + y² = ρ1² are multiplied by D², so F = (D x)² + (D y)² − "
-                                    "ρ1² D². Without it F is no trigonometric polynomial of order 3 and its "
-                                    "roots are not the modes'."),
+            "rho1_term_sign": ("{name} has the sign of its ρ1² term reversed: move every term of the "
+                               "first loop equation to one side before you clear the denominators."),
+            "rho1_term_missing": ("{name} lacks its ρ1² term: the first loop equation has two sides, and "
+                                  "both must appear in F."),
+            "determinant_not_squared": ("{name} multiplies the ρ1² side of the first loop equation by D "
+                                        "where the other side holds D²: clear the denominators of both "
+                                        "sides by the same factor."),
+            "determinant_missing": ("{name} leaves the ρ1² side of the first loop equation without the "
+                                    "factor that clears the denominators of the other side: multiply both "
+                                    "sides by the same factor. Without it F is not a trigonometric "
+                                    "polynomial and its roots are not the modes'."),
         }
         if code in messages:
             return self.failure(code, messages[code].format(name=self.name), n)
         for reading_code, reading, message in _ANGLE_READINGS:
             if verdict(fit(reading)) == "":
                 return self.failure(reading_code, message.format(name=self.name), n)
-        from robokin.parallel import Planar3RPR
-
-        robot, rho, phis = cases[0]
-        modes = Planar3RPR(robot.base_anchors, robot.platform_anchors).forward_kinematics(rho).poses
-        value = self.call(answer, (float(modes[0, 2]), rho.copy(), robot), samples=n)
+        robot, rho, mode, which = _example_mode(cases)
+        value = self.call(answer, (float(mode[2]), rho.copy(), robot), samples=n)
         return self.failure("mismatch", (
-            f"{self.name} is not F(φ) = (D x)² + (D y)² − ρ1² D² up to a constant factor (nor a typical "
-            f"slip of it): on the classic robot at ρ = {fmt(rho)}, F_of_phi({fmt(modes[0, 2])}) = "
-            f"{fmt(value)}, where the assembly mode {fmt(modes[0])} makes F vanish."), n)
+            f"{self.name} is not the orientation equation F(φ) up to a constant factor (nor a typical "
+            f"slip of it): on {which} at ρ = {fmt(rho)}, F_of_phi({fmt(mode[2])}) = "
+            f"{fmt(value)}, where the assembly mode {fmt(mode)} makes F vanish. Eliminate x, y from "
+            "the loop equations again."), n)
+
+
+def _example_mode(cases: list[tuple[Any, np.ndarray, np.ndarray]]) -> tuple[Any, np.ndarray, np.ndarray, str]:
+    """The example of a wrong F_of_phi: (robot, ρ, an assembly mode, how to name the robot).
+
+    The exercise's robot at the check's own leg lengths first: the classic robot's modes at
+    CLASSIC_RHO are an answer of the chapter (``modes6``), so it comes last (it has six modes).
+    """
+    from robokin.parallel import Planar3RPR
+
+    names = ("the exercise's robot", "a robot of this check's own", "the classic robot")
+    for (robot, rho, _), which in zip((cases[1], cases[2], cases[0]), names):
+        modes = Planar3RPR(robot.base_anchors, robot.platform_anchors).forward_kinematics(rho).poses
+        if len(modes) or which == names[-1]:
+            return robot, rho, modes[0], which
+    raise AssertionError("unreachable: the classic robot has six modes at CLASSIC_RHO")
 
 
 orientation_function = exercise(_CHAPTER, "orientation_function", _OrientationFunctionCheck(
