@@ -262,6 +262,44 @@ def test_tracking_loop_wrong_shape_is_explained():
     assert not r.passed and "shape (6, 7)" in r.message
 
 
+def test_reference_resolved_rate_is_the_law_of_task_3():
+    """robokin's law, the stand-in the test of track passes as rate=: the minimum-norm command
+    (the KKT system) at configurations and references of this test's own; kp = 0 the open loop."""
+    rng = np.random.default_rng(5)
+    for q in ARM.random_configurations(5, seed=8):
+        r_d, v_d = ARM.fk(q)[:3, 3] + 0.01 * rng.standard_normal(3), 0.1 * rng.standard_normal(3)
+        assert np.allclose(cb.reference_resolved_rate(q, r_d, v_d), rate_kkt(q, r_d, v_d))
+        J = ARM.position_jacobian(q)
+        assert np.allclose(J @ cb.reference_resolved_rate(q, r_d, v_d, kp=0.0), v_d)
+    with pytest.raises(ValueError, match="q"):
+        cb.reference_resolved_rate(np.zeros(6), np.zeros(3), np.zeros(3))
+
+
+def test_tracking_loop_is_judged_with_robokin_law_passed_as_rate():
+    """A loop that takes its law as rate= is checked with robokin's: a wrong default law (the
+    student's resolved_rate) does not make a right loop wrong, and a wrong loop is still named."""
+    def wrong_law(q, r_des, v_des, kp):
+        return cb.reference_resolved_rate(q, r_des, v_des, -kp)
+
+    def loop(q0, r_des, v_des, kp=cb.KP, ts=cb.TS, rate=wrong_law, after=False):
+        q, rows = np.array(q0, dtype=float), []
+        for r_d, v_d in zip(r_des, v_des):
+            if not after:
+                rows.append(q)
+            q = q + ts * rate(q, r_d, v_d, kp)
+            if after:
+                rows.append(q)
+        return np.array(rows)
+
+    assert cb.tracking_loop(loop, quiet=True).passed
+    wrong = cb.tracking_loop(lambda q0, r, v, kp=cb.KP, ts=cb.TS, rate=wrong_law: loop(q0, r, v, kp, ts, rate,
+                                                                                        after=True), quiet=True)
+    assert wrong.diagnosis == "recorded_after_step", wrong.message
+    # a loop without the argument is called as it is: its own law decides
+    assert cb.tracking_loop(lambda q0, r, v, kp=cb.KP, ts=cb.TS: loop(q0, r, v, kp, ts), quiet=True).diagnosis \
+        == "error_sign"
+
+
 def test_help_shows_no_answer():
     """help() lists the module's data: the circle's centre (Task 2) and the joint-2 offset
     (Task 1) are answers, so they stay private."""

@@ -20,6 +20,7 @@ check                    the student's answer                                 in
                          :math:`\mathbf J_v^+(\mathbf q)(\dot{\mathbf r}_{des} + K_p(\mathbf r_{des}-\mathbf r(\mathbf q)))`, :data:`KP`
 ``tracking_loop``        function ``track(q0, r_des, v_des, kp, ts)`` ->      start, reference,
                          joint angles (N, 7) (rad), Euler steps of that law   gain, time step
+                         (robokin's law as ``rate=``, if it takes one)
 ``forward_kinematics``   function ``T(q)`` -> 4×4, shoulder frame -> hand      q within the limits
 ``hand_position_at``     numbers: the hand position at :data:`Q_START` (m)     --
 ``sigma_min``            function ``sigma_min_of(q)`` -> smallest singular    q within the limits
@@ -59,6 +60,7 @@ from robokin.check._core import (
     Check,
     CheckResult,
     FunctionCheck,
+    LaterStepCheck,
     MatrixArgumentsCheck,
     Variable,
     alternatives,
@@ -67,11 +69,12 @@ from robokin.check._core import (
     packed_variants,
 )
 from robokin.check._registry import exercise
+from robokin.validation import as_scalar, as_vector
 
 __all__ = [
     "circle_position", "circle_velocity", "resolved_rate", "tracking_loop", "forward_kinematics",
     "hand_position_at", "sigma_min", "closest_approach", "link_transform", "chord_length", "damped_rate",
-    "Q_START", "P_START", "RADIUS", "OMEGA", "PERIOD", "TS", "KP",
+    "Q_START", "P_START", "RADIUS", "OMEGA", "PERIOD", "TS", "KP", "reference_resolved_rate",
 ]
 
 _CHAPTER = "baxter"
@@ -82,10 +85,12 @@ _CHAPTER = "baxter"
 DELEGATION = {
     "resolved_rate": {"CartesianController": "robokin.motion.CartesianController",
                       "simulate": "robokin.motion.simulate",
-                      "track_position_batch": "robokin.motion.track_position_batch"},
+                      "track_position_batch": "robokin.motion.track_position_batch",
+                      "reference_resolved_rate": "robokin.check.baxter.reference_resolved_rate"},
     "tracking_loop": {"CartesianController": "robokin.motion.CartesianController",
                       "simulate": "robokin.motion.simulate",
-                      "track_position_batch": "robokin.motion.track_position_batch"},
+                      "track_position_batch": "robokin.motion.track_position_batch",
+                      "reference_resolved_rate": "robokin.check.baxter.reference_resolved_rate"},
     "sigma_min": {"singular_values": "SerialChain.singular_values",
                   "track_position_batch": "robokin.motion.track_position_batch (its sigma_min)"},
     "damped_rate": {"CartesianController": "robokin.motion.CartesianController",
@@ -338,6 +343,31 @@ resolved_rate = exercise(_CHAPTER, "resolved_rate", Check(
 ))
 
 
+def reference_resolved_rate(q: Any, r_des: Any, v_des: Any, kp: float = KP) -> np.ndarray:
+    """robokin's answer to the step ``resolved_rate`` of Task 3 (the tests' stand-in).
+
+    The graded test of the loop ``track(q0, r_des, v_des, kp, ts, rate=resolved_rate)`` passes
+    this function in place of the student's own law, so that a mistake in ``resolved_rate``
+    costs the points of its own test only.
+
+    Parameters
+    ----------
+    q : array_like, shape (7,)
+        A configuration of the left arm (rad).
+    r_des, v_des : array_like, shape (3,)
+        The reference position (m) and velocity (m/s) of the hand, shoulder frame.
+    kp : float
+        The position gain (1/s); 0 for the open loop.
+
+    Returns
+    -------
+    numpy.ndarray, shape (7,)
+        The joint velocity the law of Task 3 commands (rad/s).
+    """
+    x = np.concatenate([as_vector(q, 7, "q"), as_vector(r_des, 3, "r_des"), as_vector(v_des, 3, "v_des")])
+    return _rate(x, kp=as_scalar(kp, "kp"))
+
+
 # ------------------------------------------------------------------ the tracking loop
 _TRACK_SAMPLES = 6
 
@@ -376,7 +406,7 @@ _pack_track = pack_joint_rows("track", _TRACK_SAMPLES, 7)
 _track_variant = packed_variants(_track_loop, _track_args, _pack_track)
 
 
-tracking_loop = exercise(_CHAPTER, "tracking_loop", MatrixArgumentsCheck(
+tracking_loop = exercise(_CHAPTER, "tracking_loop", LaterStepCheck(
     name="track(q0, r_des, v_des, kp, ts)",
     reference=_track_variant(),
     variables=[
@@ -419,6 +449,7 @@ tracking_loop = exercise(_CHAPTER, "tracking_loop", MatrixArgumentsCheck(
          "the joint angles at the samples, shape (N, 7), row 0 = q0 (Baxter left arm, "
          "shoulder frame, hand flange)."),
     pack=_pack_track,
+    steps=lambda: {"rate": reference_resolved_rate},
 ))
 
 

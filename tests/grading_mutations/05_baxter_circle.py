@@ -81,17 +81,31 @@ MUTATIONS = {
         ("the closed loop run without feedback",
          "Q_loop = {'open loop': Q_loop['open loop'], 'closed loop': Q_loop['open loop']}"),
         ("q recorded after the Euler step",
-         "def track(q0, r_des, v_des, kp=KP, ts=TS):\n"
+         "def track(q0, r_des, v_des, kp=KP, ts=TS, rate=resolved_rate):\n"
          "    q = np.array(q0, dtype=float)\n"
          "    Q = []\n"
          "    for r_d, v_d in zip(r_des, v_des):\n"
-         "        q = q + ts * resolved_rate(q, r_d, v_d, kp)\n"
+         "        q = q + ts * rate(q, r_d, v_d, kp)\n"
          "        Q.append(q)\n"
          "    return np.array(Q)"),
         ("the gain kp ignored (always the open loop)",
          "_track = track\n"
-         "def track(q0, r_des, v_des, kp=KP, ts=TS):\n"
-         "    return _track(q0, r_des, v_des, kp=0.0, ts=ts)"),
+         "def track(q0, r_des, v_des, kp=KP, ts=TS, rate=resolved_rate):\n"
+         "    return _track(q0, r_des, v_des, kp=0.0, ts=ts, rate=rate)"),
+        ("the closed-loop run without feed-forward (the hand lags)",
+         "Q_loop = {**Q_loop, 'closed loop': track(Q_START, r_ref, 0 * v_ref, kp=KP)}\n"
+         "hand = {**hand, 'closed loop': arm.fk(Q_loop['closed loop'])[:, :3, 3]}"),
+        ("the loop calls resolved_rate, not its argument rate, with the sign of the error flipped",
+         "def resolved_rate(q, r_des, v_des, kp=KP):\n"
+         "    J = arm.position_jacobian(q)\n"
+         "    return np.linalg.pinv(J) @ (v_des + kp * (arm.fk(q)[:3, 3] - r_des))\n"
+         "def track(q0, r_des, v_des, kp=KP, ts=TS, rate=resolved_rate):\n"
+         "    q = np.array(q0, dtype=float)\n"
+         "    Q = []\n"
+         "    for r_d, v_d in zip(r_des, v_des):\n"
+         "        Q.append(q)\n"
+         "        q = q + ts * resolved_rate(q, r_d, v_d, kp)\n"
+         "    return np.array(Q)"),
     ],
     "task3_test3": [
         ("the open-loop hand taken from the closed-loop run",
@@ -107,9 +121,6 @@ MUTATIONS = {
          " 1)[0]"),
     ],
     "task3_test5": [
-        ("no feed-forward in the loop (the hand lags)",
-         "Q_loop = {**Q_loop, 'closed loop': track(Q_START, r_ref, 0 * v_ref, kp=KP)}\n"
-         "hand = {**hand, 'closed loop': arm.fk(Q_loop['closed loop'])[:, :3, 3]}"),
         ("the margin to the limits taken from the lower limits only",
          "margin = (Q_loop['closed loop'] - LOWER).min(axis=0)"),
     ],

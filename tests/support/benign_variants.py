@@ -404,11 +404,11 @@ def resolved_rate(q, r_des, v_des, kp=KP):  # written another way: the right inv
     return J.T @ np.linalg.solve(J @ J.T, v_des + kp * (r_des - arm.fk(q)[:3, 3]))
 
 
-def track(q0, r_des, v_des, kp=KP, ts=TS):  # written another way: rows filled in place
+def track(q0, r_des, v_des, kp=KP, ts=TS, rate=resolved_rate):  # another way: rows in place
     Q = np.empty((len(r_des), 7))
     Q[0] = q0
     for k in range(len(r_des) - 1):
-        Q[k + 1] = Q[k] + ts * resolved_rate(Q[k], r_des[k], v_des[k], kp)
+        Q[k + 1] = Q[k] + ts * rate(Q[k], r_des[k], v_des[k], kp)
     return Q
 '''),
         "task4_answer1": ("rho as the lengths of J_v's columns, the chord by the law of cosines", '''

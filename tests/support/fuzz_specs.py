@@ -967,6 +967,11 @@ def check_specs() -> list[Spec]:
               "quiet": Const("quiet", True)}, student=("f",), check=_is_result, weight=0.5),
         *_ur10_closed_form_step_specs(),
         *_ur10_step_specs(),
+        # chapter 5's stand-in for the student's law in the test of the loop
+        Spec("check.baxter.reference_resolved_rate", check.baxter.reference_resolved_rate,
+             [Arr("q", (7,), batch=False, extreme=False), Arr("r_des", (3,), batch=False, extreme=False),
+              Arr("v_des", (3,), batch=False, extreme=False)],
+             {"kp": Num("kp", 0.0, 20.0, allow_zero=True, extreme=False)}, shape=lambda c, v: (7,), weight=0.3),
         # chapter 10's stand-ins for the student's earlier steps in the later tests
         Spec("check.trajectories.reference_cubic_scaling", check.trajectories.reference_cubic_scaling,
              [Num("t", 0.0, 2.0, allow_zero=True), Num("T", 0.5, 3.0, positive=True)], shape=lambda c, v: (3,)),
