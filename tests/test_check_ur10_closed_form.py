@@ -321,3 +321,20 @@ def test_reference_steps_at_the_edges_of_their_steps():
 def test_reference_steps_reject_bad_input(call):
     with pytest.raises((ValueError, TypeError)):
         call()
+
+
+def test_branch_and_step_messages_state_no_closed_form():
+    """A dropped branch or a typical mistake is named with its principle, not with the closed
+    form of the step (the tasks ask the student to derive them) nor the count of solutions."""
+    messages = [
+        chk.shoulder_angles(lambda T: shoulder(T, dropped=True), quiet=True).message,
+        chk.shoulder_angles(lambda T: shoulder(T, d4=-D4), quiet=True).message,
+        chk.wrist_angles(lambda T, q1: wrist(T, q1, dropped=True), quiet=True).message,
+        chk.wrist_angles(lambda T, q1: wrist(T, q1, swap=True), quiet=True).message,
+        chk.arm_angles(lambda T, q1, q5, q6: chk.reference_arm_angles(T, q1, q5, q6)[:1], quiet=True).message,
+        chk.all_solutions(lambda T: chk._all(T)[::2], quiet=True).message,
+    ]
+    assert not any(message.startswith("✔") for message in messages)
+    text = "\n".join(messages)
+    for closed_form in ("arccos(d4/r)", "arccos(z6·z1)", "±arccos(c3)", "atan2(−y6", "has 8", "× 2"):
+        assert closed_form not in text, closed_form

@@ -386,8 +386,8 @@ shoulder_angles = _pose_set_check(
          "{name} uses atan2(x, y) for the direction of the wrist centre: atan2 takes the y "
          "coordinate first, ψ = atan2(y, x)."),
         ("d4_sign", {"d4_sign": -1.0},
-         "{name} has the sign of d4 wrong: the wrist centre lies at +d4 along z1 = (s1, −c1, 0), "
-         "x s1 − y c1 = d4, so q1 = ψ + π/2 ± arccos(d4/r) with d4 = +0.1639 m."),
+         "{name} has the sign of d4 wrong: the wrist centre lies at +d4 along z1 (the table's "
+         "d4 = +0.1639 m), not at −d4."),
         ("flange_point", {"flange": True},
          "{name} uses the flange position p instead of the wrist centre p5 = p − d6 z6: only "
          "the wrist centre is at the height d4 along z1."),
@@ -398,8 +398,8 @@ shoulder_angles = _pose_set_check(
          "{name} gives q1 = ψ ± arccos(d4/r), the solutions of cos(q1 − ψ) = d4/r; the component "
          "of the wrist centre along z1 = (s1, −c1, 0) is x s1 − y c1 = r sin(q1 − ψ)."),
     ],
-    branch_message="{name} returns only one of the two shoulder solutions: "
-                   "q1 = ψ + π/2 ± arccos(d4/r), both signs.",
+    branch_message="{name} returns only one of the two shoulder solutions: the equation for q1 "
+                   "has two solutions in a full turn; return both.",
     doc="Check shoulder_angles(T): both solutions q1 (rad) for the flange pose T (4, 4).",
 )
 
@@ -408,19 +408,21 @@ wrist_angles = _pose_set_check(
     signature="wrist_angles(T, q1) -> (2, 2) array of rows (q5, q6) in rad",
     mistakes=[
         ("atan2_swapped", {"swap": True},
-         "{name} has the arguments of atan2 swapped in q6: with R_6ᵀ z1 = (c6 s5, −s6 s5, c5), "
-         "q6 = atan2(−y6·z1 / s5, x6·z1 / s5), the sine first."),
+         "{name} has the arguments of atan2 swapped in q6: atan2(y, x) takes first the "
+         "component of z1 in flange coordinates proportional to sin q6, then the one "
+         "proportional to cos q6."),
         ("q6_sign", {"q6_sign": -1.0},
-         "{name} gives q6 with the wrong sign: y6·z1 = −s6 s5, so sin q6 = −y6·z1 / s5."),
+         "{name} gives q6 with the wrong sign: write z1 in flange coordinates, R_6ᵀ z1, out as a "
+         "function of q5 and q6 and read the sign of its y component."),
         ("q6_not_flipped", {"flip": False},
          "{name} keeps q6 when the wrist flips: with s5 → −s5, the components (c6 s5, −s6 s5) "
          "keep their values only if q6 turns by π too."),
         ("z1_sign", {"z1_sign": -1.0},
-         "{name} uses −z1 = (−s1, c1, 0) for the axis of the parallel joints: "
-         "z1 = R_z(q1) R_x(π/2) e_z = (s1, −c1, 0)."),
+         "{name} uses −z1 for the axis of the parallel joints: work out z1 = R_z(q1) R_x(π/2) e_z "
+         "(α1 = π/2 in the table) and keep its sign."),
     ],
-    branch_message="{name} returns only one wrist solution: q5 = ±arccos(z6·z1), and q6 "
-                   "changes by π with the sign of sin q5.",
+    branch_message="{name} returns only one wrist solution: sin q5 may take either sign; "
+                   "return both, each with its q6.",
     doc="Check wrist_angles(T, q1): both rows (q5, q6) (rad) for the flange pose T and the shoulder angle q1.",
 )
 
@@ -443,16 +445,16 @@ arm_angles = _pose_set_check(
          "of frame 1, (0, 0, d1), so the arm's plane has Y = p4·e_z − d1."),
         ("atan2_swapped_phi", {"phi_swap": True},
          "{name} has the arguments of atan2 swapped in q2 + q3 + q4: the angle of x4 in the arm's "
-         "plane is atan2(x4·y1, x4·x1), with y1 = e_z, the Y component first."),
+         "plane takes its Y component first, then its X component."),
         ("inner_angle_sign", {"inner_sign": 1.0},
-         "{name} adds the angle of the elbow triangle to the direction of p4: the links reach "
-         "p4 at q2 + atan2(a3 s3, a2 + a3 c3), so q2 = atan2(Y, X) − atan2(a3 s3, a2 + a3 c3)."),
+         "{name} adds the angle of the elbow triangle to the direction of p4: the links point "
+         "at q2 plus that angle, so q2 is the direction of p4 minus it."),
         ("q3_missing_in_q4", {"q3_in_q4": False},
          "{name} leaves q3 out of q4: the angle of x4 in the arm's plane is q2 + q3 + q4, so "
          "q4 is that angle minus q2 and q3."),
     ],
-    branch_message="{name} returns only one elbow solution: q3 = ±arccos(c3), and q2, q4 "
-                   "follow for each sign.",
+    branch_message="{name} returns only one elbow solution: the law of cosines fixes cos q3 "
+                   "only, so q3 may take either sign; return both, with q2 and q4 for each.",
     doc="Check arm_angles(T, q1, q5, q6): both rows (q2, q3, q4) (rad), elbow up and down.",
 )
 
@@ -461,8 +463,8 @@ all_solutions = _pose_set_check(
     signature="all_solutions(T) -> (k, 6) array of solutions in rad",
     steps=lambda: {"shoulder_angles": reference_shoulder_angles, "wrist_angles": reference_wrist_angles,
                    "arm_angles": reference_arm_angles},
-    branch_message="{name} misses solutions: every one it returns is right, but a generic "
-                   "reachable pose has 8 (2 shoulder × 2 wrist × 2 elbow); loop over every branch.",
+    branch_message="{name} misses solutions: every one it returns is right, but it leaves "
+                   "some out; loop over every branch of every step.",
     doc="Check all_solutions(T): every joint solution (k, 6) (rad) for the flange pose T (4, 4).",
 )
 
