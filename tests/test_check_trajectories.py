@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import importlib
 import math
+import re
 from functools import partial
 
 import numpy as np
@@ -328,6 +329,26 @@ def test_least_duration_mistakes_are_diagnosed():
         (lambda *move: 1.0, "mismatch"),
     ]:
         assert chk.least_duration(answer, quiet=True).diagnosis == code
+
+
+def test_least_duration_of_zero_says_what_it_is():
+    """A function that returns 0 is the shortest time when a joint is at rest (every move of the
+    check has one): the message says it is 0 for every move, not only that it picks the shortest."""
+    message = chk.least_duration(lambda *move, trapezoid_time=None: 0.0, quiet=True).message
+    assert "is 0 for every move here" in message and "slowest joint sets the duration" in message, message
+
+
+def test_scaling_messages_name_the_rates_and_the_call():
+    """A wrong law's message names s, ṡ, s̈ (not bracketed indices a student reads as Python's) and
+    the time t and duration T it was called with (not the normalised τ it never sees)."""
+    def only_s(t, T):
+        tau = t / T
+        return np.array([3 * tau**2 - 2 * tau**3, 0.0, 0.0])
+
+    message = chk.cubic_scaling(only_s, quiet=True).message
+    assert "ṡ (entry 1), s̈ (entry 2) differ" in message, message
+    assert re.search(r"at t = [-\d.]+ s, T = [\d.]+ s: ṡ \(entry 1\) should be", message), message
+    assert "tau =" not in message and "[2]" not in message, message
 
 
 @pytest.mark.parametrize("check_name", ["cubic_scaling", "quintic_scaling", "trapezoid_time",

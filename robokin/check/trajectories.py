@@ -129,6 +129,8 @@ def _scaling(x: np.ndarray, law: str, *, per_tau: bool = False) -> np.ndarray:
 
 
 _TIMES = [Variable("tau", "other", 0.0, 1.0), Variable("T", "other", 0.5, 4.0)]
+#: the entries of [s, ṡ, s̈], as a message names them
+_RATE_NAMES = ("s (entry 0)", "ṡ (entry 1)", "s̈ (entry 2)")
 
 
 def _scaling_mistakes(law: str):
@@ -160,6 +162,8 @@ def _scaling_check(law: str) -> MatrixArgumentsCheck:
         noun="times",
         arguments=lambda x: (float(x[0] * x[1]), float(x[1])),
         signature=f"{name}(t, T) -> array [s, ṡ, s̈] of shape (3,)",
+        describe=lambda x: f"t = {fmt(x[0] * x[1])} s, T = {fmt(x[1])} s",
+        entry_label=lambda index: _RATE_NAMES[index[0]],
         hint="Write s(τ) as a polynomial in τ = t/T, fix its coefficients by the boundary conditions, "
              "and differentiate with respect to t.",
         doc=f"Check {name}(t, T) -> [s, ṡ, s̈]: the {law} rest-to-rest timing law at time t of a motion "
@@ -415,8 +419,9 @@ least_duration = exercise(_CHAPTER, "least_duration", LaterStepCheck(
                 "(every other joint can slow down, none can go faster)."
             )),
             (lambda x: np.asarray(np.min(_joint_times(x))), (
-                "{name} is the shortest of the joints' times, 0 for a joint at rest: the slowest "
-                "joint sets the duration (every other joint can slow down, none can go faster)."
+                "{name} is 0 for every move here, in each of which one joint stays at rest: the "
+                "shortest of the joints' times, or no duration at all? The slowest joint sets the "
+                "duration (every other joint can slow down, none can go faster)."
             )),
         ]),
         alternatives("swapped_limits", [(lambda x: np.asarray(np.max(_joint_times(x, swapped=True))), (
