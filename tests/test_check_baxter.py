@@ -300,6 +300,17 @@ def test_tracking_loop_is_judged_with_robokin_law_passed_as_rate():
         == "error_sign"
 
 
+def test_hand_position_at_names_wrong_entries_not_their_values():
+    """The hand at q_start is the answer of Task 1: a wrong attempt learns which coordinates
+    differ and what the hand position is, not the numbers."""
+    p = ARM.fk(cb.Q_START)[:3, 3]
+    for answer, what in [(p + [0.0, 0.0, 0.02], "entry [3] differs"), (np.zeros(3), "entries [1], [3] differ"),
+                         (p + 0.01, "every entry differs")]:
+        r = cb.hand_position_at(answer, quiet=True)
+        assert r.diagnosis == "mismatch" and what in r.message, r.message
+        assert "should be" not in r.message and "0.81" not in r.message and "forward kinematics" in r.message
+
+
 def test_help_shows_no_answer():
     """help() lists the module's data: the circle's centre (Task 2) and the joint-2 offset
     (Task 1) are answers, so they stay private."""

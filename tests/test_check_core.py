@@ -349,6 +349,24 @@ def test_value_check_and_tolerance():
     assert r.diagnosis == "mismatch" and "entry (1, 2) should be 0.866, yours is 0.8" in r.message
 
 
+def test_values_shown_false_names_the_wrong_entries_not_their_values():
+    """A check of numbers the statement asks for at one input: its reference there is the answer,
+    so a wrong answer no typical mistake explains is told which entries differ and the hint."""
+    ref = np.array([[0.5, np.sqrt(3) / 2], [1.0, 2.0]])
+    hidden = check.Check("M", lambda x: ref, [], [], standard("matrix"), values_shown=False,
+                         hint="Read the statement again.")
+    r = hidden([[0.5, 0.8], [1, 2.5]], quiet=True)
+    assert r.message == "✘ M is not correct: entries (1, 2), (2, 2) differ. Read the statement again."
+    assert hidden(ref + 0.1, quiet=True).message.startswith("✘ M is not correct: every entry differs.")
+    assert hidden(ref, quiet=True).passed and hidden(ref.T, quiet=True).diagnosis == "transpose"
+    at_one_input = check.Check("y", lambda x: np.sin(x[0]), [Variable("alpha")], at=[0.3],
+                               at_text="α = 0.3", values_shown=False)
+    assert at_one_input(0.2, quiet=True).message == "✘ y is not correct at α = 0.3."
+    # shown by default: the example value (a test's own reference, random inputs)
+    shown = check.Check("y", lambda x: np.sin(x[0]), [Variable("alpha")], at=[0.3], at_text="α = 0.3")
+    assert "expected 0.296, got 0.2" in shown(0.2, quiet=True).message
+
+
 def test_result_is_truthy_and_has_fields():
     r = CheckResult("n", False, "✘ no", "mismatch", 1)
     assert not r and r.name == "n" and r.samples == 1

@@ -681,6 +681,11 @@ class Check:
         How the fixed input is described in messages (``"q = [0°, 60°, -120°]"``).
     hint : str
         Appended to the message when no diagnosis explains a wrong answer.
+    values_shown : bool
+        Whether that message gives an example value, what the reference has and what the
+        answer has (the default). ``False`` for a check of numbers the statement asks for at
+        one input (``at``, or no variables): the reference there is the answer itself, so a
+        wrong attempt is told which entries differ, and the ``hint``, never their values.
     """
 
     name: str
@@ -697,6 +702,7 @@ class Check:
     at_text: str = ""
     hint: str = ""
     doc: str = ""
+    values_shown: bool = True
 
     def __post_init__(self) -> None:
         self.variables = as_variables(self.variables)
@@ -844,6 +850,8 @@ class Check:
         k = int(np.argmax(bad.reshape(len(X), -1).any(axis=1)))
         where = self._point_text(X[k])
         where = f" at {where}" if where else ""
+        if not self.values_shown:
+            return self._hidden_values_message(where, bad, R)
         if R.ndim == 1 or R[0].size == 1:   # one number per input: no entries to name
             return (
                 f"{self.name} is not correct{where}: expected {fmt(R[k])}, got {fmt(S[k])}."
@@ -861,6 +869,16 @@ class Check:
             want, got = fmt(R[k][i0], 9), fmt(S[k][i0], 9)
         ex = f" For example{where}: {self._entry_text(i0)} should be {want}, yours is {got}."
         return head + ex + (f" {self.hint}" if self.hint else "")
+
+    def _hidden_values_message(self, where: str, bad: np.ndarray, R: np.ndarray) -> str:
+        """The mismatch message of a check whose values are the answer (``values_shown=False``):
+        the entries that differ (at any sample) and the hint, no value of the reference."""
+        hint = f" {self.hint}" if self.hint else ""
+        if R.ndim == 1 or R[0].size == 1:
+            return f"{self.name} is not correct{where}.{hint}"
+        wrong = [tuple(int(i) for i in idx) for idx in zip(*np.nonzero(bad.any(axis=0)))]
+        what = "every entry differs" if len(wrong) == R[0].size else self._entries_text(wrong)
+        return f"{self.name} is not correct{where}: {what}.{hint}"
 
     def _entries_text(self, wrong: list[tuple[int, ...]]) -> str:
         """The wrong entries, for the head of a message: ``"entries [1], [3] differ"``."""

@@ -534,6 +534,9 @@ hand_position_at = exercise(_CHAPTER, "hand_position_at", Check(
     at_text="q_start = lower + 0.5·range",
     atol=1e-3,
     rtol=0.0,
+    values_shown=False,
+    hint=("It is the top of the last column of your forward kinematics of MDH at q_start (in radians): "
+          "the product of the seven link transforms and the flange's T_z(d_hand), in the shoulder frame."),
     doc="Check the hand position (m, shoulder frame) at the mid-range configuration Q_START, within 1 mm.",
 ))
 
