@@ -206,27 +206,30 @@ def _ellipse_mistakes(force: bool, from_velocity: bool = False) -> list:
             "axis of radii[i], so reversing the order of the radii reverses the columns of the "
             "axes too.")
     squared = (
-        "{name} returns squared lengths: the eigenvalues of J Jᵀ are σ_i², the semi-axes are "
-        "their square roots σ_i" + (", and the force ellipse's are 1/σ_i." if force else ".")
+        "{name} returns squared lengths" + (" (or their reciprocals)" if force else "") + ": the "
+        "eigenvalues of J Jᵀ have the unit of a length squared, and a semi-axis is a length "
+        "(compare the units)."
     )
     if force:
         items = [
             alternatives("not_inverted", [
                 (make(lambda U, s, V: (s, U)), (
-                    "{name} has the velocity ellipse's lengths σ_i: the force ellipse "
-                    "{{F : ‖Jᵀ F‖ ≤ 1}} has the same axes and the reciprocal lengths 1/σ_i (the arm "
-                    "pushes hardest where it moves slowest).")),
+                    "{name} has the velocity ellipse's lengths σ_i: write ‖Jᵀ F‖² = Fᵀ J Jᵀ F in "
+                    "the coordinates of the eigenvectors of J Jᵀ and read the semi-axes of "
+                    "{{F : ‖Jᵀ F‖ ≤ 1}} there (does a direction the arm moves fast in need much "
+                    "torque or little?).")),
                 (make(lambda U, s, V: (rev(s), rev(U))), (
-                    "{name} has the lengths σ_i, not inverted: the force ellipse's semi-axes are "
-                    "1/σ_i (the longest along the velocity ellipse's shortest axis).")),
+                    "{name} has the velocity ellipse's lengths σ_i, in reverse order: the force "
+                    "ellipse {{F : ‖Jᵀ F‖ ≤ 1}} is not the velocity ellipse; read its semi-axes from "
+                    "Fᵀ J Jᵀ F in the coordinates of the eigenvectors of J Jᵀ.")),
             ]),
             alternatives("squared", [
                 (make(lambda U, s, V: (rev(1 / s**2), rev(U))), squared),
                 (make(lambda U, s, V: (rev(s**2), rev(U))), squared),
             ]),
             alternatives("ascending", [(make(lambda U, s, V: (1 / s, U)), (
-                "{name} lists the radii in ascending order: give them descending (the longest "
-                "semi-axis 1/σ_min first), each axis in the column of its radius."))]),
+                "{name} lists the radii in ascending order: give them descending, each axis in "
+                "the column of its radius."))]),
             alternatives("axes_not_reordered", [
                 (make(lambda U, s, V: (rev(1 / s), U)), unpaired),
                 (make(lambda U, s, V: (1 / s, rev(U))), unpaired),
@@ -245,8 +248,8 @@ def _ellipse_mistakes(force: bool, from_velocity: bool = False) -> list:
                 (make(lambda U, s, V: (rev(s**2), rev(U))), squared),
             ]),
             alternatives("inverted", [(make(lambda U, s, V: (rev(1 / s), rev(U))), (
-                "{name} has the force ellipse's lengths 1/σ_i: the velocity ellipse "
-                "{{J q̇ : ‖q̇‖ ≤ 1}} has the semi-axes σ_i."))]),
+                "{name} has reciprocal lengths: the velocity ellipse {{J q̇ : ‖q̇‖ ≤ 1}} grows "
+                "with J (double J and every semi-axis doubles)."))]),
             alternatives("ascending", [(make(lambda U, s, V: (rev(s), rev(U))), (
                 "{name} lists the radii in ascending order (as numpy.linalg.eigh returns "
                 "eigenvalues): give them descending, each axis in the column of its radius."))]),
@@ -321,11 +324,13 @@ def _torques_reference(x: np.ndarray) -> np.ndarray:
 def _torques_mistakes() -> list:
     return [
         alternatives("jacobian_not_transposed", [(lambda x: _jacobian(x) @ x[2:4], (
-            "{name} multiplies the force by J instead of Jᵀ: virtual work, τ·q̇ = F·v = F·(J q̇) "
-            "for every q̇, gives τ = Jᵀ F (row j of Jᵀ is column j of J, ∂p/∂q_j)."))]),
+            "{name} multiplies the force by J, which maps joint rates to tool velocities: forces "
+            "go the other way. Write the virtual work, τ·δq = F·δp with δp = J δq, for every δq, "
+            "and read which matrix maps F to τ."))]),
         alternatives("sign", [(lambda x: -_torques_reference(x), (
-            "{name} has the opposite sign: τ = Jᵀ F are the torques with which the joints make the "
-            "tool push with F (they hold it against the environment's −F)."))]),
+            "{name} has the opposite sign: the torques asked for make the tool push with F (they "
+            "hold it against the environment's −F); check the signs of the virtual work "
+            "balance."))]),
         dg.degrees(),
     ]
 
@@ -382,12 +387,13 @@ leg_torques = exercise(_CHAPTER, "leg_torques", _MassCheck(
     groups=[("q", [0, 1, 2]), ("m", [3])],
     diagnoses=[
         alternatives("sign", [(lambda x: -_foot_jacobian(x).T @ _leg_force(x), (
-            "{name} has the opposite sign: the foot pushes the ground down with the body's "
-            "weight, F = (0, 0, −m g) in the body's frame (the ground pushes it up); (0, 0, +m g) "
-            "is a hand holding a load up. The energy agrees: the body's height above the foot is "
-            "−z_F(q), and τ = ∂(m g (−z_F))/∂q."))]),
+            "{name} has the opposite sign: which way does the foot push on the ground, and which "
+            "way does a hand holding a load push on it? The body's potential energy decides: "
+            "raise the body by a virtual displacement and compare the motors' work with the "
+            "change of its energy."))]),
         alternatives("jacobian_not_transposed", [(lambda x: _foot_jacobian(x) @ _leg_force(x), (
-            "{name} multiplies the force by J instead of Jᵀ: τ = Jᵀ F by virtual work."))]),
+            "{name} multiplies the force by J, which maps joint rates to foot velocities: "
+            "forces go the other way (virtual work)."))]),
         alternatives("no_gravity", [(lambda x: _foot_jacobian(x).T @ _leg_force(x) / GRAVITY, (
             "{name} uses the mass m (kg) as a force: the weight is m g, g = 9.81 m/s²."))]),
         dg.degrees(),
@@ -496,14 +502,16 @@ push_capacity = exercise(_CHAPTER, "push_capacity", MatrixArgumentsCheck(
     variables=[*_Q, _ANGLE_D],
     diagnoses=[
         alternatives("not_inverted", [(lambda x: np.asarray(np.linalg.norm(_jacobian(x).T @ _direction(x))), (
-            "{name} returns ‖Jᵀ d‖, the torque norm a unit force along d costs: the largest force "
-            "with ‖Jᵀ F‖ ≤ 1 is F = f d with f = 1/‖Jᵀ d‖."))]),
+            "{name} returns ‖Jᵀ d‖, the torque norm a unit force along d costs: how large may f "
+            "grow before the force f d costs a torque norm of 1?"))]),
         alternatives("jacobian_not_transposed", [(
             lambda x: np.asarray(1.0 / np.linalg.norm(_jacobian(x) @ _direction(x))), (
-                "{name} uses J d instead of Jᵀ d: the torques of the force f d are τ = Jᵀ (f d).")),
+                "{name} uses J d: J maps joint rates to tool velocities; the torques a force "
+                "costs come from virtual work, as in Task 1.")),
         ]),
         alternatives("squared", [(lambda x: np.asarray(1.0 / np.linalg.norm(_jacobian(x).T @ _direction(x)) ** 2), (
-            "{name} is 1/‖Jᵀ d‖²: ‖Jᵀ (f d)‖ = f ‖Jᵀ d‖ ≤ 1 gives f = 1/‖Jᵀ d‖."))]),
+            "{name} is 1/‖Jᵀ d‖²: the torque norm of the force f d grows in proportion to f, "
+            "not to f²."))]),
     ],
     noun="Jacobians and directions",
     arguments=lambda x: (_jacobian(x), _direction(x)),
