@@ -101,7 +101,7 @@ STOP = 0.01  # the exercise's stop threshold (m/s, rad/s)
 
 
 def loop_while(twist_of, q0, ts, t_end, robot, scale=1.0, no_ts=False, skip=False, stop=STOP,
-               transpose=False, test_after=False):
+               transpose=False, test_after=False, clamp=True):
     """The Task 4 loop written as a while loop with a least-squares solve; the keywords make
     the typical mistakes."""
     lower, upper = robot.limits[:, 0], robot.limits[:, 1]
@@ -121,6 +121,7 @@ def loop_while(twist_of, q0, ts, t_end, robot, scale=1.0, no_ts=False, skip=Fals
         qdot = J.T @ nu if transpose else np.linalg.lstsq(J, nu, rcond=None)[0]
         new = q + (qdot if no_ts else scale * ts * qdot)
         q = np.where((new < lower) | (new > upper), q, new) if skip else np.minimum(np.maximum(new, lower), upper)
+        q = q if clamp else new
         Q.append(q)
         k += 1
         if test_after:
@@ -217,6 +218,7 @@ WRONG = [
     ("kinematic_loop", partial(loop_while, skip=True), "skip_rule"),
     ("kinematic_loop", partial(loop_while, stop=0.8 * STOP), "stop_on_error"),
     ("kinematic_loop", partial(loop_while, transpose=True), "jacobian_transpose"),
+    ("kinematic_loop", partial(loop_while, clamp=False), "no_clamp"),
     ("kinematic_loop", lambda *a: loop_while(*a)[0], "error"),                   # Q alone
     ("rpy_rate_matrix", lambda R: rpy_rates_by_hand(R)[:, ::-1], "columns_reversed"),
     ("rpy_rate_matrix", lambda R: np.column_stack([rotz(rpy_from_rotation(R)[2])[:, 0], rpy_rates_by_hand(R)[:, 1:]]),

@@ -668,7 +668,7 @@ def _loop_args(x: np.ndarray) -> tuple:
 
 
 def _loop(twist_of, q0, ts, t_end, robot, *, step_scale=1.0, no_ts=False, skip=False,
-          stop_scale=1.0, transpose=False, step_first=False) -> tuple[np.ndarray, np.ndarray]:
+          stop_scale=1.0, transpose=False, step_first=False, no_clamp=False) -> tuple[np.ndarray, np.ndarray]:
     """The reference loop (and, with the keywords, its typical mistakes): ``(Q, V)``."""
     lower, upper = robot.limits[:, 0], robot.limits[:, 1]
     q = np.array(q0, dtype=float)
@@ -689,7 +689,10 @@ def _loop(twist_of, q0, ts, t_end, robot, *, step_scale=1.0, no_ts=False, skip=F
         J = robot.jacobian(q)
         qdot = (J.T if transpose else np.linalg.pinv(J)) @ nu
         new = q + (qdot if no_ts else step_scale * ts * qdot)
-        q = np.where((new >= lower) & (new <= upper), new, q) if skip else np.clip(new, lower, upper)
+        if no_clamp:
+            q = new
+        else:
+            q = np.where((new >= lower) & (new <= upper), new, q) if skip else np.clip(new, lower, upper)
         Q.append(q.copy())
         if step_first:
             V.append(nu)
@@ -759,6 +762,10 @@ kinematic_loop = exercise(_CHAPTER, "kinematic_loop", MatrixArgumentsCheck(
             "{name} leaves a joint where it was when its new value would leave the limits (the "
             "report's rule), which freezes it short of the limit: clamp the new value instead "
             "(np.clip)."
+        ))]),
+        alternatives("no_clamp", [(_loop_variant(no_clamp=True), (
+            "{name} lets the joints leave their limits: the statement keeps every joint within "
+            "its limits, so clamp each new value to them (np.clip) after the Euler step."
         ))]),
         alternatives("stop_on_error", [(_loop_variant(stop_scale=_LOOP_GAIN), (
             "{name} tests the error (the twist divided by the gain 0.8) against STOP: the stop "

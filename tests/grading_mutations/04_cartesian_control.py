@@ -211,6 +211,19 @@ e_final = pose_error(T_final, T_BG)
 '''
 
 # the report's rule: a joint whose new value is out of its limits is not updated
+_NO_CLAMP = '''
+def kinematic_loop(twist_of, q0, ts=TS, t_end=T_END, robot=tool_arm):
+    q, Q, V = np.array(q0, dtype=float), [], []
+    for k in range(int(round(t_end / ts)) + 1):
+        nu = twist_of(q)
+        Q.append(q)
+        V.append(nu)
+        if np.linalg.norm(nu[:3]) < STOP and np.linalg.norm(nu[3:]) < STOP:
+            break
+        q = q + ts * np.linalg.pinv(robot.jacobian(q)) @ nu
+    return np.array(Q), np.array(V)
+'''
+
 _SKIP_RULE = '''
 def kinematic_loop(twist_of, q0, ts=TS, t_end=T_END, robot=tool_arm):
     lower, upper = robot.limits.T
@@ -441,6 +454,7 @@ MUTATIONS = {
         ("the step taken before the stop test", _STEP_THEN_TEST),
         ("the stop test on the error instead of the twist", _STOP_ON_ERROR),
         ("the report's skip rule instead of clamping", _SKIP_RULE),
+        ("the joints left free of their limits", _NO_CLAMP),
         ("the Euler step multiplied by the gain again", _STEP_WITH_GAIN),
         ("the Euler step without the time step", _STEP_WITHOUT_TS),
     ],
