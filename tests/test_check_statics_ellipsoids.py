@@ -187,7 +187,8 @@ def test_delegation_names_robokin_functions():
                 assert references[attribute] == f"robokin.check.statics_ellipsoids.{attribute}"
                 assert callable(getattr(chk, attribute))
             else:
-                assert hasattr(ellipsoids, attribute) or attribute in ("position_jacobian", "jacobian")
+                assert hasattr(ellipsoids, attribute) or attribute in (
+                    "position_jacobian", "jacobian", "planar_two_link")
 
 
 def test_leg_torques_j_instead_of_transpose_is_named():

@@ -95,6 +95,9 @@ DELEGATION = {
                       "reference_velocity_ellipse": "robokin.check.statics_ellipsoids.reference_velocity_ellipse"},
     "posture_measures": {
         "reference_posture_measures": "robokin.check.statics_ellipsoids.reference_posture_measures"},
+    # the closed form derived, not w evaluated numerically on a model of the arm built by the answer
+    "w_formula": {"planar_two_link": "robokin.models.planar_two_link",
+                  "position_jacobian": "SerialChain.position_jacobian"},
 }
 
 
