@@ -538,6 +538,19 @@ def test_ik_closed_form(answer, code):
     assert r.diagnosis == code, r.message
 
 
+def test_ik_closed_form_mismatch_shows_no_solution():
+    """A wrong set of solutions is told how many of its rows reach the goal and how many the
+    goal has, not the solutions themselves (the answer asked for)."""
+    def one_row_off(p):
+        sols = closed_form(p)
+        return np.vstack([sols[:1], sols[:1] + 0.3, sols[2:]]) if len(sols) else np.zeros((1, 3))
+
+    r = L.ik_closed_form(one_row_off, quiet=True)
+    assert r.diagnosis == "mismatch", r.message
+    assert "1 of them reaching the goal" in r.message or "0 of them reaching" in r.message
+    assert "(rad)" not in r.message and "; [" not in r.message
+
+
 def test_joint_velocity_function():
     """joint_velocity(v, jacobian) solves J q̇ = v for the Jacobian it is given; typical mistakes named."""
     JL = J_np(Q_LIFT)

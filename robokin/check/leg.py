@@ -889,10 +889,14 @@ class _SolutionSetCheck(FunctionCheck):
         if named is not None:
             return named
         k = next(i for i, (S, R) in enumerate(zip(got, refs)) if not _same_set(S, R))
+        # how many of its rows reach the goal: the student can check that too (no solution shown)
+        reach = sum(bool(np.all(np.isfinite(q))) and np.linalg.norm(_leg().fk(q)[:3, 3] - X[k]) < 1e-7
+                    for q in got[k])
         return self.failure("mismatch", (
-            f"{name} is not correct: at p = {fmt(X[k])} it returns {len(got[k])} "
-            f"solution(s), the goal has {len(refs[k])}"
-            + (": " + "; ".join(fmt(row) for row in refs[k]) + " (rad)." if len(refs[k]) else ".")), n)
+            f"{name} is not correct: at p = {fmt(X[k])} it returns {len(got[k])} solution(s), "
+            f"{reach} of them reaching the goal (r_BF(q) = p), and the goal has {len(refs[k])}, "
+            "each once. Check every row with the forward kinematics, and count the ways the leg "
+            "can reach a point: where α can put the leg plane, and how the knee can bend."), n)
 
 
 def _closed_form_of(code: str, x: np.ndarray) -> np.ndarray:
