@@ -723,9 +723,9 @@ def reference_knee_angle(d: float, l1_: float = LENGTHS[0], l2_: float = LENGTHS
     Returns
     -------
     float
-        The knee angle q4 ≥ 0 (rad) with d² = l1² + l2² + 2 l1 l2 cos q4; a cosine that
-        rounding puts past ±1 by at most 1e-9 counts as ±1 (the stretched leg has q4 = 0),
-        ``nan`` for a distance out of reach.
+        The knee angle q4 ≥ 0 (rad) that puts the ankle at the distance d from the hip
+        (q4 = 0: the stretched leg, d = l1 + l2; a cosine of q4 that rounding puts past ±1 by
+        at most 1e-9 counts as ±1), ``nan`` for a distance out of reach.
     """
     d = as_scalar(d, "d")
     if d < 0.0:
