@@ -167,16 +167,20 @@ def _install_cell(path: Path) -> dict:
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
 def test_first_code_cell_installs_robokin_where_it_is_missing(path, monkeypatch):
     """Colab opens a notebook without the repository: the first code cell installs robokin
-    (with its views) from the repository named in _config.yml; here it does nothing."""
+    (with its views, and the extras the notebook needs) from the repository named in _config.yml;
+    here it does nothing."""
     import importlib.util
     import subprocess
 
     import yaml
 
+    from tools.authoring.install_cell import extras_for
+
     cell = _install_cell(path)
     code = "".join(cell["source"])
     url = yaml.safe_load((ROOT / "_config.yml").read_text())["repository"]["url"]
-    assert f"robokin[views] @ git+{url}" in code, f"{path.name}: the install cell does not name {url}"
+    assert f"robokin[{extras_for(path)}] @ git+{url}" in code, (
+        f"{path.name}: the install cell does not install robokin[{extras_for(path)}] from {url}")
     assert "remove-cell" in cell["metadata"].get("tags", []) and not cell.get("outputs")
 
     calls = []

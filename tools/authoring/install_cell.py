@@ -44,15 +44,25 @@ if importlib.util.find_spec("robokin") is None:
             "pip",
             "install",
             "--quiet",
-            "robokin[views] @ git+{url}",
+            "robokin[{extras}] @ git+{url}",
         ],
         check=True,
     )'''  # as tools/authoring/format_notebooks.py (black) writes it
 
 
-def install_code(root: Path = ROOT) -> str:
+# The extras a notebook needs beyond robokin[views] (pyproject.toml's optional dependencies), by
+# notebook stem: Colab has numpy, scipy, sympy and matplotlib, not the URDF parser and the robots.
+EXTRAS = {"00_your_robot": "views,robots"}
+
+
+def extras_for(path: Path) -> str:
+    """The extras of robokin that the notebook at ``path`` installs: ``"views"`` unless EXTRAS names more."""
+    return EXTRAS.get(Path(path).stem, "views")
+
+
+def install_code(root: Path = ROOT, extras: str = "views") -> str:
     url = yaml.safe_load((root / "_config.yml").read_text())["repository"]["url"]
-    return TEMPLATE.format(url=url)
+    return TEMPLATE.format(url=url, extras=extras)
 
 
 def write(path: Path, code: str, dry_run: bool = False) -> bool:
@@ -83,13 +93,12 @@ def main(argv: list[str] | None = None) -> int:
                         help="notebooks to write (default: every notebooks/NN_*.ipynb)")
     parser.add_argument("--check", action="store_true", help="write nothing; exit 1 naming stale notebooks")
     args = parser.parse_args(argv)
-    code = install_code()
     paths = args.notebooks or sorted((ROOT / "notebooks").glob("[0-9][0-9]_*.ipynb"))
     stale = []
     for path in paths:
         if not path.is_file():
             parser.error(f"{path}: no such notebook")
-        if write(path, code, dry_run=args.check):
+        if write(path, install_code(extras=extras_for(path)), dry_run=args.check):
             stale.append(path)
             if not args.check:
                 print(f"install cell written: {path}")
