@@ -220,6 +220,9 @@ MUTATIONS = {
          "        if all(np.abs(q - other).max() > 1e-9 for other in kept):\n"
          "            kept.append(q)\n"
          "    return len(kept)"),
+        ("rows compared exactly after wrapping: copies moved by rounding counted twice",
+         "def different_solutions(Q):\n"
+         "    return len(np.unique(wrap(np.asarray(Q, dtype=float)), axis=0))"),
     ],
     "task5_test2": [
         ("q2 = pi/4: no gimbal lock, and the family moves q2 too",
