@@ -177,26 +177,26 @@ circle_position = exercise(_CHAPTER, "circle_position", Check(
         alternatives("centre_at_start", [(
             lambda x: _circle(x, centre=P_START),
             ("{name} is centred at the hand's start position: then the reference starts r = 5 cm away "
-             "from the hand and the first steps jump. The circle starts at the hand, so its centre is "
-             "c = r(q_start) − [r, 0, 0]."),
+             "from the hand and the first steps jump. The circle starts at the hand: find the centre "
+             "from where r_des(0) lies on the circle."),
         )]),
         alternatives("phase", [
             (lambda x: _circle(x, phase=_PI / 2),
-             ("{name} starts a quarter turn late (phase error of π/2): at t = 0 it must be at "
-              "c + [r, 0, 0], the hand's start position; use [cos ωt, sin ωt, 0].")),
+             ("{name} starts a quarter turn late (phase error of π/2): at t = 0 it must be at the "
+              "hand's start position, and its derivative the exercise's velocity profile.")),
             (lambda x: _circle(x, phase=-_PI / 2),
-             ("{name} starts a quarter turn early (phase error of −π/2): at t = 0 it must be at "
-              "c + [r, 0, 0]; use [cos ωt, sin ωt, 0].")),
+             ("{name} starts a quarter turn early (phase error of −π/2): at t = 0 it must be at the "
+              "hand's start position, and its derivative the exercise's velocity profile.")),
         ]),
         alternatives("swapped_sin_cos", [(
             lambda x: _CENTRE + RADIUS * np.array([math.sin(OMEGA * x[0]), math.cos(OMEGA * x[0]), 0.0]),
-            ("{name} swaps sin and cos: it starts at c + [0, r, 0], a quarter circle away from the hand, "
-             "and turns clockwise. Use c + r [cos ωt, sin ωt, 0]."),
+            ("{name} swaps sin and cos: it starts a quarter circle away from the hand and turns "
+             "clockwise. Integrate the exercise's velocity profile from the hand's start position."),
         )]),
         alternatives("direction", [(
             lambda x: _circle(x, sense=-1.0),
-            ("{name} turns clockwise (seen from above): the tutorial's circle turns counter-clockwise, "
-             "y = c_y + r sin ωt."),
+            ("{name} turns clockwise (seen from above): the exercise's velocity profile turns "
+             "counter-clockwise (ẏ = r ω cos ωt > 0 at t = 0)."),
         )]),
         alternatives("degrees", [(
             lambda x: _circle(x, omega=90.0),
@@ -221,7 +221,7 @@ circle_velocity = exercise(_CHAPTER, "circle_velocity", Check(
         alternatives("missing_chain_rule", [(
             lambda x: _circle_dot(x, factor=1.0),
             ("{name} misses the factor ω of the chain rule: d/dt cos(ωt) = −ω sin(ωt), so "
-             "v_des = r ω [−sin ωt, cos ωt, 0] (here r ω = 0.0785 m/s)."),
+             "v_des = r ω [−sin ωt, cos ωt, 0]."),
         )]),
         alternatives("phase", [
             (lambda x: _circle_dot(x, phase=_PI / 2),

@@ -212,8 +212,6 @@ MUTATIONS = {
          "U, S, _ = np.linalg.svd(arm.position_jacobian(Q_f[k_loss]))\n"
          "lost_direction = U[:, -1]\n"
          "speed_loss = np.linalg.norm(Q_f[k_loss + 1] - Q_f[k_loss]) / TS"),
-        ("the failing run tracked closed loop, not with the exercise's open-loop law",
-         "runs_open = {**runs_open, 'exercise': track(q_ex, p_ex + relative, v_ref)}"),
         ("the lost direction taken as u_1, the direction the hand moves in most easily",
          "lost_direction = U[:, 0]"),
         ("the joint speed taken per step, not per second",
