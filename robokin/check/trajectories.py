@@ -493,8 +493,9 @@ def _motion(t, start, end, v_max, a_max, mistake: str = "") -> tuple[np.ndarray,
 
 _MOTION_MISTAKES = {
     "fastest_joint": ("{name} gives every joint the fastest joint's time (from the least_duration it "
-                      "calls, or its own): the slower joints then exceed their limits. The slowest joint "
-                      "sets the duration T = max_i T_i."),
+                      "calls, or its own): in that time a slower joint arrives only beyond its limits (it "
+                      "cruises above v_max, or its ramps at a_max cover less than its distance). The "
+                      "slowest joint sets the duration T = max_i T_i."),
     "unsynchronised": ("in {name} every joint moves in its own minimum time, so the joints arrive one "
                        "after the other: plan every joint again with the common duration T = max_i T_i."),
     "swapped_limits": "{name} swaps v_max and a_max.",
