@@ -666,3 +666,40 @@ def test_messages_of_wrong_answers_name_no_expected_value():
     assert f"{d_goal:.4f}" not in text and f"{d_goal:.3f}" not in text
     for closed_form in ("arccos(−L1 s4", "atan2(r21", "atan2(w_x", "(d² − L1² − L2²) / (2 L1 L2)", "has 8"):
         assert closed_form not in text, closed_form
+
+
+# ---------------------------------------------------------------- hip_angles
+def _hips_written_out(R_H, swap=False):
+    """Both hip triples, written out as the chapter derives them (cos q2 > 0 first)."""
+    out = []
+    for c2 in (np.hypot(R_H[0, 0], R_H[1, 0]), -np.hypot(R_H[0, 0], R_H[1, 0])):
+        first, second = (R_H[0, 0], R_H[1, 0]) if swap else (R_H[1, 0], R_H[0, 0])
+        out.append((np.arctan2(first / c2, second / c2), np.arctan2(-R_H[2, 0], c2),
+                    np.arctan2(R_H[2, 1] / c2, R_H[2, 2] / c2) if not swap
+                    else np.arctan2(R_H[2, 2] / c2, R_H[2, 1] / c2)))
+    return out
+
+
+def test_hip_angles_correct(capsys):
+    assert ck.hip_angles(_hips_written_out).passed
+    assert ck.hip_angles(ck.reference_hip_angles).passed
+    assert "20 random hip rotations" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("answer, code", [
+    (lambda R: _hips_written_out(R)[:1], "hip_branch_missing"),
+    (lambda R: _hips_written_out(R, swap=True), "hip_atan2_swapped"),
+    (lambda R: [(c, b, a) for a, b, c in _hips_written_out(R)], "hip_reversed"),
+    (lambda R: _hips_written_out(R.T), "hip_transposed"),
+    (lambda R: [(-a, -b, -c) for a, b, c in _hips_written_out(R.T)], "hip_order"),
+    (lambda R: _hips_written_out(R)[::-1], "first_branch"),
+    (lambda R: np.rad2deg(_hips_written_out(R)), "degrees_output"),
+    (lambda R: _hips_written_out(R)[:1] * 2, "duplicate"),
+    (lambda R: [], "missing"),
+    (lambda R: [(0.0, 0.0, 0.0)], "mismatch"),
+    (lambda R: np.zeros((2, 2)), "shape"),
+    (None, "error"),
+])
+def test_hip_angles_mistakes(answer, code):
+    result = ck.hip_angles(answer, quiet=True)
+    assert not result.passed and result.diagnosis == code, result.message

@@ -24,6 +24,8 @@ check                    the student's answer                                   
 ``sole_sweep``           function f(heights, leg_ik) -> (counts, sigma_min): the      6 heights, with an
                          rows leg_ik returns for the sole level at each height and    inverse kinematics
                          sigma_min of J at the first (NaN where there is none)        of the check's own
+``hip_angles``           function f(R_H) -> both triples (q1, q2, q3) of R_H,        20 random hip
+                         R_z(q1) R_y(q2) R_x(q3) = R_H, cos q2 > 0 first             rotations
 ``different_solutions``  function f(Q) -> int: how many rows of Q (k, 6) are         5 sets of rows of
                          different solutions (equal modulo 2π to 1e-9 rad: one)       the check's own
 =======================  ==========================================================  ======================
@@ -75,6 +77,7 @@ __all__ = [
     "ankle_point",
     "different_solutions",
     "foot_transform",
+    "hip_angles",
     "ik_solution",
     "ik_solver",
     "k_regular",
@@ -494,6 +497,10 @@ DELEGATION = {
                "solve_ik": "robokin.motion.solve_ik"},
     "unreachable_reason": {"ar601_leg_ik": "robokin.models.ar601_leg_ik",
                            "ar601_leg_ik_batch": "robokin.models.ar601_leg_ik_batch"},
+    # the ZYX angles read off by hand, both branches (rpy_from_rotation gives one)
+    "hip_angles": {"rpy_from_rotation": "robokin.transforms.rpy_from_rotation",
+                   "reference_hip_angles": "robokin.check.ar601.reference_hip_angles",
+                   "ar601_leg_ik": "robokin.models.ar601_leg_ik"},
     # the sweep counts the rows of the inverse kinematics it is given (leg_ik), not robokin's
     "sole_sweep": {"ar601_leg_ik": "robokin.models.ar601_leg_ik",
                    "ar601_leg_ik_batch": "robokin.models.ar601_leg_ik_batch"},
@@ -1293,4 +1300,106 @@ different_solutions = exercise(_CHAPTER, "different_solutions", _DifferentSoluti
     doc=("Check a function different_solutions(Q) -> int: how many rows of Q (k, 6) are "
          "different solutions (rows that agree modulo 2π to 1e-9 rad are one), on sets of rows "
          "of the check's own."),
+))
+
+
+# ------------------------------------------------------------------ the hip angles
+def _hip_triples(R_H: np.ndarray, mistake: str = "") -> np.ndarray:
+    """Both ``(q1, q2, q3)`` with R_z(q1) R_y(q2) R_x(q3) = R_H, cos q2 > 0 first (k, 3), or
+    what a typical ``mistake`` (the codes of :data:`_HIP_MISTAKES`) makes of them."""
+    R = R_H.T if mistake in ("hip_transposed", "hip_order") else R_H
+    rows = []
+    for sign in ((1.0,) if mistake == "hip_branch_missing" else (1.0, -1.0)):
+        c2 = sign * math.hypot(R[0, 0], R[1, 0])
+        q2 = math.atan2(-R[2, 0], c2)
+        if mistake == "hip_atan2_swapped":
+            q1, q3 = math.atan2(R[0, 0] / c2, R[1, 0] / c2), math.atan2(R[2, 2] / c2, R[2, 1] / c2)
+        else:
+            q1, q3 = math.atan2(R[1, 0] / c2, R[0, 0] / c2), math.atan2(R[2, 1] / c2, R[2, 2] / c2)
+        if mistake == "hip_order":  # Rx(a) Ry(b) Rz(c) = R_H read off R_Hᵀ = Rz(−c) Ry(−b) Rx(−a)
+            q1, q2, q3 = -q1, -q2, -q3
+        rows.append((q3, q2, q1) if mistake == "hip_reversed" else (q1, q2, q3))
+    return np.array(rows, dtype=float)
+
+
+_HIP_MISTAKES = [
+    ("hip_branch_missing",
+     "{name} returns one triple only: the same R_H has a second triple, with cos q2 of the "
+     "other sign; return both."),
+    ("hip_atan2_swapped",
+     "{name} swaps the arguments of atan2 in q1 and q3: atan2(y, x) takes first the entry "
+     "proportional to the angle's sine, then the one proportional to its cosine."),
+    ("hip_reversed",
+     "{name} returns the angles in the order (q3, q2, q1), as roll, pitch, yaw: the task asks "
+     "for (q1, q2, q3), q1 about z first."),
+    ("hip_order",
+     "{name} reads the angles as if R_H = R_x(q3) R_y(q2) R_z(q1). The hip yaw q1 comes first "
+     "from the body: R_H = R_z(q1) R_y(q2) R_x(q3) (ZYX); read the angles off that product."),
+    ("hip_transposed",
+     "{name} reads the angles off R_Hᵀ: the product R_z(q1) R_y(q2) R_x(q3) is R_H itself, "
+     "not its transpose."),
+]
+
+
+class _HipAnglesCheck(FunctionCheck):
+    """``hip_angles(R_H) -> [(q1, q2, q3), ...]``: both triples, the one with cos q2 > 0 first."""
+
+    def judge(self, answer: Any) -> CheckResult:
+        from robokin.transforms import rotx, roty, rotz
+
+        X = self.sample_points()
+        name, n = self.name, len(X)
+        cases = [rotz(x[0]) @ roty(x[1]) @ rotx(x[2]) for x in X]
+        got = []
+        for k, R_H in enumerate(cases):
+            out = np.asarray(self.call(answer, (R_H.copy(),), f"at rotation {k + 1}", n), dtype=float)
+            if out.size == 0:
+                out = out.reshape(0, 3)
+            if out.ndim == 1 and out.size == 3:
+                out = out[None, :]
+            if out.ndim != 2 or out.shape[1] != 3:
+                return self.failure("shape", f"{name} should return a list of (q1, q2, q3) triples; got "
+                                    f"shape {out.shape} at rotation {k + 1}.", n)
+            got.append(out)
+        refs = [_hip_triples(R_H) for R_H in cases]
+        if all(_same_rows(S, R) for S, R in zip(got, refs)):
+            if all(math.cos(S[0, 1]) > 0 for S in got):
+                return self.success(f"{name} is correct: both triples, the one with cos q2 > 0 first "
+                                    f"(checked at {n} random hip rotations).", n)
+            return self.failure("first_branch", f"{name} returns both triples, but not always the one "
+                                "with cos q2 > 0 first, as the task asks.", n)
+        if all(_same_rows(np.deg2rad(S), R) for S, R in zip(got, refs)):
+            return self.failure("degrees_output", f"{name} returns degrees: np.deg2rad of it solves the "
+                                "problem. robokin works in radians.", n)
+        named = self.diagnose(_HIP_MISTAKES, lambda code: all(
+            _same_rows(S, _hip_triples(R_H, code)) for S, R_H in zip(got, cases)), n)
+        if named is not None:
+            return named
+        k = next(i for i, (S, R) in enumerate(zip(got, refs)) if not _same_rows(S, R))
+        where = f"{name} at rotation {k + 1}"
+        for q1, q2, q3 in got[k]:
+            miss = float(np.abs(rotz(q1) @ roty(q2) @ rotx(q3) - cases[k]).max())
+            if miss > 1e-7:
+                return self.failure("mismatch", (
+                    f"{where} returns (q1, q2, q3) = {fmt(np.array([q1, q2, q3]), 4)} rad, whose "
+                    f"R_z(q1) R_y(q2) R_x(q3) differs from R_H by up to {fmt(miss, 3)} in an entry."), n)
+        if _distinct(np.hstack([got[k], np.zeros((len(got[k]), 3))])) < len(got[k]):
+            return self.failure("duplicate", f"{where} returns a triple twice (angles compared modulo "
+                                "2π): each triple once.", n)
+        if len(got[k]) == 0:
+            return self.failure("missing", f"{where} returns no triple, but every rotation R_H has "
+                                "its hip angles.", n)
+        return self.failure("missing", (
+            f"{where} returns {len(got[k])} triple(s), each right, but misses another: the same "
+            "R_H has a triple with cos q2 of either sign."), n)
+
+
+hip_angles = exercise(_CHAPTER, "hip_angles", _HipAnglesCheck(
+    name="hip_angles",
+    signature="hip_angles(R_H) -> list of (q1, q2, q3)",
+    variables=_Q,
+    noun="hip rotations",
+    doc=("Check a function hip_angles(R_H) -> [(q1, q2, q3), ...] that returns both triples with "
+         "R_z(q1) R_y(q2) R_x(q3) = R_H, the one with cos q2 > 0 first, at 20 random hip "
+         "rotations."),
 ))
