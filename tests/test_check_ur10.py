@@ -222,9 +222,10 @@ def test_joint_limit_gradient_mistakes(code):
     assert not r.passed and r.diagnosis == code, r.message
 
 
-def test_joint_limit_gradient_mismatch_shows_central_differences():
-    """A gradient no typical mistake explains (one joint's term left out) is shown against central
-    differences of H at the check's configuration; no message states the closed form asked for."""
+def test_joint_limit_gradient_mismatch_names_entries_not_values():
+    """A gradient no typical mistake explains (one joint's term left out): the message names the
+    wrong entry and central differences as the way to see it; it states neither the closed form
+    asked for nor the gradient's values."""
     def one_term_missing(q, limits=ur.WORK_LIMITS):
         out = gradient_written(q, limits)
         out[2] = 0.0
@@ -232,7 +233,8 @@ def test_joint_limit_gradient_mismatch_shows_central_differences():
 
     r = ur.joint_limit_gradient(one_term_missing, quiet=True)
     assert not r.passed and r.diagnosis == "mismatch", r.message
-    assert "central differences of H give" in r.message
+    assert "in its entries [3]: compare them with central differences of your H" in r.message
+    assert "give" not in r.message
     for code in ("sign", "no_factor", "square_not_brought_down", "span_not_squared"):
         def mistake(*args, code=code):
             return gradient_written(*args, variant=code)

@@ -195,24 +195,26 @@ def _weighted_pinv_mistakes():
 
     return [
         alternatives("weights_not_inverted", [(w_not_inverted, (
-            "{name} uses W where W⁻¹ belongs: W J^T (J W J^T)⁻¹ makes the joints with a LARGE "
-            "weight move MORE. The weighted pseudoinverse is W⁻¹ J^T (J W⁻¹ J^T)⁻¹; it minimises "
-            "Δqᵀ W Δq, so a large w_i penalises (slows down) joint i."
+            "{name} uses W where W⁻¹ belongs: it makes the joints with a LARGE weight move MORE. "
+            "The step minimises Δqᵀ W Δq, so a large w_i must penalise (slow down) joint i: see "
+            "which of W, W⁻¹ the stationarity condition of the Lagrangian gives."
         ))]),
         alternatives("weights_after_pinv", [
             (after_pinv, (
-                "{name} is W⁻¹ J⁺ (= W⁻¹ J^T (J J^T)⁻¹): the plain pseudoinverse scaled joint by joint "
-                "afterwards. That is not a (weighted) inverse: J (W⁻¹ J⁺) ≠ I, so the step no longer achieves the "
-                "commanded displacement. Put W⁻¹ inside: W⁻¹ J^T (J W⁻¹ J^T)⁻¹."
+                "{name} is W⁻¹ J⁺: the plain pseudoinverse scaled joint by joint afterwards. That is "
+                "not a (weighted) inverse: J (W⁻¹ J⁺) ≠ I, so the step no longer achieves the commanded "
+                "displacement. The weights belong inside the inverse: derive the minimiser of "
+                "½ Δqᵀ W Δq subject to J Δq = e with a Lagrange multiplier."
             )),
             (w_times_pinv, (
                 "{name} is W J⁺: the plain pseudoinverse multiplied by W afterwards. Then "
-                "J·{name} ≠ I. The weighted pseudoinverse is W⁻¹ J^T (J W⁻¹ J^T)⁻¹."
+                "J·{name} ≠ I: the weights belong inside the inverse (derive the minimiser of "
+                "½ Δqᵀ W Δq subject to J Δq = e)."
             )),
         ]),
         alternatives("unweighted", [(plain, (
-            "{name} ignores W: it is the plain pseudoinverse J⁺ = J^T (J J^T)⁻¹. Insert W⁻¹: "
-            "W⁻¹ J^T (J W⁻¹ J^T)⁻¹."
+            "{name} ignores W: it is the plain pseudoinverse J⁺, the minimiser for W = I. Derive "
+            "the minimiser of ½ Δqᵀ W Δq subject to J Δq = e with W in it."
         ))]),
         alternatives("sqrt_weights", [(sqrt_w, (
             "{name} uses W^(-1/2) where W⁻¹ belongs (the weighted norm is Δqᵀ W Δq, "
@@ -276,25 +278,27 @@ def _damped_least_squares_mistakes():
     return [
         alternatives("damping_not_squared", [
             (not_squared, (
-                "{name} adds λ·I where λ²·I belongs: the damped least-squares step is "
-                "J^T (J J^T + λ² I)⁻¹ e (λ has the units of J, here metres)."
+                "{name} adds λ·I where λ²·I belongs: the objective's damping term is λ² ‖Δq‖² "
+                "(λ has the units of J, here metres)."
             )),
-            (squared_twice, "{name} adds λ⁴·I: square the damping λ once, J^T (J J^T + λ² I)⁻¹ e."),
+            (squared_twice, "{name} adds λ⁴·I: the objective's damping term is λ² ‖Δq‖², λ = damping "
+                            "squared once."),
         ]),
         alternatives("undamped", [(undamped, (
-            "{name} has no damping: it is the pseudoinverse step J⁺ e. Add λ² I to J J^T."
+            "{name} has no damping: it is the pseudoinverse step J⁺ e, the minimiser for λ = 0. "
+            "Set the gradient of ‖J Δq − e‖² + λ² ‖Δq‖² to zero with λ in it."
         ))]),
         alternatives("damping_sign", [(minus, (
-            "{name} subtracts λ² I: the damping is added, J^T (J J^T + λ² I)⁻¹ e, which "
-            "keeps the matrix positive definite."
+            "{name} subtracts λ² I: the damping term λ² ‖Δq‖² adds to the objective, and so to "
+            "the matrix of its normal equations, which it keeps positive definite."
         ))]),
         alternatives("error_sign", [(sign, (
-            "{name} points away from the target: the error is e = p_goal − p(q) and the step "
-            "is +J^T (J J^T + λ² I)⁻¹ e."
+            "{name} points away from the target: the error is e = p_goal − p(q), and the step "
+            "minimises ‖J Δq − e‖², so J Δq points along e, not against it."
         ))]),
         alternatives("jacobian_transpose", [(transpose_only, (
-            "{name} is the Jacobian-transpose step J^T e; damped least squares solves "
-            "(J J^T + λ² I) y = e first: Δq = J^T y."
+            "{name} is the Jacobian-transpose step J^T e: it leaves out the linear system of the "
+            "damped least-squares problem (set the gradient of ‖J Δq − e‖² + λ² ‖Δq‖² to zero)."
         ))]),
     ]
 
@@ -307,7 +311,8 @@ dls_step = exercise(_CHAPTER, "dls_step", MatrixArgumentsCheck(
     noun="configurations, errors and dampings",
     arguments=_damped_least_squares_arguments,
     signature="dls_step(J, e, damping) -> (n,) array",
-    hint="The step is J^T (J J^T + λ² I)⁻¹ e; λ = damping.",
+    hint=("Δq minimises ‖J Δq − e‖² + λ² ‖Δq‖², λ = damping: for a tiny λ it is the "
+          "pseudoinverse step J⁺e, and a larger λ shortens it."),
     doc=("Check a function dls_step(J, e, damping) -> Δq (n,), the damped least-squares step with "
          "λ = damping: compared with the reference at 20 random configurations, errors and dampings."),
 ))
@@ -338,13 +343,16 @@ def _nullspace_projector_mistakes():
     return [
         alternatives("range_projector", [(range_projector, (
             "{name} is J⁺J, the projector onto the row space of J (the joint motions that DO "
-            "move the tool). The null-space projector is its complement, I − J⁺J."
+            "move the tool). The null-space projector is its complement."
         ))]),
         alternatives("transpose_for_pinv", [(transpose_for_pinv, (
-            "{name} = I − J^T J uses the transpose where the pseudoinverse belongs: "
-            "I − J⁺J with J⁺ = J^T (J J^T)⁻¹."
+            "{name} = I − J^T J uses the transpose where the pseudoinverse belongs (J^T J is "
+            "no projector unless the rows of J are orthonormal)."
         ))]),
-        alternatives("sign", [(negated, "{name} has the wrong sign: N = I − J⁺J.")]),
+        alternatives("sign", [(negated, (
+            "{name} has the wrong sign: a projector has the eigenvalues 0 and 1, and N v = v for "
+            "a joint motion v that does not move the flange."
+        ))]),
     ]
 
 
@@ -356,7 +364,8 @@ nullspace_projector = exercise(_CHAPTER, "nullspace_projector", MatrixArgumentsC
     noun="configurations",
     arguments=_nullspace_projector_arguments,
     signature="nullspace_projector(J) -> (n, n) array",
-    hint="The projector N = I − J⁺J is n×n (n = 6 joints) and satisfies J P = 0, P P = P.",
+    hint=("The null-space projector N is n×n (n = 6 joints), symmetric, with J N = 0, N N = N, "
+          "and N v = v for every v with J v = 0."),
     doc=("Check a function nullspace_projector(J) -> N (n×n), the projector onto the null space "
          "of J: compared with the reference at 20 random configurations."),
 ))
@@ -726,12 +735,13 @@ class _JointLimitGradientCheck(FunctionCheck):
         k = next(i for i, (g, (q, limits, _)) in enumerate(zip(got, points))
                  if not np.allclose(g, _gradient(q, limits), rtol=1e-9, atol=1e-12))
         q, limits, what = points[k]
-        central = np.array([(_objective(q + h, limits) - _objective(q - h, limits)) / 2e-6
-                            for h in 1e-6 * np.eye(N_JOINTS)])
+        wrong = ", ".join(f"[{i + 1}]" for i in np.flatnonzero(
+            ~np.isclose(got[k], _gradient(q, limits), rtol=1e-9, atol=1e-12)))
         return self.failure("mismatch", (
             f"{name} at q = {fmt(q)} rad {what} returns {fmt(got[k])}; it is not the slope of H "
-            f"(eq. 3.57): central differences of H give {fmt(central)}. Differentiate H term by "
-            "term (the chain rule on each square)."), n)
+            f"(eq. 3.57) in its entries {wrong}: compare them with central differences of your H, "
+            "(H(q + h e_i) − H(q − h e_i)) / (2h). Differentiate H term by term (the chain rule "
+            "on each square)."), n)
 
 
 joint_limit_gradient = exercise(_CHAPTER, "joint_limit_gradient", _JointLimitGradientCheck(
@@ -1162,8 +1172,8 @@ _SELF_MISTAKES = [
      "{name} leaves out the correction J⁺e: each finite null-space step moves the flange to "
      "second order, and without q ← q + J⁺e + N k ∇H the drift adds up."),
     ("not_projected",
-     "{name} adds k ∇H(q) without projecting it: only N k ∇H (N = I − J⁺J) leaves the flange in "
-     "place."),
+     "{name} adds k ∇H(q) without projecting it: only N k ∇H (N the null-space projector, "
+     "projector(J)) leaves the flange in place."),
     ("gradient_sign",
      "{name} descends H: the step N k ∇H(q) with k > 0 climbs H, moving the joints towards the "
      "middle of their ranges."),
@@ -1236,7 +1246,7 @@ class _SelfMotionCheck(_LaterStepFunctionCheck):
             "cause is in self_motion itself; if it calls your nullspace_projector or "
             "joint_limit_gradient directly, a mistake of Task 2 shows here too (if Task 2's test "
             "of them fails, fix those first, and take them from the arguments). Check the step "
-            "e = p_goal − p(q), J⁺, N = I − J⁺J and ∇H with the chain's limits."), n)
+            "e = p_goal − p(q), J⁺, N = projector(J) and ∇H = gradient(q, chain.limits)."), n)
 
 
 self_motion = exercise(_CHAPTER, "self_motion", _SelfMotionCheck(
@@ -1267,7 +1277,8 @@ def reference_weighted_pinv(J: Any, W: Any) -> np.ndarray:
     Returns
     -------
     numpy.ndarray, shape (6, m)
-        :math:`W^{-1} J^\top (J W^{-1} J^\top)^{-1}`.
+        :math:`J_W^+`, the weighted pseudoinverse (its closed form is the answer of Task 2 (a),
+        so it is not written here).
     """
     J = as_float_array(J, "J", shape=(None, N_JOINTS))
     W = as_float_array(W, "W", shape=(N_JOINTS, N_JOINTS))
@@ -1275,8 +1286,8 @@ def reference_weighted_pinv(J: Any, W: Any) -> np.ndarray:
         try:
             out = _weighted(J, W)
         except np.linalg.LinAlgError:
-            raise ValueError("J W⁻¹ Jᵀ is singular: J must have full row rank and W be "
-                             "positive definite") from None
+            raise ValueError("the weighted step has no unique minimiser: J must have full row "
+                             "rank and W be positive definite") from None
     return check_result_finite(out, "the weighted pseudoinverse", J=J, W=W)
 
 
@@ -1297,7 +1308,8 @@ def reference_dls_step(J: Any, e: Any, damping: float) -> np.ndarray:
     Returns
     -------
     numpy.ndarray, shape (6,)
-        :math:`J^\top (J J^\top + \lambda^2 I)^{-1} e`.
+        The step that minimises :math:`\lVert J \Delta q - e\rVert^2 + \lambda^2 \lVert \Delta q\rVert^2`
+        (its closed form is the answer of Task 2 (b), so it is not written here).
     """
     J = as_float_array(J, "J", shape=(None, N_JOINTS))
     e = as_float_array(e, "e", shape=(J.shape[0],))
@@ -1306,8 +1318,8 @@ def reference_dls_step(J: Any, e: Any, damping: float) -> np.ndarray:
         try:
             out = _dls(J, e, damping**2)
         except np.linalg.LinAlgError:
-            raise ValueError("J Jᵀ + λ² I is singular: give a damping > 0 or a J of full row "
-                             "rank") from None
+            raise ValueError("the damped step has no unique minimiser: give a damping > 0 or a "
+                             "J of full row rank") from None
     return check_result_finite(out, "the damped step", J=J, e=e, damping=damping)
 
 
@@ -1324,7 +1336,8 @@ def reference_nullspace_projector(J: Any) -> np.ndarray:
     Returns
     -------
     numpy.ndarray, shape (6, 6)
-        :math:`I - J^+ J`.
+        The orthogonal projector onto the null space of ``J`` (its closed form is the answer
+        of Task 2 (c), so it is not written here).
     """
     J = as_float_array(J, "J", shape=(None, N_JOINTS))
     with np.errstate(all="ignore"):
@@ -1600,8 +1613,9 @@ def loop_as_solve_ik(chain: Any, p_goal: Any, q0: Any, method: str, weights: Any
 def assert_self_motion_rows(path: Any, chain: Any, p_goal: Any, gain: float, atol: float = 1e-12) -> None:
     r"""Assert that each row of ``path`` is the self-motion step of Task 4 from the row before.
 
-    :math:`q_{i+1} = q_i + J^+ e + (I - J^+ J)\,k\,\nabla H(q_i)`, with :math:`J` the chain's
-    position Jacobian at :math:`q_i`, :math:`e = p_{goal} - p(q_i)`, :math:`k` = ``gain`` and
+    :math:`q_{i+1} = q_i + J^+ e + N\,k\,\nabla H(q_i)`, with :math:`N` the null-space projector of
+    :math:`J`, the chain's position Jacobian at :math:`q_i`, :math:`e = p_{goal} - p(q_i)`,
+    :math:`k` = ``gain`` and
     :math:`\nabla H` robokin's gradient of the joint-limit objective for the chain's limits.
 
     Raises
@@ -1714,8 +1728,12 @@ def assert_summary_of_path(chain: Any, p_goal: Any, path: Any, figures: Any) -> 
 #: check -> {robokin (or SciPy) function that solves its task: how the review report names it}
 #: (an answer that hands one back is flagged for review by hand).
 DELEGATION = {
-    "weighted_pinv": {"reference_weighted_pinv": "robokin.check.ur10.reference_weighted_pinv"},
-    "dls_step": {"reference_dls_step": "robokin.check.ur10.reference_dls_step"},
+    # robokin's step rules give the step J_W⁺ e and the damped step outright (Task 2's tests
+    # compare with them): an answer built on them hands back robokin's solution
+    "weighted_pinv": {"reference_weighted_pinv": "robokin.check.ur10.reference_weighted_pinv",
+                      "WeightedPseudoInverse": "robokin.motion.WeightedPseudoInverse"},
+    "dls_step": {"reference_dls_step": "robokin.check.ur10.reference_dls_step",
+                 "DampedLeastSquares": "robokin.motion.DampedLeastSquares"},
     "nullspace_projector": {"reference_nullspace_projector": "robokin.check.ur10.reference_nullspace_projector"},
     "joint_limit_objective": {
         "reference_joint_limit_objective": "robokin.check.ur10.reference_joint_limit_objective",
