@@ -44,8 +44,8 @@ for _key in ("rotation_B1", "rotation_12", "rotation_23", "transform_B1", "trans
 # (the check modules' tables fill in only the checks it does not list)
 for _key in ("transform_BF", "foot_position"):
     REFERENCES[f"leg.{_key}"].update({"leg.fk": "leg.fk (SerialChain.fk)"})
-# chapter 2, the UR10: the IK loop (robokin has no weighted pseudo-inverse, DLS step or
-# null-space projector of its own to hand back)
+# chapter 2, the UR10: the IK loop (its weighted and damped steps, which robokin's step rules
+# WeightedPseudoInverse and DampedLeastSquares give, are in robokin/check/ur10.py's DELEGATION)
 REFERENCES["ur10.ik_position"] = dict(_IK)
 # chapter 3, the 3-RPR
 REFERENCES["three_rpr.inverse_kinematics"] = {"inverse_kinematics": "Planar3RPR.inverse_kinematics"}
