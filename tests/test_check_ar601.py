@@ -603,7 +603,7 @@ def _wrap_angles(a):
 
 def _counted(Q, apart):
     """The rows of Q that differ from every earlier kept row by ``apart``, counted."""
-    kept = []
+    kept: list[np.ndarray] = []
     for q in Q:
         if all(apart(q - other) for other in kept):
             kept.append(q)
