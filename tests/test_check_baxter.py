@@ -188,6 +188,19 @@ def test_forward_kinematics_mistakes(code):
     assert not r.passed and r.diagnosis == code, r.message
 
 
+def test_flange_offset_counted_twice_is_diagnosed():
+    """The exercise's last row (0, 1.571, 0.2295) copied with its d and the flange offset added
+    again as d_hand: the hand 0.2295 m beyond the flange along z7."""
+    def twice(q):
+        T = fk_by_hand(q)   # the tutorial's rows: the last one's d is the flange offset
+        shift = np.eye(4)
+        shift[2, 3] = 0.2295
+        return T @ shift
+
+    r = cb.forward_kinematics(twice, quiet=True)
+    assert r.diagnosis == "flange_twice" and "counted twice" in r.message, r.message
+
+
 def test_standard_dh_reading_is_diagnosed():
     from robokin.chains import from_dh
 

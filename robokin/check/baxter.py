@@ -139,6 +139,17 @@ def _standard_dh_reading(with_offset: bool):
     return from_dh(table)
 
 
+#: The hand flange's offset along z7 (m), the model's.
+_D_HAND = 0.229525
+
+
+def _shift_z(d: float) -> np.ndarray:
+    """The translation T_z(d) along z (4×4)."""
+    shift = np.eye(4)
+    shift[2, 3] = d
+    return shift
+
+
 def _pose(q, base: str = "shoulder", end: str = "hand") -> np.ndarray:
     return _arm(base, end).fk(np.asarray(q, dtype=float))
 
@@ -481,6 +492,12 @@ def _forward_kinematics_mistakes() -> list:
             lambda x: _pose(x, end="gripper"),
             ("{name} ends at the gripper tip (5 cm beyond the hand flange); the tutorial's last "
              "link ends at the flange, d7 = 0.2295 m."),
+        )]),
+        alternatives("flange_twice", [(
+            lambda x: _pose(x) @ _shift_z(_D_HAND),
+            ("{name} puts the hand a second flange offset beyond the flange, along z7: the offset "
+             "0.2295 m is counted twice, as the last row's d and again as d_hand. In a table like "
+             "MDH the flange offset is d_hand alone, and the last row's d is 0."),
         )]),
         *dg.standard("transform"),
     ]

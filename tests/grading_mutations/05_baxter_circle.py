@@ -38,6 +38,8 @@ MUTATIONS = {
     ],
     "task1_test3": [
         ("'as printed' table already carrying the offset", "as_printed = with_offset"),
+        ("the flange offset kept in the last row and added again as d_hand",
+         "with_offset = [*with_offset[:6], (0.0, 1.571, 0.2295, 0.0)]"),
         ("the table 'with the offset' left as printed", "with_offset = as_printed"),
     ],
     "task2_test1": [
