@@ -68,7 +68,8 @@ class FailureNotes:
       is left out); a function of an answer cell that a test reaches only through a
       function's body or a value computed by calling it (``S_list = ... screw_axis(...)``)
       is no suspect by that test, only by its own tests and ``robokin.check``'s verdict;
-      the note says which functions of its cell computed such a value;
+      the note says from which values of its cell such a value was computed, and which
+      functions of the cell it uses;
     * a test tagged ``explains-<answer>`` (one that runs a later answer on robokin's earlier
       steps) asks ``robokin.check`` about the answers its tags name only and blames no other
       (unless that answer's cell raised): not the earlier answers it reads, nor those the named
