@@ -474,7 +474,7 @@ class _IKSolverCheck(FunctionCheck):
             counts.append(len(rows))
         lo, hi = min(counts), max(counts)
         per = f"{lo}" if lo == hi else f"{lo} to {hi}"
-        more = "" if lo >= 8 else "; the leg has up to 8"
+        more = "" if lo >= 8 else "; a pose may have more"
         return self.success(f"{name} is correct: every returned solution reproduces its pose (checked at "
                             f"{samples} random poses; {per} solution{'s' if hi > 1 else ''} per pose{more}).",
                             samples)
