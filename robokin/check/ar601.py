@@ -394,7 +394,7 @@ def ik_solution(
         One solution or several (rad); every row must reproduce the pose within
         1e-6 m and 1e-6 rad.
     T_target : array_like, shape (4, 4), optional
-        Foot pose in the pelvis frame (default :data:`T_GOAL`).
+        Foot pose in the hip frame B (default :data:`T_GOAL`).
     name : str, optional
         The answer's name in the messages (default ``"Q_mine"``, the notebook's).
     raise_on_fail, quiet : bool, optional
