@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from robokin.check import solution_set
-from robokin.models import ur10
+from robokin.models import ur10, ur10_ik
 from robokin.models.ur10 import UR10_DH
 
 chk = importlib.import_module("robokin.check.ur10_closed_form")
@@ -157,7 +157,6 @@ def test_the_references_are_what_a_dense_numerical_search_finds():
 
 
 def test_the_samples_are_away_from_the_singular_cases():
-    from robokin.models.ur_ik import ur10_ik
 
     for x in chk.all_solutions.sample_points():
         result = ur10_ik(chk._pose(x))
@@ -236,7 +235,8 @@ def test_an_unreachable_answer_set_is_empty_for_arm_angles():
 
 
 def test_delegation_names_the_closed_form():
-    assert set(chk.DELEGATION) == {"wrist_centre", "shoulder_angles", "wrist_angles", "arm_angles", "all_solutions"}
+    assert set(chk.DELEGATION) == {"wrist_centre", "shoulder_angles", "wrist_angles", "arm_angles", "all_solutions",
+                                   "coinciding_branches"}
     assert all("ur10_ik" in table for table in chk.DELEGATION.values())
 
 
@@ -338,3 +338,61 @@ def test_branch_and_step_messages_state_no_closed_form():
     text = "\n".join(messages)
     for closed_form in ("arccos(d4/r)", "arccos(z6·z1)", "±arccos(c3)", "atan2(−y6", "has 8", "× 2"):
         assert closed_form not in text, closed_form
+
+
+# ---------------------------------------------------------------- coinciding_branches
+def _coinciding(wrist="sin", elbow="sin", shoulder=True, tol=1e-6):
+    """A coinciding_branches: the three conditions, or a typical mistake in one of them."""
+    def answer(q, wrist_centre=centre):
+        names = []
+        p5 = wrist_centre(ROBOT.fk(q))
+        if shoulder and abs(math.hypot(p5[0], p5[1]) - abs(D4)) < tol:
+            names.append("shoulder")
+        if abs(math.sin(q[4]) if wrist == "sin" else q[4]) < tol:
+            names.append("wrist")
+        if abs(math.sin(q[2]) if elbow == "sin" else q[2]) < tol:
+            names.append("elbow")
+        return names
+    return answer
+
+
+def test_coinciding_branches_cases_are_the_arms_singularities():
+    """Each case's steps are those whose two solutions coincide: det J vanishes exactly there
+    (s3, s5 and the wrist centre's X in frame 1), and robokin's closed form flags a single one."""
+    for q, expected in chk._coinciding_cases():
+        p5 = ROBOT.frames(q)[6][:3, 3]
+        holds = {"shoulder": abs(math.hypot(p5[0], p5[1]) - abs(D4)) < 1e-12,
+                 "wrist": abs(math.sin(q[4])) < 1e-12, "elbow": abs(math.sin(q[2])) < 1e-12}
+        assert {step for step, held in holds.items() if held} == expected
+        assert (abs(np.linalg.det(ROBOT.jacobian(q))) < 1e-12) == bool(expected)
+        if len(expected) == 1:
+            assert set(ur10_ik(ROBOT.fk(q)).singular) == expected
+    assert {frozenset(expected) for _, expected in chk._coinciding_cases()} >= {
+        frozenset(), frozenset({"wrist"}), frozenset({"elbow", "wrist"}),
+        frozenset({"shoulder", "wrist", "elbow"})}
+
+
+def test_coinciding_branches_correct(capsys):
+    assert chk.coinciding_branches(_coinciding()).passed
+    assert "13 configurations" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("answer, code", [
+    (_coinciding(wrist="zero"), "wrist_partly"),
+    (_coinciding(elbow="zero"), "elbow_partly"),
+    (_coinciding(shoulder=False), "shoulder_missed"),
+    (_coinciding(tol=1e-2), "wrist_extra"),
+    (lambda q, wrist_centre=centre: "wrist", "type"),
+    (lambda q, wrist_centre=centre: ["Wrist"], "unknown_name"),
+    (None, "error"),
+])
+def test_coinciding_branches_mistakes(answer, code):
+    result = chk.coinciding_branches(answer, quiet=True)
+    assert not result.passed and result.diagnosis == code, result.message
+
+
+def test_coinciding_branches_is_given_robokins_wrist_centre():
+    """A wrong wrist centre of the student's (the flange point) leaves the verdict on
+    coinciding_branches alone: the check passes robokin's."""
+    assert chk.coinciding_branches(lambda q, wrist_centre=lambda T: T[:3, 3]: _coinciding()(q, wrist_centre),
+                                   quiet=True).passed

@@ -6,15 +6,16 @@ Every reference is computed from the DH table of :func:`robokin.models.ur10`
 which two branches of a step meet, the chapter's last task), builds the flange
 pose ``T = fk(q)`` and calls the student's function on it.
 
-====================  ===========================================================  ===========================
-check                 the student's answer                                          compared with
-====================  ===========================================================  ===========================
-``wrist_centre``      ``f(T)`` -> the origin of frame 5, shape (3,), in m            ``frames(q)[6]``
-``shoulder_angles``   ``f(T)`` -> both q1 (rad), shape (2,)                          the two shoulder solutions
-``wrist_angles``      ``f(T, q1)`` -> both ``(q5, q6)`` (rad), shape (2, 2)          the two wrist solutions
-``arm_angles``        ``f(T, q1, q5, q6)`` -> both ``(q2, q3, q4)``, shape (2, 3)    the two elbow solutions
-``all_solutions``     ``f(T)`` -> every solution, shape (k, 6)                       :func:`robokin.models.ur10_ik`
-====================  ===========================================================  ===========================
+=======================  ===========================================================  ===========================
+check                    the student's answer                                          compared with
+=======================  ===========================================================  ===========================
+``wrist_centre``         ``f(T)`` -> the origin of frame 5, shape (3,), in m            ``frames(q)[6]``
+``shoulder_angles``      ``f(T)`` -> both q1 (rad), shape (2,)                          the two shoulder solutions
+``wrist_angles``         ``f(T, q1)`` -> both ``(q5, q6)`` (rad), shape (2, 2)          the two wrist solutions
+``arm_angles``           ``f(T, q1, q5, q6)`` -> both ``(q2, q3, q4)``, shape (2, 3)    the two elbow solutions
+``all_solutions``        ``f(T)`` -> every solution, shape (k, 6)                       :func:`robokin.models.ur10_ik`
+``coinciding_branches``  ``f(q)`` -> the steps whose two solutions coincide at fk(q)    configurations of its own
+=======================  ===========================================================  ===========================
 
 Sets of solutions are compared in any order, angles modulo 2π
 (:class:`robokin.check.SolutionSetCheck`). Typical mistakes named in the messages:
@@ -49,7 +50,7 @@ import numpy as np
 
 from robokin.check import diagnoses as dg
 from robokin.check._core import (
-    AnswerError, Check, CheckResult, MatrixArgumentsCheck, Variable, alternatives, not_a_function,
+    AnswerError, Check, CheckResult, FunctionCheck, MatrixArgumentsCheck, Variable, alternatives, not_a_function,
     with_reference_steps,
 )
 from robokin.check._registry import exercise
@@ -59,6 +60,7 @@ from robokin.validation import as_float_array, as_scalar, check_transform
 __all__ = [
     "all_solutions",
     "arm_angles",
+    "coinciding_branches",
     "reference_arm_angles",
     "reference_shoulder_angles",
     "reference_wrist_angles",
@@ -90,6 +92,8 @@ DELEGATION = {
                       "reference_wrist_angles": "robokin.check.ur10_closed_form.reference_wrist_angles",
                       "reference_arm_angles": "robokin.check.ur10_closed_form.reference_arm_angles",
                       "solve_ik": "robokin.motion.solve_ik", "solve_ik_batch": "robokin.motion.solve_ik_batch"},
+    # the flags of robokin's closed form (.singular) name the coinciding branches
+    "coinciding_branches": {"ur10_ik": "robokin.models.ur10_ik", "ur10_ik_batch": "robokin.models.ur10_ik_batch"},
 }
 
 
@@ -574,3 +578,115 @@ def reference_arm_angles(T: Any, q1: Any, q5: Any, q6: Any) -> np.ndarray:
     if math.hypot(*(float(v) for v in _centre(T))) > d1 + abs(a2) + abs(a3) + d4 + d5:
         return np.zeros((0, 3))  # beyond every link together (and no overflow in the squares)
     return _arm(T, *angles)
+
+
+# ------------------------------------------------------------------ where two branches meet
+_STEPS = ("shoulder", "wrist", "elbow")
+
+
+def _shoulder_case(q2: float | None, q3: float, q5: float) -> np.ndarray:
+    """A configuration with the wrist centre on the cylinder r = |d4| (its X in frame 1,
+    a2 c2 + a3 c23 + d5 s234, is 0): q4 solved for it, or with q2 None, q2 from
+    a2 c2 + a3 c23 = 0 and q4 = −q2 − q3."""
+    _d1, a2, a3, _d4, d5, _d6 = _lengths()
+    if q2 is None:
+        q2 = math.atan2(a2 + a3 * math.cos(q3), a3 * math.sin(q3))
+        return np.array([0.4, q2, q3, -q2 - q3, q5, -0.7])
+    s234 = -(a2 * math.cos(q2) + a3 * math.cos(q2 + q3)) / d5
+    return np.array([0.4, q2, q3, math.asin(s234) - q2 - q3, q5, -0.7])
+
+
+def _coinciding_cases() -> list[tuple[np.ndarray, set[str]]]:
+    """Configurations and the steps whose two solutions coincide there (the conditions hold
+    to rounding or are missed by 2e-3 in a sine or more)."""
+    rng = np.random.default_rng(77)
+    generic: list[tuple[np.ndarray, set[str]]] = [(q, set()) for q in rng.uniform(-math.pi, math.pi, (4, 6))
+               if min(abs(math.sin(q[2])), abs(math.sin(q[4]))) > 0.05]
+    base = np.array([-0.6, -1.3, 0.8, 0.5, 1.1, 0.3])
+
+    def with_angles(**angles: float) -> np.ndarray:
+        q = base.copy()
+        for index, value in angles.items():
+            q[int(index[1:]) - 1] = value
+        return q
+
+    return [
+        *generic,
+        (with_angles(q5=0.0), {"wrist"}),
+        (with_angles(q5=math.pi), {"wrist"}),
+        (with_angles(q3=0.0), {"elbow"}),
+        (with_angles(q3=math.pi), {"elbow"}),
+        (_shoulder_case(None, 1.1, 0.9), {"shoulder"}),
+        (with_angles(q3=math.pi, q5=0.0), {"elbow", "wrist"}),
+        (_shoulder_case(1.5, 0.0, math.pi), {"shoulder", "wrist", "elbow"}),
+        (with_angles(q5=2e-3), set()),
+        (with_angles(q3=math.pi - 2e-3), set()),
+    ]
+
+
+_WHERE = {
+    "shoulder": "the two shoulder angles q1 of Task 1",
+    "wrist": "the two wrist rows (q5, q6) of Task 2",
+    "elbow": "the two elbow rows (q2, q3, q4) of Task 3",
+}
+
+
+class _CoincidingCheck(_ShortRepr, FunctionCheck):
+    """``coinciding_branches(q) -> list of "shoulder", "wrist", "elbow"``; called with robokin's
+    wrist centre for a keyword parameter ``wrist_centre``."""
+
+    def evaluate(self, answer: Any) -> CheckResult:
+        """:meth:`FunctionCheck.evaluate` of ``answer`` given robokin's wrist centre."""
+        if callable(answer):
+            answer = with_reference_steps(answer, {"wrist_centre": reference_wrist_centre})
+        return super().evaluate(answer)
+
+    def judge(self, answer: Any) -> CheckResult:
+        name = self.name
+        cases = _coinciding_cases()
+        n = len(cases)
+        got = []
+        for k, (q, _) in enumerate(cases):
+            out = self.call(answer, (q.copy(),), f"at configuration {k + 1}", n)
+            if isinstance(out, str) or not isinstance(out, (list, tuple, set, np.ndarray)):
+                return self.failure("type", f"{name} should return a list of step names (\"shoulder\", "
+                                    f"\"wrist\", \"elbow\"); got {type(out).__name__}.", n)
+            names = {str(item) for item in out}
+            unknown = names - set(_STEPS)
+            if unknown:
+                return self.failure("unknown_name", f"{name} returns {sorted(unknown)}: the steps are "
+                                    "named \"shoulder\", \"wrist\" and \"elbow\".", n)
+            got.append(names)
+        if all(names == expected for names, (_, expected) in zip(got, cases)):
+            return self.success(f"{name} is correct (checked at {n} configurations: none, one, two and "
+                                "all three steps with coinciding solutions).", n)
+        for step in _STEPS:
+            missed = [k for k, (names, (_, expected)) in enumerate(zip(got, cases))
+                      if step in expected and step not in names]
+            extra = [k for k, (names, (_, expected)) in enumerate(zip(got, cases))
+                     if step in names and step not in expected]
+            held = sum(step in expected for _, expected in cases)
+            if missed and len(missed) < held:
+                return self.failure(f"{step}_partly", (
+                    f"{name} finds some configurations where {_WHERE[step]} coincide, but not all "
+                    f"(configuration {missed[0] + 1}): the condition holds at more than one value; "
+                    "derive it from the ± of that step."), n)
+            if missed:
+                return self.failure(f"{step}_missed", (
+                    f"{name} never names \"{step}\", not even where {_WHERE[step]} coincide "
+                    f"(configuration {missed[0] + 1}): derive when the ± of that step has one value."), n)
+            if extra:
+                return self.failure(f"{step}_extra", (
+                    f"{name} names \"{step}\" at configuration {extra[0] + 1}, where {_WHERE[step]} "
+                    "differ (by 2e-3 in a sine, or more): the condition or its tolerance is wrong."), n)
+        return self.failure("mismatch", f"{name} names other steps than those whose solutions coincide.", n)
+
+
+coinciding_branches = exercise(_CHAPTER, "coinciding_branches", _CoincidingCheck(
+    name="coinciding_branches",
+    signature="coinciding_branches(q) -> list of step names",
+    noun="configurations",
+    doc=("Check coinciding_branches(q): the steps (\"shoulder\", \"wrist\", \"elbow\") whose two "
+         "solutions coincide at the pose fk(q), at configurations of the check's own (robokin's "
+         "wrist centre passed for its keyword parameter wrist_centre)."),
+))
