@@ -68,7 +68,7 @@ $(STAMP): requirements.txt constraints.txt pyproject.toml | check-python
 	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV) || { \
 	  echo "ERROR [set-up]: could not create the virtual environment $(VENV)."; \
 	  echo "Fix: on Debian/Ubuntu install the venv module: 'apt-get install python3-venv'."; exit 1; }
-	@echo "== Installing the workbook's Python packages into $(VENV) (first time: a few minutes) =="
+	@echo "== Installing the workbook's Python packages into $(VENV) (first time: about half a minute) =="
 	@# uv installs the same pinned set as pip (requirements.txt + constraints.txt) in about a
 	@# fifth of the time (33 s against 157 s from an empty cache on the 2-core machine).
 	@$(BIN)/python -m pip install --quiet $(UV) && \
