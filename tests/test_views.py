@@ -177,6 +177,22 @@ def test_show_static_and_matplotlib_display(monkeypatch):
     assert type(shown[-1]).__name__ == "Figure"
 
 
+@pytest.mark.parametrize("mode, shown_type", [("static", "HTML"), ("matplotlib", "Figure")])
+def test_joint_sliders_outside_live_mode_show_the_chain_in_that_mode(monkeypatch, mode, shown_type):
+    from robokin.views import display as disp
+    from robokin.views import sliders
+
+    if mode == "matplotlib":
+        matplotlib = pytest.importorskip("matplotlib")
+        matplotlib.use("Agg")
+    shown: list[Any] = []
+    monkeypatch.setattr(disp, "display", shown.append)
+    monkeypatch.setattr(sliders, "display", shown.append)
+    sliders.joint_sliders(two_link(), [0.3, -0.2], mode=mode)
+    assert "running Jupyter kernel" in shown[0].data
+    assert type(shown[1]).__name__ == shown_type
+
+
 def test_live_failure_falls_back_to_static(monkeypatch):
     from robokin.views import display as disp
     from robokin.views import live

@@ -4,8 +4,10 @@ One slider per joint, within the joint limits (degrees for revolute joints,
 metres for prismatic ones).  Each move recomputes the frames and sends only
 ``set_transform`` commands (no geometry), and updates a readout of the
 end-effector pose (position in metres, roll-pitch-yaw in degrees, ZYX
-convention).  Needs a live viewer; elsewhere (book, nbval) the chain is shown
-statically with one line explaining that the sliders need a running kernel.
+convention).  Needs a live viewer; elsewhere the chain is shown as the display
+mode shows a scene (statically in the book and under nbval, as a matplotlib figure
+in ``"matplotlib"`` mode) under one line explaining that the sliders need a
+running kernel.
 """
 
 from __future__ import annotations
@@ -18,7 +20,7 @@ from robokin.chains.protocol import Chain
 from robokin.transforms import rpy_from_rotation
 from robokin.views import optional
 from robokin.views.arguments import as_configuration
-from robokin.views.display import choose_mode, display, html_output, note, show_live
+from robokin.views.display import choose_mode, display, note, show_live, show_scene
 from robokin.views.geometry import chain_layout
 from robokin.views.live import LiveViewer
 from robokin.views.meshcat_draw import chain_transforms
@@ -188,8 +190,10 @@ def joint_sliders(chain: Chain, q: Any = None, *, mode: str | None = None,
                   height: int = DEFAULT_HEIGHT) -> JointSliders:
     """Show ``chain`` with one slider per joint (live mode).
 
-    Outside live mode the chain is shown statically with a one-line note, and the
-    returned object has no widget.
+    Outside live mode the chain is shown at ``q`` as :func:`show_scene` shows a
+    scene in that mode (a static MeshCat scene, or a matplotlib figure in
+    ``"matplotlib"`` mode) under a one-line note, and the returned object has no
+    widget.
 
     Parameters
     ----------
@@ -213,16 +217,18 @@ def joint_sliders(chain: Chain, q: Any = None, *, mode: str | None = None,
     """
 
     js = JointSliders(chain, q, height=height)
-    if choose_mode(mode) == "live":
+    chosen = choose_mode(mode)
+    if chosen == "live":
         try:
             box = js.build()
         except Exception as exc:  # noqa: BLE001 - keep the notebook running
             display(note(f"robokin: joint sliders need a live MeshCat viewer ({exc}); showing a static scene."))
+            chosen = "static"
         else:
             display(box)
             return js
     else:
         display(note("robokin: joint sliders need a running Jupyter kernel (live mode); "
                       "showing the chain at its initial configuration."))
-    display(html_output(js.scene.to_html(height=height)))
+    show_scene(js.scene, mode=chosen, height=height)
     return js
