@@ -157,7 +157,6 @@ def test_the_references_are_what_a_dense_numerical_search_finds():
 
 
 def test_the_samples_are_away_from_the_singular_cases():
-
     for x in chk.all_solutions.sample_points():
         result = ur10_ik(chk._pose(x))
         assert result.success and not result.singular and len(result) in (4, 8)
