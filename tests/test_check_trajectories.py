@@ -545,6 +545,9 @@ def _bump(rows, amount):
 def test_via_bad_answers_are_explained(answer, phrase):
     result = chk.via_point_cubics(answer, quiet=True)
     assert not result.passed and phrase in result.message, result.message
+    # the case's via points are quoted on one line, row by row
+    if "(case " in result.message:
+        assert "\n" not in result.message and "points = [[" in result.message, result.message
 
 
 @pytest.mark.parametrize("answer", [None, "text", 3.0, np.zeros((2, 2)), lambda *args: None,

@@ -734,7 +734,8 @@ class _ViaCheck(FunctionCheck):
         cases = _via_cases()
         n_cases = len(cases)
         for k, (points, durations) in enumerate(cases):
-            where = f"(case {k + 1}: points = {fmt(points)}, durations = {fmt(durations)})"
+            rows = ", ".join(fmt(row) for row in points)     # one line: the message quotes it inline
+            where = f"(case {k + 1}: points = [{rows}], durations = {fmt(durations)})"
             with np.errstate(all="ignore"):
                 raw = self.call(answer, (points.copy(), durations.copy()), where, n_cases)
             got = self.call(np.asarray, (raw, float), where, n_cases)
