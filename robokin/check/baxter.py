@@ -453,12 +453,13 @@ tracking_loop = exercise(_CHAPTER, "tracking_loop", LaterStepCheck(
     arguments=_track_args,
     signature="track(q0, r_des, v_des, kp, ts) -> joint angles (N, 7)",
     hint=("Compare your rows with the task's contract: row 0 is q0, and row k + 1 is row k "
-          "plus ts times the command of your law at row k, with the reference's row k and "
+          "plus ts times the command of the law at row k, with the reference's row k and "
           "the gain kp."),
     atol=1e-7,
     doc=("Check a resolved-rate tracking loop track(q0, r_des, v_des, kp, ts) that returns "
          "the joint angles at the samples, shape (N, 7), row 0 = q0 (Baxter left arm, "
-         "shoulder frame, hand flange)."),
+         "shoulder frame, hand flange); a loop with a parameter rate= is given robokin's law "
+         "there, so that the loop alone is checked."),
     pack=_pack_track,
     steps=lambda: {"rate": reference_resolved_rate},
 ))
