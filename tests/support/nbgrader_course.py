@@ -501,7 +501,10 @@ def run_walkthrough(base: Path) -> Run:
         student_edition.add_source(course, NOTEBOOKS / f"{chapter}.ipynb")
         nbgrader(["generate_assignment", chapter], course, run.log)   # what `make student` runs
         run.source = load(course / "source" / chapter / f"{chapter}.ipynb")
-        env = {"EXCHANGE": str(exchange), "ROBOKIN_CELL_TIMEOUT": str(TIMEOUT_FOR_BAD_SUBMISSION)}
+        # JUPYTER_DATA_DIR: the student's nbgrader_cache (submit keeps a copy there, fetch_feedback
+        # reads it) in this run's folder, not the home directory of whoever runs the tests
+        env = {"EXCHANGE": str(exchange), "ROBOKIN_CELL_TIMEOUT": str(TIMEOUT_FOR_BAD_SUBMISSION),
+               "JUPYTER_DATA_DIR": str(base / "walk" / "jupyter_data")}
         submitted, seen_pages, typed = 0, set(), set()
         for who, line in walkthrough_commands():
             args = shlex.split(os.path.expandvars(line.replace("$EXCHANGE", str(exchange))))[1:]
