@@ -12,7 +12,8 @@ Per chapter, ``tests/grading_mutations/<notebook stem>.py`` defines::
 
 keyed by the nbgrader ``grade_id`` of a test cell (``tools/authoring/nbgrader_metadata.py --list``
 shows them). The chapter's instructor notebook runs from the top to its last graded test in ONE kernel
-(``ROBOKIN_VIEWER=static``, working directory ``notebooks/``), without the cells the grader
+(``ROBOKIN_VIEWER=static``, working directory ``notebooks/``; with two chapters or more, forked from
+a warm server, as nbval's kernels are: :func:`kernel_manager`), without the cells the grader
 kernel leaves out (:func:`cells_not_run`: what follows the last test, and the pictures no later
 cell that runs reads; nbval runs them all and compares their outputs, in both tiers); just
 before the test cell of a ``grade_id``, for each mutation:
@@ -42,6 +43,7 @@ from pathlib import Path
 import pytest
 
 from conftest import ROOT
+from support import forked_kernels
 from tools.grading.bridge.pictures import skip_pictures
 from tools.kernel_sockets import AsyncPrivateSocketsKernelManager
 from tools.authoring.nbgrader_metadata import chapter_notebooks
@@ -127,15 +129,17 @@ def _error_text(exc: Exception) -> str:
     return text[-1] if text else type(exc).__name__
 
 
-def run_with_mutations(chapter: str, nb: dict, mutations: dict) -> list[str]:
-    """Run the notebook once in one kernel, trying every mutation before its test; the problems found."""
+def run_with_mutations(chapter: str, nb: dict, mutations: dict,
+                       manager: type = AsyncPrivateSocketsKernelManager) -> list[str]:
+    """Run the notebook once in one kernel (started by ``manager``, an nbclient kernel manager class),
+    trying every mutation before its test; the problems found."""
     import nbformat
     from nbclient import NotebookClient
     from nbclient.exceptions import CellExecutionError
 
     notebook = nbformat.reads(json.dumps(nb), as_version=4)   # sources as strings
     client = NotebookClient(notebook, timeout=CELL_TIMEOUT, kernel_name="python3",
-                            kernel_manager_class=AsyncPrivateSocketsKernelManager,   # no TCP port race
+                            kernel_manager_class=manager,   # its sockets are files: no TCP port race
                             resources={"metadata": {"path": str(NOTEBOOKS)}})
     problems: list[str] = []
 
@@ -185,8 +189,26 @@ def run_with_mutations(chapter: str, nb: dict, mutations: dict) -> list[str]:
     return problems
 
 
+@pytest.fixture(scope="module")
+def kernel_manager(request):
+    """The kernel manager of the chapters' runs: with two chapters or more in the session, their
+    kernels forked from one server (its environment has ``ROBOKIN_VIEWER=static``; stopped after the
+    module), a kernel's start and imports costing a fork instead (the server's own start costs more
+    than one kernel's: one chapter, as ``make test`` runs, starts its kernel anew). Module-scoped,
+    so the chapters run in one pytest-xdist worker (tests/support/parallel_plan.py) and share it
+    (benchmarks/README.md, "The grading mutations' kernels forked, and the suite's order by CPU")."""
+    chapters = sum(1 for item in request.session.items if getattr(item, "module", None) is request.module)
+    if chapters < 2:
+        yield AsyncPrivateSocketsKernelManager
+        return
+    try:
+        yield forked_kernels.ForkedAsyncKernelManager
+    finally:
+        forked_kernels.stop_server()
+
+
 @pytest.mark.parametrize("path", CHAPTERS, ids=[p.stem for p in CHAPTERS])
-def test_every_graded_test_rejects_its_mutations(path, monkeypatch):
+def test_every_graded_test_rejects_its_mutations(path, monkeypatch, kernel_manager):
     chapter = path.stem
     mutations = load_mutations(chapter)
     nb = json.loads(path.read_text(encoding="utf-8"))
@@ -195,5 +217,5 @@ def test_every_graded_test_rejects_its_mutations(path, monkeypatch):
     problems = coverage_problems(chapter, tests, mutations)
     monkeypatch.setenv("ROBOKIN_VIEWER", "static")   # inherited by the kernel
     monkeypatch.setenv("PYDEVD_DISABLE_FILE_VALIDATION", "1")
-    problems += run_with_mutations(chapter, nb, mutations)
+    problems += run_with_mutations(chapter, nb, mutations, kernel_manager)
     assert not problems, f"{len(problems)} problem(s):\n" + "\n".join(f"- {p}" for p in problems)

@@ -8,17 +8,19 @@ Here the kernels are forked from the grading runtime's fork server
 (``tools/grading/bridge/fork_server.py``: its docstring says what a forked kernel
 has -- environment, ``sys.argv``, ``sys.path``, streams, a freshly seeded
 ``numpy.random``, the matplotlib backend -- and how nothing outlives its parent):
-one server per pytest process and environment, started by the first kernel,
-stopped at the end of the session (``stop_server``, called by the root
+one server per pytest process and environment (at most :data:`MAX_SERVERS`), started
+by the first kernel, stopped at the end of the session (``stop_server``, called by the root
 ``conftest.py``).
 
 :class:`ForkedNbvalKernelManager` is the synchronous manager nbval starts (the root
-``conftest.py`` points ``nbval.kernel.KernelManager`` at it); its sockets are
-private files (``tools.kernel_sockets``). A kernel that cannot be forked (no
-server, the server died, another environment, a command that is not this Python's
-ipykernel, or the server's refusal) starts as a new process, and says so: a
-:class:`KernelNotForked` warning (in pytest's warnings summary) and a line in
-the log.
+``conftest.py`` points ``nbval.kernel.KernelManager`` at it);
+:class:`ForkedAsyncKernelManager` is the same for nbclient (the grading mutations,
+``tests/test_grading_mutations.py``, whose kernels see ``ROBOKIN_VIEWER=static``: a
+server of their own). Their sockets are private files (``tools.kernel_sockets``). A
+kernel that cannot be forked (no server, the server died, another environment, a
+command that is not this Python's ipykernel, or the server's refusal) starts as a new
+process, and says so: a :class:`KernelNotForked` warning (in pytest's warnings summary)
+and a line in the log.
 
 One variable differs from kernel to kernel: pytest's ``PYTEST_CURRENT_TEST``
 (the name of the running test). ipykernel reads only whether it is set (then it
@@ -34,10 +36,11 @@ import os
 import warnings
 from pathlib import Path
 
+from jupyter_client import AsyncKernelManager, KernelManager
 from jupyter_core.utils import run_sync
 
 from tools.grading.bridge import fork_server
-from tools.kernel_sockets import PrivateSocketsKernelManager
+from tools.kernel_sockets import PrivateSocketsMixin
 
 #: What the notebooks import (their first cells), imported once by the server.
 PRELOAD = ("numpy", "scipy.optimize", "sympy", "matplotlib.pyplot", "robokin", "robokin.formatting",
@@ -49,8 +52,14 @@ STDERR_FILE = "kernel-stderr.log"
 #: How the fork launcher starts the line it writes when the server did not fork the kernel.
 LAUNCHER_FALLBACK = "[robokin grading] the fork server did not start"
 
+#: Fork servers kept at once in one process: nbval's and the grading mutations'. A server
+#: holds the preloaded modules (about 150 MB); one more environment stops the oldest.
+MAX_SERVERS = 2
+
 log = logging.getLogger(__name__)
-_STATE: dict = {}   # "server": this process's ForkServer; "failed": why it could not start
+#: "servers": {environment (sorted items, CURRENT_TEST left out): ForkServer}, oldest first;
+#: "failed": why a server could not start (then none is tried again in this process)
+_STATE: dict = {}
 
 
 class KernelNotForked(UserWarning):
@@ -58,7 +67,7 @@ class KernelNotForked(UserWarning):
 
 
 def _not_forked(why: str) -> None:
-    message = f"nbval kernel: started as a new process, not forked ({why})"
+    message = f"notebook kernel: started as a new process, not forked ({why})"
     log.warning(message)
     warnings.warn(message, KernelNotForked, stacklevel=3)
 
@@ -67,38 +76,45 @@ def _comparable(environment: dict) -> dict:
     return {name: value for name, value in environment.items() if name != CURRENT_TEST}
 
 
+def _key(environment: dict) -> tuple:
+    return tuple(sorted(_comparable(environment).items()))
+
+
 def server() -> fork_server.ForkServer | None:
     """This process's fork server for its environment (started on first use); None if it cannot start."""
-    running = _STATE.get("server")
-    wanted = _comparable(fork_server.kernel_environment())
-    if running is not None and running.alive() and _comparable(running.environment) == wanted:
+    servers: dict = _STATE.setdefault("servers", {})
+    key = _key(fork_server.kernel_environment())
+    running = servers.get(key)
+    if running is not None and running.alive():
         return running
     if running is not None:
-        log.info("nbval kernels: a new fork server (%s)",
-                 "the last one died" if not running.alive() else "the environment changed")
-        stop_server()
+        log.info("forked kernels: a new fork server (the last one died)")
+        servers.pop(key).stop()
     if "failed" in _STATE:
         return None
+    while len(servers) >= MAX_SERVERS:
+        log.info("forked kernels: fork server of another environment stopped (at most %d)", MAX_SERVERS)
+        servers.pop(next(iter(servers))).stop()
     try:
         started = fork_server.ForkServer(PRELOAD)
     except fork_server.ForkServerError as exc:
         _STATE["failed"] = str(exc)
         _not_forked(f"no fork server: {exc}")
         return None
-    _STATE["server"] = started
-    log.info("nbval kernels: fork server %d ready", started.info["pid"])
+    servers[key] = started
+    log.info("forked kernels: fork server %d ready", started.info["pid"])
     return started
 
 
 def stop_server() -> None:
-    """Stop this process's fork server, if one runs (it kills the kernels it forked that still run)."""
-    running = _STATE.pop("server", None)
-    if running is not None:
-        running.stop()
+    """Stop this process's fork servers, if any run (each kills the kernels it forked that still run)."""
+    servers: dict = _STATE.setdefault("servers", {})
+    while servers:
+        servers.pop(next(iter(servers))).stop()
 
 
-class ForkedNbvalKernelManager(PrivateSocketsKernelManager):
-    """jupyter_client's synchronous ``KernelManager``, private sockets, the kernel forked when it can be."""
+class ForkedKernelMixin(PrivateSocketsMixin):
+    """For a jupyter_client kernel manager: private sockets, the kernel forked when it can be."""
 
     _forked_from: fork_server.ForkServer | None = None
     _stderr = None
@@ -143,8 +159,19 @@ class ForkedNbvalKernelManager(PrivateSocketsKernelManager):
             self._stderr.close()
             self._stderr = None
 
-    pre_start_kernel = run_sync(_async_pre_start_kernel)
-    cleanup_resources = run_sync(_async_cleanup_resources)
+
+class ForkedNbvalKernelManager(ForkedKernelMixin, KernelManager):
+    """jupyter_client's synchronous ``KernelManager``, private sockets, the kernel forked when it can be."""
+
+    pre_start_kernel = run_sync(ForkedKernelMixin._async_pre_start_kernel)
+    cleanup_resources = run_sync(ForkedKernelMixin._async_cleanup_resources)
+
+
+class ForkedAsyncKernelManager(ForkedKernelMixin, AsyncKernelManager):
+    """jupyter_client's ``AsyncKernelManager`` (nbclient's), private sockets, the kernel forked when it can be."""
+
+    pre_start_kernel = ForkedKernelMixin._async_pre_start_kernel
+    cleanup_resources = ForkedKernelMixin._async_cleanup_resources
 
 
 def _report_fallback(stderr_file: Path) -> None:
