@@ -20,11 +20,18 @@
   fixtures (``module:<path>``: the fixture is built once, not once per worker), and the
   tests that mostly wait (``waiting``: :data:`WAITING_TESTS`, one wait at a time). A
   test that already has an ``xdist_group`` mark keeps it.
-* **Longest first.** A work unit is a group or a single test. Units that took (or
-  are expected to take) a second or more run first, longest first, so that the two
-  workers finish together; the durations of the last run are kept in pytest's cache
-  (``.pytest_cache``, key ``robokin/unit-durations``), the estimates below serve a
-  fresh clone. Shorter tests keep their order and follow.
+* **Most CPU first.** A work unit is a group or a single test. Units that cost (or
+  are expected to cost) a CPU-second or more run first, the costliest first, so that the
+  workers finish together; shorter tests keep their order and follow. The suite is
+  CPU-bound (its CPU-seconds are about 1.8 times its wall seconds on two cores), so
+  the order is by CPU, not by wall time: by wall, the graded courses (minutes of wall,
+  half of it waiting for their time limits) all ran first, four at a time, and the
+  cores were a fifth idle; by CPU, the units that compute (mypy, the book builds, the
+  other machines) run beside them. A unit's CPU-seconds come from the last run that
+  counted them (``ROBOKIN_CPU_REPORT``, tests/support/cpu_accounting.py; pytest's cache,
+  ``.pytest_cache``, key ``robokin/unit-cpu-seconds``), else from :data:`ESTIMATES` (a
+  fresh clone), else the unit's wall seconds in the last run stand in (key
+  ``robokin/unit-durations``).
 * **A fresh checkout is collected by one worker first.** Every worker imports every test
   module; without bytecode caches (``__pycache__``: a fresh clone) each one compiles and
   rewrites the asserts of all of them at the same time. There the first worker collects
@@ -55,49 +62,56 @@ except ImportError:  # pytest < 9.2 keeps the node id in item._nodeid
 DEFAULT_WORKERS = 2
 #: Set in the environment of a run; a pytest started by one of its tests sees it.
 NESTED = "ROBOKIN_TESTS_RUNNING"
+#: pytest's cache: each unit's wall seconds in the last run, and its CPU-seconds in the last run
+#: that counted them (``ROBOKIN_CPU_REPORT``)
 CACHE_KEY = "robokin/unit-durations"
-#: Units shorter than this (seconds) keep their collection order, after the long ones.
+CPU_CACHE_KEY = "robokin/unit-cpu-seconds"
+#: Units cheaper than this (CPU-seconds) keep their collection order, after the long ones.
 LONG = 1.0
-#: Expected seconds of the long units, for a run without recorded durations (fresh
-#: clone); a unit is a group name or a test's node id. First matching pattern wins.
-#: From the per-unit durations of a full run (2 workers, 2 cores), the book builds as
-#: they are now (stored outputs, nothing executed: about 15 s of CPU per edition).
+#: Expected CPU-seconds of the long units, for a run that has not counted them (a fresh clone,
+#: as CI's); a unit is a group name or a test's node id. First matching pattern wins. Measured
+#: in fresh clones' ``make test-all`` (tests/support/cpu_accounting.py, every child process
+#: counted): the medians of three runs of eb79d83 (2026-11-29, one quiet, two with a core kept
+#: busy; benchmarks/README.md, "The grading mutations' kernels forked, and the suite's order by
+#: CPU"). ``make test`` runs fewer submissions in the everyday chapter's course (about 21 CPU-s,
+#: not 97): it still comes first.
 ESTIMATES = [
-    (r"test_notebooks_other_machines\.py", 80.0),   # each of the three machines
-    # the scaffolded chapters' own suite in one process: 216 s of wall for 56 CPU-s (its graded
+    (r"test_notebooks_other_machines\.py", 33.0),   # each of the three machines
+    # the scaffolded chapters' own suite in one process: about 200 s of wall for 52 CPU-s (its graded
     # runs wait for their hangs' time limits), so it starts early, beside the work of others
-    (r"^module:tests/test_new_chapter\.py$", 220.0),
-    (r"test_book\.py::test_book_builds", 20.0),
-    (r"test_grading_mutations\.py", 15.0),
-    (r"^module:tests/test_grading_fork_server\.py$", 15.0),
-    (r"test_live_jupyter\.py", 20.0),
-    (r"test_untrusted_urdf\.py::test_deep_child_first_chain", 13.0),
-    (r"^module:tests/test_meshes_stored\.py$", 14.0),
-    (r"test_meshes_stored\.py::test_stored_meshes_equal_a_computation_with_another", 11.0),
-    (r"^nbval:", 8.0),
-    (r"test_reexecution\.py", 7.0),
-    (r"test_lint\.py::test_mypy", 27.0),   # no .mypy_cache in a fresh clone: robokin and tools
-    (r"test_book\.py::test_page_in_browser", 8.0),
-    (r"test_views_(browser|mesh)\.py", 3.0),
+    (r"^module:tests/test_new_chapter\.py$", 52.0),
+    (r"test_book\.py::test_book_builds", 26.0),   # each edition, every page read (--all)
+    (r"^module:tests/test_grading_mutations\.py$", 45.0),   # the ten chapters, one forked kernel each
+    (r"^module:tests/test_grading_fork_server\.py$", 6.0),
+    (r"test_live_jupyter\.py", 17.0),
+    (r"test_untrusted_urdf\.py::test_deep_child_first_chain", 5.0),
+    (r"^module:tests/test_meshes_stored\.py$", 5.0),
+    (r"test_meshes_stored\.py::test_stored_meshes_equal_a_computation_with_another", 4.0),
+    (r"^nbval:05_", 12.0),
+    (r"^nbval:0[12]_", 7.0),
+    (r"^nbval:", 3.0),
+    (r"test_reexecution\.py", 5.0),
+    (r"test_lint\.py::test_mypy", 37.0),   # no .mypy_cache in a fresh clone: robokin, tools and the tests
+    (r"test_kernel_sockets\.py::test_a_cell_that_logs_twelve_thousand_lines", 11.0),
+    (r"test_book\.py::test_page_in_browser\[\w+-notebooks/", 5.0),   # a chapter's page: its scenes
+    (r"test_book\.py::test_page_in_browser", 1.2),
+    (r"test_views_(browser|mesh)\.py", 1.0),
 ]
 #: The xdist groups of the graded courses: "nbgrader:<job>", one per job (tests/support/grading_course.py).
 NBGRADER_GROUPS = r"^nbgrader($|[:_-])"
-#: Expected seconds of each job's group (wall, in make test-all on four workers, 2-core machine,
-#: 2026-11-28): a chapter's run (its submissions and the trust suite's) 98-141 s, chapter 2's 220 and
-#: chapter 5's 175 (their notebooks cost most per execution), the walk-through 135; the everyday
-#: chapter's (chapter 7) with the other engines' re-gradings (tests/test_grading_engines.py) 208 s
-#: and the tamper suite's own course 135 s. Since then a chapter's run grades one benign submission
-#: instead of two (tests/test_grading_trust.py): 7.5 CPU-s less for chapter 4's, 17 for chapter 2's,
-#: the heaviest chapters saving most, so the order these estimates set (longest first) holds. The
-#: walk-through grades chapter 7 since 2026-11-29 instead of chapter 3: 62-94 s alone, half of it
-#: its endless cell's 30 s time limit.
+#: Expected CPU-seconds of each job's group, measured as :data:`ESTIMATES`: a chapter's run (its
+#: submissions and the trust suite's) 32-45, chapter 2's 88 and chapter 5's 56 (their notebooks cost
+#: most per execution), the walk-through 17 (and 75 s of wall: its endless cell's 30 s time limit);
+#: the everyday chapter's (chapter 7) with the other engines' re-gradings
+#: (tests/test_grading_engines.py) 97 and the tamper suite's own course 50.
 NBGRADER_ESTIMATES = [
-    (rf"^nbgrader:{tiers.EVERYDAY_CHAPTER}\+tamper$", 180.0),
-    (rf"^nbgrader:{tiers.EVERYDAY_CHAPTER}$", 230.0),
-    (r"^nbgrader:walkthrough$", 90.0),
-    (r"^nbgrader:02_ur10_ik$", 220.0),
-    (r"^nbgrader:05_baxter_circle$", 175.0),
-    (NBGRADER_GROUPS, 120.0),
+    (rf"^nbgrader:{tiers.EVERYDAY_CHAPTER}\+tamper$", 50.0),
+    (rf"^nbgrader:{tiers.EVERYDAY_CHAPTER}$", 97.0),
+    (r"^nbgrader:walkthrough$", 17.0),
+    (r"^nbgrader:02_ur10_ik$", 88.0),
+    (r"^nbgrader:05_baxter_circle$", 56.0),
+    (r"^nbgrader:unmarked$", 1.0),   # a chapter without metadata: no autograde
+    (NBGRADER_GROUPS, 40.0),
 ]
 ESTIMATES += NBGRADER_ESTIMATES
 
@@ -105,14 +119,15 @@ ESTIMATES += NBGRADER_ESTIMATES
 #: never returns): 10-14 s of wall for 0.1-1.0 CPU-s each. Each test on its own, two of them ran
 #: at the same time on two of the three workers (the two of test_nbgrader_runner.py, neighbours in
 #: collection order, in fresh clones and warm checkouts alike) and left a core idle for 10 s. In one
-#: group they wait one after the other on one worker, started early beside the long computations.
+#: group they wait one after the other on one worker, beside the long computations (about 3
+#: CPU-s and 40 s of wall: among the long units, never in the last minutes of a run).
 WAITING_TESTS = (
     r"^tests/test_nbgrader_runner\.py::test_a_runner_slow_to_start_takes_none_of_the_commands_time_limit$",
     r"^tests/test_nbgrader_runner\.py::test_a_command_past_its_time_limit_is_killed_and_the_next_one_runs$",
     r"^tests/test_grading_tamper\.py::test_call_channel_calls_calls_back_and_stops_a_call_that_never_returns$",
 )
 WAITING_GROUP = "waiting"
-ESTIMATES.insert(0, (rf"^{WAITING_GROUP}$", 35.0))
+ESTIMATES.insert(0, (rf"^{WAITING_GROUP}$", 3.0))
 
 
 def is_nbgrader_group(name: str) -> bool:
@@ -265,7 +280,7 @@ def unit_of(item) -> str:
 
 
 def estimates(units) -> dict[str, float]:
-    """Expected seconds of each unit of ``units`` (0: unknown, presumably short)."""
+    """Expected CPU-seconds of each unit of ``units`` (0: unknown, presumably short)."""
     units = list(units)
     out = {}
     for unit in units:
@@ -280,9 +295,10 @@ def estimates(units) -> dict[str, float]:
 
 @pytest.hookimpl(tryfirst=True)
 def pytest_collection_modifyitems(session, config, items):
-    """Group what must share a worker, then put the long units first, longest first."""
+    """Group what must share a worker, then put the long units first, the costliest first."""
     _assign_groups(items)
     cache = getattr(config, "cache", None)
+    counted = cache.get(CPU_CACHE_KEY, {}) if cache is not None else {}
     recorded = cache.get(CACHE_KEY, {}) if cache is not None else {}
     units: dict[str, list] = {}
     for item in items:
@@ -291,11 +307,16 @@ def pytest_collection_modifyitems(session, config, items):
 
     expected = estimates(units)
 
-    def seconds(unit: str) -> float:
-        return float(recorded.get(unit, expected[unit]))
+    def cost(unit: str) -> float:
+        """CPU-seconds: counted in an earlier run, else estimated, else the last run's wall seconds."""
+        if unit in counted:
+            return float(counted[unit])
+        if expected[unit] or unit not in recorded:
+            return expected[unit]
+        return float(recorded[unit])
 
-    long_units = sorted((u for u in units if seconds(u) >= LONG), key=seconds, reverse=True)
-    short_units = [u for u in units if seconds(u) < LONG]
+    long_units = sorted((u for u in units if cost(u) >= LONG), key=cost, reverse=True)
+    short_units = [u for u in units if cost(u) < LONG]
     items[:] = [item for unit in long_units + short_units for item in units[unit]]
     if getattr(config.option, "loadgroup", False):
         for item in items:
@@ -320,11 +341,16 @@ def _name_group_in_node_id(item, group: str) -> None:
 
 
 class DurationRecorder:
-    """Adds up the seconds of each work unit in this run; stores them in pytest's cache."""
+    """Adds up the wall seconds of each work unit in this run, and its CPU-seconds where the run
+    counts them (tests/support/cpu_accounting.py); stores them in pytest's cache."""
 
     def __init__(self, config):
+        from support import cpu_accounting   # the plugin conftest.py names, imported by pytest by now
+
         self.config = config
+        self.cpu_property = cpu_accounting.PROPERTY
         self.seconds: dict[str, float] = defaultdict(float)
+        self.cpu_seconds: dict[str, float] = defaultdict(float)
 
     def _unit(self, nodeid: str) -> str:
         known = getattr(self.config, "robokin_units", {})
@@ -335,11 +361,17 @@ class DurationRecorder:
         return nodeid
 
     def pytest_runtest_logreport(self, report):
-        self.seconds[self._unit(report.nodeid)] += report.duration
+        unit = self._unit(report.nodeid)
+        self.seconds[unit] += report.duration
+        for key, value in report.user_properties:
+            if key == self.cpu_property:
+                self.cpu_seconds[unit] += value
 
     def pytest_sessionfinish(self, session):
-        if getattr(self.config, "cache", None) is None or not self.seconds:
+        if getattr(self.config, "cache", None) is None:
             return
-        stored = self.config.cache.get(CACHE_KEY, {})
-        stored.update({unit: round(value, 2) for unit, value in self.seconds.items()})
-        self.config.cache.set(CACHE_KEY, stored)
+        for key, values in ((CACHE_KEY, self.seconds), (CPU_CACHE_KEY, self.cpu_seconds)):
+            if values:
+                stored = self.config.cache.get(key, {})
+                stored.update({unit: round(value, 2) for unit, value in values.items()})
+                self.config.cache.set(key, stored)
