@@ -92,6 +92,7 @@ def _bisect_with(*, no_bracket: str = "raise ValueError('same sign')",
 MUTATIONS = {
     "task1_test1": [
         ("lengths left in metres where millimetres are asked", "length_gap_mm = length_gap_mm / 1000"),
+        ("the mean flange gap, not the largest", "length_gap_mm = 1000 * flange_gaps.mean()"),
         (
             "the manufacturer's signs instead of the exercise's",
             "ex_conventions = from_dh(UR10_DH)\n"
