@@ -128,6 +128,21 @@ def test_a_later_step_is_judged_on_robokins_earlier_steps():
         assert not check(lambda *arguments, f=answer: f(*arguments), quiet=True).passed
 
 
+def test_screw_axes_at_home_is_judged_on_robokins_screw_axis():
+    """A wrong screw_axis does not make a right screw_axes_at_home that takes it as an
+    argument wrong (Task 2's two tests); without the argument, it runs on the wrong step."""
+    def flipped(omega, point):
+        return np.r_[omega, np.cross(omega, point)]
+
+    def at_home(frames, joint_axes, screw_axis=flipped):
+        return np.array([screw_axis(F[:3, :3] @ a, F[:3, 3]) for F, a in zip(frames[1:], joint_axes)])
+
+    assert chk.screw_list(at_home, quiet=True).passed
+    result = chk.screw_list(lambda frames, axes: at_home(frames, axes), quiet=True)
+    assert result.diagnosis == "cross_sign", result.message
+    assert np.allclose(chk.reference_screw_axis([0.0, 0.0, 1.0], [1.0, 0.0, 0.0]), [0, 0, 1, 0, -1, 0])
+
+
 def test_ur10_data_written_out_match_the_model():
     from robokin.models import ur10
 
@@ -310,6 +325,7 @@ def test_delegation_table_names_registered_checks():
 # ---------------------------------------------------------------- robokin's steps, for the tests
 REFERENCE_STEPS = [
     (chk.rodrigues, chk.reference_rodrigues),
+    (chk.screw_axis, chk.reference_screw_axis),
     (chk.exp6, chk.reference_exp6),
     (chk.forward_kinematics, chk.reference_poe_fk),
     (chk.adjoint, chk.reference_adjoint_matrix),
@@ -342,6 +358,7 @@ def test_reference_steps_agree_with_modern_robotics_on_seven_joints():
 @pytest.mark.parametrize("call", [
     lambda: chk.reference_skew([0.0, 1.0]),
     lambda: chk.reference_rodrigues([0.0, 1.0], 0.3),
+    lambda: chk.reference_screw_axis([0.0, 0.0, 1.0], [0.0, np.nan, 0.0]),
     lambda: chk.reference_exp6(np.zeros(6), np.nan),
     lambda: chk.reference_poe_fk(np.eye(4), S_UR10, np.zeros(5)),
     lambda: chk.reference_adjoint_matrix(np.eye(3)),

@@ -57,8 +57,8 @@ from robokin.validation import as_float_array
 __all__ = [
     "rodrigues", "screw_axis", "screw_list", "exp6", "forward_kinematics", "adjoint",
     "space_jacobian", "geometric_from_space", "body_jacobian", "ik_body",
-    "reference_skew", "reference_rodrigues", "reference_exp6", "reference_poe_fk", "reference_adjoint_matrix",
-    "reference_jacobian_in_space", "reference_jacobian_in_body",
+    "reference_skew", "reference_rodrigues", "reference_screw_axis", "reference_exp6", "reference_poe_fk",
+    "reference_adjoint_matrix", "reference_jacobian_in_space", "reference_jacobian_in_body",
 ]
 
 _CHAPTER = "product_of_exponentials"
@@ -73,6 +73,7 @@ DELEGATION = {
     "rodrigues": {"rotation_exp": "robokin.transforms.rotation_exp",
                   "reference_skew": "robokin.check.product_of_exponentials.reference_skew",
                   "reference_rodrigues": "robokin.check.product_of_exponentials.reference_rodrigues"},
+    "screw_axis": {"reference_screw_axis": "robokin.check.product_of_exponentials.reference_screw_axis"},
     "screw_list": {"screw_axes": "SerialChain.screw_axes"},
     "exp6": {"transform_exp": "robokin.transforms.transform_exp",
              "reference_exp6": "robokin.check.product_of_exponentials.reference_exp6"},
@@ -393,7 +394,8 @@ def _describe_chain(x: np.ndarray) -> str:
             f"{np.round(axes, 3).tolist()}")
 
 
-screw_list = exercise(_CHAPTER, "screw_list", MatrixArgumentsCheck(
+screw_list = exercise(_CHAPTER, "screw_list", LaterStepCheck(
+    steps=lambda: {"screw_axis": reference_screw_axis},
     name="screw_axes_at_home",
     reference=_screw_rows,
     variables=_CHAIN,
@@ -917,6 +919,29 @@ def reference_rodrigues(omega: Any, theta: Any) -> np.ndarray:
     from robokin.transforms import rotation_exp
 
     return np.asarray(rotation_exp(as_float_array(omega, "omega", (3,)) * _angle(theta)), dtype=float)
+
+
+def reference_screw_axis(omega: Any, point: Any) -> np.ndarray:
+    """robokin's answer to ``screw_axis`` of Task 2 (the tests' stand-in).
+
+    The graded test of ``screw_axes_at_home`` passes it to the student's function in place of
+    the student's ``screw_axis``, so that a mistake in ``screw_axis`` costs the points of its
+    own test only.
+
+    Parameters
+    ----------
+    omega : array_like, shape (3,)
+        The unit axis of a revolute joint, in the base frame.
+    point : array_like, shape (3,)
+        A point of the axis, in the base frame (m).
+
+    Returns
+    -------
+    numpy.ndarray, shape (6,)
+        The joint's screw axis [ω; v].
+    """
+    axis = as_float_array(omega, "omega", (3,))
+    return np.concatenate([axis, -np.cross(axis, as_float_array(point, "point", (3,)))])
 
 
 def reference_exp6(S: Any, theta: Any) -> np.ndarray:

@@ -35,7 +35,7 @@ def screw_axis(omega, point):
 """
 
 _SCREWS_FRAME_BEFORE = """
-def screw_axes_at_home(frames, joint_axes):
+def screw_axes_at_home(frames, joint_axes, screw_axis=screw_axis):
     rows = []
     for i, axis in enumerate(joint_axes, start=1):
         R, p = frames[i - 1][:3, :3], frames[i - 1][:3, 3]  # the frame before joint i
@@ -47,7 +47,7 @@ S_list = screw_axes_at_home(home_frames, ur10.joint_axes)
 """
 
 _SCREWS_ORDER = """
-def screw_axes_at_home(frames, joint_axes):
+def screw_axes_at_home(frames, joint_axes, screw_axis=screw_axis):
     rows = []
     for i, axis in enumerate(joint_axes, start=1):
         R, p = frames[i][:3, :3], frames[i][:3, 3]
@@ -59,7 +59,7 @@ S_list = screw_axes_at_home(home_frames, ur10.joint_axes)
 """
 
 _SCREWS_Z_AXIS = """
-def screw_axes_at_home(frames, joint_axes):
+def screw_axes_at_home(frames, joint_axes, screw_axis=screw_axis):
     rows = []
     for i in range(1, len(frames) - 1):
         rows.append(screw_axis(frames[i][:3, 2], frames[i][:3, 3]))  # z, whatever the axis
@@ -70,7 +70,7 @@ S_list = screw_axes_at_home(home_frames, ur10.joint_axes)
 """
 
 _SCREWS_AXIS_NOT_TURNED = """
-def screw_axes_at_home(frames, joint_axes):
+def screw_axes_at_home(frames, joint_axes, screw_axis=screw_axis):
     rows = []
     for i, axis in enumerate(joint_axes, start=1):
         rows.append(screw_axis(np.asarray(axis, dtype=float), frames[i][:3, 3]))  # not R a
@@ -81,7 +81,7 @@ S_list = screw_axes_at_home(home_frames, ur10.joint_axes)
 """
 
 _SCREWS_UR10_ONLY = """
-screw_axes_at_home = (lambda S: lambda frames, joint_axes: S)(S_list)  # the UR10's, always
+screw_axes_at_home = (lambda S: lambda frames, joint_axes, **steps: S)(S_list)  # the UR10's
 """
 
 _EXP_WITHOUT_G = """
@@ -251,6 +251,8 @@ MUTATIONS = {
         ("every joint about its frame's z axis, whatever joint_axes says", _SCREWS_Z_AXIS),
         ("the joint axes not turned into the base frame", _SCREWS_AXIS_NOT_TURNED),
         ("the UR10's screw axes whatever the chain", _SCREWS_UR10_ONLY),
+        ("S_list not the function's value at the UR10's home frames",
+         "S_list = S_list * [1, 1, 1, -1, -1, -1]"),
     ],
     "task3_test1": [
         ("the translation v theta: G(theta) forgotten", _EXP_WITHOUT_G),
@@ -298,13 +300,14 @@ def rodrigues(omega, theta):
 """),
     "task2_answer1": ("v as q x w, all the axes at once", """
 
-# written another way: v = q x w, and the rows computed in one call (einsum turns each axis)
+# written another way: v = q x w, and the rows computed in one call (einsum turns each axis;
+# the screw_axis given is left unused)
 def screw_axis(omega, point):
     omega = np.asarray(omega, dtype=float)
     return np.hstack([omega, np.cross(np.asarray(point, dtype=float), omega)])
 
 
-def screw_axes_at_home(frames, joint_axes):
+def screw_axes_at_home(frames, joint_axes, screw_axis=screw_axis):
     joints = np.asarray(frames)[1:-1]
     axes = np.einsum("kij,kj->ki", joints[:, :3, :3], np.asarray(joint_axes, dtype=float))
     return np.hstack([axes, np.cross(joints[:, :3, 3], axes)])
