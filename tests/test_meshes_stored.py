@@ -23,14 +23,15 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from support import installed
 from robokin.models import mesh_store
 from robokin.models.mesh_store import (STORED_ROBOTS, StaleMeshData, chain_arrays, data_file, read_record,
                                        record_chain, stored_robot)
 from robokin.models.urdf_meshes import (DEFAULT_MESH_BYTES, mesh_record, packaged_meshes, visual_chain, visual_meshes)
 
-pytest.importorskip("yourdfpy", reason="yourdfpy is not installed: pip install 'robokin[robots]'")
-pytest.importorskip("trimesh", reason="trimesh is not installed: pip install 'robokin[robots]'")
-pytest.importorskip("fast_simplification", reason="fast-simplification is not installed: pip install 'robokin[robots]'")
+installed.require("yourdfpy", "yourdfpy is not installed: pip install 'robokin[robots]'")
+installed.require("trimesh", "trimesh is not installed: pip install 'robokin[robots]'")
+installed.require("fast_simplification", "fast-simplification is not installed: pip install 'robokin[robots]'")
 try:
     importlib.metadata.distribution("example-robot-data")
 except importlib.metadata.PackageNotFoundError:

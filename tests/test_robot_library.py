@@ -7,10 +7,11 @@ import importlib.metadata
 import numpy as np
 import pytest
 
+from support import installed
 from robokin.errors import DomainError
 from robokin.models import ROBOT_DESCRIPTIONS, available_robots, from_urdf, robot_description
 
-pytest.importorskip("yourdfpy", reason="yourdfpy is not installed: pip install 'robokin[robots]'")
+installed.require("yourdfpy", "yourdfpy is not installed: pip install 'robokin[robots]'")
 try:
     importlib.metadata.distribution("example-robot-data")
 except importlib.metadata.PackageNotFoundError:

@@ -25,13 +25,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from support import installed
 from robokin.errors import MeshWarning, URDFError
 from robokin.models import from_urdf, visual_meshes
 from robokin.models import urdf_meshes
 from robokin.models.urdf_tree import MAX_LISTED_NAMES
 
-pytest.importorskip("yourdfpy", reason="yourdfpy is not installed: pip install 'robokin[robots]'")
-trimesh = pytest.importorskip("trimesh", reason="trimesh is not installed: pip install 'robokin[robots]'")
+installed.require("yourdfpy", "yourdfpy is not installed: pip install 'robokin[robots]'")
+installed.require("trimesh", "trimesh is not installed: pip install 'robokin[robots]'")
 
 
 # ------------------------------------------------------------------ files made here
@@ -54,6 +55,8 @@ def one_mesh_urdf(filename: str) -> str:
 
 
 def write_stl(path: Path, subdivisions: int = 1) -> int:
+    import trimesh   # here, not at collection: about 0.9 CPU-s with yourdfpy in every worker
+
     mesh = trimesh.creation.icosphere(subdivisions=subdivisions, radius=0.1)
     path.parent.mkdir(parents=True, exist_ok=True)
     mesh.export(path)

@@ -12,6 +12,7 @@ from collections.abc import Callable
 import numpy as np
 import pytest
 
+from support import installed
 from support.browser_waits import WAIT_MS, poll_until
 from conftest import watched_page
 
@@ -23,9 +24,9 @@ from robokin.views import Scene
 from robokin.views.record import ChainItem
 from robokin.views.static_html import pack_commands
 
-pytest.importorskip("yourdfpy", reason="yourdfpy is not installed: pip install 'robokin[robots]'")
-pytest.importorskip("trimesh", reason="trimesh is not installed: pip install 'robokin[robots]'")
-pytest.importorskip("fast_simplification", reason="fast-simplification is not installed: pip install 'robokin[robots]'")
+installed.require("yourdfpy", "yourdfpy is not installed: pip install 'robokin[robots]'")
+installed.require("trimesh", "trimesh is not installed: pip install 'robokin[robots]'")
+installed.require("fast_simplification", "fast-simplification is not installed: pip install 'robokin[robots]'")
 try:
     importlib.metadata.distribution("example-robot-data")
     HAVE_ROBOTS = True
