@@ -12,8 +12,8 @@ Per chapter, ``tests/grading_mutations/<notebook stem>.py`` defines::
 
 keyed by the nbgrader ``grade_id`` of a test cell (``tools/authoring/nbgrader_metadata.py --list``
 shows them). The chapter's instructor notebook runs from the top to its last graded test in ONE kernel
-(``ROBOKIN_VIEWER=static``, working directory ``notebooks/``; with two chapters or more, forked from
-a warm server, as nbval's kernels are: :func:`kernel_manager`), without the cells the grader
+(``ROBOKIN_VIEWER=static``, working directory ``notebooks/``; with three chapters or more, forked
+from a warm server, as nbval's kernels are: :func:`kernel_manager`), without the cells the grader
 kernel leaves out (:func:`cells_not_run`: what follows the last test, and the pictures no later
 cell that runs reads; nbval runs them all and compares their outputs, in both tiers); just
 before the test cell of a ``grade_id``, for each mutation:
@@ -191,14 +191,15 @@ def run_with_mutations(chapter: str, nb: dict, mutations: dict,
 
 @pytest.fixture(scope="module")
 def kernel_manager(request):
-    """The kernel manager of the chapters' runs: with two chapters or more in the session, their
-    kernels forked from one server (its environment has ``ROBOKIN_VIEWER=static``; stopped after the
-    module), a kernel's start and imports costing a fork instead (the server's own start costs more
-    than one kernel's: one chapter, as ``make test`` runs, starts its kernel anew). Module-scoped,
+    """The kernel manager of the chapters' runs: with three chapters or more in the session (the
+    ten of ``make test-all``), their kernels forked from one server (its environment has
+    ``ROBOKIN_VIEWER=static``; stopped after the module), a kernel's start and imports costing a
+    fork instead; with fewer (``make test``'s one, a scaffolded copy's two), each kernel starts
+    anew: the server's own start, its preloaded imports, costs about two kernels'. Module-scoped,
     so the chapters run in one pytest-xdist worker (tests/support/parallel_plan.py) and share it
     (benchmarks/README.md, "The grading mutations' kernels forked, and the suite's order by CPU")."""
     chapters = sum(1 for item in request.session.items if getattr(item, "module", None) is request.module)
-    if chapters < 2:
+    if chapters < 3:
         yield AsyncPrivateSocketsKernelManager
         return
     try:
