@@ -531,6 +531,41 @@ def test_a_correct_function_does_not_take_the_blame_of_the_value_it_computes():
     assert "This test failed because of `R` (Task 1): its own test task1_test1 failed." in text, text
 
 
+def _flange_notebook(failing_line: int):
+    """Task 1: a function, a constant, a table and a value computed from them; its first test reads
+    the function and the constant at line 1 and the value at line 2 and fails at ``failing_line``;
+    its second test checks the table through the function and fails."""
+    nb = nbformat.v4.new_notebook()
+    nb.cells = [
+        nbformat.v4.new_markdown_cell("## Task 1: the tables"),
+        code_cell("def fk(table, q, d=0.1):\n    return chain(table, q) + d\n\n\nD = 0.2\n"
+                  "table = [1, 2, 3]\ngap = abs(fk(table, q, D) - model(q))",
+                  "task1_answer1", solution=True, task=1, count=1),
+        code_cell("assert np.isclose(fk(printed, q, D), shifted(q))\nassert gap < 5e-4", "task1_test1",
+                  grade=True, task=1, count=2, outputs=[_error("AssertionError", 2, failing_line)]),
+        code_cell("check_fk(lambda q: fk(table, q, D), raise_on_fail=True)", "task1_test2", grade=True,
+                  task=1, count=3, outputs=[_error("AssertionError", 3, 1)]),
+    ]
+    return nb
+
+
+def test_an_answer_is_a_cause_only_if_the_statement_that_failed_read_it():
+    """An earlier test that reads ``fk`` and ``D`` in a statement that passes and fails at its check
+    of ``gap`` is no own failed test of ``fk`` or ``D``: the later test that reads them names no
+    cause (its own message names the mistake). When that test failed at the statement that reads
+    them, they are the cause."""
+    from tools.grading.robokin_nbgrader import FailureNotes
+
+    failure = nbformat.from_dict(_error("AssertionError", 3, 1))
+    text = "\n".join(FailureNotes(_flange_notebook(2), 3, {"pairs": [], "explained": {}}).lines(failure, []))
+    assert "It checks your answers `D`, `fk`, `table` (Task 1)." in text, text
+    assert "because of" not in text, text
+    report: dict[str, Any] = {"pairs": [], "explained": {}}
+    text = "\n".join(FailureNotes(_flange_notebook(1), 3, report).lines(failure, []))
+    assert "This test failed because of `D`, `fk` (Task 1): their own test task1_test1 failed." in text, text
+    assert sorted(name for entry in report["causes"].values() for name in entry["names"]) == ["D", "fk"]
+
+
 def test_an_answer_one_check_finds_wrong_is_a_cause_though_another_finds_it_correct():
     """Two checks of ``leg_ik``: one finds a solution branch missing, the other (every returned
     solution reproduces its pose) finds it correct; the wrong verdict names ``leg_ik`` as the cause."""

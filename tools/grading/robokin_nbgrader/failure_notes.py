@@ -24,7 +24,6 @@ from tools.notebook_analysis import (
 from tools.notebook_analysis import trace as cell_trace
 
 from .cells import (
-    ANSI,
     cell_label,
     failing_line,
     hidden_lines,
@@ -53,6 +52,28 @@ def error_outputs(cell) -> list:
     return [o for o in cell.get("outputs", []) if o.get("output_type") == "error"]
 
 
+def failing_reads(cell, error, kinds) -> tuple[int | None, str, dict[str, Binding]]:
+    """``(line, statement, reads)`` of the test cell ``cell`` that failed with ``error``, after the
+    cells ``kinds`` (:func:`cell_kinds` of the cells before it): the line that raised, its whole
+    statement, and the names of the student's that the statement reads (traced through the
+    earlier statements of the cell; ``{name: Binding}``, each with the answers it comes from).
+    Without a line (a timeout), or when that statement reads nothing of the student's, the
+    names the whole cell reads."""
+    line = failing_line(cell, error)
+    statement = statement_at(cell.source, line) if line else ""
+    if line and statement:
+        first, _ = statement_span(cell.source, line)
+        own = [("code", s) for s in _statements("\n".join(cell.source.splitlines()[: first - 1]))]
+        reads = trace(kinds + own + [("code", statement)])[-1]
+    else:
+        reads = trace(kinds + [("code", cell.source)])[-1]
+    student = {n: b for n, b in reads.items() if b.roots}
+    if statement and not student:  # the failing line reads nothing of the student's
+        reads = trace(kinds + [("code", cell.source)])[-1]
+        student = {n: b for n, b in reads.items() if b.roots}
+    return line, statement, student
+
+
 class FailureNotes:
     """The note under a failing test: what failed, which of the student's answers it
     depends on, which of those is the root cause, and what ``robokin.check`` says.
@@ -62,7 +83,8 @@ class FailureNotes:
       read-only cells and the earlier statements of the test cell to the answer
       cells: only names bound by an answer cell are called "your answer"; an answer also uses
       the functions of its cell that it calls, in a function's body too (parsed, never run);
-    * among those answers, the ones whose own earlier test failed, whose cell raised,
+    * among those answers, the ones whose own earlier test failed at a statement that read them
+      (a test of the task that read the answer elsewhere and failed at another is no trial of it), whose cell raised,
       or that ``robokin.check`` found wrong are named as the root cause (the first
       in the chain: an answer that is wrong only because it uses another wrong one
       is left out); a function of an answer cell that a test reaches only through a
@@ -101,33 +123,15 @@ class FailureNotes:
         self.graded = frozenset(m.group(1) for m in map(EXPLAINS_TAG_RE.match, self.cell.metadata.get("tags", []))
                                 if m)
         self._analysed = False
+        self._failed_reads_memo: dict[int, dict[str, Binding]] = {}
 
     # -- the static analysis
-    def _failing_line(self, error) -> int | None:
-        traceback = ANSI.sub("", "\n".join(error.get("traceback", [])))
-        count = self.cell.get("execution_count")
-        for number, line in re.findall(r"Cell In\[(\d+)\], line (\d+)", traceback):
-            if str(number) == str(count) and 0 < int(line) <= len(self.cell.source.splitlines()):
-                return int(line)
-        return None
-
     def analyse(self, error) -> None:
         if self._analysed:
             return
         self._analysed = True
-        line = self.line = self._failing_line(error)
         kinds = cell_kinds(self.nb)[: self.index]
-        self.statement = statement_at(self.cell.source, line) if line else ""
-        if line and self.statement:
-            first, _ = statement_span(self.cell.source, line)
-            own = [("code", s) for s in _statements("\n".join(self.cell.source.splitlines()[: first - 1]))]
-            reads = trace(kinds + own + [("code", self.statement)])[-1]
-        else:
-            reads = trace(kinds + [("code", self.cell.source)])[-1]
-        student = {n: b for n, b in reads.items() if b.roots}
-        if self.statement and not student:  # the failing line reads nothing of the student's
-            reads = trace(kinds + [("code", self.cell.source)])[-1]
-            student = {n: b for n, b in reads.items() if b.roots}
+        self.line, self.statement, student = failing_reads(self.cell, error, kinds)
         self.yours = {n: b for n, b in student.items() if b.answer and b.cell < self.index}
         self.derived = {n: b for n, b in student.items() if n not in self.yours}
         # the answers the whole test reads itself (a test that fails before it reaches its check of
@@ -145,9 +149,8 @@ class FailureNotes:
         """``{answer name: why it is suspect}`` for the root causes of this failure (the why
         reads after "its" or "their": ``"own test task2_test1 failed"``). An answer that
         ``robokin.check`` finds correct (``correct``) is never a cause, and its own tests are
-        the failing tests of its task that read it."""
+        the failing tests of its task whose failing statement read it."""
         why: dict[str, str] = {}
-        all_reads = trace(kinds)
         helpers = _helpers(kinds)
         for name in sorted(self.roots - set(correct)):
             cell = self.answer_cell.get(name)
@@ -165,11 +168,13 @@ class FailureNotes:
                 other = self.nb.cells[j]
                 if other.cell_type == "code" and utils.is_grade(other) and error_outputs(other) \
                         and task_of(other) == task:   # a test of another task is not its own
-                    # a function the test reaches only through the body of a function of its cell,
-                    # or through a value computed by calling it there, is not on trial there:
-                    # robokin.check's verdict on it decides
+                    # only what the statement that failed there read is on trial (a test that reads
+                    # fk_table in one line and fails at the check of another answer does not
+                    # accuse fk_table); a function the test reaches only through the body of a
+                    # function of its cell, or through a value computed by calling it there, is
+                    # not on trial either: robokin.check's verdict on it decides
                     if any(name in b.roots and not any(name in helpers.get(root, ()) for root in b.roots)
-                           for b in all_reads[j].values()):
+                           for b in self._failed_reads(j).values()):
                         failed.append(other.metadata["nbgrader"]["grade_id"])
             if failed:
                 why[name] = f"own test {failed[0]} failed" if len(failed) == 1 else \
@@ -179,6 +184,16 @@ class FailureNotes:
         # the first link of the chain: leave out an answer that uses another suspect one
         return {n: w for n, w in why.items()
                 if not any(other != n and other in self.root_roots.get(n, ()) for other in why)}
+
+    def _failed_reads(self, index: int) -> dict[str, Binding]:
+        """What the statement that failed in the earlier test cell ``index`` read of the student's
+        (:func:`failing_reads`, on that cell's last error, as the note under it does), memoised
+        per cell for this note."""
+        if index not in self._failed_reads_memo:
+            other = self.nb.cells[index]
+            self._failed_reads_memo[index] = failing_reads(other, error_outputs(other)[-1],
+                                                           cell_kinds(self.nb)[:index])[2]
+        return self._failed_reads_memo[index]
 
     # -- the questions to the kernel
     def pairs(self, error) -> list[tuple[str, str]]:
