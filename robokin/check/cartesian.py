@@ -47,10 +47,10 @@ from typing import Any
 import numpy as np
 
 from robokin.check._core import (
-    Check, Context, Diagnosis, MatrixArgumentsCheck, Mistake, Variable, alternatives, fmt,
+    Check, Diagnosis, MatrixArgumentsCheck, Variable, alternatives, fmt,
 )
 from robokin.check._registry import exercise
-from robokin.check.diagnoses import inverse_transform, transform_mistakes
+from robokin.check.diagnoses import inverse_transform, transform_mistakes, wrong_entries
 from robokin.transforms import (
     quaternion_from_rotation,
     rotation_exp,
@@ -146,36 +146,6 @@ def _joint_variables() -> list[Variable]:
 _Q = _joint_variables()
 
 
-def _wrong_entries(advice: str) -> Diagnosis:
-    """The last diagnosis of a check of a constant the statement asks for (T_ET, T_BG): it names
-    the wrong entries, not the values they should have, since those values are the answer.
-
-    Parameters
-    ----------
-    advice : str
-        The principle the student is sent back to (no ``{`` or ``}``).
-
-    Returns
-    -------
-    Diagnosis
-        Code ``"mismatch"``; it applies to any answer of the right shape.
-    """
-    def variants(ctx: Context) -> list[Mistake]:
-        if ctx.S.shape != ctx.R.shape:
-            return []
-        with np.errstate(all="ignore"):
-            bad = ~np.isclose(ctx.S, ctx.R, atol=max(ctx.check.atol, 1e-9), rtol=ctx.check.rtol)
-        wrong = [f"({i + 1}, {j + 1})" for i, j in zip(*np.nonzero(bad.any(axis=0)))]
-        what = ("every entry differs" if len(wrong) == ctx.R[0].size else
-                f"entr{'y' if len(wrong) == 1 else 'ies'} {', '.join(wrong)} "
-                f"differ{'s' if len(wrong) == 1 else ''}")
-        student = ctx.S
-        return [Mistake("mismatch", lambda reference: (lambda x: student[0]),
-                        f"{{name}} is not correct: {what}. {advice}")]
-
-    return Diagnosis("mismatch", variants)
-
-
 # ------------------------------------------------------------------ tool frame (a constant)
 _SWAPPED_TOOL = (
     "{name} reads the triple η = [0, 0, π/10] as (roll, pitch, yaw), so its last angle became "
@@ -204,7 +174,7 @@ def _tool_frame_mistakes():
         ))]),
         inverse_transform(),
         *transform_mistakes(),
-        _wrong_entries("Its rotation block is the rotation of the YPR triple ᴱη_T, read as the "
+        wrong_entries("Its rotation block is the rotation of the YPR triple ᴱη_T, read as the "
                        "course lists it (the Conventions table), the top of its last column the "
                        "offset ₑr_ET in metres, and its last row [0, 0, 0, 1]."),
     ]
@@ -250,7 +220,7 @@ def _goal_frame_mistakes():
         ))]),
         inverse_transform(),
         *transform_mistakes(),
-        _wrong_entries("Its rotation block is the rotation of the YPR triple ᴮη_G, read as the "
+        wrong_entries("Its rotation block is the rotation of the YPR triple ᴮη_G, read as the "
                        "course lists it (the Conventions table), the top of its last column the "
                        "goal's origin ᴮr_BG in metres, and its last row [0, 0, 0, 1]."),
     ]

@@ -42,7 +42,7 @@ import numpy as np
 
 from robokin.check import diagnoses as dg
 from robokin.check._core import (
-    FAIL, PASS, Check, CheckResult, Context, Diagnosis, FunctionCheck, MatrixArgumentsCheck, Mistake, Variable,
+    FAIL, PASS, Check, CheckResult, FunctionCheck, MatrixArgumentsCheck, Variable,
     alternatives, fmt, pack_joint_rows, packed_variants, report, show,
 )
 from robokin.check._registry import exercise
@@ -166,38 +166,6 @@ def _configuration_for(key: str, angle: float) -> np.ndarray:
     return q
 
 
-def _wrong_entries(advice: str) -> Diagnosis:
-    """The last diagnosis of a check of numbers the statement asks for (one fixed input): it
-    names the wrong entries, not the values they should have, since those values are the answer.
-
-    Parameters
-    ----------
-    advice : str
-        The principle the student is sent back to (no ``{`` or ``}``).
-
-    Returns
-    -------
-    Diagnosis
-        Code ``"mismatch"``; it applies to any answer of the right shape.
-    """
-    def variants(ctx: Context) -> list[Mistake]:
-        if ctx.S.shape != ctx.R.shape:
-            return []
-        with np.errstate(all="ignore"):
-            bad = ~np.isclose(ctx.S, ctx.R, atol=max(ctx.check.atol, 1e-9), rtol=ctx.check.rtol)
-        wrong = [tuple(int(i) + 1 for i in idx) for idx in zip(*np.nonzero(bad.any(axis=0)))]
-        labels = [f"({idx[0]}, {idx[1]})" if len(idx) == 2 else f"[{idx[0]}]" for idx in wrong]
-        what = ("every entry differs" if len(wrong) == ctx.R[0].size else
-                f"entr{'y' if len(wrong) == 1 else 'ies'} {', '.join(labels)} "
-                f"differ{'s' if len(wrong) == 1 else ''}")
-        at = f" at {ctx.check.at_text}" if ctx.check.at_text else ""
-        student = ctx.S
-        return [Mistake("mismatch", lambda reference: (lambda x: student[0]),
-                        f"{{name}} is not correct{at}: {what}. {advice}")]
-
-    return Diagnosis("mismatch", variants)
-
-
 def _rotation_check(key: str) -> Check:
     i, j, var, _ = _JOINTS[key]
     return Check(
@@ -231,7 +199,7 @@ transform_23 = exercise(_CHAPTER, "transform_23", _transform_check("23"))
 transform_3F = exercise(_CHAPTER, "transform_3F", Check(
     name="H_3F",
     reference=lambda x: _relative(3, 4, np.zeros(3)),
-    diagnoses=[*dg.standard("transform"), _wrong_entries(
+    diagnoses=[*dg.standard("transform"), dg.wrong_entries(
         "Its rotation block holds the foot frame's axes written in frame 3, the top of its last "
         "column the foot's position in frame 3, ₃r_3F of the problem statement, and its last "
         "row is [0, 0, 0, 1].")],
@@ -308,7 +276,7 @@ foot_jacobian_at = exercise(_CHAPTER, "foot_jacobian_at", Check(
     at_text=_AT_LIFT,
     atol=1e-3,
     rtol=1e-3,
-    diagnoses=[*dg.standard("jacobian"), _wrong_entries(
+    diagnoses=[*dg.standard("jacobian"), dg.wrong_entries(
         "Substitute this q (in radians) into your J_sym: column i is the derivative of r_BF "
         "with respect to the i-th joint angle.")],
     doc="Check the numbers of the foot Jacobian at q = [0°, 60°, −120°].",
@@ -339,7 +307,7 @@ lift_velocity = exercise(_CHAPTER, "lift_velocity", Check(
             "the inverse.",
         )]),
         *dg.standard("angles"),
-        _wrong_entries("It must solve J q̇ = v with the Jacobian at this q: check that "
+        dg.wrong_entries("It must solve J q̇ = v with the Jacobian at this q: check that "
                        "J_lift @ dq_cmd gives v."),
     ],
     doc=("Check the joint velocity q̇ (rad/s) that moves the foot with v = [0, 0, −1] m/s at "
