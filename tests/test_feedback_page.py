@@ -144,6 +144,7 @@ def test_a_model_value_is_not_the_students_and_a_correct_answer_is_no_cause():
     text = "\n".join(notes.lines(failure, correct))
     assert "because of `R_b` (Task 1)" in text and "`R_a`" not in text.split("because of")[1].split(".")[0], text
     assert "It also reads `J_fd`, computed earlier in this test cell; it uses your answer `q_lift`" in text, text
+    assert "`foot` (Task 2) uses your earlier answers `R_a`, `R_b` (Task 1)." in text, text
     assert [c["names"] for c in report["causes"].values()] == [["R_b"]], report["causes"]
 
 
@@ -427,7 +428,8 @@ def _screw_notebook(screw_axis_fails: bool):
 def test_a_value_computed_by_a_function_of_its_cell_leads_to_that_function():
     """``S_list``, computed in its answer cell by calling the cell's ``screw_axis``: its failing
     test names ``screw_axis`` (whose own test failed) as the cause, and the note says so; a test
-    of ``T0`` (computed by ``poe_fk`` from ``S_list``) starts from ``screw_axis`` too."""
+    of ``T0`` (computed by ``poe_fk`` from ``S_list``) starts from ``screw_axis`` too, and says that
+    ``T0`` uses those earlier answers."""
     from tools.grading.robokin_nbgrader import FailureNotes
     from tools.grading.robokin_nbgrader.failure_notes import trace
 
@@ -447,7 +449,10 @@ def test_a_value_computed_by_a_function_of_its_cell_leads_to_that_function():
     failure = nbformat.from_dict(_error("AssertionError", 5, 1))
     text = "\n".join(FailureNotes(nb, 6, report).lines(failure, []))
     assert "This test failed because of `screw_axis` (Task 2): its own test task2_test1 failed." in text, text
-    assert "`T0` (Task 3) is computed in its answer cell by your function `poe_fk`." in text, text
+    # the answers of earlier cells it uses are named where the note says what T0 is computed from:
+    # the cause line's screw_axis is not a name out of nowhere
+    assert ("`T0` (Task 3) is computed in its answer cell by your function `poe_fk` and uses your earlier "
+            "answers `S_list`, `screw_axis` (Task 2).") in text, text
 
 
 def _tool_notebook():

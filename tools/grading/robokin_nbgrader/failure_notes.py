@@ -90,8 +90,9 @@ class FailureNotes:
       is left out); a function of an answer cell that a test reaches only through a
       function's body or a value computed by calling it (``S_list = ... screw_axis(...)``)
       is no suspect by that test, only by its own tests and ``robokin.check``'s verdict;
-      the note says from which values of its cell such a value was computed, and which
-      functions of the cell it uses;
+      the note says from which values of its cell such a value was computed, which
+      functions of the cell it uses, and which answers of earlier cells it uses (the cause line
+      may name them: the student sees where they come in);
     * a test tagged ``explains-<answer>`` (one that runs a later answer on robokin's earlier
       steps) asks ``robokin.check`` about the answers its tags name only and blames no other
       (unless that answer's cell raised): not the earlier answers it reads, nor those the named
@@ -321,19 +322,37 @@ class FailureNotes:
         """A line for each answer this test reads that its answer cell computes from other values
         of that cell or by calling functions of that cell: the student is led to what the value was
         really computed from (``T_ET = transform_from_ypr(TOOL_YPR, TOOL_OFFSET)``: the two values
-        and the function, not the function alone)."""
+        and the function, not the function alone), and to the answers of earlier cells it uses
+        (:meth:`_earlier_answers`), which the cause line may name."""
         out = []
         for name in sorted(self.yours):
             values, functions = self._computed_from(name)
             listed = ", ".join(f"`{function}`" for function in functions)
             plural = "s" if len(functions) > 1 else ""
+            earlier = self._earlier_answers(name)
+            also = f"your earlier answer{'s' if len(earlier) > 1 else ''} {self._named(earlier)}" if earlier else ""
             if values:
                 read = ", ".join(f"`{value}`" for value in values)
                 uses = f"; it uses your function{plural} {listed}" if functions else ""
+                uses += f"{' and' if functions else '; it uses'} {also}" if also else ""
                 out.append(f"  {self._named([name])} is computed in its answer cell from your {read}{uses}.")
             elif functions:
-                out.append(f"  {self._named([name])} is computed in its answer cell by your function{plural} {listed}.")
+                uses = f" and uses {also}" if also else ""
+                out.append(f"  {self._named([name])} is computed in its answer cell by your function{plural} "
+                           f"{listed}{uses}.")
+            elif also:
+                out.append(f"  {self._named([name])} uses {also}.")
         return out
+
+    def _earlier_answers(self, name: str) -> list[str]:
+        """The answers of earlier cells that the student's ``name`` (read by this test) uses, directly
+        or through read-only cells: the cause line may name them, and the student is told where they
+        come in. None for a test that grades named answers only (``explains-``): it blames no other."""
+        binding = self.yours.get(name)
+        if binding is None or self.graded:
+            return []
+        return sorted(root for root in binding.roots - {name}
+                      if self.answer_cell.get(root, binding.cell) < binding.cell)
 
     def _computed_from(self, name: str) -> tuple[tuple[str, ...], tuple[str, ...]]:
         """``(values, functions)`` of its answer cell that the student's value ``name`` (read by this
