@@ -100,6 +100,8 @@ def test_feedback_page_wraps_notes_and_spaces_table_columns(tmp_path):
     exporter.register_preprocessor(FeedbackStyle(), enabled=True)
     page = exporter.from_notebook_node(nb, resources)[0]
     assert "white-space: pre-wrap" in page and "padding: 0.25em 0.9em" in page
+    # Bootstrap's pre {word-break: break-all} cut words at the line's end: lines break at spaces
+    assert "pre-wrap; word-break: normal" in page
 
 
 # ---------------------------------------------------------------- what the notes say

@@ -11,13 +11,14 @@ class FeedbackStyle(NbGraderPreprocessor):
     whose ``resources["inlining"]["css"]`` the feedback template inlines).
 
     The notes under a failing test and the tracebacks wrap at the page's width instead of
-    scrolling sideways (at 1280 px a note's long lines were cut off), and the report's tables have
-    a gap between their columns.
+    scrolling sideways (at 1280 px a note's long lines were cut off), at spaces (Bootstrap's
+    ``word-break: break-all`` on ``pre`` cut words, "may then pas|s"; a token longer than the line
+    still breaks), and the report's tables have a gap between their columns.
     """
 
     css = Unicode("""
 div.output_area pre, div.output_subarea pre, div.output_text pre, .jp-OutputArea-output pre {
-  white-space: pre-wrap; overflow-wrap: anywhere; }
+  white-space: pre-wrap; word-break: normal; overflow-wrap: anywhere; }
 div.output_subarea, div.output_area { overflow-x: visible; max-width: 100%; }
 div.text_cell_render table th, div.text_cell_render table td, .rendered_html table th,
 .rendered_html table td { padding: 0.25em 0.9em; }
