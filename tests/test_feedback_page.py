@@ -523,6 +523,8 @@ def test_a_correct_function_does_not_take_the_blame_of_the_value_it_computes():
         cause = text.split("because of")[1].split(". Fix")[0]
         assert "`S_list` (Task 2): its value is wrong for robokin.check" in cause, text
         assert "screw_axis" not in cause, text
+        # the cause is the answer this test checks: nothing to fix "first"
+        assert "(cross_sign). Fix it: this test may then pass." in text, text
     nb = nbformat.v4.new_notebook()
     nb.cells = [
         nbformat.v4.new_markdown_cell("## Task 1: R"),

@@ -371,7 +371,8 @@ class FailureNotes:
     def _cause_lines(self, own_wrong: frozenset[str] = frozenset()) -> list[str]:
         """The note's line naming the root causes (none without a cause), recorded in the run's report
         for *Where to start*. It says the test may then pass only when robokin.check finds none of the
-        answers the test grades wrong (``own_wrong``) besides the causes to be fixed anyway."""
+        answers the test grades wrong (``own_wrong``) besides the causes to be fixed anyway; to fix a
+        cause "first" only when it is not an answer the test checks itself."""
         if not self.causes:
             return []
         groups: dict[tuple, list[str]] = {}
@@ -396,6 +397,9 @@ class FailureNotes:
             them = "it" if len(also) == 1 else "them"
             advice = (f"Fix that first, and your {self._named(also)} too: robokin.check finds {them} "
                       "wrong (below), so this test fails until both are fixed.")
+        elif not raised and set(self.causes) <= set(self.yours):
+            # the answers this test checks itself: nothing to fix before them
+            advice = f"Fix {'it' if len(self.causes) == 1 else 'them'}: this test may then pass."
         else:
             advice = "Fix that first: this test may then pass."
         out = [f"  This test failed because of {'; '.join(items)}. {advice}"]
