@@ -19,7 +19,7 @@ import pytest
 
 from conftest import ROOT
 from tools import kernel_sockets
-from tools.kernel_sockets import AsyncPrivateSocketsKernelManager, PrivateSocketsKernelManager
+from tools.kernel_sockets import AsyncPrivateSocketsKernelManager, PrivateSocketsKernelManager, PrivateSocketsMixin
 
 pytestmark = [pytest.mark.notebooks,
               pytest.mark.skipif(not kernel_sockets.AVAILABLE, reason="ipc sockets are POSIX only")]
@@ -86,8 +86,9 @@ def test_the_async_manager_too():
 
 def test_nbval_starts_its_kernels_with_private_sockets():
     """The repository's conftest.py points nbval's manager at one with private sockets (the suite's
-    manager of forked kernels, tests/support/forked_kernels.py, is a PrivateSocketsKernelManager)."""
-    assert issubclass(nbval.kernel.KernelManager, PrivateSocketsKernelManager)
+    manager of forked kernels, tests/support/forked_kernels.py, has tools.kernel_sockets'
+    PrivateSocketsMixin, as PrivateSocketsKernelManager has)."""
+    assert issubclass(nbval.kernel.KernelManager, PrivateSocketsMixin)
     kernel = nbval.kernel.RunningKernel(nbval.kernel.CURRENT_ENV_KERNEL_NAME, cwd=str(ROOT / "notebooks"))
     try:
         assert_private_sockets(kernel.km)
