@@ -36,11 +36,10 @@ import os
 import warnings
 from pathlib import Path
 
-from jupyter_client import AsyncKernelManager, KernelManager
 from jupyter_core.utils import run_sync
 
 from tools.grading.bridge import fork_server
-from tools.kernel_sockets import PrivateSocketsMixin
+from tools.kernel_sockets import AsyncPrivateSocketsKernelManager, PrivateSocketsKernelManager, PrivateSocketsMixin
 
 #: What the notebooks import (their first cells), imported once by the server.
 PRELOAD = ("numpy", "scipy.optimize", "sympy", "matplotlib.pyplot", "robokin", "robokin.formatting",
@@ -160,14 +159,14 @@ class ForkedKernelMixin(PrivateSocketsMixin):
             self._stderr = None
 
 
-class ForkedNbvalKernelManager(ForkedKernelMixin, KernelManager):
+class ForkedNbvalKernelManager(ForkedKernelMixin, PrivateSocketsKernelManager):
     """jupyter_client's synchronous ``KernelManager``, private sockets, the kernel forked when it can be."""
 
     pre_start_kernel = run_sync(ForkedKernelMixin._async_pre_start_kernel)
     cleanup_resources = run_sync(ForkedKernelMixin._async_cleanup_resources)
 
 
-class ForkedAsyncKernelManager(ForkedKernelMixin, AsyncKernelManager):
+class ForkedAsyncKernelManager(ForkedKernelMixin, AsyncPrivateSocketsKernelManager):
     """jupyter_client's ``AsyncKernelManager`` (nbclient's), private sockets, the kernel forked when it can be."""
 
     pre_start_kernel = ForkedKernelMixin._async_pre_start_kernel
