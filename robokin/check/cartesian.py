@@ -50,7 +50,7 @@ from robokin.check._core import (
     Check, Diagnosis, MatrixArgumentsCheck, Variable, alternatives, fmt,
 )
 from robokin.check._registry import exercise
-from robokin.check.diagnoses import inverse_transform, transform_mistakes, wrong_entries
+from robokin.check.diagnoses import inverse_transform, transform_mistakes
 from robokin.transforms import (
     quaternion_from_rotation,
     rotation_exp,
@@ -174,9 +174,6 @@ def _tool_frame_mistakes():
         ))]),
         inverse_transform(),
         *transform_mistakes(),
-        wrong_entries("Its rotation block is the rotation of the YPR triple ᴱη_T, read as the "
-                       "course lists it (the Conventions table), the top of its last column the "
-                       "offset ₑr_ET in metres, and its last row [0, 0, 0, 1]."),
     ]
 
 
@@ -185,8 +182,10 @@ tool_frame = exercise(_CHAPTER, "tool_frame", Check(
     reference=lambda x: _T_ET(),
     diagnoses=_tool_frame_mistakes(),
     atol=1e-4, rtol=1e-4,
-    hint=("T_ET = [[R, p], [0, 1]]: R the rotation of the YPR triple as the course lists it, p "
-          "the offset in metres."),
+    values_shown=False,
+    hint=("Its rotation block is the rotation of the YPR triple ᴱη_T, read as the course lists it "
+          "(the Conventions table), the top of its last column the offset ₑr_ET in metres, and its "
+          "last row [0, 0, 0, 1]."),
     doc=("Check the tool frame T_ET (4×4) built from the exercise's YPR triple and offset: "
          "compared with the model's tool frame to 1e-4."),
 ))
@@ -220,9 +219,6 @@ def _goal_frame_mistakes():
         ))]),
         inverse_transform(),
         *transform_mistakes(),
-        wrong_entries("Its rotation block is the rotation of the YPR triple ᴮη_G, read as the "
-                       "course lists it (the Conventions table), the top of its last column the "
-                       "goal's origin ᴮr_BG in metres, and its last row [0, 0, 0, 1]."),
     ]
 
 
@@ -231,8 +227,10 @@ goal_frame = exercise(_CHAPTER, "goal_frame", Check(
     reference=lambda x: _T_BG(),
     diagnoses=_goal_frame_mistakes(),
     atol=1e-4, rtol=1e-4,
-    hint=("T_BG = [[R, p], [0, 1]]: R the rotation of the YPR triple as the course lists it, p "
-          "the goal's origin in metres."),
+    values_shown=False,
+    hint=("Its rotation block is the rotation of the YPR triple ᴮη_G, read as the course lists it "
+          "(the Conventions table), the top of its last column the goal's origin ᴮr_BG in metres, "
+          "and its last row [0, 0, 0, 1]."),
     doc=("Check the goal frame T_BG (4×4) built from the exercise's YPR triple and origin: "
          "compared with the model's goal frame to 1e-4."),
 ))

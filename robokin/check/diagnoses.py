@@ -32,7 +32,6 @@ from robokin.check._core import Context, Diagnosis, Mistake, RefFn, alternatives
 from robokin.transforms import transform
 
 __all__ = [
-    "wrong_entries",
     "transpose",
     "inverse_transform",
     "transform_mistakes",
@@ -440,39 +439,6 @@ def missing_factor(factors: Sequence[tuple[str, Callable]], product_name: str) -
             f"{{name}} leaves out the factor {names[skip]}: {product_name} = {right}.",
         ))
     return alternatives("missing_factor", items)
-
-
-def wrong_entries(advice: str) -> Diagnosis:
-    """The last diagnosis of a check of numbers the statement asks for (one fixed input, or a
-    constant such as a tool frame): it names the wrong entries (1-based, as in the textbook),
-    not the values they should have, since those values are the answer.
-
-    Parameters
-    ----------
-    advice : str
-        The principle the student is sent back to (no ``{`` or ``}``).
-
-    Returns
-    -------
-    Diagnosis
-        Code ``"mismatch"``; it applies to any answer of the right shape.
-    """
-    def variants(ctx: Context) -> list[Mistake]:
-        if ctx.S.shape != ctx.R.shape:
-            return []
-        with np.errstate(all="ignore"):
-            bad = ~np.isclose(ctx.S, ctx.R, atol=max(ctx.check.atol, 1e-9), rtol=ctx.check.rtol)
-        wrong = [tuple(int(i) + 1 for i in idx) for idx in zip(*np.nonzero(bad.any(axis=0)))]
-        labels = [f"({idx[0]}, {idx[1]})" if len(idx) == 2 else f"[{idx[0]}]" for idx in wrong]
-        what = ("every entry differs" if len(wrong) == ctx.R[0].size else
-                f"entr{'y' if len(wrong) == 1 else 'ies'} {', '.join(labels)} "
-                f"differ{'s' if len(wrong) == 1 else ''}")
-        at = f" at {ctx.check.at_text}" if ctx.check.at_text else ""
-        student = ctx.S
-        return [Mistake("mismatch", lambda reference: (lambda x: student[0]),
-                        f"{{name}} is not correct{at}: {what}. {advice}")]
-
-    return Diagnosis("mismatch", variants)
 
 
 def standard(kind: str = "matrix") -> list[Diagnosis]:

@@ -199,10 +199,11 @@ transform_23 = exercise(_CHAPTER, "transform_23", _transform_check("23"))
 transform_3F = exercise(_CHAPTER, "transform_3F", Check(
     name="H_3F",
     reference=lambda x: _relative(3, 4, np.zeros(3)),
-    diagnoses=[*dg.standard("transform"), dg.wrong_entries(
-        "Its rotation block holds the foot frame's axes written in frame 3, the top of its last "
-        "column the foot's position in frame 3, ₃r_3F of the problem statement, and its last "
-        "row is [0, 0, 0, 1].")],
+    diagnoses=dg.standard("transform"),
+    values_shown=False,
+    hint=("Its rotation block holds the foot frame's axes written in frame 3, the top of its last "
+          "column the foot's position in frame 3, ₃r_3F of the problem statement, and its last "
+          "row is [0, 0, 0, 1]."),
     doc="Check the constant transform H_3F from the knee frame 3 to the foot frame F.",
 ))
 
@@ -276,9 +277,10 @@ foot_jacobian_at = exercise(_CHAPTER, "foot_jacobian_at", Check(
     at_text=_AT_LIFT,
     atol=1e-3,
     rtol=1e-3,
-    diagnoses=[*dg.standard("jacobian"), dg.wrong_entries(
-        "Substitute this q (in radians) into your J_sym: column i is the derivative of r_BF "
-        "with respect to the i-th joint angle.")],
+    diagnoses=dg.standard("jacobian"),
+    values_shown=False,
+    hint=("Substitute this q (in radians) into your J_sym: column i is the derivative of r_BF "
+          "with respect to the i-th joint angle."),
     doc="Check the numbers of the foot Jacobian at q = [0°, 60°, −120°].",
 ))
 
@@ -307,9 +309,9 @@ lift_velocity = exercise(_CHAPTER, "lift_velocity", Check(
             "the inverse.",
         )]),
         *dg.standard("angles"),
-        dg.wrong_entries("It must solve J q̇ = v with the Jacobian at this q: check that "
-                       "J_lift @ dq_cmd gives v."),
     ],
+    values_shown=False,
+    hint="It must solve J q̇ = v with the Jacobian at this q: check that J_lift @ dq_cmd gives v.",
     doc=("Check the joint velocity q̇ (rad/s) that moves the foot with v = [0, 0, −1] m/s at "
          "q = [0°, 60°, −120°], against the model's Jacobian."),
 ))
