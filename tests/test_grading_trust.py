@@ -2,8 +2,9 @@
 
 Crafted submissions go through the course's own pipeline (the course built as in
 tests/test_nbgrader.py, then ``nbgrader autograde``, ``generate_feedback`` and
-``export``), each in its chapter's ONE autograde run (tests/support/grading_course.py), with
-the submissions of test_nbgrader.py:
+``export``), each in its chapter's job (tests/support/grading_course.py): the everyday
+chapter's in its ONE autograde run, with the submissions of test_nbgrader.py; every other
+chapter's by an autograde of its own beside that run:
 
 benign, the everyday chapter (tests/support/tiers.py: chapter 7, the UR10's closed form; the
 instructor's solutions, plus ...) -- each keeps full marks:
@@ -22,7 +23,7 @@ instructor's solutions, plus ...) -- each keeps full marks:
                 ``os._exit(1)``: nothing after the last graded cell is run, so it costs
                 nothing and takes no time, and the feedback says why those cells have no
                 outputs;
-benign, every other chapter (in that chapter's one autograde run), one submission:
+benign, every other chapter (graded apart, beside that chapter's shared run), one submission:
     ``written_talkative``
                 answers written another way (tests/support/benign_variants.py: other
                 intermediate names, another valid method), made talkative by one function
@@ -347,22 +348,20 @@ def benign_submissions(run: Run, correct: dict) -> dict[str, dict]:
     """Every other chapter's benign submission: written another way and talkative, hanging, then crashing.
 
     The answers of :data:`VARIANTS` are re-computed first, then every answer cell is made
-    talkative, so that the talkative wrappers wrap the functions written another way.
-
-    nbgrader grades the students of a run in the order of their names: the hanging one is
-    named "written_..." so that it comes last (or next to last), not first -- when every
-    chapter's run began with its wait for the time limit, the grading threads of both
-    parts slept at once and the machine idled at the start of ``make test``."""
+    talkative, so that the talkative wrappers wrap the functions written another way. It is
+    graded apart (:data:`NOISY_SUITE`): its wait for the time limit overlaps the chapter's
+    shared run."""
     merged = talkative(written_another_way(correct, run.chapter), run.source)
     return {BENIGN: with_incident(with_earlier_hang(merged, HANG), CRASH)}
 
 
-#: the benign submission of every other chapter, graded in that chapter's one autograde run,
-#: with a time limit of OTHER_TIMEOUT s per cell (the hang waits that long)
+#: the benign submission of every other chapter, graded in that chapter's job by an autograde
+#: of its own, beside the shared run (grading_course.Suite.apart), with a time limit of
+#: OTHER_TIMEOUT s per cell (the hang waits that long)
 NOISY_SUITE = grading_course.Suite(
     "trust-benign", lambda run, correct, course: benign_submissions(run, correct),
     environment={"ROBOKIN_CELL_TIMEOUT": str(OTHER_TIMEOUT)},
-    joins=lambda chapter: chapter != CHAPTER)
+    joins=lambda chapter: chapter != CHAPTER, apart=True)
 SUITES = (SUITE, NOISY_SUITE)
 
 

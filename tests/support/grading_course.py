@@ -10,12 +10,15 @@ its own noisy, hanging and escaping submissions). The everyday chapter
 5 CPU-s per submission, chapter 3's about 16). Instead of a course and an autograde run each, they
 share one course per chapter (a gradebook of its own, so that two chapters are
 graded at a time), with one student per submission and ONE ``nbgrader autograde``
-per assignment: every chapter's run grades the submissions of test_nbgrader.py and
-test_grading_trust.py; the
-tamper suite (test_grading_tamper.py) grades the everyday chapter in a course of its own
+per assignment: every chapter's run grades the submissions of test_nbgrader.py and,
+in the everyday chapter, those of test_grading_trust.py. Two suites wait a time limit on
+purpose and are graded so that the wait overlaps work: the tamper suite
+(test_grading_tamper.py) grades the everyday chapter in a course of its own
 (:attr:`Suite.own_course`: its never-returning call waits the call limit in every
-test, so it runs as a part of its own beside the others) -- eight autograde runs in
-all (and the walk-through's two).
+test, so it runs as a part of its own beside the others), and the trust suite's benign
+submission of every other chapter, which hangs, is graded in that chapter's job by an
+autograde of its own in a copy of the course, while the shared run grades the rest
+(:attr:`Suite.apart`) -- twenty autograde runs in all (and the walk-through's two).
 
 :func:`graded_courses` grades them once per pytest process, for the files
 selected in the session: only the jobs (a chapter's run, a suite's own course, the
@@ -23,18 +26,16 @@ walk-through, the chapter without metadata) that a selected test reads. Each job
 part of its own, one pytest-xdist group (``nbgrader:<job>``), so that under xdist the
 jobs spread over the workers, longest first (tests/support/parallel_plan.py), and a worker
 grades only the jobs its tests read (:class:`Courses` grades a job when it is first
-read; without xdist, all jobs at once, in one thread pool). A job's run waits on
-purpose (the time limits of its hanging submissions) as much as it computes: many
-small parts let one worker's waits overlap another's work. Each file sees its own
+read; without xdist, all jobs at once, in one thread pool). Each file sees its own
 submissions only (:func:`view`).
 
 A file that adds submissions to a chapter's run gives a :class:`Suite` per kind
 of run it joins (``SUITE``, or a tuple ``SUITES``): the chapters it joins
 (the everyday chapter unless told), its submissions, the environment and options its
 autograde run needs, and what it does before and after the run. The options of the suites hold for every
-submission of that run (the solutions and the typical mistake too): a time
-limit per cell of ``ROBOKIN_CELL_TIMEOUT`` s (the trust suite's hangs: 30 s in every
-chapter's run, a ceiling load does not reach)
+submission of that run (the solutions and the typical mistake too; a suite graded apart's
+for its own only): a time limit per cell of ``ROBOKIN_CELL_TIMEOUT`` s (the trust suite's
+hangs: 30 s, a ceiling load does not reach)
 and per call of a student's function (the tamper suite's never-returning call).
 """
 
@@ -155,8 +156,20 @@ class Suite:
     #: suite whose waits (time limits reached on purpose) would make the shared run the suite's
     #: longest unit; its options and environment then hold for its own submissions only
     own_course: bool = False
+    #: graded in the chapter's job but by an autograde of its own, in a copy of the chapter's
+    #: course made after generate_assignment, while the shared run grades the other
+    #: submissions: for a suite whose submissions wait a time limit on purpose, so that the
+    #: wait overlaps the shared run's work instead of adding to it (the jobs of one wave of
+    #: parts reached their waits together: 108 of the 171 core-seconds a quiet ``make
+    #: test-all`` left idle came in three such windows of 20-25 s). Its environment and options
+    #: hold for its own submissions only; it has no hooks (they see the shared course).
+    apart: bool = False
     #: job -> the submissions the session's tests read (None: all), set by :class:`Courses`
     wanted: dict[str, set[str] | None] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        if self.apart and (self.own_course or self.before or self.after or self.finally_):
+            raise ValueError(f"suite {self.name!r}: a suite graded apart has no course of its own and no hooks")
 
     def key(self, chapter: str) -> str:
         """The job whose run holds this suite's submissions of ``chapter``."""

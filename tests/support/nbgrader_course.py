@@ -14,10 +14,11 @@ import json
 import os
 import re
 import shlex
+import shutil
 import subprocess
 import sys
 import time
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import ThreadPoolExecutor, wait
 from dataclasses import dataclass, field
 from functools import partial
 from pathlib import Path
@@ -411,11 +412,34 @@ def read_gradebook(course: Path, chapter: str, run: Run) -> None:
                 run.scores[submission.student.id] = {g.name: g.score for g in notebook.grades}
 
 
+#: Grades the submissions of the suites graded apart (:attr:`grading_course.Suite.apart`) beside
+#: the chapters' shared runs: one thread per job a pytest process grades at a time, kept for
+#: the session so that each keeps its nbgrader runner (tests/support/nbgrader_runner.py).
+_APART = ThreadPoolExecutor(max_workers=WORKERS, thread_name_prefix="nbgrader-apart")
+
+
+def copy_course(course: Path, copy: Path, chapter: str) -> None:
+    """A course in ``copy`` in which ``chapter`` is assigned as in ``course`` (its gradebook,
+    ``source/`` and ``release/``, as tools/grading/grade_submission.py copies a template course),
+    with no submission."""
+    student_edition.write_course(copy, copy.parent / "exchange")
+    shutil.copy2(course / "gradebook.db", copy / "gradebook.db")
+    for part in ("source", "release"):
+        shutil.copytree(course / part / chapter, copy / part / chapter)
+
+
+def grade(chapter: str, course: Path, log: list[str], options: list[str], environment: dict) -> None:
+    """``nbgrader autograde`` and ``generate_feedback`` of ``chapter`` in ``course``."""
+    nbgrader(["autograde", chapter, *options], course, log, **environment)
+    nbgrader(["generate_feedback", chapter], course, log)
+
+
 def run_chapter(chapter: str, base: Path, suites=(), key: str | None = None) -> Run:
     """generate_assignment, the submissions, ONE autograde, generate_feedback.
 
     ``suites`` (tests/support/grading_course.py) add submissions of other test files to
-    this chapter's run, with the environment and options their tests need. With
+    this chapter's run, with the environment and options their tests need; those of a
+    suite graded apart go to a copy of the course, autograded at the same time. With
     ``key`` (a suite's own course, "<chapter>+<suite>"), the course is graded in
     a folder of that name, with the correct submission only besides the suites'
     (the unanswered one, graded in the chapter's shared run, only when a suite
@@ -441,29 +465,50 @@ def run_chapter(chapter: str, base: Path, suites=(), key: str | None = None) -> 
             submissions.update(chapter_submissions(chapter, run.source, correct, run))
         run.own = list(submissions)
         environment, options = {}, []
+        apart: dict[str, dict] = {}                  # the submissions of the suites graded apart
+        apart_environment, apart_options = {}, []
         for suite in suites:
             extra = suite.chosen(key or chapter, suite.submissions(run, correct, course))
             clash = {s for s in extra if s in submissions and extra[s] != submissions[s]}
             assert not clash, f"{suite.name}: students {clash} are taken by another file's submissions"
             suite.students = list(extra)
             submissions.update(extra)
-            environment.update(suite.environment)
-            options += suite.options
+            if suite.apart:
+                apart.update(extra)
+                apart_environment.update(suite.environment)
+                apart_options += suite.options
+            else:
+                environment.update(suite.environment)
+                options += suite.options
+        courses = {student: folder / "apart" if student in apart else course for student in submissions}
+        if apart:
+            copy_course(course, folder / "apart", chapter)
         for student, nb in submissions.items():
-            save(nb, course / "submitted" / student / chapter / f"{chapter}.ipynb")
+            save(nb, courses[student] / "submitted" / student / chapter / f"{chapter}.ipynb")
         for suite in suites:
             if suite.before:
                 suite.before(run, course)
-        nbgrader(["autograde", chapter, *options], course, run.log, **environment)
-        for suite in suites:
-            if suite.after:
-                suite.after(run, course)
-        nbgrader(["generate_feedback", chapter], course, run.log)
+        apart_log: list[str] = []
+        graded_apart = _APART.submit(grade, chapter, folder / "apart", apart_log, apart_options,
+                                     apart_environment) if apart else None
+        try:
+            nbgrader(["autograde", chapter, *options], course, run.log, **environment)
+            for suite in suites:
+                if suite.after:
+                    suite.after(run, course)
+            nbgrader(["generate_feedback", chapter], course, run.log)
+        finally:
+            if graded_apart is not None:
+                wait([graded_apart])
+                run.log += apart_log
+        if graded_apart is not None:
+            graded_apart.result()
+            read_gradebook(folder / "apart", chapter, run)
         read_gradebook(course, chapter, run)
-        for student in submissions:
-            page = course / "feedback" / student / chapter / f"{chapter}.html"
+        for student, graded_in in courses.items():
+            page = graded_in / "feedback" / student / chapter / f"{chapter}.html"
             run.feedback[student] = page.read_text(encoding="utf-8") if page.exists() else ""
-            graded_nb = course / "autograded" / student / chapter / f"{chapter}.ipynb"
+            graded_nb = graded_in / "autograded" / student / chapter / f"{chapter}.ipynb"
             run.autograded[student] = load(graded_nb) if graded_nb.exists() else {}
         for suite in suites:
             if suite.finally_:
