@@ -520,9 +520,12 @@ def test_feedback_renders_formulas_offline(graded, chapter):
 
 @pytest.mark.parametrize("template", ["classic", "lab"])
 def test_feedback_exporter_writes_nbconvert_page(template):
-    """The feedback exporter's page is nbconvert's HTMLExporter page, byte for byte, with MathJax
-    inlined (twice: an exporter makes a second page as its first; "lab" has the JupyterLab cells)."""
+    """The feedback exporter's page is nbconvert's HTMLExporter page, the same document (parsed,
+    element by element, attribute by attribute), with MathJax inlined (twice: an exporter makes a
+    second page as its first; "lab" has the JupyterLab cells that get ``tabindex``). Only the
+    start tags that gain an attribute are written again: every other byte is the template's."""
     import nbformat
+    from bs4 import BeautifulSoup
     from nbconvert.exporters import HTMLExporter
     from tools.grading.robokin_nbgrader import OfflineMathJaxHTMLExporter, inline_mathjax
 
@@ -530,8 +533,16 @@ def test_feedback_exporter_writes_nbconvert_page(template):
     nb = nbformat.v4.new_notebook(metadata={"language_info": {"name": "python", "pygments_lexer": "ipython3"}})
     nb.cells = [
         nbformat.v4.new_markdown_cell("## Task 1: a formula $T_{BA} = T_{AB}^{-1}$ and `code` <b>bold</b> &amp;"),
-        nbformat.v4.new_code_cell("import numpy as np\n\ndef f(q):\n    return np.sin(q) @ q  # a comment\n",
+        # images with and without alternative text, as raw HTML in Markdown (an upper-case tag, one
+        # closed by "/>", an empty alt, one with a ">" in an attribute) and from Markdown's syntax
+        nbformat.v4.new_markdown_cell(f'<IMG SRC="data:image/png;base64,{pixel}"> <img src="data:image/png;base64,'
+                                      f'{pixel}" title="a > b"/> <img alt="" src="x.png"> ![a pixel](x.png) '
+                                      '<div class="jp-Cell-inputWrapper">not in a notebook cell</div>'),
+        nbformat.v4.new_code_cell("import numpy as np\n\ndef f(q):\n    return np.sin(q) @ q  # <img src=x>\n",
                                   outputs=[nbformat.v4.new_output("display_data", {"image/png": pixel}),
+                                           nbformat.v4.new_output("display_data", {"text/html": (
+                                               '<div class="jp-OutputArea-output" tabindex="-1"><img src="y.png">'
+                                               "</div><script>let t = '<img src=z>';</script>")}),
                                            nbformat.v4.new_output("stream", name="stdout", text="<x> & 'y'\n"),
                                            nbformat.v4.new_output("error", ename="ValueError", evalue="bad",
                                                                   traceback=["\x1b[31mValueError\x1b[0m: bad"])]),
@@ -540,8 +551,12 @@ def test_feedback_exporter_writes_nbconvert_page(template):
     for _ in range(2):
         ours = OfflineMathJaxHTMLExporter(template_name=template).from_notebook_node(copy.deepcopy(nb))[0]
         plain = HTMLExporter(template_name=template).from_notebook_node(copy.deepcopy(nb))[0]
-        assert ours == inline_mathjax(plain)
+        assert BeautifulSoup(ours, "html.parser") == BeautifulSoup(inline_mathjax(plain), "html.parser")
+    soup = BeautifulSoup(plain, "html.parser")
     assert ("tabindex=\"0\"" in plain) == (template == "lab") and 'alt="No description' in plain
+    described = soup.select('img[alt="No description has been provided for this image"]')
+    assert len(soup.select("img")) == 6 and len(described) == 4
+    assert "<script>let t = '<img src=z>';</script>" in ours   # a script's text is no tag
 
 
 @pytest.mark.parametrize("chapter", grading_course.chapter_params(CHAPTERS))
