@@ -60,9 +60,9 @@ class OfflineMathJaxHTMLExporter(HTMLExporter):
         The steps of ``HTMLExporter.from_notebook_node`` (nbconvert 7: its two filters, then the
         template), but its last one, a BeautifulSoup pass that parses the whole page and writes
         it out again to add alternative texts and ``tabindex``, is :func:`accessible_page`: the
-        same attributes on the same elements, for a tenth of the CPU (0.3-0.7 CPU-s less a
-        feedback page, about a third of ``generate_feedback``'s). The document is nbconvert's
-        (tests/test_nbgrader.py compares them for nbconvert's templates and nbgrader's).
+        same attributes on the same elements, for a tenth of the CPU (a chapter's page exports
+        in 0.2-0.9 CPU-s less, a third to a half of the export). The document is nbconvert's
+        (tests/test_nbgrader.py compares the two in nbconvert's classic and lab templates).
         """
         language = nb.metadata.get("language_info", {})
         lexer = language.get("pygments_lexer", language.get("name", None))
