@@ -559,6 +559,24 @@ def test_feedback_exporter_writes_nbconvert_page(template):
     assert "<script>let t = '<img src=z>';</script>" in ours   # a script's text is no tag
 
 
+def test_accessible_page_rewrites_only_the_start_tags_it_changes():
+    """accessible_page keeps every byte but the start tags that gain an attribute: an image
+    without alternative text, a focusable cell inside a ``.jp-Notebook`` (its ``tabindex`` set to
+    0); not an image that has one, a cell outside a notebook, or a tag in a script's text."""
+    from tools.grading.robokin_nbgrader.offline_mathjax import NO_DESCRIPTION, accessible_page
+
+    kept = ('<p class="x">a &amp; b<br></p>\n<img alt="" src="a.png"><div class="jp-Cell-inputWrapper">'
+            "</div><script>let t = '<img src=z>';</script>\n")
+    assert accessible_page(kept) == (kept, 0)
+    page = (kept + '<main class="jp-Notebook">\n  <IMG SRC="b.png" title="a &gt; b"/>\n'
+            '  <div class="jp-OutputArea-output x" tabindex="-1" id=o>out</div>\n</main>')
+    changed, missing = accessible_page(page)
+    assert missing == 1
+    assert changed == (kept + '<main class="jp-Notebook">\n'
+                       f'  <img src="b.png" title="a &gt; b" alt="{NO_DESCRIPTION}"/>\n'
+                       '  <div class="jp-OutputArea-output x" tabindex="0" id="o">out</div>\n</main>')
+
+
 @pytest.mark.parametrize("chapter", grading_course.chapter_params(CHAPTERS))
 def test_points_per_test_in_header_and_report(graded, chapter):
     """A test cell tagged points-N is worth N: in the gradebook, the student edition's header

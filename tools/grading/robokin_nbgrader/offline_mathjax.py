@@ -97,9 +97,9 @@ class _StartTags(HTMLParser):
             changed = [*attrs, ("alt", NO_DESCRIPTION)]
             self.missing += 1
         elif tag == "div" and self._notebooks and classes & FOCUSABLE:
-            changed = [(name, value) for name, value in attrs if name != "tabindex"]
-            at = next((i for i, (name, _) in enumerate(attrs) if name == "tabindex"), len(changed))
-            changed.insert(at, ("tabindex", "0"))
+            changed = [(name, "0" if name == "tabindex" else value) for name, value in attrs]
+            if not any(name == "tabindex" for name, _ in attrs):
+                changed.append(("tabindex", "0"))
         if changed is not None:
             line, column = self.getpos()
             self.changes.append((line, column, tag, self.get_starttag_text() or "", changed))
