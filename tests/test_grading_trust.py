@@ -62,6 +62,7 @@ import json
 import os
 import re
 import shutil
+import subprocess
 import sys
 import tempfile
 import time
@@ -91,7 +92,7 @@ from support.benign_variants import (
     with_own_cell,
     written_another_way,
 )
-from tools.grading.sandbox import PACKAGE, SWITCH, sandbox_arguments, sandbox_wanted
+from tools.grading.sandbox import PACKAGE, SWITCH, bwrap_executable, python_folders, sandbox_arguments, sandbox_wanted
 
 # The tests that read a run are marked with its part of the graded courses (one xdist group each):
 # grading_course.reads(CHAPTER) for the everyday chapter's, chapter_params for the others.
@@ -713,6 +714,60 @@ def test_hidden_folder_inside_a_readable_one_is_covered(tmp_path):
     assert "/srv" not in text, "a folder outside the readable ones is not in the sandbox at all"
     for flag in ("--unshare-all", "--die-with-parent", "--new-session", "--clearenv", "--cap-drop"):
         assert flag in args
+
+
+def _font_list(folder: Path, fonts: list[str], version: str = "v3.11.0") -> Path:
+    """A matplotlib font list naming ``fonts``, in ``folder`` (the grader's cache folder)."""
+    folder.mkdir(parents=True, exist_ok=True)
+    entries = [{"fname": name, "name": Path(name).stem, "__class__": "FontEntry"} for name in fonts]
+    path = folder / f"fontlist-{version}.json"
+    path.write_text(json.dumps({"_version": version, "ttflist": entries, "afmlist": [], "__class__": "FontManager"}))
+    return path
+
+
+def test_the_graders_font_list_is_bound_where_the_kernels_matplotlib_reads_it(tmp_path, monkeypatch):
+    """The grader's font list, read-only in the kernel's home, if the kernel can open every font it names."""
+    submission = tmp_path / "course" / "autograded" / "s" / "a"
+    submission.mkdir(parents=True)
+    monkeypatch.setenv("MPLCONFIGDIR", str(tmp_path / "mpl"))
+    listed = _font_list(tmp_path / "mpl", ["fonts/ttf/DejaVuSans.ttf", "/usr/share/fonts/truetype/x.ttf"])
+    elsewhere = _font_list(tmp_path / "mpl", ["/home/grader/.fonts/mine.ttf"], version="v3.10.0")
+
+    def arguments(home: str) -> str:
+        return " ".join(sandbox_arguments(writable=submission, runtime=tmp_path / "run", hidden=[tmp_path / "course"],
+                                          readable=[], home=home, bwrap="bwrap"))
+
+    text = arguments("/home/grader")
+    bind = f"--ro-bind {listed} /home/grader/.cache/matplotlib/{listed.name}"
+    assert text.index("--tmpfs /home/grader") < text.index(bind) < text.index("--remount-ro / ")
+    assert elsewhere.name not in text, "a list naming a font the kernel cannot open is not bound"
+    assert listed.name not in arguments("/"), "no home of the kernel's own: no list"
+    monkeypatch.setenv("MPLCONFIGDIR", str(tmp_path / "none"))
+    assert "fontlist" not in arguments("/home/grader"), "the grader has no list: the kernel makes its own"
+
+
+def test_a_sandboxed_kernels_matplotlib_reads_the_graders_font_list(tmp_path, monkeypatch):
+    """In a real sandbox, matplotlib reads the bound list (it does not look for the fonts again) and
+    finds the fonts the grader's found; its cache folder is writable, as matplotlib wants it."""
+    _require_bwrap()
+    monkeypatch.setenv("MPLCONFIGDIR", str(tmp_path / "mpl"))
+    report = ("import logging, os, sys\nlogging.basicConfig(level=logging.DEBUG, stream=sys.stdout)\n"
+              "import matplotlib\nimport matplotlib.font_manager as fm\n"
+              "cache = matplotlib.get_cachedir()\n"
+              "print('fonts', len(fm.fontManager.ttflist), 'writable', os.access(cache, os.W_OK))\n")
+    graders = subprocess.run([sys.executable, "-c", report], capture_output=True, text=True, timeout=120)
+    assert graders.returncode == 0 and list((tmp_path / "mpl").glob("fontlist-v*.json")), graders.stderr
+    submission, runtime = tmp_path / "submission", tmp_path / "run"
+    submission.mkdir()
+    runtime.mkdir()
+    prefix = sandbox_arguments(writable=submission, runtime=runtime, hidden=[], readable=python_folders(),
+                               home="/home/grader", bwrap=bwrap_executable())
+    kernels = subprocess.run([*prefix, sys.executable, "-c", report], capture_output=True, text=True, timeout=120)
+    assert kernels.returncode == 0, kernels.stderr
+    assert "Using fontManager instance from /home/grader/.cache/matplotlib/fontlist-v" in kernels.stdout, kernels.stdout
+    assert "generated new fontManager" not in kernels.stdout
+    assert kernels.stdout.splitlines()[-1] == graders.stdout.splitlines()[-1]   # "fonts N writable True"
+    assert kernels.stdout.splitlines()[-1].endswith("writable True")
 
 
 class _FakeKernelManager:

@@ -12,7 +12,8 @@ from nothing (bwrap's root is an empty tmpfs):
   notebooks hold the solutions;
 - writable: the submission's own folder (nbgrader's ``autograded/<student>/<assignment>``,
   the kernel's working directory), a private tmpfs ``/tmp`` and an empty tmpfs
-  ``$HOME``;
+  ``$HOME``, in which only matplotlib's font list is the grader's, read-only
+  (:func:`font_lists`);
 - hidden: everything else, among it the course directory (``source/`` with the
   instructor's notebooks, ``release/``, ``submitted/``, other students' folders,
   ``feedback/``, ``gradebook.db``), nbgrader's exchange and the repository. A
@@ -46,6 +47,7 @@ container of their own).
 from __future__ import annotations
 
 import importlib.util
+import json
 import os
 import shutil
 import subprocess
@@ -150,6 +152,46 @@ def kernel_environment(home: str) -> dict[str, str]:
     return env
 
 
+def font_lists(home: str, readable: set[Path], read_only: set[Path]) -> list[tuple[Path, Path]]:
+    """The grader's matplotlib font lists a kernel can use: ``[(grader's list, where the kernel reads it)]``.
+
+    The first ``import matplotlib.font_manager`` in a home without matplotlib's cache looks for
+    every font of the system and writes what it found, ``fontlist-v<version>.json``, in its cache
+    folder; later imports read it (0.13 against 0.01 CPU-s on the 2-core machine). The kernel's
+    home is an empty tmpfs, so every kernel of every submission looked for the fonts again. The
+    grader's own lists are bound read-only where the kernel's matplotlib reads them, from the
+    folder where the grader's keeps them (``$MPLCONFIGDIR``, else ``$XDG_CACHE_HOME/matplotlib``,
+    else ``~/.cache/matplotlib``) into ``home/.cache/matplotlib`` (the kernel has neither
+    variable: :func:`kernel_environment`); the kernel reads the one of its version.
+
+    A list is used only when every font it names is in a folder the sandbox reads (``readable``:
+    the system's and the readable ones; a name relative to matplotlib's data folder is in the
+    Python environment), so that the kernel never picks a font it cannot open. None without
+    a home of the kernel's own (``home`` "" or "/"), when the kernel's cache folder would lie
+    in one of the ``read_only`` folders (matplotlib wants it writable), or when the grader has
+    no list yet: the kernel's matplotlib then makes its own, in the kernel's home, as before.
+    """
+    if home in ("", "/"):
+        return []
+    if os.environ.get("MPLCONFIGDIR"):
+        cache = Path(os.environ["MPLCONFIGDIR"])
+    else:
+        cache = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "matplotlib"
+    destination = Path(home) / ".cache" / "matplotlib"
+    if any(_inside(destination, folder) for folder in read_only):
+        return []
+    out = []
+    for source in sorted(cache.glob("fontlist-v*.json")):
+        try:
+            found = json.loads(source.read_text(encoding="utf-8"))
+            names = [Path(font["fname"]) for kind in ("ttflist", "afmlist") for font in found[kind]]
+        except (OSError, ValueError, KeyError, TypeError):
+            continue   # not a list this code can read: the kernel makes its own
+        if all(not name.is_absolute() or any(_inside(name, folder) for folder in readable) for name in names):
+            out.append((source.resolve(), destination / source.name))
+    return out
+
+
 def sandbox_arguments(*, writable: Path, runtime: Path, hidden: list[Path], readable: list[Path],
                       home: str, bwrap: str) -> list[str]:
     """The ``bwrap ... --`` prefix of the kernel command (paths absolute)."""
@@ -173,6 +215,8 @@ def sandbox_arguments(*, writable: Path, runtime: Path, hidden: list[Path], read
     mounts += [(writable, "--bind"), (runtime, "--bind")]
     for folder, kind in sorted(mounts, key=lambda m: (len(m[0].parts), m[1] != "--tmpfs", str(m[0]))):
         args += [kind, str(folder)] if kind == "--tmpfs" else [kind, str(folder), str(folder)]
+    for source, destination in font_lists(home, readable=bound, read_only=bound | covered):
+        args += ["--ro-bind", str(source), str(destination)]
     for folder in sorted(covered, key=lambda p: len(p.parts)):
         args += ["--remount-ro", str(folder)]
     # the sandbox's own root (the folders made to hold the mounts) read-only too
