@@ -11,9 +11,19 @@ sockets, and nothing else of nbval changes. The manager is
 imported ipykernel and the notebooks' modules once (one per pytest process and
 environment, stopped at the end of the session); one that cannot be forked starts
 as a new process, with a warning.
+
+Every process of a run computes with one OpenBLAS thread (``OPENBLAS_NUM_THREADS=1``, unless
+the environment sets it): a run has a dozen processes on two cores (pytest's workers, the
+notebooks', students' and grader kernels, ...), and OpenBLAS's default, a thread per core in
+each, cost the in-process tests 9 % more CPU (164 against 150 CPU-s, ``make quick``'s tests on
+the 2-core machine, the two settings one after the other). The stored outputs hold either way:
+the other machines run the notebooks with one and two threads, and the perturbed one with
+OpenBLAS's default (tests/test_notebooks_other_machines.py).
 """
 
 from __future__ import annotations
+
+import os
 
 import nbval.kernel
 import pytest
@@ -21,6 +31,9 @@ import pytest
 from tests.support import forked_kernels
 
 nbval.kernel.KernelManager = forked_kernels.ForkedNbvalKernelManager
+
+#: set before pytest-xdist starts its workers, which start the kernels: every process inherits it
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 
 @pytest.hookimpl(tryfirst=True)

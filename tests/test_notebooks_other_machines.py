@@ -9,9 +9,11 @@ nbval as three other machines, one test each:
 
 1. another OpenBLAS kernel, one thread;
 2. a third OpenBLAS kernel, two threads;
-3. the default kernel with every ``numpy.linalg`` result perturbed by a relative
-   1e-14 (``tests/support/numerical_noise.py``), about a hundred times what real machines
-   differ by.
+3. the default kernel and OpenBLAS's default threads (one per core), with every
+   ``numpy.linalg`` result perturbed by a relative 1e-14 (``tests/support/numerical_noise.py``),
+   about a hundred times what real machines differ by.
+
+(The suite itself, nbval's run on this machine among it, computes with one thread: conftest.py.)
 
 A notebook passes only if every printed digit survives all three. When one does
 not, print less (fewer digits, a bound, a verdict): see ``robokin.formatting``.
@@ -165,8 +167,8 @@ MACHINES = ("another OpenBLAS kernel, 1 thread", "a third OpenBLAS kernel, 2 thr
 def machine_environment(machine: str, tmp_path: Path) -> dict[str, str]:
     """The variables that make this machine compute as ``machine`` (one of ``MACHINES``)."""
     ipython = {"IPYTHONDIR": str(startup_dir(tmp_path, noise=machine == MACHINES[2]))}
-    if machine == MACHINES[2]:
-        return ipython
+    if machine == MACHINES[2]:   # OpenBLAS's default, a thread per core (the suite's is one: conftest.py)
+        return {"OPENBLAS_NUM_THREADS": str(len(os.sched_getaffinity(0))), **ipython}
     first, second = other_kernels()
     if machine == MACHINES[0]:
         return {"OPENBLAS_CORETYPE": first, "OPENBLAS_NUM_THREADS": "1", **ipython}
@@ -205,9 +207,10 @@ def test_notebook_outputs_hold_on_other_machines(tmp_path, machine, request):
     kernels = [json.loads(line) for line in (tmp_path / "kernels.jsonl").read_text().splitlines()]
     assert kernels, "no kernel ran the start-up file that reports its OpenBLAS"
     assert all(k["figure_images"] == [] for k in kernels), kernels   # every cell ran; no figure rasterised
-    if "OPENBLAS_CORETYPE" in extra:   # the settings reached every kernel, forked from a warm server or not
+    # the settings reached every kernel, forked from a warm server or not
+    if "OPENBLAS_CORETYPE" in extra:
         assert {k.get("core", "").lower() for k in kernels} == {extra["OPENBLAS_CORETYPE"].lower()}, kernels
-        assert {k.get("threads") for k in kernels} == {int(extra["OPENBLAS_NUM_THREADS"])}, kernels
+    assert {k.get("threads") for k in kernels} == {int(extra["OPENBLAS_NUM_THREADS"])}, kernels
     # the pictures the plugin skips, and nothing else: every other cell ran
     pictures = sum(len(skipped_cells(json.loads(path.read_text())["cells"]))
                    for path in notebooks) if skips_pictures else 0
