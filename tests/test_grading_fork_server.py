@@ -214,37 +214,51 @@ def test_killing_the_launcher_kills_its_kernel(server, kernels):
     assert _stdout(other.run("print(6 * 7)")).strip() == "42", "the other kernel goes on"
 
 
-#: An "autograde process": a fork server (few modules: its life is tested here, not its imports)
-#: and a grader kernel forked from it; prints the pids, then waits to be killed.
+#: An "autograde process": a fork server (few modules: its life is tested here, not its imports),
+#: started from the main thread or another one (``sys.argv[1]``: without the parent-death signal
+#: then), and a grader kernel forked from it; prints the pids and the server's folder, then waits
+#: to be killed.
 AUTOGRADE = """
-import json, tempfile, time
+import json, sys, tempfile, threading, time
 import psutil
 from jupyter_core.utils import run_sync
 from tools.grading.bridge import fork_server
-server = fork_server.ForkServer(("numpy",))
+started = []
+if sys.argv[1] == "main thread":
+    started.append(fork_server.ForkServer(("numpy",)))
+else:
+    thread = threading.Thread(target=lambda: started.append(fork_server.ForkServer(("numpy",))))
+    thread.start()
+    thread.join()
+server, = started
 manager = fork_server.ForkedKernelManager(kernel_name="python3", fork_server=server)
 run_sync(manager.start_kernel)(cwd=tempfile.mkdtemp())
 client = manager.client()
 client.start_channels()
 run_sync(client.wait_for_ready)(timeout=60)
 kernels = [p.pid for p in psutil.Process(server.process.pid).children()]
-print(json.dumps({"server": server.process.pid, "launcher": manager.provisioner.pid, "kernels": kernels}),
-      flush=True)
+print(json.dumps({"server": server.process.pid, "launcher": manager.provisioner.pid, "kernels": kernels,
+                  "folder": server.folder}), flush=True)
 time.sleep(300)
 """
 
 
-def test_killing_the_autograde_process_leaves_no_process_behind(tmp_path):
-    autograde = subprocess.Popen([sys.executable, "-c", AUTOGRADE],
+@pytest.mark.parametrize("started_in", ["main thread", "another thread"])
+def test_killing_the_autograde_process_leaves_no_process_or_folder_behind(started_in):
+    """SIGKILL of the autograde process: the server ends (by the parent-death signal or its pipe),
+    kills its kernels and removes its socket's folder (the autograde process cannot)."""
+    autograde = subprocess.Popen([sys.executable, "-c", AUTOGRADE, started_in],
                                  stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
     try:
         assert autograde.stdout is not None  # piped
         pids = json.loads(autograde.stdout.readline())
         assert len(pids["kernels"]) == 1 and all(_alive(pid) for pid in (pids["server"], *pids["kernels"]))
+        assert os.listdir(pids["folder"]) == ["server"]
         autograde.kill()
         autograde.wait(timeout=GRACE)
         left = _wait_gone([pids["server"], pids["launcher"], *pids["kernels"]])
         assert left == [], [psutil.Process(pid).cmdline()[:4] for pid in left if _alive(pid)]
+        assert not os.path.exists(pids["folder"]), os.listdir(pids["folder"])
     finally:
         if autograde.poll() is None:
             autograde.kill()

@@ -31,8 +31,9 @@ Nothing is left behind:
   group;
 - the server dies with the autograde process: it reads a pipe from it (closed
   when the autograde process ends, however it ends) and, when started from the
-  main thread, also has the parent-death signal (``PR_SET_PDEATHSIG``); it then
-  kills the kernels it forked;
+  main thread, also has the parent-death signal (``PR_SET_PDEATHSIG``, SIGTERM); it
+  then kills the kernels it forked and removes its socket and the socket's folder
+  (which the autograde process removes too when it stops the server itself);
 - a kernel dies with the server (``PR_SET_PDEATHSIG``), and its launcher then
   exits.
 
@@ -98,6 +99,8 @@ REQUEST_TIMEOUT = 10.0
 #: (``IPKernelApp.init_gui_pylab``); matplotlib reads it when it is imported.
 INLINE_BACKEND = "module://matplotlib_inline.backend_inline"
 PR_SET_PDEATHSIG = 1
+#: The signals whose dispositions a forked kernel gets back: a new process's, inherited as the server's.
+KERNEL_SIGNALS = (signal.SIGCHLD, signal.SIGTERM, signal.SIGHUP, signal.SIGQUIT, signal.SIGINT)
 #: The server's own modules (and their submodules): a forked kernel drops them, a new one never had them.
 SERVER_MODULES = ("tools",)
 _BOOT = "import sys; _path = list(sys.path); from tools.grading.bridge import fork_server; fork_server.serve(_path)"
@@ -287,11 +290,11 @@ def _differences(expected, actual) -> list[str]:
 
 
 # ---------------------------------------------------------------- the server process
-def _set_parent_death_signal(parent: int) -> bool:
-    """SIGKILL this process when its parent ``parent`` ends (Linux); False if the parent is gone already."""
+def _set_parent_death_signal(parent: int, signum: int) -> bool:
+    """Send ``signum`` to this process when its parent ``parent`` ends (Linux); False if the parent is gone already."""
     if sys.platform.startswith("linux"):
         libc = ctypes.CDLL(None, use_errno=True)
-        if libc.prctl(PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0) != 0:
+        if libc.prctl(PR_SET_PDEATHSIG, signum, 0, 0, 0) != 0:
             raise OSError(ctypes.get_errno(), "prctl(PR_SET_PDEATHSIG) failed")
     return os.getppid() == parent
 
@@ -312,8 +315,11 @@ def serve(path_at_start: list[str]) -> None:
     ``python -m``.
     """
     socket_path, preload, parent = sys.argv[1], json.loads(sys.argv[2]), int(sys.argv[3])
-    if parent and not _set_parent_death_signal(parent):
-        os._exit(1)
+    signals_at_start = {signum: signal.getsignal(signum) for signum in KERNEL_SIGNALS}
+    # the parent's death (SIGTERM): until the server serves, it removes the folder and exits
+    signal.signal(signal.SIGTERM, lambda signum, frame: _remove_socket_and_exit(socket_path, exit_code=0))
+    if parent and not _set_parent_death_signal(parent, signal.SIGTERM):
+        _remove_socket_and_exit(socket_path, exit_code=1)
     environment = dict(os.environ)
     try:
         if not os.environ.get("MPLBACKEND"):   # as ipykernel sets it before any user code
@@ -334,9 +340,19 @@ def serve(path_at_start: list[str]) -> None:
     except Exception as exc:  # noqa: BLE001 - reported to the autograde process, which then starts kernels anew
         traceback.print_exc()
         print(json.dumps({"error": f"{type(exc).__name__}: {exc}"}), flush=True)
-        os._exit(1)
+        _remove_socket_and_exit(socket_path, exit_code=1)
     print(json.dumps({"pid": os.getpid(), "threads": _thread_count()}), flush=True)
-    _Server(listener, environment, path_at_start).run()
+    _Server(listener, socket_path, environment, path_at_start, signals_at_start).run()
+
+
+def _remove_socket_and_exit(socket_path: str, exit_code: int) -> None:
+    """Remove the server's socket and its folder (empty then; left if not), and end with ``exit_code``."""
+    for remove, path in ((os.unlink, socket_path), (os.rmdir, os.path.dirname(socket_path))):
+        try:
+            remove(path)
+        except OSError:
+            pass   # never made, removed already by the autograde process, or not empty: left as it is
+    os._exit(exit_code)
 
 
 class _CurrentStream:
@@ -360,8 +376,11 @@ class _CurrentStream:
 class _Server:
     """The server's loop: requests of launchers, their signals and ends, the kernels' ends."""
 
-    def __init__(self, listener: socket.socket, environment: dict, path_at_start: list[str]) -> None:
+    def __init__(self, listener: socket.socket, socket_path: str, environment: dict, path_at_start: list[str],
+                 signals_at_start: dict) -> None:
         self.listener = listener
+        self.socket_path = socket_path
+        self.pid = os.getpid()
         self.environment = environment
         self.path_at_start = path_at_start
         self.selector = selectors.DefaultSelector()
@@ -371,9 +390,9 @@ class _Server:
         for fd in (self.wake_read, self.wake_write):
             os.set_blocking(fd, False)
         #: what a new process started by the grader would have: its dispositions, inherited as ours
-        self.signals_at_start = {signum: signal.getsignal(signum) for signum in (
-            signal.SIGCHLD, signal.SIGTERM, signal.SIGHUP, signal.SIGQUIT, signal.SIGINT)}
+        self.signals_at_start = signals_at_start
         signal.signal(signal.SIGCHLD, lambda signum, frame: None)
+        signal.signal(signal.SIGTERM, self._on_terminate)   # the autograde process died (or a kill)
         signal.set_wakeup_fd(self.wake_write)
         signal.signal(signal.SIGINT, signal.SIG_IGN)   # a Ctrl-C of the autograde's terminal: its business
         self.selector.register(listener, selectors.EVENT_READ, "listener")
@@ -397,10 +416,17 @@ class _Server:
                 else:   # "launcher": a launcher's connection (registered by _accept)
                     self._from_launcher(cast(socket.socket, key.fileobj))
 
+    def _on_terminate(self, signum, frame) -> None:
+        if os.getpid() != self.pid:   # a forked kernel before it restored its dispositions: as SIG_DFL
+            signal.signal(signum, signal.SIG_DFL)
+            os.kill(os.getpid(), signum)
+            return
+        self._end()
+
     def _end(self) -> None:
         for pid in list(self.alive):
             _kill_group(pid, signal.SIGKILL)
-        os._exit(0)
+        _remove_socket_and_exit(self.socket_path, exit_code=0)
 
     def _accept(self) -> None:
         connection, _ = self.listener.accept()
@@ -493,7 +519,7 @@ class _Server:
         code = 1
         try:
             os.setsid()
-            if not _set_parent_death_signal(server):
+            if not _set_parent_death_signal(server, signal.SIGKILL):
                 os._exit(1)
             signal.set_wakeup_fd(-1)
             for signum, handler in self.signals_at_start.items():   # e.g. SIGQUIT ignored by a shell's &
