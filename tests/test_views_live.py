@@ -120,10 +120,12 @@ def test_server_exits_with_its_owner():
 _KILLED_OWNER = """
 import ctypes, os, signal, subprocess, sys, time
 ctypes.CDLL(None, use_errno=True).prctl(36, 1, 0, 0, 0)      # PR_SET_CHILD_SUBREAPER, like systemd --user / tini -s
-code = ("from robokin.views.live import LiveViewer; v = LiveViewer(); print(v.pid, flush=True); "
+code = ("from robokin.views.live import LiveViewer; v = LiveViewer(); print(v.pid, v.zmq_url, flush=True); "
         "import time; time.sleep(60)")
 owner = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
-pid = int(owner.stdout.readline())
+pid, zmq_url = owner.stdout.readline().split()
+pid, folder = int(pid), os.path.dirname(zmq_url.removeprefix("ipc://"))
+assert os.path.isdir(folder), folder
 owner.kill()                      # the kernel dies hard and is not reaped yet: a zombie
 deadline, gone = time.monotonic() + SERVER_EXIT, False
 while not gone and time.monotonic() < deadline:
@@ -142,6 +144,7 @@ if not gone:
         print(open(f"/proc/{pid}/wchan").read(), flush=True)
     except OSError as exc:
         print(exc)
+print("folder left" if os.path.exists(folder) else "folder removed", flush=True)
 print("gone" if gone else "alive", flush=True)
 owner.wait()
 if not gone:
@@ -156,13 +159,14 @@ except ChildProcessError:
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="PR_SET_CHILD_SUBREAPER is Linux only")
 def test_server_exits_when_its_kernel_is_killed_under_a_subreaper():
     # re-parented to a subreaper (not pid 1) while the killed kernel is an unreaped zombie:
-    # the server must notice that its parent changed, not wait for the zombie to be reaped
+    # the server must notice that its parent changed, not wait for the zombie to be reaped;
+    # it removes its command socket's folder, which the killed kernel could not
     import subprocess
 
     out = subprocess.run([sys.executable, "-c", f"SERVER_EXIT = {SERVER_EXIT}\n" + _KILLED_OWNER], capture_output=True,
                          text=True, timeout=OWNER_RUN + SERVER_EXIT, check=False,
                          cwd=os.path.dirname(os.path.dirname(__file__)))
-    assert out.stdout.strip().splitlines()[-1:] == ["gone"], out.stdout + out.stderr
+    assert out.stdout.strip().splitlines()[-2:] == ["folder removed", "gone"], out.stdout + out.stderr
 
 
 def test_proxy_url(monkeypatch):

@@ -13,7 +13,8 @@ Differences from ``meshcat-server``:
 - ``/<secret>/static/`` serves a page whose websocket URL is relative to the
   page (so it also works behind jupyter-server-proxy at
   ``.../proxy/<port>/<secret>/static/``);
-- the process exits by itself when its parent (the Jupyter kernel) is gone.
+- the process exits by itself when its parent (the Jupyter kernel) is gone, and
+  then removes the command socket and its folder (which the kernel, gone, cannot).
 """
 
 from __future__ import annotations
@@ -94,6 +95,7 @@ def main(argv: list[str] | None = None) -> None:
     sys.stdout = open(os.devnull, "w")    # nobody reads our stdout any more
 
     loop = tornado.ioloop.IOLoop.current()
+    parent_gone = []
     if args.parent_pid:
         started_by_parent = first_ppid == args.parent_pid
 
@@ -101,18 +103,33 @@ def main(argv: list[str] | None = None) -> None:
             # The kernel is our parent: when it dies we are re-parented at once (to pid 1
             # or to a "child subreaper" such as systemd --user or tini -s), even while it
             # is still an unreaped zombie that os.kill(pid, 0) reports as alive.
-            if started_by_parent and os.getppid() != args.parent_pid:
-                loop.stop()
-                return
             try:
                 os.kill(args.parent_pid, 0)
+                gone = started_by_parent and os.getppid() != args.parent_pid
             except OSError:
+                gone = True
+            if gone:
+                parent_gone.append(True)
                 loop.stop()
         tornado.ioloop.PeriodicCallback(check_parent, 1000).start()
     try:
         bridge.run()
     except KeyboardInterrupt:
         pass
+    if parent_gone:
+        remove_command_socket(args.zmq_url)
+
+
+def remove_command_socket(zmq_url: str) -> None:
+    """Remove the ``ipc://`` command socket and its folder (left if not empty); nothing for another URL."""
+    if not zmq_url.startswith("ipc://"):
+        return
+    path = zmq_url[len("ipc://"):]
+    for remove, target in ((os.unlink, path), (os.rmdir, os.path.dirname(path))):
+        try:
+            remove(target)
+        except OSError:
+            pass   # removed already, or the folder holds something else: left as it is
 
 
 if __name__ == "__main__":
