@@ -20,6 +20,7 @@ from __future__ import annotations
 import json
 import logging
 import os
+import shutil
 import signal
 import subprocess
 import sys
@@ -216,8 +217,9 @@ def test_killing_the_launcher_kills_its_kernel(server, kernels):
 
 #: An "autograde process": a fork server (few modules: its life is tested here, not its imports),
 #: started from the main thread or another one (``sys.argv[1]``: without the parent-death signal
-#: then), and a grader kernel forked from it; prints the pids and the server's folder, then waits
-#: to be killed.
+#: then), and a grader kernel forked from it; prints the pids, the server's folder and the kernel's
+#: socket folder (jupyter_client's manager's, which the killed process leaves: the test removes
+#: it), then waits to be killed.
 AUTOGRADE = """
 import json, sys, tempfile, threading, time
 import psutil
@@ -238,7 +240,7 @@ client.start_channels()
 run_sync(client.wait_for_ready)(timeout=60)
 kernels = [p.pid for p in psutil.Process(server.process.pid).children()]
 print(json.dumps({"server": server.process.pid, "launcher": manager.provisioner.pid, "kernels": kernels,
-                  "folder": server.folder}), flush=True)
+                  "folder": server.folder, "kernel_folder": str(manager.socket_folder)}), flush=True)
 time.sleep(300)
 """
 
@@ -249,6 +251,7 @@ def test_killing_the_autograde_process_leaves_no_process_or_folder_behind(starte
     kills its kernels and removes its socket's folder (the autograde process cannot)."""
     autograde = subprocess.Popen([sys.executable, "-c", AUTOGRADE, started_in],
                                  stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+    pids: dict = {}
     try:
         assert autograde.stdout is not None  # piped
         pids = json.loads(autograde.stdout.readline())
@@ -263,6 +266,8 @@ def test_killing_the_autograde_process_leaves_no_process_or_folder_behind(starte
         if autograde.poll() is None:
             autograde.kill()
             autograde.wait()
+        if pids:
+            shutil.rmtree(pids["kernel_folder"], ignore_errors=True)
 
 
 def test_a_refused_kernel_starts_anew_and_says_so(kernels, monkeypatch, capfd):
